@@ -1,0 +1,279 @@
+/*
+ * limen.h - portal-and-mirror scene graph with a headless OpenGL renderer.
+ *
+ * USAGE, STEP BY STEP
+ *
+ *   1. Create a scene (zero in a desc field means "default"):
+ *          limen_scene *s;
+ *          limen_scene_create(&(limen_scene_desc){0}, &s);
+ *   2. Add nodes and set their properties; every call returns LIMEN_OK (0) or
+ *      an error code, with a readable message in limen_last_error(s):
+ *          limen_node ball;
+ *          limen_node_create(s, LIMEN_NODE_SPHERE, "ball", &ball);
+ *          limen_node_set_position(s, ball, (float[3]){0, 1, 0});
+ *          limen_node_set_dims(s, ball, (float[3]){0.5f, 0, 0});   // radius
+ *      Or load a Lua scene script (see limen_lua.h) that does the same.
+ *   3. Create a renderer (OSMesa by default, EGL surfaceless on request) and
+ *      render frames; read the pixels or write a PNG:
+ *          limen_renderer *r;
+ *          limen_renderer_create(&(limen_renderer_desc){.width = 640,
+ *                                .height = 480}, &r);
+ *          limen_render_frame(r, s, NULL, NULL);
+ *          limen_renderer_write_png(r, "out.png");
+ *   4. limen_renderer_destroy(r); limen_scene_destroy(s);
+ *
+ * CONVENTIONS
+ *   - Right-handed world, +Y up. A camera looks down its local -Z with +Y up.
+ *   - Matrices are float[16], column-major, column vectors: v' = M v
+ *     (element (row i, column j) is m[j*4 + i]), as in OpenGL and cglm.
+ *   - A plane is float[4] (n.x, n.y, n.z, d) with |n| = 1 and n.p + d = 0 on
+ *     it; n.p + d > 0 is its front. Planes transform as (M^-1)^T C.
+ *   - Angles are radians in this API (degrees only in Lua scene scripts).
+ *   - Colours are linear RGB in [0, 1]; no gamma anywhere.
+ *   - Shading of every surface (renderer and ray tracer alike):
+ *        colour = albedo * (ambient + (1 - ambient) * sum_i light_i * max(0, n.l_i))
+ *     with point lights, no shadows and no attenuation, clamped to [0, 1].
+ *   - Mirrors, portals and quads lie on their local z = 0, face local +Z,
+ *     local +Y up, extent w x h centred on the origin.
+ *
+ * The library never prints and never exits. It keeps no global state: each
+ * scene and each renderer carries its own error message.
+ */
+#ifndef LIMEN_H
+#define LIMEN_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#if defined(__GNUC__)
+#define LIMEN_API __attribute__((visibility("default")))
+#else
+#define LIMEN_API
+#endif
+
+#define LIMEN_VERSION "0.1.0"
+
+/* ---------------------------------------------------------------- errors */
+
+typedef enum limen_status {
+    LIMEN_OK = 0,
+    LIMEN_ERR_ARG,          /* invalid argument: NULL, NaN/Inf, negative size, unknown kind */
+    LIMEN_ERR_DEGENERATE,   /* cannot be formed: collinear points, zero normal, eye on plane */
+    LIMEN_ERR_NOMEM,        /* out of memory or out of node slots */
+    LIMEN_ERR_HANDLE,       /* node handle is stale, null or of the wrong kind */
+    LIMEN_ERR_CYCLE,        /* parent chain would form a cycle */
+    LIMEN_ERR_SCRIPT,       /* a Lua scene script failed */
+    LIMEN_ERR_GL,           /* no OpenGL context, or OpenGL reported a failure */
+    LIMEN_ERR_IO,           /* a file could not be read or written */
+    LIMEN_ERR_UNSUPPORTED   /* the backend or the context lacks a feature */
+} limen_status;
+
+LIMEN_API const char *limen_status_string(limen_status st);    /* "invalid argument", ... */
+
+/* ---------------------------------------------------------------- maths */
+
+typedef enum limen_depth_range {
+    LIMEN_DEPTH_NO = 0,     /* OpenGL: z/w in [-1, 1], near at -1 */
+    LIMEN_DEPTH_ZO,         /* Direct3D, Vulkan: z/w in [0, 1], near at 0 */
+    LIMEN_DEPTH_ZO_REVERSED /* near at 1, far at 0; pair with a float depth buffer */
+} limen_depth_range;
+
+/* Plane through a, b, c; front side is where (b-a)x(c-a) points. Collinear -> DEGENERATE. */
+LIMEN_API limen_status limen_plane_from_points(const float a[3], const float b[3],
+                                               const float c[3], float plane[4]);
+/* Plane through p with normal n (any length > 0; normalised). Zero n -> DEGENERATE. */
+LIMEN_API limen_status limen_plane_from_point_normal(const float p[3], const float n[3],
+                                                     float plane[4]);
+/* plane' = (M^-1)^T plane, renormalised so |n'| = 1. Singular M -> DEGENERATE. */
+LIMEN_API limen_status limen_plane_transform(const float m[16], const float plane[4],
+                                             float out[4]);
+/* Reflection about a plane: I - 2 n n^T with translation -2 d n. det = -1. */
+LIMEN_API limen_status limen_mirror_matrix(const float plane[4], float m[16]);
+/* Portal A -> B: W_B * R_y(180 deg) * W_A^-1. Carries what enters A's front out of B's front. */
+LIMEN_API limen_status limen_portal_matrix(const float world_a[16], const float world_b[16],
+                                           float m[16]);
+/* View matrix of an eye looking at center. eye == center or up parallel -> DEGENERATE. */
+LIMEN_API limen_status limen_look_at(const float eye[3], const float center[3],
+                                     const float up[3], float view[16]);
+/* Perspective projection; fovy in radians (vertical), 0 < near < far. */
+LIMEN_API limen_status limen_perspective(float fovy, float aspect, float znear, float zfar,
+                                         limen_depth_range range, float proj[16]);
+/* Oblique near-plane projection (Lengyel): replaces proj's near plane by clip_view, a plane
+ * in view space whose front is what stays visible. The eye must be strictly behind the plane
+ * (clip_view[3] < -eps * |clip_view|): otherwise DEGENERATE and out is left unchanged. */
+LIMEN_API limen_status limen_oblique_projection(const float proj[16], const float clip_view[4],
+                                                limen_depth_range range, float out[16]);
+/* Near and far planes of a projection's frustum (Gribb-Hartmann), in view space, normalised,
+ * facing the inside of the frustum. */
+LIMEN_API limen_status limen_projection_planes(const float proj[16], limen_depth_range range,
+                                               float near_plane[4], float far_plane[4]);
+
+/* ---------------------------------------------------------------- scene */
+
+typedef struct limen_scene limen_scene;
+
+/* A node handle: index plus a generation counter; a handle to a destroyed node is
+ * refused with LIMEN_ERR_HANDLE. The zero handle means "no node". */
+typedef struct limen_node { uint32_t id; } limen_node;
+
+typedef enum limen_node_kind {
+    LIMEN_NODE_GROUP = 0,   /* transform only */
+    LIMEN_NODE_BOX,         /* dims = (size x, size y, size z), centred on the origin */
+    LIMEN_NODE_SPHERE,      /* dims = (radius, -, -), centred on the origin */
+    LIMEN_NODE_CYLINDER,    /* dims = (radius, height, -), axis +Y from y = 0 to y = height, capped */
+    LIMEN_NODE_QUAD,        /* dims = (w, h, -) on local z = 0, facing +Z, one-sided lighting */
+    LIMEN_NODE_MIRROR,      /* dims = (w, h, -) like a quad */
+    LIMEN_NODE_PORTAL,      /* dims = (w, h, -) like a quad; paired with another portal */
+    LIMEN_NODE_LIGHT,       /* point light at the node's origin; colour = intensity per channel */
+    LIMEN_NODE_CAMERA,      /* eye at the origin, looking down local -Z */
+    LIMEN_NODE_KIND_COUNT
+} limen_node_kind;
+
+typedef struct limen_scene_desc {
+    int max_nodes;          /* 0 -> 4096 */
+} limen_scene_desc;
+
+LIMEN_API limen_status limen_scene_create(const limen_scene_desc *desc, limen_scene **out);
+LIMEN_API void limen_scene_destroy(limen_scene *s);                    /* NULL is fine */
+LIMEN_API const char *limen_last_error(const limen_scene *s);          /* "" when none */
+LIMEN_API limen_status limen_scene_set_background(limen_scene *s, const float rgb[3]);
+LIMEN_API limen_status limen_scene_set_ambient(limen_scene *s, float ambient); /* [0, 1] */
+LIMEN_API void limen_scene_get_background(const limen_scene *s, float rgb[3]);
+LIMEN_API float limen_scene_get_ambient(const limen_scene *s);
+LIMEN_API limen_status limen_scene_set_camera(limen_scene *s, limen_node camera);
+LIMEN_API limen_node limen_scene_get_camera(const limen_scene *s);    /* zero handle if none */
+LIMEN_API int limen_scene_node_count(const limen_scene *s);            /* live nodes */
+/* Recompute world matrices now (done implicitly by every call that needs them). */
+LIMEN_API limen_status limen_scene_update(limen_scene *s);
+
+/* Nodes. Defaults: at the origin, unrotated, unit scale, white, visible, no parent. */
+LIMEN_API limen_status limen_node_create(limen_scene *s, limen_node_kind kind,
+                                         const char *name, limen_node *out);
+/* Destroys the node; its children are re-parented to its parent. */
+LIMEN_API limen_status limen_node_destroy(limen_scene *s, limen_node n);
+LIMEN_API int limen_node_valid(const limen_scene *s, limen_node n);   /* 1 if live */
+LIMEN_API limen_status limen_node_find(const limen_scene *s, const char *name, limen_node *out);
+LIMEN_API const char *limen_node_name(const limen_scene *s, limen_node n); /* NULL if stale */
+LIMEN_API limen_node_kind limen_node_get_kind(const limen_scene *s, limen_node n);
+/* Where the node was made (for example "scenes/hall.lua:12"); used in later messages. */
+LIMEN_API limen_status limen_node_set_label(limen_scene *s, limen_node n, const char *label);
+
+/* Hierarchy: world = parent_world * local. A zero parent detaches. Cycles are refused. */
+LIMEN_API limen_status limen_node_set_parent(limen_scene *s, limen_node n, limen_node parent);
+LIMEN_API limen_node limen_node_get_parent(const limen_scene *s, limen_node n);
+
+/* Local transform: local = T(position) * R(rotation) * F(facing) * S(scale), where R rotates
+ * about X first, then Y, then Z (R = Rz * Ry * Rx), and F turns local +Z to `normal` and
+ * local +Y towards `up`. A local matrix set directly replaces all four until the next
+ * call of one of these setters. */
+LIMEN_API limen_status limen_node_set_position(limen_scene *s, limen_node n, const float p[3]);
+LIMEN_API limen_status limen_node_set_rotation(limen_scene *s, limen_node n, const float xyz[3]);
+/* up may be NULL: +Y, or -Z when the normal is (anti)parallel to Y. */
+LIMEN_API limen_status limen_node_set_facing(limen_scene *s, limen_node n, const float normal[3],
+                                             const float up[3]);
+LIMEN_API limen_status limen_node_set_scale(limen_scene *s, limen_node n, const float xyz[3]);
+LIMEN_API limen_status limen_node_set_local_matrix(limen_scene *s, limen_node n, const float m[16]);
+/* Places the node at eye and turns its -Z towards target (cameras, lights). */
+LIMEN_API limen_status limen_node_look_at(limen_scene *s, limen_node n, const float eye[3],
+                                          const float target[3], const float up[3]);
+LIMEN_API limen_status limen_node_get_position(const limen_scene *s, limen_node n, float p[3]);
+LIMEN_API limen_status limen_node_get_rotation(const limen_scene *s, limen_node n, float xyz[3]);
+LIMEN_API limen_status limen_node_get_scale(const limen_scene *s, limen_node n, float xyz[3]);
+LIMEN_API limen_status limen_node_local_matrix(limen_scene *s, limen_node n, float m[16]);
+LIMEN_API limen_status limen_node_world_matrix(limen_scene *s, limen_node n, float m[16]);
+
+/* Appearance and shape. */
+LIMEN_API limen_status limen_node_set_dims(limen_scene *s, limen_node n, const float dims[3]);
+LIMEN_API limen_status limen_node_get_dims(const limen_scene *s, limen_node n, float dims[3]);
+/* Albedo of shapes; colour (intensity) of a light. Components >= 0, <= 1 for albedo. */
+LIMEN_API limen_status limen_node_set_color(limen_scene *s, limen_node n, const float rgb[3]);
+LIMEN_API limen_status limen_node_get_color(const limen_scene *s, limen_node n, float rgb[3]);
+/* Checker pattern in the node's local xy (quads) or xz/xyz (other shapes): cells of size
+ * `cell`, colour a where floor(x/cell)+floor(y/cell) is even, b where odd. cell 0 turns it off. */
+LIMEN_API limen_status limen_node_set_checker(limen_scene *s, limen_node n, const float a[3],
+                                              const float b[3], float cell);
+LIMEN_API limen_status limen_node_set_visible(limen_scene *s, limen_node n, int visible);
+LIMEN_API int limen_node_get_visible(const limen_scene *s, limen_node n);
+
+/* Cameras: vertical fov in radians, 0 < near < far. Defaults: 60 degrees, 0.05, 100. */
+LIMEN_API limen_status limen_camera_set_lens(limen_scene *s, limen_node cam, float fovy,
+                                             float znear, float zfar);
+LIMEN_API limen_status limen_camera_get_lens(const limen_scene *s, limen_node cam, float *fovy,
+                                             float *znear, float *zfar);
+/* The scene camera's view and projection for an image of the given aspect ratio. */
+LIMEN_API limen_status limen_camera_matrices(limen_scene *s, float aspect, limen_depth_range range,
+                                             float view[16], float proj[16]);
+
+/* ---------------------------------------------------------------- renderer */
+
+typedef struct limen_renderer limen_renderer;
+
+typedef enum limen_backend {
+    LIMEN_BACKEND_OSMESA = 0,   /* Mesa's off-screen software renderer (llvmpipe) */
+    LIMEN_BACKEND_EGL           /* EGL surfaceless; a GPU where there is one */
+} limen_backend;
+
+typedef struct limen_renderer_desc {
+    limen_backend backend;          /* default OSMesa */
+    int width, height;              /* 0 -> 640 x 480 */
+    int msaa;                       /* samples per pixel; 0 or 1 -> off */
+    limen_depth_range depth_range;  /* default NO; ZO_REVERSED uses a float depth buffer */
+} limen_renderer_desc;
+
+typedef struct limen_frame_stats {
+    double ms;                  /* wall time of the frame, submission to glFinish */
+    int views;                  /* views drawn (1 for a scene without mirrors or portals) */
+    uint64_t fragments;         /* fragment-shader invocations (pipeline statistics); 0 if unavailable */
+    uint64_t samples;           /* samples that passed depth and stencil (occlusion query) */
+    uint64_t pixels;            /* width * height */
+} limen_frame_stats;
+
+LIMEN_API limen_status limen_renderer_create(const limen_renderer_desc *desc,
+                                             limen_renderer **out);
+/* If create fails, *out may still hold a renderer carrying the message; destroy it. */
+LIMEN_API void limen_renderer_destroy(limen_renderer *r);              /* NULL is fine */
+LIMEN_API const char *limen_renderer_error(const limen_renderer *r);   /* "" when none */
+LIMEN_API const char *limen_renderer_gl_info(const limen_renderer *r); /* GL_RENDERER, GL_VERSION */
+LIMEN_API void limen_renderer_size(const limen_renderer *r, int *width, int *height);
+/* Draws one frame of the scene from its camera. stats may be NULL. */
+LIMEN_API limen_status limen_render_frame(limen_renderer *r, limen_scene *s,
+                                          limen_frame_stats *stats);
+/* Copies the last frame as 8-bit RGB, top row first: width * height * 3 bytes. */
+LIMEN_API limen_status limen_renderer_read_rgb(limen_renderer *r, unsigned char *rgb);
+LIMEN_API limen_status limen_renderer_write_png(limen_renderer *r, const char *path);
+
+/* ---------------------------------------------------------------- scripts */
+
+/* A Lua 5.4 scene script: `return limen.scene{...}` after adding nodes; an optional
+ * `function s.update(t)` animates it. The script owns its scene. */
+typedef struct limen_script limen_script;
+
+typedef struct limen_script_desc {
+    int trusted;                /* reserved: 0 runs with the safe standard library */
+} limen_script_desc;
+
+/* Runs the script. On failure *out may still hold a script whose limen_script_error()
+ * reads "file:line: message"; destroy it either way. desc may be NULL. */
+LIMEN_API limen_status limen_script_load(const char *path, const limen_script_desc *desc,
+                                         limen_script **out);
+LIMEN_API void limen_script_destroy(limen_script *sc);                 /* NULL is fine */
+LIMEN_API const char *limen_script_error(const limen_script *sc);      /* "" when none */
+LIMEN_API limen_scene *limen_script_scene(limen_script *sc);           /* owned by the script */
+LIMEN_API int limen_script_animated(const limen_script *sc);           /* 1 if it has update */
+/* Calls the scene's update(t), t in seconds; a no-op for a still scene. */
+LIMEN_API limen_status limen_script_update(limen_script *sc, double t);
+
+/* ---------------------------------------------------------------- images */
+
+/* Writes 8-bit RGB (top row first) as PNG. */
+LIMEN_API limen_status limen_write_png(const char *path, int width, int height,
+                                       const unsigned char *rgb);
+
+#ifdef __cplusplus
+}
+#endif
+#endif /* LIMEN_H */
