@@ -71,7 +71,8 @@ $(B)/liblimen.a: $(LIB_OBJ)
 	ar rcs $@ $^
 
 $(B)/liblimen.so: $(LIB_OBJ)
-	$(CC) -shared -Wl,-soname,liblimen.so.0 -o $@ $^ $(LIBS)
+	$(CC) -shared -Wl,-soname,liblimen.so.0 -o $@.0 $^ $(LIBS)
+	ln -sf liblimen.so.0 $@
 
 # The Lua module takes Lua's symbols from the interpreter that loads it.
 $(B)/limen.so: $(LIB_OBJ)
@@ -111,7 +112,7 @@ install: all
 	  $(DESTDIR)$(PREFIX)/bin $(DESTDIR)$(PREFIX)/lib/lua/5.4
 	install -m 644 include/limen.h $(DESTDIR)$(PREFIX)/include/
 	install -m 644 $(B)/liblimen.a $(DESTDIR)$(PREFIX)/lib/
-	install -m 755 $(B)/liblimen.so $(DESTDIR)$(PREFIX)/lib/liblimen.so.0
+	install -m 755 $(B)/liblimen.so.0 $(DESTDIR)$(PREFIX)/lib/liblimen.so.0
 	ln -sf liblimen.so.0 $(DESTDIR)$(PREFIX)/lib/liblimen.so
 	install -m 755 $(B)/limen.so $(DESTDIR)$(PREFIX)/lib/lua/5.4/limen.so
 	install -m 755 $(B)/limen $(DESTDIR)$(PREFIX)/bin/

@@ -1,0 +1,230 @@
+/* main.c - the limen program: parse arguments, run a scene script, render, write files. */
+#include <errno.h>
+#include <limits.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include "limen.h"
+
+static const char *usage =
+    "usage: limen render SCENE.lua -o OUT.png [options]\n"
+    "options:\n"
+    "  --size WxH            image size (default 640x480)\n"
+    "  --backend osmesa|egl  OpenGL context (default osmesa)\n"
+    "  --msaa N              samples per pixel (default off)\n"
+    "  --depth-mode no|zo|zo-reversed   clip-space depth convention (default no)\n"
+    "  --time T              scene time in seconds passed to update(t) (default 0)\n"
+    "  --frames N --fps F    render N frames from T at F frames per second;\n"
+    "                        files are numbered OUT_0000.png, OUT_0001.png, ...\n"
+    "  --stats               print one JSON line per frame: ms, views, fragments,\n"
+    "                        samples, pixels\n"
+    "  --trusted             run the script with the full Lua standard library\n";
+
+static int fail(const char *fmt, const char *a, const char *b)
+{
+    fprintf(stderr, "limen: ");
+    fprintf(stderr, fmt, a, b);
+    fputc('\n', stderr);
+    return 1;
+}
+
+typedef struct options {
+    const char *scene, *out;
+    limen_renderer_desc rd;
+    double time, fps;
+    long frames;
+    int stats, trusted;
+} options;
+
+static int parse_long(const char *s, long lo, long hi, long *out)
+{
+    char *end;
+    errno = 0;
+    long v = strtol(s, &end, 10);
+    if (errno || end == s || *end || v < lo || v > hi)
+        return -1;
+    *out = v;
+    return 0;
+}
+
+static int parse_double(const char *s, double *out)
+{
+    char *end;
+    errno = 0;
+    double v = strtod(s, &end);
+    if (errno || end == s || *end || v != v || v - v != 0)
+        return -1;
+    *out = v;
+    return 0;
+}
+
+static int parse_render(int argc, char **argv, options *o)
+{
+    memset(o, 0, sizeof *o);
+    o->frames = 1;
+    o->fps = 30;
+    for (int i = 0; i < argc; i++) {
+        const char *a = argv[i];
+        const char *v = i + 1 < argc ? argv[i + 1] : NULL;
+#define NEED_VALUE()                                                                     \
+    do {                                                                                 \
+        if (!v)                                                                          \
+            return fail("option %s needs a value%s", a, "");                             \
+        i++;                                                                             \
+    } while (0)
+        if (!strcmp(a, "-o") || !strcmp(a, "--output")) {
+            NEED_VALUE();
+            o->out = v;
+        } else if (!strcmp(a, "--size")) {
+            NEED_VALUE();
+            int w = 0, h = 0;
+            char tail;
+            if (sscanf(v, "%dx%d%c", &w, &h, &tail) != 2 || w < 1 || h < 1 || w > 16384 ||
+                h > 16384)
+                return fail("--size: expected WxH with 1 <= W, H <= 16384, got '%s'%s", v, "");
+            o->rd.width = w;
+            o->rd.height = h;
+        } else if (!strcmp(a, "--backend")) {
+            NEED_VALUE();
+            if (!strcmp(v, "osmesa"))
+                o->rd.backend = LIMEN_BACKEND_OSMESA;
+            else if (!strcmp(v, "egl"))
+                o->rd.backend = LIMEN_BACKEND_EGL;
+            else
+                return fail("--backend: expected osmesa or egl, got '%s'%s", v, "");
+        } else if (!strcmp(a, "--msaa")) {
+            NEED_VALUE();
+            long n;
+            if (parse_long(v, 0, 64, &n))
+                return fail("--msaa: expected 0 to 64, got '%s'%s", v, "");
+            o->rd.msaa = (int)n;
+        } else if (!strcmp(a, "--depth-mode")) {
+            NEED_VALUE();
+            if (!strcmp(v, "no"))
+                o->rd.depth_range = LIMEN_DEPTH_NO;
+            else if (!strcmp(v, "zo"))
+                o->rd.depth_range = LIMEN_DEPTH_ZO;
+            else if (!strcmp(v, "zo-reversed"))
+                o->rd.depth_range = LIMEN_DEPTH_ZO_REVERSED;
+            else
+                return fail("--depth-mode: expected no, zo or zo-reversed, got '%s'%s", v, "");
+        } else if (!strcmp(a, "--time")) {
+            NEED_VALUE();
+            if (parse_double(v, &o->time))
+                return fail("--time: expected a number, got '%s'%s", v, "");
+        } else if (!strcmp(a, "--frames")) {
+            NEED_VALUE();
+            if (parse_long(v, 1, 1000000, &o->frames))
+                return fail("--frames: expected 1 to 1000000, got '%s'%s", v, "");
+        } else if (!strcmp(a, "--fps")) {
+            NEED_VALUE();
+            if (parse_double(v, &o->fps) || !(o->fps > 0))
+                return fail("--fps: expected a positive number, got '%s'%s", v, "");
+        } else if (!strcmp(a, "--stats")) {
+            o->stats = 1;
+        } else if (!strcmp(a, "--trusted")) {
+            o->trusted = 1;
+        } else if (a[0] == '-' && a[1]) {
+            return fail("unknown option '%s'%s", a, "");
+        } else if (!o->scene) {
+            o->scene = a;
+        } else {
+            return fail("unexpected argument '%s'%s", a, "");
+        }
+#undef NEED_VALUE
+    }
+    if (!o->scene)
+        return fail("render: no scene script given%s%s", "", "");
+    if (!o->out)
+        return fail("render: no output given (-o OUT.png)%s%s", "", "");
+    return 0;
+}
+
+/* OUT.png -> OUT_0007.png for frame 7 of a sequence. */
+static void frame_path(const char *out, long frame, long frames, char *buf, size_t size)
+{
+    if (frames == 1) {
+        snprintf(buf, size, "%s", out);
+        return;
+    }
+    const char *dot = strrchr(out, '.');
+    const char *slash = strrchr(out, '/');
+    int stem = (int)(dot && (!slash || dot > slash) ? dot - out : (int)strlen(out));
+    snprintf(buf, size, "%.*s_%04ld%s", stem, out, frame, dot && stem < (int)strlen(out) ? dot : ".png");
+}
+
+static int cmd_render(int argc, char **argv)
+{
+    options o;
+    if (parse_render(argc, argv, &o))
+        return 2;
+    limen_script *sc = NULL;
+    limen_status st = limen_script_load(o.scene, &(limen_script_desc){ .trusted = o.trusted }, &sc);
+    if (st) {
+        fprintf(stderr, "limen: %s\n", sc ? limen_script_error(sc) : limen_status_string(st));
+        limen_script_destroy(sc);
+        return 1;
+    }
+    limen_renderer *r = NULL;
+    st = limen_renderer_create(&o.rd, &r);
+    if (st) {
+        fprintf(stderr, "limen: %s\n", r ? limen_renderer_error(r) : limen_status_string(st));
+        limen_renderer_destroy(r);
+        limen_script_destroy(sc);
+        return 1;
+    }
+    int tty = isatty(2);
+    int rc = 0;
+    char path[PATH_MAX];
+    for (long f = 0; f < o.frames && !rc; f++) {
+        double t = o.time + (double)f / o.fps;
+        limen_frame_stats stats;
+        if (limen_script_animated(sc) && limen_script_update(sc, t)) {
+            fprintf(stderr, "%slimen: %s\n", tty && f ? "\n" : "", limen_script_error(sc));
+            rc = 1;
+            break;
+        }
+        st = limen_render_frame(r, limen_script_scene(sc), &stats);
+        frame_path(o.out, f, o.frames, path, sizeof path);
+        if (!st)
+            st = limen_renderer_write_png(r, path);
+        if (st) {
+            fprintf(stderr, "%slimen: %s\n", tty && f ? "\n" : "", limen_renderer_error(r));
+            rc = 1;
+            break;
+        }
+        if (o.stats)
+            printf("{\"frame\": %ld, \"time\": %.6g, \"ms\": %.3f, \"views\": %d, "
+                   "\"fragments\": %llu, \"samples\": %llu, \"pixels\": %llu}\n",
+                   f, t, stats.ms, stats.views, (unsigned long long)stats.fragments,
+                   (unsigned long long)stats.samples, (unsigned long long)stats.pixels);
+        if (o.frames > 1 && tty)
+            fprintf(stderr, "\rlimen: frame %ld/%ld", f + 1, o.frames);
+    }
+    if (o.frames > 1 && tty)
+        fputc('\n', stderr);
+    if (!rc && o.frames > 1)
+        fprintf(stderr, "limen: wrote %ld frames to %s\n", o.frames,
+                (frame_path(o.out, 0, o.frames, path, sizeof path), path));
+    limen_renderer_destroy(r);
+    limen_script_destroy(sc);
+    return rc;
+}
+
+int main(int argc, char **argv)
+{
+    if (argc < 2 || !strcmp(argv[1], "-h") || !strcmp(argv[1], "--help")) {
+        fputs(usage, argc < 2 ? stderr : stdout);
+        return argc < 2 ? 2 : 0;
+    }
+    if (!strcmp(argv[1], "render"))
+        return cmd_render(argc - 2, argv + 2);
+    if (!strcmp(argv[1], "--version")) {
+        printf("limen %s\n", LIMEN_VERSION);
+        return 0;
+    }
+    fprintf(stderr, "limen: unknown command '%s'\n%s", argv[1], usage);
+    return 2;
+}

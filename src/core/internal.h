@@ -1,0 +1,73 @@
+/* internal.h - the scene graph's data, shared by the core, the renderer and the bindings.
+ * Not part of the public API. */
+#ifndef LIMEN_INTERNAL_H
+#define LIMEN_INTERNAL_H
+
+#include <stdarg.h>
+#include <stdbool.h>
+
+#include <cglm/cglm.h>
+
+#include "limen.h"
+
+#define LIMEN__NAME_MAX 64
+#define LIMEN__LABEL_MAX 96
+#define LIMEN__ERR_MAX 512
+#define LIMEN__MAX_LIGHTS 8
+
+typedef struct limen__node {
+    uint32_t gen;               /* generation; odd while alive */
+    limen_node_kind kind;
+    uint32_t parent;            /* index + 1; 0 = none */
+    char name[LIMEN__NAME_MAX];
+    char label[LIMEN__LABEL_MAX];
+
+    /* local transform: T * R * F * S, or `local` as set directly */
+    vec3 pos, euler, scale;
+    mat3 facing;
+    bool explicit_local;
+    mat4 local;
+    mat4 world;                 /* valid after limen__scene_refresh */
+
+    vec3 color;                 /* albedo; light intensity */
+    vec3 checker_b;
+    float checker_cell;         /* 0 = plain colour (color only) */
+    vec3 dims;
+    bool visible;
+
+    float fovy, znear, zfar;    /* cameras */
+} limen__node;
+
+struct limen_scene {
+    limen__node *nodes;
+    int cap;                    /* slots allocated */
+    int max_nodes;
+    int count;                  /* live nodes */
+    uint32_t *free_list;
+    int free_count;
+    bool dirty;                 /* world matrices need recomputing */
+    vec3 background;
+    float ambient;
+    uint32_t camera;            /* index + 1 */
+    char err[LIMEN__ERR_MAX];
+};
+
+/* Formats the scene's error message and returns st. */
+limen_status limen__fail(limen_scene *s, limen_status st, const char *fmt, ...)
+    __attribute__((format(printf, 3, 4)));
+/* Writes into a fixed buffer (renderers, scripts). */
+void limen__vformat(char *buf, size_t size, const char *fmt, va_list ap);
+
+/* Live node for a handle, or NULL. */
+limen__node *limen__node_get(const limen_scene *s, limen_node n);
+/* Recomputes world matrices if something moved. */
+void limen__scene_refresh(limen_scene *s);
+/* Handle of the node in slot i. */
+limen_node limen__node_handle(const limen_scene *s, int index);
+
+static inline bool limen__finite3(const float v[3])
+{
+    return isfinite(v[0]) && isfinite(v[1]) && isfinite(v[2]);
+}
+
+#endif

@@ -1,0 +1,726 @@
+/* scene.c - the scene graph: a pool of nodes with generation-checked handles, local
+ * transforms, parents and world matrices. */
+#include <stdlib.h>
+#include <string.h>
+
+#include "core/internal.h"
+
+#define INDEX_BITS 20u
+#define INDEX_MASK ((1u << INDEX_BITS) - 1u)
+#define GEN_MASK ((1u << (32u - INDEX_BITS)) - 1u)
+#define DEFAULT_MAX_NODES 4096
+
+/* ------------------------------------------------------------------ handles */
+
+static limen_node make_handle(uint32_t index, uint32_t gen)
+{
+    return (limen_node){ ((gen & GEN_MASK) << INDEX_BITS) | (index + 1u) };
+}
+
+limen_node limen__node_handle(const limen_scene *s, int index)
+{
+    return make_handle((uint32_t)index, s->nodes[index].gen);
+}
+
+limen__node *limen__node_get(const limen_scene *s, limen_node n)
+{
+    if (!s || !n.id)
+        return NULL;
+    uint32_t index = (n.id & INDEX_MASK) - 1u;
+    if (index >= (uint32_t)s->cap)
+        return NULL;
+    limen__node *node = &s->nodes[index];
+    if (!(node->gen & 1u) || (node->gen & GEN_MASK) != (n.id >> INDEX_BITS))
+        return NULL;
+    return node;
+}
+
+static const char *kind_name(limen_node_kind k)
+{
+    static const char *names[] = { "group", "box", "sphere", "cylinder", "quad",
+                                   "mirror", "portal", "light", "camera" };
+    return (unsigned)k < LIMEN_NODE_KIND_COUNT ? names[k] : "node";
+}
+
+/* Looks up a handle or leaves a message naming the caller. */
+static limen__node *get_or_fail(limen_scene *s, limen_node n, const char *fn)
+{
+    limen__node *node = limen__node_get(s, n);
+    if (!node && s)
+        limen__fail(s, LIMEN_ERR_HANDLE, "%s: %s node handle", fn,
+                    n.id ? "stale or foreign" : "null");
+    return node;
+}
+
+#define GET(node, s, n)                                                                  \
+    limen__node *node = get_or_fail((s), (n), __func__);                                 \
+    if (!node)                                                                           \
+    return (s) ? LIMEN_ERR_HANDLE : LIMEN_ERR_ARG
+
+/* Message prefix for a node: "label: kind 'name'". */
+static void node_desc(const limen__node *node, char *buf, size_t size)
+{
+    snprintf(buf, size, "%s%s%s '%s'", node->label, node->label[0] ? ": " : "",
+             kind_name(node->kind), node->name);
+}
+
+/* ------------------------------------------------------------------ scene */
+
+limen_status limen_scene_create(const limen_scene_desc *desc, limen_scene **out)
+{
+    if (!out)
+        return LIMEN_ERR_ARG;
+    *out = NULL;
+    int max_nodes = desc && desc->max_nodes > 0 ? desc->max_nodes : DEFAULT_MAX_NODES;
+    if (max_nodes > (int)INDEX_MASK - 1)
+        return LIMEN_ERR_ARG;
+    limen_scene *s = calloc(1, sizeof *s);
+    if (!s)
+        return LIMEN_ERR_NOMEM;
+    s->max_nodes = max_nodes;
+    s->ambient = 0.2f;
+    *out = s;
+    return LIMEN_OK;
+}
+
+void limen_scene_destroy(limen_scene *s)
+{
+    if (!s)
+        return;
+    free(s->nodes);
+    free(s->free_list);
+    free(s);
+}
+
+limen_status limen_scene_set_background(limen_scene *s, const float rgb[3])
+{
+    if (!s)
+        return LIMEN_ERR_ARG;
+    if (!rgb || !limen__finite3(rgb) || rgb[0] < 0 || rgb[1] < 0 || rgb[2] < 0 || rgb[0] > 1 ||
+        rgb[1] > 1 || rgb[2] > 1)
+        return limen__fail(s, LIMEN_ERR_ARG, "background: colour components must be in [0, 1]");
+    glm_vec3_copy((float *)rgb, s->background);
+    return LIMEN_OK;
+}
+
+limen_status limen_scene_set_ambient(limen_scene *s, float ambient)
+{
+    if (!s)
+        return LIMEN_ERR_ARG;
+    if (!(ambient >= 0 && ambient <= 1))
+        return limen__fail(s, LIMEN_ERR_ARG, "ambient: must be in [0, 1] (got %g)", ambient);
+    s->ambient = ambient;
+    return LIMEN_OK;
+}
+
+void limen_scene_get_background(const limen_scene *s, float rgb[3])
+{
+    if (s && rgb)
+        memcpy(rgb, s->background, sizeof(float) * 3);
+}
+
+float limen_scene_get_ambient(const limen_scene *s)
+{
+    return s ? s->ambient : 0.0f;
+}
+
+limen_status limen_scene_set_camera(limen_scene *s, limen_node camera)
+{
+    GET(node, s, camera);
+    if (node->kind != LIMEN_NODE_CAMERA)
+        return limen__fail(s, LIMEN_ERR_HANDLE, "set_camera: node '%s' is a %s, not a camera",
+                           node->name, kind_name(node->kind));
+    s->camera = (uint32_t)(node - s->nodes) + 1u;
+    return LIMEN_OK;
+}
+
+limen_node limen_scene_get_camera(const limen_scene *s)
+{
+    if (!s || !s->camera)
+        return (limen_node){ 0 };
+    return limen__node_handle(s, (int)s->camera - 1);
+}
+
+int limen_scene_node_count(const limen_scene *s)
+{
+    return s ? s->count : 0;
+}
+
+/* ------------------------------------------------------------------ world matrices */
+
+static void compose_local(limen__node *node)
+{
+    if (node->explicit_local)
+        return;
+    mat4 r, f;
+    /* R = Rz * Ry * Rx: X applied first (cglm's glm_euler_xyz composes the other way) */
+    glm_rotate_make(r, node->euler[2], GLM_ZUP);
+    glm_rotate(r, node->euler[1], GLM_YUP);
+    glm_rotate(r, node->euler[0], GLM_XUP);
+    glm_mat4_identity(f);
+    glm_mat4_ins3(node->facing, f);
+    glm_mat4_mul(r, f, node->local);
+    glm_scale(node->local, node->scale);
+    node->local[3][0] = node->pos[0];
+    node->local[3][1] = node->pos[1];
+    node->local[3][2] = node->pos[2];
+}
+
+void limen__scene_refresh(limen_scene *s)
+{
+    if (!s->dirty)
+        return;
+    /* Parents may sit at any index: resolve each node after its ancestors, using `done`
+     * marks; chains are acyclic by construction (set_parent refuses cycles). */
+    unsigned char *done = calloc((size_t)s->cap, 1);
+    uint32_t *stack = malloc(sizeof *stack * (size_t)(s->cap ? s->cap : 1));
+    if (!done || !stack) {
+        free(done);
+        free(stack);
+        return;     /* keep the old matrices; dirty stays set and the next call retries */
+    }
+    for (int i = 0; i < s->cap; i++) {
+        if (!(s->nodes[i].gen & 1u) || done[i])
+            continue;
+        int top = 0;
+        uint32_t at = (uint32_t)i;
+        for (;;) {  /* climb to the first resolved ancestor */
+            stack[top++] = at;
+            uint32_t p = s->nodes[at].parent;
+            if (!p || done[p - 1])
+                break;
+            at = p - 1;
+        }
+        while (top > 0) {
+            uint32_t k = stack[--top];
+            limen__node *node = &s->nodes[k];
+            compose_local(node);
+            if (node->parent)
+                glm_mat4_mul(s->nodes[node->parent - 1].world, node->local, node->world);
+            else
+                glm_mat4_copy(node->local, node->world);
+            done[k] = 1;
+        }
+    }
+    free(done);
+    free(stack);
+    s->dirty = false;
+}
+
+limen_status limen_scene_update(limen_scene *s)
+{
+    if (!s)
+        return LIMEN_ERR_ARG;
+    limen__scene_refresh(s);
+    return s->dirty ? limen__fail(s, LIMEN_ERR_NOMEM, "scene_update: out of memory") : LIMEN_OK;
+}
+
+/* ------------------------------------------------------------------ nodes */
+
+static void node_defaults(limen__node *node, limen_node_kind kind)
+{
+    uint32_t gen = node->gen;
+    memset(node, 0, sizeof *node);
+    node->gen = gen;
+    node->kind = kind;
+    glm_vec3_one(node->scale);
+    glm_mat3_identity(node->facing);
+    glm_vec3_one(node->color);
+    node->visible = true;
+    switch (kind) {
+    case LIMEN_NODE_BOX: glm_vec3_one(node->dims); break;
+    case LIMEN_NODE_SPHERE: node->dims[0] = 0.5f; break;
+    case LIMEN_NODE_CYLINDER: node->dims[0] = 0.5f; node->dims[1] = 1.0f; break;
+    case LIMEN_NODE_QUAD:
+    case LIMEN_NODE_MIRROR:
+    case LIMEN_NODE_PORTAL: node->dims[0] = node->dims[1] = 1.0f; break;
+    default: break;
+    }
+    node->fovy = glm_rad(60.0f);
+    node->znear = 0.05f;
+    node->zfar = 100.0f;
+}
+
+static bool grow(limen_scene *s)
+{
+    int cap = s->cap ? s->cap * 2 : 64;
+    if (cap > s->max_nodes)
+        cap = s->max_nodes;
+    if (cap <= s->cap)
+        return false;
+    limen__node *nodes = realloc(s->nodes, sizeof *nodes * (size_t)cap);
+    if (!nodes)
+        return false;
+    s->nodes = nodes;
+    uint32_t *fl = realloc(s->free_list, sizeof *fl * (size_t)cap);
+    if (!fl)
+        return false;
+    s->free_list = fl;
+    for (int i = cap - 1; i >= s->cap; i--) {
+        nodes[i].gen = 0;
+        s->free_list[s->free_count++] = (uint32_t)i;
+    }
+    s->cap = cap;
+    return true;
+}
+
+limen_status limen_node_create(limen_scene *s, limen_node_kind kind, const char *name,
+                               limen_node *out)
+{
+    if (!s || !out)
+        return LIMEN_ERR_ARG;
+    out->id = 0;
+    if ((unsigned)kind >= LIMEN_NODE_KIND_COUNT)
+        return limen__fail(s, LIMEN_ERR_ARG, "node_create: unknown kind %d", (int)kind);
+    if (!s->free_count && !grow(s))
+        return limen__fail(s, LIMEN_ERR_NOMEM, "node_create: more than %d nodes", s->max_nodes);
+    uint32_t index = s->free_list[--s->free_count];
+    limen__node *node = &s->nodes[index];
+    node->gen = (node->gen + 1u) | 1u;
+    if ((node->gen & GEN_MASK) == 0)
+        node->gen = 1;
+    node_defaults(node, kind);
+    if (name)
+        snprintf(node->name, sizeof node->name, "%s", name);
+    s->count++;
+    s->dirty = true;
+    *out = make_handle(index, node->gen);
+    return LIMEN_OK;
+}
+
+limen_status limen_node_destroy(limen_scene *s, limen_node n)
+{
+    GET(node, s, n);
+    uint32_t self = (uint32_t)(node - s->nodes) + 1u;
+    for (int i = 0; i < s->cap; i++)
+        if ((s->nodes[i].gen & 1u) && s->nodes[i].parent == self)
+            s->nodes[i].parent = node->parent;
+    if (s->camera == self)
+        s->camera = 0;
+    node->gen++;    /* even: dead; the next create makes it odd again with a new value */
+    s->free_list[s->free_count++] = self - 1u;
+    s->count--;
+    s->dirty = true;
+    return LIMEN_OK;
+}
+
+int limen_node_valid(const limen_scene *s, limen_node n)
+{
+    return limen__node_get(s, n) != NULL;
+}
+
+limen_status limen_node_find(const limen_scene *s, const char *name, limen_node *out)
+{
+    if (!s || !name || !out)
+        return LIMEN_ERR_ARG;
+    out->id = 0;
+    for (int i = 0; i < s->cap; i++) {
+        if ((s->nodes[i].gen & 1u) && strcmp(s->nodes[i].name, name) == 0) {
+            *out = limen__node_handle(s, i);
+            return LIMEN_OK;
+        }
+    }
+    return limen__fail((limen_scene *)s, LIMEN_ERR_HANDLE, "no node named '%s'", name);
+}
+
+const char *limen_node_name(const limen_scene *s, limen_node n)
+{
+    limen__node *node = limen__node_get(s, n);
+    return node ? node->name : NULL;
+}
+
+limen_node_kind limen_node_get_kind(const limen_scene *s, limen_node n)
+{
+    limen__node *node = limen__node_get(s, n);
+    return node ? node->kind : LIMEN_NODE_KIND_COUNT;
+}
+
+limen_status limen_node_set_label(limen_scene *s, limen_node n, const char *label)
+{
+    GET(node, s, n);
+    snprintf(node->label, sizeof node->label, "%s", label ? label : "");
+    return LIMEN_OK;
+}
+
+/* ------------------------------------------------------------------ hierarchy */
+
+limen_status limen_node_set_parent(limen_scene *s, limen_node n, limen_node parent)
+{
+    GET(node, s, n);
+    uint32_t self = (uint32_t)(node - s->nodes) + 1u;
+    if (!parent.id) {
+        node->parent = 0;
+        s->dirty = true;
+        return LIMEN_OK;
+    }
+    limen__node *p = get_or_fail(s, parent, "set_parent");
+    if (!p)
+        return LIMEN_ERR_HANDLE;
+    uint32_t pi = (uint32_t)(p - s->nodes) + 1u;
+    for (uint32_t at = pi; at; at = s->nodes[at - 1].parent) {
+        if (at == self) {
+            char d[256];
+            node_desc(node, d, sizeof d);
+            return limen__fail(s, LIMEN_ERR_CYCLE,
+                               "%s: parent '%s' would make a cycle in the parent chain", d,
+                               p->name);
+        }
+    }
+    node->parent = pi;
+    s->dirty = true;
+    return LIMEN_OK;
+}
+
+limen_node limen_node_get_parent(const limen_scene *s, limen_node n)
+{
+    limen__node *node = limen__node_get(s, n);
+    if (!node || !node->parent)
+        return (limen_node){ 0 };
+    return limen__node_handle(s, (int)node->parent - 1);
+}
+
+/* ------------------------------------------------------------------ transforms */
+
+static limen_status check_vec(limen_scene *s, const float *v, const char *what)
+{
+    if (!v || !limen__finite3(v))
+        return limen__fail(s, LIMEN_ERR_ARG, "%s: needs three finite numbers", what);
+    return LIMEN_OK;
+}
+
+#define CHECK_VEC(s, v, what)                                                            \
+    do {                                                                                 \
+        limen_status st_ = check_vec((s), (v), (what));                                  \
+        if (st_)                                                                         \
+            return st_;                                                                  \
+    } while (0)
+
+/* Leaves TRS mode untouched but stops using an explicit local matrix. */
+static void to_trs(limen_scene *s, limen__node *node)
+{
+    node->explicit_local = false;
+    s->dirty = true;
+}
+
+limen_status limen_node_set_position(limen_scene *s, limen_node n, const float p[3])
+{
+    GET(node, s, n);
+    CHECK_VEC(s, p, "position");
+    glm_vec3_copy((float *)p, node->pos);
+    to_trs(s, node);
+    return LIMEN_OK;
+}
+
+limen_status limen_node_set_rotation(limen_scene *s, limen_node n, const float xyz[3])
+{
+    GET(node, s, n);
+    CHECK_VEC(s, xyz, "rotation");
+    glm_vec3_copy((float *)xyz, node->euler);
+    to_trs(s, node);
+    return LIMEN_OK;
+}
+
+/* Basis whose +Z is normal and whose +Y leans towards up. */
+static limen_status facing_basis(limen_scene *s, const float normal[3], const float up[3],
+                                 mat3 out)
+{
+    CHECK_VEC(s, normal, "normal");
+    if (up)
+        CHECK_VEC(s, up, "up");
+    vec3 z, x, y, u;
+    glm_vec3_copy((float *)normal, z);
+    float len = glm_vec3_norm(z);
+    if (!(len > 1e-12f))
+        return limen__fail(s, LIMEN_ERR_DEGENERATE, "normal: must not be zero");
+    glm_vec3_scale(z, 1.0f / len, z);
+    if (up) {
+        glm_vec3_copy((float *)up, u);
+    } else if (fabsf(z[1]) > 0.999f) {
+        glm_vec3_copy((vec3){ 0, 0, -1 }, u);
+    } else {
+        glm_vec3_copy((vec3){ 0, 1, 0 }, u);
+    }
+    glm_vec3_cross(u, z, x);
+    float xl = glm_vec3_norm(x), ul = glm_vec3_norm(u);
+    if (!(xl > 1e-6f * ul))
+        return limen__fail(s, LIMEN_ERR_DEGENERATE,
+                           "up: must not be zero or parallel to the normal");
+    glm_vec3_scale(x, 1.0f / xl, x);
+    glm_vec3_cross(z, x, y);
+    glm_vec3_copy(x, out[0]);
+    glm_vec3_copy(y, out[1]);
+    glm_vec3_copy(z, out[2]);
+    return LIMEN_OK;
+}
+
+limen_status limen_node_set_facing(limen_scene *s, limen_node n, const float normal[3],
+                                   const float up[3])
+{
+    GET(node, s, n);
+    mat3 f;
+    limen_status st = facing_basis(s, normal, up, f);
+    if (st)
+        return st;
+    glm_mat3_copy(f, node->facing);
+    to_trs(s, node);
+    return LIMEN_OK;
+}
+
+limen_status limen_node_set_scale(limen_scene *s, limen_node n, const float xyz[3])
+{
+    GET(node, s, n);
+    CHECK_VEC(s, xyz, "scale");
+    if (xyz[0] == 0 || xyz[1] == 0 || xyz[2] == 0)
+        return limen__fail(s, LIMEN_ERR_DEGENERATE, "scale: components must not be zero");
+    glm_vec3_copy((float *)xyz, node->scale);
+    to_trs(s, node);
+    return LIMEN_OK;
+}
+
+limen_status limen_node_set_local_matrix(limen_scene *s, limen_node n, const float m[16])
+{
+    GET(node, s, n);
+    if (!m)
+        return limen__fail(s, LIMEN_ERR_ARG, "local matrix: NULL");
+    mat4 l;
+    for (int i = 0; i < 16; i++) {
+        if (!isfinite(m[i]))
+            return limen__fail(s, LIMEN_ERR_ARG, "local matrix: element %d is not finite", i);
+        l[i / 4][i % 4] = m[i];
+    }
+    if (fabsf(glm_mat4_det(l)) < 1e-12f)
+        return limen__fail(s, LIMEN_ERR_DEGENERATE, "local matrix: singular");
+    glm_mat4_copy(l, node->local);
+    node->explicit_local = true;
+    s->dirty = true;
+    return LIMEN_OK;
+}
+
+limen_status limen_node_look_at(limen_scene *s, limen_node n, const float eye[3],
+                                const float target[3], const float up[3])
+{
+    GET(node, s, n);
+    CHECK_VEC(s, eye, "eye");
+    CHECK_VEC(s, target, "target");
+    vec3 back;
+    glm_vec3_sub((float *)eye, (float *)target, back);
+    if (!(glm_vec3_norm(back) > 1e-9f))
+        return limen__fail(s, LIMEN_ERR_DEGENERATE, "look_at: eye and target coincide");
+    mat3 f;
+    limen_status st = facing_basis(s, back, up, f);
+    if (st)
+        return st;
+    glm_mat3_copy(f, node->facing);
+    glm_vec3_zero(node->euler);
+    glm_vec3_copy((float *)eye, node->pos);
+    to_trs(s, node);
+    return LIMEN_OK;
+}
+
+limen_status limen_node_get_position(const limen_scene *s, limen_node n, float p[3])
+{
+    GET(node, (limen_scene *)s, n);
+    if (!p)
+        return LIMEN_ERR_ARG;
+    if (node->explicit_local)
+        memcpy(p, node->local[3], sizeof(float) * 3);
+    else
+        memcpy(p, node->pos, sizeof(float) * 3);
+    return LIMEN_OK;
+}
+
+limen_status limen_node_get_rotation(const limen_scene *s, limen_node n, float xyz[3])
+{
+    GET(node, (limen_scene *)s, n);
+    if (!xyz)
+        return LIMEN_ERR_ARG;
+    memcpy(xyz, node->euler, sizeof(float) * 3);
+    return LIMEN_OK;
+}
+
+limen_status limen_node_get_scale(const limen_scene *s, limen_node n, float xyz[3])
+{
+    GET(node, (limen_scene *)s, n);
+    if (!xyz)
+        return LIMEN_ERR_ARG;
+    memcpy(xyz, node->scale, sizeof(float) * 3);
+    return LIMEN_OK;
+}
+
+static void mat_out(mat4 m, float out[16])
+{
+    for (int i = 0; i < 16; i++)
+        out[i] = m[i / 4][i % 4];
+}
+
+limen_status limen_node_local_matrix(limen_scene *s, limen_node n, float m[16])
+{
+    GET(node, s, n);
+    if (!m)
+        return LIMEN_ERR_ARG;
+    compose_local(node);
+    mat_out(node->local, m);
+    return LIMEN_OK;
+}
+
+limen_status limen_node_world_matrix(limen_scene *s, limen_node n, float m[16])
+{
+    GET(node, s, n);
+    if (!m)
+        return LIMEN_ERR_ARG;
+    limen__scene_refresh(s);
+    if (s->dirty)
+        return limen__fail(s, LIMEN_ERR_NOMEM, "world matrix: out of memory");
+    mat_out(node->world, m);
+    return LIMEN_OK;
+}
+
+/* ------------------------------------------------------------------ appearance */
+
+limen_status limen_node_set_dims(limen_scene *s, limen_node n, const float dims[3])
+{
+    GET(node, s, n);
+    CHECK_VEC(s, dims, "dims");
+    int used = 0;
+    switch (node->kind) {
+    case LIMEN_NODE_BOX: used = 3; break;
+    case LIMEN_NODE_SPHERE: used = 1; break;
+    case LIMEN_NODE_CYLINDER:
+    case LIMEN_NODE_QUAD:
+    case LIMEN_NODE_MIRROR:
+    case LIMEN_NODE_PORTAL: used = 2; break;
+    default:
+        return limen__fail(s, LIMEN_ERR_ARG, "dims: a %s has no size", kind_name(node->kind));
+    }
+    for (int i = 0; i < used; i++)
+        if (!(dims[i] > 0))
+            return limen__fail(s, LIMEN_ERR_ARG, "dims: %s size %d must be positive (got %g)",
+                               kind_name(node->kind), i, dims[i]);
+    for (int i = 0; i < 3; i++)
+        node->dims[i] = i < used ? dims[i] : 0.0f;
+    return LIMEN_OK;
+}
+
+limen_status limen_node_get_dims(const limen_scene *s, limen_node n, float dims[3])
+{
+    GET(node, (limen_scene *)s, n);
+    if (!dims)
+        return LIMEN_ERR_ARG;
+    memcpy(dims, node->dims, sizeof(float) * 3);
+    return LIMEN_OK;
+}
+
+static limen_status check_color(limen_scene *s, const float rgb[3], bool unit, const char *what)
+{
+    CHECK_VEC(s, rgb, what);
+    for (int i = 0; i < 3; i++)
+        if (rgb[i] < 0 || (unit && rgb[i] > 1))
+            return limen__fail(s, LIMEN_ERR_ARG, "%s: components must be in [0, %s] (got %g)",
+                               what, unit ? "1" : "inf", rgb[i]);
+    return LIMEN_OK;
+}
+
+limen_status limen_node_set_color(limen_scene *s, limen_node n, const float rgb[3])
+{
+    GET(node, s, n);
+    limen_status st = check_color(s, rgb, node->kind != LIMEN_NODE_LIGHT, "color");
+    if (st)
+        return st;
+    glm_vec3_copy((float *)rgb, node->color);
+    return LIMEN_OK;
+}
+
+limen_status limen_node_get_color(const limen_scene *s, limen_node n, float rgb[3])
+{
+    GET(node, (limen_scene *)s, n);
+    if (!rgb)
+        return LIMEN_ERR_ARG;
+    memcpy(rgb, node->color, sizeof(float) * 3);
+    return LIMEN_OK;
+}
+
+limen_status limen_node_set_checker(limen_scene *s, limen_node n, const float a[3],
+                                    const float b[3], float cell)
+{
+    GET(node, s, n);
+    if (!(cell >= 0) || !isfinite(cell))
+        return limen__fail(s, LIMEN_ERR_ARG, "checker: cell size must be >= 0 (got %g)", cell);
+    if (cell == 0) {
+        node->checker_cell = 0;
+        return LIMEN_OK;
+    }
+    limen_status st = check_color(s, a, true, "checker colour a");
+    if (!st)
+        st = check_color(s, b, true, "checker colour b");
+    if (st)
+        return st;
+    glm_vec3_copy((float *)a, node->color);
+    glm_vec3_copy((float *)b, node->checker_b);
+    node->checker_cell = cell;
+    return LIMEN_OK;
+}
+
+limen_status limen_node_set_visible(limen_scene *s, limen_node n, int visible)
+{
+    GET(node, s, n);
+    node->visible = visible != 0;
+    return LIMEN_OK;
+}
+
+int limen_node_get_visible(const limen_scene *s, limen_node n)
+{
+    limen__node *node = limen__node_get(s, n);
+    return node ? node->visible : 0;
+}
+
+/* ------------------------------------------------------------------ cameras */
+
+limen_status limen_camera_set_lens(limen_scene *s, limen_node cam, float fovy, float znear,
+                                   float zfar)
+{
+    GET(node, s, cam);
+    if (node->kind != LIMEN_NODE_CAMERA)
+        return limen__fail(s, LIMEN_ERR_HANDLE, "camera lens: '%s' is not a camera", node->name);
+    if (!(fovy > 0 && fovy < GLM_PIf))
+        return limen__fail(s, LIMEN_ERR_ARG, "fov: must be in (0, 180) degrees (got %g)",
+                           glm_deg(fovy));
+    if (!(znear > 0) || !isfinite(znear))
+        return limen__fail(s, LIMEN_ERR_ARG, "near: must be positive (got %g)", znear);
+    if (!(zfar > znear) || !isfinite(zfar))
+        return limen__fail(s, LIMEN_ERR_ARG, "far: must be greater than near (got %g)", zfar);
+    node->fovy = fovy;
+    node->znear = znear;
+    node->zfar = zfar;
+    return LIMEN_OK;
+}
+
+limen_status limen_camera_get_lens(const limen_scene *s, limen_node cam, float *fovy,
+                                   float *znear, float *zfar)
+{
+    GET(node, (limen_scene *)s, cam);
+    if (fovy)
+        *fovy = node->fovy;
+    if (znear)
+        *znear = node->znear;
+    if (zfar)
+        *zfar = node->zfar;
+    return LIMEN_OK;
+}
+
+limen_status limen_camera_matrices(limen_scene *s, float aspect, limen_depth_range range,
+                                   float view[16], float proj[16])
+{
+    if (!s || !view || !proj)
+        return LIMEN_ERR_ARG;
+    if (!s->camera)
+        return limen__fail(s, LIMEN_ERR_ARG, "scene has no camera (add s:camera{...})");
+    limen__node *cam = &s->nodes[s->camera - 1];
+    limen__scene_refresh(s);
+    mat4 v;
+    glm_mat4_inv(cam->world, v);
+    mat_out(v, view);
+    limen_status st = limen_perspective(cam->fovy, aspect, cam->znear, cam->zfar, range, proj);
+    if (st)
+        return limen__fail(s, st, "camera: cannot form its projection (aspect %g)", aspect);
+    return LIMEN_OK;
+}

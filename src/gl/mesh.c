@@ -1,0 +1,196 @@
+/* mesh.c - builds the unit meshes once per renderer. Curved shapes come in levels of
+ * detail: the renderer picks, per view, the coarsest whose silhouette stays within a
+ * fraction of a pixel of the true shape (the ray tracer's). */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "gl/mesh.h"
+
+const int limen__lod_segments[LIMEN__LODS] = { 8, 12, 16, 24, 32, 48, 64, 96, 128, 192, 256 };
+
+typedef struct builder {
+    limen__meshes *m;
+    uint32_t vcap, icap;
+    int failed;
+} builder;
+
+static uint32_t vert(builder *b, float px, float py, float pz, float nx, float ny, float nz)
+{
+    limen__meshes *m = b->m;
+    if (m->nverts == b->vcap) {
+        uint32_t cap = b->vcap ? b->vcap * 2 : 1024;
+        limen__vertex *v = realloc(m->verts, sizeof *v * cap);
+        if (!v) {
+            b->failed = 1;
+            return 0;
+        }
+        m->verts = v;
+        b->vcap = cap;
+    }
+    m->verts[m->nverts] = (limen__vertex){ { px, py, pz }, { nx, ny, nz } };
+    return m->nverts++;
+}
+
+static void tri(builder *b, uint32_t i0, uint32_t i1, uint32_t i2)
+{
+    limen__meshes *m = b->m;
+    if (b->failed)
+        return;
+    if (m->nidx + 3 > b->icap) {
+        uint32_t cap = b->icap ? b->icap * 2 : 4096;
+        uint32_t *p = realloc(m->idx, sizeof *p * cap);
+        if (!p) {
+            b->failed = 1;
+            return;
+        }
+        m->idx = p;
+        b->icap = cap;
+    }
+    m->idx[m->nidx++] = i0;
+    m->idx[m->nidx++] = i1;
+    m->idx[m->nidx++] = i2;
+}
+
+/* Quad a-b-c-d, counter-clockwise seen from the front. */
+static void quad4(builder *b, uint32_t a, uint32_t bb, uint32_t c, uint32_t d)
+{
+    tri(b, a, bb, c);
+    tri(b, a, c, d);
+}
+
+static void build_box(builder *b)
+{
+    /* For each face: normal axis, sign; two tangent axes forming a right-handed frame. */
+    for (int axis = 0; axis < 3; axis++) {
+        for (int sgn = -1; sgn <= 1; sgn += 2) {
+            float n[3] = { 0, 0, 0 };
+            n[axis] = (float)sgn;
+            int u = (axis + 1) % 3, v = (axis + 2) % 3;
+            uint32_t ids[4];
+            static const float uv[4][2] = { { -1, -1 }, { 1, -1 }, { 1, 1 }, { -1, 1 } };
+            for (int k = 0; k < 4; k++) {
+                float p[3];
+                p[axis] = 0.5f * (float)sgn;
+                p[u] = 0.5f * uv[k][0];
+                p[v] = 0.5f * uv[k][1];
+                ids[k] = vert(b, p[0], p[1], p[2], n[0], n[1], n[2]);
+            }
+            /* u x v = +axis, so (u,v) order is CCW from +axis; reverse for the -axis face. */
+            if (sgn > 0)
+                quad4(b, ids[0], ids[1], ids[2], ids[3]);
+            else
+                quad4(b, ids[0], ids[3], ids[2], ids[1]);
+        }
+    }
+}
+
+static void build_quad(builder *b)
+{
+    uint32_t a = vert(b, -0.5f, -0.5f, 0, 0, 0, 1);
+    uint32_t c = vert(b, 0.5f, -0.5f, 0, 0, 0, 1);
+    uint32_t d = vert(b, 0.5f, 0.5f, 0, 0, 0, 1);
+    uint32_t e = vert(b, -0.5f, 0.5f, 0, 0, 0, 1);
+    quad4(b, a, c, d, e);
+}
+
+static void build_sphere(builder *b, int slices)
+{
+    int stacks = slices / 2;
+    uint32_t base = b->m->nverts;
+    for (int i = 0; i <= stacks; i++) {
+        double phi = M_PI * i / stacks;     /* from +Y down */
+        for (int j = 0; j <= slices; j++) {
+            double th = 2.0 * M_PI * j / slices;
+            float x = (float)(sin(phi) * cos(th)), y = (float)cos(phi),
+                  z = (float)(-sin(phi) * sin(th));
+            vert(b, x, y, z, x, y, z);
+        }
+    }
+    for (int i = 0; i < stacks; i++) {
+        for (int j = 0; j < slices; j++) {
+            uint32_t a = base + (uint32_t)(i * (slices + 1) + j), c = a + (uint32_t)slices + 1;
+            /* th grows towards -z seen from above: (a, c, c+1) is CCW from outside */
+            if (i != 0)
+                tri(b, a, c, c + 1);
+            if (i != stacks - 1)
+                tri(b, a, c + 1, a + 1);
+        }
+    }
+}
+
+static void build_cylinder(builder *b, int slices)
+{
+    uint32_t base = b->m->nverts;
+    for (int j = 0; j <= slices; j++) {
+        double th = 2.0 * M_PI * j / slices;
+        float x = (float)cos(th), z = (float)-sin(th);
+        vert(b, x, 0, z, x, 0, z);
+        vert(b, x, 1, z, x, 0, z);
+    }
+    for (int j = 0; j < slices; j++) {
+        uint32_t a = base + (uint32_t)(2 * j);
+        quad4(b, a, a + 2, a + 3, a + 1);
+    }
+    for (int cap = 0; cap < 2; cap++) {
+        float y = (float)cap, ny = cap ? 1.0f : -1.0f;
+        uint32_t centre = vert(b, 0, y, 0, 0, ny, 0);
+        uint32_t ring = b->m->nverts;
+        for (int j = 0; j < slices; j++) {
+            double th = 2.0 * M_PI * j / slices;
+            vert(b, (float)cos(th), y, (float)-sin(th), 0, ny, 0);
+        }
+        for (int j = 0; j < slices; j++) {
+            uint32_t p = ring + (uint32_t)j, q = ring + (uint32_t)((j + 1) % slices);
+            if (cap)
+                tri(b, centre, p, q);
+            else
+                tri(b, centre, q, p);
+        }
+    }
+}
+
+typedef void (*build_fn)(builder *b);
+
+int limen__meshes_build(limen__meshes *m)
+{
+    memset(m, 0, sizeof *m);
+    builder b = { m, 0, 0, 0 };
+    uint32_t first = 0;
+#define RANGE(dst, call)                                                                 \
+    do {                                                                                 \
+        first = m->nidx;                                                                 \
+        call;                                                                            \
+        (dst) = (limen__range){ first, m->nidx - first };                                \
+    } while (0)
+    RANGE(m->box, build_box(&b));
+    RANGE(m->quad, build_quad(&b));
+    for (int l = 0; l < LIMEN__LODS; l++) {
+        RANGE(m->sphere[l], build_sphere(&b, limen__lod_segments[l]));
+        RANGE(m->cylinder[l], build_cylinder(&b, limen__lod_segments[l]));
+    }
+#undef RANGE
+    if (b.failed) {
+        limen__meshes_free(m);
+        return -1;
+    }
+    return 0;
+}
+
+void limen__meshes_free(limen__meshes *m)
+{
+    free(m->verts);
+    free(m->idx);
+    memset(m, 0, sizeof *m);
+}
+
+int limen__lod_for(float radius_px, float tol_px)
+{
+    for (int l = 0; l < LIMEN__LODS; l++) {
+        /* largest gap between a polygon of n sides inscribed in the circle and the circle */
+        double sag = radius_px * (1.0 - cos(M_PI / limen__lod_segments[l]));
+        if (sag <= tol_px)
+            return l;
+    }
+    return LIMEN__LODS - 1;
+}

@@ -1,0 +1,103 @@
+#!/bin/sh
+# The limen program, the Lua module, pkg-config and make install, as a user meets them.
+. tests/sh/lib.sh
+
+stats_line() {
+    "$LIMEN" render scenes/plain.lua -o "$TMP/s.png" --size 160x120 --stats > "$TMP/stats" &&
+    for k in ms views fragments samples pixels; do
+        grep -q "\"$k\": [0-9.]*" "$TMP/stats" || { echo "no $k in: $(cat "$TMP/stats")"; return 1; }
+    done &&
+    grep -q '"pixels": 19200' "$TMP/stats" && grep -q '"views": 1' "$TMP/stats" &&
+    [ "$(wc -l < "$TMP/stats")" -eq 1 ]
+}
+t_ok "render --stats prints one JSON line with ms, views, fragments, samples, pixels" stats_line
+
+frames() {
+    "$LIMEN" render scenes/plain.lua -o "$TMP/anim.png" --size 64x48 --frames 3 --fps 2 &&
+    [ -s "$TMP/anim_0000.png" ] && [ -s "$TMP/anim_0001.png" ] && [ -s "$TMP/anim_0002.png" ] &&
+    [ ! -e "$TMP/anim_0003.png" ] && ! cmp -s "$TMP/anim_0000.png" "$TMP/anim_0001.png"
+}
+t_ok "--frames 3 writes OUT_0000..0002.png and the scene moves between them" frames
+
+png_header() {
+    "$LIMEN" render scenes/plain.lua -o "$TMP/h.png" --size 33x17 &&
+    [ "$(head -c 8 "$TMP/h.png" | od -An -c | tr -d ' ')" = '211PNG\r\n032\n' ] &&
+    [ "$(od -An -tu1 -j16 -N8 "$TMP/h.png" | tr -s ' ')" = " 0 0 0 33 0 0 0 17" ]
+}
+t_ok "output is a PNG of the requested size" png_header
+
+expect_fail() {   # expect_fail STATUS PATTERN CMD...
+    want=$1 pat=$2; shift 2
+    "$@" > "$TMP/o" 2> "$TMP/e"; rc=$?
+    [ $rc -eq "$want" ] || { echo "exit $rc, expected $want"; cat "$TMP/e"; return 1; }
+    grep -q -- "$pat" "$TMP/e" || { echo "stderr lacks '$pat':"; cat "$TMP/e"; return 1; }
+    [ "$(wc -l < "$TMP/e")" -le 2 ] || { echo "too chatty:"; cat "$TMP/e"; return 1; }
+}
+t_ok "unknown option -> exit 2 and a message" expect_fail 2 "limen: unknown option '--bogus'" "$LIMEN" render scenes/plain.lua -o "$TMP/x.png" --bogus
+t_ok "bad --size -> exit 2" expect_fail 2 "limen: --size" "$LIMEN" render scenes/plain.lua -o "$TMP/x.png" --size 0x10
+t_ok "bad --backend -> exit 2" expect_fail 2 "limen: --backend" "$LIMEN" render scenes/plain.lua -o "$TMP/x.png" --backend vulkan
+t_ok "missing output -> exit 2" expect_fail 2 "no output" "$LIMEN" render scenes/plain.lua
+t_ok "missing scene file -> exit 1 naming it" expect_fail 1 "nope.lua" "$LIMEN" render "$TMP/nope.lua" -o "$TMP/x.png"
+printf 'local limen = require "limen"\nlocal s = limen.scene {}\ns:sphere { radius = -1 }\nreturn s\n' > "$TMP/bad.lua"
+t_ok "script error -> file:line: message naming the field" expect_fail 1 "bad.lua:3: .*radius" "$LIMEN" render "$TMP/bad.lua" -o "$TMP/x.png"
+printf 'local limen = require "limen"\nlocal s = limen.scene {}\nreturn s\n' > "$TMP/nocam.lua"
+t_ok "scene without camera -> clear error" expect_fail 1 "camera" "$LIMEN" render "$TMP/nocam.lua" -o "$TMP/x.png"
+t_ok "unwritable output -> exit 1" expect_fail 1 "cannot write" "$LIMEN" render scenes/plain.lua -o "$TMP/no/such/dir/x.png"
+
+lua_require() {
+    LUA_CPATH="$B/?.so" LUA_PATH="lua/?.lua;;" lua5.4 -e '
+        local limen = require "limen"
+        local s = limen.scene { ambient = 0.5 }
+        local b = s:sphere { name = "b", radius = 2 }
+        assert(b.radius == 2, "radius")
+        assert(s:find("b") ~= nil, "find")
+        s:camera { pos = {0, 0, 5}, look_at = {0, 0, 0} }
+        s:render { out = arg and arg[1] or os.getenv("OUT"), size = {32, 24} }
+        print("ok")' && [ -s "$OUT" ]
+}
+OUT="$TMP/lua.png"; export OUT
+t_ok "stock lua5.4 can require the module and render" lua_require
+
+pkgconfig_program() {
+    cat > "$TMP/prog.c" <<'C'
+#include <limen.h>
+#include <stdio.h>
+int main(int argc, char **argv) {
+    limen_scene *s; limen_renderer *r; limen_node cam, ball, light;
+    if (limen_scene_create(&(limen_scene_desc){0}, &s)) return 1;
+    limen_node_create(s, LIMEN_NODE_CAMERA, "cam", &cam);
+    limen_node_look_at(s, cam, (float[3]){0, 0, 3}, (float[3]){0, 0, 0}, NULL);
+    limen_scene_set_camera(s, cam);
+    limen_node_create(s, LIMEN_NODE_SPHERE, "ball", &ball);
+    limen_node_set_color(s, ball, (float[3]){1, 0, 0});
+    limen_node_create(s, LIMEN_NODE_LIGHT, "sun", &light);
+    limen_node_set_position(s, light, (float[3]){0, 0, 5});
+    if (limen_renderer_create(&(limen_renderer_desc){.width = 64, .height = 48}, &r)) {
+        fprintf(stderr, "%s\n", limen_renderer_error(r)); return 1; }
+    if (limen_render_frame(r, s, NULL) || limen_renderer_write_png(r, argv[1])) return 1;
+    unsigned char px[64 * 48 * 3];
+    limen_renderer_read_rgb(r, px);
+    const unsigned char *c = px + (24 * 64 + 32) * 3;
+    printf("%d %d %d\n", c[0], c[1], c[2]);
+    limen_renderer_destroy(r); limen_scene_destroy(s);
+    return !(c[0] > 200 && c[1] < 10 && c[2] < 10);
+}
+C
+    PKG_CONFIG_PATH="$B" cc -o "$TMP/prog" "$TMP/prog.c" $(PKG_CONFIG_PATH="$B" pkg-config --cflags --libs limen) &&
+    "$TMP/prog" "$TMP/prog.png" && [ -s "$TMP/prog.png" ]
+}
+t_ok "a C program built only with pkg-config --cflags --libs limen renders" pkgconfig_program
+
+install_prefix() {
+    make --no-print-directory -s install PREFIX="$TMP/inst" B="$B" > /dev/null &&
+    for f in include/limen.h lib/liblimen.a lib/liblimen.so lib/pkgconfig/limen.pc \
+             lib/lua/5.4/limen.so bin/limen; do
+        [ -e "$TMP/inst/$f" ] || { echo "missing $f"; return 1; }
+    done &&
+    PKG_CONFIG_PATH="$TMP/inst/lib/pkgconfig" pkg-config --cflags limen | grep -q "$TMP/inst/include" &&
+    cc -o "$TMP/prog2" "$TMP/prog.c" $(PKG_CONFIG_PATH="$TMP/inst/lib/pkgconfig" pkg-config --cflags --libs limen) &&
+    "$TMP/prog2" "$TMP/prog2.png"
+}
+t_ok "make install PREFIX=... installs library, header, .pc and Lua module" install_prefix
+
+t_done

@@ -1,0 +1,287 @@
+/* test_render.c - the plain renderer: shading against the formula of DESIGN.md, the
+ * background, both backends, depth conventions, MSAA, statistics and errors. */
+#include <stdlib.h>
+
+#include "check.h"
+#include "limen.h"
+
+#define W 160
+#define H 120
+
+typedef struct fixture {
+    limen_scene *s;
+    limen_node cam, ball, floor, light;
+} fixture;
+
+static const float AMBIENT = 0.25f;
+static const float BALL_C[3] = { 0.3f, 1.0f, 0.0f }, BALL_R = 0.6f;
+static const float LIGHT[3] = { 2, 4, 3 };
+static const float EYE[3] = { 0, 1.2f, 4 };
+
+static void build(fixture *f)
+{
+    CHECK_OK(limen_scene_create(NULL, &f->s));
+    limen_scene *s = f->s;
+    CHECK_OK(limen_scene_set_background(s, (float[3]){ 0.1f, 0.2f, 0.3f }));
+    CHECK_OK(limen_scene_set_ambient(s, AMBIENT));
+    CHECK_OK(limen_node_create(s, LIMEN_NODE_CAMERA, "cam", &f->cam));
+    CHECK_OK(limen_node_look_at(s, f->cam, EYE, BALL_C, (float[3]){ 0, 1, 0 }));
+    CHECK_OK(limen_scene_set_camera(s, f->cam));
+    CHECK_OK(limen_node_create(s, LIMEN_NODE_LIGHT, "light", &f->light));
+    CHECK_OK(limen_node_set_position(s, f->light, LIGHT));
+    CHECK_OK(limen_node_create(s, LIMEN_NODE_SPHERE, "ball", &f->ball));
+    CHECK_OK(limen_node_set_position(s, f->ball, BALL_C));
+    CHECK_OK(limen_node_set_dims(s, f->ball, (float[3]){ BALL_R, 0, 0 }));
+    CHECK_OK(limen_node_set_color(s, f->ball, (float[3]){ 1, 0.5f, 0 }));
+    CHECK_OK(limen_node_create(s, LIMEN_NODE_QUAD, "floor", &f->floor));
+    CHECK_OK(limen_node_set_facing(s, f->floor, (float[3]){ 0, 1, 0 }, NULL));
+    CHECK_OK(limen_node_set_dims(s, f->floor, (float[3]){ 6, 6, 0 }));
+    CHECK_OK(limen_node_set_checker(s, f->floor, (float[3]){ 0.8f, 0.8f, 0.8f },
+                                    (float[3]){ 0.2f, 0.2f, 0.2f }, 1.0f));
+}
+
+static unsigned char *render(limen_scene *s, limen_renderer_desc d, limen_frame_stats *st)
+{
+    limen_renderer *r = NULL;
+    d.width = W;
+    d.height = H;
+    limen_status rc = limen_renderer_create(&d, &r);
+    CHECK_MSG(rc == LIMEN_OK, "renderer_create: %s", r ? limen_renderer_error(r) : "");
+    unsigned char *rgb = calloc(W * H * 3, 1);
+    if (!rc) {
+        CHECK_OK(limen_render_frame(r, s, st));
+        CHECK_OK(limen_renderer_read_rgb(r, rgb));
+    }
+    limen_renderer_destroy(r);
+    return rgb;
+}
+
+/* The ray through the centre of pixel (x, y) (row 0 at the top), from the camera's matrices,
+ * as a rasterizer samples it. */
+static void pixel_ray(limen_scene *s, int x, int y, double o[3], double d[3])
+{
+    float view[16], proj[16];
+    limen_camera_matrices(s, (float)W / H, LIMEN_DEPTH_NO, view, proj);
+    double ndc_x = 2.0 * (x + 0.5) / W - 1.0, ndc_y = 1.0 - 2.0 * (y + 0.5) / H;
+    /* view-space direction: x * tan, y * tan, -1 (proj is a symmetric perspective) */
+    double vx = ndc_x / proj[0], vy = ndc_y / proj[5], vz = -1.0;
+    /* view is rigid: world direction = R^T v, eye = -R^T t */
+    for (int i = 0; i < 3; i++) {
+        d[i] = view[i * 4 + 0] * vx + view[i * 4 + 1] * vy + view[i * 4 + 2] * vz;
+        o[i] = -(view[i * 4 + 0] * view[12] + view[i * 4 + 1] * view[13] +
+                 view[i * 4 + 2] * view[14]);
+    }
+}
+
+/* DESIGN.md's shading formula at point p with normal n, in 8-bit. */
+static void shade(const double p[3], const double n[3], const float albedo[3], int out[3])
+{
+    double l[3] = { LIGHT[0] - p[0], LIGHT[1] - p[1], LIGHT[2] - p[2] };
+    double ll = sqrt(l[0] * l[0] + l[1] * l[1] + l[2] * l[2]);
+    double nl = (n[0] * l[0] + n[1] * l[1] + n[2] * l[2]) / ll;
+    double k = AMBIENT + (1 - AMBIENT) * (nl > 0 ? nl : 0);
+    for (int i = 0; i < 3; i++)
+        out[i] = (int)lround(fmin(1.0, albedo[i] * k) * 255.0);
+}
+
+static int px_diff(const unsigned char *img, int x, int y, const int want[3])
+{
+    const unsigned char *p = img + (y * W + x) * 3;
+    int m = 0;
+    for (int i = 0; i < 3; i++)
+        m = abs(p[i] - want[i]) > m ? abs(p[i] - want[i]) : m;
+    return m;
+}
+
+static void test_sphere_and_background(void)
+{
+    fixture f;
+    build(&f);
+    limen_frame_stats st = { 0 };
+    unsigned char *img = render(f.s, (limen_renderer_desc){ 0 }, &st);
+    /* the pixel nearest the sphere's centre: ray-sphere hit, true normal, formula */
+    int cx = W / 2, cy = H / 2;
+    double o[3], d[3];
+    pixel_ray(f.s, cx, cy, o, d);
+    double oc[3] = { o[0] - BALL_C[0], o[1] - BALL_C[1], o[2] - BALL_C[2] };
+    double a = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
+    double b = oc[0] * d[0] + oc[1] * d[1] + oc[2] * d[2];
+    double c = oc[0] * oc[0] + oc[1] * oc[1] + oc[2] * oc[2] - BALL_R * BALL_R;
+    double t = (-b - sqrt(b * b - a * c)) / a;
+    double p[3], n[3];
+    for (int i = 0; i < 3; i++) {
+        p[i] = o[i] + t * d[i];
+        n[i] = (p[i] - BALL_C[i]) / BALL_R;
+    }
+    int want[3];
+    shade(p, n, (float[3]){ 1, 0.5f, 0 }, want);
+    CHECK_MSG(px_diff(img, cx, cy, want) <= 1, "sphere centre (%d %d %d), predicted (%d %d %d)",
+              img[(cy * W + cx) * 3], img[(cy * W + cx) * 3 + 1], img[(cy * W + cx) * 3 + 2],
+              want[0], want[1], want[2]);
+    /* top-left corner sees nothing: the background */
+    int bg[3] = { (int)lround(0.1 * 255), (int)lround(0.2 * 255), (int)lround(0.3 * 255) };
+    CHECK(px_diff(img, 0, 0, bg) <= 1);
+    CHECK(px_diff(img, W - 1, 0, bg) <= 1);
+    /* statistics: one view, every pixel counted, at least the sphere's pixels shaded */
+    CHECK(st.views == 1);
+    CHECK(st.pixels == (uint64_t)W * H);
+    CHECK(st.samples > 0 && st.samples < st.pixels * 2);
+    CHECK(st.ms > 0);
+    free(img);
+    limen_scene_destroy(f.s);
+}
+
+static void test_floor_checker(void)
+{
+    fixture f;
+    build(&f);
+    unsigned char *img = render(f.s, (limen_renderer_desc){ 0 }, NULL);
+    /* every bottom-row pixel hits the floor: predict its cell and shading */
+    int checked = 0, bad = 0;
+    for (int x = 0; x < W; x += 7) {
+        int y = H - 1;
+        double o[3], d[3];
+        pixel_ray(f.s, x, y, o, d);
+        double t = -o[1] / d[1];
+        double p[3] = { o[0] + t * d[0], 0, o[2] + t * d[2] };
+        if (t <= 0 || fabs(p[0]) > 3 || fabs(p[2]) > 3)
+            continue;
+        /* floor's local x is world x, local y is world -z */
+        double u = p[0], v = -p[2];
+        if (fabs(u - round(u)) < 0.03 || fabs(v - round(v)) < 0.03)
+            continue;   /* too near a cell edge to call */
+        int k = (int)(floor(u) + floor(v));
+        const float *alb = (k & 1) ? (float[3]){ 0.2f, 0.2f, 0.2f } : (float[3]){ 0.8f, 0.8f, 0.8f };
+        int want[3];
+        shade(p, (double[3]){ 0, 1, 0 }, alb, want);
+        checked++;
+        bad += px_diff(img, x, y, want) > 1;
+    }
+    CHECK(checked > 5);
+    CHECK_MSG(bad == 0, "%d of %d floor pixels off the formula", bad, checked);
+    free(img);
+    limen_scene_destroy(f.s);
+}
+
+/* share of pixels whose largest channel differs by more than 8 */
+static double differ(const unsigned char *a, const unsigned char *b)
+{
+    int n = 0;
+    for (int i = 0; i < W * H; i++) {
+        int m = 0;
+        for (int c = 0; c < 3; c++)
+            m = abs(a[i * 3 + c] - b[i * 3 + c]) > m ? abs(a[i * 3 + c] - b[i * 3 + c]) : m;
+        n += m > 8;
+    }
+    return (double)n / (W * H);
+}
+
+static void test_backends_agree(void)
+{
+    fixture f;
+    build(&f);
+    unsigned char *a = render(f.s, (limen_renderer_desc){ .backend = LIMEN_BACKEND_OSMESA }, NULL);
+    limen_renderer *r = NULL;
+    limen_status st = limen_renderer_create(&(limen_renderer_desc){ .backend = LIMEN_BACKEND_EGL,
+                                                                    .width = W, .height = H },
+                                            &r);
+    CHECK_MSG(st == LIMEN_OK, "EGL renderer: %s", r ? limen_renderer_error(r) : "");
+    limen_renderer_destroy(r);
+    unsigned char *b = render(f.s, (limen_renderer_desc){ .backend = LIMEN_BACKEND_EGL }, NULL);
+    double share = differ(a, b);
+    CHECK_MSG(share == 0.0, "osmesa and egl differ on %.4f of the pixels", share);
+    free(a);
+    free(b);
+    limen_scene_destroy(f.s);
+}
+
+static void test_depth_conventions(void)
+{
+    fixture f;
+    build(&f);
+    unsigned char *no = render(f.s, (limen_renderer_desc){ .depth_range = LIMEN_DEPTH_NO }, NULL);
+    unsigned char *zo = render(f.s, (limen_renderer_desc){ .depth_range = LIMEN_DEPTH_ZO }, NULL);
+    unsigned char *rz =
+        render(f.s, (limen_renderer_desc){ .depth_range = LIMEN_DEPTH_ZO_REVERSED }, NULL);
+    CHECK_MSG(differ(no, zo) < 0.001, "no vs zo: %.4f", differ(no, zo));
+    CHECK_MSG(differ(no, rz) < 0.001, "no vs zo-reversed: %.4f", differ(no, rz));
+    free(no);
+    free(zo);
+    free(rz);
+    limen_scene_destroy(f.s);
+}
+
+static void test_msaa(void)
+{
+    fixture f;
+    build(&f);
+    limen_frame_stats st;
+    unsigned char *plain = render(f.s, (limen_renderer_desc){ 0 }, NULL);
+    unsigned char *ms = render(f.s, (limen_renderer_desc){ .msaa = 4 }, &st);
+    /* only edges may change, and some must (the sphere's silhouette is antialiased) */
+    double share = differ(plain, ms);
+    int changed = 0;
+    for (int i = 0; i < W * H * 3; i++)
+        changed += plain[i] != ms[i];
+    CHECK_MSG(share < 0.05, "msaa changed %.4f of the pixels", share);
+    CHECK(changed > 0);
+    CHECK(st.samples >= (uint64_t)W * H);   /* samples count per sample: about 4 per pixel */
+    free(plain);
+    free(ms);
+    limen_scene_destroy(f.s);
+}
+
+static void test_moving_node_changes_frame(void)
+{
+    fixture f;
+    build(&f);
+    unsigned char *a = render(f.s, (limen_renderer_desc){ 0 }, NULL);
+    CHECK_OK(limen_node_set_position(f.s, f.ball, (float[3]){ -1, 1, 0 }));
+    unsigned char *b = render(f.s, (limen_renderer_desc){ 0 }, NULL);
+    CHECK(differ(a, b) > 0.01);
+    CHECK_OK(limen_node_set_visible(f.s, f.ball, 0));
+    unsigned char *c = render(f.s, (limen_renderer_desc){ 0 }, NULL);
+    int cx = W / 2, cy = H / 2;
+    CHECK(memcmp(a + (cy * W + cx) * 3, c + (cy * W + cx) * 3, 3) != 0);
+    free(a);
+    free(b);
+    free(c);
+    limen_scene_destroy(f.s);
+}
+
+static void test_errors(void)
+{
+    limen_renderer *r = NULL;
+    CHECK(limen_renderer_create(&(limen_renderer_desc){ .width = -5 }, &r) == LIMEN_ERR_ARG);
+    CHECK(strstr(limen_renderer_error(r), "size") != NULL);
+    limen_renderer_destroy(r);
+    CHECK(limen_renderer_create(&(limen_renderer_desc){ .backend = 7 }, &r) == LIMEN_ERR_ARG);
+    limen_renderer_destroy(r);
+    CHECK_OK(limen_renderer_create(&(limen_renderer_desc){ .width = 8, .height = 8 }, &r));
+    unsigned char px[8 * 8 * 3];
+    CHECK(limen_renderer_read_rgb(r, px) != LIMEN_OK);   /* nothing rendered yet */
+    limen_scene *s;
+    CHECK_OK(limen_scene_create(NULL, &s));
+    CHECK(limen_render_frame(r, s, NULL) != LIMEN_OK);   /* no camera */
+    CHECK(strstr(limen_renderer_error(r), "camera") != NULL);
+    CHECK(limen_render_frame(r, NULL, NULL) == LIMEN_ERR_ARG);
+    limen_scene_destroy(s);
+    limen_renderer_destroy(r);
+    limen_renderer_destroy(NULL);
+}
+
+static const check_case cases[] = {
+    { "sphere_and_background", test_sphere_and_background },
+    { "floor_checker", test_floor_checker },
+    { "backends_agree", test_backends_agree },
+    { "depth_conventions", test_depth_conventions },
+    { "msaa", test_msaa },
+    { "moving_node_changes_frame", test_moving_node_changes_frame },
+    { "errors", test_errors },
+    { 0 },
+};
+
+int main(int argc, char **argv)
+{
+    return check_run(argc, argv, cases);
+}
