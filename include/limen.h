@@ -199,6 +199,24 @@ LIMEN_API limen_status limen_node_set_checker(limen_scene *s, limen_node n, cons
 LIMEN_API limen_status limen_node_set_visible(limen_scene *s, limen_node n, int visible);
 LIMEN_API int limen_node_get_visible(const limen_scene *s, limen_node n);
 
+/* Mirrors and portals ("surfaces"). Defaults: tint white, back mid-grey (0.5), fill black,
+ * max_depth 8. A mirror seen from behind is a matte quad of its back colour; a portal seen
+ * from behind is not drawn. Where recursion stops, a surface shows its fill colour. */
+LIMEN_API limen_status limen_surface_set_tint(limen_scene *s, limen_node n, const float rgb[3]);
+LIMEN_API limen_status limen_surface_set_back(limen_scene *s, limen_node n, const float rgb[3]);
+LIMEN_API limen_status limen_surface_set_fill(limen_scene *s, limen_node n, const float rgb[3]);
+LIMEN_API limen_status limen_surface_set_max_depth(limen_scene *s, limen_node n, int max_depth);
+LIMEN_API limen_status limen_surface_get(const limen_scene *s, limen_node n, float tint[3],
+                                         float back[3], float fill[3], int *max_depth);
+/* Pairs two portals both ways (unpairing their old partners). A portal with itself, or two
+ * ends whose width/height ratios differ by more than 0.1%, are refused: what enters A leaves
+ * B scaled by width_B / width_A. An unpaired portal shows its fill colour. */
+LIMEN_API limen_status limen_portal_link(limen_scene *s, limen_node a, limen_node b);
+LIMEN_API limen_node limen_portal_partner(const limen_scene *s, limen_node portal);
+/* The 4x4 matrix carrying points that enter surface n (at its front) to where they are seen:
+ * the reflection for a mirror, W_B * S(k) * R_y(180) * W_A^-1 for a portal. */
+LIMEN_API limen_status limen_surface_matrix(limen_scene *s, limen_node n, float m[16]);
+
 /* Cameras: vertical fov in radians, 0 < near < far. Defaults: 60 degrees, 0.05, 100. */
 LIMEN_API limen_status limen_camera_set_lens(limen_scene *s, limen_node cam, float fovy,
                                              float znear, float zfar);
@@ -207,6 +225,66 @@ LIMEN_API limen_status limen_camera_get_lens(const limen_scene *s, limen_node ca
 /* The scene camera's view and projection for an image of the given aspect ratio. */
 LIMEN_API limen_status limen_camera_matrices(limen_scene *s, float aspect, limen_depth_range range,
                                              float view[16], float proj[16]);
+
+/* ---------------------------------------------------------------- view planning */
+
+/* How a virtual view cuts away what lies behind its exit surface. */
+typedef enum limen_clip_method {
+    LIMEN_CLIP_OBLIQUE = 0,     /* oblique near plane (falls back to PLANE where it cannot) */
+    LIMEN_CLIP_PLANE,           /* user clip plane: gl_ClipDistance / SV_ClipDistance */
+    LIMEN_CLIP_NONE             /* nothing: objects behind the surface leak (baseline) */
+} limen_clip_method;
+
+typedef enum limen_view_kind {
+    LIMEN_VIEW_CAMERA = 0,      /* the scene camera: the root of the tree */
+    LIMEN_VIEW_MIRROR,
+    LIMEN_VIEW_PORTAL
+} limen_view_kind;
+
+/* One view of the tree. Views are stored in draw order: depth first, a parent before its
+ * children, children in the order their surfaces should be processed. */
+typedef struct limen_view {
+    int id;                     /* index in the plan */
+    int parent;                 /* -1 for the camera view */
+    int depth;                  /* 0 for the camera view */
+    int first_child;            /* -1 if none */
+    int next_sibling;           /* -1 if none */
+    limen_view_kind kind;
+    limen_node through;         /* the surface this view looks through (zero for the camera) */
+    float view[16];             /* world -> eye, virtual camera (parent view * X^-1) */
+    float proj[16];             /* projection over the whole image; oblique if clip is OBLIQUE */
+    float eye[3];               /* world-space position of the virtual eye */
+    float clip_plane[4];        /* world space; front = what the view may draw; 0 for camera */
+    limen_clip_method clip;     /* what this view uses (PLANE where OBLIQUE could not be formed) */
+    int front_face_cw;          /* 1 after an odd number of mirrors: flip the winding */
+    int scissor[4];             /* x, y, w, h in pixels, origin bottom-left (OpenGL) */
+    int stencil;                /* stencil reference = depth (pixels of this view) */
+    float tint[3];              /* product of the mirror tints from the camera to this view */
+} limen_view;
+
+typedef struct limen_plan_desc {
+    int width, height;          /* image size in pixels (0 -> 640 x 480) */
+    limen_depth_range range;    /* clip-space convention of proj */
+    limen_clip_method clip;     /* default OBLIQUE */
+    int limit_depth;            /* 1: apply max_depth below; 0: only the surfaces' own limits */
+    int max_depth;              /* global limit on the depth of views (0 = no recursion) */
+    int max_views;              /* view budget (0 -> 1024); levels fill breadth first */
+} limen_plan_desc;
+
+typedef struct limen_plan limen_plan;
+
+LIMEN_API limen_status limen_plan_create(limen_plan **out);
+LIMEN_API void limen_plan_destroy(limen_plan *p);                       /* NULL is fine */
+/* Plans the view tree of the scene's camera. On failure the message is the scene's. */
+LIMEN_API limen_status limen_plan_build(limen_plan *p, limen_scene *s, const limen_plan_desc *d);
+LIMEN_API int limen_plan_count(const limen_plan *p);
+LIMEN_API const limen_view *limen_plan_view(const limen_plan *p, int i); /* NULL if out of range */
+/* Views that hit the budget or a depth limit and so were not created (their surfaces show
+ * the fill colour). */
+LIMEN_API int limen_plan_truncated(const limen_plan *p);
+/* Writes the plan as JSON ({"views": [...]}); returns LIMEN_ERR_IO if it cannot. */
+LIMEN_API limen_status limen_plan_write_json(const limen_plan *p, const limen_scene *s,
+                                             const char *path);
 
 /* ---------------------------------------------------------------- renderer */
 
@@ -239,9 +317,25 @@ LIMEN_API void limen_renderer_destroy(limen_renderer *r);              /* NULL i
 LIMEN_API const char *limen_renderer_error(const limen_renderer *r);   /* "" when none */
 LIMEN_API const char *limen_renderer_gl_info(const limen_renderer *r); /* GL_RENDERER, GL_VERSION */
 LIMEN_API void limen_renderer_size(const limen_renderer *r, int *width, int *height);
-/* Draws one frame of the scene from its camera. stats may be NULL. */
+typedef enum limen_method {
+    LIMEN_METHOD_STENCIL = 0,   /* one framebuffer, stencil-nested recursion */
+    LIMEN_METHOD_TEXTURE        /* each view into an offscreen target sampled by its parent */
+} limen_method;
+
+typedef struct limen_render_opts {
+    limen_method method;        /* default STENCIL */
+    limen_clip_method clip;     /* default OBLIQUE */
+    float texture_scale;        /* texture method: resolution of view targets, (0, 1]; 0 -> 1 */
+    int limit_depth, max_depth; /* as in limen_plan_desc */
+    int max_views;              /* 0 -> 1024 */
+} limen_render_opts;
+
+/* Plans and draws one frame of the scene from its camera. opts and stats may be NULL. */
 LIMEN_API limen_status limen_render_frame(limen_renderer *r, limen_scene *s,
+                                          const limen_render_opts *opts,
                                           limen_frame_stats *stats);
+/* The plan of the last frame (owned by the renderer; valid until the next frame). */
+LIMEN_API const limen_plan *limen_renderer_plan(const limen_renderer *r);
 /* Copies the last frame as 8-bit RGB, top row first: width * height * 3 bytes. */
 LIMEN_API limen_status limen_renderer_read_rgb(limen_renderer *r, unsigned char *rgb);
 LIMEN_API limen_status limen_renderer_write_png(limen_renderer *r, const char *path);

@@ -49,7 +49,7 @@ static unsigned char *render(limen_scene *s, limen_renderer_desc d, limen_frame_
     CHECK_MSG(rc == LIMEN_OK, "renderer_create: %s", r ? limen_renderer_error(r) : "");
     unsigned char *rgb = calloc(W * H * 3, 1);
     if (!rc) {
-        CHECK_OK(limen_render_frame(r, s, st));
+        CHECK_OK(limen_render_frame(r, s, NULL, st));
         CHECK_OK(limen_renderer_read_rgb(r, rgb));
     }
     limen_renderer_destroy(r);
@@ -262,9 +262,9 @@ static void test_errors(void)
     CHECK(limen_renderer_read_rgb(r, px) != LIMEN_OK);   /* nothing rendered yet */
     limen_scene *s;
     CHECK_OK(limen_scene_create(NULL, &s));
-    CHECK(limen_render_frame(r, s, NULL) != LIMEN_OK);   /* no camera */
+    CHECK(limen_render_frame(r, s, NULL, NULL) != LIMEN_OK);   /* no camera */
     CHECK(strstr(limen_renderer_error(r), "camera") != NULL);
-    CHECK(limen_render_frame(r, NULL, NULL) == LIMEN_ERR_ARG);
+    CHECK(limen_render_frame(r, NULL, NULL, NULL) == LIMEN_ERR_ARG);
     limen_scene_destroy(s);
     limen_renderer_destroy(r);
     limen_renderer_destroy(NULL);

@@ -18,6 +18,13 @@ static const char *usage =
     "  --time T              scene time in seconds passed to update(t) (default 0)\n"
     "  --frames N --fps F    render N frames from T at F frames per second;\n"
     "                        files are numbered OUT_0000.png, OUT_0001.png, ...\n"
+    "  --method stencil|texture         how views nest (default stencil)\n"
+    "  --texture-scale S     texture method: resolution of nested views, 0 < S <= 1\n"
+    "  --clip oblique|plane|none        how a view cuts what is behind its surface\n"
+    "                        (default oblique, with the plane where oblique cannot)\n"
+    "  --depth N             recursion limit for every surface (default: their own)\n"
+    "  --max-views N         view budget (default 1024)\n"
+    "  --plan PLAN.json      write the view tree of the (last) frame\n"
     "  --stats               print one JSON line per frame: ms, views, fragments,\n"
     "                        samples, pixels\n"
     "  --trusted             run the script with the full Lua standard library\n";
@@ -31,8 +38,9 @@ static int fail(const char *fmt, const char *a, const char *b)
 }
 
 typedef struct options {
-    const char *scene, *out;
+    const char *scene, *out, *plan;
     limen_renderer_desc rd;
+    limen_render_opts ro;
     double time, fps;
     long frames;
     int stats, trusted;
@@ -122,6 +130,46 @@ static int parse_render(int argc, char **argv, options *o)
             NEED_VALUE();
             if (parse_double(v, &o->fps) || !(o->fps > 0))
                 return fail("--fps: expected a positive number, got '%s'%s", v, "");
+        } else if (!strcmp(a, "--method")) {
+            NEED_VALUE();
+            if (!strcmp(v, "stencil"))
+                o->ro.method = LIMEN_METHOD_STENCIL;
+            else if (!strcmp(v, "texture"))
+                o->ro.method = LIMEN_METHOD_TEXTURE;
+            else
+                return fail("--method: expected stencil or texture, got '%s'%s", v, "");
+        } else if (!strcmp(a, "--texture-scale")) {
+            NEED_VALUE();
+            double sc;
+            if (parse_double(v, &sc) || !(sc > 0 && sc <= 1))
+                return fail("--texture-scale: expected 0 < S <= 1, got '%s'%s", v, "");
+            o->ro.texture_scale = (float)sc;
+        } else if (!strcmp(a, "--clip")) {
+            NEED_VALUE();
+            if (!strcmp(v, "oblique"))
+                o->ro.clip = LIMEN_CLIP_OBLIQUE;
+            else if (!strcmp(v, "plane"))
+                o->ro.clip = LIMEN_CLIP_PLANE;
+            else if (!strcmp(v, "none"))
+                o->ro.clip = LIMEN_CLIP_NONE;
+            else
+                return fail("--clip: expected oblique, plane or none, got '%s'%s", v, "");
+        } else if (!strcmp(a, "--depth")) {
+            NEED_VALUE();
+            long n;
+            if (parse_long(v, 0, 255, &n))
+                return fail("--depth: expected 0 to 255, got '%s'%s", v, "");
+            o->ro.limit_depth = 1;
+            o->ro.max_depth = (int)n;
+        } else if (!strcmp(a, "--max-views")) {
+            NEED_VALUE();
+            long n;
+            if (parse_long(v, 1, 1000000, &n))
+                return fail("--max-views: expected 1 to 1000000, got '%s'%s", v, "");
+            o->ro.max_views = (int)n;
+        } else if (!strcmp(a, "--plan")) {
+            NEED_VALUE();
+            o->plan = v;
         } else if (!strcmp(a, "--stats")) {
             o->stats = 1;
         } else if (!strcmp(a, "--trusted")) {
@@ -186,7 +234,7 @@ static int cmd_render(int argc, char **argv)
             rc = 1;
             break;
         }
-        st = limen_render_frame(r, limen_script_scene(sc), &stats);
+        st = limen_render_frame(r, limen_script_scene(sc), &o.ro, &stats);
         frame_path(o.out, f, o.frames, path, sizeof path);
         if (!st)
             st = limen_renderer_write_png(r, path);
@@ -205,6 +253,11 @@ static int cmd_render(int argc, char **argv)
     }
     if (o.frames > 1 && tty)
         fputc('\n', stderr);
+    if (!rc && o.plan &&
+        limen_plan_write_json(limen_renderer_plan(r), limen_script_scene(sc), o.plan)) {
+        fprintf(stderr, "limen: cannot write '%s'\n", o.plan);
+        rc = 1;
+    }
     if (!rc && o.frames > 1)
         fprintf(stderr, "limen: wrote %ld frames to %s\n", o.frames,
                 (frame_path(o.out, 0, o.frames, path, sizeof path), path));

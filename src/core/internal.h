@@ -36,6 +36,10 @@ typedef struct limen__node {
     bool visible;
 
     float fovy, znear, zfar;    /* cameras */
+
+    vec3 tint, back, fill;      /* mirrors and portals */
+    int max_depth;
+    uint32_t pair;              /* portals: partner's index + 1; 0 = unpaired */
 } limen__node;
 
 struct limen_scene {
@@ -64,6 +68,30 @@ limen__node *limen__node_get(const limen_scene *s, limen_node n);
 void limen__scene_refresh(limen_scene *s);
 /* Handle of the node in slot i. */
 limen_node limen__node_handle(const limen_scene *s, int index);
+
+static inline bool limen__is_surface(const limen__node *n)
+{
+    return n->kind == LIMEN_NODE_MIRROR || n->kind == LIMEN_NODE_PORTAL;
+}
+
+/* Index of a node in its scene's pool. */
+static inline int limen__index(const limen_scene *s, const limen__node *n)
+{
+    return (int)(n - s->nodes);
+}
+
+static inline bool limen__alive(const limen__node *n)
+{
+    return (n->gen & 1u) != 0;
+}
+
+/* Surface matrix X (see limen_surface_matrix) in double precision; false for an unpaired
+ * portal or a degenerate frame. */
+bool limen__surface_matrix_d(limen_scene *s, const limen__node *n, double x[16]);
+/* World-space plane (front = +Z side) and corners (counter-clockwise from the front) of a
+ * quad-like node. */
+void limen__surface_plane_d(const limen__node *n, double plane[4]);
+void limen__surface_corners(const limen__node *n, double corners[4][3]);
 
 static inline bool limen__finite3(const float v[3])
 {

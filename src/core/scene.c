@@ -236,6 +236,10 @@ static void node_defaults(limen__node *node, limen_node_kind kind)
     case LIMEN_NODE_PORTAL: node->dims[0] = node->dims[1] = 1.0f; break;
     default: break;
     }
+    glm_vec3_one(node->tint);
+    glm_vec3_broadcast(0.5f, node->back);
+    glm_vec3_zero(node->fill);
+    node->max_depth = 8;
     node->fovy = glm_rad(60.0f);
     node->znear = 0.05f;
     node->zfar = 100.0f;
@@ -297,6 +301,8 @@ limen_status limen_node_destroy(limen_scene *s, limen_node n)
             s->nodes[i].parent = node->parent;
     if (s->camera == self)
         s->camera = 0;
+    if (node->pair)
+        s->nodes[node->pair - 1].pair = 0;
     node->gen++;    /* even: dead; the next create makes it odd again with a new value */
     s->free_list[s->free_count++] = self - 1u;
     s->count--;

@@ -7,54 +7,9 @@
 #include <time.h>
 
 #include "core/internal.h"
-#include "gl/glapi.h"
-#include "gl/mesh.h"
+#include "gl/gl_internal.h"
 
-/* A silhouette may stray this far (pixels) from the true curved shape. */
-#define LOD_TOLERANCE_PX 0.2f
-
-typedef struct uniforms {
-    GLint model, normal_mat, view_proj, eye, clip_plane, albedo, albedo_b, cell, scale,
-        shape, quad, ambient, nlights, light_pos, light_col;
-} uniforms;
-
-struct limen_renderer {
-    const limen__ctx_ops *ops;
-    limen__ctx *ctx;
-    limen__gl gl;
-    int width, height, msaa;
-    limen_depth_range range;
-    bool has_fragment_stats;
-    char err[LIMEN__ERR_MAX];
-    char info[256];
-
-    GLuint prog, vao, vbo, ibo;
-    uniforms u;
-    limen__meshes meshes;
-
-    GLuint fbo, color_rb, depth_rb;         /* what views draw into (multisampled if msaa) */
-    GLuint resolve_fbo, resolve_rb;         /* single-sampled copy when msaa */
-    GLuint q_samples, q_fragments;
-
-    unsigned char *rgba;                    /* read-back buffer */
-    bool have_frame;
-};
-
-/* One view as the renderer draws it. */
-typedef struct rview {
-    mat4 view, proj, view_proj;
-    vec3 eye;                   /* world-space eye (for two-sided lighting) */
-    vec4 clip;                  /* world-space plane; gl_ClipDistance when enabled */
-    bool clip_on;
-    float px_scale;             /* proj[1][1] * height / 2: pixels per unit at distance 1 */
-} rview;
-
-#define GL(fn) r->gl.fn
-
-static limen_status rfail(limen_renderer *r, limen_status st, const char *fmt, ...)
-    __attribute__((format(printf, 3, 4)));
-
-static limen_status rfail(limen_renderer *r, limen_status st, const char *fmt, ...)
+limen_status limen__rfail(limen_renderer *r, limen_status st, const char *fmt, ...)
 {
     va_list ap;
     va_start(ap, fmt);
@@ -103,10 +58,18 @@ static const char *fs_src =
     "uniform mat3 u_normal_mat;\n"
     "uniform vec3 u_eye, u_albedo, u_albedo_b, u_scale;\n"
     "uniform float u_cell, u_ambient;\n"
-    "uniform int u_shape, u_quad, u_nlights;\n"
+    "uniform int u_shape, u_quad, u_nlights, u_mode;\n"
     "uniform vec3 u_light_pos[8], u_light_col[8];\n"
+    "uniform sampler2D u_tex;\n"
+    "uniform vec4 u_tex_map;\n"
     "out vec4 o_color;\n"
     "void main() {\n"
+    "    if (u_mode == 1) { o_color = vec4(u_albedo, 1.0); return; }\n"
+    "    if (u_mode == 2) {\n"
+    "        vec2 uv = gl_FragCoord.xy * u_tex_map.xy + u_tex_map.zw;\n"
+    "        o_color = vec4(texture(u_tex, uv).rgb * u_albedo, 1.0);\n"
+    "        return;\n"
+    "    }\n"
     "    vec3 nl = v_nrm;\n"
     "    if (u_shape == 1) nl = v_local;\n"
     "    else if (u_shape == 2 && abs(v_nrm.y) < 0.5) nl = vec3(v_local.x, 0.0, v_local.z);\n"
@@ -134,7 +97,7 @@ static GLuint compile(limen_renderer *r, GLenum type, const char *src)
     if (!ok) {
         char log[400] = "";
         GL(GetShaderInfoLog)(sh, sizeof log, NULL, log);
-        rfail(r, LIMEN_ERR_GL, "shader compile failed: %s", log);
+        limen__rfail(r, LIMEN_ERR_GL, "shader compile failed: %s", log);
         GL(DeleteShader)(sh);
         return 0;
     }
@@ -161,7 +124,7 @@ static limen_status build_program(limen_renderer *r)
     if (!ok) {
         char log[400] = "";
         GL(GetProgramInfoLog)(r->prog, sizeof log, NULL, log);
-        return rfail(r, LIMEN_ERR_GL, "shader link failed: %s", log);
+        return limen__rfail(r, LIMEN_ERR_GL, "shader link failed: %s", log);
     }
 #define U(field, name) r->u.field = GL(GetUniformLocation)(r->prog, name)
     U(model, "u_model");
@@ -175,6 +138,9 @@ static limen_status build_program(limen_renderer *r)
     U(scale, "u_scale");
     U(shape, "u_shape");
     U(quad, "u_quad");
+    U(mode, "u_mode");
+    U(tex, "u_tex");
+    U(tex_map, "u_tex_map");
     U(ambient, "u_ambient");
     U(nlights, "u_nlights");
     U(light_pos, "u_light_pos");
@@ -186,7 +152,7 @@ static limen_status build_program(limen_renderer *r)
 static limen_status upload_meshes(limen_renderer *r)
 {
     if (limen__meshes_build(&r->meshes))
-        return rfail(r, LIMEN_ERR_NOMEM, "out of memory building meshes");
+        return limen__rfail(r, LIMEN_ERR_NOMEM, "out of memory building meshes");
     GL(GenVertexArrays)(1, &r->vao);
     GL(BindVertexArray)(r->vao);
     GL(GenBuffers)(1, &r->vbo);
@@ -233,7 +199,7 @@ static limen_status build_targets(limen_renderer *r)
     GL(FramebufferRenderbuffer)(GL_FRAMEBUFFER, GL_DEPTH_STENCIL_ATTACHMENT, GL_RENDERBUFFER,
                                 r->depth_rb);
     if (GL(CheckFramebufferStatus)(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
-        return rfail(r, LIMEN_ERR_UNSUPPORTED, "framebuffer %dx%d (msaa %d) is incomplete",
+        return limen__rfail(r, LIMEN_ERR_UNSUPPORTED, "framebuffer %dx%d (msaa %d) is incomplete",
                      r->width, r->height, r->msaa);
     if (r->msaa > 1) {
         r->resolve_rb = renderbuffer(r, GL_RGBA8, 0);
@@ -242,7 +208,7 @@ static limen_status build_targets(limen_renderer *r)
         GL(FramebufferRenderbuffer)(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER,
                                     r->resolve_rb);
         if (GL(CheckFramebufferStatus)(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
-            return rfail(r, LIMEN_ERR_UNSUPPORTED, "resolve framebuffer is incomplete");
+            return limen__rfail(r, LIMEN_ERR_UNSUPPORTED, "resolve framebuffer is incomplete");
     }
     return LIMEN_OK;
 }
@@ -265,16 +231,16 @@ static limen_status setup(limen_renderer *r, const limen_renderer_desc *d)
 {
     r->ops = d->backend == LIMEN_BACKEND_EGL ? &limen__ctx_egl : &limen__ctx_osmesa;
     if ((unsigned)d->backend > LIMEN_BACKEND_EGL)
-        return rfail(r, LIMEN_ERR_ARG, "unknown backend %d", (int)d->backend);
+        return limen__rfail(r, LIMEN_ERR_ARG, "unknown backend %d", (int)d->backend);
     if ((unsigned)d->depth_range > LIMEN_DEPTH_ZO_REVERSED)
-        return rfail(r, LIMEN_ERR_ARG, "unknown depth range %d", (int)d->depth_range);
+        return limen__rfail(r, LIMEN_ERR_ARG, "unknown depth range %d", (int)d->depth_range);
     r->width = d->width > 0 ? d->width : 640;
     r->height = d->height > 0 ? d->height : 480;
     if (d->width < 0 || d->height < 0 || r->width > 16384 || r->height > 16384)
-        return rfail(r, LIMEN_ERR_ARG, "image size %dx%d out of range (1 to 16384)", d->width,
+        return limen__rfail(r, LIMEN_ERR_ARG, "image size %dx%d out of range (1 to 16384)", d->width,
                      d->height);
     if (d->msaa < 0 || d->msaa > 64)
-        return rfail(r, LIMEN_ERR_ARG, "msaa %d out of range (0 to 64)", d->msaa);
+        return limen__rfail(r, LIMEN_ERR_ARG, "msaa %d out of range (0 to 64)", d->msaa);
     r->msaa = d->msaa > 1 ? d->msaa : 0;
     r->range = d->depth_range;
 
@@ -282,10 +248,10 @@ static limen_status setup(limen_renderer *r, const limen_renderer_desc *d)
     if (!r->ctx)
         return LIMEN_ERR_GL;
     if (r->ops->make_current(r->ctx))
-        return rfail(r, LIMEN_ERR_GL, "%s: cannot make the context current", r->ops->name);
+        return limen__rfail(r, LIMEN_ERR_GL, "%s: cannot make the context current", r->ops->name);
     const char *missing = limen__gl_load(&r->gl, r->ops->getproc);
     if (missing)
-        return rfail(r, LIMEN_ERR_UNSUPPORTED, "%s: OpenGL entry point %s missing",
+        return limen__rfail(r, LIMEN_ERR_UNSUPPORTED, "%s: OpenGL entry point %s missing",
                      r->ops->name, missing);
     snprintf(r->info, sizeof r->info, "%s: %s, OpenGL %s", r->ops->name,
              (const char *)GL(GetString)(GL_RENDERER), (const char *)GL(GetString)(GL_VERSION));
@@ -293,11 +259,11 @@ static limen_status setup(limen_renderer *r, const limen_renderer_desc *d)
         GLint max_samples = 0;
         GL(GetIntegerv)(GL_MAX_SAMPLES, &max_samples);
         if (r->msaa > max_samples)
-            return rfail(r, LIMEN_ERR_UNSUPPORTED, "msaa %d exceeds this context's %d",
+            return limen__rfail(r, LIMEN_ERR_UNSUPPORTED, "msaa %d exceeds this context's %d",
                          r->msaa, max_samples);
     }
     if (r->range != LIMEN_DEPTH_NO && !r->gl.ClipControl)
-        return rfail(r, LIMEN_ERR_UNSUPPORTED, "depth range zo needs glClipControl (GL 4.5)");
+        return limen__rfail(r, LIMEN_ERR_UNSUPPORTED, "depth range zo needs glClipControl (GL 4.5)");
     r->has_fragment_stats = has_gl_ext(r, "GL_ARB_pipeline_statistics_query");
 
     limen_status st = build_program(r);
@@ -307,15 +273,17 @@ static limen_status setup(limen_renderer *r, const limen_renderer_desc *d)
         st = build_targets(r);
     if (st)
         return st;
+    if (limen_plan_create(&r->plan))
+        return limen__rfail(r, LIMEN_ERR_NOMEM, "out of memory");
     GL(GenQueries)(1, &r->q_samples);
     GL(GenQueries)(1, &r->q_fragments);
     r->rgba = malloc((size_t)r->width * (size_t)r->height * 4);
     if (!r->rgba)
-        return rfail(r, LIMEN_ERR_NOMEM, "out of memory for a %dx%d image", r->width,
+        return limen__rfail(r, LIMEN_ERR_NOMEM, "out of memory for a %dx%d image", r->width,
                      r->height);
     GLenum e = GL(GetError)();
     if (e != GL_NO_ERROR)
-        return rfail(r, LIMEN_ERR_GL, "OpenGL error 0x%x while setting up", e);
+        return limen__rfail(r, LIMEN_ERR_GL, "OpenGL error 0x%x while setting up", e);
     return LIMEN_OK;
 }
 
@@ -350,7 +318,9 @@ void limen_renderer_destroy(limen_renderer *r)
         }
         GL(DeleteQueries)(1, &r->q_samples);
         GL(DeleteQueries)(1, &r->q_fragments);
+        limen__targets_free(r);
     }
+    limen_plan_destroy(r->plan);
     if (r->ctx)
         r->ops->destroy(r->ctx);
     limen__meshes_free(&r->meshes);
@@ -374,128 +344,6 @@ void limen_renderer_size(const limen_renderer *r, int *width, int *height)
         *width = r ? r->width : 0;
     if (height)
         *height = r ? r->height : 0;
-}
-
-/* ------------------------------------------------------------------ drawing */
-
-static void set_mat4(limen_renderer *r, GLint loc, mat4 m)
-{
-    GL(UniformMatrix4fv)(loc, 1, GL_FALSE, (const GLfloat *)m);
-}
-
-/* Lights in world space, shared by every view. */
-static int gather_lights(limen_scene *s, float pos[][3], float col[][3])
-{
-    int n = 0;
-    for (int i = 0; i < s->cap && n < LIMEN__MAX_LIGHTS; i++) {
-        limen__node *node = &s->nodes[i];
-        if (!(node->gen & 1u) || node->kind != LIMEN_NODE_LIGHT || !node->visible)
-            continue;
-        memcpy(pos[n], node->world[3], sizeof(float) * 3);
-        memcpy(col[n], node->color, sizeof(float) * 3);
-        n++;
-    }
-    return n;
-}
-
-/* Which mesh, and how the unit mesh is scaled, for a node; false if it draws nothing. */
-static bool node_mesh(limen_renderer *r, const rview *v, const limen__node *node,
-                      limen__range *range, vec3 scale, int *shape)
-{
-    float radius = 0;
-    *shape = 0;
-    switch (node->kind) {
-    case LIMEN_NODE_BOX:
-        *range = r->meshes.box;
-        glm_vec3_copy((float *)node->dims, scale);
-        return true;
-    case LIMEN_NODE_QUAD:
-        *range = r->meshes.quad;
-        glm_vec3_copy((vec3){ node->dims[0], node->dims[1], 1.0f }, scale);
-        return true;
-    case LIMEN_NODE_SPHERE:
-        radius = node->dims[0];
-        glm_vec3_broadcast(radius, scale);
-        *shape = 1;
-        break;
-    case LIMEN_NODE_CYLINDER:
-        radius = node->dims[0];
-        glm_vec3_copy((vec3){ node->dims[0], node->dims[1], node->dims[0] }, scale);
-        radius = fmaxf(node->dims[0], 0.5f * node->dims[1]);
-        *shape = 2;
-        break;
-    default:
-        return false;
-    }
-    /* Level of detail from the projected size: the largest world-space stretch of the
-     * node's axes times the radius, over the view distance of its centre. */
-    float stretch = fmaxf(glm_vec3_norm((float *)node->world[0]),
-                          fmaxf(glm_vec3_norm((float *)node->world[1]),
-                                glm_vec3_norm((float *)node->world[2])));
-    float world_r = radius * stretch;
-    vec4 centre = { node->world[3][0], node->world[3][1], node->world[3][2], 1.0f };
-    vec4 vc;
-    glm_mat4_mulv((vec4 *)v->view, centre, vc);
-    float dist = -vc[2];
-    int lod = LIMEN__LODS - 1;
-    if (dist > world_r * 1.01f)
-        lod = limen__lod_for(world_r * v->px_scale / (dist - world_r), LOD_TOLERANCE_PX);
-    *range = node->kind == LIMEN_NODE_SPHERE ? r->meshes.sphere[lod] : r->meshes.cylinder[lod];
-    return true;
-}
-
-static void draw_geometry(limen_renderer *r, limen_scene *s, const rview *v)
-{
-    float lpos[LIMEN__MAX_LIGHTS][3], lcol[LIMEN__MAX_LIGHTS][3];
-    int nlights = gather_lights(s, lpos, lcol);
-    GL(UseProgram)(r->prog);
-    GL(BindVertexArray)(r->vao);
-    set_mat4(r, r->u.view_proj, (vec4 *)v->view_proj);
-    GL(Uniform3fv)(r->u.eye, 1, v->eye);
-    vec4 noclip = { 0, 0, 0, 1 };
-    GL(Uniform4fv)(r->u.clip_plane, 1, v->clip_on ? v->clip : noclip);
-    if (v->clip_on)
-        GL(Enable)(GL_CLIP_DISTANCE0);
-    else
-        GL(Disable)(GL_CLIP_DISTANCE0);
-    GL(Uniform1f)(r->u.ambient, s->ambient);
-    GL(Uniform1i)(r->u.nlights, nlights);
-    if (nlights) {
-        GL(Uniform3fv)(r->u.light_pos, nlights, &lpos[0][0]);
-        GL(Uniform3fv)(r->u.light_col, nlights, &lcol[0][0]);
-    }
-    for (int i = 0; i < s->cap; i++) {
-        limen__node *node = &s->nodes[i];
-        if (!(node->gen & 1u) || !node->visible)
-            continue;
-        limen__range range;
-        vec3 scale;
-        int shape;
-        if (!node_mesh(r, v, node, &range, scale, &shape))
-            continue;
-        mat4 model;
-        mat3 nm;
-        glm_mat4_copy(node->world, model);
-        glm_scale(model, scale);
-        glm_mat4_pick3(model, nm);
-        glm_mat3_inv(nm, nm);
-        glm_mat3_transpose(nm);
-        set_mat4(r, r->u.model, model);
-        GL(UniformMatrix3fv)(r->u.normal_mat, 1, GL_FALSE, (const GLfloat *)nm);
-        GL(Uniform3fv)(r->u.albedo, 1, node->color);
-        GL(Uniform3fv)(r->u.albedo_b, 1, node->checker_b);
-        GL(Uniform1f)(r->u.cell, node->checker_cell);
-        GL(Uniform3fv)(r->u.scale, 1, scale);
-        GL(Uniform1i)(r->u.shape, shape);
-        GL(Uniform1i)(r->u.quad, node->kind == LIMEN_NODE_QUAD);
-        /* Closed shapes hide their back faces; a quad is seen from both sides. */
-        if (node->kind == LIMEN_NODE_QUAD)
-            GL(Disable)(GL_CULL_FACE);
-        else
-            GL(Enable)(GL_CULL_FACE);
-        GL(DrawElements)(GL_TRIANGLES, (GLsizei)range.count, GL_UNSIGNED_INT,
-                         (void *)(sizeof(uint32_t) * range.first));
-    }
 }
 
 static double now_ms(void)
@@ -530,40 +378,53 @@ static void begin_frame(limen_renderer *r, limen_scene *s)
         GL(Enable)(GL_MULTISAMPLE);
 }
 
-limen_status limen_render_frame(limen_renderer *r, limen_scene *s, limen_frame_stats *stats)
+static limen_status check_opts(limen_renderer *r, const limen_render_opts *o)
+{
+    if ((unsigned)o->method > LIMEN_METHOD_TEXTURE)
+        return limen__rfail(r, LIMEN_ERR_ARG, "unknown method %d", (int)o->method);
+    if ((unsigned)o->clip > LIMEN_CLIP_NONE)
+        return limen__rfail(r, LIMEN_ERR_ARG, "unknown clip method %d", (int)o->clip);
+    if (!(o->texture_scale > 0 && o->texture_scale <= 1))
+        return limen__rfail(r, LIMEN_ERR_ARG, "texture scale must be in (0, 1] (got %g)",
+                            o->texture_scale);
+    return LIMEN_OK;
+}
+
+limen_status limen_render_frame(limen_renderer *r, limen_scene *s, const limen_render_opts *opts,
+                                limen_frame_stats *stats)
 {
     if (!r || !s)
         return LIMEN_ERR_ARG;
     if (!r->prog)
-        return rfail(r, LIMEN_ERR_GL, "renderer was not set up: %s", r->err);
+        return limen__rfail(r, LIMEN_ERR_GL, "renderer was not set up: %s", r->err);
+    r->opts = opts ? *opts : (limen_render_opts){ 0 };
+    if (r->opts.texture_scale == 0)
+        r->opts.texture_scale = 1.0f;
+    limen_status st = check_opts(r, &r->opts);
+    if (st)
+        return st;
     if (r->ops->make_current(r->ctx))
-        return rfail(r, LIMEN_ERR_GL, "%s: cannot make the context current", r->ops->name);
+        return limen__rfail(r, LIMEN_ERR_GL, "%s: cannot make the context current", r->ops->name);
     double t0 = now_ms();
 
-    rview v;
-    float view[16], proj[16];
-    limen_status st = limen_camera_matrices(s, (float)r->width / (float)r->height, r->range,
-                                            view, proj);
+    limen_plan_desc pd = { .width = r->width, .height = r->height, .range = r->range,
+                           .clip = r->opts.clip, .limit_depth = r->opts.limit_depth,
+                           .max_depth = r->opts.max_depth, .max_views = r->opts.max_views };
+    st = limen_plan_build(r->plan, s, &pd);
     if (st)
-        return rfail(r, st, "%s", limen_last_error(s));
-    memcpy(v.view, view, sizeof view);
-    memcpy(v.proj, proj, sizeof proj);
-    glm_mat4_mul(v.proj, v.view, v.view_proj);
-    mat4 cam_world;
-    glm_mat4_inv(v.view, cam_world);
-    glm_vec3_copy(cam_world[3], v.eye);
-    v.clip_on = false;
-    glm_vec4_zero(v.clip);
-    v.px_scale = v.proj[1][1] * 0.5f * (float)r->height;
+        return limen__rfail(r, st, "%s", limen_last_error(s));
 
     begin_frame(r, s);
     GL(BeginQuery)(GL_SAMPLES_PASSED, r->q_samples);
     if (r->has_fragment_stats)
         GL(BeginQuery)(GL_FRAGMENT_SHADER_INVOCATIONS_ARB, r->q_fragments);
-    draw_geometry(r, s, &v);
+    st = r->opts.method == LIMEN_METHOD_TEXTURE ? limen__draw_texture(r, s)
+                                                : limen__draw_stencil(r, s);
     GL(EndQuery)(GL_SAMPLES_PASSED);
     if (r->has_fragment_stats)
         GL(EndQuery)(GL_FRAGMENT_SHADER_INVOCATIONS_ARB);
+    if (st)
+        return st;
     if (r->msaa) {
         GL(BindFramebuffer)(GL_READ_FRAMEBUFFER, r->fbo);
         GL(BindFramebuffer)(GL_DRAW_FRAMEBUFFER, r->resolve_fbo);
@@ -575,7 +436,7 @@ limen_status limen_render_frame(limen_renderer *r, limen_scene *s, limen_frame_s
 
     GLenum e = GL(GetError)();
     if (e != GL_NO_ERROR)
-        return rfail(r, LIMEN_ERR_GL, "OpenGL error 0x%x while rendering", e);
+        return limen__rfail(r, LIMEN_ERR_GL, "OpenGL error 0x%x while rendering", e);
     r->have_frame = true;
     if (stats) {
         GLuint64 samples = 0, frags = 0;
@@ -583,7 +444,7 @@ limen_status limen_render_frame(limen_renderer *r, limen_scene *s, limen_frame_s
         if (r->has_fragment_stats)
             GL(GetQueryObjectui64v)(r->q_fragments, GL_QUERY_RESULT, &frags);
         stats->ms = t1 - t0;
-        stats->views = 1;
+        stats->views = limen_plan_count(r->plan);
         stats->samples = samples;
         stats->fragments = frags;
         stats->pixels = (uint64_t)r->width * (uint64_t)r->height;
@@ -591,14 +452,19 @@ limen_status limen_render_frame(limen_renderer *r, limen_scene *s, limen_frame_s
     return LIMEN_OK;
 }
 
+const limen_plan *limen_renderer_plan(const limen_renderer *r)
+{
+    return r ? r->plan : NULL;
+}
+
 limen_status limen_renderer_read_rgb(limen_renderer *r, unsigned char *rgb)
 {
     if (!r || !rgb)
         return LIMEN_ERR_ARG;
     if (!r->have_frame)
-        return rfail(r, LIMEN_ERR_ARG, "no frame rendered yet");
+        return limen__rfail(r, LIMEN_ERR_ARG, "no frame rendered yet");
     if (r->ops->make_current(r->ctx))
-        return rfail(r, LIMEN_ERR_GL, "%s: cannot make the context current", r->ops->name);
+        return limen__rfail(r, LIMEN_ERR_GL, "%s: cannot make the context current", r->ops->name);
     GL(BindFramebuffer)(GL_READ_FRAMEBUFFER, r->msaa ? r->resolve_fbo : r->fbo);
     GL(PixelStorei)(GL_PACK_ALIGNMENT, 1);
     GL(ReadPixels)(0, 0, r->width, r->height, GL_RGBA, GL_UNSIGNED_BYTE, r->rgba);
@@ -614,7 +480,7 @@ limen_status limen_renderer_read_rgb(limen_renderer *r, unsigned char *rgb)
     }
     GLenum e = GL(GetError)();
     return e == GL_NO_ERROR ? LIMEN_OK
-                            : rfail(r, LIMEN_ERR_GL, "OpenGL error 0x%x reading pixels", e);
+                            : limen__rfail(r, LIMEN_ERR_GL, "OpenGL error 0x%x reading pixels", e);
 }
 
 limen_status limen_renderer_write_png(limen_renderer *r, const char *path)
@@ -623,12 +489,12 @@ limen_status limen_renderer_write_png(limen_renderer *r, const char *path)
         return LIMEN_ERR_ARG;
     unsigned char *rgb = malloc((size_t)r->width * (size_t)r->height * 3);
     if (!rgb)
-        return rfail(r, LIMEN_ERR_NOMEM, "out of memory");
+        return limen__rfail(r, LIMEN_ERR_NOMEM, "out of memory");
     limen_status st = limen_renderer_read_rgb(r, rgb);
     if (!st) {
         st = limen_write_png(path, r->width, r->height, rgb);
         if (st)
-            rfail(r, st, "cannot write '%s'", path);
+            limen__rfail(r, st, "cannot write '%s'", path);
     }
     free(rgb);
     return st;

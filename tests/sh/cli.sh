@@ -74,7 +74,7 @@ int main(int argc, char **argv) {
     limen_node_set_position(s, light, (float[3]){0, 0, 5});
     if (limen_renderer_create(&(limen_renderer_desc){.width = 64, .height = 48}, &r)) {
         fprintf(stderr, "%s\n", limen_renderer_error(r)); return 1; }
-    if (limen_render_frame(r, s, NULL) || limen_renderer_write_png(r, argv[1])) return 1;
+    if (limen_render_frame(r, s, NULL, NULL) || limen_renderer_write_png(r, argv[1])) return 1;
     unsigned char px[64 * 48 * 3];
     limen_renderer_read_rgb(r, px);
     const unsigned char *c = px + (24 * 64 + 32) * 3;

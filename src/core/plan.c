@@ -1,0 +1,444 @@
+/* plan.c - the view planner: from scene, camera and limits to a tree of virtual views.
+ *
+ * Views are found breadth first, so a view budget is spent on shallow levels before deep
+ * ones, and then stored depth first (draw order). A child view exists only where its surface
+ * faces the parent's eye, survives the parent's clip plane and near plane, and covers at
+ * least one pixel centre inside the parent's scissor rectangle; the child's scissor is that
+ * rectangle. Matrices are composed in double precision. */
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "core/dmath.h"
+#include "core/internal.h"
+#include "core/plan.h"
+
+#define DEFAULT_MAX_VIEWS 1024
+#define MAX_POLY 12
+
+/* ------------------------------------------------------------------ storage */
+
+static bool reserve(void **p, int *cap, int need, size_t size)
+{
+    if (need <= *cap)
+        return true;
+    int n = *cap ? *cap : 16;
+    while (n < need)
+        n *= 2;
+    void *q = realloc(*p, size * (size_t)n);
+    if (!q)
+        return false;
+    *p = q;
+    *cap = n;
+    return true;
+}
+
+limen_status limen_plan_create(limen_plan **out)
+{
+    if (!out)
+        return LIMEN_ERR_ARG;
+    *out = calloc(1, sizeof **out);
+    return *out ? LIMEN_OK : LIMEN_ERR_NOMEM;
+}
+
+void limen_plan_destroy(limen_plan *p)
+{
+    if (!p)
+        return;
+    free(p->pv);
+    free(p->views);
+    free(p->surf);
+    free(p->vsurf);
+    free(p->tmp);
+    free(p);
+}
+
+int limen_plan_count(const limen_plan *p)
+{
+    return p ? p->count : 0;
+}
+
+const limen_view *limen_plan_view(const limen_plan *p, int i)
+{
+    return p && i >= 0 && i < p->count ? &p->views[i] : NULL;
+}
+
+int limen_plan_truncated(const limen_plan *p)
+{
+    return p ? p->truncated : 0;
+}
+
+/* ------------------------------------------------------------------ screen rectangles */
+
+/* Keeps the part of the polygon where plane . p >= 0 (Sutherland-Hodgman). */
+static int clip_poly(double in[][3], int n, const double plane[4], double out[][3])
+{
+    int m = 0;
+    for (int i = 0; i < n; i++) {
+        const double *a = in[i], *b = in[(i + 1) % n];
+        double da = limen__d_plane_dist(plane, a), db = limen__d_plane_dist(plane, b);
+        if (da >= 0 && m < MAX_POLY)
+            memcpy(out[m++], a, sizeof(double) * 3);
+        if ((da >= 0) != (db >= 0) && m < MAX_POLY) {
+            double t = da / (da - db);
+            for (int k = 0; k < 3; k++)
+                out[m][k] = a[k] + t * (b[k] - a[k]);
+            m++;
+        }
+    }
+    return m;
+}
+
+/* Pixel rectangle (x, y, w, h) of the pixel centres that the surface's visible part may
+ * cover in view v; false if none. */
+static bool surface_rect(const limen_plan *p, const limen__pview *v, const limen__psurf *sf,
+                         int rect[4])
+{
+    double a[MAX_POLY][3], b[MAX_POLY][3];
+    memcpy(a, sf->corners, sizeof sf->corners);
+    int n = 4;
+    if (v->pub.depth > 0) {
+        n = clip_poly(a, n, v->clip, b);
+        memcpy(a, b, sizeof(double) * 3 * (size_t)n);
+    }
+    /* to view space, then keep z <= -near */
+    for (int i = 0; i < n; i++)
+        limen__d_point(v->view, a[i], a[i]);
+    const double near_plane[4] = { 0, 0, -1, -p->znear };
+    n = clip_poly(a, n, near_plane, b);
+    if (n < 3)
+        return false;
+    double x0 = 1e300, x1 = -1e300, y0 = 1e300, y1 = -1e300;
+    for (int i = 0; i < n; i++) {
+        double w = -b[i][2];
+        double sx = (p->proj_d[0] * b[i][0] + p->proj_d[8] * b[i][2]) / w;
+        double sy = (p->proj_d[5] * b[i][1] + p->proj_d[9] * b[i][2]) / w;
+        sx = (sx + 1.0) * 0.5 * p->width;
+        sy = (sy + 1.0) * 0.5 * p->height;
+        x0 = fmin(x0, sx);
+        x1 = fmax(x1, sx);
+        y0 = fmin(y0, sy);
+        y1 = fmax(y1, sy);
+    }
+    /* pixel k has its centre at k + 0.5 */
+    double px0 = ceil(x0 - 0.5), px1 = floor(x1 - 0.5);
+    double py0 = ceil(y0 - 0.5), py1 = floor(y1 - 0.5);
+    const int *s = v->pub.scissor;
+    px0 = fmax(px0, s[0]);
+    py0 = fmax(py0, s[1]);
+    px1 = fmin(px1, s[0] + s[2] - 1);
+    py1 = fmin(py1, s[1] + s[3] - 1);
+    if (!(px1 >= px0 && py1 >= py0))
+        return false;
+    rect[0] = (int)px0;
+    rect[1] = (int)py0;
+    rect[2] = (int)(px1 - px0) + 1;
+    rect[3] = (int)(py1 - py0) + 1;
+    return true;
+}
+
+/* ------------------------------------------------------------------ views */
+
+static void fill_public(limen__pview *v, limen_scene *s, const limen_plan *p)
+{
+    limen_view *pub = &v->pub;
+    limen__d_to_f(v->view, pub->view);
+    for (int i = 0; i < 3; i++)
+        pub->eye[i] = (float)v->eye[i];
+    for (int i = 0; i < 4; i++)
+        pub->clip_plane[i] = (float)v->clip[i];
+    pub->stencil = pub->depth;
+    memcpy(pub->proj, p->proj_f, sizeof pub->proj);
+    if (pub->depth == 0) {
+        pub->clip = LIMEN_CLIP_NONE;
+        return;
+    }
+    pub->clip = p->clip;
+    if (p->clip != LIMEN_CLIP_OBLIQUE)
+        return;
+    /* The clip plane in this view's eye space; the eye must be clearly behind it. Closer than
+     * the camera's near distance the oblique near plane would squeeze depth precision below
+     * what the camera itself has, so the user clip plane takes over there. */
+    double vinv[16], c[4];
+    float cf[4];
+    pub->clip = LIMEN_CLIP_PLANE;
+    if (!limen__d_inv(v->view, vinv) || !limen__d_plane(vinv, v->clip, c))
+        return;
+    if (!(-c[3] >= p->znear))
+        return;
+    for (int i = 0; i < 4; i++)
+        cf[i] = (float)c[i];
+    if (limen_oblique_projection(p->proj_f, cf, p->range, pub->proj) == LIMEN_OK)
+        pub->clip = LIMEN_CLIP_OBLIQUE;
+    (void)s;
+}
+
+static limen__pview *push_view(limen_plan *p)
+{
+    if (!reserve((void **)&p->pv, &p->pv_cap, p->nviews + 1, sizeof *p->pv))
+        return NULL;
+    limen__pview *v = &p->pv[p->nviews++];
+    memset(v, 0, sizeof *v);
+    v->pub.first_child = v->pub.next_sibling = v->pub.parent = -1;
+    v->exit = -1;
+    v->surface = -1;
+    return v;
+}
+
+static bool push_vsurf(limen_plan *p, limen__pview *v, int surf, int child, int state)
+{
+    if (!reserve((void **)&p->vsurf, &p->vsurf_cap, p->nvsurf + 1, sizeof *p->vsurf))
+        return false;
+    p->vsurf[p->nvsurf++] = (limen__vsurf){ surf, child, state };
+    v->nsurf++;
+    return true;
+}
+
+static limen_status collect_surfaces(limen_plan *p, limen_scene *s)
+{
+    p->nsurf = 0;
+    for (int i = 0; i < s->cap; i++) {
+        limen__node *n = &s->nodes[i];
+        if (!limen__alive(n) || !n->visible || !limen__is_surface(n))
+            continue;
+        if (!reserve((void **)&p->surf, &p->surf_cap, p->nsurf + 1, sizeof *p->surf))
+            return limen__fail(s, LIMEN_ERR_NOMEM, "plan: out of memory");
+        limen__psurf *sf = &p->surf[p->nsurf];
+        memset(sf, 0, sizeof *sf);
+        sf->node = i;
+        limen__surface_plane_d(n, sf->plane);
+        limen__surface_corners(n, sf->corners);
+        sf->has_x = limen__surface_matrix_d(s, n, sf->x) && limen__d_inv(sf->x, sf->xinv);
+        sf->exit = n->kind == LIMEN_NODE_PORTAL ? (int)n->pair - 1 : i;
+        if (n->kind == LIMEN_NODE_PORTAL && n->pair) {
+            const limen__node *b = &s->nodes[n->pair - 1];
+            double wa = glm_vec3_norm((float *)n->world[0]) * n->dims[0];
+            double ha = glm_vec3_norm((float *)n->world[1]) * n->dims[1];
+            double wb = glm_vec3_norm((float *)b->world[0]) * b->dims[0];
+            double hb = glm_vec3_norm((float *)b->world[1]) * b->dims[1];
+            if (fabs((wa / ha) / (wb / hb) - 1.0) > 1e-3)
+                return limen__fail(s, LIMEN_ERR_ARG,
+                                   "%s%sportals '%s' and '%s' differ in shape in the world "
+                                   "(%.4gx%.4g against %.4gx%.4g): width/height must match",
+                                   n->label, n->label[0] ? ": " : "", n->name, b->name, wa, ha,
+                                   wb, hb);
+            if (!b->visible)
+                sf->has_x = false;
+        }
+        p->nsurf++;
+    }
+    return LIMEN_OK;
+}
+
+/* Depth-first order from the breadth-first list, re-linking parents and children. */
+static void order_views(limen_plan *p, int bfs, int parent_pos, int *pos)
+{
+    int me = (*pos)++;
+    limen__pview *v = &p->pv[bfs];
+    limen_view *out = &p->views[me];
+    *out = v->pub;
+    out->id = me;
+    out->parent = parent_pos;
+    out->first_child = -1;
+    out->next_sibling = -1;
+    p->bfs_to_dfs[bfs] = me;
+    p->dfs_to_bfs[me] = bfs;
+    int last = -1;
+    for (int k = 0; k < v->nsurf; k++) {
+        const limen__vsurf *vs = &p->vsurf[v->first_surf + k];
+        if (vs->child < 0)
+            continue;
+        int child_pos = *pos;
+        order_views(p, vs->child, me, pos);
+        if (last < 0)
+            out->first_child = child_pos;
+        else
+            p->views[last].next_sibling = child_pos;
+        last = child_pos;
+    }
+}
+
+limen_status limen_plan_build(limen_plan *p, limen_scene *s, const limen_plan_desc *desc)
+{
+    if (!p || !s)
+        return LIMEN_ERR_ARG;
+    limen_plan_desc d = desc ? *desc : (limen_plan_desc){ 0 };
+    p->width = d.width > 0 ? d.width : 640;
+    p->height = d.height > 0 ? d.height : 480;
+    if ((unsigned)d.clip > LIMEN_CLIP_NONE || (unsigned)d.range > LIMEN_DEPTH_ZO_REVERSED)
+        return limen__fail(s, LIMEN_ERR_ARG, "plan: unknown clip method or depth range");
+    if (d.limit_depth && (d.max_depth < 0 || d.max_depth > 255))
+        return limen__fail(s, LIMEN_ERR_ARG, "plan: depth must be in [0, 255] (got %d)",
+                           d.max_depth);
+    if (d.max_views < 0)
+        return limen__fail(s, LIMEN_ERR_ARG, "plan: view budget must be positive");
+    p->clip = d.clip;
+    p->range = d.range;
+    int max_views = d.max_views > 0 ? d.max_views : DEFAULT_MAX_VIEWS;
+    int global_depth = d.limit_depth ? d.max_depth : 255;
+    p->nviews = p->nvsurf = p->count = p->truncated = 0;
+
+    float view_f[16];
+    limen_status st = limen_camera_matrices(s, (float)p->width / (float)p->height, p->range,
+                                            view_f, p->proj_f);
+    if (st)
+        return st;
+    limen__d_from_f(p->proj_f, p->proj_d);
+    limen_camera_get_lens(s, limen_scene_get_camera(s), NULL, &p->znear, NULL);
+    if ((st = collect_surfaces(p, s)))
+        return st;
+
+    limen__pview *root = push_view(p);
+    if (!root)
+        return limen__fail(s, LIMEN_ERR_NOMEM, "plan: out of memory");
+    limen__scene_refresh(s);
+    const limen__node *cam = &s->nodes[s->camera - 1];
+    double cw[16];
+    limen__d_from_f(&cam->world[0][0], cw);
+    if (!limen__d_inv(cw, root->view))
+        return limen__fail(s, LIMEN_ERR_DEGENERATE, "plan: the camera's matrix is singular");
+    for (int i = 0; i < 3; i++)
+        root->eye[i] = cw[12 + i];
+    root->pub.kind = LIMEN_VIEW_CAMERA;
+    root->pub.scissor[2] = p->width;
+    root->pub.scissor[3] = p->height;
+    root->pub.tint[0] = root->pub.tint[1] = root->pub.tint[2] = 1.0f;
+
+    for (int vi = 0; vi < p->nviews; vi++) {
+        limen__pview *v = &p->pv[vi];
+        v->first_surf = p->nvsurf;
+        for (int si = 0; si < p->nsurf; si++) {
+            const limen__psurf *sf = &p->surf[si];
+            if (sf->node == v->exit)
+                continue;
+            const limen__node *n = &s->nodes[sf->node];
+            int rect[4];
+            if (!surface_rect(p, v, sf, rect))
+                continue;   /* clipped away, off screen or under a pixel */
+            bool front = limen__d_plane_dist(sf->plane, v->eye) > 0;
+            if (!front) {
+                if (n->kind == LIMEN_NODE_MIRROR && !push_vsurf(p, v, sf->node, -1, LIMEN__SURF_BACK))
+                    return limen__fail(s, LIMEN_ERR_NOMEM, "plan: out of memory");
+                continue;
+            }
+            int depth = v->pub.depth + 1;
+            int child = -1;
+            if (!sf->has_x) {
+                /* unpaired portal: fill */
+            } else if (depth > n->max_depth || depth > global_depth || p->nviews >= max_views) {
+                p->truncated++;
+            } else {
+                limen__pview *c = push_view(p);
+                if (!c)
+                    return limen__fail(s, LIMEN_ERR_NOMEM, "plan: out of memory");
+                v = &p->pv[vi];     /* push_view may move the array */
+                child = p->nviews - 1;
+                c->parent = vi;
+                c->surface = sf->node;
+                c->exit = sf->exit;
+                c->pub.depth = depth;
+                c->pub.kind = n->kind == LIMEN_NODE_MIRROR ? LIMEN_VIEW_MIRROR : LIMEN_VIEW_PORTAL;
+                c->pub.through = limen__node_handle(s, sf->node);
+                limen__d_mul(v->view, sf->xinv, c->view);
+                limen__d_point(sf->x, v->eye, c->eye);
+                const limen__psurf *exit = sf;
+                if (sf->exit != sf->node) {
+                    for (int k = 0; k < p->nsurf; k++)
+                        if (p->surf[k].node == sf->exit)
+                            exit = &p->surf[k];
+                }
+                memcpy(c->clip, exit->plane, sizeof c->clip);
+                c->pub.front_face_cw = v->pub.front_face_cw ^ (n->kind == LIMEN_NODE_MIRROR);
+                memcpy(c->pub.scissor, rect, sizeof rect);
+                for (int k = 0; k < 3; k++)
+                    c->pub.tint[k] = v->pub.tint[k] *
+                                     (n->kind == LIMEN_NODE_MIRROR ? n->tint[k] : 1.0f);
+            }
+            if (!push_vsurf(p, v, sf->node, child,
+                            child >= 0 ? LIMEN__SURF_CHILD : LIMEN__SURF_FILL))
+                return limen__fail(s, LIMEN_ERR_NOMEM, "plan: out of memory");
+        }
+    }
+
+    if (!reserve((void **)&p->views, &p->views_cap, p->nviews, sizeof *p->views) ||
+        !reserve((void **)&p->tmp, &p->tmp_cap, 2 * p->nviews, sizeof *p->tmp))
+        return limen__fail(s, LIMEN_ERR_NOMEM, "plan: out of memory");
+    p->bfs_to_dfs = p->tmp;
+    p->dfs_to_bfs = p->tmp + p->nviews;
+    for (int i = 0; i < p->nviews; i++)
+        fill_public(&p->pv[i], s, p);
+    int pos = 0;
+    order_views(p, 0, -1, &pos);
+    p->count = p->nviews;
+    return LIMEN_OK;
+}
+
+/* ------------------------------------------------------------------ JSON */
+
+static void json_floats(FILE *f, const float *v, int n)
+{
+    fputc('[', f);
+    for (int i = 0; i < n; i++)
+        fprintf(f, "%s%.9g", i ? ", " : "", (double)v[i]);
+    fputc(']', f);
+}
+
+static void json_string(FILE *f, const char *str)
+{
+    fputc('"', f);
+    for (const unsigned char *c = (const unsigned char *)str; *c; c++) {
+        if (*c == '"' || *c == '\\')
+            fprintf(f, "\\%c", *c);
+        else if (*c < 0x20)
+            fprintf(f, "\\u%04x", *c);
+        else
+            fputc(*c, f);
+    }
+    fputc('"', f);
+}
+
+limen_status limen_plan_write_json(const limen_plan *p, const limen_scene *s, const char *path)
+{
+    if (!p || !s || !path)
+        return LIMEN_ERR_ARG;
+    FILE *f = fopen(path, "w");
+    if (!f)
+        return LIMEN_ERR_IO;
+    static const char *kinds[] = { "camera", "mirror", "portal" };
+    static const char *clips[] = { "oblique", "plane", "none" };
+    fprintf(f, "{\"width\": %d, \"height\": %d, \"truncated\": %d, \"views\": [", p->width,
+            p->height, p->truncated);
+    for (int i = 0; i < p->count; i++) {
+        const limen_view *v = &p->views[i];
+        fprintf(f, "%s\n  {\"id\": %d, \"parent\": ", i ? "," : "", v->id);
+        if (v->parent < 0)
+            fprintf(f, "null");
+        else
+            fprintf(f, "%d", v->parent);
+        fprintf(f, ", \"depth\": %d, \"through\": ", v->depth);
+        const char *name = v->depth ? limen_node_name(s, v->through) : NULL;
+        if (name)
+            json_string(f, name);
+        else
+            fprintf(f, "null");
+        fprintf(f, ", \"kind\": \"%s\", \"view\": ", kinds[v->kind]);
+        json_floats(f, v->view, 16);
+        fprintf(f, ", \"proj\": ");
+        json_floats(f, v->proj, 16);
+        fprintf(f, ", \"clip_plane\": ");
+        if (v->depth)
+            json_floats(f, v->clip_plane, 4);
+        else
+            fprintf(f, "null");
+        fprintf(f, ", \"clip\": \"%s\", \"front_face\": \"%s\", \"scissor\": [%d, %d, %d, %d]",
+                clips[v->clip], v->front_face_cw ? "cw" : "ccw", v->scissor[0], v->scissor[1],
+                v->scissor[2], v->scissor[3]);
+        fprintf(f, ", \"stencil\": %d, \"eye\": ", v->stencil);
+        json_floats(f, v->eye, 3);
+        fprintf(f, ", \"tint\": ");
+        json_floats(f, v->tint, 3);
+        fputc('}', f);
+    }
+    fprintf(f, "\n]}\n");
+    return fclose(f) == 0 ? LIMEN_OK : LIMEN_ERR_IO;
+}

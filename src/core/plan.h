@@ -1,0 +1,81 @@
+/* plan.h - the planner's internals, shared with the renderers. */
+#ifndef LIMEN_PLAN_H
+#define LIMEN_PLAN_H
+
+#include "core/internal.h"
+
+enum {
+    LIMEN__SURF_CHILD,      /* front-facing, recursed into: `child` is its view (bfs index) */
+    LIMEN__SURF_FILL,       /* front-facing, recursion stopped: draw the fill colour */
+    LIMEN__SURF_BACK        /* a mirror seen from behind: draw its matte back */
+};
+
+/* A surface as seen from one view. */
+typedef struct limen__vsurf {
+    int node;               /* node index */
+    int child;              /* bfs index of the child view, or -1 */
+    int state;
+} limen__vsurf;
+
+typedef struct limen__psurf {
+    int node;
+    int exit;               /* node index of the surface the view comes out of */
+    double plane[4];
+    double corners[4][3];
+    double x[16], xinv[16];
+    bool has_x;
+} limen__psurf;
+
+typedef struct limen__pview {
+    limen_view pub;
+    double view[16];
+    double eye[3];
+    double clip[4];
+    int parent;             /* bfs index */
+    int surface, exit;      /* node indices, -1 for the camera */
+    int first_surf, nsurf;  /* range in vsurf */
+} limen__pview;
+
+struct limen_plan {
+    int width, height;
+    limen_depth_range range;
+    limen_clip_method clip;
+    float znear;
+    float proj_f[16];
+    double proj_d[16];
+
+    limen__pview *pv;       /* breadth first */
+    int nviews, pv_cap;
+    limen_view *views;      /* depth first (public) */
+    int count, views_cap;
+    limen__psurf *surf;
+    int nsurf, surf_cap;
+    limen__vsurf *vsurf;
+    int nvsurf, vsurf_cap;
+    int *tmp, tmp_cap;
+    int *bfs_to_dfs, *dfs_to_bfs;
+    int truncated;
+};
+
+/* The surfaces seen from view `view` (draw-order index); returns their count. */
+static inline int limen__plan_view_surfaces(const limen_plan *p, int view,
+                                            const limen__vsurf **out)
+{
+    const limen__pview *v = &p->pv[p->dfs_to_bfs[view]];
+    *out = &p->vsurf[v->first_surf];
+    return v->nsurf;
+}
+
+/* Draw-order index of a child given as a bfs index (-1 stays -1). */
+static inline int limen__plan_child_view(const limen_plan *p, int bfs_child)
+{
+    return bfs_child >= 0 ? p->bfs_to_dfs[bfs_child] : -1;
+}
+
+/* Node index of the surface view `view` comes out of (never drawn in it), or -1. */
+static inline int limen__plan_exit_node(const limen_plan *p, int view)
+{
+    return p->pv[p->dfs_to_bfs[view]].exit;
+}
+
+#endif

@@ -1,0 +1,62 @@
+/* gl_internal.h - the renderer's state, shared by its files (render.c: set-up and frames;
+ * views.c: drawing a view tree). */
+#ifndef LIMEN_GL_INTERNAL_H
+#define LIMEN_GL_INTERNAL_H
+
+#include "core/internal.h"
+#include "core/plan.h"
+#include "gl/glapi.h"
+#include "gl/mesh.h"
+
+/* A silhouette may stray this far (pixels) from the true curved shape. */
+#define LOD_TOLERANCE_PX 0.2f
+#define LIMEN__MAX_LEVELS 256
+
+typedef struct uniforms {
+    GLint model, normal_mat, view_proj, eye, clip_plane, albedo, albedo_b, cell, scale, shape,
+        quad, mode, tex, tex_map, ambient, nlights, light_pos, light_col;
+} uniforms;
+
+/* An offscreen target for the texture method: one per recursion level. */
+typedef struct limen__target {
+    GLuint fbo, tex, depth_rb;
+    int w, h;
+} limen__target;
+
+struct limen_renderer {
+    const limen__ctx_ops *ops;
+    limen__ctx *ctx;
+    limen__gl gl;
+    int width, height, msaa;
+    limen_depth_range range;
+    bool has_fragment_stats;
+    char err[LIMEN__ERR_MAX];
+    char info[256];
+
+    GLuint prog, vao, vbo, ibo;
+    uniforms u;
+    limen__meshes meshes;
+
+    GLuint fbo, color_rb, depth_rb;         /* the frame (multisampled if msaa) */
+    GLuint resolve_fbo, resolve_rb;         /* single-sampled copy when msaa */
+    GLuint q_samples, q_fragments;
+    limen__target levels[LIMEN__MAX_LEVELS];
+    float levels_scale;                     /* texture scale the targets were made for */
+
+    limen_plan *plan;
+    limen_render_opts opts;
+    unsigned char *rgba;                    /* read-back buffer */
+    bool have_frame;
+};
+
+#define GL(fn) r->gl.fn
+
+limen_status limen__rfail(limen_renderer *r, limen_status st, const char *fmt, ...)
+    __attribute__((format(printf, 3, 4)));
+
+/* Draws the planned tree into the frame buffer (bound by the caller, cleared). */
+limen_status limen__draw_stencil(limen_renderer *r, limen_scene *s);
+limen_status limen__draw_texture(limen_renderer *r, limen_scene *s);
+void limen__targets_free(limen_renderer *r);
+
+#endif

@@ -1,0 +1,436 @@
+/* views.c - drawing a planned view tree: the scene's geometry for one view, the surfaces
+ * seen from it, and the two ways of nesting views (stencil and texture). */
+#include <string.h>
+
+#include "gl/gl_internal.h"
+
+enum { MODE_LIT = 0, MODE_FLAT = 1, MODE_TEXTURE = 2 };
+
+/* One view as the renderer draws it. */
+typedef struct rview {
+    const limen_view *pub;
+    int index;
+    mat4 view, proj, view_proj;
+    float px_scale;             /* pixels per unit at distance 1 (for levels of detail) */
+} rview;
+
+static void set_mat4(limen_renderer *r, GLint loc, mat4 m)
+{
+    GL(UniformMatrix4fv)(loc, 1, GL_FALSE, (const GLfloat *)m);
+}
+
+/* ------------------------------------------------------------------ per-view state */
+
+/* proj_pre: the narrowing applied for the texture method (identity otherwise). */
+static void make_rview(limen_renderer *r, int index, mat4 proj_pre, rview *v)
+{
+    v->pub = pub;
+    v->index = index;
+    memcpy(v->view, pub->view, sizeof v->view);
+    memcpy(v->proj, pub->proj, sizeof v->proj);
+    glm_mat4_mul(proj_pre, v->proj, v->proj);
+    glm_mat4_mul(v->proj, v->view, v->view_proj);
+    v->px_scale = pub->proj[5] * 0.5f * (float)r->height;
+}
+
+static void apply_view(limen_renderer *r, limen_scene *s, const rview *v)
+{
+    GL(UseProgram)(r->prog);
+    GL(BindVertexArray)(r->vao);
+    set_mat4(r, r->u.view_proj, (vec4 *)v->view_proj);
+    GL(Uniform3fv)(r->u.eye, 1, v->pub->eye);
+    bool plane = v->pub->clip == LIMEN_CLIP_PLANE;
+    vec4 noclip = { 0, 0, 0, 1 };
+    GL(Uniform4fv)(r->u.clip_plane, 1, plane ? v->pub->clip_plane : noclip);
+    if (plane)
+        GL(Enable)(GL_CLIP_DISTANCE0);
+    else
+        GL(Disable)(GL_CLIP_DISTANCE0);
+    GL(FrontFace)(v->pub->front_face_cw ? GL_CW : GL_CCW);
+    GL(Uniform1f)(r->u.ambient, s->ambient);
+    GL(Uniform1i)(r->u.mode, MODE_LIT);
+}
+
+static void set_lights(limen_renderer *r, limen_scene *s)
+{
+    float pos[LIMEN__MAX_LIGHTS][3], col[LIMEN__MAX_LIGHTS][3];
+    int n = 0;
+    for (int i = 0; i < s->cap && n < LIMEN__MAX_LIGHTS; i++) {
+        limen__node *node = &s->nodes[i];
+        if (!limen__alive(node) || node->kind != LIMEN_NODE_LIGHT || !node->visible)
+            continue;
+        memcpy(pos[n], node->world[3], sizeof(float) * 3);
+        memcpy(col[n], node->color, sizeof(float) * 3);
+        n++;
+    }
+    GL(UseProgram)(r->prog);
+    GL(Uniform1i)(r->u.nlights, n);
+    if (n) {
+        GL(Uniform3fv)(r->u.light_pos, n, &pos[0][0]);
+        GL(Uniform3fv)(r->u.light_col, n, &col[0][0]);
+    }
+}
+
+/* ------------------------------------------------------------------ meshes */
+
+/* Which mesh, and how the unit mesh is scaled, for a node; false if it draws nothing. */
+static bool node_mesh(limen_renderer *r, const rview *v, const limen__node *node,
+                      limen__range *range, vec3 scale, int *shape)
+{
+    float radius = 0;
+    *shape = 0;
+    switch (node->kind) {
+    case LIMEN_NODE_BOX:
+        *range = r->meshes.box;
+        glm_vec3_copy((float *)node->dims, scale);
+        return true;
+    case LIMEN_NODE_QUAD:
+    case LIMEN_NODE_MIRROR:
+    case LIMEN_NODE_PORTAL:
+        *range = r->meshes.quad;
+        glm_vec3_copy((vec3){ node->dims[0], node->dims[1], 1.0f }, scale);
+        return true;
+    case LIMEN_NODE_SPHERE:
+        radius = node->dims[0];
+        glm_vec3_broadcast(radius, scale);
+        *shape = 1;
+        break;
+    case LIMEN_NODE_CYLINDER:
+        glm_vec3_copy((vec3){ node->dims[0], node->dims[1], node->dims[0] }, scale);
+        radius = fmaxf(node->dims[0], 0.5f * node->dims[1]);
+        *shape = 2;
+        break;
+    default:
+        return false;
+    }
+    /* Level of detail from the projected size: the largest world-space stretch of the
+     * node's axes times the radius, over the view distance of its centre. */
+    float stretch = fmaxf(glm_vec3_norm((float *)node->world[0]),
+                          fmaxf(glm_vec3_norm((float *)node->world[1]),
+                                glm_vec3_norm((float *)node->world[2])));
+    float world_r = radius * stretch;
+    vec4 centre = { node->world[3][0], node->world[3][1], node->world[3][2], 1.0f };
+    vec4 vc;
+    glm_mat4_mulv((vec4 *)v->view, centre, vc);
+    /* a view matrix through scaled portals scales distances: measure in its own units */
+    float view_scale = glm_vec3_norm((float *)v->view[0]);
+    float dist = -vc[2];
+    world_r *= view_scale;
+    int lod = LIMEN__LODS - 1;
+    if (dist > world_r * 1.01f)
+        lod = limen__lod_for(world_r * v->px_scale / (dist - world_r), LOD_TOLERANCE_PX);
+    *range = node->kind == LIMEN_NODE_SPHERE ? r->meshes.sphere[lod] : r->meshes.cylinder[lod];
+    return true;
+}
+
+/* Draws one node's mesh; `mode` lit, flat or textured with colour `albedo`. */
+static void draw_node(limen_renderer *r, const rview *v, const limen__node *node, int mode,
+                      const float *albedo)
+{
+    limen__range range;
+    vec3 scale;
+    int shape;
+    if (!node_mesh(r, v, node, &range, scale, &shape))
+        return;
+    mat4 model;
+    mat3 nm;
+    glm_mat4_copy((vec4 *)node->world, model);
+    glm_scale(model, scale);
+    glm_mat4_pick3(model, nm);
+    glm_mat3_inv(nm, nm);
+    glm_mat3_transpose(nm);
+    set_mat4(r, r->u.model, model);
+    GL(UniformMatrix3fv)(r->u.normal_mat, 1, GL_FALSE, (const GLfloat *)nm);
+    GL(Uniform3fv)(r->u.albedo, 1, albedo);
+    GL(Uniform3fv)(r->u.albedo_b, 1, node->checker_b);
+    GL(Uniform1f)(r->u.cell, mode == MODE_LIT ? node->checker_cell : 0.0f);
+    GL(Uniform3fv)(r->u.scale, 1, scale);
+    GL(Uniform1i)(r->u.shape, shape);
+    GL(Uniform1i)(r->u.quad, node->kind == LIMEN_NODE_QUAD);
+    GL(Uniform1i)(r->u.mode, mode);
+    /* Closed shapes hide their back faces; flat shapes are seen from both sides. */
+    if (shape || node->kind == LIMEN_NODE_BOX)
+        GL(Enable)(GL_CULL_FACE);
+    else
+        GL(Disable)(GL_CULL_FACE);
+    GL(DrawElements)(GL_TRIANGLES, (GLsizei)range.count, GL_UNSIGNED_INT,
+                     (void *)(sizeof(uint32_t) * range.first));
+}
+
+static void draw_geometry(limen_renderer *r, limen_scene *s, const rview *v)
+{
+    for (int i = 0; i < s->cap; i++) {
+        limen__node *node = &s->nodes[i];
+        if (!limen__alive(node) || !node->visible || limen__is_surface(node))
+            continue;
+        draw_node(r, v, node, MODE_LIT, node->color);
+    }
+}
+
+/* A full-screen rectangle at the far plane in a flat colour (scissor and stencil decide
+ * where): resets colour and depth inside a nested view. */
+static void draw_far_fill(limen_renderer *r, const float rgb[3])
+{
+    mat4 id, model;
+    glm_mat4_identity(id);
+    glm_mat4_identity(model);
+    float far_z = r->range == LIMEN_DEPTH_ZO_REVERSED ? 0.0f : 1.0f;
+    glm_translate(model, (vec3){ 0, 0, far_z });
+    glm_scale(model, (vec3){ 2, 2, 1 });
+    GL(UseProgram)(r->prog);
+    set_mat4(r, r->u.view_proj, id);
+    set_mat4(r, r->u.model, model);
+    GL(Disable)(GL_CLIP_DISTANCE0);
+    GL(Disable)(GL_CULL_FACE);
+    GL(Uniform1i)(r->u.mode, MODE_FLAT);
+    GL(Uniform3fv)(r->u.albedo, 1, rgb);
+    GL(DrawElements)(GL_TRIANGLES, (GLsizei)r->meshes.quad.count, GL_UNSIGNED_INT,
+                     (void *)(sizeof(uint32_t) * r->meshes.quad.first));
+}
+
+/* The surfaces a view sees that end there: a mirror's back, or a fill where recursion
+ * stopped. */
+static void draw_terminal_surface(limen_renderer *r, limen_scene *s, const rview *v,
+                                  const limen__vsurf *vs)
+{
+    const limen__node *n = &s->nodes[vs->node];
+    if (vs->state == LIMEN__SURF_BACK)
+        draw_node(r, v, n, MODE_LIT, n->back);
+    else if (vs->state == LIMEN__SURF_FILL)
+        draw_node(r, v, n, MODE_FLAT, n->fill);
+}
+
+static GLenum depth_less(const limen_renderer *r)
+{
+    return r->range == LIMEN_DEPTH_ZO_REVERSED ? GL_GREATER : GL_LESS;
+}
+
+static void set_scissor(limen_renderer *r, const int rect[4])
+{
+    GL(Enable)(GL_SCISSOR_TEST);
+    GL(Scissor)(rect[0], rect[1], rect[2], rect[3]);
+}
+
+/* ------------------------------------------------------------------ stencil method */
+
+/* Pixels of view `index` hold stencil == its depth when this is called. */
+static void stencil_view(limen_renderer *r, limen_scene *s, int index)
+{
+    mat4 id;
+    glm_mat4_identity(id);
+    rview v;
+    make_rview(r, index, id, &v);
+    const int d = v.pub->depth;
+    set_scissor(r, v.pub->scissor);
+    GL(StencilFunc)(GL_EQUAL, d, 0xFF);
+    GL(StencilOp)(GL_KEEP, GL_KEEP, GL_KEEP);
+    if (d > 0) {
+        /* reset colour and depth inside the surface */
+        GL(DepthFunc)(GL_ALWAYS);
+        draw_far_fill(r, s->background);
+        GL(DepthFunc)(depth_less(r));
+    }
+    apply_view(r, s, &v);
+    draw_geometry(r, s, &v);
+
+    const limen__vsurf *vs;
+    int n = limen__plan_view_surfaces(r->plan, index, &vs);
+    for (int k = 0; k < n; k++) {
+        if (vs[k].state != LIMEN__SURF_CHILD) {
+            draw_terminal_surface(r, s, &v, &vs[k]);
+            continue;
+        }
+        const limen__node *node = &s->nodes[vs[k].node];
+        /* mark the surface's visible pixels with depth + 1 */
+        GL(ColorMask)(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
+        GL(DepthMask)(GL_FALSE);
+        GL(StencilOp)(GL_KEEP, GL_KEEP, GL_INCR);
+        draw_node(r, &v, node, MODE_FLAT, node->fill);
+        GL(ColorMask)(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+        GL(DepthMask)(GL_TRUE);
+
+        stencil_view(r, s, limen__plan_child_view(r->plan, vs[k].child));
+
+        /* seal: back to this view's stencil value, the surface's depth written over the
+         * child's, and a mirror's tint multiplied in */
+        set_scissor(r, v.pub->scissor);
+        apply_view(r, s, &v);
+        GL(StencilFunc)(GL_EQUAL, d + 1, 0xFF);
+        GL(StencilOp)(GL_KEEP, GL_KEEP, GL_DECR);
+        GL(DepthFunc)(GL_ALWAYS);
+        bool tinted = node->kind == LIMEN_NODE_MIRROR &&
+                      (node->tint[0] != 1 || node->tint[1] != 1 || node->tint[2] != 1);
+        if (tinted) {
+            GL(Enable)(GL_BLEND);
+            GL(BlendFunc)(GL_DST_COLOR, GL_ZERO);
+        } else {
+            GL(ColorMask)(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
+        }
+        draw_node(r, &v, node, MODE_FLAT, node->tint);
+        GL(Disable)(GL_BLEND);
+        GL(ColorMask)(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+        GL(DepthFunc)(depth_less(r));
+        GL(StencilFunc)(GL_EQUAL, d, 0xFF);
+        GL(StencilOp)(GL_KEEP, GL_KEEP, GL_KEEP);
+    }
+}
+
+limen_status limen__draw_stencil(limen_renderer *r, limen_scene *s)
+{
+    set_lights(r, s);
+    GL(Enable)(GL_STENCIL_TEST);
+    stencil_view(r, s, 0);
+    GL(Disable)(GL_STENCIL_TEST);
+    GL(Disable)(GL_SCISSOR_TEST);
+    GL(FrontFace)(GL_CCW);
+    return LIMEN_OK;
+}
+
+/* ------------------------------------------------------------------ texture method */
+
+void limen__targets_free(limen_renderer *r)
+{
+    for (int i = 0; i < LIMEN__MAX_LEVELS; i++) {
+        limen__target *t = &r->levels[i];
+        if (t->fbo) {
+            GL(DeleteFramebuffers)(1, &t->fbo);
+            GL(DeleteTextures)(1, &t->tex);
+            GL(DeleteRenderbuffers)(1, &t->depth_rb);
+        }
+        memset(t, 0, sizeof *t);
+    }
+}
+
+static limen__target *level_target(limen_renderer *r, int level, float scale)
+{
+    if (r->levels_scale != scale) {
+        limen__targets_free(r);
+        r->levels_scale = scale;
+    }
+    limen__target *t = &r->levels[level];
+    if (t->fbo)
+        return t;
+    t->w = (int)ceilf((float)r->width * scale);
+    t->h = (int)ceilf((float)r->height * scale);
+    GL(GenTextures)(1, &t->tex);
+    GL(BindTexture)(GL_TEXTURE_2D, t->tex);
+    GL(TexImage2D)(GL_TEXTURE_2D, 0, GL_RGBA8, t->w, t->h, 0, GL_RGBA, GL_UNSIGNED_BYTE, NULL);
+    GL(TexParameteri)(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+    GL(TexParameteri)(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    GL(TexParameteri)(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+    GL(TexParameteri)(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    GL(GenRenderbuffers)(1, &t->depth_rb);
+    GL(BindRenderbuffer)(GL_RENDERBUFFER, t->depth_rb);
+    GL(RenderbufferStorage)(GL_RENDERBUFFER,
+                            r->range == LIMEN_DEPTH_ZO_REVERSED ? GL_DEPTH32F_STENCIL8
+                                                                : GL_DEPTH24_STENCIL8,
+                            t->w, t->h);
+    GL(GenFramebuffers)(1, &t->fbo);
+    GL(BindFramebuffer)(GL_FRAMEBUFFER, t->fbo);
+    GL(FramebufferTexture2D)(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, t->tex, 0);
+    GL(FramebufferRenderbuffer)(GL_FRAMEBUFFER, GL_DEPTH_STENCIL_ATTACHMENT, GL_RENDERBUFFER,
+                                t->depth_rb);
+    if (GL(CheckFramebufferStatus)(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) {
+        limen__targets_free(r);
+        return NULL;
+    }
+    return t;
+}
+
+/* Where a view's pixels land in its target: image pixel rect -> target viewport. */
+typedef struct placement {
+    GLuint fbo;
+    int vw, vh;             /* viewport size in the target */
+    float sx, sy;           /* target pixels per image pixel */
+    int rect[4];            /* image rectangle the viewport covers */
+} placement;
+
+static void bind_placement(limen_renderer *r, const placement *pl)
+{
+    GL(BindFramebuffer)(GL_FRAMEBUFFER, pl->fbo);
+    GL(Viewport)(0, 0, pl->vw, pl->vh);
+    GL(Enable)(GL_SCISSOR_TEST);
+    GL(Scissor)(0, 0, pl->vw, pl->vh);
+}
+
+/* Renders view `index` into the placement; returns false if a target could not be made. */
+static bool texture_view(limen_renderer *r, limen_scene *s, int index, const placement *pl)
+{
+    /* narrow the projection from the whole image to this view's rectangle */
+    mat4 narrow;
+    glm_mat4_identity(narrow);
+    float W = (float)r->width, H = (float)r->height;
+    float x0 = 2.0f * pl->rect[0] / W - 1.0f, x1 = 2.0f * (pl->rect[0] + pl->rect[2]) / W - 1.0f;
+    float y0 = 2.0f * pl->rect[1] / H - 1.0f, y1 = 2.0f * (pl->rect[1] + pl->rect[3]) / H - 1.0f;
+    narrow[0][0] = 2.0f / (x1 - x0);
+    narrow[1][1] = 2.0f / (y1 - y0);
+    narrow[3][0] = -(x1 + x0) / (x1 - x0);
+    narrow[3][1] = -(y1 + y0) / (y1 - y0);
+    rview v;
+    make_rview(r, index, narrow, &v);
+
+    bind_placement(r, pl);
+    GL(ClearColor)(s->background[0], s->background[1], s->background[2], 1.0f);
+    GL(ClearDepth)(r->range == LIMEN_DEPTH_ZO_REVERSED ? 0.0 : 1.0);
+    GL(Clear)(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    apply_view(r, s, &v);
+    draw_geometry(r, s, &v);
+
+    const limen__vsurf *vs;
+    int n = limen__plan_view_surfaces(r->plan, index, &vs);
+    for (int k = 0; k < n; k++) {
+        if (vs[k].state != LIMEN__SURF_CHILD) {
+            draw_terminal_surface(r, s, &v, &vs[k]);
+            continue;
+        }
+        int ci = limen__plan_child_view(r->plan, vs[k].child);
+        const limen_view *c = limen_plan_view(r->plan, ci);
+        limen__target *t = level_target(r, c->depth, r->opts.texture_scale);
+        if (!t)
+            return false;
+        placement cp;
+        cp.fbo = t->fbo;
+        cp.vw = (int)ceilf((float)c->scissor[2] * r->opts.texture_scale);
+        cp.vh = (int)ceilf((float)c->scissor[3] * r->opts.texture_scale);
+        cp.sx = (float)cp.vw / (float)c->scissor[2];
+        cp.sy = (float)cp.vh / (float)c->scissor[3];
+        memcpy(cp.rect, c->scissor, sizeof cp.rect);
+        if (!texture_view(r, s, ci, &cp))
+            return false;
+
+        /* back in this view: the surface samples the child's image where it appears on
+         * screen, times a mirror's tint */
+        bind_placement(r, pl);
+        apply_view(r, s, &v);
+        const limen__node *node = &s->nodes[vs[k].node];
+        GL(ActiveTexture)(GL_TEXTURE0);
+        GL(BindTexture)(GL_TEXTURE_2D, t->tex);
+        GL(Uniform1i)(r->u.tex, 0);
+        /* fragment (this target) -> image pixel -> child texel -> uv */
+        float map[4] = {
+            cp.sx / (pl->sx * (float)t->w),
+            cp.sy / (pl->sy * (float)t->h),
+            (float)(pl->rect[0] - cp.rect[0]) * cp.sx / (float)t->w,
+            (float)(pl->rect[1] - cp.rect[1]) * cp.sy / (float)t->h,
+        };
+        GL(Uniform4fv)(r->u.tex_map, 1, map);
+        vec3 white = { 1, 1, 1 };
+        draw_node(r, &v, node, MODE_TEXTURE,
+                  node->kind == LIMEN_NODE_MIRROR ? node->tint : white);
+    }
+    return true;
+}
+
+limen_status limen__draw_texture(limen_renderer *r, limen_scene *s)
+{
+    set_lights(r, s);
+    placement root = { r->fbo, r->width, r->height, 1.0f, 1.0f, { 0, 0, r->width, r->height } };
+    bool ok = texture_view(r, s, 0, &root);
+    GL(BindFramebuffer)(GL_FRAMEBUFFER, r->fbo);
+    GL(Viewport)(0, 0, r->width, r->height);
+    GL(Disable)(GL_SCISSOR_TEST);
+    GL(FrontFace)(GL_CCW);
+    if (!ok)
+        return limen__rfail(r, LIMEN_ERR_GL, "texture method: cannot make an offscreen target");
+    return LIMEN_OK;
+}

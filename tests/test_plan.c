@@ -1,0 +1,367 @@
+/* test_plan.c - the view planner, without GL: which views exist, and what a wrong virtual
+ * camera would get wrong. */
+#include <stdbool.h>
+#include <stdlib.h>
+
+#include "check.h"
+#include "limen.h"
+
+#define W 320
+#define H 240
+
+static limen_scene *scene_with_camera(const float eye[3], const float at[3])
+{
+    limen_scene *s = NULL;
+    limen_node cam;
+    CHECK_OK(limen_scene_create(NULL, &s));
+    CHECK_OK(limen_node_create(s, LIMEN_NODE_CAMERA, "cam", &cam));
+    CHECK_OK(limen_node_look_at(s, cam, eye, at, (float[3]){ 0, 1, 0 }));
+    CHECK_OK(limen_scene_set_camera(s, cam));
+    return s;
+}
+
+static limen_node surface(limen_scene *s, limen_node_kind kind, const char *name,
+                          const float pos[3], const float normal[3], float w, float h)
+{
+    limen_node n;
+    CHECK_OK(limen_node_create(s, kind, name, &n));
+    CHECK_OK(limen_node_set_position(s, n, pos));
+    CHECK_OK(limen_node_set_facing(s, n, normal, (float[3]){ 0, 1, 0 }));
+    CHECK_OK(limen_node_set_dims(s, n, (float[3]){ w, h, 0 }));
+    return n;
+}
+
+static limen_plan *plan(limen_scene *s, limen_plan_desc d)
+{
+    limen_plan *p = NULL;
+    CHECK_OK(limen_plan_create(&p));
+    if (!d.width) {
+        d.width = W;
+        d.height = H;
+    }
+    limen_status st = limen_plan_build(p, s, &d);
+    CHECK_MSG(st == LIMEN_OK, "plan_build: %s", limen_last_error(s));
+    return p;
+}
+
+static bool finite_view(const limen_view *v)
+{
+    for (int i = 0; i < 16; i++)
+        if (!isfinite(v->view[i]) || !isfinite(v->proj[i]))
+            return false;
+    for (int i = 0; i < 4; i++)
+        if (!isfinite(v->clip_plane[i]))
+            return false;
+    return true;
+}
+
+/* Column-major M * (p, 1). */
+static void xform(const float m[16], const float p[3], float out[3])
+{
+    for (int i = 0; i < 3; i++)
+        out[i] = m[i] * p[0] + m[4 + i] * p[1] + m[8 + i] * p[2] + m[12 + i];
+}
+
+/* Two mirrors facing each other at z = -3 and z = +3; the camera between them looks at
+ * the far one, slightly off-axis. */
+static limen_scene *corridor(void)
+{
+    limen_scene *s = scene_with_camera((float[3]){ 0.3f, 1.5f, 1 }, (float[3]){ 0, 1.5f, -3 });
+    limen_node a = surface(s, LIMEN_NODE_MIRROR, "front", (float[3]){ 0, 1.5f, -3 },
+                           (float[3]){ 0, 0, 1 }, 4, 3);
+    limen_node b = surface(s, LIMEN_NODE_MIRROR, "back", (float[3]){ 0, 1.5f, 3 },
+                           (float[3]){ 0, 0, -1 }, 4, 3);
+    CHECK_OK(limen_surface_set_max_depth(s, a, 64));
+    CHECK_OK(limen_surface_set_max_depth(s, b, 64));
+    return s;
+}
+
+static void test_corridor_one_view_per_level(void)
+{
+    limen_scene *s = corridor();
+    limen_plan *p = plan(s, (limen_plan_desc){ .limit_depth = 1, .max_depth = 16 });
+    CHECK(limen_plan_count(p) == 17);
+    int per_level[17] = { 0 };
+    for (int i = 0; i < limen_plan_count(p); i++) {
+        const limen_view *v = limen_plan_view(p, i);
+        CHECK(v->depth >= 0 && v->depth <= 16);
+        if (v->depth >= 0 && v->depth <= 16)
+            per_level[v->depth]++;
+        CHECK(finite_view(v));
+        /* each view's parent is one level up, and draw order puts parents first */
+        if (i > 0) {
+            CHECK(v->parent >= 0 && v->parent < i);
+            CHECK(limen_plan_view(p, v->parent)->depth == v->depth - 1);
+        }
+        /* alternating surfaces, alternating winding */
+        CHECK(v->front_face_cw == (v->depth & 1));
+        CHECK(v->stencil == v->depth);
+    }
+    for (int d = 0; d <= 16; d++)
+        CHECK_MSG(per_level[d] == 1, "level %d has %d views", d, per_level[d]);
+    /* the first reflection looks through the front mirror; its eye is the mirrored eye */
+    const limen_view *v1 = limen_plan_view(p, 1);
+    CHECK(strcmp(limen_node_name(s, v1->through), "front") == 0);
+    CHECK(v1->kind == LIMEN_VIEW_MIRROR);
+    CHECK_NEAR(v1->eye[0], 0.3, 1e-5);
+    CHECK_NEAR(v1->eye[2], -7, 1e-5);
+    /* its clip plane is the mirror's plane, facing the room */
+    CHECK_NEAR(v1->clip_plane[2], 1, 1e-6);
+    CHECK_NEAR(v1->clip_plane[3], 3, 1e-5);
+    /* scissors nest and shrink */
+    for (int i = 1; i < limen_plan_count(p); i++) {
+        const limen_view *v = limen_plan_view(p, i), *u = limen_plan_view(p, v->parent);
+        CHECK(v->scissor[0] >= u->scissor[0] && v->scissor[1] >= u->scissor[1]);
+        CHECK(v->scissor[0] + v->scissor[2] <= u->scissor[0] + u->scissor[2]);
+        CHECK(v->scissor[1] + v->scissor[3] <= u->scissor[1] + u->scissor[3]);
+        CHECK(v->scissor[2] > 0 && v->scissor[3] > 0);
+    }
+    limen_plan_destroy(p);
+    limen_scene_destroy(s);
+}
+
+static void test_corridor_eye_positions(void)
+{
+    /* the eye at depth k sits where unfolding the corridor puts it: mirrors at z = -3 and
+     * z = 3 reflect z alternately: z_k = -6 - z_{k-1} (front), 6 - z (back) */
+    limen_scene *s = corridor();
+    limen_plan *p = plan(s, (limen_plan_desc){ .limit_depth = 1, .max_depth = 32 });
+    CHECK(limen_plan_count(p) == 33);
+    double z = 1;
+    for (int d = 1; d <= 32; d++) {
+        z = (d & 1) ? -6 - z : 6 - z;
+        for (int i = 0; i < limen_plan_count(p); i++) {
+            const limen_view *v = limen_plan_view(p, i);
+            if (v->depth != d)
+                continue;
+            CHECK_NEAR(v->eye[2], z, 1e-4 * fabs(z));
+            CHECK_NEAR(v->eye[0], 0.3, 1e-5);
+            /* the view matrix maps the eye to the origin */
+            float o[3];
+            xform(v->view, v->eye, o);
+            CHECK_NEAR(o[0], 0, 1e-3);
+            CHECK_NEAR(o[2], 0, 1e-3);
+        }
+    }
+    limen_plan_destroy(p);
+    limen_scene_destroy(s);
+}
+
+static void test_surface_limits(void)
+{
+    limen_scene *s = corridor();
+    limen_node front;
+    CHECK_OK(limen_node_find(s, "front", &front));
+    CHECK_OK(limen_surface_set_max_depth(s, front, 3));
+    /* front allows views up to depth 3, back up to 64: depths 1 (front), 2 (back), 3 (front),
+     * 4 (back) and then front would be 5 > 3 */
+    limen_plan *p = plan(s, (limen_plan_desc){ 0 });
+    CHECK(limen_plan_count(p) == 5);
+    CHECK(limen_plan_truncated(p) == 1);
+    limen_plan_destroy(p);
+    /* a global depth of 0: no recursion */
+    p = plan(s, (limen_plan_desc){ .limit_depth = 1, .max_depth = 0 });
+    CHECK(limen_plan_count(p) == 1);
+    limen_plan_destroy(p);
+    limen_scene_destroy(s);
+}
+
+static void test_surface_culling(void)
+{
+    limen_scene *s = scene_with_camera((float[3]){ 0, 1, 0 }, (float[3]){ 0, 1, -5 });
+    /* behind the camera, facing it: off screen */
+    surface(s, LIMEN_NODE_MIRROR, "behind", (float[3]){ 0, 1, 5 }, (float[3]){ 0, 0, -1 }, 2, 2);
+    /* in view but facing away: no view (its back is drawn) */
+    surface(s, LIMEN_NODE_MIRROR, "away", (float[3]){ -2, 1, -5 }, (float[3]){ 0, 0, -1 }, 1, 1);
+    /* far off to the side */
+    surface(s, LIMEN_NODE_MIRROR, "aside", (float[3]){ 50, 1, -5 }, (float[3]){ 0, 0, 1 }, 1, 1);
+    /* tiny and far: under a pixel */
+    surface(s, LIMEN_NODE_MIRROR, "speck", (float[3]){ 0, 1, -90 }, (float[3]){ 0, 0, 1 },
+            0.001f, 0.001f);
+    /* the one that counts */
+    surface(s, LIMEN_NODE_MIRROR, "seen", (float[3]){ 1, 1, -5 }, (float[3]){ 0, 0, 1 }, 1, 1);
+    limen_plan *p = plan(s, (limen_plan_desc){ 0 });
+    CHECK(limen_plan_count(p) == 2);
+    if (limen_plan_count(p) == 2)
+        CHECK(strcmp(limen_node_name(s, limen_plan_view(p, 1)->through), "seen") == 0);
+    limen_plan_destroy(p);
+    limen_scene_destroy(s);
+}
+
+static void test_portal_view(void)
+{
+    /* blue at x = -4 facing +x, orange at x = +4 facing -x; camera at the origin looks at
+     * blue. Through blue it must see out of orange, looking further along -x... from x = 4
+     * towards -x: the eye lands 4 units behind orange (x = 8), still looking along -x. */
+    limen_scene *s = scene_with_camera((float[3]){ 0, 1, 0 }, (float[3]){ -4, 1, 0 });
+    limen_node a = surface(s, LIMEN_NODE_PORTAL, "blue", (float[3]){ -4, 1, 0 },
+                           (float[3]){ 1, 0, 0 }, 1, 2);
+    limen_node b = surface(s, LIMEN_NODE_PORTAL, "orange", (float[3]){ 4, 1, 0 },
+                           (float[3]){ -1, 0, 0 }, 1, 2);
+    CHECK_OK(limen_portal_link(s, a, b));
+    CHECK_OK(limen_surface_set_max_depth(s, a, 1));
+    limen_plan *p = plan(s, (limen_plan_desc){ 0 });
+    CHECK(limen_plan_count(p) == 2);
+    const limen_view *v = limen_plan_view(p, 1);
+    if (v) {
+        CHECK(v->kind == LIMEN_VIEW_PORTAL);
+        CHECK(v->front_face_cw == 0);
+        CHECK_NEAR(v->eye[0], 8, 1e-5);
+        CHECK_NEAR(v->eye[1], 1, 1e-5);
+        CHECK_NEAR(v->eye[2], 0, 1e-5);
+        /* looking along -x: a point at x = 0 is in front (negative view z) */
+        float o[3];
+        xform(v->view, (float[3]){ 0, 1, 0 }, o);
+        CHECK(o[2] < 0 && fabsf(o[0]) < 1e-4f);
+        /* clip plane is orange's, facing -x: the room side of orange is visible */
+        CHECK_NEAR(v->clip_plane[0], -1, 1e-6);
+        CHECK_NEAR(v->clip_plane[3], 4, 1e-5);
+    }
+    limen_plan_destroy(p);
+    /* an unpaired portal shows its fill: no view */
+    CHECK_OK(limen_node_destroy(s, b));
+    p = plan(s, (limen_plan_desc){ 0 });
+    CHECK(limen_plan_count(p) == 1);
+    limen_plan_destroy(p);
+    limen_scene_destroy(s);
+}
+
+static void test_portal_pairing_rules(void)
+{
+    limen_scene *s = scene_with_camera((float[3]){ 0, 1, 5 }, (float[3]){ 0, 1, 0 });
+    limen_node a = surface(s, LIMEN_NODE_PORTAL, "a", (float[3]){ -1, 1, 0 },
+                           (float[3]){ 0, 0, 1 }, 1, 2);
+    limen_node b = surface(s, LIMEN_NODE_PORTAL, "b", (float[3]){ 1, 1, 0 },
+                           (float[3]){ 0, 0, 1 }, 2, 4);
+    limen_node c = surface(s, LIMEN_NODE_PORTAL, "c", (float[3]){ 3, 1, 0 },
+                           (float[3]){ 0, 0, 1 }, 1, 1);
+    limen_node m = surface(s, LIMEN_NODE_MIRROR, "m", (float[3]){ 3, 1, 0 },
+                           (float[3]){ 0, 0, 1 }, 1, 1);
+    CHECK(limen_portal_link(s, a, a) == LIMEN_ERR_ARG);
+    CHECK(strstr(limen_last_error(s), "itself") != NULL);
+    CHECK(limen_portal_link(s, a, c) == LIMEN_ERR_ARG);     /* 1x2 against 1x1 */
+    CHECK(strstr(limen_last_error(s), "ratio") != NULL);
+    CHECK(limen_portal_link(s, a, m) == LIMEN_ERR_ARG);
+    CHECK_OK(limen_portal_link(s, a, b));                   /* twice the size is fine */
+    CHECK(limen_portal_partner(s, a).id == b.id && limen_portal_partner(s, b).id == a.id);
+    /* the matrix scales by 2 and turns 180 degrees about y */
+    float x[16], o[3];
+    CHECK_OK(limen_surface_matrix(s, a, x));
+    xform(x, (float[3]){ -1, 1.5f, 0.5f }, o);  /* 0.5 up and 0.5 in front of a */
+    CHECK_NEAR(o[0], 1, 1e-5);
+    CHECK_NEAR(o[1], 2, 1e-5);
+    CHECK_NEAR(o[2], -1, 1e-5);                 /* 1 behind b: the path continues */
+    limen_scene_destroy(s);
+}
+
+/* Three mirrors forming a triangular tube along -z, normals inward; the eye at the open end
+ * looks down the tube. */
+static limen_scene *kaleidoscope(void)
+{
+    limen_scene *s = scene_with_camera((float[3]){ 0.1f, 0.05f, 0.5f }, (float[3]){ 0, 0, -10 });
+    for (int k = 0; k < 3; k++) {
+        float a = (float)(2 * M_PI * k / 3.0 + M_PI / 2);
+        float n[3] = { cosf(a), sinf(a), 0 }, pos[3] = { -cosf(a), -sinf(a), -5 };
+        char name[8];
+        snprintf(name, sizeof name, "m%d", k);
+        limen_node m;
+        CHECK_OK(limen_node_create(s, LIMEN_NODE_MIRROR, name, &m));
+        CHECK_OK(limen_node_set_position(s, m, pos));
+        CHECK_OK(limen_node_set_facing(s, m, n, (float[3]){ 0, 0, -1 }));
+        CHECK_OK(limen_node_set_dims(s, m, (float[3]){ 2 * sqrtf(3), 10, 0 }));
+        CHECK_OK(limen_surface_set_max_depth(s, m, 32));
+    }
+    return s;
+}
+
+static void test_budget_kaleidoscope(void)
+{
+    /* branching views, held by the budget, shallow levels first */
+    limen_scene *s = kaleidoscope();
+    limen_plan *p = plan(s, (limen_plan_desc){ .limit_depth = 1, .max_depth = 8, .max_views = 40 });
+    CHECK(limen_plan_count(p) == 40);
+    CHECK(limen_plan_truncated(p) > 0);
+    /* breadth first: no view deeper than a level that is still incomplete... at least all
+     * depth-1 views exist */
+    int d1 = 0, maxd = 0;
+    for (int i = 0; i < limen_plan_count(p); i++) {
+        const limen_view *v = limen_plan_view(p, i);
+        d1 += v->depth == 1;
+        maxd = v->depth > maxd ? v->depth : maxd;
+        CHECK(finite_view(v));
+    }
+    CHECK(d1 == 3);
+    CHECK(maxd <= 8);
+    limen_plan_destroy(p);
+    limen_scene_destroy(s);
+}
+
+static void test_oblique_fallback(void)
+{
+    /* the eye 0.01 in front of a mirror, closer than the near plane (0.05): plane clip */
+    limen_scene *s = scene_with_camera((float[3]){ 0, 1, 0.01f }, (float[3]){ 1, 1, -0.2f });
+    surface(s, LIMEN_NODE_MIRROR, "m", (float[3]){ 0, 1, 0 }, (float[3]){ 0, 0, 1 }, 4, 4);
+    limen_plan *p = plan(s, (limen_plan_desc){ .limit_depth = 1, .max_depth = 1 });
+    CHECK(limen_plan_count(p) == 2);
+    if (limen_plan_count(p) == 2) {
+        CHECK(limen_plan_view(p, 1)->clip == LIMEN_CLIP_PLANE);
+        CHECK(finite_view(limen_plan_view(p, 1)));
+    }
+    limen_plan_destroy(p);
+    limen_scene_destroy(s);
+    /* a comfortable distance: oblique */
+    s = scene_with_camera((float[3]){ 0, 1, 2 }, (float[3]){ 0, 1, 0 });
+    surface(s, LIMEN_NODE_MIRROR, "m", (float[3]){ 0, 1, 0 }, (float[3]){ 0, 0, 1 }, 4, 4);
+    p = plan(s, (limen_plan_desc){ .limit_depth = 1, .max_depth = 1 });
+    CHECK(limen_plan_count(p) == 2 && limen_plan_view(p, 1)->clip == LIMEN_CLIP_OBLIQUE);
+    limen_plan_destroy(p);
+    p = plan(s, (limen_plan_desc){ .clip = LIMEN_CLIP_NONE, .limit_depth = 1, .max_depth = 1 });
+    CHECK(limen_plan_count(p) == 2 && limen_plan_view(p, 1)->clip == LIMEN_CLIP_NONE);
+    limen_plan_destroy(p);
+    limen_scene_destroy(s);
+}
+
+static void test_json(void)
+{
+    limen_scene *s = corridor();
+    limen_plan *p = plan(s, (limen_plan_desc){ .limit_depth = 1, .max_depth = 2 });
+    char path[] = "/tmp/limen-plan-XXXXXX";
+    int fd = mkstemp(path);
+    CHECK(fd >= 0);
+    CHECK_OK(limen_plan_write_json(p, s, path));
+    FILE *f = fopen(path, "r");
+    char buf[16384] = "";
+    size_t n = f ? fread(buf, 1, sizeof buf - 1, f) : 0;
+    buf[n] = 0;
+    if (f)
+        fclose(f);
+    remove(path);
+    CHECK(strstr(buf, "\"views\": [") != NULL);
+    CHECK(strstr(buf, "\"through\": \"front\"") != NULL);
+    CHECK(strstr(buf, "\"front_face\": \"cw\"") != NULL);
+    CHECK(strstr(buf, "\"parent\": null") != NULL);
+    CHECK(strstr(buf, "\"clip_plane\": null") != NULL);
+    CHECK(strstr(buf, "\"kind\": \"mirror\"") != NULL);
+    CHECK(strstr(buf, "nan") == NULL && strstr(buf, "inf") == NULL);
+    CHECK(limen_plan_write_json(p, s, "/nonexistent/dir/plan.json") == LIMEN_ERR_IO);
+    limen_plan_destroy(p);
+    limen_scene_destroy(s);
+}
+
+static const check_case cases[] = {
+    { "corridor_one_view_per_level", test_corridor_one_view_per_level },
+    { "corridor_eye_positions", test_corridor_eye_positions },
+    { "surface_limits", test_surface_limits },
+    { "surface_culling", test_surface_culling },
+    { "portal_view", test_portal_view },
+    { "portal_pairing_rules", test_portal_pairing_rules },
+    { "budget_kaleidoscope", test_budget_kaleidoscope },
+    { "oblique_fallback", test_oblique_fallback },
+    { "json", test_json },
+    { 0 },
+};
+
+int main(int argc, char **argv)
+{
+    return check_run(argc, argv, cases);
+}
