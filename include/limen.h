@@ -91,7 +91,8 @@ LIMEN_API limen_status limen_plane_from_point_normal(const float p[3], const flo
 /* plane' = (M^-1)^T plane, renormalised so |n'| = 1. Singular M -> DEGENERATE. */
 LIMEN_API limen_status limen_plane_transform(const float m[16], const float plane[4],
                                              float out[4]);
-/* Reflection about a plane: I - 2 n n^T with translation -2 d n. det = -1. */
+/* Reflection about a plane: I - 2 n n^T with translation -2 d n. det = -1. Zero n ->
+ * DEGENERATE (the plane need not be normalised). */
 LIMEN_API limen_status limen_mirror_matrix(const float plane[4], float m[16]);
 /* Portal A -> B: W_B * R_y(180 deg) * W_A^-1. Carries what enters A's front out of B's front. */
 LIMEN_API limen_status limen_portal_matrix(const float world_a[16], const float world_b[16],
@@ -99,16 +100,19 @@ LIMEN_API limen_status limen_portal_matrix(const float world_a[16], const float 
 /* View matrix of an eye looking at center. eye == center or up parallel -> DEGENERATE. */
 LIMEN_API limen_status limen_look_at(const float eye[3], const float center[3],
                                      const float up[3], float view[16]);
-/* Perspective projection; fovy in radians (vertical), 0 < near < far. */
+/* Perspective projection; fovy in radians (vertical). fovy outside (0, pi), aspect <= 0,
+ * near <= 0 or far <= near -> ARG. */
 LIMEN_API limen_status limen_perspective(float fovy, float aspect, float znear, float zfar,
                                          limen_depth_range range, float proj[16]);
 /* Oblique near-plane projection (Lengyel): replaces proj's near plane by clip_view, a plane
- * in view space whose front is what stays visible. The eye must be strictly behind the plane
- * (clip_view[3] < -eps * |clip_view|): otherwise DEGENERATE and out is left unchanged. */
+ * in view space whose front is what stays visible. With the plane normalised (|n| = 1),
+ * clip_view[3] is minus the eye's distance in front of it; it must be below
+ * -1e-6 * (near distance), and some of the frustum must lie in front of the plane: otherwise
+ * DEGENERATE and out is left unchanged. NaN/Inf or NULL -> ARG. */
 LIMEN_API limen_status limen_oblique_projection(const float proj[16], const float clip_view[4],
                                                 limen_depth_range range, float out[16]);
 /* Near and far planes of a projection's frustum (Gribb-Hartmann), in view space, normalised,
- * facing the inside of the frustum. */
+ * facing the inside of the frustum. NULL outputs -> ARG. */
 LIMEN_API limen_status limen_projection_planes(const float proj[16], limen_depth_range range,
                                                float near_plane[4], float far_plane[4]);
 
@@ -366,6 +370,24 @@ LIMEN_API limen_status limen_script_update(limen_script *sc, double t);
 /* Writes 8-bit RGB (top row first) as PNG. */
 LIMEN_API limen_status limen_write_png(const char *path, int width, int height,
                                        const unsigned char *rgb);
+/* Reads a PNG (any channel count) as 8-bit RGB; free *rgb with limen_free. */
+LIMEN_API limen_status limen_read_png(const char *path, int *width, int *height,
+                                      unsigned char **rgb);
+LIMEN_API void limen_free(void *p);
+
+typedef struct limen_diff {
+    double bad_share;       /* share of pixels whose largest channel differs by > threshold */
+    long bad_pixels;
+    double psnr;            /* dB over all channels; INFINITY for identical images */
+    int max_delta;          /* largest channel difference anywhere */
+} limen_diff;
+
+/* Compares two RGB images of one size. threshold is in 8-bit steps (the project uses 8).
+ * heatmap, if not NULL (width * height * 3 bytes), gets a picture of where: the first image
+ * in dim grey, pixels over the threshold in red to yellow by their difference. */
+LIMEN_API limen_status limen_image_diff(const unsigned char *a, const unsigned char *b,
+                                        int width, int height, int threshold, limen_diff *out,
+                                        unsigned char *heatmap);
 
 #ifdef __cplusplus
 }

@@ -1,6 +1,7 @@
 /* main.c - the limen program: parse arguments, run a scene script, render, write files. */
 #include <errno.h>
 #include <limits.h>
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -10,6 +11,8 @@
 
 static const char *usage =
     "usage: limen render SCENE.lua -o OUT.png [options]\n"
+    "       limen diff A.png B.png [--threshold N] [--heatmap H.png] [--json]\n"
+    "                  [--max-bad SHARE]   exit 1 if more than SHARE (0..1) are over\n"
     "options:\n"
     "  --size WxH            image size (default 640x480)\n"
     "  --backend osmesa|egl  OpenGL context (default osmesa)\n"
@@ -266,6 +269,82 @@ static int cmd_render(int argc, char **argv)
     return rc;
 }
 
+static int cmd_diff(int argc, char **argv)
+{
+    const char *a = NULL, *b = NULL, *heat = NULL;
+    long threshold = 8;
+    int json = 0;
+    double max_bad = -1;
+    for (int i = 0; i < argc; i++) {
+        const char *v = i + 1 < argc ? argv[i + 1] : NULL;
+        if (!strcmp(argv[i], "--heatmap") && v) {
+            heat = v;
+            i++;
+        } else if (!strcmp(argv[i], "--threshold") && v) {
+            if (parse_long(v, 0, 255, &threshold))
+                return fail("--threshold: expected 0 to 255, got '%s'%s", v, ""), 2;
+            i++;
+        } else if (!strcmp(argv[i], "--max-bad") && v) {
+            if (parse_double(v, &max_bad) || max_bad < 0 || max_bad > 1)
+                return fail("--max-bad: expected 0 to 1, got '%s'%s", v, ""), 2;
+            i++;
+        } else if (!strcmp(argv[i], "--json")) {
+            json = 1;
+        } else if (argv[i][0] == '-' && argv[i][1]) {
+            return fail("diff: unknown option or missing value '%s'%s", argv[i], ""), 2;
+        } else if (!a) {
+            a = argv[i];
+        } else if (!b) {
+            b = argv[i];
+        } else {
+            return fail("diff: unexpected argument '%s'%s", argv[i], ""), 2;
+        }
+    }
+    if (!a || !b)
+        return fail("diff: needs two images%s%s", "", ""), 2;
+    int wa, ha, wb, hb;
+    unsigned char *pa = NULL, *pb = NULL, *ph = NULL;
+    if (limen_read_png(a, &wa, &ha, &pa))
+        return fail("cannot read '%s'%s", a, "");
+    if (limen_read_png(b, &wb, &hb, &pb)) {
+        limen_free(pa);
+        return fail("cannot read '%s'%s", b, "");
+    }
+    int rc = 0;
+    limen_diff d;
+    if (wa != wb || ha != hb) {
+        char sa[32], sb[32];
+        snprintf(sa, sizeof sa, "%dx%d", wa, ha);
+        snprintf(sb, sizeof sb, "%dx%d", wb, hb);
+        rc = fail("diff: sizes differ (%s against %s)", sa, sb);
+    } else {
+        if (heat && !(ph = malloc((size_t)wa * (size_t)ha * 3)))
+            rc = fail("out of memory%s%s", "", "");
+        if (!rc)
+            limen_image_diff(pa, pb, wa, ha, (int)threshold, &d, ph);
+        if (!rc && heat && limen_write_png(heat, wa, ha, ph))
+            rc = fail("cannot write '%s'%s", heat, "");
+        if (!rc) {
+            if (json)
+                printf("{\"bad_share\": %.6f, \"bad_pixels\": %ld, \"pixels\": %ld, "
+                       "\"psnr\": %.3f, \"max_delta\": %d, \"threshold\": %ld}\n",
+                       d.bad_share, d.bad_pixels, (long)wa * ha,
+                       isinf(d.psnr) ? 999.0 : d.psnr, d.max_delta, threshold);
+            else
+                printf("%.4f%% of pixels differ by more than %ld (%ld of %ld), PSNR %.2f dB, "
+                       "largest difference %d\n",
+                       100.0 * d.bad_share, threshold, d.bad_pixels, (long)wa * ha,
+                       isinf(d.psnr) ? 999.0 : d.psnr, d.max_delta);
+            if (max_bad >= 0 && d.bad_share > max_bad)
+                rc = 1;
+        }
+    }
+    free(ph);
+    limen_free(pa);
+    limen_free(pb);
+    return rc;
+}
+
 int main(int argc, char **argv)
 {
     if (argc < 2 || !strcmp(argv[1], "-h") || !strcmp(argv[1], "--help")) {
@@ -274,6 +353,8 @@ int main(int argc, char **argv)
     }
     if (!strcmp(argv[1], "render"))
         return cmd_render(argc - 2, argv + 2);
+    if (!strcmp(argv[1], "diff"))
+        return cmd_diff(argc - 2, argv + 2);
     if (!strcmp(argv[1], "--version")) {
         printf("limen %s\n", LIMEN_VERSION);
         return 0;

@@ -24,6 +24,7 @@ static void set_mat4(limen_renderer *r, GLint loc, mat4 m)
 /* proj_pre: the narrowing applied for the texture method (identity otherwise). */
 static void make_rview(limen_renderer *r, int index, mat4 proj_pre, rview *v)
 {
+    const limen_view *pub = limen_plan_view(r->plan, index);
     v->pub = pub;
     v->index = index;
     memcpy(v->view, pub->view, sizeof v->view);
