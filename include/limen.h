@@ -344,6 +344,10 @@ LIMEN_API const limen_plan *limen_renderer_plan(const limen_renderer *r);
 LIMEN_API limen_status limen_renderer_read_rgb(limen_renderer *r, unsigned char *rgb);
 LIMEN_API limen_status limen_renderer_write_png(limen_renderer *r, const char *path);
 
+/* ---------------------------------------------------------------- ray casting */
+
+/* (reserved for the ray caster: declarations go here) */
+
 /* ---------------------------------------------------------------- scripts */
 
 /* A Lua 5.4 scene script: `return limen.scene{...}` after adding nodes; an optional

@@ -7,12 +7,14 @@
 #include <string.h>
 #include <unistd.h>
 
+#include "cli/cli.h"
 #include "limen.h"
 
 static const char *usage =
     "usage: limen render SCENE.lua -o OUT.png [options]\n"
     "       limen diff A.png B.png [--threshold N] [--heatmap H.png] [--json]\n"
     "                  [--max-bad SHARE]   exit 1 if more than SHARE (0..1) are over\n"
+    "       limen trace SCENE.lua -o REF.png [--size WxH] [--depth N] [--time T]\n"
     "options:\n"
     "  --size WxH            image size (default 640x480)\n"
     "  --backend osmesa|egl  OpenGL context (default osmesa)\n"
@@ -355,6 +357,8 @@ int main(int argc, char **argv)
         return cmd_render(argc - 2, argv + 2);
     if (!strcmp(argv[1], "diff"))
         return cmd_diff(argc - 2, argv + 2);
+    if (!strcmp(argv[1], "trace"))
+        return limen_cli_trace(argc - 2, argv + 2);
     if (!strcmp(argv[1], "--version")) {
         printf("limen %s\n", LIMEN_VERSION);
         return 0;

@@ -1,0 +1,9 @@
+/* cli.h - commands of the limen program, one file each where they are long. */
+#ifndef LIMEN_CLI_H
+#define LIMEN_CLI_H
+
+/* `limen trace ...`: argv holds the arguments after the command name. Returns the exit
+ * status. */
+int limen_cli_trace(int argc, char **argv);
+
+#endif

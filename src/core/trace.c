@@ -1,0 +1,2 @@
+/* trace.c - the reference ray tracer (being written). */
+#include "core/internal.h"
