@@ -12,7 +12,7 @@
  *          limen_node_create(s, LIMEN_NODE_SPHERE, "ball", &ball);
  *          limen_node_set_position(s, ball, (float[3]){0, 1, 0});
  *          limen_node_set_dims(s, ball, (float[3]){0.5f, 0, 0});   // radius
- *      Or load a Lua scene script (see limen_lua.h) that does the same.
+ *      Or load a Lua scene script (limen_script_load, below) that does the same.
  *   3. Create a renderer (OSMesa by default, EGL surfaceless on request) and
  *      render frames; read the pixels or write a PNG:
  *          limen_renderer *r;
@@ -355,7 +355,7 @@ LIMEN_API limen_status limen_renderer_write_png(limen_renderer *r, const char *p
 typedef struct limen_script limen_script;
 
 typedef struct limen_script_desc {
-    int trusted;                /* reserved: 0 runs with the safe standard library */
+    int trusted;                /* 1: full standard library; 0: the safe subset */
 } limen_script_desc;
 
 /* Runs the script. On failure *out may still hold a script whose limen_script_error()

@@ -106,6 +106,10 @@ limen_status limen_portal_link(limen_scene *s, limen_node a, limen_node b)
         s->nodes[na->pair - 1].pair = 0;
     if (nb->pair)
         s->nodes[nb->pair - 1].pair = 0;
+    /* a pair shares one depth limit: the larger of the two */
+    if (nb->max_depth > na->max_depth)
+        na->max_depth = nb->max_depth;
+    nb->max_depth = na->max_depth;
     na->pair = (uint32_t)limen__index(s, nb) + 1u;
     nb->pair = (uint32_t)limen__index(s, na) + 1u;
     return LIMEN_OK;

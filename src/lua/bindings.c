@@ -4,7 +4,21 @@
  *
  *     scenes/x.lua:7: sphere: field 'radius' must be a positive number (got -1)
  *
- * Angles are degrees here and radians in the C API. */
+ * Angles are degrees here and radians in the C API.
+ *
+ *   limen.scene { background = {r,g,b}, ambient = a, max_nodes = n }
+ *   s:group / box / sphere / cylinder / plane / mirror / portal / light / camera { ... }
+ *       every node: name parent pos rotate scale normal up visible
+ *       shapes: color checker; box size{x,y,z}; sphere radius; cylinder radius height;
+ *       plane size{w,h}; mirror, portal: size tint back fill max_depth; portal: link;
+ *       light: color (intensity, >= 0); camera: look_at fov near far (becomes the scene's)
+ *   s:portal_pair({A}, {B} [, {shared}]) -> a, b       s:find(name)   s:nodes()   #s
+ *   s:render { out, size, backend, time, msaa, method, clip, max_depth, max_views, depth,
+ *              texture_scale } -> stats
+ *   s.update = function(t) end    s.background  s.ambient  s.active_camera
+ *   node fields: the constructor's (but normal, up, look_at, link) plus kind, label,
+ *   partner; node:destroy() node:world() node:face(n [, up]) node:look_at(p [, up])
+ *   portal:link(other) */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -251,6 +265,18 @@ static void push_node(lua_State *L, int scene_idx, limen_node n)
     lua_pushvalue(L, -1);
     lua_rawseti(L, -3, (lua_Integer)n.id);
     lua_remove(L, -2);
+}
+
+/* Destroys node n and drops its userdata from the scene's table (destroy() leaves the
+ * scene's error message alone). */
+static void forget_node(lua_State *L, int scene_idx, limen_node n)
+{
+    lscene *ls = lua_touserdata(L, scene_idx);
+    lua_getiuservalue(L, scene_idx, 2);
+    lua_pushnil(L);
+    lua_rawseti(L, -2, (lua_Integer)n.id);
+    lua_pop(L, 1);
+    limen_node_destroy(ls->s, n);
 }
 
 /* ------------------------------------------------------------------ value checks */
@@ -600,21 +626,16 @@ static int c_error(lua_State *L, limen_scene *s, const char *ctx, const char *la
 
 /* ------------------------------------------------------------------ node constructors */
 
-/* s:<kind> { fields }: checks every field, then makes the node. */
-static int make_node(lua_State *L, limen_node_kind kind)
+/* Reads the constructor table at t (fields in `allowed`) into sp, checking everything;
+ * leaves the stack as it found it. String fields stay alive in the table. */
+static void read_ctor(lua_State *L, int t, int scene_idx, limen_node_kind kind, unsigned allowed,
+                      const char *ctx, limen_scene *s, spec *sp)
 {
-    lscene *ls = check_scene(L, 1);
-    const char *ctx = kind_names[kind];
-    if (lua_isnoneornil(L, 2))
-        lua_newtable(L);
-    else
-        luaL_checktype(L, 2, LUA_TTABLE);
-    lua_settop(L, 2);
-    unsigned allowed = kind_fields[kind];
-
+    int top = lua_gettop(L);
+    t = lua_absindex(L, t);
     /* unknown keys first, so that a typo is reported as such */
     lua_pushnil(L);
-    while (lua_next(L, 2)) {
+    while (lua_next(L, t)) {
         lua_pop(L, 1);
         if (lua_type(L, -1) != LUA_TSTRING) {
             const char *g = got(L, -1);
@@ -624,47 +645,126 @@ static int make_node(lua_State *L, limen_node_kind kind)
         int f = field_index(key);
         if (f < 0)
             unknown_node_field(L, ctx, "unknown field", key, allowed);
+        if (!(allowed & BIT(f)) && (kind_fields[kind] & BIT(f)))
+            luaL_error(L, "%s: field '%s' cannot be used here", ctx, key);
         if (!(allowed & BIT(f)))
-            luaL_error(L, "%s: field '%s' does not apply to a %s", ctx, key, ctx);
+            luaL_error(L, "%s: field '%s' does not apply to a %s", ctx, key, kind_names[kind]);
     }
-
-    spec sp;
-    memset(&sp, 0, sizeof sp);
+    memset(sp, 0, sizeof *sp);
     for (int f = 0; f < F_COUNT; f++) {
         if (!(allowed & BIT(f)))
             continue;
         lua_pushstring(L, field_names[f]);
-        if (lua_rawget(L, 2) != LUA_TNIL)
-            parse_field(L, 3, f, kind, 1, ctx, &sp);
-        lua_settop(L, 2);   /* the name string stays alive in the table */
+        if (lua_rawget(L, t) != LUA_TNIL)
+            parse_field(L, lua_gettop(L), f, kind, scene_idx, ctx, sp);
+        lua_settop(L, top);
     }
-    check_spec(L, ls->s, (limen_node){ 0 }, ctx, &sp);
+    check_spec(L, s, (limen_node){ 0 }, ctx, sp);
+}
 
-    limen_node n;
-    if (limen_node_create(ls->s, kind, sp.name, &n))
-        return c_error(L, ls->s, ctx, NULL);
-    char label[LABEL_LEN];
+/* "file:line" of the script line that called the running C function. */
+static void where(lua_State *L, char label[LABEL_LEN])
+{
     luaL_where(L, 1);
     size_t len;
-    const char *where = lua_tolstring(L, -1, &len);
-    if (len >= 2 && where[len - 2] == ':' && where[len - 1] == ' ')
+    const char *w = lua_tolstring(L, -1, &len);
+    if (len >= 2 && w[len - 2] == ':' && w[len - 1] == ' ')
         len -= 2;
-    snprintf(label, sizeof label, "%.*s", (int)len, where);
+    snprintf(label, LABEL_LEN, "%.*s", (int)len, w);
     lua_pop(L, 1);
-    limen_status st = limen_node_set_label(ls->s, n, label);
-    if (!st)
-        st = apply_spec(ls->s, n, &sp);
-    if (!st && kind == LIMEN_NODE_CAMERA)
-        st = limen_scene_set_camera(ls->s, n);
-    if (st) {
-        /* c_error copies the message before raising; destroy() leaves it alone */
-        limen_node_destroy(ls->s, n);
-        return c_error(L, ls->s, ctx, label);
+}
+
+/* Makes a node from a checked spec and pushes it. On failure destroys it (and `also`, the
+ * first half of a pair) and raises "ctx: <the core's message>". */
+static limen_node create_node(lua_State *L, int scene_idx, limen_node_kind kind, const spec *sp,
+                              const char *ctx, const char *label, limen_node also)
+{
+    lscene *ls = lua_touserdata(L, scene_idx);
+    limen_node n;
+    limen_status st = limen_node_create(ls->s, kind, sp->name, &n);
+    if (!st) {
+        st = limen_node_set_label(ls->s, n, label);
+        if (!st)
+            st = apply_spec(ls->s, n, sp);
+        if (!st && kind == LIMEN_NODE_CAMERA)
+            st = limen_scene_set_camera(ls->s, n);
+        if (st)
+            limen_node_destroy(ls->s, n);   /* leaves the message alone */
     }
-    push_node(L, 1, n);
+    if (st) {
+        if (also.id)
+            forget_node(L, scene_idx, also);
+        c_error(L, ls->s, ctx, label);
+    }
+    push_node(L, scene_idx, n);
     lnode *nd = lua_touserdata(L, -1);
     snprintf(nd->label, sizeof nd->label, "%s", label);
+    return n;
+}
+
+/* s:<kind> { fields }: checks every field, then makes the node. */
+static int make_node(lua_State *L, limen_node_kind kind)
+{
+    lscene *ls = check_scene(L, 1);
+    if (lua_isnoneornil(L, 2))
+        lua_newtable(L);
+    else
+        luaL_checktype(L, 2, LUA_TTABLE);
+    lua_settop(L, 2);
+    spec sp;
+    read_ctor(L, 2, 1, kind, kind_fields[kind], kind_names[kind], ls->s, &sp);
+    char label[LABEL_LEN];
+    where(L, label);
+    create_node(L, 1, kind, &sp, kind_names[kind], label, (limen_node){ 0 });
     return 1;
+}
+
+/* Pushes a new table holding the fields of `shared` overridden by those of `own`. */
+static void merge_fields(lua_State *L, int shared, int own)
+{
+    lua_newtable(L);
+    for (int src = 0; src < 2; src++) {
+        lua_pushnil(L);
+        while (lua_next(L, src ? own : shared)) {
+            lua_pushvalue(L, -2);
+            lua_insert(L, -2);
+            lua_rawset(L, -4);
+        }
+    }
+}
+
+/* s:portal_pair({fields of A}, {fields of B} [, {fields for both}]) -> a, b: two portals
+ * linked both ways. Both are checked in full before either is made. */
+static int l_scene_portal_pair(lua_State *L)
+{
+    lscene *ls = check_scene(L, 1);
+    luaL_checktype(L, 2, LUA_TTABLE);
+    luaL_checktype(L, 3, LUA_TTABLE);
+    if (lua_isnoneornil(L, 4)) {
+        lua_settop(L, 3);
+        lua_newtable(L);
+    } else {
+        luaL_checktype(L, 4, LUA_TTABLE);
+    }
+    lua_settop(L, 4);
+    const limen_node_kind k = LIMEN_NODE_PORTAL;
+    unsigned one = kind_fields[k] & ~BIT(F_LINK);
+    spec both, a, b;
+    read_ctor(L, 4, 1, k, one & ~BIT(F_NAME), "portal_pair: shared fields", ls->s, &both);
+    merge_fields(L, 4, 2);  /* 5 */
+    merge_fields(L, 4, 3);  /* 6 */
+    read_ctor(L, 5, 1, k, one, "portal_pair: first portal", ls->s, &a);
+    read_ctor(L, 6, 1, k, one, "portal_pair: second portal", ls->s, &b);
+    char label[LABEL_LEN];
+    where(L, label);
+    limen_node na = create_node(L, 1, k, &a, "portal_pair: first portal", label, (limen_node){ 0 });
+    limen_node nb = create_node(L, 1, k, &b, "portal_pair: second portal", label, na);
+    if (limen_portal_link(ls->s, na, nb)) {
+        forget_node(L, 1, na);
+        forget_node(L, 1, nb);
+        return c_error(L, ls->s, "portal_pair", label);
+    }
+    return 2;
 }
 
 static int l_scene_group(lua_State *L) { return make_node(L, LIMEN_NODE_GROUP); }
@@ -845,10 +945,7 @@ static int l_node_destroy(lua_State *L)
     limen_scene *s;
     lua_settop(L, 1);
     lnode *nd = check_node(L, 1, &s);
-    lua_getiuservalue(L, 2, 2);
-    lua_pushnil(L);
-    lua_rawseti(L, -2, (lua_Integer)nd->n.id);
-    limen_node_destroy(s, nd->n);
+    forget_node(L, 2, nd->n);
     return 0;
 }
 
@@ -1271,6 +1368,7 @@ static const luaL_Reg scene_methods[] = {
     { "plane", l_scene_plane },
     { "mirror", l_scene_mirror },
     { "portal", l_scene_portal },
+    { "portal_pair", l_scene_portal_pair },
     { "light", l_scene_light },
     { "camera", l_scene_camera },
     { "find", l_scene_find },

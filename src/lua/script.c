@@ -2,7 +2,8 @@
  *
  * By default the script gets a safe standard library: base without dofile/loadfile and with
  * a load that takes text only; string, table, math, utf8, coroutine; os.clock/time/date/
- * difftime; no io, no debug; require finds only "limen". desc->trusted opens everything.
+ * difftime; no io, no debug; require finds only "limen" (and what is already loaded or in
+ * package.preload). desc->trusted opens everything.
  * Errors read "path:line: message" (lua.c's message handler, without the traceback: the
  * program prints one line). */
 #include <stdio.h>
@@ -55,6 +56,23 @@ static int l_safe_load(lua_State *L)
     lua_pushvalue(L, lua_upvalueindex(1));
     lua_insert(L, 1);
     lua_call(L, n, LUA_MULTRET);
+    return lua_gettop(L);
+}
+
+/* require(name) for modules already loaded or in package.preload; anything else is refused
+ * in one line (the stock message lists every searcher, one line each). */
+static int l_safe_require(lua_State *L)
+{
+    const char *name = luaL_checkstring(L, 1);
+    lua_settop(L, 1);
+    luaL_getsubtable(L, LUA_REGISTRYINDEX, LUA_LOADED_TABLE);
+    luaL_getsubtable(L, LUA_REGISTRYINDEX, LUA_PRELOAD_TABLE);
+    if (lua_getfield(L, 2, name) == LUA_TNIL && lua_getfield(L, 3, name) == LUA_TNIL)
+        return luaL_error(L, "module '%s' is not available to a safe scene script", name);
+    lua_settop(L, 1);
+    lua_pushvalue(L, lua_upvalueindex(1));
+    lua_insert(L, 1);
+    lua_call(L, 1, LUA_MULTRET);
     return lua_gettop(L);
 }
 
@@ -122,6 +140,9 @@ static int open_safe(lua_State *L)
     lua_setfield(L, pkg, "path");
     lua_pushliteral(L, "");
     lua_setfield(L, pkg, "cpath");
+    lua_getfield(L, g, "require");
+    lua_pushcclosure(L, l_safe_require, 1);
+    lua_setfield(L, g, "require");
     lua_pushboolean(L, 1);
     lua_setfield(L, LUA_REGISTRYINDEX, LIMEN__LUA_SAFE);
     lua_settop(L, 0);

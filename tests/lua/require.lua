@@ -88,6 +88,19 @@ check(m.max_depth == 3 and m.tint[3] == 1 and m.back[1] == 0.5, "mirror fields")
 local pa = s:portal { name = "a", size = {1, 2} }
 local pb = s:portal { name = "b", size = {2, 4}, pos = {5, 0, 0}, link = pa }
 check(pa.partner == pb and pb.partner == pa, "portal link")
+local p1, p2 = s:portal_pair({ name = "p1", size = {1, 2} },
+                             { name = "p2", size = {2, 4}, pos = {3, 0, 0}, max_depth = 5 },
+                             { max_depth = 2, fill = {0, 0, 1} })
+check(p1.partner == p2 and p2.partner == p1, "portal_pair links")
+check(p1.max_depth == 2 and p2.max_depth == 5, "own fields override shared ones")
+check(p1.fill[3] == 1 and p2.fill[3] == 1 and p2.pos[1] == 3, "portal_pair shared fields")
+local count = #s
+check_error(function() s:portal_pair({ size = {1, 1} }, { size = {1, 2} }) end, "portal_pair: portals '' (1x1) and '' (1x2) differ in shape: their width/height ratios must match")
+check_error(function() s:portal_pair({}, {}, { name = "x" }) end, "portal_pair: shared fields: field 'name' cannot be used here")
+check_error(function() s:portal_pair({ link = pa }, {}) end, "portal_pair: first portal: field 'link' cannot be used here")
+check_error(function() s:portal_pair({}, { size = {1, -1} }) end, "portal_pair: second portal: field 'size'[2] must be a positive number (got -1)")
+check_error(function() s:portal_pair({}, {}, { radius = 1 }) end, "portal_pair: shared fields: field 'radius' does not apply to a portal")
+check(#s == count and #s:nodes() == count, "a failed pair leaves no node behind")
 
 -- ------------------------------------------------------------------ errors
 check_error(function() s:sphere { raduis = 1 } end, "sphere: unknown field 'raduis' (did you mean 'radius'?)")

@@ -52,7 +52,7 @@ lua_require() {
         assert(b.radius == 2, "radius")
         assert(s:find("b") ~= nil, "find")
         s:camera { pos = {0, 0, 5}, look_at = {0, 0, 0} }
-        s:render { out = arg and arg[1] or os.getenv("OUT"), size = {32, 24} }
+        s:render { out = os.getenv("OUT"), size = {32, 24} }
         print("ok")' && [ -s "$OUT" ]
 }
 OUT="$TMP/lua.png"; export OUT
