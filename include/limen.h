@@ -346,7 +346,47 @@ LIMEN_API limen_status limen_renderer_write_png(limen_renderer *r, const char *p
 
 /* ---------------------------------------------------------------- ray casting */
 
-/* (reserved for the ray caster: declarations go here) */
+/* The reference ray tracer: the ground truth the renderers are measured against. It
+ * intersects the true shapes (exact spheres and cylinders), shades like the renderer (see
+ * CONVENTIONS) at pixel centres, reflects off mirrors and continues through portals exactly
+ * as the planner's view tree does: a mirror or portal is passed only from its front, a
+ * portal seen from behind is empty air, a mirror seen from behind is a matte quad of its
+ * back colour, the surface just passed is never hit again by the next segment, and a
+ * surface beyond a bounce limit shows its fill colour. Double precision throughout. Not
+ * modelled: the far plane, the view budget (max_views), MSAA. Each call reads the scene
+ * (refreshing its world matrices) and must not overlap with edits of that scene. */
+#define LIMEN_HIT_MAX_SURFACES 64
+
+typedef struct limen_hit {
+    int hit;                    /* 1 if the path ends on a node, 0 if it leaves the scene */
+    float point[3];             /* world-space point where the path ends on `node` */
+    float normal[3];            /* unit normal there, turned to face the incoming segment */
+    float distance;             /* world length of the whole path to point; INFINITY if missed */
+    limen_node node;            /* shape, back of a mirror, or surface at a limit / unpaired */
+    float color[3];             /* what the tracer shows along the ray, tints included */
+    int surface_count;          /* mirrors reflected off and portals passed, in order */
+    limen_node surfaces[LIMEN_HIT_MAX_SURFACES]; /* the first LIMEN_HIT_MAX_SURFACES of them */
+    float seg_origin[3];        /* final segment's start (the origin, or the last exit point) */
+    float seg_dir[3];           /* final segment's unit direction (scaled portals rescale it) */
+} limen_hit;
+
+/* Casts a world-space ray (dir of any length > 0) through mirrors and portals. max_bounces
+ * caps the surfaces passed (like `--depth`); negative -> only the surfaces' own max_depth.
+ * No near plane: hits at any t > 0 count. NaN/Inf or zero dir, NULL -> ARG. */
+LIMEN_API limen_status limen_ray_cast(limen_scene *s, const float origin[3], const float dir[3],
+                                      int max_bounces, limen_hit *out);
+
+typedef struct limen_trace_desc {
+    int width, height;          /* image size in pixels (0 -> 640 x 480) */
+    int limit_depth, max_depth; /* as in limen_plan_desc: 1 applies the global max_depth */
+    int threads;                /* worker threads; 0 -> the number of online CPUs */
+} limen_trace_desc;
+
+/* Ray traces the scene from its camera (the root view skips what lies nearer than the
+ * camera's near plane, as the rasterizer clips it) into rgb: width * height * 3 bytes,
+ * top row first, each channel round(clamp(c) * 255). desc may be NULL. No camera -> ARG. */
+LIMEN_API limen_status limen_trace_image(limen_scene *s, const limen_trace_desc *desc,
+                                         unsigned char *rgb);
 
 /* ---------------------------------------------------------------- scripts */
 

@@ -9,8 +9,8 @@ s:plane  { name = "floor", pos = {0, 0, 0}, normal = {0, 1, 0}, size = {12, 12},
            checker = { {0.85, 0.85, 0.8}, {0.25, 0.25, 0.3}, 0.75 } }
 s:plane  { name = "back wall", pos = {0, 2, -5}, normal = {0, 0, 1}, size = {12, 4},
            color = {0.8, 0.75, 0.6} }
--- the mirror: turned 20 degrees about Y and tilted back 8 degrees
-s:mirror { name = "mirror", pos = {0, 1.3, -1.5}, size = {2.2, 1.6}, rotate = {-8, 20, 0},
+-- the mirror: tilted forward 12 degrees (about X), then turned 6 degrees about Y
+s:mirror { name = "mirror", pos = {0, 1.3, -1.5}, size = {2.6, 1.8}, rotate = {12, -6, 0},
            tint = {0.95, 0.95, 0.95}, max_depth = 4 }
 s:box    { name = "stand", pos = {0, 0.25, -1.75}, size = {0.3, 0.5, 0.3}, color = {0.3, 0.3, 0.3} }
 s:sphere { name = "red", pos = {-0.6, 0.5, 0.4}, radius = 0.5, color = {0.9, 0.1, 0.1} }

@@ -1,2 +1,719 @@
-/* trace.c - the reference ray tracer (being written). */
+/* trace.c - the reference ray tracer: the ground truth that the rasterizer is measured
+ * against (DESIGN.md, "Ground truth"). Every rule below copies what the planner
+ * (core/plan.c) and the renderer (gl/views.c, gl/render.c) do, so that a difference between
+ * the two pictures is an error of the rasterizing method, not of the rules.
+ *
+ * Camera. limen_camera_matrices(s, W/H, NO): pixel column x, GL row y (0 = bottom; PNG row
+ * r is GL row H-1-r) is sampled at its centre, NDC ((x+0.5)*2/W-1, (y+0.5)*2/H-1). The ray
+ * runs from the unprojected near point towards the unprojected far point, so the root
+ * segment starts on the near plane: what lies nearer than the camera's near distance is
+ * skipped, as the rasterizer's near clip drops it.
+ *
+ * Shapes, exact, in each node's unit space M = world * diag(scale): box [-0.5, 0.5]^3
+ * (scale = dims), sphere of radius 1 (r, r, r), cylinder of radius 1 with y in [0, 1] and
+ * caps (r, h, r), quad, mirror and portal on [-0.5, 0.5]^2 at z = 0 (w, h, 1). Only live,
+ * visible nodes; groups, lights and cameras are never hit. Closed shapes (box, sphere,
+ * cylinder) are hit only where the ray enters them: the renderer culls their back faces, so
+ * a ray that starts inside one (or whose entry was near-clipped) passes out unseen. Flat
+ * shapes are hit from both sides.
+ *
+ * Shading, as the fragment shader: colour = albedo * (ambient + (1 - ambient) *
+ * sum_i light_i * max(0, n . normalize(light_pos_i - p))), clamped to [0, 1], no shadows.
+ * Lights: the first 8 live, visible LIGHT nodes in index order (world translation, colour).
+ * n = normalize(N * n_unit), N the inverse transpose of M's 3x3, n_unit the unit-space
+ * point (sphere), (x, 0, z) of it (cylinder side), or the face normal (caps, box faces,
+ * quads), turned to face the incoming ray (the shader turns it towards the view's eye, which
+ * lies on the ray's line behind its origin). Checker: c = floor(unit point * scale / cell),
+ * k = c.x + c.y (+ c.z except for QUAD nodes), odd k -> checker_b, even -> colour.
+ *
+ * Surfaces. A mirror or a paired portal S is entered from its front (the ray moving against
+ * its +Z normal; equivalent to the planner's "eye in front" test). Passing it: a mirror
+ * reflects (origin = hit point, direction reflected, colour multiplied by its tint); a
+ * portal maps origin and direction by X = limen__surface_matrix_d (scaled portals scale the
+ * path; the direction is renormalised and distances are measured in world units). The next
+ * segment starts on the exit plane (the mirror itself, or the partner B), moves to its
+ * front, and never hits the exit surface, which the renderer never draws in that view. A
+ * mirror seen from behind is a matte quad of its back colour (checker as any quad, not a
+ * QUAD). A portal seen from behind is not there. An unpaired portal, or one whose partner
+ * is hidden, shows its fill colour from the front (flat, unlit).
+ *
+ * Limits. A ray that has passed b surfaces and enters S goes on only if b+1 <= S.max_depth
+ * and, with a global limit (limit_depth, `--depth N`), b+1 <= that limit; otherwise it ends
+ * on S's fill colour, which the tints of the mirrors already passed still multiply (as the
+ * renderer's seals do). Where nothing is hit: the background, times those tints.
+ *
+ * Not modelled, on purpose: the far plane (scenes fit well inside it; the oblique far plane
+ * of a nested view is an artefact of the method, not of the scene), the view budget
+ * max_views (a truncated tree is an error the comparison should see), MSAA (one sample at
+ * the pixel centre), the per-seal 8-bit rounding of tints in the framebuffer, and the
+ * tessellation of curved shapes (the tracer is what the meshes approximate).
+ *
+ * Images are traced by pthreads over interleaved rows; every thread only reads a snapshot
+ * of the scene (`tracer`) taken before they start. */
+#include <pthread.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include "core/dmath.h"
 #include "core/internal.h"
+
+#define MAX_THREADS 256
+#define GLOBAL_NONE 255     /* no global limit: the surfaces' own (max_depth <= 255) */
+
+enum shape { SHAPE_BOX, SHAPE_SPHERE, SHAPE_CYLINDER, SHAPE_FLAT };
+
+/* One hittable node, in double precision. */
+typedef struct prim {
+    int node;                   /* index in the scene's pool */
+    limen_node_kind kind;
+    enum shape shape;
+    double m[16], minv[16];     /* unit space -> world and back */
+    double nmat[9];             /* inverse transpose of m's 3x3, column-major */
+    double scale[3];
+    double bc[3], br;           /* world bounding sphere */
+    double color[3], checker_b[3], cell;
+    /* mirrors and portals */
+    double plane[4];            /* world, front = +Z side */
+    double x[16];               /* surface matrix */
+    bool has_x;                 /* a mirror, or a portal with a visible partner */
+    int exit;                   /* prim index of the exit surface (self or partner); -1 none */
+    double tint[3], back[3], fill[3];
+    int max_depth;
+} prim;
+
+/* A read-only snapshot of the scene for tracing. */
+typedef struct tracer {
+    const limen_scene *s;
+    prim *prims;
+    int n;
+    double lpos[LIMEN__MAX_LIGHTS][3], lcol[LIMEN__MAX_LIGHTS][3];
+    int nlights;
+    double ambient, background[3];
+} tracer;
+
+/* Where one path ended (for limen_ray_cast). */
+typedef struct record {
+    bool hit;
+    int prim;
+    double point[3], normal[3], distance;
+    int count;
+    int chain[LIMEN_HIT_MAX_SURFACES];   /* prim indices */
+    double seg_o[3], seg_d[3];
+} record;
+
+/* ------------------------------------------------------------------ small vectors */
+
+static double dot3(const double a[3], const double b[3])
+{
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+
+static bool normalize3(double v[3])
+{
+    double len = sqrt(dot3(v, v));
+    if (!(len > 0) || !isfinite(len))
+        return false;
+    v[0] /= len;
+    v[1] /= len;
+    v[2] /= len;
+    return true;
+}
+
+/* Direction (w = 0) through a 4x4 matrix. */
+static void d_dir(const double m[16], const double v[3], double out[3])
+{
+    double r[3];
+    for (int i = 0; i < 3; i++)
+        r[i] = m[i] * v[0] + m[4 + i] * v[1] + m[8 + i] * v[2];
+    memcpy(out, r, sizeof r);
+}
+
+/* ------------------------------------------------------------------ snapshot */
+
+static bool hittable(const limen__node *n)
+{
+    switch (n->kind) {
+    case LIMEN_NODE_BOX:
+    case LIMEN_NODE_SPHERE:
+    case LIMEN_NODE_CYLINDER:
+    case LIMEN_NODE_QUAD:
+    case LIMEN_NODE_MIRROR:
+    case LIMEN_NODE_PORTAL:
+        return true;
+    default:
+        return false;
+    }
+}
+
+static void copy3f(const float f[3], double d[3])
+{
+    d[0] = f[0];
+    d[1] = f[1];
+    d[2] = f[2];
+}
+
+static void setup_prim(limen_scene *s, const limen__node *n, prim *p)
+{
+    memset(p, 0, sizeof *p);
+    p->node = limen__index(s, n);
+    p->kind = n->kind;
+    p->exit = -1;
+    double unit_r = 1.0, unit_c[3] = { 0, 0, 0 };
+    switch (n->kind) {
+    case LIMEN_NODE_BOX:
+        p->shape = SHAPE_BOX;
+        copy3f(n->dims, p->scale);
+        unit_r = sqrt(0.75);
+        break;
+    case LIMEN_NODE_SPHERE:
+        p->shape = SHAPE_SPHERE;
+        p->scale[0] = p->scale[1] = p->scale[2] = n->dims[0];
+        break;
+    case LIMEN_NODE_CYLINDER:
+        p->shape = SHAPE_CYLINDER;
+        p->scale[0] = p->scale[2] = n->dims[0];
+        p->scale[1] = n->dims[1];
+        unit_c[1] = 0.5;
+        unit_r = sqrt(1.25);
+        break;
+    default:
+        p->shape = SHAPE_FLAT;
+        p->scale[0] = n->dims[0];
+        p->scale[1] = n->dims[1];
+        p->scale[2] = 1.0;
+        unit_r = sqrt(0.5);
+        break;
+    }
+    double w[16];
+    limen__d_from_f(&n->world[0][0], w);
+    memcpy(p->m, w, sizeof w);
+    for (int c = 0; c < 3; c++)
+        for (int r = 0; r < 4; r++)
+            p->m[c * 4 + r] *= p->scale[c];
+    if (!limen__d_inv(p->m, p->minv)) {
+        p->br = -1;     /* degenerate (a zero dimension): never hit, as it draws no pixel */
+        return;
+    }
+    /* N = (M3^-1)^T: element (r, c) of N is element (c, r) of M^-1 */
+    for (int c = 0; c < 3; c++)
+        for (int r = 0; r < 3; r++)
+            p->nmat[c * 3 + r] = p->minv[r * 4 + c];
+    limen__d_point(p->m, unit_c, p->bc);
+    double frob = 0;
+    for (int c = 0; c < 3; c++)
+        for (int r = 0; r < 3; r++)
+            frob += p->m[c * 4 + r] * p->m[c * 4 + r];
+    p->br = sqrt(frob) * unit_r * (1.0 + 1e-9);
+    copy3f(n->color, p->color);
+    copy3f(n->checker_b, p->checker_b);
+    p->cell = n->checker_cell;
+    if (limen__is_surface(n)) {
+        limen__surface_plane_d(n, p->plane);
+        copy3f(n->tint, p->tint);
+        copy3f(n->back, p->back);
+        copy3f(n->fill, p->fill);
+        p->max_depth = n->max_depth;
+        p->has_x = limen__surface_matrix_d(s, n, p->x);
+        if (n->kind == LIMEN_NODE_PORTAL && n->pair) {
+            const limen__node *b = &s->nodes[n->pair - 1];
+            if (!limen__alive(b) || !b->visible)
+                p->has_x = false;   /* the planner shows the fill then */
+        }
+    }
+}
+
+static void tracer_free(tracer *t)
+{
+    free(t->prims);
+    t->prims = NULL;
+}
+
+static limen_status tracer_init(tracer *t, limen_scene *s, const char *fn)
+{
+    memset(t, 0, sizeof *t);
+    t->s = s;
+    limen__scene_refresh(s);
+    int count = 0;
+    for (int i = 0; i < s->cap; i++) {
+        const limen__node *n = &s->nodes[i];
+        if (limen__alive(n) && n->visible && hittable(n))
+            count++;
+    }
+    t->prims = malloc(sizeof *t->prims * (size_t)(count ? count : 1));
+    int *slot = malloc(sizeof *slot * (size_t)(s->cap ? s->cap : 1));
+    if (!t->prims || !slot) {
+        free(slot);
+        tracer_free(t);
+        return limen__fail(s, LIMEN_ERR_NOMEM, "%s: out of memory", fn);
+    }
+    for (int i = 0; i < s->cap; i++) {
+        const limen__node *n = &s->nodes[i];
+        slot[i] = -1;
+        if (!limen__alive(n))
+            continue;
+        if (n->kind == LIMEN_NODE_LIGHT && n->visible && t->nlights < LIMEN__MAX_LIGHTS) {
+            copy3f(n->world[3], t->lpos[t->nlights]);
+            copy3f(n->color, t->lcol[t->nlights]);
+            t->nlights++;
+        }
+        if (n->visible && hittable(n)) {
+            slot[i] = t->n;
+            setup_prim(s, n, &t->prims[t->n++]);
+        }
+    }
+    for (int i = 0; i < t->n; i++) {
+        prim *p = &t->prims[i];
+        const limen__node *n = &s->nodes[p->node];
+        if (n->kind == LIMEN_NODE_MIRROR)
+            p->exit = i;
+        else if (n->kind == LIMEN_NODE_PORTAL && p->has_x)
+            p->exit = slot[n->pair - 1];
+    }
+    free(slot);
+    t->ambient = s->ambient;
+    copy3f(s->background, t->background);
+    return LIMEN_OK;
+}
+
+/* ------------------------------------------------------------------ intersection */
+
+/* Entering hit of the unit box [-0.5, 0.5]^3; the entry face's unit normal. */
+static bool hit_box(const double o[3], const double d[3], double tmin, double tmax, double *t,
+                    double nu[3])
+{
+    double t0 = -INFINITY, t1 = INFINITY;
+    int axis = -1;
+    for (int a = 0; a < 3; a++) {
+        if (d[a] == 0) {
+            if (o[a] < -0.5 || o[a] > 0.5)
+                return false;
+            continue;
+        }
+        double ta = (-0.5 - o[a]) / d[a], tb = (0.5 - o[a]) / d[a];
+        if (ta > tb) {
+            double tmp = ta;
+            ta = tb;
+            tb = tmp;
+        }
+        if (ta > t0) {
+            t0 = ta;
+            axis = a;
+        }
+        if (tb < t1)
+            t1 = tb;
+    }
+    if (axis < 0 || t0 > t1 || !(t0 > tmin) || !(t0 < tmax))
+        return false;
+    *t = t0;
+    nu[0] = nu[1] = nu[2] = 0;
+    nu[axis] = d[axis] > 0 ? -1.0 : 1.0;
+    return true;
+}
+
+static bool hit_sphere(const double o[3], const double d[3], double tmin, double tmax,
+                       double *t, double nu[3])
+{
+    double a = dot3(d, d), b = dot3(o, d), c = dot3(o, o) - 1.0;
+    double disc = b * b - a * c;
+    if (!(disc >= 0) || !(a > 0))
+        return false;
+    /* the entering (smaller) root, computed without cancellation */
+    double q = -(b + copysign(sqrt(disc), b));
+    double t0 = q == 0 ? 0 : fmin(q / a, c / q);
+    if (!(t0 > tmin) || !(t0 < tmax))
+        return false;
+    *t = t0;
+    for (int i = 0; i < 3; i++)
+        nu[i] = o[i] + t0 * d[i];
+    return true;
+}
+
+static bool hit_cylinder(const double o[3], const double d[3], double tmin, double tmax,
+                         double *t, double nu[3])
+{
+    double s0 = -INFINITY, s1 = INFINITY;  /* inside the infinite side */
+    double a = d[0] * d[0] + d[2] * d[2];
+    double b = o[0] * d[0] + o[2] * d[2];
+    double c = o[0] * o[0] + o[2] * o[2] - 1.0;
+    if (a > 0) {
+        double disc = b * b - a * c;
+        if (!(disc >= 0))
+            return false;
+        double sq = sqrt(disc);
+        double q = b > 0 ? -b - sq : -b + sq;
+        if (q == 0) {
+            s0 = s1 = 0;
+        } else {
+            double r0 = q / a, r1 = c / q;
+            s0 = fmin(r0, r1);
+            s1 = fmax(r0, r1);
+        }
+    } else if (c > 0) {
+        return false;
+    }
+    double y0 = -INFINITY, y1 = INFINITY;  /* between the caps */
+    if (d[1] != 0) {
+        double ta = -o[1] / d[1], tb = (1.0 - o[1]) / d[1];
+        y0 = fmin(ta, tb);
+        y1 = fmax(ta, tb);
+    } else if (o[1] < 0 || o[1] > 1) {
+        return false;
+    }
+    bool cap = y0 >= s0;
+    double t0 = cap ? y0 : s0, t1 = fmin(s1, y1);
+    if (!(t0 <= t1) || !(t0 > tmin) || !(t0 < tmax))
+        return false;
+    *t = t0;
+    if (cap) {
+        nu[0] = nu[2] = 0;
+        nu[1] = d[1] > 0 ? -1.0 : 1.0;
+    } else {
+        nu[0] = o[0] + t0 * d[0];
+        nu[1] = 0;
+        nu[2] = o[2] + t0 * d[2];
+    }
+    return true;
+}
+
+static bool hit_flat(const double o[3], const double d[3], double tmin, double tmax, double *t,
+                     double nu[3])
+{
+    if (d[2] == 0)
+        return false;
+    double th = -o[2] / d[2];
+    if (!(th > tmin) || !(th < tmax))
+        return false;
+    double x = o[0] + th * d[0], y = o[1] + th * d[1];
+    if (!(fabs(x) <= 0.5) || !(fabs(y) <= 0.5))
+        return false;
+    *t = th;
+    nu[0] = nu[1] = 0;
+    nu[2] = 1;
+    return true;
+}
+
+/* The nearest hit along o + t d (d a unit vector) with tmin < t, leaving out prim `skip`
+ * and portals seen from behind. Returns the prim index or -1; *t, the unit-space point and
+ * the unit-space normal of the hit. */
+static int nearest(const tracer *tr, const double o[3], const double d[3], double tmin,
+                   int skip, double *t_out, double pu[3], double nu[3])
+{
+    int best = -1;
+    double tbest = INFINITY;
+    for (int i = 0; i < tr->n; i++) {
+        const prim *p = &tr->prims[i];
+        if (i == skip || p->br < 0)
+            continue;
+        if (p->kind == LIMEN_NODE_PORTAL && dot3(p->plane, d) >= 0)
+            continue;   /* from behind (or edge on): empty air */
+        /* bounding sphere: distance of its centre from the line, and t range */
+        double oc[3] = { p->bc[0] - o[0], p->bc[1] - o[1], p->bc[2] - o[2] };
+        double tc = dot3(oc, d);
+        double r2 = p->br * p->br;
+        double perp2 = dot3(oc, oc) - tc * tc;
+        if (perp2 > r2 || tc + p->br <= tmin || tc - p->br >= tbest)
+            continue;
+        double ou[3], du[3], t, n[3];
+        limen__d_point(p->minv, o, ou);
+        d_dir(p->minv, d, du);
+        bool hit;
+        switch (p->shape) {
+        case SHAPE_BOX:
+            hit = hit_box(ou, du, tmin, tbest, &t, n);
+            break;
+        case SHAPE_SPHERE:
+            hit = hit_sphere(ou, du, tmin, tbest, &t, n);
+            break;
+        case SHAPE_CYLINDER:
+            hit = hit_cylinder(ou, du, tmin, tbest, &t, n);
+            break;
+        default:
+            hit = hit_flat(ou, du, tmin, tbest, &t, n);
+            break;
+        }
+        if (!hit)
+            continue;
+        best = i;
+        tbest = t;
+        memcpy(nu, n, sizeof n);
+        for (int k = 0; k < 3; k++)
+            pu[k] = ou[k] + t * du[k];
+    }
+    *t_out = tbest;
+    return best;
+}
+
+/* ------------------------------------------------------------------ shading */
+
+/* World normal of a hit, turned against the ray. */
+static void world_normal(const prim *p, const double nu[3], const double d[3], double n[3])
+{
+    for (int r = 0; r < 3; r++)
+        n[r] = p->nmat[r] * nu[0] + p->nmat[3 + r] * nu[1] + p->nmat[6 + r] * nu[2];
+    if (!normalize3(n)) {
+        n[0] = -d[0];
+        n[1] = -d[1];
+        n[2] = -d[2];
+    }
+    if (dot3(n, d) > 0) {
+        n[0] = -n[0];
+        n[1] = -n[1];
+        n[2] = -n[2];
+    }
+}
+
+static void shade(const tracer *tr, const prim *p, const double albedo_a[3], const double pu[3],
+                  const double pw[3], const double n[3], double out[3])
+{
+    const double *albedo = albedo_a;
+    if (p->cell > 0) {
+        double k = 0;
+        int axes = p->kind == LIMEN_NODE_QUAD ? 2 : 3;
+        for (int i = 0; i < axes; i++)
+            k += floor(pu[i] * p->scale[i] / p->cell);
+        if (k - 2.0 * floor(k * 0.5) > 0.5)
+            albedo = p->checker_b;
+    }
+    double light[3] = { 0, 0, 0 };
+    for (int i = 0; i < tr->nlights; i++) {
+        double l[3] = { tr->lpos[i][0] - pw[0], tr->lpos[i][1] - pw[1], tr->lpos[i][2] - pw[2] };
+        if (!normalize3(l))
+            continue;
+        double c = fmax(0.0, dot3(n, l));
+        for (int k = 0; k < 3; k++)
+            light[k] += tr->lcol[i][k] * c;
+    }
+    for (int k = 0; k < 3; k++) {
+        double v = albedo[k] * (tr->ambient + (1.0 - tr->ambient) * light[k]);
+        out[k] = v < 0 ? 0 : v > 1 ? 1 : v;
+    }
+}
+
+/* ------------------------------------------------------------------ paths */
+
+/* Follows one path from o along d (any length) with hits before tmin (in units of |d|)
+ * skipped on the first segment. global: limit on surfaces passed. rgb gets the colour;
+ * rec, if not NULL, where it ended. */
+static void follow(const tracer *tr, const double o_in[3], const double d_in[3], double tmin0,
+                   int global, double rgb[3], record *rec)
+{
+    double o[3], d[3], tint[3] = { 1, 1, 1 };
+    memcpy(o, o_in, sizeof o);
+    memcpy(d, d_in, sizeof d);
+    double len = sqrt(dot3(d, d));
+    double tmin = tmin0 * len;
+    normalize3(d);
+    int skip = -1, passed = 0;
+    double travelled = 0;
+    const double *result = tr->background;
+    double shaded[3];
+    if (rec) {
+        memset(rec, 0, sizeof *rec);
+        rec->prim = -1;
+    }
+    for (;;) {
+        double t, pu[3], nu[3];
+        int hi = nearest(tr, o, d, tmin, skip, &t, pu, nu);
+        if (rec) {
+            memcpy(rec->seg_o, o, sizeof o);
+            memcpy(rec->seg_d, d, sizeof d);
+        }
+        if (hi < 0)
+            break;
+        const prim *p = &tr->prims[hi];
+        double pw[3] = { o[0] + t * d[0], o[1] + t * d[1], o[2] + t * d[2] };
+        travelled += t;
+        if (rec) {
+            rec->hit = true;
+            rec->prim = hi;
+            rec->distance = travelled;
+            memcpy(rec->point, pw, sizeof pw);
+            world_normal(p, nu, d, rec->normal);
+        }
+        bool surface = p->kind == LIMEN_NODE_MIRROR || p->kind == LIMEN_NODE_PORTAL;
+        bool front = surface && dot3(p->plane, d) < 0;
+        if (!surface || (p->kind == LIMEN_NODE_MIRROR && !front)) {
+            double n[3];
+            world_normal(p, nu, d, n);
+            shade(tr, p, surface ? p->back : p->color, pu, pw, n, shaded);
+            result = shaded;
+            break;
+        }
+        if (!p->has_x || passed + 1 > p->max_depth || passed + 1 > global) {
+            result = p->fill;
+            break;
+        }
+        /* pass through: reflect, or leave by the partner */
+        if (rec && passed < LIMEN_HIT_MAX_SURFACES)
+            rec->chain[passed] = hi;
+        passed++;
+        if (p->kind == LIMEN_NODE_MIRROR)
+            for (int k = 0; k < 3; k++)
+                tint[k] *= p->tint[k];
+        limen__d_point(p->x, pw, o);
+        d_dir(p->x, d, d);
+        if (!normalize3(d))
+            break;
+        skip = p->exit;
+        tmin = 1e-9 * (1.0 + fmax(fabs(o[0]), fmax(fabs(o[1]), fabs(o[2]))));
+    }
+    if (rec) {
+        rec->count = passed;
+        if (!rec->hit)
+            rec->distance = INFINITY;
+    }
+    for (int k = 0; k < 3; k++)
+        rgb[k] = tint[k] * result[k];
+}
+
+/* ------------------------------------------------------------------ public: rays */
+
+limen_status limen_ray_cast(limen_scene *s, const float origin[3], const float dir[3],
+                            int max_bounces, limen_hit *out)
+{
+    if (!s)
+        return LIMEN_ERR_ARG;
+    if (!origin || !dir || !out)
+        return limen__fail(s, LIMEN_ERR_ARG, "ray_cast: NULL origin, direction or output");
+    if (!limen__finite3(origin))
+        return limen__fail(s, LIMEN_ERR_ARG, "ray_cast: origin must be finite (got %g %g %g)",
+                           origin[0], origin[1], origin[2]);
+    double o[3], d[3];
+    copy3f(origin, o);
+    copy3f(dir, d);
+    if (!limen__finite3(dir) || !(dot3(d, d) > 0))
+        return limen__fail(s, LIMEN_ERR_ARG,
+                           "ray_cast: direction must be finite and non-zero (got %g %g %g)",
+                           dir[0], dir[1], dir[2]);
+    tracer tr;
+    limen_status st = tracer_init(&tr, s, "ray_cast");
+    if (st)
+        return st;
+    record rec;
+    double rgb[3];
+    follow(&tr, o, d, 0.0, max_bounces < 0 ? GLOBAL_NONE : max_bounces, rgb, &rec);
+    memset(out, 0, sizeof *out);
+    out->hit = rec.hit;
+    out->distance = (float)rec.distance;
+    for (int k = 0; k < 3; k++) {
+        out->point[k] = (float)rec.point[k];
+        out->normal[k] = (float)rec.normal[k];
+        out->color[k] = (float)rgb[k];
+        out->seg_origin[k] = (float)rec.seg_o[k];
+        out->seg_dir[k] = (float)rec.seg_d[k];
+    }
+    if (rec.hit)
+        out->node = limen__node_handle(s, tr.prims[rec.prim].node);
+    out->surface_count = rec.count;
+    for (int i = 0; i < rec.count && i < LIMEN_HIT_MAX_SURFACES; i++)
+        out->surfaces[i] = limen__node_handle(s, tr.prims[rec.chain[i]].node);
+    tracer_free(&tr);
+    return LIMEN_OK;
+}
+
+/* ------------------------------------------------------------------ public: images */
+
+typedef struct job {
+    const tracer *tr;
+    double inv_vp[16];          /* (proj * view)^-1 */
+    int width, height, global;
+    int first, step;            /* rows first, first + step, ... (PNG order) */
+    unsigned char *rgb;
+} job;
+
+static unsigned char to_byte(double c)
+{
+    c = c < 0 ? 0 : c > 1 ? 1 : c;
+    return (unsigned char)lround(c * 255.0);
+}
+
+static void *trace_rows(void *arg)
+{
+    const job *j = arg;
+    for (int row = j->first; row < j->height; row += j->step) {
+        int gy = j->height - 1 - row;
+        double ny = (gy + 0.5) * 2.0 / j->height - 1.0;
+        unsigned char *dst = j->rgb + (size_t)row * (size_t)j->width * 3;
+        for (int x = 0; x < j->width; x++) {
+            double nx = (x + 0.5) * 2.0 / j->width - 1.0;
+            double pn[3], pf[3], d[3], rgb[3];
+            limen__d_point(j->inv_vp, (double[3]){ nx, ny, -1.0 }, pn);
+            limen__d_point(j->inv_vp, (double[3]){ nx, ny, 1.0 }, pf);
+            for (int k = 0; k < 3; k++)
+                d[k] = pf[k] - pn[k];
+            follow(j->tr, pn, d, 0.0, j->global, rgb, NULL);
+            for (int k = 0; k < 3; k++)
+                dst[3 * x + k] = to_byte(rgb[k]);
+        }
+    }
+    return NULL;
+}
+
+static int online_cpus(void)
+{
+    long n = sysconf(_SC_NPROCESSORS_ONLN);
+    return n < 1 ? 1 : n > MAX_THREADS ? MAX_THREADS : (int)n;
+}
+
+limen_status limen_trace_image(limen_scene *s, const limen_trace_desc *desc, unsigned char *rgb)
+{
+    if (!s)
+        return LIMEN_ERR_ARG;
+    if (!rgb)
+        return limen__fail(s, LIMEN_ERR_ARG, "trace: NULL image");
+    limen_trace_desc d = desc ? *desc : (limen_trace_desc){ 0 };
+    if (d.width < 0 || d.height < 0 || d.width > 16384 || d.height > 16384)
+        return limen__fail(s, LIMEN_ERR_ARG, "trace: image size %dx%d out of range (1 to 16384)",
+                           d.width, d.height);
+    if (d.limit_depth && (d.max_depth < 0 || d.max_depth > 255))
+        return limen__fail(s, LIMEN_ERR_ARG, "trace: depth must be in [0, 255] (got %d)",
+                           d.max_depth);
+    if (d.threads < 0)
+        return limen__fail(s, LIMEN_ERR_ARG, "trace: thread count must be >= 0 (got %d)",
+                           d.threads);
+    int width = d.width ? d.width : 640, height = d.height ? d.height : 480;
+    float view[16], proj[16];
+    limen_status st = limen_camera_matrices(s, (float)width / (float)height, LIMEN_DEPTH_NO,
+                                            view, proj);
+    if (st)
+        return st;
+    job base = { .width = width, .height = height, .rgb = rgb,
+                 .global = d.limit_depth ? d.max_depth : GLOBAL_NONE };
+    double vd[16], pd[16], vp[16];
+    limen__d_from_f(view, vd);
+    limen__d_from_f(proj, pd);
+    limen__d_mul(pd, vd, vp);
+    if (!limen__d_inv(vp, base.inv_vp))
+        return limen__fail(s, LIMEN_ERR_DEGENERATE, "trace: the camera's matrices are singular");
+    tracer tr;
+    if ((st = tracer_init(&tr, s, "trace")))
+        return st;
+    base.tr = &tr;
+
+    int nthreads = d.threads ? d.threads : online_cpus();
+    if (nthreads > MAX_THREADS)
+        nthreads = MAX_THREADS;
+    if (nthreads > height)
+        nthreads = height;
+    job jobs[MAX_THREADS];
+    pthread_t ids[MAX_THREADS];
+    bool started[MAX_THREADS] = { false };
+    for (int i = 0; i < nthreads; i++) {
+        jobs[i] = base;
+        jobs[i].first = i;
+        jobs[i].step = nthreads;
+    }
+    /* thread 0's rows run on the calling thread; a thread that cannot start runs here too */
+    for (int i = 1; i < nthreads; i++)
+        started[i] = pthread_create(&ids[i], NULL, trace_rows, &jobs[i]) == 0;
+    trace_rows(&jobs[0]);
+    for (int i = 1; i < nthreads; i++) {
+        if (started[i])
+            pthread_join(ids[i], NULL);
+        else
+            trace_rows(&jobs[i]);
+    }
+    tracer_free(&tr);
+    return LIMEN_OK;
+}

@@ -58,6 +58,8 @@ lua_require() {
 OUT="$TMP/lua.png"; export OUT
 t_ok "stock lua5.4 can require the module and render" lua_require
 
+t_ok "tests/lua/require.lua under stock lua5.4" env LUA_CPATH="$B/?.so" lua5.4 tests/lua/require.lua
+
 pkgconfig_program() {
     cat > "$TMP/prog.c" <<'C'
 #include <limen.h>
