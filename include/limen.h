@@ -326,8 +326,16 @@ typedef enum limen_method {
     LIMEN_METHOD_TEXTURE        /* each view into an offscreen target sampled by its parent */
 } limen_method;
 
+typedef enum limen_fill {
+    LIMEN_FILL_COLOR = 0,       /* a surface where recursion stops shows its fill colour */
+    LIMEN_FILL_PREVIOUS         /* ... the previous frame's picture of that surface: its
+                                 * shallowest view's rectangle, stretched onto it (the
+                                 * fill colour on the first frame) */
+} limen_fill;
+
 typedef struct limen_render_opts {
     limen_method method;        /* default STENCIL */
+    limen_fill fill;            /* default COLOR */
     limen_clip_method clip;     /* default OBLIQUE */
     float texture_scale;        /* texture method: resolution of view targets, (0, 1]; 0 -> 1 */
     int limit_depth, max_depth; /* as in limen_plan_desc */

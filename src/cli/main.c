@@ -29,6 +29,8 @@ static const char *usage =
     "                        (default oblique, with the plane where oblique cannot)\n"
     "  --depth N             recursion limit for every surface (default: their own)\n"
     "  --max-views N         view budget (default 1024)\n"
+    "  --fill color|previous where recursion stops: the surface's fill colour\n"
+    "                        (default), or its picture from the previous frame\n"
     "  --plan PLAN.json      write the view tree of the (last) frame\n"
     "  --stats               print one JSON line per frame: ms, views, fragments,\n"
     "                        samples, pixels\n"
@@ -143,6 +145,14 @@ static int parse_render(int argc, char **argv, options *o)
                 o->ro.method = LIMEN_METHOD_TEXTURE;
             else
                 return fail("--method: expected stencil or texture, got '%s'%s", v, "");
+        } else if (!strcmp(a, "--fill")) {
+            NEED_VALUE();
+            if (!strcmp(v, "color"))
+                o->ro.fill = LIMEN_FILL_COLOR;
+            else if (!strcmp(v, "previous"))
+                o->ro.fill = LIMEN_FILL_PREVIOUS;
+            else
+                return fail("--fill: expected color or previous, got '%s'%s", v, "");
         } else if (!strcmp(a, "--texture-scale")) {
             NEED_VALUE();
             double sc;

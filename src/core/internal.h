@@ -66,6 +66,11 @@ void limen__vformat(char *buf, size_t size, const char *fmt, va_list ap);
 limen__node *limen__node_get(const limen_scene *s, limen_node n);
 /* Recomputes world matrices if something moved. */
 void limen__scene_refresh(limen_scene *s);
+/* Slot index of a handle's node (without checking that it is alive); -1 for none. */
+static inline int limen__node_get_index(limen_node n)
+{
+    return n.id ? (int)(n.id & 0xFFFFFu) - 1 : -1;
+}
 /* Handle of the node in slot i. */
 limen_node limen__node_handle(const limen_scene *s, int index);
 

@@ -185,11 +185,12 @@ static limen__pview *push_view(limen_plan *p)
     return v;
 }
 
-static bool push_vsurf(limen_plan *p, limen__pview *v, int surf, int child, int state)
+static bool push_vsurf(limen_plan *p, limen__pview *v, int surf, int child, int state,
+                       const int rect[4])
 {
     if (!reserve((void **)&p->vsurf, &p->vsurf_cap, p->nvsurf + 1, sizeof *p->vsurf))
         return false;
-    p->vsurf[p->nvsurf++] = (limen__vsurf){ surf, child, state };
+    p->vsurf[p->nvsurf++] = (limen__vsurf){ surf, child, state, { rect[0], rect[1], rect[2], rect[3] } };
     v->nsurf++;
     return true;
 }
@@ -317,7 +318,7 @@ limen_status limen_plan_build(limen_plan *p, limen_scene *s, const limen_plan_de
                 continue;   /* clipped away, off screen or under a pixel */
             bool front = limen__d_plane_dist(sf->plane, v->eye) > 0;
             if (!front) {
-                if (n->kind == LIMEN_NODE_MIRROR && !push_vsurf(p, v, sf->node, -1, LIMEN__SURF_BACK))
+                if (n->kind == LIMEN_NODE_MIRROR && !push_vsurf(p, v, sf->node, -1, LIMEN__SURF_BACK, rect))
                     return limen__fail(s, LIMEN_ERR_NOMEM, "plan: out of memory");
                 continue;
             }
@@ -355,7 +356,7 @@ limen_status limen_plan_build(limen_plan *p, limen_scene *s, const limen_plan_de
                                      (n->kind == LIMEN_NODE_MIRROR ? n->tint[k] : 1.0f);
             }
             if (!push_vsurf(p, v, sf->node, child,
-                            child >= 0 ? LIMEN__SURF_CHILD : LIMEN__SURF_FILL))
+                            child >= 0 ? LIMEN__SURF_CHILD : LIMEN__SURF_FILL, rect))
                 return limen__fail(s, LIMEN_ERR_NOMEM, "plan: out of memory");
         }
     }

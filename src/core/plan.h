@@ -15,6 +15,7 @@ typedef struct limen__vsurf {
     int node;               /* node index */
     int child;              /* bfs index of the child view, or -1 */
     int state;
+    int rect[4];            /* pixels its visible part may cover in this view */
 } limen__vsurf;
 
 typedef struct limen__psurf {

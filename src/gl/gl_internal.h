@@ -43,6 +43,9 @@ struct limen_renderer {
     limen__target levels[LIMEN__MAX_LEVELS];
     float levels_scale;                     /* texture scale the targets were made for */
 
+    GLuint prev_fbo, prev_tex;              /* the previous frame, for LIMEN_FILL_PREVIOUS */
+    bool have_prev;
+
     limen_plan *plan;
     limen_render_opts opts;
     unsigned char *rgba;                    /* read-back buffer */

@@ -319,6 +319,10 @@ void limen_renderer_destroy(limen_renderer *r)
         GL(DeleteQueries)(1, &r->q_samples);
         GL(DeleteQueries)(1, &r->q_fragments);
         limen__targets_free(r);
+        if (r->prev_fbo) {
+            GL(DeleteFramebuffers)(1, &r->prev_fbo);
+            GL(DeleteTextures)(1, &r->prev_tex);
+        }
     }
     limen_plan_destroy(r->plan);
     if (r->ctx)
@@ -378,10 +382,37 @@ static void begin_frame(limen_renderer *r, limen_scene *s)
         GL(Enable)(GL_MULTISAMPLE);
 }
 
+/* Copies the finished frame into prev_tex for the next frame's LIMEN_FILL_PREVIOUS. */
+static void keep_previous(limen_renderer *r)
+{
+    if (!r->prev_fbo) {
+        GL(GenTextures)(1, &r->prev_tex);
+        GL(BindTexture)(GL_TEXTURE_2D, r->prev_tex);
+        GL(TexImage2D)(GL_TEXTURE_2D, 0, GL_RGBA8, r->width, r->height, 0, GL_RGBA,
+                       GL_UNSIGNED_BYTE, NULL);
+        GL(TexParameteri)(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+        GL(TexParameteri)(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+        GL(TexParameteri)(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+        GL(TexParameteri)(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+        GL(GenFramebuffers)(1, &r->prev_fbo);
+        GL(BindFramebuffer)(GL_FRAMEBUFFER, r->prev_fbo);
+        GL(FramebufferTexture2D)(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D,
+                                 r->prev_tex, 0);
+    }
+    GL(BindFramebuffer)(GL_READ_FRAMEBUFFER, r->msaa ? r->resolve_fbo : r->fbo);
+    GL(BindFramebuffer)(GL_DRAW_FRAMEBUFFER, r->prev_fbo);
+    GL(BlitFramebuffer)(0, 0, r->width, r->height, 0, 0, r->width, r->height,
+                        GL_COLOR_BUFFER_BIT, GL_NEAREST);
+    GL(BindFramebuffer)(GL_FRAMEBUFFER, r->fbo);
+    r->have_prev = true;
+}
+
 static limen_status check_opts(limen_renderer *r, const limen_render_opts *o)
 {
     if ((unsigned)o->method > LIMEN_METHOD_TEXTURE)
         return limen__rfail(r, LIMEN_ERR_ARG, "unknown method %d", (int)o->method);
+    if ((unsigned)o->fill > LIMEN_FILL_PREVIOUS)
+        return limen__rfail(r, LIMEN_ERR_ARG, "unknown fill %d", (int)o->fill);
     if ((unsigned)o->clip > LIMEN_CLIP_NONE)
         return limen__rfail(r, LIMEN_ERR_ARG, "unknown clip method %d", (int)o->clip);
     if (!(o->texture_scale > 0 && o->texture_scale <= 1))
@@ -431,6 +462,8 @@ limen_status limen_render_frame(limen_renderer *r, limen_scene *s, const limen_r
         GL(BlitFramebuffer)(0, 0, r->width, r->height, 0, 0, r->width, r->height,
                             GL_COLOR_BUFFER_BIT, GL_NEAREST);
     }
+    if (r->opts.fill == LIMEN_FILL_PREVIOUS)
+        keep_previous(r);
     GL(Finish)();
     double t1 = now_ms();
 

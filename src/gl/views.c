@@ -12,6 +12,7 @@ typedef struct rview {
     int index;
     mat4 view, proj, view_proj;
     float px_scale;             /* pixels per unit at distance 1 (for levels of detail) */
+    float img_map[4];           /* image pixel = gl_FragCoord * xy + zw in the target */
 } rview;
 
 static void set_mat4(limen_renderer *r, GLint loc, mat4 m)
@@ -32,6 +33,8 @@ static void make_rview(limen_renderer *r, int index, mat4 proj_pre, rview *v)
     glm_mat4_mul(proj_pre, v->proj, v->proj);
     glm_mat4_mul(v->proj, v->view, v->view_proj);
     v->px_scale = pub->proj[5] * 0.5f * (float)r->height;
+    v->img_map[0] = v->img_map[1] = 1.0f;
+    v->img_map[2] = v->img_map[3] = 0.0f;
 }
 
 static void apply_view(limen_renderer *r, limen_scene *s, const rview *v)
@@ -189,6 +192,39 @@ static void draw_far_fill(limen_renderer *r, const float rgb[3])
                      (void *)(sizeof(uint32_t) * r->meshes.quad.first));
 }
 
+/* The previous frame's picture of a surface where recursion stops: the rectangle of the
+ * shallowest view through it, stretched onto the surface's rectangle here. False where there
+ * is no such picture. */
+static bool draw_previous(limen_renderer *r, const rview *v, const limen__vsurf *vs,
+                          const limen__node *n)
+{
+    if (r->opts.fill != LIMEN_FILL_PREVIOUS || !r->have_prev)
+        return false;
+    const limen_view *best = NULL;
+    for (int i = 1; i < limen_plan_count(r->plan); i++) {
+        const limen_view *u = limen_plan_view(r->plan, i);
+        if (limen__node_get_index(u->through) == vs->node && (!best || u->depth < best->depth))
+            best = u;
+    }
+    if (!best)
+        return false;
+    const int *rt = vs->rect, *r1 = best->scissor;
+    float kx = (float)r1[2] / (float)rt[2], ky = (float)r1[3] / (float)rt[3];
+    float W = (float)r->width, H = (float)r->height;
+    float map[4] = {
+        v->img_map[0] * kx / W,
+        v->img_map[1] * ky / H,
+        ((v->img_map[2] - (float)rt[0]) * kx + (float)r1[0]) / W,
+        ((v->img_map[3] - (float)rt[1]) * ky + (float)r1[1]) / H,
+    };
+    GL(ActiveTexture)(GL_TEXTURE0);
+    GL(BindTexture)(GL_TEXTURE_2D, r->prev_tex);
+    GL(Uniform1i)(r->u.tex, 0);
+    GL(Uniform4fv)(r->u.tex_map, 1, map);
+    draw_node(r, v, n, MODE_TEXTURE, (vec3){ 1, 1, 1 });
+    return true;
+}
+
 /* The surfaces a view sees that end there: a mirror's back, or a fill where recursion
  * stopped. */
 static void draw_terminal_surface(limen_renderer *r, limen_scene *s, const rview *v,
@@ -197,7 +233,7 @@ static void draw_terminal_surface(limen_renderer *r, limen_scene *s, const rview
     const limen__node *n = &s->nodes[vs->node];
     if (vs->state == LIMEN__SURF_BACK)
         draw_node(r, v, n, MODE_LIT, n->back);
-    else if (vs->state == LIMEN__SURF_FILL)
+    else if (vs->state == LIMEN__SURF_FILL && !draw_previous(r, v, vs, n))
         draw_node(r, v, n, MODE_FLAT, n->fill);
 }
 
@@ -369,6 +405,10 @@ static bool texture_view(limen_renderer *r, limen_scene *s, int index, const pla
     narrow[3][1] = -(y1 + y0) / (y1 - y0);
     rview v;
     make_rview(r, index, narrow, &v);
+    v.img_map[0] = 1.0f / pl->sx;
+    v.img_map[1] = 1.0f / pl->sy;
+    v.img_map[2] = (float)pl->rect[0];
+    v.img_map[3] = (float)pl->rect[1];
 
     bind_placement(r, pl);
     GL(ClearColor)(s->background[0], s->background[1], s->background[2], 1.0f);
