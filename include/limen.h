@@ -221,6 +221,23 @@ LIMEN_API limen_node limen_portal_partner(const limen_scene *s, limen_node porta
  * the reflection for a mirror, W_B * S(k) * R_y(180) * W_A^-1 for a portal. */
 LIMEN_API limen_status limen_surface_matrix(limen_scene *s, limen_node n, float m[16]);
 
+/* Moving through portals. */
+typedef struct limen_move_result {
+    int crossed;                /* portals passed through during the move (0 if none) */
+    limen_node portal;          /* the last portal entered (zero if none) */
+    float matrix[16];           /* product of the portal matrices passed (identity if none):
+                                 * carry velocities and other vectors with its 3x3 part */
+} limen_move_result;
+
+/* Moves node n by the world-space displacement d. Where the straight path of the node's
+ * origin passes through a paired portal's rectangle from its front, the node comes out of the
+ * partner: its world transform (position, orientation, scale) is carried by the portal
+ * matrix and the rest of the displacement goes on from there (up to 8 portals in one move).
+ * Passing beside a rectangle, or through a portal from behind, moves it plainly. out may be
+ * NULL. */
+LIMEN_API limen_status limen_node_move(limen_scene *s, limen_node n, const float d[3],
+                                       limen_move_result *out);
+
 /* Cameras: vertical fov in radians, 0 < near < far. Defaults: 60 degrees, 0.05, 100. */
 LIMEN_API limen_status limen_camera_set_lens(limen_scene *s, limen_node cam, float fovy,
                                              float znear, float zfar);
@@ -266,6 +283,21 @@ typedef struct limen_view {
     float tint[3];              /* product of the mirror tints from the camera to this view */
 } limen_view;
 
+/* What a view must draw for one mirror or portal it sees (in the order listed). */
+typedef enum limen_surface_state {
+    LIMEN_SURFACE_RECURSE = 0,  /* front-facing with a child view: mark its pixels with
+                                 * stencil + 1, draw the child, seal with its depth (and tint) */
+    LIMEN_SURFACE_FILL,         /* front-facing, recursion stopped: draw its fill colour */
+    LIMEN_SURFACE_BACK          /* a mirror seen from behind: a matte quad of its back colour */
+} limen_surface_state;
+
+typedef struct limen_view_surface {
+    limen_node node;
+    limen_surface_state state;
+    int child;                  /* the child view's id for RECURSE, else -1 */
+    int rect[4];                /* pixels it may cover in this view: x, y, w, h */
+} limen_view_surface;
+
 typedef struct limen_plan_desc {
     int width, height;          /* image size in pixels (0 -> 640 x 480) */
     limen_depth_range range;    /* clip-space convention of proj */
@@ -283,6 +315,9 @@ LIMEN_API void limen_plan_destroy(limen_plan *p);                       /* NULL 
 LIMEN_API limen_status limen_plan_build(limen_plan *p, limen_scene *s, const limen_plan_desc *d);
 LIMEN_API int limen_plan_count(const limen_plan *p);
 LIMEN_API const limen_view *limen_plan_view(const limen_plan *p, int i); /* NULL if out of range */
+/* The surfaces view i sees (a portal seen from behind and the view's own exit surface are
+ * not listed: they draw nothing); returns their count. */
+LIMEN_API int limen_plan_view_surfaces(const limen_plan *p, int i, const limen_view_surface **out);
 /* Views that hit the budget or a depth limit and so were not created (their surfaces show
  * the fill colour). */
 LIMEN_API int limen_plan_truncated(const limen_plan *p);

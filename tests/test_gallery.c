@@ -458,7 +458,38 @@ static void test_fill_previous(void)
     limen_script_destroy(sc);
 }
 
+/* The oblique projection in all three clip-space conventions cuts the same picture. */
+static void test_depth_modes_agree(void)
+{
+    const char *some[] = { "scenes/mirror_room.lua", "scenes/corridor.lua", "scenes/portals.lua",
+                           "scenes/tunnel.lua", NULL };
+    for (int i = 0; some[i]; i++) {
+        limen_script *sc = load(some[i]);
+        if (!sc)
+            continue;
+        unsigned char *img[3] = { NULL, NULL, NULL };
+        for (int m = 0; m < 3; m++) {
+            limen_renderer *r = NULL;
+            limen_status st = limen_renderer_create(
+                &(limen_renderer_desc){ .width = W, .height = H, .depth_range = m }, &r);
+            CHECK_MSG(st == LIMEN_OK, "depth mode %d: %s", m, limen_renderer_error(r));
+            if (!st)
+                img[m] = frame(r, limen_script_scene(sc), (limen_render_opts){ 0 });
+            limen_renderer_destroy(r);
+        }
+        for (int m = 1; m < 3; m++) {
+            double d = share(img[0], img[m], W, H);
+            CHECK_MSG(d <= 0.005, "%s: depth mode %d differs from no on %.2f%%", some[i], m,
+                      100 * d);
+        }
+        for (int m = 0; m < 3; m++)
+            free(img[m]);
+        limen_script_destroy(sc);
+    }
+}
+
 static const check_case cases[] = {
+    { "depth_modes_agree", test_depth_modes_agree },
     { "fill_previous", test_fill_previous },
     { "marker_in_mirror", test_marker_in_mirror },
     { "marker_through_portal", test_marker_through_portal },

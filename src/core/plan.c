@@ -50,6 +50,8 @@ void limen_plan_destroy(limen_plan *p)
     free(p->surf);
     free(p->vsurf);
     free(p->tmp);
+    free(p->pubsurf);
+    free(p->pubfirst);
     free(p);
 }
 
@@ -101,10 +103,11 @@ static bool surface_rect(const limen_plan *p, const limen__pview *v, const limen
         n = clip_poly(a, n, v->clip, b);
         memcpy(a, b, sizeof(double) * 3 * (size_t)n);
     }
-    /* to view space, then keep z <= -near */
+    /* to view space, then keep what is in front of the eye: surfaces are not cut by the
+     * near plane (the renderer draws them with depth clamping) */
     for (int i = 0; i < n; i++)
         limen__d_point(v->view, a[i], a[i]);
-    const double near_plane[4] = { 0, 0, -1, -p->znear };
+    const double near_plane[4] = { 0, 0, -1, -1e-5 * p->znear };
     n = clip_poly(a, n, near_plane, b);
     if (n < 3)
         return false;
@@ -371,7 +374,39 @@ limen_status limen_plan_build(limen_plan *p, limen_scene *s, const limen_plan_de
     int pos = 0;
     order_views(p, 0, -1, &pos);
     p->count = p->nviews;
+
+    /* the surfaces of each view, in draw order and public form */
+    if (!reserve((void **)&p->pubsurf, &p->pubsurf_cap, p->nvsurf, sizeof *p->pubsurf) ||
+        !reserve((void **)&p->pubfirst, &p->pubfirst_cap, p->count + 1, sizeof *p->pubfirst))
+        return limen__fail(s, LIMEN_ERR_NOMEM, "plan: out of memory");
+    int k = 0;
+    for (int i = 0; i < p->count; i++) {
+        const limen__pview *v = &p->pv[p->dfs_to_bfs[i]];
+        p->pubfirst[i] = k;
+        for (int j = 0; j < v->nsurf; j++) {
+            const limen__vsurf *vs = &p->vsurf[v->first_surf + j];
+            limen_view_surface *o = &p->pubsurf[k++];
+            o->node = limen__node_handle(s, vs->node);
+            o->state = vs->state == LIMEN__SURF_CHILD  ? LIMEN_SURFACE_RECURSE
+                       : vs->state == LIMEN__SURF_FILL ? LIMEN_SURFACE_FILL
+                                                       : LIMEN_SURFACE_BACK;
+            o->child = limen__plan_child_view(p, vs->child);
+            memcpy(o->rect, vs->rect, sizeof o->rect);
+        }
+    }
+    p->pubfirst[p->count] = k;
     return LIMEN_OK;
+}
+
+int limen_plan_view_surfaces(const limen_plan *p, int i, const limen_view_surface **out)
+{
+    if (!p || !out || i < 0 || i >= p->count) {
+        if (out)
+            *out = NULL;
+        return 0;
+    }
+    *out = p->pubsurf + p->pubfirst[i];
+    return p->pubfirst[i + 1] - p->pubfirst[i];
 }
 
 /* ------------------------------------------------------------------ JSON */

@@ -53,6 +53,9 @@ struct limen_plan {
     int nsurf, surf_cap;
     limen__vsurf *vsurf;
     int nvsurf, vsurf_cap;
+    limen_view_surface *pubsurf;    /* vsurf in draw order, public form */
+    int pubsurf_cap;
+    int *pubfirst, pubfirst_cap;     /* per view (draw order): first index in pubsurf */
     int *tmp, tmp_cap;
     int *bfs_to_dfs, *dfs_to_bfs;
     int truncated;

@@ -152,6 +152,12 @@ static void draw_node(limen_renderer *r, const rview *v, const limen__node *node
     GL(Uniform1i)(r->u.shape, shape);
     GL(Uniform1i)(r->u.quad, node->kind == LIMEN_NODE_QUAD);
     GL(Uniform1i)(r->u.mode, mode);
+    /* Mirrors and portals are not cut by the near plane: a camera closer to one than its
+     * near distance still sees through it (and the ray tracer agrees). */
+    if (limen__is_surface(node))
+        GL(Enable)(GL_DEPTH_CLAMP);
+    else
+        GL(Disable)(GL_DEPTH_CLAMP);
     /* Closed shapes hide their back faces; flat shapes are seen from both sides. */
     if (shape || node->kind == LIMEN_NODE_BOX)
         GL(Enable)(GL_CULL_FACE);
