@@ -348,7 +348,59 @@ static void test_json(void)
     limen_scene_destroy(s);
 }
 
+static void test_move_through_portal(void)
+{
+    /* blue at x = -4 facing +x, orange at x = +4 facing -x (as in test_portal_view) */
+    limen_scene *s = scene_with_camera((float[3]){ 0, 1, 0 }, (float[3]){ -4, 1, 0 });
+    limen_node a = surface(s, LIMEN_NODE_PORTAL, "blue", (float[3]){ -4, 1, 0 },
+                           (float[3]){ 1, 0, 0 }, 1, 2);
+    limen_node b = surface(s, LIMEN_NODE_PORTAL, "orange", (float[3]){ 4, 1, 0 },
+                           (float[3]){ -1, 0, 0 }, 1, 2);
+    CHECK_OK(limen_portal_link(s, a, b));
+    limen_node cam = limen_scene_get_camera(s), eye_child;
+    CHECK_OK(limen_node_create(s, LIMEN_NODE_SPHERE, "badge", &eye_child));
+    CHECK_OK(limen_node_set_parent(s, eye_child, cam));
+    CHECK_OK(limen_node_set_position(s, eye_child, (float[3]){ 0, 0, -1 }));  /* ahead */
+    /* step from x = -3.9 to x = -4.3 at y = 1.2, z = 0.1: through blue's rectangle */
+    CHECK_OK(limen_node_set_position(s, cam, (float[3]){ -3.9f, 1.2f, 0.1f }));
+    limen_move_result mr;
+    CHECK_OK(limen_node_move(s, cam, (float[3]){ -0.4f, 0, 0 }, &mr));
+    CHECK(mr.crossed == 1 && mr.portal.id == a.id);
+    float w[16], o[3];
+    CHECK_OK(limen_node_world_matrix(s, cam, w));
+    /* 0.3 past blue's plane comes out 0.3 in front of orange: x = 3.7. The half turn maps
+     * blue's left (+z seen from the room) onto orange's left: z stays 0.1 */
+    CHECK_NEAR(w[12], 3.7, 1e-5);
+    CHECK_NEAR(w[13], 1.2, 1e-5);
+    CHECK_NEAR(w[14], 0.1, 1e-5);
+    /* it looked along -x into blue; now it looks along -x out of orange */
+    CHECK_NEAR(w[8], 1, 1e-5);  /* local +Z (backwards) is world +x */
+    /* the velocity carried: -x stays -x */
+    CHECK_NEAR(mr.matrix[0], 1, 1e-5);
+    /* the child came along, still one unit ahead */
+    CHECK_OK(limen_node_world_matrix(s, eye_child, w));
+    CHECK_NEAR(w[12], 2.7, 1e-5);
+    /* walking back through orange comes out 0.2 in front of blue */
+    CHECK_OK(limen_node_move(s, cam, (float[3]){ 0.5f, 0, 0 }, &mr));
+    CHECK(mr.crossed == 1 && mr.portal.id == b.id);
+    CHECK_OK(limen_node_world_matrix(s, cam, w));
+    CHECK_NEAR(w[12], -3.8, 1e-5);
+    /* beside the rectangle: no teleport */
+    CHECK_OK(limen_node_set_position(s, cam, (float[3]){ -3.9f, 1.0f, 0.9f }));
+    CHECK_OK(limen_node_move(s, cam, (float[3]){ -0.4f, 0, 0 }, &mr));
+    CHECK(mr.crossed == 0);
+    CHECK_OK(limen_node_get_position(s, cam, o));
+    CHECK_NEAR(o[0], -4.3, 1e-5);
+    /* from behind: no teleport */
+    CHECK_OK(limen_node_set_position(s, cam, (float[3]){ -4.2f, 1, 0 }));
+    CHECK_OK(limen_node_move(s, cam, (float[3]){ 0.4f, 0, 0 }, &mr));
+    CHECK(mr.crossed == 0);
+    CHECK(limen_node_move(s, cam, (float[3]){ NAN, 0, 0 }, &mr) == LIMEN_ERR_ARG);
+    limen_scene_destroy(s);
+}
+
 static const check_case cases[] = {
+    { "move_through_portal", test_move_through_portal },
     { "corridor_one_view_per_level", test_corridor_one_view_per_level },
     { "corridor_eye_positions", test_corridor_eye_positions },
     { "surface_limits", test_surface_limits },
