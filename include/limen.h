@@ -151,6 +151,9 @@ LIMEN_API float limen_scene_get_ambient(const limen_scene *s);
 LIMEN_API limen_status limen_scene_set_camera(limen_scene *s, limen_node camera);
 LIMEN_API limen_node limen_scene_get_camera(const limen_scene *s);    /* zero handle if none */
 LIMEN_API int limen_scene_node_count(const limen_scene *s);            /* live nodes */
+/* Fills out[0..max) with the live nodes in pool order (the order lights and shapes are
+ * drawn in); returns how many there are (which may exceed max). */
+LIMEN_API int limen_scene_nodes(const limen_scene *s, limen_node *out, int max);
 /* Recompute world matrices now (done implicitly by every call that needs them). */
 LIMEN_API limen_status limen_scene_update(limen_scene *s);
 
@@ -200,6 +203,9 @@ LIMEN_API limen_status limen_node_get_color(const limen_scene *s, limen_node n, 
  * `cell`, colour a where floor(x/cell)+floor(y/cell) is even, b where odd. cell 0 turns it off. */
 LIMEN_API limen_status limen_node_set_checker(limen_scene *s, limen_node n, const float a[3],
                                               const float b[3], float cell);
+/* cell is 0 when the node has no checker (then a is its colour). */
+LIMEN_API limen_status limen_node_get_checker(const limen_scene *s, limen_node n, float a[3],
+                                              float b[3], float *cell);
 LIMEN_API limen_status limen_node_set_visible(limen_scene *s, limen_node n, int visible);
 LIMEN_API int limen_node_get_visible(const limen_scene *s, limen_node n);
 

@@ -146,6 +146,21 @@ int limen_scene_node_count(const limen_scene *s)
     return s ? s->count : 0;
 }
 
+int limen_scene_nodes(const limen_scene *s, limen_node *out, int max)
+{
+    if (!s)
+        return 0;
+    int n = 0;
+    for (int i = 0; i < s->cap; i++) {
+        if (!limen__alive(&s->nodes[i]))
+            continue;
+        if (out && n < max)
+            out[n] = limen__node_handle(s, i);
+        n++;
+    }
+    return n;
+}
+
 /* ------------------------------------------------------------------ world matrices */
 
 static void compose_local(limen__node *node)
@@ -663,6 +678,19 @@ limen_status limen_node_set_checker(limen_scene *s, limen_node n, const float a[
     glm_vec3_copy((float *)a, node->color);
     glm_vec3_copy((float *)b, node->checker_b);
     node->checker_cell = cell;
+    return LIMEN_OK;
+}
+
+limen_status limen_node_get_checker(const limen_scene *s, limen_node n, float a[3], float b[3],
+                                    float *cell)
+{
+    GET(node, (limen_scene *)s, n);
+    if (a)
+        memcpy(a, node->color, sizeof(float) * 3);
+    if (b)
+        memcpy(b, node->checker_b, sizeof(float) * 3);
+    if (cell)
+        *cell = node->checker_cell;
     return LIMEN_OK;
 }
 
