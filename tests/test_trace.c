@@ -1,3 +1,458 @@
+/* test_trace.c - the reference ray tracer against analytic answers: exact hits on the true
+ * shapes, paths through portals and mirrors, the drift of a long corridor of reflections,
+ * the shading of an image, bounce limits and errors. No OpenGL. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
 #include "check.h"
-static const check_case cases[] = { { 0 } };
-int main(int argc, char **argv) { return check_run(argc, argv, cases); }
+#include "limen.h"
+
+/* ------------------------------------------------------------------ helpers */
+
+static limen_scene *new_scene(void)
+{
+    limen_scene *s = NULL;
+    limen_scene_create(&(limen_scene_desc){ 0 }, &s);
+    return s;
+}
+
+static limen_node add(limen_scene *s, limen_node_kind kind, const char *name, float x, float y,
+                      float z)
+{
+    limen_node n = { 0 };
+    limen_node_create(s, kind, name, &n);
+    limen_node_set_position(s, n, (float[3]){ x, y, z });
+    return n;
+}
+
+static void set_dims(limen_scene *s, limen_node n, float a, float b, float c)
+{
+    limen_node_set_dims(s, n, (float[3]){ a, b, c });
+}
+
+static limen_hit cast(limen_scene *s, float ox, float oy, float oz, float dx, float dy, float dz,
+                      int max_bounces)
+{
+    limen_hit h;
+    memset(&h, 0xAB, sizeof h);
+    CHECK_OK(limen_ray_cast(s, (float[3]){ ox, oy, oz }, (float[3]){ dx, dy, dz }, max_bounces,
+                            &h));
+    return h;
+}
+
+#define CHECK_VEC(v, x, y, z, tol)                                                       \
+    do {                                                                                 \
+        CHECK_NEAR((v)[0], (x), (tol));                                                  \
+        CHECK_NEAR((v)[1], (y), (tol));                                                  \
+        CHECK_NEAR((v)[2], (z), (tol));                                                  \
+    } while (0)
+
+static unsigned char byte(double c)
+{
+    return (unsigned char)lround(fmin(1.0, fmax(0.0, c)) * 255.0);
+}
+
+/* ------------------------------------------------------------------ shapes */
+
+static void test_sphere_analytic(void)
+{
+    limen_scene *s = new_scene();
+    limen_node ball = add(s, LIMEN_NODE_SPHERE, "ball", 1, 2, 3);
+    set_dims(s, ball, 2, 0, 0);
+    limen_hit h = cast(s, 1, 2, 10, 0, 0, -3, -1);     /* any length of dir */
+    CHECK(h.hit == 1);
+    CHECK(h.node.id == ball.id);
+    CHECK_VEC(h.point, 1, 2, 5, 1e-6);
+    CHECK_VEC(h.normal, 0, 0, 1, 1e-6);
+    CHECK_NEAR(h.distance, 5, 1e-6);
+    CHECK(h.surface_count == 0);
+    CHECK_VEC(h.seg_origin, 1, 2, 10, 0);
+    CHECK_VEC(h.seg_dir, 0, 0, -1, 1e-7);
+
+    /* an oblique ray: |o + t d - c| = r solved by hand */
+    double o[3] = { -4, 0.5, 1 }, d[3] = { 1, 0.3, 0.4 }, c[3] = { 1, 2, 3 }, r = 2;
+    double dl = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+    for (int i = 0; i < 3; i++)
+        d[i] /= dl;
+    double oc[3] = { o[0] - c[0], o[1] - c[1], o[2] - c[2] };
+    double b = oc[0] * d[0] + oc[1] * d[1] + oc[2] * d[2];
+    double cc = oc[0] * oc[0] + oc[1] * oc[1] + oc[2] * oc[2] - r * r;
+    double t = -b - sqrt(b * b - cc);
+    h = cast(s, (float)o[0], (float)o[1], (float)o[2], (float)d[0], (float)d[1], (float)d[2], -1);
+    CHECK(h.hit == 1);
+    CHECK_NEAR(h.distance, t, 1e-5);
+    for (int i = 0; i < 3; i++) {
+        double p = o[i] + t * d[i];
+        CHECK_NEAR(h.point[i], p, 1e-5);
+        CHECK_NEAR(h.normal[i], (p - c[i]) / r, 1e-5);
+    }
+
+    /* a ray that starts inside: the back faces are culled, as in the renderer */
+    h = cast(s, 1, 2, 3, 1, 0, 0, -1);
+    CHECK(h.hit == 0);
+    CHECK(isinf(h.distance));
+    limen_scene_destroy(s);
+}
+
+static void test_shapes_scaled(void)
+{
+    limen_scene *s = new_scene();
+    /* an ellipsoid: unit sphere scaled (2, 1, 1); the normal comes from the normal matrix */
+    limen_node egg = add(s, LIMEN_NODE_SPHERE, "egg", 0, 0, 0);
+    set_dims(s, egg, 1, 0, 0);
+    limen_node_set_scale(s, egg, (float[3]){ 2, 1, 1 });
+    limen_hit h = cast(s, 5, 0, 0, -1, 0, 0, -1);
+    CHECK_VEC(h.point, 2, 0, 0, 1e-6);
+    CHECK_VEC(h.normal, 1, 0, 0, 1e-6);
+    h = cast(s, 1, 5, 0, 0, -1, 0, -1);
+    double y = sqrt(1 - 0.25);     /* x = 1 on x^2/4 + y^2 = 1 */
+    CHECK_VEC(h.point, 1, y, 0, 1e-6);
+    double n[3] = { 1 / 4.0, y, 0 }, len = sqrt(n[0] * n[0] + n[1] * n[1]);
+    CHECK_VEC(h.normal, n[0] / len, n[1] / len, 0, 1e-6);
+    limen_node_set_visible(s, egg, 0);
+
+    /* cylinder: radius 0.5, height 2; a cap from above, the side from +x */
+    limen_node cyl = add(s, LIMEN_NODE_CYLINDER, "cyl", 10, 0, 0);
+    set_dims(s, cyl, 0.5f, 2, 0);
+    h = cast(s, 10.1f, 5, 0.2f, 0, -1, 0, -1);
+    CHECK(h.node.id == cyl.id);
+    CHECK_VEC(h.point, 10.1, 2, 0.2, 1e-6);
+    CHECK_VEC(h.normal, 0, 1, 0, 1e-6);
+    h = cast(s, 13, 1, 0.3f, -1, 0, 0, -1);
+    double x = sqrt(0.25 - 0.09);
+    CHECK_VEC(h.point, 10 + x, 1, 0.3, 1e-6);
+    CHECK_VEC(h.normal, x / 0.5, 0, 0.3 / 0.5, 1e-6);
+    h = cast(s, 10, -3, 0, 0, 1, 0, -1);           /* the bottom cap, from below */
+    CHECK_VEC(h.point, 10, 0, 0, 1e-6);
+    CHECK_VEC(h.normal, 0, -1, 0, 1e-6);
+
+    /* box turned 90 degrees about Y: dims (2, 4, 6) -> 6 wide along x */
+    limen_node box = add(s, LIMEN_NODE_BOX, "box", 0, 0, 20);
+    set_dims(s, box, 2, 4, 6);
+    limen_node_set_rotation(s, box, (float[3]){ 0, (float)M_PI_2, 0 });
+    h = cast(s, -10, 0.5f, 20.2f, 1, 0, 0, -1);
+    CHECK(h.node.id == box.id);
+    CHECK_VEC(h.point, -3, 0.5, 20.2, 1e-5);
+    CHECK_VEC(h.normal, -1, 0, 0, 1e-6);
+
+    /* a quad is hit from both sides, its normal turned to the ray */
+    limen_node q = add(s, LIMEN_NODE_QUAD, "q", 0, 0, -20);
+    set_dims(s, q, 2, 2, 0);
+    h = cast(s, 0.5f, 0.5f, -30, 0, 0, 1, -1);
+    CHECK(h.node.id == q.id);
+    CHECK_VEC(h.normal, 0, 0, -1, 1e-7);
+    h = cast(s, 3.5f, 0.5f, -30, 0, 0, 1, -1);      /* outside the rectangle */
+    CHECK(h.hit == 0);
+
+    /* lights, cameras, groups and hidden nodes are never hit */
+    add(s, LIMEN_NODE_LIGHT, "l", 0, 0, 40);
+    add(s, LIMEN_NODE_CAMERA, "c", 0, 0, 41);
+    add(s, LIMEN_NODE_GROUP, "g", 0, 0, 42);
+    h = cast(s, 0, 0, 50, 0, 0, -1, -1);
+    CHECK(h.hit == 1 && h.node.id == box.id);
+    limen_scene_destroy(s);
+}
+
+/* ------------------------------------------------------------------ portals and mirrors */
+
+static void test_portal_pair(void)
+{
+    limen_scene *s = new_scene();
+    limen_node a = add(s, LIMEN_NODE_PORTAL, "a", 0, 0, 0);     /* faces +z */
+    limen_node b = add(s, LIMEN_NODE_PORTAL, "b", 10, 0, 0);
+    set_dims(s, a, 2, 2, 0);
+    set_dims(s, b, 2, 2, 0);
+    limen_node_set_facing(s, b, (float[3]){ 1, 0, 0 }, NULL);
+    CHECK_OK(limen_portal_link(s, a, b));
+    limen_node target = add(s, LIMEN_NODE_SPHERE, "target", 15, 0, 0);
+    set_dims(s, target, 1, 0, 0);
+
+    limen_hit h = cast(s, 0, 0, 5, 0, 0, -1, -1);
+    CHECK(h.hit == 1 && h.node.id == target.id);
+    CHECK(h.surface_count == 1 && h.surfaces[0].id == a.id);
+    CHECK_VEC(h.point, 14, 0, 0, 1e-5);
+    CHECK_VEC(h.seg_origin, 10, 0, 0, 1e-5);
+    CHECK_VEC(h.seg_dir, 1, 0, 0, 1e-6);
+    CHECK_NEAR(h.distance, 9, 1e-5);
+
+    /* an oblique ray: origin and direction mapped by the surface matrix */
+    float x[16];
+    CHECK_OK(limen_surface_matrix(s, a, x));
+    double o[3] = { 0.3, 0.2, 5 }, d[3] = { 0.05, -0.02, -1 };
+    double p[3] = { o[0] + 5 * d[0], o[1] + 5 * d[1], 0 }, po[3], pd[3];
+    for (int i = 0; i < 3; i++) {
+        po[i] = x[i] * p[0] + x[4 + i] * p[1] + x[8 + i] * p[2] + x[12 + i];
+        pd[i] = x[i] * d[0] + x[4 + i] * d[1] + x[8 + i] * d[2];
+    }
+    double pl = sqrt(pd[0] * pd[0] + pd[1] * pd[1] + pd[2] * pd[2]);
+    h = cast(s, 0.3f, 0.2f, 5, 0.05f, -0.02f, -1, -1);
+    CHECK(h.surface_count == 1 && h.surfaces[0].id == a.id);
+    CHECK_VEC(h.seg_origin, po[0], po[1], po[2], 1e-5);
+    CHECK_VEC(h.seg_dir, pd[0] / pl, pd[1] / pl, pd[2] / pl, 1e-6);
+
+    /* from behind, portal a is air: the ray goes on to what lies beyond */
+    limen_node wall = add(s, LIMEN_NODE_QUAD, "wall", 0, 0, 3);
+    set_dims(s, wall, 4, 4, 0);
+    h = cast(s, 0, 0, -5, 0, 0, 1, -1);
+    CHECK(h.hit == 1 && h.node.id == wall.id);
+    CHECK(h.surface_count == 0);
+    CHECK_NEAR(h.distance, 8, 1e-5);
+
+    limen_node_set_visible(s, wall, 0);
+    /* a larger exit scales the path: out of b (2x) the segment starts at X p */
+    set_dims(s, b, 4, 4, 0);
+    CHECK_OK(limen_surface_matrix(s, a, x));
+    for (int i = 0; i < 3; i++)
+        po[i] = x[i] * p[0] + x[4 + i] * p[1] + x[8 + i] * p[2] + x[12 + i];
+    h = cast(s, 0.3f, 0.2f, 5, 0.05f, -0.02f, -1, -1);
+    CHECK_VEC(h.seg_origin, po[0], po[1], po[2], 1e-5);
+    CHECK_NEAR(po[1], 2 * p[1], 1e-5);
+
+    /* unpaired, or paired with a hidden end: the fill colour, from the front only */
+    limen_surface_set_fill(s, a, (float[3]){ 0.1f, 0.2f, 0.3f });
+    limen_node_set_visible(s, b, 0);
+    h = cast(s, 0, 0, 2, 0, 0, -1, -1);
+    CHECK(h.hit == 1 && h.node.id == a.id && h.surface_count == 0);
+    CHECK_VEC(h.color, 0.1, 0.2, 0.3, 1e-6);
+    limen_scene_destroy(s);
+}
+
+static void test_mirror_front_back(void)
+{
+    limen_scene *s = new_scene();
+    limen_scene_set_background(s, (float[3]){ 0.2f, 0.4f, 0.8f });
+    limen_scene_set_ambient(s, 1.0f);      /* colour = albedo */
+    limen_node m = add(s, LIMEN_NODE_MIRROR, "m", 0, 0, 0);
+    set_dims(s, m, 2, 2, 0);
+    limen_surface_set_back(s, m, (float[3]){ 0.3f, 0.5f, 0.7f });
+    limen_surface_set_tint(s, m, (float[3]){ 0.5f, 0.5f, 0.25f });
+
+    limen_hit h = cast(s, 0.2f, 0.1f, -5, 0, 0, 1, -1);  /* from behind: matte back */
+    CHECK(h.hit == 1 && h.node.id == m.id && h.surface_count == 0);
+    CHECK_VEC(h.color, 0.3, 0.5, 0.7, 1e-6);
+    CHECK_VEC(h.normal, 0, 0, -1, 1e-7);
+
+    h = cast(s, 0, 0, 5, 0.1f, 0, -1, -1);               /* from the front: reflected */
+    CHECK(h.hit == 0 && h.surface_count == 1 && h.surfaces[0].id == m.id);
+    double l = sqrt(1.01);
+    CHECK_VEC(h.seg_dir, 0.1 / l, 0, 1 / l, 1e-6);
+    CHECK_VEC(h.seg_origin, 0.5, 0, 0, 1e-6);
+    CHECK_VEC(h.color, 0.1, 0.2, 0.2, 1e-6);             /* background * tint */
+
+    /* the mirror never sees itself, and sees only what is in front of it */
+    limen_node ball = add(s, LIMEN_NODE_SPHERE, "ball", 0, 0, 3);
+    set_dims(s, ball, 0.5f, 0, 0);
+    limen_node behind = add(s, LIMEN_NODE_SPHERE, "behind", 0, 0, -3);
+    set_dims(s, behind, 0.5f, 0, 0);
+    h = cast(s, 0.9f, 0, 3, -0.15f, 0, -1, -1);
+    CHECK(h.surface_count == 1 && h.hit == 1 && h.node.id == ball.id);
+    limen_scene_destroy(s);
+}
+
+/* Two facing mirrors: after n reflections the path is the straight line of the unfolded
+ * corridor. */
+static void drift_case(int bounces)
+{
+    limen_scene *s = new_scene();
+    limen_node north = add(s, LIMEN_NODE_MIRROR, "north", 0, 0, -3);
+    limen_node south = add(s, LIMEN_NODE_MIRROR, "south", 0, 0, 3);
+    limen_node_set_facing(s, south, (float[3]){ 0, 0, -1 }, NULL);
+    for (int i = 0; i < 2; i++) {
+        limen_node m = i ? south : north;
+        set_dims(s, m, 100, 100, 0);
+        CHECK_OK(limen_surface_set_max_depth(s, m, bounces));
+    }
+    const double o[3] = { 0.1, -0.2, 0.5 }, d[3] = { 0.03, 0.02, 1 };
+    limen_hit h = cast(s, (float)o[0], (float)o[1], (float)o[2], (float)d[0], (float)d[1],
+                       (float)d[2], -1);
+    /* the ray reaches z = 3 after 2.5, then every 6 in z; the (bounces + 1)-th surface
+     * stops it (at the limit, its fill) */
+    double zu = 2.5 + 6.0 * bounces, zl = zu - 6.0;
+    double dl = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+    double tol = 1e-4 * 6.0;
+    limen_node last = bounces % 2 ? north : south;
+    CHECK(h.hit == 1 && h.node.id == last.id);
+    CHECK(h.surface_count == bounces);
+    CHECK_VEC(h.point, o[0] + d[0] * zu, o[1] + d[1] * zu, bounces % 2 ? -3 : 3, tol);
+    CHECK_NEAR(h.distance, zu * dl, tol);
+    CHECK_VEC(h.seg_origin, o[0] + d[0] * zl, o[1] + d[1] * zl, bounces % 2 ? 3 : -3, tol);
+    double sz = bounces % 2 ? -1 : 1;
+    CHECK_VEC(h.seg_dir, d[0] / dl, d[1] / dl, sz * d[2] / dl, 1e-6);
+    int n = bounces < LIMEN_HIT_MAX_SURFACES ? bounces : LIMEN_HIT_MAX_SURFACES;
+    for (int i = 0; i < n; i++)
+        CHECK_MSG(h.surfaces[i].id == (i % 2 ? north.id : south.id), "chain[%d]", i);
+    limen_scene_destroy(s);
+}
+
+static void test_drift_corridor(void)
+{
+    drift_case(64);
+    drift_case(200);    /* the chain keeps its first 64 entries and counts on */
+    drift_case(7);
+}
+
+/* ------------------------------------------------------------------ images */
+
+/* Camera at (0, 0, 5) looking down -z, a red sphere at the origin, one light. */
+static limen_scene *sphere_scene(limen_node *mirror)
+{
+    limen_scene *s = new_scene();
+    limen_scene_set_background(s, (float[3]){ 0.1f, 0.2f, 0.3f });
+    limen_scene_set_ambient(s, 0.2f);
+    limen_node cam = add(s, LIMEN_NODE_CAMERA, "cam", 0, 0, 5);
+    limen_scene_set_camera(s, cam);
+    limen_node ball = add(s, LIMEN_NODE_SPHERE, "ball", 0, 0, 0);
+    set_dims(s, ball, 1, 0, 0);
+    limen_node_set_color(s, ball, (float[3]){ 0.8f, 0.5f, 0.2f });
+    add(s, LIMEN_NODE_LIGHT, "light", 2, 3, 4);
+    /* a mirror off to the side, turned towards the camera and the ball */
+    *mirror = add(s, LIMEN_NODE_MIRROR, "mirror", -2.5f, 0, -1);
+    set_dims(s, *mirror, 2, 3, 0);
+    limen_node_set_facing(s, *mirror, (float[3]){ 1, 0, 0.6f }, NULL);
+    return s;
+}
+
+static void test_image_shading(void)
+{
+    limen_node mirror;
+    limen_scene *s = sphere_scene(&mirror);
+    enum { W = 65, H = 49 };
+    unsigned char *a = malloc(W * H * 3), *b = malloc(W * H * 3), *c = malloc(W * H * 3);
+    CHECK_OK(limen_trace_image(s, &(limen_trace_desc){ .width = W, .height = H }, a));
+    /* centre pixel: the point (0, 0, 1), normal +z */
+    double l[3] = { 2, 3, 3 }, ll = sqrt(22.0);
+    double k = 0.2 + 0.8 * fmax(0.0, l[2] / ll);
+    const unsigned char *px = a + ((H / 2) * W + W / 2) * 3;
+    CHECK(px[0] == byte(0.8 * k) && px[1] == byte(0.5 * k) && px[2] == byte(0.2 * k));
+    /* a corner: the background */
+    px = a + ((H - 1) * W + W - 1) * 3;
+    CHECK(px[0] == byte(0.1) && px[1] == byte(0.2) && px[2] == byte(0.3));
+
+    /* threads do not change a pixel */
+    CHECK_OK(limen_trace_image(s, &(limen_trace_desc){ .width = W, .height = H, .threads = 3 },
+                               b));
+    CHECK(memcmp(a, b, W * H * 3) == 0);
+
+    /* the mirror shows something: without it the picture differs */
+    limen_node_set_visible(s, mirror, 0);
+    CHECK_OK(limen_trace_image(s, &(limen_trace_desc){ .width = W, .height = H }, c));
+    int differ = 0;
+    for (int i = 0; i < W * H * 3; i++)
+        differ += a[i] != c[i];
+    CHECK(differ > 50);
+    free(a);
+    free(b);
+    free(c);
+    limen_scene_destroy(s);
+}
+
+static void test_checker(void)
+{
+    limen_scene *s = new_scene();
+    limen_scene_set_ambient(s, 1.0f);
+    limen_node q = add(s, LIMEN_NODE_QUAD, "floor", 0, 0, 0);
+    set_dims(s, q, 8, 8, 0);
+    limen_node_set_checker(s, q, (float[3]){ 1, 1, 1 }, (float[3]){ 0, 0, 0 }, 1.0f);
+    /* local (x, y) = world (x, y): k = floor(x) + floor(y) */
+    limen_hit h = cast(s, 0.5f, 0.5f, 3, 0, 0, -1, -1);    /* k = 0: colour a */
+    CHECK_VEC(h.color, 1, 1, 1, 0);
+    h = cast(s, -0.5f, 0.5f, 3, 0, 0, -1, -1);             /* k = -1: odd, colour b */
+    CHECK_VEC(h.color, 0, 0, 0, 0);
+    h = cast(s, -1.5f, 2.5f, 3, 0, 0, -1, -1);             /* k = 0 */
+    CHECK_VEC(h.color, 1, 1, 1, 0);
+    limen_scene_destroy(s);
+}
+
+static void test_bounce_limit(void)
+{
+    limen_node mirror;
+    limen_scene *s = sphere_scene(&mirror);
+    /* face the camera squarely, in front of everything */
+    limen_node_set_position(s, mirror, (float[3]){ 0, 0, 2 });
+    limen_node_set_facing(s, mirror, (float[3]){ 0, 0, 1 }, NULL);
+    limen_surface_set_fill(s, mirror, (float[3]){ 0.2f, 0.4f, 0.8f });
+    limen_surface_set_tint(s, mirror, (float[3]){ 0.5f, 0.5f, 0.5f });
+    enum { W = 33, H = 25 };
+    unsigned char img[W * H * 3];
+    const unsigned char *px = img + ((H / 2) * W + W / 2) * 3;
+    CHECK_OK(limen_trace_image(
+        s, &(limen_trace_desc){ .width = W, .height = H, .limit_depth = 1, .max_depth = 0 }, img));
+    CHECK(px[0] == 51 && px[1] == 102 && px[2] == 204);
+    /* one level allowed: the mirror shows the camera's side of the world (background) */
+    CHECK_OK(limen_trace_image(
+        s, &(limen_trace_desc){ .width = W, .height = H, .limit_depth = 1, .max_depth = 1 }, img));
+    CHECK(px[0] == byte(0.05) && px[1] == byte(0.1) && px[2] == byte(0.15));
+    /* the surface's own limit does the same */
+    limen_surface_set_max_depth(s, mirror, 0);
+    CHECK_OK(limen_trace_image(s, &(limen_trace_desc){ .width = W, .height = H }, img));
+    CHECK(px[0] == 51 && px[1] == 102 && px[2] == 204);
+    limen_scene_destroy(s);
+
+    /* nested: the second mirror's fill, times the first mirror's tint */
+    s = new_scene();
+    limen_node m1 = add(s, LIMEN_NODE_MIRROR, "m1", 0, 0, -3);
+    limen_node m2 = add(s, LIMEN_NODE_MIRROR, "m2", 0, 0, 3);
+    limen_node_set_facing(s, m2, (float[3]){ 0, 0, -1 }, NULL);
+    set_dims(s, m1, 4, 4, 0);
+    set_dims(s, m2, 4, 4, 0);
+    limen_surface_set_tint(s, m1, (float[3]){ 0.5f, 0.25f, 1 });
+    limen_surface_set_fill(s, m2, (float[3]){ 0.8f, 0.8f, 0.8f });
+    limen_hit h = cast(s, 0, 0, 0, 0, 0, -1, 1);
+    CHECK(h.hit == 1 && h.node.id == m2.id && h.surface_count == 1);
+    CHECK_VEC(h.color, 0.4, 0.2, 0.8, 1e-6);
+    h = cast(s, 0, 0, 0, 0, 0, -1, 0);
+    CHECK(h.hit == 1 && h.node.id == m1.id && h.surface_count == 0);
+    CHECK_VEC(h.color, 0, 0, 0, 0);                 /* default fill black */
+    limen_scene_destroy(s);
+}
+
+/* ------------------------------------------------------------------ errors */
+
+static void test_errors(void)
+{
+    limen_scene *s = new_scene();
+    limen_hit h;
+    float o[3] = { 0, 0, 0 };
+    CHECK(limen_ray_cast(s, o, (float[3]){ NAN, 0, 1 }, -1, &h) == LIMEN_ERR_ARG);
+    CHECK(strstr(limen_last_error(s), "direction") != NULL);
+    CHECK(limen_ray_cast(s, o, (float[3]){ 0, 0, 0 }, -1, &h) == LIMEN_ERR_ARG);
+    CHECK(limen_ray_cast(s, (float[3]){ INFINITY, 0, 0 }, (float[3]){ 0, 0, 1 }, -1, &h) ==
+          LIMEN_ERR_ARG);
+    CHECK(limen_ray_cast(s, o, (float[3]){ 0, 0, 1 }, -1, NULL) == LIMEN_ERR_ARG);
+    CHECK(limen_ray_cast(NULL, o, (float[3]){ 0, 0, 1 }, -1, &h) == LIMEN_ERR_ARG);
+
+    unsigned char img[4 * 4 * 3];
+    CHECK(limen_trace_image(s, &(limen_trace_desc){ .width = 4, .height = 4 }, img) ==
+          LIMEN_ERR_ARG);
+    CHECK(strstr(limen_last_error(s), "camera") != NULL);
+    limen_node cam = add(s, LIMEN_NODE_CAMERA, "cam", 0, 0, 5);
+    limen_scene_set_camera(s, cam);
+    CHECK(limen_trace_image(s, &(limen_trace_desc){ .width = -4, .height = 4 }, img) ==
+          LIMEN_ERR_ARG);
+    CHECK(limen_trace_image(s, &(limen_trace_desc){ .width = 4, .height = 4, .limit_depth = 1,
+                                                    .max_depth = 300 }, img) == LIMEN_ERR_ARG);
+    CHECK(limen_trace_image(s, &(limen_trace_desc){ .width = 4, .height = 4, .threads = -1 },
+                            img) == LIMEN_ERR_ARG);
+    CHECK(limen_trace_image(s, NULL, NULL) == LIMEN_ERR_ARG);
+    CHECK_OK(limen_trace_image(s, &(limen_trace_desc){ .width = 4, .height = 4 }, img));
+    limen_scene_destroy(s);
+}
+
+static const check_case cases[] = {
+    { "sphere_analytic", test_sphere_analytic },
+    { "shapes_scaled", test_shapes_scaled },
+    { "portal_pair", test_portal_pair },
+    { "mirror_front_back", test_mirror_front_back },
+    { "drift_corridor", test_drift_corridor },
+    { "image_shading", test_image_shading },
+    { "checker", test_checker },
+    { "bounce_limit", test_bounce_limit },
+    { "errors", test_errors },
+    { 0 },
+};
+
+int main(int argc, char **argv)
+{
+    return check_run(argc, argv, cases);
+}

@@ -1,5 +1,6 @@
 /* trace_cmd.c - `limen trace`: the ray-traced reference image of a scene. */
 #include <errno.h>
+#include <stdbool.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -16,7 +17,7 @@ static int usage_error(const char *fmt, const char *arg)
 {
     fprintf(stderr, "limen: ");
     fprintf(stderr, fmt, arg);
-    fprintf(stderr, "\n%s", usage);
+    fputc('\n', stderr);
     return 2;
 }
 
@@ -44,6 +45,10 @@ int limen_cli_trace(int argc, char **argv)
     limen_trace_desc d = { 0 };
     double time = 0;
     int stats = 0, trusted = 0;
+    if (argc == 0) {
+        fputs(usage, stderr);
+        return 2;
+    }
     for (int i = 0; i < argc; i++) {
         const char *a = argv[i];
         const char *v = i + 1 < argc ? argv[i + 1] : NULL;

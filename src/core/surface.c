@@ -60,9 +60,7 @@ limen_status limen_surface_set_max_depth(limen_scene *s, limen_node n, int max_d
     if (max_depth < 0 || max_depth > 255)
         return limen__fail(s, LIMEN_ERR_ARG, "max_depth: must be in [0, 255] (got %d)",
                            max_depth);
-    node->max_depth = max_depth;
-    if (node->pair)
-        s->nodes[node->pair - 1].max_depth = max_depth;
+    node->max_depth = max_depth;    /* per end: views through this end only */
     return LIMEN_OK;
 }
 
@@ -106,10 +104,6 @@ limen_status limen_portal_link(limen_scene *s, limen_node a, limen_node b)
         s->nodes[na->pair - 1].pair = 0;
     if (nb->pair)
         s->nodes[nb->pair - 1].pair = 0;
-    /* a pair shares one depth limit: the larger of the two */
-    if (nb->max_depth > na->max_depth)
-        na->max_depth = nb->max_depth;
-    nb->max_depth = na->max_depth;
     na->pair = (uint32_t)limen__index(s, nb) + 1u;
     nb->pair = (uint32_t)limen__index(s, na) + 1u;
     return LIMEN_OK;

@@ -39,14 +39,15 @@
  *
  * Limits. A ray that has passed b surfaces and enters S goes on only if b+1 <= S.max_depth
  * and, with a global limit (limit_depth, `--depth N`), b+1 <= that limit; otherwise it ends
- * on S's fill colour, which the tints of the mirrors already passed still multiply (as the
- * renderer's seals do). Where nothing is hit: the background, times those tints.
+ * on S's fill colour, which the tints of the mirrors already passed still multiply (as in
+ * the renderer). Where nothing is hit: the background, times those tints.
  *
  * Not modelled, on purpose: the far plane (scenes fit well inside it; the oblique far plane
  * of a nested view is an artefact of the method, not of the scene), the view budget
  * max_views (a truncated tree is an error the comparison should see), MSAA (one sample at
- * the pixel centre), the per-seal 8-bit rounding of tints in the framebuffer, and the
- * tessellation of curved shapes (the tracer is what the meshes approximate).
+ * the pixel centre), 8-bit rounding of intermediate colours in a framebuffer (the tracer
+ * multiplies the clamped shade by the product of the tints in double and rounds once), and
+ * the tessellation of curved shapes (the tracer is what the meshes approximate).
  *
  * Images are traced by pthreads over interleaved rows; every thread only reads a snapshot
  * of the scene (`tracer`) taken before they start. */
@@ -240,8 +241,9 @@ static limen_status tracer_init(tracer *t, limen_scene *s, const char *fn)
         if (limen__alive(n) && n->visible && hittable(n))
             count++;
     }
-    t->prims = malloc(sizeof *t->prims * (size_t)(count ? count : 1));
-    int *slot = malloc(sizeof *slot * (size_t)(s->cap ? s->cap : 1));
+    size_t cap = s->cap > 0 ? (size_t)s->cap : 1;
+    t->prims = malloc(sizeof *t->prims * (size_t)(count > 0 ? count : 1));
+    int *slot = malloc(sizeof *slot * cap);
     if (!t->prims || !slot) {
         free(slot);
         tracer_free(t);
@@ -524,24 +526,26 @@ static void follow(const tracer *tr, const double o_in[3], const double d_in[3],
         const prim *p = &tr->prims[hi];
         double pw[3] = { o[0] + t * d[0], o[1] + t * d[1], o[2] + t * d[2] };
         travelled += t;
-        if (rec) {
-            rec->hit = true;
-            rec->prim = hi;
-            rec->distance = travelled;
-            memcpy(rec->point, pw, sizeof pw);
-            world_normal(p, nu, d, rec->normal);
-        }
         bool surface = p->kind == LIMEN_NODE_MIRROR || p->kind == LIMEN_NODE_PORTAL;
         bool front = surface && dot3(p->plane, d) < 0;
-        if (!surface || (p->kind == LIMEN_NODE_MIRROR && !front)) {
+        bool matte = !surface || (p->kind == LIMEN_NODE_MIRROR && !front);
+        bool stop = !p->has_x || passed + 1 > p->max_depth || passed + 1 > global;
+        if (matte || stop) {
             double n[3];
             world_normal(p, nu, d, n);
-            shade(tr, p, surface ? p->back : p->color, pu, pw, n, shaded);
-            result = shaded;
-            break;
-        }
-        if (!p->has_x || passed + 1 > p->max_depth || passed + 1 > global) {
-            result = p->fill;
+            if (matte) {
+                shade(tr, p, surface ? p->back : p->color, pu, pw, n, shaded);
+                result = shaded;
+            } else {
+                result = p->fill;
+            }
+            if (rec) {
+                rec->hit = true;
+                rec->prim = hi;
+                rec->distance = travelled;
+                memcpy(rec->point, pw, sizeof pw);
+                memcpy(rec->normal, n, sizeof n);
+            }
             break;
         }
         /* pass through: reflect, or leave by the partner */

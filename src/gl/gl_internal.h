@@ -14,7 +14,7 @@
 
 typedef struct uniforms {
     GLint model, normal_mat, view_proj, eye, clip_plane, albedo, albedo_b, cell, scale, shape,
-        quad, mode, tex, tex_map, ambient, nlights, light_pos, light_col;
+        quad, mode, tint, tex, tex_map, ambient, nlights, light_pos, light_col;
 } uniforms;
 
 /* An offscreen target for the texture method: one per recursion level. */
@@ -34,12 +34,17 @@ struct limen_renderer {
     char info[256];
 
     GLuint prog, vao, vbo, ibo;
+    GLuint fill_prog;                       /* flat full-viewport rectangle */
+    GLint u_fill_depth, u_fill_color;
     uniforms u;
     limen__meshes meshes;
 
     GLuint fbo, color_rb, depth_rb;         /* the frame (multisampled if msaa) */
     GLuint resolve_fbo, resolve_rb;         /* single-sampled copy when msaa */
-    GLuint q_samples, q_fragments;
+    GLuint q_fragments;
+    GLuint *q_pool;                         /* occlusion queries around shading passes */
+    int q_cap, q_used;
+    bool q_active;
     limen__target levels[LIMEN__MAX_LEVELS];
     float levels_scale;                     /* texture scale the targets were made for */
 
@@ -56,6 +61,11 @@ struct limen_renderer {
 
 limen_status limen__rfail(limen_renderer *r, limen_status st, const char *fmt, ...)
     __attribute__((format(printf, 3, 4)));
+
+/* Occlusion queries around the passes that shade and write colour (the frame's `samples`);
+ * masks, depth resets and seals are not counted. */
+void limen__samples_begin(limen_renderer *r);
+void limen__samples_end(limen_renderer *r);
 
 /* Draws the planned tree into the frame buffer (bound by the caller, cleared). */
 limen_status limen__draw_stencil(limen_renderer *r, limen_scene *s);

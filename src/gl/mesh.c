@@ -94,26 +94,44 @@ static void build_quad(builder *b)
     quad4(b, a, c, d, e);
 }
 
+/* Polygons inscribed in a curve fall inside it by their sagitta; pushing the vertices out
+ * by f splits the error evenly inside and outside, halving the largest silhouette error
+ * for the same triangles. A UV sphere's faces sag most at their centres, about
+ * 1 - cos^2(pi/n) of the radius; a cylinder's sides at their middles, 1 - cos(pi/n). */
+static double sphere_push(int slices)
+{
+    double c = cos(M_PI / slices);
+    return 2.0 / (1.0 + c * c);
+}
+
+static double cylinder_push(int slices)
+{
+    return 2.0 / (1.0 + cos(M_PI / slices));
+}
+
 static void build_sphere(builder *b, int slices)
 {
     int stacks = slices / 2;
     uint32_t base = b->m->nverts;
+    float f = (float)sphere_push(slices);
     for (int i = 0; i <= stacks; i++) {
         double phi = M_PI * i / stacks;     /* from +Y down */
         for (int j = 0; j <= slices; j++) {
             double th = 2.0 * M_PI * j / slices;
             float x = (float)(sin(phi) * cos(th)), y = (float)cos(phi),
                   z = (float)(-sin(phi) * sin(th));
-            vert(b, x, y, z, x, y, z);
+            vert(b, f * x, f * y, f * z, x, y, z);
         }
     }
     for (int i = 0; i < stacks; i++) {
         for (int j = 0; j < slices; j++) {
             uint32_t a = base + (uint32_t)(i * (slices + 1) + j), c = a + (uint32_t)slices + 1;
             /* th grows towards -z seen from above: (a, c, c+1) is CCW from outside */
-            if (i != 0)
-                tri(b, a, c, c + 1);
+            /* the top row's (a, c+1, a+1) and the bottom row's (a, c, c+1) would have two
+             * corners on the pole: zero area; the other triangle of each quad closes it */
             if (i != stacks - 1)
+                tri(b, a, c, c + 1);
+            if (i != 0)
                 tri(b, a, c + 1, a + 1);
         }
     }
@@ -122,11 +140,12 @@ static void build_sphere(builder *b, int slices)
 static void build_cylinder(builder *b, int slices)
 {
     uint32_t base = b->m->nverts;
+    float f = (float)cylinder_push(slices);
     for (int j = 0; j <= slices; j++) {
         double th = 2.0 * M_PI * j / slices;
         float x = (float)cos(th), z = (float)-sin(th);
-        vert(b, x, 0, z, x, 0, z);
-        vert(b, x, 1, z, x, 0, z);
+        vert(b, f * x, 0, f * z, x, 0, z);
+        vert(b, f * x, 1, f * z, x, 0, z);
     }
     for (int j = 0; j < slices; j++) {
         uint32_t a = base + (uint32_t)(2 * j);
@@ -138,7 +157,7 @@ static void build_cylinder(builder *b, int slices)
         uint32_t ring = b->m->nverts;
         for (int j = 0; j < slices; j++) {
             double th = 2.0 * M_PI * j / slices;
-            vert(b, (float)cos(th), y, (float)-sin(th), 0, ny, 0);
+            vert(b, f * (float)cos(th), y, f * (float)-sin(th), 0, ny, 0);
         }
         for (int j = 0; j < slices; j++) {
             uint32_t p = ring + (uint32_t)j, q = ring + (uint32_t)((j + 1) % slices);
@@ -187,8 +206,9 @@ void limen__meshes_free(limen__meshes *m)
 int limen__lod_for(float radius_px, float tol_px)
 {
     for (int l = 0; l < LIMEN__LODS; l++) {
-        /* largest gap between a polygon of n sides inscribed in the circle and the circle */
-        double sag = radius_px * (1.0 - cos(M_PI / limen__lod_segments[l]));
+        /* largest gap between the pushed-out sphere and the true one, either way */
+        double c = cos(M_PI / limen__lod_segments[l]);
+        double sag = radius_px * (1.0 - c * c) / (1.0 + c * c);
         if (sag <= tol_px)
             return l;
     }

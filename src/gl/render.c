@@ -56,7 +56,7 @@ static const char *fs_src =
     "#version 330 core\n"
     "in vec3 v_world, v_local, v_nrm;\n"
     "uniform mat3 u_normal_mat;\n"
-    "uniform vec3 u_eye, u_albedo, u_albedo_b, u_scale;\n"
+    "uniform vec3 u_eye, u_albedo, u_albedo_b, u_scale, u_tint;\n"
     "uniform float u_cell, u_ambient;\n"
     "uniform int u_shape, u_quad, u_nlights, u_mode;\n"
     "uniform vec3 u_light_pos[8], u_light_col[8];\n"
@@ -64,7 +64,7 @@ static const char *fs_src =
     "uniform vec4 u_tex_map;\n"
     "out vec4 o_color;\n"
     "void main() {\n"
-    "    if (u_mode == 1) { o_color = vec4(u_albedo, 1.0); return; }\n"
+    "    if (u_mode == 1) { o_color = vec4(u_albedo * u_tint, 1.0); return; }\n"
     "    if (u_mode == 2) {\n"
     "        vec2 uv = gl_FragCoord.xy * u_tex_map.xy + u_tex_map.zw;\n"
     "        o_color = vec4(texture(u_tex, uv).rgb * u_albedo, 1.0);\n"
@@ -84,7 +84,8 @@ static const char *fs_src =
     "    vec3 light = vec3(0.0);\n"
     "    for (int i = 0; i < u_nlights; i++)\n"
     "        light += u_light_col[i] * max(0.0, dot(n, normalize(u_light_pos[i] - v_world)));\n"
-    "    o_color = vec4(clamp(albedo * (u_ambient + (1.0 - u_ambient) * light), 0.0, 1.0), 1.0);\n"
+    "    vec3 c = clamp(albedo * (u_ambient + (1.0 - u_ambient) * light), 0.0, 1.0);\n"
+    "    o_color = vec4(c * u_tint, 1.0);\n"
     "}\n";
 
 static GLuint compile(limen_renderer *r, GLenum type, const char *src)
@@ -104,28 +105,58 @@ static GLuint compile(limen_renderer *r, GLenum type, const char *src)
     return sh;
 }
 
-static limen_status build_program(limen_renderer *r)
+static GLuint link(limen_renderer *r, const char *vsrc, const char *fsrc)
 {
-    GLuint vs = compile(r, GL_VERTEX_SHADER, vs_src);
-    GLuint fs = vs ? compile(r, GL_FRAGMENT_SHADER, fs_src) : 0;
+    GLuint vs = compile(r, GL_VERTEX_SHADER, vsrc);
+    GLuint fs = vs ? compile(r, GL_FRAGMENT_SHADER, fsrc) : 0;
     if (!vs || !fs) {
         if (vs)
             GL(DeleteShader)(vs);
-        return LIMEN_ERR_GL;
+        return 0;
     }
-    r->prog = GL(CreateProgram)();
-    GL(AttachShader)(r->prog, vs);
-    GL(AttachShader)(r->prog, fs);
-    GL(LinkProgram)(r->prog);
+    GLuint prog = GL(CreateProgram)();
+    GL(AttachShader)(prog, vs);
+    GL(AttachShader)(prog, fs);
+    GL(LinkProgram)(prog);
     GL(DeleteShader)(vs);
     GL(DeleteShader)(fs);
     GLint ok = 0;
-    GL(GetProgramiv)(r->prog, GL_LINK_STATUS, &ok);
+    GL(GetProgramiv)(prog, GL_LINK_STATUS, &ok);
     if (!ok) {
         char log[400] = "";
-        GL(GetProgramInfoLog)(r->prog, sizeof log, NULL, log);
-        return limen__rfail(r, LIMEN_ERR_GL, "shader link failed: %s", log);
+        GL(GetProgramInfoLog)(prog, sizeof log, NULL, log);
+        limen__rfail(r, LIMEN_ERR_GL, "shader link failed: %s", log);
+        GL(DeleteProgram)(prog);
+        return 0;
     }
+    return prog;
+}
+
+/* A rectangle over the whole viewport at a given depth, in a flat colour: resets depth and
+ * writes the background inside nested views. It is its own program, without clip distances:
+ * llvmpipe (Mesa 22.3) was seen to go on clipping a draw of the main program by the last
+ * view's gl_ClipDistance plane after glDisable(GL_CLIP_DISTANCE0) and a new plane. */
+static const char *fill_vs_src =
+    "#version 330 core\n"
+    "layout(location = 0) in vec3 a_pos;\n"
+    "uniform float u_depth;\n"
+    "void main() { gl_Position = vec4(2.0 * a_pos.xy, u_depth, 1.0); }\n";
+static const char *fill_fs_src =
+    "#version 330 core\n"
+    "uniform vec3 u_color;\n"
+    "out vec4 o_color;\n"
+    "void main() { o_color = vec4(u_color, 1.0); }\n";
+
+static limen_status build_program(limen_renderer *r)
+{
+    r->fill_prog = link(r, fill_vs_src, fill_fs_src);
+    if (!r->fill_prog)
+        return LIMEN_ERR_GL;
+    r->u_fill_depth = GL(GetUniformLocation)(r->fill_prog, "u_depth");
+    r->u_fill_color = GL(GetUniformLocation)(r->fill_prog, "u_color");
+    r->prog = link(r, vs_src, fs_src);
+    if (!r->prog)
+        return LIMEN_ERR_GL;
 #define U(field, name) r->u.field = GL(GetUniformLocation)(r->prog, name)
     U(model, "u_model");
     U(normal_mat, "u_normal_mat");
@@ -139,6 +170,7 @@ static limen_status build_program(limen_renderer *r)
     U(shape, "u_shape");
     U(quad, "u_quad");
     U(mode, "u_mode");
+    U(tint, "u_tint");
     U(tex, "u_tex");
     U(tex_map, "u_tex_map");
     U(ambient, "u_ambient");
@@ -275,7 +307,6 @@ static limen_status setup(limen_renderer *r, const limen_renderer_desc *d)
         return st;
     if (limen_plan_create(&r->plan))
         return limen__rfail(r, LIMEN_ERR_NOMEM, "out of memory");
-    GL(GenQueries)(1, &r->q_samples);
     GL(GenQueries)(1, &r->q_fragments);
     r->rgba = malloc((size_t)r->width * (size_t)r->height * 4);
     if (!r->rgba)
@@ -306,6 +337,7 @@ void limen_renderer_destroy(limen_renderer *r)
         return;
     if (r->ctx && r->prog && !r->ops->make_current(r->ctx)) {
         GL(DeleteProgram)(r->prog);
+        GL(DeleteProgram)(r->fill_prog);
         GL(DeleteBuffers)(1, &r->vbo);
         GL(DeleteBuffers)(1, &r->ibo);
         GL(DeleteVertexArrays)(1, &r->vao);
@@ -316,7 +348,8 @@ void limen_renderer_destroy(limen_renderer *r)
             GL(DeleteFramebuffers)(1, &r->resolve_fbo);
             GL(DeleteRenderbuffers)(1, &r->resolve_rb);
         }
-        GL(DeleteQueries)(1, &r->q_samples);
+        if (r->q_cap)
+            GL(DeleteQueries)(r->q_cap, r->q_pool);
         GL(DeleteQueries)(1, &r->q_fragments);
         limen__targets_free(r);
         if (r->prev_fbo) {
@@ -325,6 +358,7 @@ void limen_renderer_destroy(limen_renderer *r)
         }
     }
     limen_plan_destroy(r->plan);
+    free(r->q_pool);
     if (r->ctx)
         r->ops->destroy(r->ctx);
     limen__meshes_free(&r->meshes);
@@ -380,6 +414,28 @@ static void begin_frame(limen_renderer *r, limen_scene *s)
     GL(FrontFace)(GL_CCW);
     if (r->msaa)
         GL(Enable)(GL_MULTISAMPLE);
+}
+
+void limen__samples_begin(limen_renderer *r)
+{
+    if (r->q_used == r->q_cap) {
+        int cap = r->q_cap ? 2 * r->q_cap : 64;
+        GLuint *pool = realloc(r->q_pool, sizeof *pool * (size_t)cap);
+        if (!pool)
+            return;     /* this pass goes uncounted; the frame still renders */
+        GL(GenQueries)(cap - r->q_cap, pool + r->q_cap);
+        r->q_pool = pool;
+        r->q_cap = cap;
+    }
+    GL(BeginQuery)(GL_SAMPLES_PASSED, r->q_pool[r->q_used++]);
+    r->q_active = true;
+}
+
+void limen__samples_end(limen_renderer *r)
+{
+    if (r->q_active)
+        GL(EndQuery)(GL_SAMPLES_PASSED);
+    r->q_active = false;
 }
 
 /* Copies the finished frame into prev_tex for the next frame's LIMEN_FILL_PREVIOUS. */
@@ -446,12 +502,11 @@ limen_status limen_render_frame(limen_renderer *r, limen_scene *s, const limen_r
         return limen__rfail(r, st, "%s", limen_last_error(s));
 
     begin_frame(r, s);
-    GL(BeginQuery)(GL_SAMPLES_PASSED, r->q_samples);
+    r->q_used = 0;
     if (r->has_fragment_stats)
         GL(BeginQuery)(GL_FRAGMENT_SHADER_INVOCATIONS_ARB, r->q_fragments);
     st = r->opts.method == LIMEN_METHOD_TEXTURE ? limen__draw_texture(r, s)
                                                 : limen__draw_stencil(r, s);
-    GL(EndQuery)(GL_SAMPLES_PASSED);
     if (r->has_fragment_stats)
         GL(EndQuery)(GL_FRAGMENT_SHADER_INVOCATIONS_ARB);
     if (st)
@@ -473,7 +528,11 @@ limen_status limen_render_frame(limen_renderer *r, limen_scene *s, const limen_r
     r->have_frame = true;
     if (stats) {
         GLuint64 samples = 0, frags = 0;
-        GL(GetQueryObjectui64v)(r->q_samples, GL_QUERY_RESULT, &samples);
+        for (int i = 0; i < r->q_used; i++) {
+            GLuint64 n = 0;
+            GL(GetQueryObjectui64v)(r->q_pool[i], GL_QUERY_RESULT, &n);
+            samples += n;
+        }
         if (r->has_fragment_stats)
             GL(GetQueryObjectui64v)(r->q_fragments, GL_QUERY_RESULT, &frags);
         stats->ms = t1 - t0;

@@ -53,6 +53,8 @@ static void apply_view(limen_renderer *r, limen_scene *s, const rview *v)
     GL(FrontFace)(v->pub->front_face_cw ? GL_CW : GL_CCW);
     GL(Uniform1f)(r->u.ambient, s->ambient);
     GL(Uniform1i)(r->u.mode, MODE_LIT);
+    /* the product of the mirror tints on the way here, applied once to every colour */
+    GL(Uniform3fv)(r->u.tint, 1, v->pub->tint);
 }
 
 static void set_lights(limen_renderer *r, limen_scene *s)
@@ -179,21 +181,14 @@ static void draw_geometry(limen_renderer *r, limen_scene *s, const rview *v)
 
 /* A full-screen rectangle at the far plane in a flat colour (scissor and stencil decide
  * where): resets colour and depth inside a nested view. */
-static void draw_far_fill(limen_renderer *r, const float rgb[3])
+static void draw_far_fill(limen_renderer *r, const float rgb[3], const float tint[3])
 {
-    mat4 id, model;
-    glm_mat4_identity(id);
-    glm_mat4_identity(model);
-    float far_z = r->range == LIMEN_DEPTH_ZO_REVERSED ? 0.0f : 1.0f;
-    glm_translate(model, (vec3){ 0, 0, far_z });
-    glm_scale(model, (vec3){ 2, 2, 1 });
-    GL(UseProgram)(r->prog);
-    set_mat4(r, r->u.view_proj, id);
-    set_mat4(r, r->u.model, model);
+    float c[3] = { rgb[0] * tint[0], rgb[1] * tint[1], rgb[2] * tint[2] };
+    GL(UseProgram)(r->fill_prog);
+    GL(Uniform1f)(r->u_fill_depth, r->range == LIMEN_DEPTH_ZO_REVERSED ? 0.0f : 1.0f);
+    GL(Uniform3fv)(r->u_fill_color, 1, c);
     GL(Disable)(GL_CLIP_DISTANCE0);
     GL(Disable)(GL_CULL_FACE);
-    GL(Uniform1i)(r->u.mode, MODE_FLAT);
-    GL(Uniform3fv)(r->u.albedo, 1, rgb);
     GL(DrawElements)(GL_TRIANGLES, (GLsizei)r->meshes.quad.count, GL_UNSIGNED_INT,
                      (void *)(sizeof(uint32_t) * r->meshes.quad.first));
 }
@@ -227,7 +222,7 @@ static bool draw_previous(limen_renderer *r, const rview *v, const limen__vsurf 
     GL(BindTexture)(GL_TEXTURE_2D, r->prev_tex);
     GL(Uniform1i)(r->u.tex, 0);
     GL(Uniform4fv)(r->u.tex_map, 1, map);
-    draw_node(r, v, n, MODE_TEXTURE, (vec3){ 1, 1, 1 });
+    draw_node(r, v, n, MODE_TEXTURE, v->pub->tint);
     return true;
 }
 
@@ -268,19 +263,34 @@ static void stencil_view(limen_renderer *r, limen_scene *s, int index)
     GL(StencilFunc)(GL_EQUAL, d, 0xFF);
     GL(StencilOp)(GL_KEEP, GL_KEEP, GL_KEEP);
     if (d > 0) {
-        /* reset colour and depth inside the surface */
+        /* reset depth inside the surface (colour is written below, where nothing is) */
+        GL(ColorMask)(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
         GL(DepthFunc)(GL_ALWAYS);
-        draw_far_fill(r, s->background);
+        draw_far_fill(r, s->background, v.pub->tint);
+        GL(ColorMask)(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
         GL(DepthFunc)(depth_less(r));
     }
     apply_view(r, s, &v);
+    limen__samples_begin(r);
     draw_geometry(r, s, &v);
+    limen__samples_end(r);
+    if (d > 0) {
+        /* the background where no geometry landed: still at the far depth */
+        GL(DepthFunc)(GL_EQUAL);
+        limen__samples_begin(r);
+        draw_far_fill(r, s->background, v.pub->tint);
+        limen__samples_end(r);
+        GL(DepthFunc)(depth_less(r));
+        apply_view(r, s, &v);
+    }
 
     const limen__vsurf *vs;
     int n = limen__plan_view_surfaces(r->plan, index, &vs);
     for (int k = 0; k < n; k++) {
         if (vs[k].state != LIMEN__SURF_CHILD) {
+            limen__samples_begin(r);
             draw_terminal_surface(r, s, &v, &vs[k]);
+            limen__samples_end(r);
             continue;
         }
         const limen__node *node = &s->nodes[vs[k].node];
@@ -289,28 +299,20 @@ static void stencil_view(limen_renderer *r, limen_scene *s, int index)
         GL(DepthMask)(GL_FALSE);
         GL(StencilOp)(GL_KEEP, GL_KEEP, GL_INCR);
         draw_node(r, &v, node, MODE_FLAT, node->fill);
-        GL(ColorMask)(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
         GL(DepthMask)(GL_TRUE);
 
+        GL(ColorMask)(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
         stencil_view(r, s, limen__plan_child_view(r->plan, vs[k].child));
 
-        /* seal: back to this view's stencil value, the surface's depth written over the
-         * child's, and a mirror's tint multiplied in */
+        /* seal: back to this view's stencil value, with the surface's depth written over
+         * the child's so that what is drawn later in this view is hidden by it */
         set_scissor(r, v.pub->scissor);
         apply_view(r, s, &v);
+        GL(ColorMask)(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
         GL(StencilFunc)(GL_EQUAL, d + 1, 0xFF);
         GL(StencilOp)(GL_KEEP, GL_KEEP, GL_DECR);
         GL(DepthFunc)(GL_ALWAYS);
-        bool tinted = node->kind == LIMEN_NODE_MIRROR &&
-                      (node->tint[0] != 1 || node->tint[1] != 1 || node->tint[2] != 1);
-        if (tinted) {
-            GL(Enable)(GL_BLEND);
-            GL(BlendFunc)(GL_DST_COLOR, GL_ZERO);
-        } else {
-            GL(ColorMask)(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
-        }
-        draw_node(r, &v, node, MODE_FLAT, node->tint);
-        GL(Disable)(GL_BLEND);
+        draw_node(r, &v, node, MODE_FLAT, node->fill);
         GL(ColorMask)(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
         GL(DepthFunc)(depth_less(r));
         GL(StencilFunc)(GL_EQUAL, d, 0xFF);
@@ -417,17 +419,23 @@ static bool texture_view(limen_renderer *r, limen_scene *s, int index, const pla
     v.img_map[3] = (float)pl->rect[1];
 
     bind_placement(r, pl);
-    GL(ClearColor)(s->background[0], s->background[1], s->background[2], 1.0f);
+    const float *tint = v.pub->tint;
+    GL(ClearColor)(s->background[0] * tint[0], s->background[1] * tint[1],
+                   s->background[2] * tint[2], 1.0f);
     GL(ClearDepth)(r->range == LIMEN_DEPTH_ZO_REVERSED ? 0.0 : 1.0);
     GL(Clear)(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
     apply_view(r, s, &v);
+    limen__samples_begin(r);
     draw_geometry(r, s, &v);
+    limen__samples_end(r);
 
     const limen__vsurf *vs;
     int n = limen__plan_view_surfaces(r->plan, index, &vs);
     for (int k = 0; k < n; k++) {
         if (vs[k].state != LIMEN__SURF_CHILD) {
+            limen__samples_begin(r);
             draw_terminal_surface(r, s, &v, &vs[k]);
+            limen__samples_end(r);
             continue;
         }
         int ci = limen__plan_child_view(r->plan, vs[k].child);
@@ -446,7 +454,7 @@ static bool texture_view(limen_renderer *r, limen_scene *s, int index, const pla
             return false;
 
         /* back in this view: the surface samples the child's image where it appears on
-         * screen, times a mirror's tint */
+         * screen (the child applied the tints already) */
         bind_placement(r, pl);
         apply_view(r, s, &v);
         const limen__node *node = &s->nodes[vs[k].node];
@@ -462,8 +470,9 @@ static bool texture_view(limen_renderer *r, limen_scene *s, int index, const pla
         };
         GL(Uniform4fv)(r->u.tex_map, 1, map);
         vec3 white = { 1, 1, 1 };
-        draw_node(r, &v, node, MODE_TEXTURE,
-                  node->kind == LIMEN_NODE_MIRROR ? node->tint : white);
+        limen__samples_begin(r);
+        draw_node(r, &v, node, MODE_TEXTURE, white);
+        limen__samples_end(r);
     }
     return true;
 }
