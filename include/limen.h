@@ -304,6 +304,12 @@ typedef struct limen_view_surface {
     int rect[4];                /* pixels it may cover in this view: x, y, w, h */
 } limen_view_surface;
 
+/* Deliberately wrong virtual cameras, for tests that show the accuracy metric catches them.
+ * Never set in real use. */
+enum {
+    LIMEN_FAULT_PORTAL_NO_TURN = 1   /* portal matrix without its 180-degree turn */
+};
+
 typedef struct limen_plan_desc {
     int width, height;          /* image size in pixels (0 -> 640 x 480) */
     limen_depth_range range;    /* clip-space convention of proj */
@@ -311,6 +317,7 @@ typedef struct limen_plan_desc {
     int limit_depth;            /* 1: apply max_depth below; 0: only the surfaces' own limits */
     int max_depth;              /* global limit on the depth of views (0 = no recursion) */
     int max_views;              /* view budget (0 -> 1024); levels fill breadth first */
+    unsigned test_faults;       /* LIMEN_FAULT_* bits; 0 */
 } limen_plan_desc;
 
 typedef struct limen_plan limen_plan;
@@ -381,6 +388,7 @@ typedef struct limen_render_opts {
     float texture_scale;        /* texture method: resolution of view targets, (0, 1]; 0 -> 1 */
     int limit_depth, max_depth; /* as in limen_plan_desc */
     int max_views;              /* 0 -> 1024 */
+    unsigned test_faults;       /* LIMEN_FAULT_* bits (tests only); 0 */
 } limen_render_opts;
 
 /* Plans and draws one frame of the scene from its camera. opts and stats may be NULL. */

@@ -212,7 +212,21 @@ static limen_status collect_surfaces(limen_plan *p, limen_scene *s)
         sf->node = i;
         limen__surface_plane_d(n, sf->plane);
         limen__surface_corners(n, sf->corners);
-        sf->has_x = limen__surface_matrix_d(s, n, sf->x) && limen__d_inv(sf->x, sf->xinv);
+        sf->has_x = limen__surface_matrix_d(s, n, sf->x);
+        if (sf->has_x && n->kind == LIMEN_NODE_PORTAL &&
+            (p->test_faults & LIMEN_FAULT_PORTAL_NO_TURN)) {
+            /* X * (W_A R_y(180) W_A^-1) = W_B S(k) W_A^-1: the turn taken out again */
+            double wa[16], wainv[16], turn[16];
+            limen__d_from_f(&n->world[0][0], wa);
+            limen__d_identity(turn);
+            turn[0] = turn[10] = -1.0;
+            if (limen__d_inv(wa, wainv)) {
+                limen__d_mul(wa, turn, turn);
+                limen__d_mul(turn, wainv, turn);
+                limen__d_mul(sf->x, turn, sf->x);
+            }
+        }
+        sf->has_x = sf->has_x && limen__d_inv(sf->x, sf->xinv);
         sf->exit = n->kind == LIMEN_NODE_PORTAL ? (int)n->pair - 1 : i;
         if (n->kind == LIMEN_NODE_PORTAL && n->pair) {
             const limen__node *b = &s->nodes[n->pair - 1];
@@ -278,6 +292,7 @@ limen_status limen_plan_build(limen_plan *p, limen_scene *s, const limen_plan_de
         return limen__fail(s, LIMEN_ERR_ARG, "plan: view budget must be positive");
     p->clip = d.clip;
     p->range = d.range;
+    p->test_faults = d.test_faults;
     int max_views = d.max_views > 0 ? d.max_views : DEFAULT_MAX_VIEWS;
     int global_depth = d.limit_depth ? d.max_depth : 255;
     p->nviews = p->nvsurf = p->count = p->truncated = 0;

@@ -41,6 +41,7 @@ struct limen_plan {
     int width, height;
     limen_depth_range range;
     limen_clip_method clip;
+    unsigned test_faults;
     float znear;
     float proj_f[16];
     double proj_d[16];

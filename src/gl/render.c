@@ -496,7 +496,8 @@ limen_status limen_render_frame(limen_renderer *r, limen_scene *s, const limen_r
 
     limen_plan_desc pd = { .width = r->width, .height = r->height, .range = r->range,
                            .clip = r->opts.clip, .limit_depth = r->opts.limit_depth,
-                           .max_depth = r->opts.max_depth, .max_views = r->opts.max_views };
+                           .max_depth = r->opts.max_depth, .max_views = r->opts.max_views,
+                           .test_faults = r->opts.test_faults };
     st = limen_plan_build(r->plan, s, &pd);
     if (st)
         return limen__rfail(r, st, "%s", limen_last_error(s));

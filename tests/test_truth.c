@@ -1,0 +1,172 @@
+/* test_truth.c - the rasterizer against the ray-traced truth: every gallery scene, both
+ * methods, oblique and plane clipping, depths 0, 1, 2 and the scene's own, at 320x240 and
+ * 640x480. At most 0.5% of pixels may differ by more than 8/255 in any channel. And the
+ * metric has teeth: clipping switched off, or a portal without its half turn, fails it by a
+ * wide margin. Prints one line per scene and size with the worst share and the times. */
+#include <stdlib.h>
+#include <time.h>
+
+#include "check.h"
+#include "limen.h"
+
+#define BOUND 0.005
+
+static const char *const scenes[] = {
+    "plain", "mirror_room", "corridor", "kaleidoscope", "periscope", "water", "portals",
+    "tunnel", "portal_mirror", "portal_sizes", "moving_portal", NULL,
+};
+
+static double now_ms(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec * 1e3 + (double)ts.tv_nsec * 1e-6;
+}
+
+static limen_script *load(const char *name)
+{
+    char path[256];
+    snprintf(path, sizeof path, "scenes/%s.lua", name);
+    limen_script *sc = NULL;
+    limen_status st = limen_script_load(path, NULL, &sc);
+    CHECK_MSG(st == LIMEN_OK, "%s: %s", path, sc ? limen_script_error(sc) : "");
+    if (st) {
+        limen_script_destroy(sc);
+        return NULL;
+    }
+    return sc;
+}
+
+/* depth < 0: the scene's own limits */
+static unsigned char *trace(limen_scene *s, int w, int h, int depth, double *ms)
+{
+    unsigned char *rgb = malloc((size_t)w * h * 3);
+    double t0 = now_ms();
+    limen_status st = limen_trace_image(
+        s, &(limen_trace_desc){ .width = w, .height = h, .limit_depth = depth >= 0, .max_depth = depth < 0 ? 0 : depth },
+        rgb);
+    *ms = now_ms() - t0;
+    CHECK_MSG(st == LIMEN_OK, "trace: %s", limen_last_error(s));
+    return rgb;
+}
+
+static double bad_share(limen_renderer *r, limen_scene *s, limen_render_opts o,
+                        const unsigned char *truth, int w, int h, double *ms)
+{
+    unsigned char *rgb = malloc((size_t)w * h * 3);
+    limen_frame_stats st = { 0 };
+    limen_status rc = limen_render_frame(r, s, &o, &st);
+    CHECK_MSG(rc == LIMEN_OK, "render: %s", limen_renderer_error(r));
+    limen_diff d = { 1.0, 0, 0, 0 };
+    if (!rc && !limen_renderer_read_rgb(r, rgb))
+        limen_image_diff(rgb, truth, w, h, 8, &d, NULL);
+    if (ms)
+        *ms = st.ms;
+    free(rgb);
+    return d.bad_share;
+}
+
+static void gallery_at(int w, int h)
+{
+    limen_renderer *r = NULL;
+    limen_status st = limen_renderer_create(&(limen_renderer_desc){ .width = w, .height = h }, &r);
+    CHECK_MSG(st == LIMEN_OK, "renderer: %s", limen_renderer_error(r));
+    const int depths[] = { 0, 1, 2, -1 };
+    for (int i = 0; scenes[i] && !st; i++) {
+        limen_script *sc = load(scenes[i]);
+        if (!sc)
+            continue;
+        limen_scene *s = limen_script_scene(sc);
+        double worst[2] = { 0, 0 }, trace_ms = 0, render_ms[2] = { 0, 0 };
+        for (int k = 0; k < 4; k++) {
+            double tms;
+            unsigned char *truth = trace(s, w, h, depths[k], &tms);
+            if (depths[k] < 0)
+                trace_ms = tms;
+            for (int m = 0; m < 2; m++) {
+                for (int c = 0; c < 2; c++) {
+                    limen_render_opts o = { .method = m, .clip = c, .limit_depth = depths[k] >= 0,
+                                            .max_depth = depths[k] < 0 ? 0 : depths[k] };
+                    double rms = 0;
+                    double d = bad_share(r, s, o, truth, w, h, &rms);
+                    if (depths[k] < 0 && c == 0)
+                        render_ms[m] = rms;
+                    worst[m] = d > worst[m] ? d : worst[m];
+                    CHECK_MSG(d <= BOUND, "%s %dx%d %s clip %s depth %d: %.3f%% of pixels off",
+                              scenes[i], w, h, m ? "texture" : "stencil", c ? "plane" : "oblique",
+                              depths[k], 100 * d);
+                }
+            }
+            free(truth);
+        }
+        /* worst over depths and clip methods; times at the scene's own depth, oblique */
+        printf("     %-14s %dx%d  worst: stencil %.3f%%, texture %.3f%%  trace %.0f ms, "
+               "render: stencil %.1f ms, texture %.1f ms\n",
+               scenes[i], w, h, 100 * worst[0], 100 * worst[1], trace_ms, render_ms[0],
+               render_ms[1]);
+        limen_script_destroy(sc);
+    }
+    limen_renderer_destroy(r);
+}
+
+static void test_gallery_320x240(void)
+{
+    gallery_at(320, 240);
+}
+
+static void test_gallery_640x480(void)
+{
+    gallery_at(640, 480);
+}
+
+/* The metric must catch a wrong picture, by a wide margin. */
+static void test_metric_has_teeth(void)
+{
+    const int w = 320, h = 240;
+    limen_renderer *r = NULL;
+    CHECK_OK(limen_renderer_create(&(limen_renderer_desc){ .width = w, .height = h }, &r));
+    double ms;
+    /* no clipping: what stands behind the mirror leaks into it */
+    limen_script *sc = load("mirror_room");
+    if (sc && r) {
+        unsigned char *truth = trace(limen_script_scene(sc), w, h, -1, &ms);
+        double d = bad_share(r, limen_script_scene(sc), (limen_render_opts){ .clip = LIMEN_CLIP_NONE },
+                             truth, w, h, NULL);
+        printf("     mirror_room with --clip none: %.2f%% of pixels off\n", 100 * d);
+        CHECK_MSG(d > 10 * BOUND, "clip none is off by only %.3f%%", 100 * d);
+        free(truth);
+    }
+    limen_script_destroy(sc);
+    /* a portal matrix without its half turn */
+    const char *portal_scenes[] = { "portals", "tunnel", NULL };
+    for (int i = 0; portal_scenes[i] && r; i++) {
+        sc = load(portal_scenes[i]);
+        if (!sc)
+            continue;
+        unsigned char *truth = trace(limen_script_scene(sc), w, h, -1, &ms);
+        for (int m = 0; m < 2; m++) {
+            double d = bad_share(r, limen_script_scene(sc),
+                                 (limen_render_opts){ .method = m,
+                                                      .test_faults = LIMEN_FAULT_PORTAL_NO_TURN },
+                                 truth, w, h, NULL);
+            printf("     %s with the portal's turn left out (%s): %.2f%% of pixels off\n",
+                   portal_scenes[i], m ? "texture" : "stencil", 100 * d);
+            CHECK_MSG(d > 4 * BOUND, "a portal without its turn is off by only %.3f%%", 100 * d);
+        }
+        free(truth);
+        limen_script_destroy(sc);
+    }
+    limen_renderer_destroy(r);
+}
+
+static const check_case cases[] = {
+    { "gallery_320x240", test_gallery_320x240 },
+    { "gallery_640x480", test_gallery_640x480 },
+    { "metric_has_teeth", test_metric_has_teeth },
+    { 0 },
+};
+
+int main(int argc, char **argv)
+{
+    return check_run(argc, argv, cases);
+}
