@@ -317,6 +317,11 @@ typedef struct limen_plan_desc {
     int limit_depth;            /* 1: apply max_depth below; 0: only the surfaces' own limits */
     int max_depth;              /* global limit on the depth of views (0 = no recursion) */
     int max_views;              /* view budget (0 -> 1024); levels fill breadth first */
+    float adaptive;             /* > 0: stop where a view could change no pixel by more than
+                                 * this (in [0,1] colour units, e.g. 8/255): where the product
+                                 * of the mirror tints on the way falls below it */
+    int no_cull;                /* 1: keep views of surfaces outside the parent's narrowed
+                                 * frustum, with full-image scissors (the naive baseline) */
     unsigned test_faults;       /* LIMEN_FAULT_* bits; 0 */
 } limen_plan_desc;
 
@@ -351,7 +356,9 @@ typedef struct limen_renderer_desc {
     limen_backend backend;          /* default OSMesa */
     int width, height;              /* 0 -> 640 x 480 */
     int msaa;                       /* samples per pixel; 0 or 1 -> off */
-    limen_depth_range depth_range;  /* default NO; ZO_REVERSED uses a float depth buffer */
+    limen_depth_range depth_range;  /* default NO */
+    int depth_bits;                 /* 24 (integer) or 32 (float); 0 -> 24, or 32 for
+                                     * ZO_REVERSED, where a float buffer is the point */
 } limen_renderer_desc;
 
 typedef struct limen_frame_stats {
@@ -371,7 +378,10 @@ LIMEN_API const char *limen_renderer_gl_info(const limen_renderer *r); /* GL_REN
 LIMEN_API void limen_renderer_size(const limen_renderer *r, int *width, int *height);
 typedef enum limen_method {
     LIMEN_METHOD_STENCIL = 0,   /* one framebuffer, stencil-nested recursion */
-    LIMEN_METHOD_TEXTURE        /* each view into an offscreen target sampled by its parent */
+    LIMEN_METHOD_TEXTURE,       /* each view into an offscreen target sampled by its parent */
+    LIMEN_METHOD_NAIVE          /* the baseline of common engines, for comparison: one
+                                 * full-resolution offscreen render per surface per level, no
+                                 * culling of surfaces outside the narrowed frustum, no scissor */
 } limen_method;
 
 typedef enum limen_fill {
@@ -388,6 +398,7 @@ typedef struct limen_render_opts {
     float texture_scale;        /* texture method: resolution of view targets, (0, 1]; 0 -> 1 */
     int limit_depth, max_depth; /* as in limen_plan_desc */
     int max_views;              /* 0 -> 1024 */
+    float adaptive;             /* as in limen_plan_desc */
     unsigned test_faults;       /* LIMEN_FAULT_* bits (tests only); 0 */
 } limen_render_opts;
 

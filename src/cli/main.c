@@ -23,7 +23,11 @@ static const char *usage =
     "  --time T              scene time in seconds passed to update(t) (default 0)\n"
     "  --frames N --fps F    render N frames from T at F frames per second;\n"
     "                        files are numbered OUT_0000.png, OUT_0001.png, ...\n"
-    "  --method stencil|texture         how views nest (default stencil)\n"
+    "  --method stencil|texture|naive   how views nest (default stencil; naive: the\n"
+    "                        baseline without culling or scissors, for comparison)\n"
+    "  --adaptive T          stop recursion where no pixel could change by more than T\n"
+    "                        (8-bit steps; mirror tints decide)\n"
+    "  --depth-bits 24|32    depth buffer: 24-bit integer or 32-bit float\n"
     "  --texture-scale S     texture method: resolution of nested views, 0 < S <= 1\n"
     "  --clip oblique|plane|none        how a view cuts what is behind its surface\n"
     "                        (default oblique, with the plane where oblique cannot)\n"
@@ -143,8 +147,23 @@ static int parse_render(int argc, char **argv, options *o)
                 o->ro.method = LIMEN_METHOD_STENCIL;
             else if (!strcmp(v, "texture"))
                 o->ro.method = LIMEN_METHOD_TEXTURE;
+            else if (!strcmp(v, "naive"))
+                o->ro.method = LIMEN_METHOD_NAIVE;
             else
-                return fail("--method: expected stencil or texture, got '%s'%s", v, "");
+                return fail("--method: expected stencil, texture or naive, got '%s'%s", v, "");
+        } else if (!strcmp(a, "--adaptive")) {
+            NEED_VALUE();
+            double t;
+            if (parse_double(v, &t) || !(t >= 0 && t <= 255))
+                return fail("--adaptive: expected a threshold in 8-bit steps (0 to 255), got "
+                            "'%s'%s", v, "");
+            o->ro.adaptive = (float)(t / 255.0);
+        } else if (!strcmp(a, "--depth-bits")) {
+            NEED_VALUE();
+            long n;
+            if (parse_long(v, 24, 32, &n) || (n != 24 && n != 32))
+                return fail("--depth-bits: expected 24 or 32, got '%s'%s", v, "");
+            o->rd.depth_bits = (int)n;
         } else if (!strcmp(a, "--fill")) {
             NEED_VALUE();
             if (!strcmp(v, "color"))

@@ -123,6 +123,10 @@ static bool surface_rect(const limen_plan *p, const limen__pview *v, const limen
         y0 = fmin(y0, sy);
         y1 = fmax(y1, sy);
     }
+    if (p->no_cull) {
+        memcpy(rect, (int[4]){ 0, 0, p->width, p->height }, sizeof(int) * 4);
+        return true;
+    }
     /* pixel k has its centre at k + 0.5 */
     double px0 = ceil(x0 - 0.5), px1 = floor(x1 - 0.5);
     double py0 = ceil(y0 - 0.5), py1 = floor(y1 - 0.5);
@@ -174,6 +178,18 @@ static void fill_public(limen__pview *v, limen_scene *s, const limen_plan *p)
     if (limen_oblique_projection(p->proj_f, cf, p->range, pub->proj) == LIMEN_OK)
         pub->clip = LIMEN_CLIP_OBLIQUE;
     (void)s;
+}
+
+/* Adaptive depth: a view whose every pixel is multiplied by tints whose product is under
+ * the threshold cannot change a pixel by more than it. */
+static bool too_faint(const limen_plan *p, const limen__pview *v, const limen__node *n)
+{
+    if (p->adaptive <= 0 || n->kind != LIMEN_NODE_MIRROR)
+        return false;
+    float m = 0;
+    for (int k = 0; k < 3; k++)
+        m = fmaxf(m, v->pub.tint[k] * n->tint[k]);
+    return m < p->adaptive;
 }
 
 static limen__pview *push_view(limen_plan *p)
@@ -293,6 +309,10 @@ limen_status limen_plan_build(limen_plan *p, limen_scene *s, const limen_plan_de
     p->clip = d.clip;
     p->range = d.range;
     p->test_faults = d.test_faults;
+    p->no_cull = d.no_cull != 0;
+    if (!(d.adaptive >= 0 && d.adaptive <= 1))
+        return limen__fail(s, LIMEN_ERR_ARG, "plan: adaptive threshold must be in [0, 1]");
+    p->adaptive = d.adaptive;
     int max_views = d.max_views > 0 ? d.max_views : DEFAULT_MAX_VIEWS;
     int global_depth = d.limit_depth ? d.max_depth : 255;
     p->nviews = p->nvsurf = p->count = p->truncated = 0;
@@ -344,7 +364,8 @@ limen_status limen_plan_build(limen_plan *p, limen_scene *s, const limen_plan_de
             int child = -1;
             if (!sf->has_x) {
                 /* unpaired portal: fill */
-            } else if (depth > n->max_depth || depth > global_depth || p->nviews >= max_views) {
+            } else if (depth > n->max_depth || depth > global_depth || p->nviews >= max_views ||
+                       too_faint(p, v, n)) {
                 p->truncated++;
             } else {
                 limen__pview *c = push_view(p);

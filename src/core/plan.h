@@ -42,6 +42,8 @@ struct limen_plan {
     limen_depth_range range;
     limen_clip_method clip;
     unsigned test_faults;
+    bool no_cull;
+    float adaptive;
     float znear;
     float proj_f[16];
     double proj_d[16];

@@ -29,6 +29,7 @@ struct limen_renderer {
     limen__gl gl;
     int width, height, msaa;
     limen_depth_range range;
+    int depth_bits;                         /* 24: DEPTH24_STENCIL8, 32: DEPTH32F_STENCIL8 */
     bool has_fragment_stats;
     char err[LIMEN__ERR_MAX];
     char info[256];
@@ -58,6 +59,11 @@ struct limen_renderer {
 };
 
 #define GL(fn) r->gl.fn
+
+static inline GLenum limen__depth_format(const limen_renderer *r)
+{
+    return r->depth_bits == 32 ? GL_DEPTH32F_STENCIL8 : GL_DEPTH24_STENCIL8;
+}
 
 limen_status limen__rfail(limen_renderer *r, limen_status st, const char *fmt, ...)
     __attribute__((format(printf, 3, 4)));

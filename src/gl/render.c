@@ -220,8 +220,7 @@ static GLuint renderbuffer(limen_renderer *r, GLenum format, int samples)
 
 static limen_status build_targets(limen_renderer *r)
 {
-    GLenum depth_fmt = r->range == LIMEN_DEPTH_ZO_REVERSED ? GL_DEPTH32F_STENCIL8
-                                                           : GL_DEPTH24_STENCIL8;
+    GLenum depth_fmt = limen__depth_format(r);
     r->color_rb = renderbuffer(r, GL_RGBA8, r->msaa);
     r->depth_rb = renderbuffer(r, depth_fmt, r->msaa);
     GL(GenFramebuffers)(1, &r->fbo);
@@ -275,6 +274,10 @@ static limen_status setup(limen_renderer *r, const limen_renderer_desc *d)
         return limen__rfail(r, LIMEN_ERR_ARG, "msaa %d out of range (0 to 64)", d->msaa);
     r->msaa = d->msaa > 1 ? d->msaa : 0;
     r->range = d->depth_range;
+    if (d->depth_bits != 0 && d->depth_bits != 24 && d->depth_bits != 32)
+        return limen__rfail(r, LIMEN_ERR_ARG, "depth bits must be 24 or 32 (got %d)",
+                            d->depth_bits);
+    r->depth_bits = d->depth_bits ? d->depth_bits : r->range == LIMEN_DEPTH_ZO_REVERSED ? 32 : 24;
 
     r->ctx = r->ops->create(r->err, sizeof r->err);
     if (!r->ctx)
@@ -465,7 +468,7 @@ static void keep_previous(limen_renderer *r)
 
 static limen_status check_opts(limen_renderer *r, const limen_render_opts *o)
 {
-    if ((unsigned)o->method > LIMEN_METHOD_TEXTURE)
+    if ((unsigned)o->method > LIMEN_METHOD_NAIVE)
         return limen__rfail(r, LIMEN_ERR_ARG, "unknown method %d", (int)o->method);
     if ((unsigned)o->fill > LIMEN_FILL_PREVIOUS)
         return limen__rfail(r, LIMEN_ERR_ARG, "unknown fill %d", (int)o->fill);
@@ -485,7 +488,7 @@ limen_status limen_render_frame(limen_renderer *r, limen_scene *s, const limen_r
     if (!r->prog)
         return limen__rfail(r, LIMEN_ERR_GL, "renderer was not set up: %s", r->err);
     r->opts = opts ? *opts : (limen_render_opts){ 0 };
-    if (r->opts.texture_scale == 0)
+    if (r->opts.texture_scale == 0 || r->opts.method == LIMEN_METHOD_NAIVE)
         r->opts.texture_scale = 1.0f;
     limen_status st = check_opts(r, &r->opts);
     if (st)
@@ -497,6 +500,8 @@ limen_status limen_render_frame(limen_renderer *r, limen_scene *s, const limen_r
     limen_plan_desc pd = { .width = r->width, .height = r->height, .range = r->range,
                            .clip = r->opts.clip, .limit_depth = r->opts.limit_depth,
                            .max_depth = r->opts.max_depth, .max_views = r->opts.max_views,
+                           .adaptive = r->opts.adaptive,
+                           .no_cull = r->opts.method == LIMEN_METHOD_NAIVE,
                            .test_faults = r->opts.test_faults };
     st = limen_plan_build(r->plan, s, &pd);
     if (st)
@@ -506,8 +511,8 @@ limen_status limen_render_frame(limen_renderer *r, limen_scene *s, const limen_r
     r->q_used = 0;
     if (r->has_fragment_stats)
         GL(BeginQuery)(GL_FRAGMENT_SHADER_INVOCATIONS_ARB, r->q_fragments);
-    st = r->opts.method == LIMEN_METHOD_TEXTURE ? limen__draw_texture(r, s)
-                                                : limen__draw_stencil(r, s);
+    st = r->opts.method == LIMEN_METHOD_STENCIL ? limen__draw_stencil(r, s)
+                                                : limen__draw_texture(r, s);
     if (r->has_fragment_stats)
         GL(EndQuery)(GL_FRAGMENT_SHADER_INVOCATIONS_ARB);
     if (st)

@@ -13,7 +13,83 @@ typedef struct rview {
     mat4 view, proj, view_proj;
     float px_scale;             /* pixels per unit at distance 1 (for levels of detail) */
     float img_map[4];           /* image pixel = gl_FragCoord * xy + zw in the target */
+    vec4 cull[6];               /* world-space planes of the narrowed frustum (inside >= 0) */
+    int ncull;
 } rview;
+
+/* The planes of what view v can show: its projection's sides narrowed to the pixels it
+ * may draw, its near plane (the oblique one where there is one) and its clip plane. A node
+ * whose bounding sphere lies wholly outside one of them cannot touch a pixel. */
+static void cull_planes(limen_renderer *r, rview *v, const int *rect)
+{
+    mat4 m, narrow;
+    glm_mat4_identity(narrow);
+    if (rect) {
+        float W = (float)r->width, H = (float)r->height;
+        float x0 = 2.0f * rect[0] / W - 1.0f, x1 = 2.0f * (rect[0] + rect[2]) / W - 1.0f;
+        float y0 = 2.0f * rect[1] / H - 1.0f, y1 = 2.0f * (rect[1] + rect[3]) / H - 1.0f;
+        narrow[0][0] = 2.0f / (x1 - x0);
+        narrow[1][1] = 2.0f / (y1 - y0);
+        narrow[3][0] = -(x1 + x0) / (x1 - x0);
+        narrow[3][1] = -(y1 + y0) / (y1 - y0);
+    }
+    glm_mat4_mul(narrow, v->view_proj, m);
+    /* Gribb-Hartmann: rows of m (m[col][row]) */
+    v->ncull = 0;
+    for (int i = 0; i < 5; i++) {
+        vec4 pl;
+        for (int c = 0; c < 4; c++) {
+            float row = i < 4 ? m[c][i / 2] : m[c][2];
+            float sign = (i & 1) ? -1.0f : 1.0f;
+            if (i == 4 && r->range != LIMEN_DEPTH_NO) {
+                /* zero-to-one depth: near is row 3 alone (reversed: row 4 - row 3) */
+                pl[c] = r->range == LIMEN_DEPTH_ZO ? m[c][2] : m[c][3] - m[c][2];
+                continue;
+            }
+            pl[c] = m[c][3] + sign * row;
+        }
+        float len = sqrtf(pl[0] * pl[0] + pl[1] * pl[1] + pl[2] * pl[2]);
+        if (!(len > 0))
+            continue;
+        glm_vec4_scale(pl, 1.0f / len, v->cull[v->ncull++]);
+    }
+    if (v->pub->clip == LIMEN_CLIP_PLANE)
+        memcpy(v->cull[v->ncull++], v->pub->clip_plane, sizeof(float) * 4);
+}
+
+/* Bounding sphere of a drawable node in world space. */
+static void bounds(const limen__node *n, vec3 centre, float *radius)
+{
+    vec4 local = { 0, 0, 0, 1 };
+    float r = 0;
+    switch (n->kind) {
+    case LIMEN_NODE_BOX: r = 0.5f * glm_vec3_norm((float *)n->dims); break;
+    case LIMEN_NODE_SPHERE: r = n->dims[0]; break;
+    case LIMEN_NODE_CYLINDER:
+        local[1] = 0.5f * n->dims[1];
+        r = sqrtf(n->dims[0] * n->dims[0] + local[1] * local[1]);
+        break;
+    default: r = 0.5f * sqrtf(n->dims[0] * n->dims[0] + n->dims[1] * n->dims[1]); break;
+    }
+    vec4 c;
+    glm_mat4_mulv((vec4 *)n->world, local, c);
+    glm_vec3_copy(c, centre);
+    float stretch = fmaxf(glm_vec3_norm((float *)n->world[0]),
+                          fmaxf(glm_vec3_norm((float *)n->world[1]),
+                                glm_vec3_norm((float *)n->world[2])));
+    *radius = r * stretch;
+}
+
+static bool outside(const rview *v, const limen__node *n)
+{
+    vec3 c;
+    float rad;
+    bounds(n, c, &rad);
+    for (int i = 0; i < v->ncull; i++)
+        if (glm_vec3_dot((float *)v->cull[i], c) + v->cull[i][3] < -rad)
+            return true;
+    return false;
+}
 
 static void set_mat4(limen_renderer *r, GLint loc, mat4 m)
 {
@@ -173,7 +249,8 @@ static void draw_geometry(limen_renderer *r, limen_scene *s, const rview *v)
 {
     for (int i = 0; i < s->cap; i++) {
         limen__node *node = &s->nodes[i];
-        if (!limen__alive(node) || !node->visible || limen__is_surface(node))
+        if (!limen__alive(node) || !node->visible || limen__is_surface(node) ||
+            outside(v, node))
             continue;
         draw_node(r, v, node, MODE_LIT, node->color);
     }
@@ -251,48 +328,55 @@ static void set_scissor(limen_renderer *r, const int rect[4])
 
 /* ------------------------------------------------------------------ stencil method */
 
-/* Pixels of view `index` hold stencil == its depth when this is called. */
+static GLenum depth_lequal(const limen_renderer *r)
+{
+    return r->range == LIMEN_DEPTH_ZO_REVERSED ? GL_GEQUAL : GL_LEQUAL;
+}
+
+/* The view's opaque things: geometry and the surfaces that end here. */
+static void draw_opaque(limen_renderer *r, limen_scene *s, const rview *v,
+                        const limen__vsurf *vs, int n)
+{
+    draw_geometry(r, s, v);
+    for (int k = 0; k < n; k++)
+        if (vs[k].state != LIMEN__SURF_CHILD)
+            draw_terminal_surface(r, s, v, &vs[k]);
+}
+
+/* Pixels of view `index` hold stencil == its depth when this is called.
+ *
+ * Each pixel is shaded once: a depth-only pass lays down what is nearest; the surfaces are
+ * marked against it (only their visible pixels), their views drawn and sealed with the
+ * surface's depth; then this view's things are shaded where their depth is the nearest,
+ * which leaves the children's pixels alone (they hold the surface's depth, and what lies
+ * behind a surface is farther). */
 static void stencil_view(limen_renderer *r, limen_scene *s, int index)
 {
     mat4 id;
     glm_mat4_identity(id);
     rview v;
     make_rview(r, index, id, &v);
+    cull_planes(r, &v, v.pub->scissor);
     const int d = v.pub->depth;
+    const limen__vsurf *vs;
+    int n = limen__plan_view_surfaces(r->plan, index, &vs);
     set_scissor(r, v.pub->scissor);
     GL(StencilFunc)(GL_EQUAL, d, 0xFF);
     GL(StencilOp)(GL_KEEP, GL_KEEP, GL_KEEP);
+
+    /* depth: reset inside the surface, then the nearest of this view's things */
+    GL(ColorMask)(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
     if (d > 0) {
-        /* reset depth inside the surface (colour is written below, where nothing is) */
-        GL(ColorMask)(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
         GL(DepthFunc)(GL_ALWAYS);
         draw_far_fill(r, s->background, v.pub->tint);
-        GL(ColorMask)(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
         GL(DepthFunc)(depth_less(r));
     }
     apply_view(r, s, &v);
-    limen__samples_begin(r);
-    draw_geometry(r, s, &v);
-    limen__samples_end(r);
-    if (d > 0) {
-        /* the background where no geometry landed: still at the far depth */
-        GL(DepthFunc)(GL_EQUAL);
-        limen__samples_begin(r);
-        draw_far_fill(r, s->background, v.pub->tint);
-        limen__samples_end(r);
-        GL(DepthFunc)(depth_less(r));
-        apply_view(r, s, &v);
-    }
+    draw_opaque(r, s, &v, vs, n);
 
-    const limen__vsurf *vs;
-    int n = limen__plan_view_surfaces(r->plan, index, &vs);
     for (int k = 0; k < n; k++) {
-        if (vs[k].state != LIMEN__SURF_CHILD) {
-            limen__samples_begin(r);
-            draw_terminal_surface(r, s, &v, &vs[k]);
-            limen__samples_end(r);
+        if (vs[k].state != LIMEN__SURF_CHILD)
             continue;
-        }
         const limen__node *node = &s->nodes[vs[k].node];
         /* mark the surface's visible pixels with depth + 1 */
         GL(ColorMask)(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
@@ -301,11 +385,10 @@ static void stencil_view(limen_renderer *r, limen_scene *s, int index)
         draw_node(r, &v, node, MODE_FLAT, node->fill);
         GL(DepthMask)(GL_TRUE);
 
-        GL(ColorMask)(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
         stencil_view(r, s, limen__plan_child_view(r->plan, vs[k].child));
 
         /* seal: back to this view's stencil value, with the surface's depth written over
-         * the child's so that what is drawn later in this view is hidden by it */
+         * the child's */
         set_scissor(r, v.pub->scissor);
         apply_view(r, s, &v);
         GL(ColorMask)(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
@@ -313,11 +396,27 @@ static void stencil_view(limen_renderer *r, limen_scene *s, int index)
         GL(StencilOp)(GL_KEEP, GL_KEEP, GL_DECR);
         GL(DepthFunc)(GL_ALWAYS);
         draw_node(r, &v, node, MODE_FLAT, node->fill);
-        GL(ColorMask)(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
         GL(DepthFunc)(depth_less(r));
         GL(StencilFunc)(GL_EQUAL, d, 0xFF);
         GL(StencilOp)(GL_KEEP, GL_KEEP, GL_KEEP);
     }
+
+    /* shade: only fragments at the nearest depth pass */
+    GL(ColorMask)(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+    GL(DepthMask)(GL_FALSE);
+    GL(DepthFunc)(depth_lequal(r));
+    limen__samples_begin(r);
+    draw_opaque(r, s, &v, vs, n);
+    limen__samples_end(r);
+    if (d > 0) {
+        /* the background where nothing landed: still at the far depth */
+        GL(DepthFunc)(GL_EQUAL);
+        limen__samples_begin(r);
+        draw_far_fill(r, s->background, v.pub->tint);
+        limen__samples_end(r);
+    }
+    GL(DepthMask)(GL_TRUE);
+    GL(DepthFunc)(depth_less(r));
 }
 
 limen_status limen__draw_stencil(limen_renderer *r, limen_scene *s)
@@ -366,10 +465,7 @@ static limen__target *level_target(limen_renderer *r, int level, float scale)
     GL(TexParameteri)(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
     GL(GenRenderbuffers)(1, &t->depth_rb);
     GL(BindRenderbuffer)(GL_RENDERBUFFER, t->depth_rb);
-    GL(RenderbufferStorage)(GL_RENDERBUFFER,
-                            r->range == LIMEN_DEPTH_ZO_REVERSED ? GL_DEPTH32F_STENCIL8
-                                                                : GL_DEPTH24_STENCIL8,
-                            t->w, t->h);
+    GL(RenderbufferStorage)(GL_RENDERBUFFER, limen__depth_format(r), t->w, t->h);
     GL(GenFramebuffers)(1, &t->fbo);
     GL(BindFramebuffer)(GL_FRAMEBUFFER, t->fbo);
     GL(FramebufferTexture2D)(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, t->tex, 0);
@@ -417,6 +513,7 @@ static bool texture_view(limen_renderer *r, limen_scene *s, int index, const pla
     v.img_map[1] = 1.0f / pl->sy;
     v.img_map[2] = (float)pl->rect[0];
     v.img_map[3] = (float)pl->rect[1];
+    cull_planes(r, &v, NULL);
 
     bind_placement(r, pl);
     const float *tint = v.pub->tint;
