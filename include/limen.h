@@ -199,7 +199,7 @@ LIMEN_API limen_status limen_node_get_dims(const limen_scene *s, limen_node n, f
 /* Albedo of shapes; colour (intensity) of a light. Components >= 0, <= 1 for albedo. */
 LIMEN_API limen_status limen_node_set_color(limen_scene *s, limen_node n, const float rgb[3]);
 LIMEN_API limen_status limen_node_get_color(const limen_scene *s, limen_node n, float rgb[3]);
-/* Checker pattern in the node's local xy (quads) or xz/xyz (other shapes): cells of size
+/* Checker pattern in the node's local xy (quads) or xyz (other shapes): cells of size
  * `cell`, colour a where floor(x/cell)+floor(y/cell) is even, b where odd. cell 0 turns it off. */
 LIMEN_API limen_status limen_node_set_checker(limen_scene *s, limen_node n, const float a[3],
                                               const float b[3], float cell);
@@ -218,6 +218,7 @@ LIMEN_API limen_status limen_surface_set_fill(limen_scene *s, limen_node n, cons
 LIMEN_API limen_status limen_surface_set_max_depth(limen_scene *s, limen_node n, int max_depth);
 LIMEN_API limen_status limen_surface_get(const limen_scene *s, limen_node n, float tint[3],
                                          float back[3], float fill[3], int *max_depth);
+                                         /* any output may be NULL */
 /* Pairs two portals both ways (unpairing their old partners). A portal with itself, or two
  * ends whose width/height ratios differ by more than 0.1%, are refused: what enters A leaves
  * B scaled by width_B / width_A. An unpaired portal shows its fill colour. */
@@ -269,7 +270,12 @@ typedef enum limen_view_kind {
 } limen_view_kind;
 
 /* One view of the tree. Views are stored in draw order: depth first, a parent before its
- * children, children in the order their surfaces should be processed. */
+ * children, children in the order their surfaces should be processed. A nested view first
+ * resets depth inside its pixels (stencil == its stencil value, within its scissor), draws,
+ * and shows the scene background times its tint where nothing lands. limen's shading, which
+ * the ray tracer reproduces: at most 8 lights (LIGHT nodes in pool order); sphere normals
+ * and cylinder side normals (x, 0, z) from the true shape; checker cells in the node's local
+ * units before its own scale, x+y for quads, x+y+z for other shapes. */
 typedef struct limen_view {
     int id;                     /* index in the plan */
     int parent;                 /* -1 for the camera view */
@@ -292,7 +298,9 @@ typedef struct limen_view {
 /* What a view must draw for one mirror or portal it sees (in the order listed). */
 typedef enum limen_surface_state {
     LIMEN_SURFACE_RECURSE = 0,  /* front-facing with a child view: mark its pixels with
-                                 * stencil + 1, draw the child, seal with its depth (and tint) */
+                                 * stencil + 1, draw the child, seal with its depth. (Tints are
+                                 * not applied here: every colour of a view is multiplied by
+                                 * its limen_view.tint, the product on the way.) */
     LIMEN_SURFACE_FILL,         /* front-facing, recursion stopped: draw its fill colour */
     LIMEN_SURFACE_BACK          /* a mirror seen from behind: a matte quad of its back colour */
 } limen_surface_state;
@@ -459,22 +467,42 @@ LIMEN_API limen_status limen_trace_image(limen_scene *s, const limen_trace_desc 
 /* ---------------------------------------------------------------- scripts */
 
 /* A Lua 5.4 scene script: `return limen.scene{...}` after adding nodes; an optional
- * `function s.update(t)` animates it. The script owns its scene. */
+ * `function s.update(t)` animates it. The script owns its scene, and runs in a Lua state of
+ * its own, within limits: a script cannot hang or exhaust the program that runs it.
+ *   - Safe mode (the default) gives it no io, no os but the clock, no debug, no C modules,
+ *     no bytecode, no __gc metamethods (finalizers would run outside the budget).
+ *   - An instruction budget per call (load, and each update): Lua VM instructions, plus
+ *     one per 32 bytes allocated and the work of library functions that loop over their
+ *     arguments (string.rep, table.insert, patterns: a pattern whose worst case exceeds
+ *     what is left is refused). A single instruction can still take time in proportion to
+ *     its operands (comparing two long strings), up to what the memory cap allows.
+ *   - A memory cap on what its Lua state holds (the scene's C-side nodes are not counted).
+ * A call that exceeds a limit fails with LIMEN_ERR_SCRIPT and a message such as
+ *   "scenes/x.lua:3: script exceeded its instruction budget (50000000)" or
+ *   "scenes/x.lua:3: not enough memory (script memory cap 64 MiB)"
+ * (the line where known; the script's pcall cannot catch it), and stops the script: later
+ * updates fail at once with the same message; its scene stays readable and it can be
+ * destroyed. Trusted scripts keep the limits unless their fields below say otherwise, but
+ * can lift the budget with debug.sethook, and their finalizers run unbounded. */
 typedef struct limen_script limen_script;
 
 typedef struct limen_script_desc {
     int trusted;                /* 1: full standard library; 0: the safe subset */
+    int64_t instruction_budget; /* per load and per update call; 0 -> 50 million, < 0 -> none */
+    int64_t memory_cap;         /* bytes the script's Lua state may hold; 0 -> 64 MiB, < 0 -> none */
 } limen_script_desc;
 
 /* Runs the script. On failure *out may still hold a script whose limen_script_error()
- * reads "file:line: message"; destroy it either way. desc may be NULL. */
+ * reads "file:line: message" (or "file: message" where no line applies), on one line;
+ * destroy it either way. desc may be NULL (the defaults: safe mode, default limits). */
 LIMEN_API limen_status limen_script_load(const char *path, const limen_script_desc *desc,
                                          limen_script **out);
 LIMEN_API void limen_script_destroy(limen_script *sc);                 /* NULL is fine */
 LIMEN_API const char *limen_script_error(const limen_script *sc);      /* "" when none */
 LIMEN_API limen_scene *limen_script_scene(limen_script *sc);           /* owned by the script */
 LIMEN_API int limen_script_animated(const limen_script *sc);           /* 1 if it has update */
-/* Calls the scene's update(t), t in seconds; a no-op for a still scene. */
+/* Calls the scene's update(t), t in seconds; a no-op for a still scene. An error leaves the
+ * script usable (the next update may succeed), except one from a limit (see above). */
 LIMEN_API limen_status limen_script_update(limen_script *sc, double t);
 
 /* ---------------------------------------------------------------- images */
