@@ -344,6 +344,18 @@ LIMEN_API const limen_view *limen_plan_view(const limen_plan *p, int i); /* NULL
 /* The surfaces view i sees (a portal seen from behind and the view's own exit surface are
  * not listed: they draw nothing); returns their count. */
 LIMEN_API int limen_plan_view_surfaces(const limen_plan *p, int i, const limen_view_surface **out);
+/* A closed shape (box, sphere, cylinder) passing through a portal, its centre over the
+ * rectangle: it is drawn twice in every view, itself cut at the portal's plane and a copy
+ * carried by the portal matrix, cut at the partner's plane. */
+typedef struct limen_clone {
+    limen_node node;            /* the shape */
+    limen_node portal;          /* the portal it is passing into */
+    float matrix[16];           /* the copy's world matrix = matrix * the shape's world */
+    float keep[4];              /* world plane: the shape keeps what is in front (>= 0) */
+    float copy_keep[4];         /* world plane: the copy keeps what is in front of the partner */
+} limen_clone;
+
+LIMEN_API int limen_plan_clones(const limen_plan *p, const limen_clone **out);
 /* Views that hit the budget or a depth limit and so were not created (their surfaces show
  * the fill colour). */
 LIMEN_API int limen_plan_truncated(const limen_plan *p);

@@ -98,6 +98,12 @@ bool limen__surface_matrix_d(limen_scene *s, const limen__node *n, double x[16])
 void limen__surface_plane_d(const limen__node *n, double plane[4]);
 void limen__surface_corners(const limen__node *n, double corners[4][3]);
 
+/* World bounding sphere of a drawable node. */
+void limen__node_bounds(const limen__node *n, double centre[3], double *radius);
+/* For each node slot: the portal (slot index) a closed shape passes through, or -1;
+ * portal_of has s->cap entries. Returns how many shapes pass through one. */
+int limen__find_straddlers(limen_scene *s, int *portal_of);
+
 static inline bool limen__finite3(const float v[3])
 {
     return isfinite(v[0]) && isfinite(v[1]) && isfinite(v[2]);

@@ -52,6 +52,8 @@ void limen_plan_destroy(limen_plan *p)
     free(p->tmp);
     free(p->pubsurf);
     free(p->pubfirst);
+    free(p->clones);
+    free(p->clone_of);
     free(p);
 }
 
@@ -214,6 +216,8 @@ static bool push_vsurf(limen_plan *p, limen__pview *v, int surf, int child, int 
     return true;
 }
 
+static limen_status collect_clones(limen_plan *p, limen_scene *s);
+
 static limen_status collect_surfaces(limen_plan *p, limen_scene *s)
 {
     p->nsurf = 0;
@@ -324,7 +328,7 @@ limen_status limen_plan_build(limen_plan *p, limen_scene *s, const limen_plan_de
         return st;
     limen__d_from_f(p->proj_f, p->proj_d);
     limen_camera_get_lens(s, limen_scene_get_camera(s), NULL, &p->znear, NULL);
-    if ((st = collect_surfaces(p, s)))
+    if ((st = collect_surfaces(p, s)) || (st = collect_clones(p, s)))
         return st;
 
     limen__pview *root = push_view(p);
@@ -432,6 +436,46 @@ limen_status limen_plan_build(limen_plan *p, limen_scene *s, const limen_plan_de
     }
     p->pubfirst[p->count] = k;
     return LIMEN_OK;
+}
+
+/* Shapes passing through portals: the copy's matrix and the two planes. */
+static limen_status collect_clones(limen_plan *p, limen_scene *s)
+{
+    p->nclones = 0;
+    if (!reserve((void **)&p->clone_of, &p->clone_of_cap, s->cap, sizeof *p->clone_of))
+        return limen__fail(s, LIMEN_ERR_NOMEM, "plan: out of memory");
+    int n = limen__find_straddlers(s, p->clone_of);
+    if (n && !reserve((void **)&p->clones, &p->clones_cap, n, sizeof *p->clones))
+        return limen__fail(s, LIMEN_ERR_NOMEM, "plan: out of memory");
+    for (int i = 0; i < s->cap; i++) {
+        int a = p->clone_of[i];
+        if (a < 0)
+            continue;
+        const limen__node *pa = &s->nodes[a], *pb = &s->nodes[pa->pair - 1];
+        double x[16], keep[4], copy_keep[4];
+        p->clone_of[i] = -1;
+        if (!limen__surface_matrix_d(s, pa, x))
+            continue;
+        limen__surface_plane_d(pa, keep);
+        limen__surface_plane_d(pb, copy_keep);
+        limen_clone *c = &p->clones[p->nclones];
+        c->node = limen__node_handle(s, i);
+        c->portal = limen__node_handle(s, a);
+        limen__d_to_f(x, c->matrix);
+        for (int k = 0; k < 4; k++) {
+            c->keep[k] = (float)keep[k];
+            c->copy_keep[k] = (float)copy_keep[k];
+        }
+        p->clone_of[i] = p->nclones++;
+    }
+    return LIMEN_OK;
+}
+
+int limen_plan_clones(const limen_plan *p, const limen_clone **out)
+{
+    if (out)
+        *out = p ? p->clones : NULL;
+    return p ? p->nclones : 0;
 }
 
 int limen_plan_view_surfaces(const limen_plan *p, int i, const limen_view_surface **out)

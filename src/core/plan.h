@@ -59,6 +59,9 @@ struct limen_plan {
     limen_view_surface *pubsurf;    /* vsurf in draw order, public form */
     int pubsurf_cap;
     int *pubfirst, pubfirst_cap;     /* per view (draw order): first index in pubsurf */
+    limen_clone *clones;            /* shapes passing through portals */
+    int nclones, clones_cap;
+    int *clone_of, clone_of_cap;    /* per node slot: index in clones, or -1 */
     int *tmp, tmp_cap;
     int *bfs_to_dfs, *dfs_to_bfs;
     int truncated;

@@ -5,9 +5,15 @@
  *
  * Camera. limen_camera_matrices(s, W/H, NO): pixel column x, GL row y (0 = bottom; PNG row
  * r is GL row H-1-r) is sampled at its centre, NDC ((x+0.5)*2/W-1, (y+0.5)*2/H-1). The ray
- * runs from the unprojected near point towards the unprojected far point, so the root
- * segment starts on the near plane: what lies nearer than the camera's near distance is
- * skipped, as the rasterizer's near clip drops it.
+ * runs from the eye through the unprojected near point. Shapes count only from the near
+ * plane on, as the rasterizer's near clip drops what is nearer; mirrors and portals count
+ * from the eye on, as the renderer draws them depth-clamped (a camera closer to a portal
+ * than its near distance still sees through it).
+ *
+ * Shapes passing through portals (limen__find_straddlers): a closed shape whose bounding
+ * sphere crosses a portal's plane over its rectangle exists only in front of that plane,
+ * and a copy carried by the portal matrix exists only in front of the partner's plane, as
+ * the renderer draws them with a second clip distance.
  *
  * Shapes, exact, in each node's unit space M = world * diag(scale): box [-0.5, 0.5]^3
  * (scale = dims), sphere of radius 1 (r, r, r), cylinder of radius 1 with y in [0, 1] and
@@ -81,6 +87,10 @@ typedef struct prim {
     int exit;                   /* prim index of the exit surface (self or partner); -1 none */
     double tint[3], back[3], fill[3];
     int max_depth;
+    /* a closed shape passing through a portal: itself, or its copy out of the partner */
+    bool has_cut;
+    double cut[4];              /* world plane; only what lies in front of it exists */
+    double unit_c[3], unit_r;   /* bounding sphere in unit space */
 } prim;
 
 /* A read-only snapshot of the scene for tracing. */
@@ -154,6 +164,27 @@ static void copy3f(const float f[3], double d[3])
     d[2] = f[2];
 }
 
+/* The inverse, normal matrix and bounding sphere of a prim from its unit-space matrix m;
+ * false (and never hit) when m is degenerate (a zero dimension draws no pixel either). */
+static bool derive(prim *p)
+{
+    if (!limen__d_inv(p->m, p->minv)) {
+        p->br = -1;
+        return false;
+    }
+    /* N = (M3^-1)^T: element (r, c) of N is element (c, r) of M^-1 */
+    for (int c = 0; c < 3; c++)
+        for (int r = 0; r < 3; r++)
+            p->nmat[c * 3 + r] = p->minv[r * 4 + c];
+    limen__d_point(p->m, p->unit_c, p->bc);
+    double frob = 0;
+    for (int c = 0; c < 3; c++)
+        for (int r = 0; r < 3; r++)
+            frob += p->m[c * 4 + r] * p->m[c * 4 + r];
+    p->br = sqrt(frob) * p->unit_r * (1.0 + 1e-9);
+    return true;
+}
+
 static void setup_prim(limen_scene *s, const limen__node *n, prim *p)
 {
     memset(p, 0, sizeof *p);
@@ -186,26 +217,16 @@ static void setup_prim(limen_scene *s, const limen__node *n, prim *p)
         unit_r = sqrt(0.5);
         break;
     }
+    p->unit_c[1] = unit_c[1];
+    p->unit_r = unit_r;
     double w[16];
     limen__d_from_f(&n->world[0][0], w);
     memcpy(p->m, w, sizeof w);
     for (int c = 0; c < 3; c++)
         for (int r = 0; r < 4; r++)
             p->m[c * 4 + r] *= p->scale[c];
-    if (!limen__d_inv(p->m, p->minv)) {
-        p->br = -1;     /* degenerate (a zero dimension): never hit, as it draws no pixel */
+    if (!derive(p))
         return;
-    }
-    /* N = (M3^-1)^T: element (r, c) of N is element (c, r) of M^-1 */
-    for (int c = 0; c < 3; c++)
-        for (int r = 0; r < 3; r++)
-            p->nmat[c * 3 + r] = p->minv[r * 4 + c];
-    limen__d_point(p->m, unit_c, p->bc);
-    double frob = 0;
-    for (int c = 0; c < 3; c++)
-        for (int r = 0; r < 3; r++)
-            frob += p->m[c * 4 + r] * p->m[c * 4 + r];
-    p->br = sqrt(frob) * unit_r * (1.0 + 1e-9);
     copy3f(n->color, p->color);
     copy3f(n->checker_b, p->checker_b);
     p->cell = n->checker_cell;
@@ -242,10 +263,12 @@ static limen_status tracer_init(tracer *t, limen_scene *s, const char *fn)
             count++;
     }
     size_t cap = s->cap > 0 ? (size_t)s->cap : 1;
-    t->prims = malloc(sizeof *t->prims * (size_t)(count > 0 ? count : 1));
-    int *slot = malloc(sizeof *slot * cap);
-    if (!t->prims || !slot) {
+    int *slot = malloc(sizeof *slot * cap), *through = malloc(sizeof *through * cap);
+    int clones = through ? limen__find_straddlers(s, through) : 0;
+    t->prims = malloc(sizeof *t->prims * (size_t)(count + clones > 0 ? count + clones : 1));
+    if (!t->prims || !slot || !through) {
         free(slot);
+        free(through);
         tracer_free(t);
         return limen__fail(s, LIMEN_ERR_NOMEM, "%s: out of memory", fn);
     }
@@ -272,7 +295,23 @@ static limen_status tracer_init(tracer *t, limen_scene *s, const char *fn)
         else if (n->kind == LIMEN_NODE_PORTAL && p->has_x)
             p->exit = slot[n->pair - 1];
     }
+    /* shapes passing through portals: cut at the entry, and a copy out of the partner */
+    for (int i = 0; i < s->cap; i++) {
+        int a = through[i];
+        double x[16];
+        if (a < 0 || slot[i] < 0 || !limen__surface_matrix_d(s, &s->nodes[a], x))
+            continue;
+        prim *orig = &t->prims[slot[i]], *copy = &t->prims[t->n];
+        orig->has_cut = true;
+        limen__surface_plane_d(&s->nodes[a], orig->cut);
+        *copy = *orig;
+        limen__d_mul(x, orig->m, copy->m);
+        limen__surface_plane_d(&s->nodes[s->nodes[a].pair - 1], copy->cut);
+        if (derive(copy))
+            t->n++;
+    }
     free(slot);
+    free(through);
     t->ambient = s->ambient;
     copy3f(s->background, t->background);
     return LIMEN_OK;
@@ -398,8 +437,8 @@ static bool hit_flat(const double o[3], const double d[3], double tmin, double t
 /* The nearest hit along o + t d (d a unit vector) with tmin < t, leaving out prim `skip`
  * and portals seen from behind. Returns the prim index or -1; *t, the unit-space point and
  * the unit-space normal of the hit. */
-static int nearest(const tracer *tr, const double o[3], const double d[3], double tmin,
-                   int skip, double *t_out, double pu[3], double nu[3])
+static int nearest(const tracer *tr, const double o[3], const double d[3], double tmin_shape,
+                   double tmin_surface, int skip, double *t_out, double pu[3], double nu[3])
 {
     int best = -1;
     double tbest = INFINITY;
@@ -409,6 +448,8 @@ static int nearest(const tracer *tr, const double o[3], const double d[3], doubl
             continue;
         if (p->kind == LIMEN_NODE_PORTAL && dot3(p->plane, d) >= 0)
             continue;   /* from behind (or edge on): empty air */
+        double tmin = p->kind == LIMEN_NODE_MIRROR || p->kind == LIMEN_NODE_PORTAL ? tmin_surface
+                                                                                    : tmin_shape;
         /* bounding sphere: distance of its centre from the line, and t range */
         double oc[3] = { p->bc[0] - o[0], p->bc[1] - o[1], p->bc[2] - o[2] };
         double tc = dot3(oc, d);
@@ -436,6 +477,13 @@ static int nearest(const tracer *tr, const double o[3], const double d[3], doubl
         }
         if (!hit)
             continue;
+        if (p->has_cut) {
+            /* entered on the cut-away side: the renderer draws nothing of it there (its
+             * back faces are culled), so neither does the tracer */
+            double w[3] = { o[0] + t * d[0], o[1] + t * d[1], o[2] + t * d[2] };
+            if (limen__d_plane_dist(p->cut, w) < 0)
+                continue;
+        }
         best = i;
         tbest = t;
         memcpy(nu, n, sizeof n);
@@ -498,13 +546,13 @@ static void shade(const tracer *tr, const prim *p, const double albedo_a[3], con
  * skipped on the first segment. global: limit on surfaces passed. rgb gets the colour;
  * rec, if not NULL, where it ended. */
 static void follow(const tracer *tr, const double o_in[3], const double d_in[3], double tmin0,
-                   int global, double rgb[3], record *rec)
+                   double tmin_surface0, int global, double rgb[3], record *rec)
 {
     double o[3], d[3], tint[3] = { 1, 1, 1 };
     memcpy(o, o_in, sizeof o);
     memcpy(d, d_in, sizeof d);
     double len = sqrt(dot3(d, d));
-    double tmin = tmin0 * len;
+    double tmin = tmin0 * len, tmin_surface = tmin_surface0 * len;
     normalize3(d);
     int skip = -1, passed = 0;
     double travelled = 0;
@@ -516,7 +564,7 @@ static void follow(const tracer *tr, const double o_in[3], const double d_in[3],
     }
     for (;;) {
         double t, pu[3], nu[3];
-        int hi = nearest(tr, o, d, tmin, skip, &t, pu, nu);
+        int hi = nearest(tr, o, d, tmin, tmin_surface, skip, &t, pu, nu);
         if (rec) {
             memcpy(rec->seg_o, o, sizeof o);
             memcpy(rec->seg_d, d, sizeof d);
@@ -561,6 +609,7 @@ static void follow(const tracer *tr, const double o_in[3], const double d_in[3],
             break;
         skip = p->exit;
         tmin = 1e-9 * (1.0 + fmax(fabs(o[0]), fmax(fabs(o[1]), fabs(o[2]))));
+        tmin_surface = tmin;
     }
     if (rec) {
         rec->count = passed;
@@ -596,7 +645,7 @@ limen_status limen_ray_cast(limen_scene *s, const float origin[3], const float d
         return st;
     record rec;
     double rgb[3];
-    follow(&tr, o, d, 0.0, max_bounces < 0 ? GLOBAL_NONE : max_bounces, rgb, &rec);
+    follow(&tr, o, d, 0.0, 0.0, max_bounces < 0 ? GLOBAL_NONE : max_bounces, rgb, &rec);
     memset(out, 0, sizeof *out);
     out->hit = rec.hit;
     out->distance = (float)rec.distance;
@@ -621,6 +670,7 @@ limen_status limen_ray_cast(limen_scene *s, const float origin[3], const float d
 typedef struct job {
     const tracer *tr;
     double inv_vp[16];          /* (proj * view)^-1 */
+    double eye[3];
     int width, height, global;
     int first, step;            /* rows first, first + step, ... (PNG order) */
     unsigned char *rgb;
@@ -644,9 +694,15 @@ static void *trace_rows(void *arg)
             double pn[3], pf[3], d[3], rgb[3];
             limen__d_point(j->inv_vp, (double[3]){ nx, ny, -1.0 }, pn);
             limen__d_point(j->inv_vp, (double[3]){ nx, ny, 1.0 }, pf);
-            for (int k = 0; k < 3; k++)
+            /* from the eye: shapes count from the near plane on (the rasterizer's near clip),
+             * mirrors and portals from the eye on (the renderer draws them depth-clamped) */
+            double near_t[3];
+            for (int k = 0; k < 3; k++) {
                 d[k] = pf[k] - pn[k];
-            follow(j->tr, pn, d, 0.0, j->global, rgb, NULL);
+                near_t[k] = pn[k] - j->eye[k];
+            }
+            double tn = sqrt(dot3(near_t, near_t) / dot3(d, d));
+            follow(j->tr, j->eye, d, tn, 1e-12, j->global, rgb, NULL);
             for (int k = 0; k < 3; k++)
                 dst[3 * x + k] = to_byte(rgb[k]);
         }
@@ -688,8 +744,11 @@ limen_status limen_trace_image(limen_scene *s, const limen_trace_desc *desc, uns
     limen__d_from_f(view, vd);
     limen__d_from_f(proj, pd);
     limen__d_mul(pd, vd, vp);
-    if (!limen__d_inv(vp, base.inv_vp))
+    double vinv[16];
+    if (!limen__d_inv(vp, base.inv_vp) || !limen__d_inv(vd, vinv))
         return limen__fail(s, LIMEN_ERR_DEGENERATE, "trace: the camera's matrices are singular");
+    for (int k = 0; k < 3; k++)
+        base.eye[k] = vinv[12 + k];
     tracer tr;
     if ((st = tracer_init(&tr, s, "trace")))
         return st;

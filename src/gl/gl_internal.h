@@ -13,7 +13,7 @@
 #define LIMEN__MAX_LEVELS 256
 
 typedef struct uniforms {
-    GLint model, normal_mat, view_proj, eye, clip_plane, albedo, albedo_b, cell, scale, shape,
+    GLint model, normal_mat, view_proj, eye, clip_plane, clip_plane2, albedo, albedo_b, cell, scale, shape,
         quad, mode, tint, tex, tex_map, ambient, nlights, light_pos, light_col;
 } uniforms;
 

@@ -41,12 +41,13 @@ static const char *vs_src =
     "layout(location = 0) in vec3 a_pos;\n"
     "layout(location = 1) in vec3 a_nrm;\n"
     "uniform mat4 u_model, u_view_proj;\n"
-    "uniform vec4 u_clip_plane;\n"
+    "uniform vec4 u_clip_plane, u_clip_plane2;\n"
     "out vec3 v_world, v_local, v_nrm;\n"
     "void main() {\n"
     "    vec4 w = u_model * vec4(a_pos, 1.0);\n"
     "    v_world = w.xyz; v_local = a_pos; v_nrm = a_nrm;\n"
     "    gl_ClipDistance[0] = dot(u_clip_plane, w);\n"
+    "    gl_ClipDistance[1] = dot(u_clip_plane2, w);\n"
     "    gl_Position = u_view_proj * w;\n"
     "}\n";
 
@@ -163,6 +164,7 @@ static limen_status build_program(limen_renderer *r)
     U(view_proj, "u_view_proj");
     U(eye, "u_eye");
     U(clip_plane, "u_clip_plane");
+    U(clip_plane2, "u_clip_plane2");
     U(albedo, "u_albedo");
     U(albedo_b, "u_albedo_b");
     U(cell, "u_cell");

@@ -57,36 +57,20 @@ static void cull_planes(limen_renderer *r, rview *v, const int *rect)
         memcpy(v->cull[v->ncull++], v->pub->clip_plane, sizeof(float) * 4);
 }
 
-/* Bounding sphere of a drawable node in world space. */
-static void bounds(const limen__node *n, vec3 centre, float *radius)
+/* carry: an extra world transform (a clone's portal matrix), or NULL. */
+static bool outside(const rview *v, const limen__node *n, const float *carry)
 {
-    vec4 local = { 0, 0, 0, 1 };
-    float r = 0;
-    switch (n->kind) {
-    case LIMEN_NODE_BOX: r = 0.5f * glm_vec3_norm((float *)n->dims); break;
-    case LIMEN_NODE_SPHERE: r = n->dims[0]; break;
-    case LIMEN_NODE_CYLINDER:
-        local[1] = 0.5f * n->dims[1];
-        r = sqrtf(n->dims[0] * n->dims[0] + local[1] * local[1]);
-        break;
-    default: r = 0.5f * sqrtf(n->dims[0] * n->dims[0] + n->dims[1] * n->dims[1]); break;
+    double c[3], rad;
+    limen__node_bounds(n, c, &rad);
+    vec3 cf = { (float)c[0], (float)c[1], (float)c[2] };
+    if (carry) {
+        mat4 m;
+        memcpy(m, carry, sizeof m);
+        glm_mat4_mulv3(m, cf, 1.0f, cf);
+        rad *= glm_vec3_norm(m[0]);
     }
-    vec4 c;
-    glm_mat4_mulv((vec4 *)n->world, local, c);
-    glm_vec3_copy(c, centre);
-    float stretch = fmaxf(glm_vec3_norm((float *)n->world[0]),
-                          fmaxf(glm_vec3_norm((float *)n->world[1]),
-                                glm_vec3_norm((float *)n->world[2])));
-    *radius = r * stretch;
-}
-
-static bool outside(const rview *v, const limen__node *n)
-{
-    vec3 c;
-    float rad;
-    bounds(n, c, &rad);
     for (int i = 0; i < v->ncull; i++)
-        if (glm_vec3_dot((float *)v->cull[i], c) + v->cull[i][3] < -rad)
+        if (glm_vec3_dot((float *)v->cull[i], cf) + v->cull[i][3] < -(float)rad)
             return true;
     return false;
 }
@@ -157,7 +141,7 @@ static void set_lights(limen_renderer *r, limen_scene *s)
 
 /* Which mesh, and how the unit mesh is scaled, for a node; false if it draws nothing. */
 static bool node_mesh(limen_renderer *r, const rview *v, const limen__node *node,
-                      limen__range *range, vec3 scale, int *shape)
+                      mat4 world, limen__range *range, vec3 scale, int *shape)
 {
     float radius = 0;
     *shape = 0;
@@ -187,11 +171,10 @@ static bool node_mesh(limen_renderer *r, const rview *v, const limen__node *node
     }
     /* Level of detail from the projected size: the largest world-space stretch of the
      * node's axes times the radius, over the view distance of its centre. */
-    float stretch = fmaxf(glm_vec3_norm((float *)node->world[0]),
-                          fmaxf(glm_vec3_norm((float *)node->world[1]),
-                                glm_vec3_norm((float *)node->world[2])));
+    float stretch = fmaxf(glm_vec3_norm(world[0]),
+                          fmaxf(glm_vec3_norm(world[1]), glm_vec3_norm(world[2])));
     float world_r = radius * stretch;
-    vec4 centre = { node->world[3][0], node->world[3][1], node->world[3][2], 1.0f };
+    vec4 centre = { world[3][0], world[3][1], world[3][2], 1.0f };
     vec4 vc;
     glm_mat4_mulv((vec4 *)v->view, centre, vc);
     /* a view matrix through scaled portals scales distances: measure in its own units */
@@ -206,17 +189,17 @@ static bool node_mesh(limen_renderer *r, const rview *v, const limen__node *node
 }
 
 /* Draws one node's mesh; `mode` lit, flat or textured with colour `albedo`. */
-static void draw_node(limen_renderer *r, const rview *v, const limen__node *node, int mode,
-                      const float *albedo)
+static void draw_node_at(limen_renderer *r, const rview *v, const limen__node *node,
+                         mat4 world, int mode, const float *albedo)
 {
     limen__range range;
     vec3 scale;
     int shape;
-    if (!node_mesh(r, v, node, &range, scale, &shape))
+    if (!node_mesh(r, v, node, world, &range, scale, &shape))
         return;
     mat4 model;
     mat3 nm;
-    glm_mat4_copy((vec4 *)node->world, model);
+    glm_mat4_copy(world, model);
     glm_scale(model, scale);
     glm_mat4_pick3(model, nm);
     glm_mat3_inv(nm, nm);
@@ -232,7 +215,10 @@ static void draw_node(limen_renderer *r, const rview *v, const limen__node *node
     GL(Uniform1i)(r->u.mode, mode);
     /* Mirrors and portals are not cut by the near plane: a camera closer to one than its
      * near distance still sees through it (and the ray tracer agrees). */
-    if (limen__is_surface(node))
+    /* In a view cut by a user clip plane (the eye too near its exit surface for an oblique
+     * near plane) the clip plane alone cuts: its own near plane would also drop what lies
+     * just in front of the exit. */
+    if (limen__is_surface(node) || (v->pub->clip == LIMEN_CLIP_PLANE && v->pub->depth > 0))
         GL(Enable)(GL_DEPTH_CLAMP);
     else
         GL(Disable)(GL_DEPTH_CLAMP);
@@ -245,14 +231,50 @@ static void draw_node(limen_renderer *r, const rview *v, const limen__node *node
                      (void *)(sizeof(uint32_t) * range.first));
 }
 
+static void draw_node(limen_renderer *r, const rview *v, const limen__node *node, int mode,
+                      const float *albedo)
+{
+    draw_node_at(r, v, node, (vec4 *)node->world, mode, albedo);
+}
+
+/* Clip distance 1: the cut of a shape passing through a portal (NULL: none). */
+static void set_cut(limen_renderer *r, const float *plane)
+{
+    static const float keep_all[4] = { 0, 0, 0, 1 };
+    GL(Uniform4fv)(r->u.clip_plane2, 1, plane ? plane : keep_all);
+    if (plane)
+        GL(Enable)(GL_CLIP_DISTANCE1);
+    else
+        GL(Disable)(GL_CLIP_DISTANCE1);
+}
+
 static void draw_geometry(limen_renderer *r, limen_scene *s, const rview *v)
 {
+    const limen_plan *p = r->plan;
     for (int i = 0; i < s->cap; i++) {
         limen__node *node = &s->nodes[i];
         if (!limen__alive(node) || !node->visible || limen__is_surface(node) ||
-            outside(v, node))
+            outside(v, node, NULL))
             continue;
+        int c = p->nclones ? p->clone_of[i] : -1;
+        if (c >= 0)
+            set_cut(r, p->clones[c].keep);
         draw_node(r, v, node, MODE_LIT, node->color);
+        if (c >= 0)
+            set_cut(r, NULL);
+    }
+    /* what has gone into a portal, coming out of its partner */
+    for (int c = 0; c < p->nclones; c++) {
+        const limen_clone *cl = &p->clones[c];
+        const limen__node *node = limen__node_get(s, cl->node);
+        if (!node || outside(v, node, cl->matrix))
+            continue;
+        mat4 carry, world;
+        memcpy(carry, cl->matrix, sizeof carry);
+        glm_mat4_mul(carry, (vec4 *)node->world, world);
+        set_cut(r, cl->copy_keep);
+        draw_node_at(r, v, node, world, MODE_LIT, node->color);
+        set_cut(r, NULL);
     }
 }
 
