@@ -164,7 +164,41 @@ static void test_shape_half_through(void)
     limen_scene_destroy(s);
 }
 
+/* The gallery's fly-through, frame by frame: out through the pair and back, every frame
+ * within the bound, and the camera back where it started. */
+static void test_flythrough_script(void)
+{
+    limen_script *sc = NULL;
+    limen_status st = limen_script_load("scenes/flythrough.lua", NULL, &sc);
+    CHECK_MSG(st == LIMEN_OK, "%s", limen_script_error(sc));
+    limen_renderer *r = NULL;
+    CHECK_OK(limen_renderer_create(&(limen_renderer_desc){ .width = W, .height = H }, &r));
+    limen_scene *s = st ? NULL : limen_script_scene(sc);
+    float start[3] = { 0, 0, 0 }, p[3];
+    if (s)
+        CHECK_OK(limen_node_get_position(s, limen_scene_get_camera(s), start));
+    for (int f = 1; f <= 16 && s && r; f++) {
+        double t = 0.5 * f;
+        CHECK_OK(limen_script_update(sc, t));
+        double share[2];
+        against_truth(r, s, share);
+        CHECK_MSG(share[0] <= BOUND && share[1] <= BOUND, "t = %.1f: %.3f%% / %.3f%% off", t,
+                  100 * share[0], 100 * share[1]);
+        CHECK_OK(limen_node_get_position(s, limen_scene_get_camera(s), p));
+        if (f == 8)
+            CHECK_MSG(p[0] > 16, "at t = 4 the camera is on the terrace (x = %.2f)", p[0]);
+    }
+    if (s) {
+        CHECK_OK(limen_node_get_position(s, limen_scene_get_camera(s), p));
+        for (int k = 0; k < 3; k++)
+            CHECK_NEAR(p[k], start[k], 1e-3);
+    }
+    limen_renderer_destroy(r);
+    limen_script_destroy(sc);
+}
+
 static const check_case cases[] = {
+    { "flythrough_script", test_flythrough_script },
     { "walk_through", test_walk_through },
     { "shape_half_through", test_shape_half_through },
     { 0 },

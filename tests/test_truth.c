@@ -13,7 +13,7 @@
 
 static const char *const scenes[] = {
     "plain", "mirror_room", "corridor", "kaleidoscope", "periscope", "water", "portals",
-    "tunnel", "portal_mirror", "portal_sizes", "moving_portal", NULL,
+    "tunnel", "portal_mirror", "portal_sizes", "moving_portal", "flythrough", NULL,
 };
 
 static double now_ms(void)

@@ -32,6 +32,12 @@
 #define LABEL_LEN 96
 #define CTX_LEN 96          /* "kind 'name'" */
 #define DEG (3.14159265358979323846 / 180.0)
+/* Coordinates, sizes, scales and distances stay within [-MAX_MAGNITUDE, MAX_MAGNITUDE] and
+ * sizes above MIN_SIZE: a float holds up to 3.4e38, and the maths squares and multiplies
+ * these (1e30 squared is infinite), so larger values overflow into Inf and NaN, and a scene
+ * drawn with them shows nothing. Within these bounds a product of four stays finite. */
+#define MAX_MAGNITUDE 1e9
+#define MIN_SIZE 1e-9
 
 /* A scene userdata owns its limen_scene. User values: 1 = table of Lua-side fields
  * (update), 2 = table handle id -> node userdata, so that a node has one userdata and
@@ -322,25 +328,32 @@ static int bad(lua_State *L, int idx, const char *ctx, const char *what, const c
     return luaL_error(L, "%s: %s must be %s (got %s)", ctx, what, must, g);
 }
 
+#define RANGE_FINITE "a number from -1e9 to 1e9"
+#define RANGE_POSITIVE "a positive number from 1e-9 to 1e9"
+
 /* A finite number (also after conversion to float). */
 static float read_number(lua_State *L, int idx, const char *ctx, const char *what)
 {
     if (lua_type(L, idx) != LUA_TNUMBER)
         bad(L, idx, ctx, what, "a number");
-    float v = (float)lua_tonumber(L, idx);
-    if (!isfinite(v))
+    double d = lua_tonumber(L, idx);
+    if (!isfinite((float)d))
         bad(L, idx, ctx, what, "a finite number");
-    return v;
+    if (fabs(d) > MAX_MAGNITUDE)
+        bad(L, idx, ctx, what, RANGE_FINITE);
+    return (float)d;
 }
 
 static float read_positive(lua_State *L, int idx, const char *ctx, const char *what)
 {
     if (lua_type(L, idx) != LUA_TNUMBER)
         bad(L, idx, ctx, what, "a positive number");
-    float v = (float)lua_tonumber(L, idx);
-    if (!isfinite(v) || !(v > 0))
+    double d = lua_tonumber(L, idx);
+    if (!isfinite((float)d) || !(d > 0))
         bad(L, idx, ctx, what, "a positive number");
-    return v;
+    if (d > MAX_MAGNITUDE || d < MIN_SIZE)
+        bad(L, idx, ctx, what, RANGE_POSITIVE);
+    return (float)d;
 }
 
 static int read_int(lua_State *L, int idx, const char *ctx, const char *what, int lo, int hi,
@@ -373,15 +386,20 @@ static void read_vec(lua_State *L, int idx, const char *ctx, const char *what, i
         lua_rawgeti(L, idx, i + 1);
         if (lua_type(L, -1) != LUA_TNUMBER)
             bad(L, -1, ctx, ew, "a number");
-        float v = (float)lua_tonumber(L, -1);
+        double d = lua_tonumber(L, -1);
+        float v = (float)d;
         if (!isfinite(v))
             bad(L, -1, ctx, ew, "a finite number");
-        if (check == ELEM_POSITIVE && !(v > 0))
+        if (check == ELEM_POSITIVE && !(d > 0))
             bad(L, -1, ctx, ew, "a positive number");
         if (check == ELEM_UNIT && !(v >= 0 && v <= 1))
             bad(L, -1, ctx, ew, "in [0, 1]");
         if (check == ELEM_NONNEG && !(v >= 0))
             bad(L, -1, ctx, ew, "a number >= 0");
+        if (check == ELEM_POSITIVE && (d < MIN_SIZE || d > MAX_MAGNITUDE))
+            bad(L, -1, ctx, ew, RANGE_POSITIVE);
+        if ((check == ELEM_FINITE || check == ELEM_NONNEG) && fabs(d) > MAX_MAGNITUDE)
+            bad(L, -1, ctx, ew, check == ELEM_FINITE ? RANGE_FINITE : "a number from 0 to 1e9");
         out[i] = v;
         lua_pop(L, 1);
     }
@@ -391,10 +409,12 @@ static void read_vec(lua_State *L, int idx, const char *ctx, const char *what, i
 static void read_scale(lua_State *L, int idx, const char *ctx, const char *what, float out[3])
 {
     if (lua_type(L, idx) == LUA_TNUMBER) {
-        float v = (float)lua_tonumber(L, idx);
-        if (!isfinite(v) || !(v > 0))
+        double d = lua_tonumber(L, idx);
+        if (!isfinite((float)d) || !(d > 0))
             bad(L, idx, ctx, what, "a positive number or a table of 3 positive numbers");
-        out[0] = out[1] = out[2] = v;
+        if (d < MIN_SIZE || d > MAX_MAGNITUDE)
+            bad(L, idx, ctx, what, RANGE_POSITIVE);
+        out[0] = out[1] = out[2] = (float)d;
     } else if (lua_istable(L, idx)) {
         read_vec(L, idx, ctx, what, 3, ELEM_POSITIVE, out);
     } else {
@@ -469,6 +489,10 @@ static void parse_field(lua_State *L, int v, int f, limen_node_kind kind, int sc
         if (len > NAME_MAX_LEN || strlen(sp->name) != len)
             luaL_error(L, "%s: %s must be a string of at most %d bytes without zeros", ctx,
                        what, NAME_MAX_LEN);
+        /* names reach messages, plans (JSON) and terminals: UTF-8 only */
+        for (size_t i = 0, n; i < len; i += n)
+            if (!(n = limen__lua_utf8_char((const unsigned char *)sp->name + i, len - i)))
+                luaL_error(L, "%s: %s must be UTF-8 text (byte %d is not)", ctx, what, (int)i + 1);
         break;
     }
     case F_PARENT:
@@ -624,6 +648,21 @@ static int c_error(lua_State *L, limen_scene *s, const char *ctx, const char *la
     return luaL_error(L, "%s: %s", ctx, msg);
 }
 
+/* c_error for a failed apply_spec: the core speaks of an eye, a target and a normal where
+ * the script wrote pos, look_at and up. */
+static int spec_error(lua_State *L, limen_scene *s, const char *ctx, const char *label,
+                      const spec *sp)
+{
+    const char *m = limen_last_error(s);
+    if (HAVE(sp, F_LOOK_AT) && strcmp(m, "look_at: eye and target coincide") == 0)
+        return luaL_error(L, "%s: look_at: the target is the camera's own position, so it "
+                             "looks nowhere", ctx);
+    if (HAVE(sp, F_LOOK_AT) && strstr(m, "up: must not be zero or parallel"))
+        return luaL_error(L, "%s: up: must not be zero or parallel to the view direction (from "
+                             "the position to look_at)", ctx);
+    return c_error(L, s, ctx, label);
+}
+
 /* ------------------------------------------------------------------ node constructors */
 
 /* Reads the constructor table at t (fields in `allowed`) into sp, checking everything;
@@ -682,6 +721,13 @@ static limen_node create_node(lua_State *L, int scene_idx, limen_node_kind kind,
     lscene *ls = lua_touserdata(L, scene_idx);
     limen_node n;
     limen_status st = limen_node_create(ls->s, kind, sp->name, &n);
+    if (st == LIMEN_ERR_NOMEM) {
+        int count = limen_scene_node_count(ls->s);
+        if (also.id)
+            forget_node(L, scene_idx, also);
+        luaL_error(L, "%s: the scene is full: it has %d nodes (limen.scene{max_nodes = n} "
+                      "allows more)", ctx, count);
+    }
     if (!st) {
         st = limen_node_set_label(ls->s, n, label);
         if (!st)
@@ -694,7 +740,7 @@ static limen_node create_node(lua_State *L, int scene_idx, limen_node_kind kind,
     if (st) {
         if (also.id)
             forget_node(L, scene_idx, also);
-        c_error(L, ls->s, ctx, label);
+        spec_error(L, ls->s, ctx, label, sp);
     }
     push_node(L, scene_idx, n);
     lnode *nd = lua_touserdata(L, -1);
@@ -934,7 +980,7 @@ static int l_node_newindex(lua_State *L)
     parse_field(L, 3, f, nd->kind, 4, ctx, &sp);
     check_spec(L, s, nd->n, ctx, &sp);
     if (apply_spec(s, nd->n, &sp))
-        return c_error(L, s, ctx, nd->label);
+        return spec_error(L, s, ctx, nd->label, &sp);
     return 0;
 }
 
@@ -1001,7 +1047,7 @@ static int l_node_look_at(lua_State *L)
         sp.have |= BIT(F_UP);
     }
     if (apply_spec(s, nd->n, &sp))
-        return c_error(L, s, ctx, nd->label);
+        return spec_error(L, s, ctx, nd->label, &sp);
     return 0;
 }
 
@@ -1021,6 +1067,36 @@ static int l_node_link(lua_State *L)
     return 0;
 }
 
+/* node:move(dx, dy, dz) or node:move{dx, dy, dz}: moves by a world-space displacement,
+ * through any portal the node's origin passes. Returns the number of portals passed, the
+ * last one (or nil), and the matrix that carries vectors (velocities) the same way. */
+static int l_node_move(lua_State *L)
+{
+    limen_scene *s;
+    lua_settop(L, 4);
+    lnode *nd = check_node(L, 1, &s);   /* pushes the scene userdata at 5 */
+    char ctx[CTX_LEN];
+    node_ctx(nd, ctx, sizeof ctx);
+    float d[3];
+    if (lua_istable(L, 2)) {
+        read_vec(L, 2, ctx, "move: displacement", 3, ELEM_FINITE, d);
+    } else {
+        for (int i = 0; i < 3; i++) {
+            lua_Number x = luaL_checknumber(L, 2 + i);
+            if (!isfinite(x))
+                return luaL_error(L, "%s: move: displacement must be finite", ctx);
+            d[i] = (float)x;
+        }
+    }
+    limen_move_result mr;
+    if (limen_node_move(s, nd->n, d, &mr))
+        return c_error(L, s, ctx, nd->label);
+    lua_pushinteger(L, mr.crossed);
+    push_node(L, 5, mr.portal);
+    push_vec(L, mr.matrix, 16, 1);
+    return 3;
+}
+
 static int l_node_tostring(lua_State *L)
 {
     lnode *nd = luaL_checkudata(L, 1, NODE_MT);
@@ -1038,6 +1114,7 @@ static const luaL_Reg node_methods[] = {
     { "face", l_node_face },
     { "look_at", l_node_look_at },
     { "link", l_node_link },
+    { "move", l_node_move },
     { NULL, NULL }
 };
 
@@ -1360,7 +1437,56 @@ static int l_scene_render(lua_State *L)
     return 1;
 }
 
+/* s:cast(origin, direction [, bounces]): follows a ray through mirrors and portals (the
+ * ray tracer's rules) and returns what it hits: { hit, point, normal, distance, node, color,
+ * surfaces = { the mirrors and portals passed, in order }, out = { origin, direction of
+ * the last segment } }. bounces: a limit on surfaces passed (default: their own limits). */
+static int l_scene_cast(lua_State *L)
+{
+    lscene *ls = check_scene(L, 1);
+    lua_settop(L, 4);
+    float o[3], d[3];
+    read_vec(L, 2, "cast", "origin", 3, ELEM_FINITE, o);
+    read_vec(L, 3, "cast", "direction", 3, ELEM_FINITE, d);
+    int bounces = -1;
+    if (!lua_isnoneornil(L, 4))
+        bounces = read_int(L, 4, "cast", "bounces", 0, 255, "an integer in [0, 255]");
+    limen_hit h;
+    if (limen_ray_cast(ls->s, o, d, bounces, &h))
+        return luaL_error(L, "cast: %s", limen_last_error(ls->s));
+    lua_createtable(L, 0, 9);
+    lua_pushboolean(L, h.hit);
+    lua_setfield(L, -2, "hit");
+    if (h.hit) {
+        push_vec(L, h.point, 3, 1);
+        lua_setfield(L, -2, "point");
+        push_vec(L, h.normal, 3, 1);
+        lua_setfield(L, -2, "normal");
+        push_float(L, h.distance);
+        lua_setfield(L, -2, "distance");
+        push_node(L, 1, h.node);
+        lua_setfield(L, -2, "node");
+    }
+    push_vec(L, h.color, 3, 1);
+    lua_setfield(L, -2, "color");
+    int n = h.surface_count < LIMEN_HIT_MAX_SURFACES ? h.surface_count : LIMEN_HIT_MAX_SURFACES;
+    lua_createtable(L, n, 0);
+    for (int i = 0; i < n; i++) {
+        push_node(L, 1, h.surfaces[i]);
+        lua_rawseti(L, -2, i + 1);
+    }
+    lua_setfield(L, -2, "surfaces");
+    lua_createtable(L, 0, 2);
+    push_vec(L, h.seg_origin, 3, 1);
+    lua_setfield(L, -2, "origin");
+    push_vec(L, h.seg_dir, 3, 1);
+    lua_setfield(L, -2, "direction");
+    lua_setfield(L, -2, "out");
+    return 1;
+}
+
 static const luaL_Reg scene_methods[] = {
+    { "cast", l_scene_cast },
     { "group", l_scene_group },
     { "box", l_scene_box },
     { "sphere", l_scene_sphere },
