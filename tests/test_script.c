@@ -13,13 +13,13 @@
 /* ------------------------------------------------------------------ scratch files */
 
 static char dir[64];
-static char files[64][128];
+static char files[128][128];
 static int nfiles;
 
 /* Writes text to dir/name and returns the path (valid until the end of the run). */
 static const char *script(const char *name, const char *text)
 {
-    char *path = files[nfiles < 64 ? nfiles++ : 63];
+    char *path = files[nfiles < 128 ? nfiles++ : 127];
     snprintf(path, sizeof files[0], "%s/%s", dir, name);
     FILE *f = fopen(path, "wb");
     if (f) {
@@ -262,11 +262,19 @@ static const bad_script bad[] = {
     { "runtime", HEAD "local x\nx.y = 1\nreturn s\n", 4,
       "attempt to index a nil value (local 'x')", LIMEN_ERR_SCRIPT, 0 },
     { "error_call", HEAD "error(\"no floor\")\n", 3, "no floor", LIMEN_ERR_SCRIPT, 0 },
-    { "error_table", HEAD "error({})\n", 0, "(error object is a table value)", LIMEN_ERR_SCRIPT, 0 },
-    { "no_return", HEAD "s:sphere {}\n", 0, "script must return a scene (limen.scene{...})",
+    { "error_table", HEAD "error({})\n", 3, "(error object is a table value)", LIMEN_ERR_SCRIPT, 0 },
+    { "error_level0", HEAD "error(\"no place\", 0)\n", 3, "no place", LIMEN_ERR_SCRIPT, 0 },
+    { "error_lines", HEAD "error(\"two\\nlines\\tand \\255\")\n", 3, "two\\nlines\\tand \\xFF",
       LIMEN_ERR_SCRIPT, 0 },
-    { "returns_node", HEAD "return s:sphere {}\n", 0,
-      "script must return a scene (limen.scene{...})", LIMEN_ERR_SCRIPT, 0 },
+    { "no_return", HEAD "s:sphere {}\n", 0,
+      "script must return a scene (limen.scene{...}); it returned nothing", LIMEN_ERR_SCRIPT, 0 },
+    { "returns_nil", HEAD "return nil\n", 0,
+      "script must return a scene (limen.scene{...}); it returned nil", LIMEN_ERR_SCRIPT, 0 },
+    { "returns_number", HEAD "return 42\n", 0,
+      "script must return a scene (limen.scene{...}); it returned a number", LIMEN_ERR_SCRIPT, 0 },
+    { "returns_node", HEAD "return s:sphere { name = \"b\" }\n", 0,
+      "script must return a scene (limen.scene{...}); it returned limen.sphere 'b'",
+      LIMEN_ERR_SCRIPT, 0 },
     { "wrong_type", HEAD "s:sphere { radius = \"big\" }\nreturn s\n", 3,
       "sphere: field 'radius' must be a positive number (got \"big\")", LIMEN_ERR_SCRIPT, 0 },
     { "nan", HEAD "s:sphere { pos = {0, 0/0, 0} }\nreturn s\n", 3,
@@ -317,6 +325,20 @@ static const bad_script bad[] = {
       "attempt to call a nil value (global 'dofile')", LIMEN_ERR_SCRIPT, 0 },
     { "require_io", HEAD "local io = require \"io\"\nreturn s\n", 3,
       "module 'io' is not available to a safe scene script", LIMEN_ERR_SCRIPT, 0 },
+    { "require_c_module", HEAD "package.cpath = \"/usr/lib/x86_64-linux-gnu/lua/5.4/?.so\"\n"
+      "require \"lpeg\"\n", 4, "module 'lpeg' is not available to a safe scene script",
+      LIMEN_ERR_SCRIPT, 0 },
+    { "loadlib", HEAD "package.loadlib(\"liblua5.4.so\", \"luaopen_io\")\n", 3,
+      "attempt to call a nil value (field 'loadlib')", LIMEN_ERR_SCRIPT, 0 },
+    { "io_via_load", HEAD "assert(load(\"return io\"))().open(\"/etc/passwd\")\n", 3,
+      "attempt to index a nil value", LIMEN_ERR_SCRIPT, 0 },
+    { "gc_metamethod", HEAD "setmetatable({}, { __gc = function() while true do end end })\n", 3,
+      "setmetatable: __gc metamethods are not available to a safe scene script (finalizers "
+      "run outside its instruction budget)", LIMEN_ERR_SCRIPT, 0 },
+    { "wrapped_names", HEAD "table.insert(nil, 1)\n", 3,
+      "bad argument #1 to 'insert' (table expected, got nil)", LIMEN_ERR_SCRIPT, 0 },
+    { "wrapped_method", HEAD "local x = (\"a\"):rep({})\n", 3,
+      "bad argument #1 to 'rep' (number expected, got table)", LIMEN_ERR_SCRIPT, 0 },
     { "require_preload", HEAD "package.preload.m = function() return 5 end\n"
       "assert(require \"m\" == 5 and require \"string\" == string)\nerror(\"fine\")\n", 5,
       "fine", LIMEN_ERR_SCRIPT, 0 },
@@ -418,6 +440,224 @@ static void test_repeat(void)
     }
 }
 
+/* ------------------------------------------------------------------ limits */
+
+/* The buffer loader is internal (src/lua/lua_internal.h, which tests do not include). */
+limen_status limen__script_load_buffer(const char *name, const char *buf, size_t len,
+                                       const limen_script_desc *desc, limen_script **out);
+
+/* Loads text as dir/name with the given limits. */
+static limen_status load_limited(const char *name, const char *text, int64_t budget,
+                                 int64_t cap, limen_script **out)
+{
+    const char *path = script(name, text);
+    return limen_script_load(path, &(limen_script_desc){ .instruction_budget = budget,
+                                                         .memory_cap = cap }, out);
+}
+
+/* Checks that sc's message is "dir/name:line: msg" ("dir/name: msg" for line 0). */
+static void expect_message(const limen_script *sc, const char *name, int line, const char *msg)
+{
+    char want[512];
+    if (line)
+        snprintf(want, sizeof want, "%s/%s:%d: %s", dir, name, line, msg);
+    else
+        snprintf(want, sizeof want, "%s/%s: %s", dir, name, msg);
+    CHECK_MSG(sc && strcmp(limen_script_error(sc), want) == 0, "%s:\n    got      '%s'\n"
+              "    expected '%s'", name, sc ? limen_script_error(sc) : "(no script)", want);
+}
+
+#define BUDGET_MSG "script exceeded its instruction budget (100000)"
+
+/* An endless loop at load ends with the budget error, however the script tries to catch it:
+ * pcall, xpcall with a handler that loops too, a coroutine, a to-be-closed variable. */
+static void test_budget_load(void)
+{
+    static const struct { const char *name, *text; int line; } loops[] = {
+        { "loop.lua", HEAD "local i = 0\nwhile true do i = i + 1 end\n", 4 },
+        { "loop_pcall.lua", HEAD "while true do\n  pcall(function() while true do end end)\nend\n",
+          4 },
+        { "loop_xpcall.lua", HEAD "local function h() while true do end end\n"
+          "while true do xpcall(function() while true do end end, h) end\n", 4 },
+        { "loop_coroutine.lua", HEAD "local co = coroutine.wrap(function()\n"
+          "  while true do pcall(function() while true do end end) end\nend)\nco()\n", 4 },
+        { "loop_close.lua", HEAD "local t <close> = setmetatable({}, { __close = function()\n"
+          "  while true do end end })\nwhile true do end\n", 5 },
+        { "loop_recurse.lua", HEAD "local function f(n) return f(n + 1) end\nf(1)\n", 3 },
+    };
+    for (size_t i = 0; i < sizeof loops / sizeof loops[0]; i++) {
+        limen_script *sc = NULL;
+        CHECK_MSG(load_limited(loops[i].name, loops[i].text, 100000, 0, &sc) == LIMEN_ERR_SCRIPT,
+                  "%s", loops[i].name);
+        expect_message(sc, loops[i].name, loops[i].line, BUDGET_MSG);
+        CHECK(limen_script_scene(sc) == NULL);
+        CHECK(limen_script_update(sc, 0) == LIMEN_ERR_SCRIPT);
+        limen_script_destroy(sc);
+    }
+}
+
+/* An endless loop in update stops the script; its scene stays readable; later updates fail at
+ * once with the same message. */
+static void test_budget_update(void)
+{
+    limen_script *sc = NULL;
+    CHECK_OK(load_limited("upd_loop.lua", HEAD "local b = s:sphere { name = \"b\" }\n"
+                          "function s.update(t)\n  b.pos = {t, 0, 0}\n"
+                          "  if t > 1 then while true do end end\nend\nreturn s\n",
+                          100000, 0, &sc));
+    CHECK_OK(limen_script_update(sc, 0.5));
+    CHECK(limen_script_update(sc, 2) == LIMEN_ERR_SCRIPT);
+    expect_message(sc, "upd_loop.lua", 6, BUDGET_MSG);
+    CHECK(limen_script_update(sc, 0.5) == LIMEN_ERR_SCRIPT);
+    expect_message(sc, "upd_loop.lua", 6, BUDGET_MSG);
+    limen_scene *s = limen_script_scene(sc);
+    CHECK(s != NULL && limen_scene_node_count(s) == 1);
+    float p[3] = { 0 };
+    if (s)
+        CHECK_OK(limen_node_get_position(s, find(s, "b"), p));
+    CHECK(p[0] == 2);   /* what update did before the loop */
+    CHECK(limen_script_animated(sc) == 1);
+    limen_script_destroy(sc);
+}
+
+/* 0 means the default budget (50 million); a negative budget means none. */
+static void test_budget_default(void)
+{
+    const char *text = HEAD "for i = 1, 6e7 do end\nreturn s\n";   /* 6e7 instructions */
+    limen_script *sc = NULL;
+    CHECK(load_limited("long.lua", text, 0, 0, &sc) == LIMEN_ERR_SCRIPT);
+    expect_message(sc, "long.lua", 3, "script exceeded its instruction budget (50000000)");
+    limen_script_destroy(sc);
+    CHECK_OK(load_limited("long.lua", text, -1, 0, &sc));
+    limen_script_destroy(sc);
+    /* a trusted script keeps its budget */
+    const char *path = script("trusted_loop.lua", HEAD "while true do end\n");
+    CHECK(limen_script_load(path, &(limen_script_desc){ .trusted = 1, .instruction_budget = 1000 },
+                            &sc) == LIMEN_ERR_SCRIPT);
+    expect_message(sc, "trusted_loop.lua", 3, "script exceeded its instruction budget (1000)");
+    limen_script_destroy(sc);
+}
+
+/* A memory bomb ends with "not enough memory" naming the cap and the line. */
+static void test_memory_load(void)
+{
+    limen_script *sc = NULL;
+    CHECK(load_limited("bomb.lua", HEAD "local t = {}\nfor i = 1, 1e8 do\n  t[i] = { i }\nend\n"
+                       "return s\n", 0, 1 << 20, &sc) == LIMEN_ERR_SCRIPT);
+    expect_message(sc, "bomb.lua", 5, "not enough memory (script memory cap 1 MiB)");
+    limen_script_destroy(sc);
+    CHECK(load_limited("bomb_rep.lua", HEAD "local x = string.rep(\"x\", 4 << 20)\nreturn s\n", 0,
+                       1 << 20, &sc) == LIMEN_ERR_SCRIPT);
+    expect_message(sc, "bomb_rep.lua", 3, "not enough memory (script memory cap 1 MiB)");
+    limen_script_destroy(sc);
+    CHECK(load_limited("bomb_concat.lua", HEAD "local x = \"x\"\nwhile true do x = x .. x end\n", 0,
+                       1 << 20, &sc) == LIMEN_ERR_SCRIPT);
+    expect_message(sc, "bomb_concat.lua", 4, "not enough memory (script memory cap 1 MiB)");
+    limen_script_destroy(sc);
+    /* a script that catches the error and lets go of the memory goes on: the cap held */
+    CHECK_OK(load_limited("bomb_caught.lua", HEAD "local ok = pcall(function()\n"
+                          "  local t = {}\n  while true do t[#t + 1] = {} end\nend)\n"
+                          "assert(not ok)\nreturn s\n", 0, 1 << 20, &sc));
+    limen_script_destroy(sc);
+    /* no cap */
+    CHECK_OK(load_limited("big.lua", HEAD "local x = string.rep(\"x\", 4 << 20)\nreturn s\n", 0,
+                          -1, &sc));
+    limen_script_destroy(sc);
+    /* a cap too small for the standard library */
+    CHECK(load_limited("tiny.lua", HEAD "return s\n", 0, 1000, &sc) != LIMEN_OK);
+    CHECK_MSG(sc && strstr(limen_script_error(sc), "not enough memory") != NULL, "%s",
+              limen_script_error(sc));
+    limen_script_destroy(sc);
+}
+
+/* A memory bomb in update stops the script cleanly; the next update fails the same way. */
+static void test_memory_update(void)
+{
+    limen_script *sc = NULL;
+    CHECK_OK(load_limited("upd_bomb.lua", HEAD "local hold = {}\nfunction s.update(t)\n"
+                          "  while true do hold[#hold + 1] = { t } end\nend\nreturn s\n",
+                          0, 1 << 20, &sc));
+    CHECK(limen_script_update(sc, 1) == LIMEN_ERR_SCRIPT);
+    expect_message(sc, "upd_bomb.lua", 5, "not enough memory (script memory cap 1 MiB)");
+    CHECK(limen_script_update(sc, 2) == LIMEN_ERR_SCRIPT);
+    expect_message(sc, "upd_bomb.lua", 5, "not enough memory (script memory cap 1 MiB)");
+    CHECK(limen_script_scene(sc) != NULL);
+    limen_script_destroy(sc);
+}
+
+/* Library functions that loop over their arguments pay for it, or are refused. */
+static void test_metered(void)
+{
+    limen_script *sc = NULL;
+    CHECK_OK(load_limited("rep_empty.lua", HEAD "assert(string.rep(\"\", 1e15) == \"\")\n"
+                          "assert((\"ab\"):rep(3, \",\") == \"ab,ab,ab\")\nreturn s\n", 0, 0, &sc));
+    limen_script_destroy(sc);
+    CHECK(load_limited("insert_len.lua", HEAD "local t = setmetatable({}, { __len = function()\n"
+                       "  return 1e15 end })\ntable.insert(t, 1, 0)\n", 0, 0, &sc) == LIMEN_ERR_SCRIPT);
+    expect_message(sc, "insert_len.lua", 5, "script exceeded its instruction budget (50000000)");
+    limen_script_destroy(sc);
+    CHECK(load_limited("move.lua", HEAD "table.move({}, 1, 1e15, 2)\n", 0, 0, &sc) == LIMEN_ERR_SCRIPT);
+    expect_message(sc, "move.lua", 3, "script exceeded its instruction budget (50000000)");
+    limen_script_destroy(sc);
+    CHECK(load_limited("pattern.lua", HEAD "local x = string.rep(\"a\", 30000)\n"
+                       "return x:find(\"a*a*a*b\")\n", 0, 0, &sc) == LIMEN_ERR_SCRIPT);
+    CHECK_MSG(sc && strstr(limen_script_error(sc), "pattern.lua:4: string.find: this pattern could "
+                           "take up to ") && strstr(limen_script_error(sc), " steps on a subject "
+                           "of 30000 bytes, more than the script's instruction budget allows"),
+              "%s", limen_script_error(sc));
+    limen_script_destroy(sc);
+    /* ordinary patterns on long subjects are fine */
+    CHECK_OK(load_limited("pattern_ok.lua", HEAD "local words = string.rep(\"ab cd \", 20000)\n"
+                          "local n = 0\nfor w in words:gmatch(\"%S+\") do n = n + 1 end\n"
+                          "assert(n == 40000)\n"
+                          "assert(select(2, words:gsub(\"(%w+) (%w+)\", \"%2 %1\")) == 20000)\n"
+                          "assert(words:find(\"cd ab\", 1, true) == 4)\n"
+                          "assert((\"k=v\"):match(\"^(%w+)=(%w+)$\") == \"k\")\nreturn s\n",
+                          0, 0, &sc));
+    CHECK_MSG(strcmp(limen_script_error(sc), "") == 0, "%s", limen_script_error(sc));
+    limen_script_destroy(sc);
+    /* one instruction comparing two long strings: the time limit (1 s here) ends it */
+    CHECK(load_limited("compare.lua", HEAD "local a, b = (\"x\"):rep(4096):rep(4096), (\"x\"):rep(4096):rep(4096)\n"
+                       "while a == b do end\n", 5000000, 0, &sc) == LIMEN_ERR_SCRIPT);
+    expect_message(sc, "compare.lua", 4, "script exceeded its time limit (1 s, set by its "
+                   "instruction budget)");
+    limen_script_destroy(sc);
+}
+
+/* Limits belong to each script: one that runs out leaves another alone. */
+static void test_limits_per_script(void)
+{
+    limen_script *good = NULL, *bad_one = NULL;
+    CHECK_OK(limen_script_load(script("plain.lua", plain), NULL, &good));
+    CHECK(load_limited("loop.lua", HEAD "while true do end\n", 100000, 0, &bad_one) ==
+          LIMEN_ERR_SCRIPT);
+    CHECK_OK(limen_script_update(good, 1));
+    CHECK(limen_script_update(bad_one, 1) == LIMEN_ERR_SCRIPT);
+    CHECK_OK(limen_script_update(good, 2));
+    CHECK(strcmp(limen_script_error(good), "") == 0);
+    limen_script_destroy(bad_one);
+    CHECK_OK(limen_script_update(good, 3));
+    limen_script_destroy(good);
+}
+
+/* The fuzzer's entry: a script from memory reads like one from a file of that name. */
+static void test_buffer_load(void)
+{
+    limen_script *sc = NULL;
+    CHECK_OK(limen__script_load_buffer("mem.lua", plain, strlen(plain), NULL, &sc));
+    CHECK(limen_script_animated(sc) == 1);
+    CHECK_OK(limen_script_update(sc, 0));
+    limen_script_destroy(sc);
+    const char *bad_text = HEAD "s:sphere { radius = 0 }\n";
+    CHECK(limen__script_load_buffer("mem.lua", bad_text, strlen(bad_text), NULL, &sc) ==
+          LIMEN_ERR_SCRIPT);
+    CHECK_MSG(sc && strcmp(limen_script_error(sc), "mem.lua:3: sphere: field 'radius' must be a "
+                           "positive number (got 0)") == 0, "%s", limen_script_error(sc));
+    limen_script_destroy(sc);
+    CHECK(limen__script_load_buffer("mem.lua", NULL, 0, NULL, &sc) == LIMEN_ERR_ARG);
+    limen_script_destroy(sc);
+}
+
 static const check_case cases[] = {
     { "good_scene", test_good_scene },
     { "update_moves", test_update_moves },
@@ -429,6 +669,14 @@ static const check_case cases[] = {
     { "missing_file", test_missing_file },
     { "trusted", test_trusted },
     { "repeat", test_repeat },
+    { "budget_load", test_budget_load },
+    { "budget_update", test_budget_update },
+    { "budget_default", test_budget_default },
+    { "memory_load", test_memory_load },
+    { "memory_update", test_memory_update },
+    { "metered", test_metered },
+    { "limits_per_script", test_limits_per_script },
+    { "buffer_load", test_buffer_load },
     { 0 }
 };
 

@@ -648,15 +648,11 @@ static int c_error(lua_State *L, limen_scene *s, const char *ctx, const char *la
     return luaL_error(L, "%s: %s", ctx, msg);
 }
 
-/* c_error for a failed apply_spec: the core speaks of an eye, a target and a normal where
- * the script wrote pos, look_at and up. */
+/* c_error for a failed apply_spec: for look_at the core's "normal" is the view direction. */
 static int spec_error(lua_State *L, limen_scene *s, const char *ctx, const char *label,
                       const spec *sp)
 {
     const char *m = limen_last_error(s);
-    if (HAVE(sp, F_LOOK_AT) && strcmp(m, "look_at: eye and target coincide") == 0)
-        return luaL_error(L, "%s: look_at: the target is the camera's own position, so it "
-                             "looks nowhere", ctx);
     if (HAVE(sp, F_LOOK_AT) && strstr(m, "up: must not be zero or parallel"))
         return luaL_error(L, "%s: up: must not be zero or parallel to the view direction (from "
                              "the position to look_at)", ctx);

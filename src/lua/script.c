@@ -1,153 +1,413 @@
-/* script.c - runs a Lua scene script in its own state (the limen_script_* API).
+/* script.c - runs a Lua scene script in its own state (the limen_script_* API), within limits.
  *
- * By default the script gets a safe standard library: base without dofile/loadfile and with
- * a load that takes text only; string, table, math, utf8, coroutine; os.clock/time/date/
- * difftime; no io, no debug; require finds only "limen" (and what is already loaded or in
- * package.preload). desc->trusted opens everything.
+ * Each script has its own lua_State, and in it:
+ *   - a memory cap: the state's allocator (script_alloc) counts the bytes it holds and refuses
+ *     an allocation that would take it past the cap; Lua turns that into "not enough memory";
+ *   - an instruction budget per load and per update call: a count hook (script_hook) adds up
+ *     VM instructions, and the allocator charges one instruction per ALLOC_BYTES allocated
+ *     (copying a long string is work too). Library functions whose work grows with their
+ *     arguments charge it themselves (safe.c, limen__lua_charge);
+ *   - a time limit that follows from the budget (NS_PER_INSTRUCTION each, at least a
+ *     second), for the few VM instructions whose time grows with their operands: comparing
+ *     two distinct 32 MiB strings is one instruction. The hook reads a monotonic clock; on a
+ *     thread whose instructions turn out slow it comes every SLOW_EVERY instructions.
+ * Once a call runs out of budget, every later instruction of the state raises the error again,
+ * so a script cannot catch it with pcall and go on; the error reaches the caller and the
+ * script is stopped for good (further updates fail at once with the same message). A call
+ * that fails for want of memory stops it too.
+ * By default the script gets the safe standard library of safe.c; desc->trusted opens all.
  * Errors read "path:line: message" (lua.c's message handler, without the traceback: the
- * program prints one line). */
+ * program prints one line), on one line, with control bytes and invalid UTF-8 escaped. */
+#include <math.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 
 #include <lualib.h>
 
 #include "lua/lua_internal.h"
 
 #define ERR_MAX 1024
+#define WHERE_MAX 256
+#define DEFAULT_BUDGET 50000000
+#define DEFAULT_MEMORY (64 << 20)
+#define HOOK_EVERY 1000         /* instructions between two calls of the count hook */
+#define ALLOC_BYTES 32          /* bytes allocated that cost one instruction */
+#define NS_PER_INSTRUCTION 100  /* time limit per instruction of budget; ten times the usual */
+#define SLOW_EVERY 16           /* hook interval where HOOK_EVERY instructions took > 1 ms */
 
 struct limen_script {
     lua_State *L;
     limen_scene *scene;         /* owned by the scene userdata, which the registry keeps */
     int scene_ref;
+    char *path;                 /* for messages that have no line */
+
+    /* limits (see the top of the file) */
+    int64_t budget;             /* instructions per call; < 0: none */
+    size_t mem_cap;             /* bytes; 0: none */
+    size_t mem_used;
+    int hook_every;
+    int running;                /* a load or an update is under way: charge the budget */
+    int64_t spent;              /* instructions charged to this call */
+    double time_limit;          /* seconds per call; 0: none */
+    double started, last_hook;  /* monotonic clock at the start of the call, at the last hook */
+    int over_budget;            /* this call ran out of instructions (or time) */
+    int over_time;              /* ... of time */
+    int mem_refused;            /* the cap refused an allocation during this call */
+    int tracking;               /* line hook on: the state holds over half its cap */
+    int stopped;                /* a limit stopped the script: update fails at once */
+    char where[WHERE_MAX];      /* "file:line" where a limit was hit, if known */
+    char line[WHERE_MAX];       /* "file:line" last seen by the line hook */
     char err[ERR_MAX];
 };
 
-static void set_error(limen_script *sc, const char *msg)
+/* ------------------------------------------------------------------ messages */
+
+/* Length of the valid UTF-8 sequence at s (at most n bytes), 0 if there is none. */
+size_t limen__lua_utf8_char(const unsigned char *s, size_t n)
 {
-    snprintf(sc->err, sizeof sc->err, "%s", msg ? msg : "unknown error");
+    if (n == 0)
+        return 0;
+    if (s[0] < 0x80)
+        return 1;
+    size_t len = s[0] >= 0xC2 && s[0] <= 0xDF ? 2 : s[0] >= 0xE0 && s[0] <= 0xEF ? 3 :
+                 s[0] >= 0xF0 && s[0] <= 0xF4 ? 4 : 0;
+    if (len == 0 || len > n)
+        return 0;
+    for (size_t i = 1; i < len; i++)
+        if ((s[i] & 0xC0) != 0x80)
+            return 0;
+    /* overlong forms, surrogates and code points past U+10FFFF */
+    if ((s[0] == 0xE0 && s[1] < 0xA0) || (s[0] == 0xED && s[1] >= 0xA0) ||
+        (s[0] == 0xF0 && s[1] < 0x90) || (s[0] == 0xF4 && s[1] >= 0x90))
+        return 0;
+    return len;
 }
 
-/* lua.c's msghandler without the traceback: makes any error object a string. */
+/* Copies msg into the script's message on one line: control bytes and bytes that are not
+ * UTF-8 become \n, \t, \xNN, so that a message is always one printable line. */
+static void set_error(limen_script *sc, const char *msg)
+{
+    const unsigned char *s = (const unsigned char *)(msg ? msg : "unknown error");
+    size_t n = strlen((const char *)s), o = 0;
+    char *out = sc->err;
+    while (n && o + 5 < ERR_MAX) {
+        size_t len = limen__lua_utf8_char(s, n);
+        if (len == 1 && (s[0] < 0x20 || s[0] == 0x7F))
+            len = 0;
+        if (len) {
+            if (o + len >= ERR_MAX)
+                break;
+            memcpy(out + o, s, len);
+            o += len;
+        } else if (s[0] == '\n') {
+            o += (size_t)snprintf(out + o, ERR_MAX - o, "\\n");
+            len = 1;
+        } else if (s[0] == '\t') {
+            o += (size_t)snprintf(out + o, ERR_MAX - o, "\\t");
+            len = 1;
+        } else {
+            o += (size_t)snprintf(out + o, ERR_MAX - o, "\\x%02X", s[0]);
+            len = 1;
+        }
+        s += len;
+        n -= len;
+    }
+    out[o] = '\0';
+}
+
+/* "file:line" of the innermost Lua function running at or above `level`, or "" if none. */
+static void lua_where(lua_State *L, int level, char *buf, size_t size)
+{
+    lua_Debug ar;
+    buf[0] = '\0';
+    for (; lua_getstack(L, level, &ar); level++) {
+        lua_getinfo(L, "Sl", &ar);
+        if (ar.currentline > 0) {
+            snprintf(buf, size, "%s:%d", ar.short_src, ar.currentline);
+            return;
+        }
+    }
+}
+
+/* Does msg start with a position ("chunk:12: ")? */
+static int has_position(const char *msg)
+{
+    for (const char *p = msg; *p && *p != '\n'; p++) {
+        if (p[0] != ':' || p[1] < '0' || p[1] > '9')
+            continue;
+        const char *q = p + 1;
+        while (*q >= '0' && *q <= '9')
+            q++;
+        if (*q == ':')
+            return 1;
+    }
+    return 0;
+}
+
+static limen_script *script_of(lua_State *L);
+
+/* lua.c's msghandler without the traceback: makes any error object a string, and gives it
+ * the place where it was raised if it has none (error({}), error("x", 0)). When a limit was
+ * hit it only notes where: allocating could fail again, and the message is made afterwards. */
 static int msghandler(lua_State *L)
 {
+    limen_script *sc = script_of(L);
+    if (sc && (sc->over_budget || sc->mem_refused)) {
+        if (!sc->where[0])
+            lua_where(L, 1, sc->where, sizeof sc->where);
+        return 1;
+    }
+    const char *msg;
     if (lua_type(L, 1) == LUA_TSTRING)
-        return 1;
-    if (luaL_callmeta(L, 1, "__tostring") && lua_type(L, -1) == LUA_TSTRING)
-        return 1;
-    lua_pushfstring(L, "(error object is a %s value)", luaL_typename(L, 1));
+        msg = lua_tostring(L, 1);
+    else if (luaL_callmeta(L, 1, "__tostring") && lua_type(L, -1) == LUA_TSTRING)
+        msg = lua_tostring(L, -1);
+    else
+        msg = lua_pushfstring(L, "(error object is a %s value)", luaL_typename(L, 1));
+    char where[WHERE_MAX];
+    if (!has_position(msg)) {
+        lua_where(L, 1, where, sizeof where);
+        if (where[0])
+            msg = lua_pushfstring(L, "%s: %s", where, msg);
+    }
     return 1;
 }
 
-/* ------------------------------------------------------------------ the safe library */
+/* ------------------------------------------------------------------ limits */
 
-/* load(chunk [, chunkname [, mode [, env]]]) with the mode forced to text, whatever the
- * script asks: a binary chunk is refused as "attempt to load a binary chunk (mode is 't')".
- * The argument count is kept, since load tells an absent env from a nil one. */
-static int l_safe_load(lua_State *L)
+static void script_hook(lua_State *L, lua_Debug *ar);
+
+/* Arms the hook of the main thread for what the script needs now. */
+static void set_hook(limen_script *sc, int count)
 {
-    int n = lua_gettop(L);
-    if (n < 3) {
-        lua_settop(L, 3);
-        n = 3;
-    }
-    lua_pushliteral(L, "t");
-    lua_replace(L, 3);
-    lua_pushvalue(L, lua_upvalueindex(1));
-    lua_insert(L, 1);
-    lua_call(L, n, LUA_MULTRET);
-    return lua_gettop(L);
+    int mask = (sc->budget >= 0 ? LUA_MASKCOUNT : 0) | (sc->tracking ? LUA_MASKLINE : 0);
+    lua_sethook(sc->L, mask ? script_hook : NULL, mask, count);
 }
 
-/* require(name) for modules already loaded or in package.preload; anything else is refused
- * in one line (the stock message lists every searcher, one line each). */
-static int l_safe_require(lua_State *L)
+/* The call has run out of instructions: stop at the next instruction of the main thread
+ * (lua_sethook may be called at any moment, even from a signal handler, lua.c shows). */
+static void run_out(limen_script *sc)
 {
-    const char *name = luaL_checkstring(L, 1);
-    lua_settop(L, 1);
-    luaL_getsubtable(L, LUA_REGISTRYINDEX, LUA_LOADED_TABLE);
-    luaL_getsubtable(L, LUA_REGISTRYINDEX, LUA_PRELOAD_TABLE);
-    if (lua_getfield(L, 2, name) == LUA_TNIL && lua_getfield(L, 3, name) == LUA_TNIL)
-        return luaL_error(L, "module '%s' is not available to a safe scene script", name);
-    lua_settop(L, 1);
-    lua_pushvalue(L, lua_upvalueindex(1));
-    lua_insert(L, 1);
-    lua_call(L, 1, LUA_MULTRET);
-    return lua_gettop(L);
+    sc->over_budget = 1;
+    lua_sethook(sc->L, script_hook, LUA_MASKCOUNT, 1);
 }
 
-static void remove_fields(lua_State *L, int t, const char *const *names)
+/* The allocator: counts what the state holds, enforces the cap, charges the budget. */
+static void *script_alloc(void *ud, void *ptr, size_t osize, size_t nsize)
 {
-    for (; *names; names++) {
-        lua_pushnil(L);
-        lua_setfield(L, t, *names);
+    limen_script *sc = ud;
+    if (!ptr)
+        osize = 0;      /* then osize tells the kind of object, not a size */
+    if (nsize == 0) {
+        free(ptr);
+        sc->mem_used -= osize;
+        return NULL;
     }
+    if (nsize > osize) {
+        size_t grow = nsize - osize;
+        if (sc->mem_cap && (grow > sc->mem_cap || sc->mem_used > sc->mem_cap - grow)) {
+            sc->mem_refused = 1;
+            return NULL;
+        }
+        if (sc->running && sc->budget >= 0) {
+            if (sc->over_budget)
+                return NULL;
+            sc->spent += (int64_t)(nsize / ALLOC_BYTES);
+            if (sc->spent > sc->budget) {
+                run_out(sc);
+                return NULL;
+            }
+        }
+    }
+    void *p = realloc(ptr, nsize);
+    if (!p)
+        return NULL;
+    sc->mem_used = sc->mem_used - osize + nsize;
+    /* near the cap, follow the lines, so that "not enough memory" can say where */
+    if (sc->running && sc->mem_cap && !sc->tracking && sc->mem_used > sc->mem_cap / 2 &&
+        !sc->over_budget) {
+        sc->tracking = 1;
+        set_hook(sc, sc->hook_every);
+    }
+    return p;
 }
 
-/* Runs in protected mode: an allocation failure here is an error, not a panic. */
-static int open_safe(lua_State *L)
+static double now(void)
 {
-    static const luaL_Reg libs[] = {
-        { LUA_GNAME, luaopen_base },
-        { LUA_LOADLIBNAME, luaopen_package },
-        { LUA_COLIBNAME, luaopen_coroutine },
-        { LUA_TABLIBNAME, luaopen_table },
-        { LUA_STRLIBNAME, luaopen_string },
-        { LUA_MATHLIBNAME, luaopen_math },
-        { LUA_UTF8LIBNAME, luaopen_utf8 },
-        { NULL, NULL }
-    };
-    for (const luaL_Reg *lib = libs; lib->func; lib++) {
-        luaL_requiref(L, lib->name, lib->func, 1);
-        lua_pop(L, 1);
-    }
-    lua_pushglobaltable(L);
-    int g = lua_gettop(L);
-    static const char *const base_out[] = { "dofile", "loadfile", NULL };
-    remove_fields(L, g, base_out);
-    lua_getfield(L, g, "load");
-    lua_pushcclosure(L, l_safe_load, 1);
-    lua_setfield(L, g, "load");
-
-    /* os: the clock only */
-    luaL_requiref(L, LUA_OSLIBNAME, luaopen_os, 0);
-    int os = lua_gettop(L);
-    lua_createtable(L, 0, 4);
-    static const char *const os_in[] = { "clock", "time", "date", "difftime", NULL };
-    for (const char *const *k = os_in; *k; k++) {
-        lua_getfield(L, os, *k);
-        lua_setfield(L, -2, *k);
-    }
-    lua_pushvalue(L, -1);
-    lua_setfield(L, g, LUA_OSLIBNAME);
-    luaL_getsubtable(L, LUA_REGISTRYINDEX, LUA_LOADED_TABLE);
-    lua_pushvalue(L, -2);
-    lua_setfield(L, -2, LUA_OSLIBNAME);
-    lua_settop(L, g);
-
-    /* package: only package.preload (limen); no file or C searchers, no loadlib */
-    lua_getfield(L, g, LUA_LOADLIBNAME);
-    int pkg = lua_gettop(L);
-    lua_getfield(L, pkg, "searchers");
-    lua_createtable(L, 1, 0);
-    lua_rawgeti(L, -2, 1);      /* the preload searcher */
-    lua_rawseti(L, -2, 1);
-    lua_setfield(L, pkg, "searchers");
-    lua_pop(L, 1);
-    static const char *const pkg_out[] = { "loadlib", "searchpath", NULL };
-    remove_fields(L, pkg, pkg_out);
-    lua_pushliteral(L, "");
-    lua_setfield(L, pkg, "path");
-    lua_pushliteral(L, "");
-    lua_setfield(L, pkg, "cpath");
-    lua_getfield(L, g, "require");
-    lua_pushcclosure(L, l_safe_require, 1);
-    lua_setfield(L, g, "require");
-    lua_pushboolean(L, 1);
-    lua_setfield(L, LUA_REGISTRYINDEX, LIMEN__LUA_SAFE);
-    lua_settop(L, 0);
-    return 0;
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
+
+static limen_script *script_of(lua_State *L)
+{
+    void *ud;
+    return lua_getallocf(L, &ud) == script_alloc ? ud : NULL;
+}
+
+static void note_where(char *buf, lua_State *L, lua_Debug *ar)
+{
+    lua_getinfo(L, "Sl", ar);
+    if (ar->currentline > 0)
+        snprintf(buf, WHERE_MAX, "%s:%d", ar->short_src, ar->currentline);
+}
+
+/* Raises the budget error where the script is (it becomes the message in the end). */
+static int budget_error(lua_State *L, limen_script *sc)
+{
+    if (!sc->where[0])
+        lua_where(L, 0, sc->where, sizeof sc->where);
+    lua_pushliteral(L, "script exceeded its instruction budget");
+    return lua_error(L);
+}
+
+/* Every hook_every instructions of every thread (coroutines inherit the hook), and on each
+ * new line while tracking. */
+static void script_hook(lua_State *L, lua_Debug *ar)
+{
+    limen_script *sc = script_of(L);
+    if (!sc || !sc->running)
+        return;
+    if (ar->event == LUA_HOOKLINE) {
+        if (!sc->over_budget) {
+            note_where(sc->line, L, ar);
+            return;
+        }
+    } else if (!sc->over_budget) {
+        sc->spent += lua_gethookcount(L);
+        if (sc->spent > sc->budget) {
+            run_out(sc);
+        } else if (sc->time_limit > 0) {
+            double t = now();
+            if (t - sc->started <= sc->time_limit) {
+                if (t - sc->last_hook > 1e-3 && lua_gethookcount(L) > SLOW_EVERY)
+                    lua_sethook(L, script_hook, lua_gethookmask(L), SLOW_EVERY);
+                sc->last_hook = t;
+                return;
+            }
+            sc->over_time = 1;
+            run_out(sc);
+        } else {
+            return;
+        }
+    }
+    /* out of budget: this thread too raises at every instruction from now on */
+    lua_sethook(L, script_hook, LUA_MASKCOUNT, 1);
+    if (!sc->where[0])
+        note_where(sc->where, L, ar);
+    budget_error(L, sc);
+}
+
+void limen__lua_charge(lua_State *L, double steps)
+{
+    limen_script *sc = script_of(L);
+    if (!sc || !sc->running || sc->budget < 0)
+        return;
+    if (sc->over_budget || steps > (double)(sc->budget - sc->spent)) {
+        run_out(sc);
+        budget_error(L, sc);
+    }
+    sc->spent += (int64_t)steps;
+}
+
+void limen__lua_note_line(lua_State *L)
+{
+    limen_script *sc = script_of(L);
+    if (sc && sc->running)
+        lua_where(L, 1, sc->line, sizeof sc->line);
+}
+
+double limen__lua_budget_left(lua_State *L)
+{
+    limen_script *sc = script_of(L);
+    if (!sc || !sc->running || sc->budget < 0)
+        return HUGE_VAL;
+    return sc->over_budget ? 0 : (double)(sc->budget - sc->spent);
+}
+
+static void begin_call(limen_script *sc)
+{
+    sc->spent = 0;
+    sc->over_budget = 0;
+    sc->over_time = 0;
+    sc->started = sc->last_hook = sc->time_limit > 0 ? now() : 0;
+    sc->mem_refused = 0;
+    sc->where[0] = '\0';
+    sc->line[0] = '\0';
+    sc->tracking = sc->mem_cap && sc->mem_used > sc->mem_cap / 2;
+    sc->running = 1;
+    set_hook(sc, sc->hook_every);
+}
+
+static void end_call(limen_script *sc)
+{
+    sc->running = 0;
+    sc->tracking = 0;
+    lua_sethook(sc->L, NULL, 0, 0);
+}
+
+static void format_bytes(char *buf, size_t size, size_t bytes)
+{
+    if (bytes % (1u << 20) == 0)
+        snprintf(buf, size, "%zu MiB", bytes >> 20);
+    else if (bytes % 1024 == 0)
+        snprintf(buf, size, "%zu KiB", bytes >> 10);
+    else
+        snprintf(buf, size, "%zu bytes", bytes);
+}
+
+/* Makes the message of a failed protected call (its error object on top) and returns the
+ * status. A call stopped by a limit stops the script. */
+static limen_status call_failed(limen_script *sc, int st, int load_status)
+{
+    lua_State *L = sc->L;
+    const char *msg = lua_type(L, -1) == LUA_TSTRING ? lua_tostring(L, -1) : NULL;
+    char buf[ERR_MAX], size[32];
+    const char *where = sc->where[0] ? sc->where : sc->line[0] ? sc->line : sc->path;
+    if (sc->over_time) {
+        snprintf(buf, sizeof buf, "%s: script exceeded its time limit (%.3g s, set by its "
+                 "instruction budget)", where, sc->time_limit);
+        sc->stopped = 1;
+        set_error(sc, buf);
+        return LIMEN_ERR_SCRIPT;
+    }
+    if (sc->over_budget) {
+        snprintf(buf, sizeof buf, "%s: script exceeded its instruction budget (%lld)", where,
+                 (long long)sc->budget);
+        sc->stopped = 1;
+        set_error(sc, buf);
+        return LIMEN_ERR_SCRIPT;
+    }
+    if (sc->mem_refused && (st == LUA_ERRMEM || st == LUA_ERRERR ||
+                            (msg && strcmp(msg, "not enough memory") == 0))) {
+        format_bytes(size, sizeof size, sc->mem_cap);
+        snprintf(buf, sizeof buf, "%s: not enough memory (script memory cap %s)", where, size);
+        sc->stopped = 1;
+        set_error(sc, buf);
+        return LIMEN_ERR_SCRIPT;
+    }
+    if (!msg) {
+        /* only when the message handler could not run, or chose not to (a limit was near) */
+        snprintf(buf, sizeof buf, "%s: %s", sc->where[0] ? sc->where : sc->path,
+                 st == LUA_ERRMEM ? "not enough memory" :
+                 st == LUA_ERRERR ? "error in error handling" :
+                 lua_pushfstring(L, "(error object is a %s value)", luaL_typename(L, -1)));
+        msg = buf;
+    } else if (load_status != LUA_ERRFILE && !has_position(msg) &&
+               strncmp(msg, sc->path, strlen(sc->path)) != 0) {
+        snprintf(buf, sizeof buf, "%s: %s", sc->path, msg);
+        msg = buf;
+    }
+    set_error(sc, msg);
+    if (load_status == LUA_ERRFILE)
+        return LIMEN_ERR_IO;
+    return st == LUA_ERRMEM ? LIMEN_ERR_NOMEM : LIMEN_ERR_SCRIPT;
+}
+
+/* ------------------------------------------------------------------ running scripts */
 
 static int open_trusted(lua_State *L)
 {
@@ -155,17 +415,66 @@ static int open_trusted(lua_State *L)
     return 0;
 }
 
-/* package.preload.limen = luaopen_limen, in either mode. */
+/* package.preload.limen = luaopen_limen, in either mode. Also keeps the string Lua makes
+ * when a message handler fails, so that making it never needs memory: it is made after the
+ * protected call has returned, where an allocation failure would be fatal. */
 static int preload_limen(lua_State *L)
 {
     luaL_getsubtable(L, LUA_REGISTRYINDEX, LUA_PRELOAD_TABLE);
     lua_pushcfunction(L, luaopen_limen);
     lua_setfield(L, -2, "limen");
+    lua_pushliteral(L, "error in error handling");
+    lua_setfield(L, LUA_REGISTRYINDEX, "limen.errerr");
     lua_settop(L, 0);
     return 0;
 }
 
-/* ------------------------------------------------------------------ API */
+typedef struct chunk {
+    limen_script *sc;
+    const char *buf;            /* NULL: read sc->path */
+    size_t len;
+    int load_status;            /* of luaL_load*: LUA_ERRFILE, LUA_ERRSYNTAX, ... */
+} chunk;
+
+/* "nothing", "a number", "limen.sphere 'ball'", ... for "it returned ...". */
+static const char *returned(lua_State *L, int idx)
+{
+    switch (lua_type(L, idx)) {
+    case LUA_TNONE: return "nothing";
+    case LUA_TNIL: return "nil";
+    case LUA_TUSERDATA: return luaL_tolstring(L, idx, NULL);   /* our types say what they are */
+    default: return lua_pushfstring(L, "a %s", luaL_typename(L, idx));
+    }
+}
+
+/* Protected: compiles the chunk, runs it and keeps the scene it returns. */
+static int run_chunk(lua_State *L)
+{
+    chunk *c = lua_touserdata(L, 1);
+    limen_script *sc = c->sc;
+    lua_settop(L, 0);
+    const char *name = lua_pushfstring(L, "@%s", sc->path);
+    int st = c->buf ? luaL_loadbufferx(L, c->buf, c->len, name, "t")
+                    : luaL_loadfilex(L, sc->path, "t");
+    if (st != LUA_OK) {
+        c->load_status = st;
+        const char *msg = lua_tostring(L, -1);
+        /* syntax errors carry "path:line:"; the text-only refusal says nothing of where */
+        size_t plen = strlen(sc->path);
+        if (st == LUA_ERRSYNTAX && msg && strncmp(msg, sc->path, plen) != 0 &&
+            strncmp(msg, "...", 3) != 0)
+            lua_pushfstring(L, "%s: %s", sc->path, msg);
+        return lua_error(L);
+    }
+    lua_call(L, 0, LUA_MULTRET);
+    sc->scene = lua_gettop(L) >= 2 ? limen__lua_toscene(L, 2) : NULL;
+    if (!sc->scene)
+        return luaL_error(L, "%s: script must return a scene (limen.scene{...}); it returned %s",
+                          sc->path, returned(L, 2));
+    lua_settop(L, 2);
+    sc->scene_ref = luaL_ref(L, LUA_REGISTRYINDEX);
+    return 0;
+}
 
 static limen_status fail(limen_script *sc, limen_status st, const char *msg)
 {
@@ -173,8 +482,8 @@ static limen_status fail(limen_script *sc, limen_status st, const char *msg)
     return st;
 }
 
-limen_status limen_script_load(const char *path, const limen_script_desc *desc,
-                               limen_script **out)
+static limen_status script_load(const char *path, const char *buf, size_t len,
+                                const limen_script_desc *desc, limen_script **out)
 {
     if (!out)
         return LIMEN_ERR_ARG;
@@ -185,46 +494,74 @@ limen_status limen_script_load(const char *path, const limen_script_desc *desc,
     sc->scene_ref = LUA_NOREF;
     if (!path)
         return fail(sc, LIMEN_ERR_ARG, "limen_script_load: no script path");
-    lua_State *L = sc->L = luaL_newstate();
-    if (!L)
-        return fail(sc, LIMEN_ERR_NOMEM, "cannot create a Lua state: out of memory");
-    int trusted = desc && desc->trusted;
-    lua_pushcfunction(L, trusted ? open_trusted : open_safe);
-    if (lua_pcall(L, 0, 0, 0) != LUA_OK)
-        return fail(sc, LIMEN_ERR_NOMEM, lua_tostring(L, -1));
-    lua_pushcfunction(L, preload_limen);
-    if (lua_pcall(L, 0, 0, 0) != LUA_OK)
-        return fail(sc, LIMEN_ERR_NOMEM, lua_tostring(L, -1));
+    if (!(sc->path = strdup(path)))
+        return fail(sc, LIMEN_ERR_NOMEM, "out of memory");
+    int64_t budget = desc ? desc->instruction_budget : 0;
+    int64_t cap = desc ? desc->memory_cap : 0;
+    sc->budget = budget == 0 ? DEFAULT_BUDGET : budget < 0 ? -1 : budget;
+    sc->mem_cap = cap == 0 ? (size_t)DEFAULT_MEMORY : cap < 0 ? 0 :
+                  (uint64_t)cap > SIZE_MAX ? SIZE_MAX : (size_t)cap;
+    sc->hook_every = sc->budget >= 0 && sc->budget < HOOK_EVERY ? (int)(sc->budget + 1) :
+                     HOOK_EVERY;
+    sc->time_limit = sc->budget < 0 ? 0 :
+                     fmax(1.0, (double)sc->budget * NS_PER_INSTRUCTION * 1e-9);
 
-    lua_pushcfunction(L, msghandler);
-    int st = luaL_loadfilex(L, path, "t");
-    if (st != LUA_OK) {
-        const char *msg = lua_tostring(L, -1);
-        limen_status ls = st == LUA_ERRFILE ? LIMEN_ERR_IO :
-                          st == LUA_ERRMEM ? LIMEN_ERR_NOMEM : LIMEN_ERR_SCRIPT;
-        /* syntax errors carry "path:line:"; the text-only refusal says nothing of where */
-        size_t plen = strlen(path);
-        if (st == LUA_ERRSYNTAX && msg && strncmp(msg, path, plen) != 0 &&
-            strncmp(msg, "...", 3) != 0)
-            msg = lua_pushfstring(L, "%s: %s", path, msg);
-        return fail(sc, ls, msg);
+    lua_State *L = sc->L = lua_newstate(script_alloc, sc);
+    if (!L) {
+        char size[32], msg[ERR_MAX];
+        format_bytes(size, sizeof size, sc->mem_cap);
+        snprintf(msg, sizeof msg, "%.900s: not enough memory for a Lua state (script memory cap "
+                 "%s)", sc->path, size);
+        return fail(sc, LIMEN_ERR_NOMEM, msg);
     }
-    st = lua_pcall(L, 0, 1, 1);
+    int trusted = desc && desc->trusted;
+    lua_pushcfunction(L, trusted ? open_trusted : limen__lua_open_safe);
+    int st = lua_pcall(L, 0, 0, 0);
+    if (st == LUA_OK) {
+        lua_pushcfunction(L, preload_limen);
+        st = lua_pcall(L, 0, 0, 0);
+    }
     if (st != LUA_OK) {
-        const char *msg = lua_tostring(L, -1);
-        if (msg && strncmp(msg, "(error object", 13) == 0)
-            msg = lua_pushfstring(L, "%s: %s", path, msg);
+        char size[32], msg[ERR_MAX];
+        format_bytes(size, sizeof size, sc->mem_cap);
+        snprintf(msg, sizeof msg, "%.900s: cannot open the standard library: %s", sc->path,
+                 st == LUA_ERRMEM && sc->mem_refused ?
+                 lua_pushfstring(L, "not enough memory (script memory cap %s)", size) :
+                 lua_tostring(L, -1));
         return fail(sc, st == LUA_ERRMEM ? LIMEN_ERR_NOMEM : LIMEN_ERR_SCRIPT, msg);
     }
-    sc->scene = limen__lua_toscene(L, -1);
-    if (!sc->scene) {
-        char msg[ERR_MAX];
-        snprintf(msg, sizeof msg, "%s: script must return a scene (limen.scene{...})", path);
-        return fail(sc, LIMEN_ERR_SCRIPT, msg);
+
+    chunk c = { sc, buf, len, LUA_OK };
+    begin_call(sc);
+    lua_pushcfunction(L, msghandler);
+    lua_pushcfunction(L, run_chunk);
+    lua_pushlightuserdata(L, &c);
+    st = lua_pcall(L, 1, 0, 1);
+    end_call(sc);
+    if (st != LUA_OK) {
+        sc->scene = NULL;
+        limen_status ls = call_failed(sc, st, c.load_status);
+        lua_settop(L, 0);
+        return ls;
     }
-    sc->scene_ref = luaL_ref(L, LUA_REGISTRYINDEX);
     lua_settop(L, 0);
     return LIMEN_OK;
+}
+
+limen_status limen_script_load(const char *path, const limen_script_desc *desc,
+                               limen_script **out)
+{
+    return script_load(path, NULL, 0, desc, out);
+}
+
+limen_status limen__script_load_buffer(const char *name, const char *buf, size_t len,
+                                       const limen_script_desc *desc, limen_script **out)
+{
+    if (!buf && out) {
+        *out = NULL;
+        return LIMEN_ERR_ARG;
+    }
+    return script_load(name, buf ? buf : "", len, desc, out);
 }
 
 void limen_script_destroy(limen_script *sc)
@@ -233,6 +570,7 @@ void limen_script_destroy(limen_script *sc)
         return;
     if (sc->L)
         lua_close(sc->L);   /* collects the scene userdata, which destroys the scene */
+    free(sc->path);
     free(sc);
 }
 
@@ -246,44 +584,62 @@ limen_scene *limen_script_scene(limen_script *sc)
     return sc ? sc->scene : NULL;
 }
 
+/* Protected (its string keys may need memory): pushes whether the scene has an update. */
+static int has_update(lua_State *L)
+{
+    limen_script *sc = lua_touserdata(L, 1);
+    lua_rawgeti(L, LUA_REGISTRYINDEX, sc->scene_ref);
+    lua_pushboolean(L, limen__lua_push_update(L, -1) == LUA_TFUNCTION);
+    return 1;
+}
+
 int limen_script_animated(const limen_script *sc)
 {
     if (!sc || !sc->scene)
         return 0;
     lua_State *L = sc->L;
+    lua_settop(L, 0);
+    lua_pushcfunction(L, has_update);
+    lua_pushlightuserdata(L, (void *)sc);
+    int t = lua_pcall(L, 1, 1, 0) == LUA_OK && lua_toboolean(L, -1);
+    lua_settop(L, 0);
+    return t;
+}
+
+/* Protected: calls the scene's update(t) if it has one. */
+static int call_update(lua_State *L)
+{
+    limen_script *sc = lua_touserdata(L, 1);
+    lua_Number t = lua_tonumber(L, 2);
+    lua_settop(L, 0);
     lua_rawgeti(L, LUA_REGISTRYINDEX, sc->scene_ref);
-    int t = limen__lua_push_update(L, -1);
-    lua_pop(L, 2);
-    return t == LUA_TFUNCTION;
+    if (limen__lua_push_update(L, 1) != LUA_TFUNCTION)
+        return 0;
+    lua_pushnumber(L, t);
+    lua_call(L, 1, 0);
+    return 0;
 }
 
 limen_status limen_script_update(limen_script *sc, double t)
 {
     if (!sc)
         return LIMEN_ERR_ARG;
-    if (!sc->scene)
-        return LIMEN_ERR_SCRIPT;   /* it never loaded; the message says why */
+    if (!sc->scene || sc->stopped)
+        return LIMEN_ERR_SCRIPT;   /* it never loaded, or a limit stopped it: the message says */
     lua_State *L = sc->L;
     lua_settop(L, 0);
+    begin_call(sc);
     lua_pushcfunction(L, msghandler);
-    lua_rawgeti(L, LUA_REGISTRYINDEX, sc->scene_ref);
-    if (limen__lua_push_update(L, 2) != LUA_TFUNCTION) {
-        lua_settop(L, 0);
-        sc->err[0] = '\0';
-        return LIMEN_OK;
-    }
-    lua_remove(L, 2);
+    lua_pushcfunction(L, call_update);
+    lua_pushlightuserdata(L, sc);
     lua_pushnumber(L, t);
-    int st = lua_pcall(L, 1, 0, 1);
+    int st = lua_pcall(L, 2, 0, 1);
+    end_call(sc);
     limen_status ls = LIMEN_OK;
-    if (st != LUA_OK) {
-        const char *msg = lua_tostring(L, -1);
-        if (msg && strncmp(msg, "(error object", 13) == 0)
-            msg = lua_pushfstring(L, "update: %s", msg);
-        ls = fail(sc, st == LUA_ERRMEM ? LIMEN_ERR_NOMEM : LIMEN_ERR_SCRIPT, msg);
-    } else {
+    if (st != LUA_OK)
+        ls = call_failed(sc, st, LUA_OK);
+    else
         sc->err[0] = '\0';
-    }
     lua_settop(L, 0);
     return ls;
 }
