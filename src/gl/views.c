@@ -17,6 +17,20 @@ typedef struct rview {
     int ncull;
 } rview;
 
+/* The clip-space transform that stretches the pixel rectangle rect of the image over the
+ * whole of [-1, 1]^2. */
+static void narrow_to(const limen_renderer *r, const int rect[4], mat4 out)
+{
+    float W = (float)r->width, H = (float)r->height;
+    float x0 = 2.0f * rect[0] / W - 1.0f, x1 = 2.0f * (rect[0] + rect[2]) / W - 1.0f;
+    float y0 = 2.0f * rect[1] / H - 1.0f, y1 = 2.0f * (rect[1] + rect[3]) / H - 1.0f;
+    glm_mat4_identity(out);
+    out[0][0] = 2.0f / (x1 - x0);
+    out[1][1] = 2.0f / (y1 - y0);
+    out[3][0] = -(x1 + x0) / (x1 - x0);
+    out[3][1] = -(y1 + y0) / (y1 - y0);
+}
+
 /* The planes of what view v can show: its projection's sides narrowed to the pixels it
  * may draw, its near plane (the oblique one where there is one) and its clip plane. A node
  * whose bounding sphere lies wholly outside one of them cannot touch a pixel. */
@@ -24,15 +38,8 @@ static void cull_planes(limen_renderer *r, rview *v, const int *rect)
 {
     mat4 m, narrow;
     glm_mat4_identity(narrow);
-    if (rect) {
-        float W = (float)r->width, H = (float)r->height;
-        float x0 = 2.0f * rect[0] / W - 1.0f, x1 = 2.0f * (rect[0] + rect[2]) / W - 1.0f;
-        float y0 = 2.0f * rect[1] / H - 1.0f, y1 = 2.0f * (rect[1] + rect[3]) / H - 1.0f;
-        narrow[0][0] = 2.0f / (x1 - x0);
-        narrow[1][1] = 2.0f / (y1 - y0);
-        narrow[3][0] = -(x1 + x0) / (x1 - x0);
-        narrow[3][1] = -(y1 + y0) / (y1 - y0);
-    }
+    if (rect)
+        narrow_to(r, rect, narrow);
     glm_mat4_mul(narrow, v->view_proj, m);
     /* Gribb-Hartmann: rows of m (m[col][row]) */
     v->ncull = 0;
@@ -521,14 +528,7 @@ static bool texture_view(limen_renderer *r, limen_scene *s, int index, const pla
 {
     /* narrow the projection from the whole image to this view's rectangle */
     mat4 narrow;
-    glm_mat4_identity(narrow);
-    float W = (float)r->width, H = (float)r->height;
-    float x0 = 2.0f * pl->rect[0] / W - 1.0f, x1 = 2.0f * (pl->rect[0] + pl->rect[2]) / W - 1.0f;
-    float y0 = 2.0f * pl->rect[1] / H - 1.0f, y1 = 2.0f * (pl->rect[1] + pl->rect[3]) / H - 1.0f;
-    narrow[0][0] = 2.0f / (x1 - x0);
-    narrow[1][1] = 2.0f / (y1 - y0);
-    narrow[3][0] = -(x1 + x0) / (x1 - x0);
-    narrow[3][1] = -(y1 + y0) / (y1 - y0);
+    narrow_to(r, pl->rect, narrow);
     rview v;
     make_rview(r, index, narrow, &v);
     v.img_map[0] = 1.0f / pl->sx;
