@@ -24,7 +24,7 @@ GL_SRC   := src/gl/render.c src/gl/views.c src/gl/mesh.c src/gl/ctx_osmesa.c src
 LUA_SRC  := src/lua/bindings.c src/lua/script.c src/lua/safe.c
 LIB_SRC  := $(CORE_SRC) $(GL_SRC) $(LUA_SRC)
 CLI_SRC  := src/cli/main.c src/cli/trace_cmd.c
-TEST_C   := tests/test_math.c tests/test_scene.c tests/test_plan.c tests/test_render.c tests/test_script.c tests/test_trace.c tests/test_gallery.c tests/test_threads.c tests/test_truth.c tests/test_example_game.c tests/test_crossing.c
+TEST_C   := tests/test_math.c tests/test_scene.c tests/test_plan.c tests/test_render.c tests/test_script.c tests/test_trace.c tests/test_gallery.c tests/test_threads.c tests/test_truth.c tests/test_example_game.c tests/test_crossing.c tests/test_sweep_approach.c tests/test_sweep_grazing.c tests/test_sweep_depth.c tests/test_sweep_recursion.c tests/test_sweep_matrix.c tests/test_sweep_odd.c
 
 LIB_OBJ  := $(LIB_SRC:%.c=$(B)/obj/%.o)
 CLI_OBJ  := $(CLI_SRC:%.c=$(B)/obj/%.o)
@@ -106,6 +106,7 @@ demo: all
 
 test: all $(TEST_BIN)
 	@sh tests/run.sh $(B)
+	@$(MAKE) --no-print-directory test-sanitize
 
 # ------------------------------------------------------------------ install
 install: all
@@ -128,3 +129,129 @@ uninstall:
 
 clean:
 	rm -rf $(B)
+
+# ---- benchmarks ---------------------------------------------------------------------------
+# `make bench` (quick, a few minutes) or `BENCH=full make bench` (the whole sweep): speed
+# against accuracy over methods, clipping, depth, size and MSAA, the naive baseline and the
+# ray tracer, plus the matrix constructions; CSV, charts (gnuplot) and the three targets go
+# to $(B)/bench/. Copy the charts into bench/charts/ with `make bench-charts`.
+BENCH      ?= quick
+BENCH_DEBS := gnuplot-nox
+BENCH_C    := bench/bench.c bench/matrices.c
+BENCH_BIN  := $(BENCH_C:bench/%.c=$(B)/bench/%)
+
+.PHONY: bench bench-deps bench-charts
+bench: all $(BENCH_BIN) bench-deps
+	@sh bench/run.sh $(B) $(BENCH)
+
+bench-deps:
+	@missing=""; for p in $(BENCH_DEBS); do \
+	  dpkg-query -W -f='$${Status}' $$p 2>/dev/null | grep -q 'install ok installed' || missing="$$missing $$p"; \
+	done; \
+	if [ -n "$$missing" ]; then \
+	  echo "limen: installing Debian packages for the benchmarks:$$missing"; \
+	  if [ "$$(id -u)" = 0 ]; then SUDO=; else SUDO=sudo; fi; \
+	  $$SUDO apt-get update -qq && \
+	  DEBIAN_FRONTEND=noninteractive $$SUDO apt-get install -y -qq --no-install-recommends $$missing; \
+	fi
+
+bench-charts:
+	@mkdir -p bench/charts
+	cp $(B)/bench/*.png bench/charts/
+
+$(B)/bench/%: $(B)/obj/bench/%.o $(B)/liblimen.a
+	@mkdir -p $(dir $@)
+	$(CC) -o $@ $< $(B)/liblimen.a $(LIBS)
+
+-include $(BENCH_C:%.c=$(B)/obj/%.d)
+.SECONDARY: $(BENCH_C:%.c=$(B)/obj/%.o)
+
+# ---- stability sweeps ---------------------------------------------------------------------
+# `make sweeps`: every stability sweep (tests/test_sweep_*.c) in FULL mode (SWEEP_FULL=1;
+# `SWEEP=quick make sweeps` for the quick steps that `make test` runs), CSVs and frames to
+# $(B)/sweeps/, then the charts (gnuplot, tests/sweeps/plots.gp) to $(B)/sweeps/charts/.
+# It fails at the end if a sweep's assertion failed, after drawing the charts all the same.
+# `make sweep-charts` copies the charts and the README's pictures into tests/sweeps/charts/.
+SWEEP       ?= full
+SWEEP_DEBS  := gnuplot-nox
+SWEEP_BIN   := $(patsubst tests/%.c,$(B)/tests/%,$(filter tests/test_sweep_%.c,$(TEST_C)))
+SWEEP_PICS  := approach_mirror_00_default_d1e-06 approach_mirror_00_forced_oblique_d1e-06 \
+               grazing_mirror_89 depth_no24_gap1e-05_tilt80 recursion_twisted matrix_ceiling \
+               odd_portals_coincident
+
+.PHONY: sweeps sweeps-deps sweep-charts
+sweeps: all $(SWEEP_BIN) sweeps-deps
+	@rm -rf $(B)/sweeps && mkdir -p $(B)/sweeps
+	@status=0; full=0; [ "$(SWEEP)" = full ] && full=1; \
+	for t in $(SWEEP_BIN); do \
+	  echo "== $$(basename $$t) ($(SWEEP))"; \
+	  LIMEN_BUILD=$(B) SWEEP_FULL=$$full $$t || status=1; \
+	done; \
+	gnuplot -e "dir='$(B)/sweeps'" tests/sweeps/plots.gp 2>&1 | grep -v 'no valid points'; \
+	echo "limen: sweep CSVs and frames are in $(B)/sweeps/, charts in $(B)/sweeps/charts/"; \
+	exit $$status
+
+sweeps-deps:
+	@missing=""; for p in $(SWEEP_DEBS); do \
+	  dpkg-query -W -f='$${Status}' $$p 2>/dev/null | grep -q 'install ok installed' || missing="$$missing $$p"; \
+	done; \
+	if [ -n "$$missing" ]; then \
+	  echo "limen: installing Debian packages for the sweeps:$$missing"; \
+	  if [ "$$(id -u)" = 0 ]; then SUDO=; else SUDO=sudo; fi; \
+	  $$SUDO apt-get update -qq && \
+	  DEBIAN_FRONTEND=noninteractive $$SUDO apt-get install -y -qq --no-install-recommends $$missing; \
+	fi
+
+sweep-charts:
+	@mkdir -p tests/sweeps/charts
+	cp $(B)/sweeps/charts/*.png tests/sweeps/charts/
+	@for p in $(SWEEP_PICS); do \
+	  if [ -f $(B)/sweeps/$$p.png ]; then cp $(B)/sweeps/$$p.png tests/sweeps/charts/frame_$$p.png; \
+	  else echo "limen: no frame $$p.png (run make sweeps first)"; fi; \
+	done
+
+# ---- sanitizers and fuzzing ---------------------------------------------------------------
+# `make test-sanitize` (make test runs it after the normal suite): the library, the program
+# and every test built again into $(SAN_B) with AddressSanitizer and UndefinedBehaviorSanitizer,
+# then the whole suite (tests/run.sh) against that build; a sanitizer report fails the test
+# that prints it. gcc, because its sanitizer runtime is a shared library: tests/sh/cli.sh
+# loads the instrumented limen.so into the stock lua5.4 (through a wrapper, first on PATH,
+# that preloads the runtime: loaded late, by dlopen, it trips its own checks) and links a
+# program against the instrumented liblimen.so. LeakSanitizer skips only memory that Mesa
+# and LLVM allocate themselves (tests/sanitize.supp), and is off in lua5.4, which unloads
+# limen.so and Mesa before it runs, so that it could not tell their memory from limen's.
+# `make fuzz` (not part of make test): libFuzzer (clang) on the scene loader for FUZZ_TIME
+# seconds (60 by default), corpus in $(B)/fuzz/corpus seeded from scenes/ and
+# tests/malformed/, crashes and hangs written to $(B)/fuzz/ (tests/fuzz/fuzz_scene.c).
+SAN_B      ?= $(B)/asan
+SAN_CC     ?= gcc -fsanitize=address,undefined -fno-sanitize-recover=all
+SAN_CFLAGS ?= -O2 -g -fno-omit-frame-pointer
+SAN_ENV     = ASAN_OPTIONS=halt_on_error=1:detect_leaks=1:verify_asan_link_order=0 \
+              LSAN_OPTIONS=suppressions=$(abspath tests/sanitize.supp):print_suppressions=0 \
+              UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1 \
+              PATH="$(abspath $(SAN_B))/sanbin:$$PATH"
+FUZZ_TIME  ?= 60
+FUZZ_B     := $(B)/fuzz
+FUZZ_CC    ?= clang
+FUZZ_SAN   := -fsanitize=address,undefined -fno-sanitize-recover=all
+
+.PHONY: test-sanitize fuzz
+test-sanitize:
+	@$(MAKE) --no-print-directory B=$(SAN_B) CC="$(SAN_CC)" CFLAGS="$(SAN_CFLAGS)" \
+	  all $(TEST_C:tests/%.c=$(SAN_B)/tests/%)
+	@mkdir -p $(SAN_B)/sanbin && \
+	  printf '#!/bin/sh\nASAN_OPTIONS=$$ASAN_OPTIONS:detect_leaks=0 LD_PRELOAD=%s exec %s "$$@"\n' \
+	    "$$($(firstword $(SAN_CC)) -print-file-name=libasan.so)" "$$(command -v lua5.4)" \
+	    > $(SAN_B)/sanbin/lua5.4 && chmod +x $(SAN_B)/sanbin/lua5.4
+	@echo "== sanitizers: the suite again, built with $(SAN_CC)"
+	@$(SAN_ENV) sh tests/run.sh $(SAN_B)
+
+fuzz: $(B)/config.mk
+	@$(MAKE) --no-print-directory B=$(FUZZ_B) CC="$(FUZZ_CC) $(FUZZ_SAN) -fsanitize=fuzzer-no-link" \
+	  CFLAGS="-O1 -g" $(FUZZ_B)/liblimen.a
+	$(FUZZ_CC) $(FUZZ_SAN) -fsanitize=fuzzer -O1 -g -Iinclude -o $(FUZZ_B)/fuzz_scene \
+	  tests/fuzz/fuzz_scene.c $(FUZZ_B)/liblimen.a $(LIBS)
+	@mkdir -p $(FUZZ_B)/corpus && cp scenes/*.lua tests/malformed/*.lua $(FUZZ_B)/corpus/
+	$(FUZZ_B)/fuzz_scene -max_total_time=$(FUZZ_TIME) -timeout=10 -max_len=16384 \
+	  -dict=tests/fuzz/scene.dict -artifact_prefix=$(FUZZ_B)/ -print_final_stats=1 \
+	  $(FUZZ_B)/corpus

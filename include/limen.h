@@ -480,28 +480,31 @@ LIMEN_API limen_status limen_trace_image(limen_scene *s, const limen_trace_desc 
 
 /* A Lua 5.4 scene script: `return limen.scene{...}` after adding nodes; an optional
  * `function s.update(t)` animates it. The script owns its scene, and runs in a Lua state of
- * its own, within limits: a script cannot hang or exhaust the program that runs it.
- *   - Safe mode (the default) gives it no io, no os but the clock, no debug, no C modules,
- *     no bytecode, no __gc metamethods (finalizers would run outside the budget).
- *   - An instruction budget per call (load, and each update): Lua VM instructions, plus
- *     one per 32 bytes allocated and the work of library functions that loop over their
- *     arguments (string.rep, table.insert, patterns: a pattern whose worst case exceeds
- *     what is left is refused). A single instruction can still take time in proportion to
- *     its operands (comparing two long strings), up to what the memory cap allows.
- *   - A memory cap on what its Lua state holds (the scene's C-side nodes are not counted).
+ * its own, within limits, so that it cannot hang or exhaust the program that runs it:
+ *   - Safe mode (the default): no io, no os but the clock, no debug, no C modules, no
+ *     bytecode, no __gc metamethods (finalizers would run outside the budget).
+ *   - An instruction budget per call (the load, and each update): Lua VM instructions, plus
+ *     one per 32 bytes allocated, plus the work of library functions that loop over their
+ *     arguments (string.rep, table.insert, ...); a string pattern whose worst case exceeds
+ *     what is left is refused before it runs.
+ *   - A time limit per call that follows from the budget: 100 ns per instruction of it, at
+ *     least 1 s (5 s by default). Only a script whose single instructions are slow meets it
+ *     (comparing two long strings is one instruction).
+ *   - A memory cap on what its Lua state and its scenes' nodes hold.
  * A call that exceeds a limit fails with LIMEN_ERR_SCRIPT and a message such as
  *   "scenes/x.lua:3: script exceeded its instruction budget (50000000)" or
  *   "scenes/x.lua:3: not enough memory (script memory cap 64 MiB)"
- * (the line where known; the script's pcall cannot catch it), and stops the script: later
- * updates fail at once with the same message; its scene stays readable and it can be
- * destroyed. Trusted scripts keep the limits unless their fields below say otherwise, but
- * can lift the budget with debug.sethook, and their finalizers run unbounded. */
+ * (with the line where it is known); the script's own pcall cannot catch it. It stops the
+ * script: later updates fail at once with the same message, while its scene stays readable
+ * and the script can be destroyed. A trusted script keeps the limits its desc gives, but it
+ * can lift the budget with debug.sethook, and its finalizers run unbounded. */
 typedef struct limen_script limen_script;
 
 typedef struct limen_script_desc {
     int trusted;                /* 1: full standard library; 0: the safe subset */
-    int64_t instruction_budget; /* per load and per update call; 0 -> 50 million, < 0 -> none */
-    int64_t memory_cap;         /* bytes the script's Lua state may hold; 0 -> 64 MiB, < 0 -> none */
+    int64_t instruction_budget; /* per load and per update call; 0 -> 50 million, < 0 -> none
+                                 * (and no time limit) */
+    int64_t memory_cap;         /* bytes; 0 -> 64 MiB, < 0 -> none */
 } limen_script_desc;
 
 /* Runs the script. On failure *out may still hold a script whose limen_script_error()

@@ -497,6 +497,9 @@ static void draw_far_plane(game *g, const limen_view *v, const float rgb[3])
                  .model = { 2, 0, 0, 0, 0, 2, 0, 0, 0, 0, 1, 0, 0, 0, 1, 1 } };
     glUniformMatrix4fv(g->u.view_proj, 1, GL_FALSE, identity);
     glUniform3fv(g->u.tint, 1, v->tint);
+    /* a plane that keeps everything as well as the disable: llvmpipe (Mesa 22.3) was seen
+     * to go on clipping by the last plane after glDisable(GL_CLIP_DISTANCE0) */
+    glUniform4f(g->u.clip_plane, 0, 0, 0, 1);
     glDisable(GL_CLIP_DISTANCE0);
     draw_item(g, &far, 1, rgb);                 /* a "surface": depth clamped at far */
 }

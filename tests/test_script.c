@@ -570,6 +570,26 @@ static void test_memory_load(void)
     limen_script_destroy(sc);
 }
 
+/* The scenes' C-side nodes count against the cap too: their slots stay after the nodes go, so
+ * filling and emptying scene after scene would otherwise grow the program without bound. */
+static void test_memory_scenes(void)
+{
+    limen_script *sc = NULL;
+    CHECK(load_limited("scenes_bomb.lua", HEAD "local keep = {}\nfor k = 1, 100 do\n"
+                       "  local o = limen.scene {}\n  local nodes = {}\n"
+                       "  for i = 1, 4096 do nodes[i] = o:group {} end\n"
+                       "  for i = 1, 4096 do nodes[i]:destroy() end\n  keep[k] = o\nend\n",
+                       0, 4 << 20, &sc) == LIMEN_ERR_SCRIPT);
+    expect_message(sc, "scenes_bomb.lua", 7, "not enough memory (script memory cap 4 MiB)");
+    limen_script_destroy(sc);
+    /* the memory comes back with the scenes */
+    CHECK_OK(load_limited("scenes_churn.lua", HEAD "for k = 1, 8 do\n"
+                          "  local o = limen.scene {}\n  for i = 1, 1500 do o:group {} end\n"
+                          "  o = nil\n  collectgarbage()\nend\nreturn s\n", 0, 4 << 20, &sc));
+    CHECK_MSG(strcmp(limen_script_error(sc), "") == 0, "%s", limen_script_error(sc));
+    limen_script_destroy(sc);
+}
+
 /* A memory bomb in update stops the script cleanly; the next update fails the same way. */
 static void test_memory_update(void)
 {
@@ -673,6 +693,7 @@ static const check_case cases[] = {
     { "budget_update", test_budget_update },
     { "budget_default", test_budget_default },
     { "memory_load", test_memory_load },
+    { "memory_scenes", test_memory_scenes },
     { "memory_update", test_memory_update },
     { "metered", test_metered },
     { "limits_per_script", test_limits_per_script },

@@ -102,43 +102,93 @@ static bool surface_rect(const limen_plan *p, const limen__pview *v, const limen
     memcpy(a, sf->corners, sizeof sf->corners);
     int n = 4;
     if (v->pub.depth > 0) {
-        n = clip_poly(a, n, v->clip, b);
+        /* only what lies in front of the exit surface: a surface on its plane (to within the
+         * rounding of float world coordinates) is not, as for the ray tracer, whose next
+         * segment leaves the exit's plane */
+        double c[4], scale = 1;
+        memcpy(c, v->clip, sizeof c);
+        for (int i = 0; i < 4; i++)
+            for (int k = 0; k < 3; k++)
+                scale = fmax(scale, fabs(a[i][k]));
+        c[3] -= 1e-6 * scale;
+        n = clip_poly(a, n, c, b);
         memcpy(a, b, sizeof(double) * 3 * (size_t)n);
     }
     /* to view space, then keep what is in front of the eye: surfaces are not cut by the
      * near plane (the renderer draws them with depth clamping) */
     for (int i = 0; i < n; i++)
         limen__d_point(v->view, a[i], a[i]);
-    const double near_plane[4] = { 0, 0, -1, -1e-5 * p->znear };
-    n = clip_poly(a, n, near_plane, b);
+    /* keep what lies inside the four sides of the frustum (planes through the eye, so no
+     * distance scale enters): the projection of what is left is bounded, however close
+     * the surface is to the eye */
+    const double P0 = p->proj_d[0], P8 = p->proj_d[8], P5 = p->proj_d[5], P9 = p->proj_d[9];
+    const double sides[4][4] = { { -P0, 0, -(1 + P8), 0 }, { P0, 0, P8 - 1, 0 },
+                                 { 0, -P5, -(1 + P9), 0 }, { 0, P5, P9 - 1, 0 } };
+    for (int k = 0; k < 4 && n >= 3; k++) {
+        n = clip_poly(a, n, sides[k], b);
+        memcpy(a, b, sizeof(double) * 3 * (size_t)n);
+    }
     if (n < 3)
         return false;
+    for (int i = 0; i < n; i++)
+        if (!(-a[i][2] > 0))
+            return false;   /* a vertex at the eye: the surface's plane passes through it */
+    double sx[MAX_POLY], sy[MAX_POLY];
     double x0 = 1e300, x1 = -1e300, y0 = 1e300, y1 = -1e300;
     for (int i = 0; i < n; i++) {
-        double w = -b[i][2];
-        double sx = (p->proj_d[0] * b[i][0] + p->proj_d[8] * b[i][2]) / w;
-        double sy = (p->proj_d[5] * b[i][1] + p->proj_d[9] * b[i][2]) / w;
-        sx = (sx + 1.0) * 0.5 * p->width;
-        sy = (sy + 1.0) * 0.5 * p->height;
-        x0 = fmin(x0, sx);
-        x1 = fmax(x1, sx);
-        y0 = fmin(y0, sy);
-        y1 = fmax(y1, sy);
+        double w = -a[i][2];
+        sx[i] = (p->proj_d[0] * a[i][0] + p->proj_d[8] * a[i][2]) / w;
+        sy[i] = (p->proj_d[5] * a[i][1] + p->proj_d[9] * a[i][2]) / w;
+        sx[i] = (sx[i] + 1.0) * 0.5 * p->width;
+        sy[i] = (sy[i] + 1.0) * 0.5 * p->height;
+        x0 = fmin(x0, sx[i]);
+        x1 = fmax(x1, sx[i]);
+        y0 = fmin(y0, sy[i]);
+        y1 = fmax(y1, sy[i]);
     }
     if (p->no_cull) {
         memcpy(rect, (int[4]){ 0, 0, p->width, p->height }, sizeof(int) * 4);
         return true;
     }
     /* pixel k has its centre at k + 0.5 */
-    double px0 = ceil(x0 - 0.5), px1 = floor(x1 - 0.5);
     double py0 = ceil(y0 - 0.5), py1 = floor(y1 - 0.5);
     const int *s = v->pub.scissor;
-    px0 = fmax(px0, s[0]);
     py0 = fmax(py0, s[1]);
-    px1 = fmin(px1, s[0] + s[2] - 1);
     py1 = fmin(py1, s[1] + s[3] - 1);
-    if (!(px1 >= px0 && py1 >= py0))
+    /* the pixel centres the convex polygon covers, row by row: a sliver whose bounding box
+     * spans many pixels may cover none */
+    const double eps = 1e-7;
+    double cx0 = 1e300, cx1 = -1e300, cy0 = 1e300, cy1 = -1e300;
+    for (double py = py0; py <= py1; py++) {
+        double yc = py + 0.5, xa = 1e300, xb = -1e300;
+        for (int i = 0; i < n; i++) {
+            int j = (i + 1) % n;
+            double ya = sy[i], yb = sy[j];
+            if ((yc < fmin(ya, yb) - eps) || (yc > fmax(ya, yb) + eps))
+                continue;
+            double x;
+            if (fabs(yb - ya) < 1e-12) {
+                xa = fmin(xa, fmin(sx[i], sx[j]));
+                xb = fmax(xb, fmax(sx[i], sx[j]));
+                continue;
+            }
+            double t = fmin(1.0, fmax(0.0, (yc - ya) / (yb - ya)));
+            x = sx[i] + t * (sx[j] - sx[i]);
+            xa = fmin(xa, x);
+            xb = fmax(xb, x);
+        }
+        double qa = fmax(ceil(xa - 0.5 - eps), s[0]), qb = fmin(floor(xb - 0.5 + eps), s[0] + s[2] - 1);
+        if (qb >= qa) {
+            cx0 = fmin(cx0, qa);
+            cx1 = fmax(cx1, qb);
+            cy0 = fmin(cy0, py);
+            cy1 = fmax(cy1, py);
+        }
+    }
+    if (!(cx1 >= cx0 && cy1 >= cy0))
         return false;
+    double px0 = cx0, px1 = cx1;
+    py0 = cy0, py1 = cy1;
     rect[0] = (int)px0;
     rect[1] = (int)py0;
     rect[2] = (int)(px1 - px0) + 1;

@@ -35,6 +35,7 @@ struct limen_renderer {
     char info[256];
 
     GLuint prog, vao, vbo, ibo;
+    GLuint poly_vao, poly_vbo;              /* surfaces near the eye: CPU-clipped polygons */
     GLuint fill_prog;                       /* flat full-viewport rectangle */
     GLint u_fill_depth, u_fill_color;
     uniforms u;

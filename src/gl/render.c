@@ -346,6 +346,10 @@ void limen_renderer_destroy(limen_renderer *r)
         GL(DeleteBuffers)(1, &r->vbo);
         GL(DeleteBuffers)(1, &r->ibo);
         GL(DeleteVertexArrays)(1, &r->vao);
+        if (r->poly_vao) {
+            GL(DeleteVertexArrays)(1, &r->poly_vao);
+            GL(DeleteBuffers)(1, &r->poly_vbo);
+        }
         GL(DeleteFramebuffers)(1, &r->fbo);
         GL(DeleteRenderbuffers)(1, &r->color_rb);
         GL(DeleteRenderbuffers)(1, &r->depth_rb);

@@ -238,9 +238,148 @@ static void draw_node_at(limen_renderer *r, const rview *v, const limen__node *n
                      (void *)(sizeof(uint32_t) * range.first));
 }
 
+
+/* ------------------------------------------------------------------ surfaces as polygons */
+
+#ifndef GL_TRIANGLE_FAN
+#define GL_TRIANGLE_FAN 0x0006
+#endif
+#ifndef GL_STREAM_DRAW
+#define GL_STREAM_DRAW 0x88E0
+#endif
+
+static int clip4(double in[][4], int n, const double pl[4], double out[][4])
+{
+    int m = 0;
+    for (int i = 0; i < n && m < 30; i++) {
+        const double *a = in[i], *b = in[(i + 1) % n];
+        double da = 0, db = 0;
+        for (int k = 0; k < 4; k++)
+            da += pl[k] * a[k], db += pl[k] * b[k];
+        if (da >= 0)
+            memcpy(out[m++], a, sizeof(double) * 4);
+        if ((da >= 0) != (db >= 0)) {
+            double t = da / (da - db);
+            for (int k = 0; k < 4; k++)
+                out[m][k] = a[k] + t * (b[k] - a[k]);
+            m++;
+        }
+    }
+    return m;
+}
+
+static void draw_ndc(limen_renderer *r, double p[][4], int n, int fixed, double z)
+{
+    if (n < 3)
+        return;
+    limen__vertex buf[32];
+    for (int i = 0; i < n; i++) {
+        buf[i].pos[0] = (float)(p[i][0] / p[i][3]);
+        buf[i].pos[1] = (float)(p[i][1] / p[i][3]);
+        buf[i].pos[2] = (float)(fixed ? z : p[i][2] / p[i][3]);
+        buf[i].nrm[0] = buf[i].nrm[1] = 0, buf[i].nrm[2] = 1;
+    }
+    GL(BufferData)(GL_ARRAY_BUFFER, (GLsizeiptr)(sizeof(limen__vertex) * (size_t)n), buf, GL_STREAM_DRAW);
+    GL(DrawArrays)(GL_TRIANGLE_FAN, 0, n);
+}
+
+/* A surface's flat pass (mark, seal, fill) from its polygon clipped in double: to the view's
+ * user clip plane, to the frustum's four sides (so that the GPU clips nothing: its float
+ * clipping fails when the surface nearly touches the eye, w a few float steps of x), split at
+ * the near and far planes into the parts depth clamping puts there and the part between. */
+static void draw_surface_flat(limen_renderer *r, const rview *v, const limen__node *node,
+                              int mode, const float *albedo)
+{
+    if (!r->poly_vao) {
+        GL(GenVertexArrays)(1, &r->poly_vao);
+        GL(BindVertexArray)(r->poly_vao);
+        GL(GenBuffers)(1, &r->poly_vbo);
+        GL(BindBuffer)(GL_ARRAY_BUFFER, r->poly_vbo);
+        GL(EnableVertexAttribArray)(0);
+        GL(VertexAttribPointer)(0, 3, GL_FLOAT, GL_FALSE, sizeof(limen__vertex), (void *)0);
+        GL(EnableVertexAttribArray)(1);
+        GL(VertexAttribPointer)(1, 3, GL_FLOAT, GL_FALSE, sizeof(limen__vertex),
+                                (void *)offsetof(limen__vertex, nrm));
+    }
+    double a[32][4], b[32][4], c[32][4], d[32][4];
+    const double lx[4] = { -0.5, 0.5, 0.5, -0.5 }, ly[4] = { -0.5, -0.5, 0.5, 0.5 };
+    for (int i = 0; i < 4; i++) {
+        for (int k = 0; k < 3; k++)
+            a[i][k] = (double)node->world[0][k] * lx[i] * node->dims[0] +
+                      (double)node->world[1][k] * ly[i] * node->dims[1] + node->world[3][k];
+        a[i][3] = 1;
+    }
+    int n = 4;
+    if (v->pub->clip == LIMEN_CLIP_PLANE && v->pub->depth > 0) {
+        const double cp[4] = { v->pub->clip_plane[0], v->pub->clip_plane[1],
+                               v->pub->clip_plane[2], v->pub->clip_plane[3] };
+        n = clip4(a, n, cp, b);
+        memcpy(a, b, sizeof(double) * 4 * (size_t)n);
+    }
+    for (int i = 0; i < n; i++) {
+        double q[4];
+        for (int row = 0; row < 4; row++)
+            q[row] = (double)v->view_proj[0][row] * a[i][0] + (double)v->view_proj[1][row] * a[i][1] +
+                     (double)v->view_proj[2][row] * a[i][2] + (double)v->view_proj[3][row] * a[i][3];
+        memcpy(a[i], q, sizeof q);
+    }
+    static const double sides[4][4] = { { -1, 0, 0, 1 }, { 1, 0, 0, 1 }, { 0, -1, 0, 1 }, { 0, 1, 0, 1 } };
+    for (int k = 0; k < 4 && n >= 3; k++) {
+        n = clip4(a, n, sides[k], b);
+        memcpy(a, b, sizeof(double) * 4 * (size_t)n);
+    }
+    int m = 0;
+    for (int i = 0; i < n; i++)
+        if (a[i][3] > 0)
+            memcpy(b[m++], a[i], sizeof(double) * 4);
+    n = m;
+    memcpy(a, b, sizeof(double) * 4 * (size_t)n);
+    if (n < 3)
+        return;
+    /* near and far planes (inside >= 0) and the depths clamping gives beyond them */
+    double np[4] = { 0, 0, 1, 1 }, fp[4] = { 0, 0, -1, 1 }, zn = -1, zf = 1;
+    if (r->range == LIMEN_DEPTH_ZO) {
+        np[3] = 0, zn = 0;
+    } else if (r->range == LIMEN_DEPTH_ZO_REVERSED) {
+        double t1[4] = { 0, 0, -1, 1 }, t2[4] = { 0, 0, 1, 0 };
+        memcpy(np, t1, sizeof np), memcpy(fp, t2, sizeof fp);
+        zn = 1, zf = 0;
+    }
+    static const float ident[16] = { 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1 };
+    static const float keep_all[4] = { 0, 0, 0, 1 };
+    GL(UniformMatrix4fv)(r->u.model, 1, GL_FALSE, ident);
+    GL(UniformMatrix4fv)(r->u.view_proj, 1, GL_FALSE, ident);
+    GL(Uniform3fv)(r->u.albedo, 1, albedo);
+    GL(Uniform1f)(r->u.cell, 0.0f);
+    GL(Uniform1i)(r->u.mode, mode);
+    GL(Uniform4fv)(r->u.clip_plane, 1, keep_all);
+    GL(Uniform4fv)(r->u.clip_plane2, 1, keep_all);
+    GL(Enable)(GL_DEPTH_CLAMP);
+    GL(Disable)(GL_CULL_FACE);
+    GL(BindVertexArray)(r->poly_vao);
+    GL(BindBuffer)(GL_ARRAY_BUFFER, r->poly_vbo);
+    double nn[4] = { -np[0], -np[1], -np[2], -np[3] }, fn[4] = { -fp[0], -fp[1], -fp[2], -fp[3] };
+    int k = clip4(a, n, nn, c);
+    draw_ndc(r, c, k, 1, zn);
+    k = clip4(a, n, fn, c);
+    draw_ndc(r, c, k, 1, zf);
+    k = clip4(a, n, np, c);
+    k = clip4(c, k, fp, d);
+    draw_ndc(r, d, k, 0, 0);
+    GL(BindVertexArray)(r->vao);
+    GL(BindBuffer)(GL_ARRAY_BUFFER, r->vbo);
+    set_mat4(r, r->u.view_proj, (vec4 *)v->view_proj);
+    bool plane = v->pub->clip == LIMEN_CLIP_PLANE;
+    GL(Uniform4fv)(r->u.clip_plane, 1, plane ? v->pub->clip_plane : keep_all);
+}
+
 static void draw_node(limen_renderer *r, const rview *v, const limen__node *node, int mode,
                       const float *albedo)
 {
+    if ((mode == MODE_FLAT || mode == MODE_TEXTURE) && limen__is_surface(node)) {
+        draw_surface_flat(r, v, node, mode, albedo);
+        return;
+    }
     draw_node_at(r, v, node, (vec4 *)node->world, mode, albedo);
 }
 

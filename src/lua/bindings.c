@@ -45,7 +45,15 @@
 typedef struct lscene {
     limen_scene *s;             /* NULL once collected */
     lua_Integer seq;            /* creation counter, orders s:nodes() */
+    int max_nodes;
+    size_t held;                /* C-side bytes counted against the script's memory cap */
 } lscene;
+
+/* What the core keeps in C for a scene: the scene, and node slots (a node and its free-list
+ * entry, 500 bytes) in an array that doubles from 64 and stays when nodes go. */
+#define SCENE_BYTES 1024
+#define SLOT_BYTES 512
+#define FIRST_SLOTS 64
 
 /* A node userdata: the handle plus what error messages need after the node has gone.
  * User value 1 = its scene userdata, which it keeps alive. */
@@ -186,6 +194,29 @@ static int unknown_node_field(lua_State *L, const char *ctx, const char *what, c
     for (int f = 0; f < F_COUNT; f++)
         names[f] = allowed & BIT(f) ? field_names[f] : NULL;
     return unknown_field(L, ctx, what, key, names, F_COUNT);
+}
+
+/* ------------------------------------------------------------------ C-side memory */
+
+/* Counts what ls's scene will hold in C with `count` nodes against the memory cap of the
+ * script (a script could otherwise fill and empty scene after scene); past the cap, raises
+ * the memory error, as an allocation would. */
+static void hold_scene(lua_State *L, lscene *ls, int count)
+{
+    size_t slots = count > 0 ? FIRST_SLOTS : 0;
+    while (slots && slots < (size_t)count)
+        slots *= 2;
+    if (slots > (size_t)ls->max_nodes)
+        slots = (size_t)ls->max_nodes;
+    size_t want = SCENE_BYTES + slots * SLOT_BYTES;
+    if (want <= ls->held)
+        return;
+    if (!limen__lua_hold(L, (ptrdiff_t)(want - ls->held))) {
+        limen__lua_note_line(L);
+        lua_pushliteral(L, "not enough memory");   /* lua_error makes it a memory error */
+        lua_error(L);
+    }
+    ls->held = want;
 }
 
 /* ------------------------------------------------------------------ userdata access */
@@ -716,6 +747,7 @@ static limen_node create_node(lua_State *L, int scene_idx, limen_node_kind kind,
 {
     lscene *ls = lua_touserdata(L, scene_idx);
     limen_node n;
+    hold_scene(L, ls, limen_scene_node_count(ls->s) + 1);
     limen_status st = limen_node_create(ls->s, kind, sp->name, &n);
     if (st == LIMEN_ERR_NOMEM) {
         int count = limen_scene_node_count(ls->s);
@@ -1058,6 +1090,8 @@ static int l_node_link(lua_State *L)
     if (nd->kind != LIMEN_NODE_PORTAL)
         return luaL_error(L, "%s: link: only portals can be linked", ctx);
     limen_node other = read_node(L, 2, 3, ctx, "link: other", LIMEN_NODE_PORTAL);
+    if (other.id == nd->n.id)
+        return luaL_error(L, "%s: link: a portal cannot be paired with itself", ctx);
     if (limen_portal_link(s, nd->n, other))
         return c_error(L, s, ctx, nd->label);
     return 0;
@@ -1266,6 +1300,8 @@ static int l_scene_gc(lua_State *L)
     lscene *ls = luaL_checkudata(L, 1, SCENE_MT);
     limen_scene_destroy(ls->s);
     ls->s = NULL;
+    limen__lua_hold(L, -(ptrdiff_t)ls->held);
+    ls->held = 0;
     return 0;
 }
 
@@ -1551,7 +1587,10 @@ static int l_scene_new(lua_State *L)
     lscene *ls = lua_newuserdatauv(L, sizeof *ls, 2);
     ls->s = NULL;
     ls->seq = 0;
+    ls->max_nodes = desc.max_nodes ? desc.max_nodes : 4096;
+    ls->held = 0;
     luaL_setmetatable(L, SCENE_MT);   /* from here __gc frees whatever is made */
+    hold_scene(L, ls, 0);
     lua_newtable(L);
     lua_setiuservalue(L, -2, 1);
     lua_newtable(L);

@@ -27,6 +27,10 @@ int limen__lua_push_update(lua_State *L, int idx);
  * exceeded its instruction budget" (and stops the script) if there is not that much left.
  * A no-op in a state that is not a limen_script's (a stock lua5.4 with limen.so). */
 void limen__lua_charge(lua_State *L, double steps);
+/* Counts `bytes` held outside the Lua state (a scene's C-side nodes) against the memory cap
+ * of the script running in L, or gives them back if negative. Returns 0, counting nothing,
+ * if that would pass the cap. Always 1 in a state that is not a limen_script's. */
+int limen__lua_hold(lua_State *L, ptrdiff_t bytes);
 /* Notes the calling script line as the place of a memory error that may follow (Lua gives
  * memory errors no place, and no message handler runs for them). */
 void limen__lua_note_line(lua_State *L);

@@ -2,7 +2,8 @@
  *
  * Each script has its own lua_State, and in it:
  *   - a memory cap: the state's allocator (script_alloc) counts the bytes it holds and refuses
- *     an allocation that would take it past the cap; Lua turns that into "not enough memory";
+ *     an allocation that would take it past the cap; Lua turns that into "not enough memory".
+ *     The bindings count the scenes' C-side node slots too (limen__lua_hold);
  *   - an instruction budget per load and per update call: a count hook (script_hook) adds up
  *     VM instructions, and the allocator charges one instruction per ALLOC_BYTES allocated
  *     (copying a long string is work too). Library functions whose work grows with their
@@ -36,7 +37,7 @@
 #define HOOK_EVERY 1000         /* instructions between two calls of the count hook */
 #define ALLOC_BYTES 32          /* bytes allocated that cost one instruction */
 #define NS_PER_INSTRUCTION 100  /* time limit per instruction of budget; ten times the usual */
-#define SLOW_EVERY 16           /* hook interval where HOOK_EVERY instructions took > 1 ms */
+#define SLOW_EVERY 16           /* hook interval on a thread whose instructions are slow */
 
 struct limen_script {
     lua_State *L;
@@ -283,8 +284,14 @@ static void script_hook(lua_State *L, lua_Debug *ar)
         } else if (sc->time_limit > 0) {
             double t = now();
             if (t - sc->started <= sc->time_limit) {
-                if (t - sc->last_hook > 1e-3 && lua_gethookcount(L) > SLOW_EVERY)
+                /* slow instructions (a hundred times the usual): look at the clock more often
+                 * on this thread, until they are fast again */
+                int count = lua_gethookcount(L);
+                double per = (t - sc->last_hook) / count;
+                if (count > SLOW_EVERY && per > 1e-6)
                     lua_sethook(L, script_hook, lua_gethookmask(L), SLOW_EVERY);
+                else if (count == SLOW_EVERY && per < 1e-7)
+                    lua_sethook(L, script_hook, lua_gethookmask(L), sc->hook_every);
                 sc->last_hook = t;
                 return;
             }
@@ -311,6 +318,24 @@ void limen__lua_charge(lua_State *L, double steps)
         budget_error(L, sc);
     }
     sc->spent += (int64_t)steps;
+}
+
+int limen__lua_hold(lua_State *L, ptrdiff_t bytes)
+{
+    limen_script *sc = script_of(L);
+    if (!sc)
+        return 1;
+    if (bytes < 0) {
+        sc->mem_used -= (size_t)-bytes;
+        return 1;
+    }
+    if (sc->mem_cap &&
+        ((size_t)bytes > sc->mem_cap || sc->mem_used > sc->mem_cap - (size_t)bytes)) {
+        sc->mem_refused = 1;
+        return 0;
+    }
+    sc->mem_used += (size_t)bytes;
+    return 1;
 }
 
 void limen__lua_note_line(lua_State *L)

@@ -1,0 +1,28 @@
+#!/bin/sh
+# run.sh BUILD [quick|full] - the benchmark behind `make bench`: the matrix constructions,
+# the speed-against-accuracy sweep and its targets, then the charts. Everything goes to
+# BUILD/bench/; the targets are printed last.
+set -e
+B=${1:-build}
+MODE=${2:-quick}
+case "$MODE" in quick|full) ;; *) echo "bench: BENCH must be quick or full (got '$MODE')" >&2; exit 1 ;; esac
+OUT="$B/bench"
+mkdir -p "$OUT/truth"
+start=$(date +%s)
+
+echo "bench ($MODE): matrix constructions"
+"$B/bench/matrices" --"$MODE" --out "$OUT/matrices.csv" | tee "$OUT/matrices.txt"
+echo "bench ($MODE): speed against accuracy (progress on stderr)"
+"$B/bench/bench" --"$MODE" --out "$OUT" > "$OUT/bench.log"
+echo "bench ($MODE): charts"
+# gnuplot warns about series the quick run leaves empty: keep its words in a log
+if ! gnuplot -e "dir='$OUT'" bench/plots.gp 2> "$OUT/gnuplot.log"; then
+    cat "$OUT/gnuplot.log" >&2
+    exit 1
+fi
+
+end=$(date +%s)
+echo "runtime: $((end - start)) s" >> "$OUT/meta.txt"
+echo
+echo "bench ($MODE) done in $((end - start)) s: $OUT/points.csv, $OUT/matrices.csv, charts $OUT/*.png"
+cat "$OUT/targets.txt"

@@ -1,0 +1,7 @@
+-- load of bytecode from string.dump
+local limen = require "limen"
+local s = limen.scene {}
+s:light { pos = {2, 4, 3} }
+s:camera { pos = {0, 1, 5}, look_at = {0, 0, 0} }
+local f = assert(load(string.dump(function() return 1 end)))
+return s

@@ -1,0 +1,9 @@
+-- a destroyed node used
+local limen = require "limen"
+local s = limen.scene {}
+s:light { pos = {2, 4, 3} }
+s:camera { pos = {0, 1, 5}, look_at = {0, 0, 0} }
+local b = s:sphere { name = "b" }
+b:destroy()
+b.radius = 2
+return s

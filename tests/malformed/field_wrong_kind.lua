@@ -1,0 +1,7 @@
+-- a field of another kind of node
+local limen = require "limen"
+local s = limen.scene {}
+s:light { pos = {2, 4, 3} }
+s:camera { pos = {0, 1, 5}, look_at = {0, 0, 0} }
+s:sphere { size = {1, 1, 1} }
+return s

@@ -1,0 +1,7 @@
+-- a finalizer that never ends
+local limen = require "limen"
+local s = limen.scene {}
+s:light { pos = {2, 4, 3} }
+s:camera { pos = {0, 1, 5}, look_at = {0, 0, 0} }
+setmetatable({}, { __gc = function() while true do end end })
+return s

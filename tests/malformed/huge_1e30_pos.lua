@@ -1,0 +1,7 @@
+-- a sphere 1e30 away
+local limen = require "limen"
+local s = limen.scene {}
+s:light { pos = {2, 4, 3} }
+s:camera { pos = {0, 1, 5}, look_at = {0, 0, 0} }
+s:sphere { pos = {0, 0, -1e30}, radius = 1e29 }
+return s

@@ -1,0 +1,7 @@
+-- a position past the float range
+local limen = require "limen"
+local s = limen.scene {}
+s:light { pos = {2, 4, 3} }
+s:camera { pos = {0, 1, 5}, look_at = {0, 0, 0} }
+s:sphere { pos = {1e39, 0, 0} }
+return s

@@ -1,0 +1,7 @@
+-- infinity in sphere's color
+local limen = require "limen"
+local s = limen.scene {}
+s:light { pos = {2, 4, 3} }
+s:camera { pos = {0, 1, 5}, look_at = {0, 0, 0} }
+s:sphere { color = {1, 1/0, 0} }
+return s

@@ -1,0 +1,7 @@
+-- infinity in camera's look_at
+local limen = require "limen"
+local s = limen.scene {}
+s:light { pos = {2, 4, 3} }
+s:camera { pos = {0, 1, 5}, look_at = {0, 0, 0} }
+s:camera { look_at = {0, 0, -math.huge} }
+return s

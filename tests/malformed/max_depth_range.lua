@@ -1,0 +1,7 @@
+-- max_depth past 255
+local limen = require "limen"
+local s = limen.scene {}
+s:light { pos = {2, 4, 3} }
+s:camera { pos = {0, 1, 5}, look_at = {0, 0, 0} }
+s:mirror { max_depth = 256 }
+return s

@@ -1,0 +1,8 @@
+-- NaN assigned to a node field
+local limen = require "limen"
+local s = limen.scene {}
+s:light { pos = {2, 4, 3} }
+s:camera { pos = {0, 1, 5}, look_at = {0, 0, 0} }
+local b = s:sphere {}
+b.pos = {0/0, 0, 0}
+return s

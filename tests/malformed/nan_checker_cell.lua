@@ -1,0 +1,7 @@
+-- NaN checker cell
+local limen = require "limen"
+local s = limen.scene {}
+s:light { pos = {2, 4, 3} }
+s:camera { pos = {0, 1, 5}, look_at = {0, 0, 0} }
+s:plane { size = {2, 2}, checker = { {0, 0, 0}, {1, 1, 1}, 0/0 } }
+return s

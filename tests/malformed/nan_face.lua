@@ -1,0 +1,8 @@
+-- NaN through node:face
+local limen = require "limen"
+local s = limen.scene {}
+s:light { pos = {2, 4, 3} }
+s:camera { pos = {0, 1, 5}, look_at = {0, 0, 0} }
+local m = s:mirror {}
+m:face({0/0, 0, 1})
+return s

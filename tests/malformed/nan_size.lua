@@ -1,0 +1,7 @@
+-- NaN in mirror's size
+local limen = require "limen"
+local s = limen.scene {}
+s:light { pos = {2, 4, 3} }
+s:camera { pos = {0, 1, 5}, look_at = {0, 0, 0} }
+s:mirror { size = {0/0, 1} }
+return s

@@ -1,0 +1,7 @@
+-- s:render in safe mode
+local limen = require "limen"
+local s = limen.scene {}
+s:light { pos = {2, 4, 3} }
+s:camera { pos = {0, 1, 5}, look_at = {0, 0, 0} }
+s:render { out = "/tmp/limen-pwned.png" }
+return s

@@ -1,0 +1,7 @@
+-- a size that is 0 as a float
+local limen = require "limen"
+local s = limen.scene {}
+s:light { pos = {2, 4, 3} }
+s:camera { pos = {0, 1, 5}, look_at = {0, 0, 0} }
+s:mirror { size = {1e-50, 1} }
+return s

@@ -1,0 +1,7 @@
+-- a constructor given a number
+local limen = require "limen"
+local s = limen.scene {}
+s:light { pos = {2, 4, 3} }
+s:camera { pos = {0, 1, 5}, look_at = {0, 0, 0} }
+s:sphere(5)
+return s
