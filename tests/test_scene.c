@@ -227,7 +227,41 @@ static void test_local_matrix(void)
     limen_scene_destroy(s);
 }
 
+static void test_overflowing_world(void)
+{
+    /* scales in range whose product overflows a float: refused by name, not rendered */
+    limen_scene *s = new_scene();
+    limen_node g[5], cam, ball;
+    for (int i = 0; i < 5; i++) {
+        CHECK_OK(limen_node_create(s, LIMEN_NODE_GROUP, i == 4 ? "deepest" : NULL, &g[i]));
+        CHECK_OK(limen_node_set_scale(s, g[i], (float[3]){ 1e9f, 1e9f, 1e9f }));
+        if (i)
+            CHECK_OK(limen_node_set_parent(s, g[i], g[i - 1]));
+    }
+    CHECK_OK(limen_node_create(s, LIMEN_NODE_SPHERE, "ball", &ball));
+    CHECK_OK(limen_node_set_parent(s, ball, g[4]));
+    CHECK_OK(limen_node_create(s, LIMEN_NODE_CAMERA, "cam", &cam));
+    CHECK_OK(limen_scene_set_camera(s, cam));
+    limen_plan *p;
+    CHECK_OK(limen_plan_create(&p));
+    CHECK(limen_plan_build(p, s, NULL) == LIMEN_ERR_ARG);
+    CHECK(strstr(limen_last_error(s), "group 'deepest': its world transform is not finite"));
+    limen_hit h;
+    CHECK(limen_ray_cast(s, (float[3]){ 0, 0, 0 }, (float[3]){ 0, 0, -1 }, -1, &h) ==
+          LIMEN_ERR_ARG);
+    /* back in range: fine again */
+    CHECK_OK(limen_node_set_parent(s, ball, (limen_node){ 0 }));
+    CHECK_OK(limen_node_destroy(s, g[4]));
+    CHECK_OK(limen_plan_build(p, s, NULL));
+    limen_plan_destroy(p);
+    /* names must be UTF-8 */
+    CHECK(limen_node_create(s, LIMEN_NODE_GROUP, "\xff\xfe", &cam) == LIMEN_ERR_ARG);
+    CHECK_OK(limen_node_create(s, LIMEN_NODE_GROUP, "caf\xc3\xa9", &cam));
+    limen_scene_destroy(s);
+}
+
 static const check_case cases[] = {
+    { "overflowing_world", test_overflowing_world },
     { "handles", test_handles },
     { "capacity", test_capacity },
     { "hierarchy", test_hierarchy },

@@ -6,4 +6,8 @@
  * status. */
 int limen_cli_trace(int argc, char **argv);
 
+/* Prints "limen: SCENE: message" for a message about the scene, unless the message already
+ * names a place in it ("SCENE:12: ..."). */
+void limen_cli_scene_error(const char *scene, const char *msg);
+
 #endif

@@ -40,6 +40,15 @@ static const char *usage =
     "                        samples, pixels\n"
     "  --trusted             run the script with the full Lua standard library\n";
 
+void limen_cli_scene_error(const char *scene, const char *msg)
+{
+    size_t n = strlen(scene);
+    if (strncmp(msg, scene, n) == 0 && msg[n] == ':')
+        fprintf(stderr, "limen: %s\n", msg);
+    else
+        fprintf(stderr, "limen: %s: %s\n", scene, msg);
+}
+
 static int fail(const char *fmt, const char *a, const char *b)
 {
     fprintf(stderr, "limen: ");
@@ -269,9 +278,15 @@ static int cmd_render(int argc, char **argv)
             break;
         }
         st = limen_render_frame(r, limen_script_scene(sc), &o.ro, &stats);
+        if (st) {
+            if (tty && f)
+                fputc('\n', stderr);
+            limen_cli_scene_error(o.scene, limen_renderer_error(r));
+            rc = 1;
+            break;
+        }
         frame_path(o.out, f, o.frames, path, sizeof path);
-        if (!st)
-            st = limen_renderer_write_png(r, path);
+        st = limen_renderer_write_png(r, path);
         if (st) {
             fprintf(stderr, "%slimen: %s\n", tty && f ? "\n" : "", limen_renderer_error(r));
             rc = 1;

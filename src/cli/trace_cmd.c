@@ -128,8 +128,8 @@ int limen_cli_trace(int argc, char **argv)
     }
     double t0 = now_ms();
     if (!rc && (st = limen_trace_image(s, &d, rgb))) {
-        fprintf(stderr, "limen: %s\n", limen_last_error(s)[0] ? limen_last_error(s)
-                                                              : limen_status_string(st));
+        limen_cli_scene_error(scene, limen_last_error(s)[0] ? limen_last_error(s)
+                                                            : limen_status_string(st));
         rc = 1;
     }
     double ms = now_ms() - t0;

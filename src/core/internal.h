@@ -53,6 +53,7 @@ struct limen_scene {
     vec3 background;
     float ambient;
     uint32_t camera;            /* index + 1 */
+    uint32_t bad_world;         /* index + 1 of a node whose world matrix overflowed; 0 */
     char err[LIMEN__ERR_MAX];
 };
 
@@ -66,6 +67,10 @@ void limen__vformat(char *buf, size_t size, const char *fmt, va_list ap);
 limen__node *limen__node_get(const limen_scene *s, limen_node n);
 /* Recomputes world matrices if something moved. */
 void limen__scene_refresh(limen_scene *s);
+/* Refreshes, then refuses a scene whose world matrices are not all finite (scales along a
+ * parent chain multiplied past what a float holds), naming the node. fn prefixes nothing;
+ * the message starts with the node's label. */
+limen_status limen__scene_check(limen_scene *s);
 /* Slot index of a handle's node (without checking that it is alive); -1 for none. */
 static inline int limen__node_get_index(limen_node n)
 {

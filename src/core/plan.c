@@ -350,6 +350,9 @@ limen_status limen_plan_build(limen_plan *p, limen_scene *s, const limen_plan_de
 {
     if (!p || !s)
         return LIMEN_ERR_ARG;
+    limen_status cst = limen__scene_check(s);
+    if (cst)
+        return cst;
     limen_plan_desc d = desc ? *desc : (limen_plan_desc){ 0 };
     p->width = d.width > 0 ? d.width : 640;
     p->height = d.height > 0 ? d.height : 480;

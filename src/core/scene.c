@@ -187,6 +187,7 @@ void limen__scene_refresh(limen_scene *s)
         return;
     /* Parents may sit at any index: resolve each node after its ancestors, using `done`
      * marks; chains are acyclic by construction (set_parent refuses cycles). */
+    s->bad_world = 0;
     unsigned char *done = calloc((size_t)s->cap, 1);
     uint32_t *stack = malloc(sizeof *stack * (size_t)(s->cap ? s->cap : 1));
     if (!done || !stack) {
@@ -214,12 +215,31 @@ void limen__scene_refresh(limen_scene *s)
                 glm_mat4_mul(s->nodes[node->parent - 1].world, node->local, node->world);
             else
                 glm_mat4_copy(node->local, node->world);
+            for (int e = 0; e < 16 && !s->bad_world; e++)
+                if (!isfinite(node->world[e / 4][e % 4]))
+                    s->bad_world = k + 1u;
             done[k] = 1;
         }
     }
     free(done);
     free(stack);
     s->dirty = false;
+}
+
+limen_status limen__scene_check(limen_scene *s)
+{
+    limen__scene_refresh(s);
+    if (s->dirty)
+        return limen__fail(s, LIMEN_ERR_NOMEM, "out of memory");
+    if (!s->bad_world || s->bad_world > (uint32_t)s->cap ||
+        !limen__alive(&s->nodes[s->bad_world - 1]))
+        return LIMEN_OK;
+    const limen__node *n = &s->nodes[s->bad_world - 1];
+    return limen__fail(s, LIMEN_ERR_ARG,
+                       "%s%s%s%s%s%s: its world transform is not finite (the scales along its "
+                       "parent chain multiply past what a float holds)",
+                       n->label, n->label[0] ? ": " : "", kind_name(n->kind),
+                       n->name[0] ? " '" : "", n->name, n->name[0] ? "'" : "");
 }
 
 limen_status limen_scene_update(limen_scene *s)
@@ -231,6 +251,29 @@ limen_status limen_scene_update(limen_scene *s)
 }
 
 /* ------------------------------------------------------------------ nodes */
+
+/* Names go into messages and JSON plans: well-formed UTF-8 only. */
+static bool valid_utf8(const char *str)
+{
+    const unsigned char *p = (const unsigned char *)str;
+    while (*p) {
+        int n = *p < 0x80 ? 0 : (*p & 0xE0) == 0xC0 ? 1 : (*p & 0xF0) == 0xE0 ? 2
+                : (*p & 0xF8) == 0xF0 ? 3 : -1;
+        if (n < 0 || (n == 1 && *p < 0xC2))
+            return false;
+        unsigned cp = n ? *p & (0x3F >> n) : *p;
+        for (int i = 1; i <= n; i++) {
+            if ((p[i] & 0xC0) != 0x80)
+                return false;
+            cp = (cp << 6) | (p[i] & 0x3F);
+        }
+        if ((n == 2 && cp < 0x800) || (n == 3 && (cp < 0x10000 || cp > 0x10FFFF)) ||
+            (cp >= 0xD800 && cp <= 0xDFFF))
+            return false;
+        p += n + 1;
+    }
+    return true;
+}
 
 static void node_defaults(limen__node *node, limen_node_kind kind)
 {
@@ -291,6 +334,8 @@ limen_status limen_node_create(limen_scene *s, limen_node_kind kind, const char 
     out->id = 0;
     if ((unsigned)kind >= LIMEN_NODE_KIND_COUNT)
         return limen__fail(s, LIMEN_ERR_ARG, "node_create: unknown kind %d", (int)kind);
+    if (name && !valid_utf8(name))
+        return limen__fail(s, LIMEN_ERR_ARG, "node_create: the name is not valid UTF-8");
     if (!s->free_count && !grow(s))
         return limen__fail(s, LIMEN_ERR_NOMEM, "node_create: more than %d nodes", s->max_nodes);
     uint32_t index = s->free_list[--s->free_count];

@@ -640,7 +640,10 @@ limen_status limen_ray_cast(limen_scene *s, const float origin[3], const float d
                            "ray_cast: direction must be finite and non-zero (got %g %g %g)",
                            dir[0], dir[1], dir[2]);
     tracer tr;
-    limen_status st = tracer_init(&tr, s, "ray_cast");
+    limen_status st = limen__scene_check(s);
+    if (st)
+        return st;
+    st = tracer_init(&tr, s, "ray_cast");
     if (st)
         return st;
     record rec;
@@ -733,6 +736,9 @@ limen_status limen_trace_image(limen_scene *s, const limen_trace_desc *desc, uns
         return limen__fail(s, LIMEN_ERR_ARG, "trace: thread count must be >= 0 (got %d)",
                            d.threads);
     int width = d.width ? d.width : 640, height = d.height ? d.height : 480;
+    limen_status cst = limen__scene_check(s);
+    if (cst)
+        return cst;
     float view[16], proj[16];
     limen_status st = limen_camera_matrices(s, (float)width / (float)height, LIMEN_DEPTH_NO,
                                             view, proj);
