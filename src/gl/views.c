@@ -532,6 +532,13 @@ static void stencil_view(limen_renderer *r, limen_scene *s, int index)
     GL(StencilFunc)(GL_EQUAL, d, 0xFF);
     GL(StencilOp)(GL_KEEP, GL_KEEP, GL_KEEP);
 
+    /* A view that recurses nowhere needs no depth pass of its own: one shading pass at
+     * LESS shades each pixel about once as it is (llvmpipe runs the fragment shader even
+     * for a depth-only pass, so a pre-pass costs about what it saves there). */
+    bool recurses = false;
+    for (int k = 0; k < n; k++)
+        recurses |= vs[k].state == LIMEN__SURF_CHILD;
+
     /* depth: reset inside the surface, then the nearest of this view's things */
     GL(ColorMask)(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
     if (d > 0) {
@@ -540,7 +547,8 @@ static void stencil_view(limen_renderer *r, limen_scene *s, int index)
         GL(DepthFunc)(depth_less(r));
     }
     apply_view(r, s, &v);
-    draw_opaque(r, s, &v, vs, n);
+    if (recurses)
+        draw_opaque(r, s, &v, vs, n);
 
     for (int k = 0; k < n; k++) {
         if (vs[k].state != LIMEN__SURF_CHILD)
@@ -569,10 +577,10 @@ static void stencil_view(limen_renderer *r, limen_scene *s, int index)
         GL(StencilOp)(GL_KEEP, GL_KEEP, GL_KEEP);
     }
 
-    /* shade: only fragments at the nearest depth pass */
+    /* shade: after a depth pass only fragments at the nearest depth pass */
     GL(ColorMask)(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
-    GL(DepthMask)(GL_FALSE);
-    GL(DepthFunc)(depth_lequal(r));
+    GL(DepthMask)(recurses ? GL_FALSE : GL_TRUE);
+    GL(DepthFunc)(recurses ? depth_lequal(r) : depth_less(r));
     limen__samples_begin(r);
     draw_opaque(r, s, &v, vs, n);
     limen__samples_end(r);
