@@ -42,16 +42,22 @@ ifeq ($(filter clean deps,$(MAKECMDGOALS)),)
 -include $(B)/config.mk
 endif
 
+# install_debs: installs the listed Debian packages that are missing (as root, or through
+# sudo), with apt-get.
+define install_debs
+missing=""; for p in $(1); do \
+  dpkg-query -W -f='$${Status}' $$p 2>/dev/null | grep -q 'install ok installed' || missing="$$missing $$p"; \
+done; \
+if [ -n "$$missing" ]; then \
+  echo "limen: installing Debian packages:$$missing"; \
+  if [ "$$(id -u)" = 0 ]; then SUDO=; else SUDO=sudo; fi; \
+  $$SUDO apt-get update -qq && \
+  DEBIAN_FRONTEND=noninteractive $$SUDO apt-get install -y -qq --no-install-recommends $$missing; \
+fi
+endef
+
 deps:
-	@missing=""; for p in $(DEBS); do \
-	  dpkg-query -W -f='$${Status}' $$p 2>/dev/null | grep -q 'install ok installed' || missing="$$missing $$p"; \
-	done; \
-	if [ -n "$$missing" ]; then \
-	  echo "limen: installing Debian packages:$$missing"; \
-	  if [ "$$(id -u)" = 0 ]; then SUDO=; else SUDO=sudo; fi; \
-	  $$SUDO apt-get update -qq && \
-	  DEBIAN_FRONTEND=noninteractive $$SUDO apt-get install -y -qq --no-install-recommends $$missing; \
-	fi
+	@$(call install_debs,$(DEBS))
 
 $(B)/config.mk: Makefile
 	@$(MAKE) --no-print-directory deps
@@ -145,15 +151,7 @@ bench: all $(BENCH_BIN) bench-deps
 	@sh bench/run.sh $(B) $(BENCH)
 
 bench-deps:
-	@missing=""; for p in $(BENCH_DEBS); do \
-	  dpkg-query -W -f='$${Status}' $$p 2>/dev/null | grep -q 'install ok installed' || missing="$$missing $$p"; \
-	done; \
-	if [ -n "$$missing" ]; then \
-	  echo "limen: installing Debian packages for the benchmarks:$$missing"; \
-	  if [ "$$(id -u)" = 0 ]; then SUDO=; else SUDO=sudo; fi; \
-	  $$SUDO apt-get update -qq && \
-	  DEBIAN_FRONTEND=noninteractive $$SUDO apt-get install -y -qq --no-install-recommends $$missing; \
-	fi
+	@$(call install_debs,$(BENCH_DEBS))
 
 bench-charts:
 	@mkdir -p bench/charts
@@ -192,15 +190,7 @@ sweeps: all $(SWEEP_BIN) sweeps-deps
 	exit $$status
 
 sweeps-deps:
-	@missing=""; for p in $(SWEEP_DEBS); do \
-	  dpkg-query -W -f='$${Status}' $$p 2>/dev/null | grep -q 'install ok installed' || missing="$$missing $$p"; \
-	done; \
-	if [ -n "$$missing" ]; then \
-	  echo "limen: installing Debian packages for the sweeps:$$missing"; \
-	  if [ "$$(id -u)" = 0 ]; then SUDO=; else SUDO=sudo; fi; \
-	  $$SUDO apt-get update -qq && \
-	  DEBIAN_FRONTEND=noninteractive $$SUDO apt-get install -y -qq --no-install-recommends $$missing; \
-	fi
+	@$(call install_debs,$(SWEEP_DEBS))
 
 sweep-charts:
 	@mkdir -p tests/sweeps/charts
