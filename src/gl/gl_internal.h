@@ -53,6 +53,9 @@ struct limen_renderer {
     GLuint prev_fbo, prev_tex;              /* the previous frame, for LIMEN_FILL_PREVIOUS */
     bool have_prev;
 
+    struct limen__draw_key *order;          /* a view's things, nearest first */
+    int order_cap;
+
     limen_plan *plan;
     limen_render_opts opts;
     unsigned char *rgba;                    /* read-back buffer */

@@ -368,6 +368,7 @@ void limen_renderer_destroy(limen_renderer *r)
     }
     limen_plan_destroy(r->plan);
     free(r->q_pool);
+    free(r->order);
     if (r->ctx)
         r->ops->destroy(r->ctx);
     limen__meshes_free(&r->meshes);

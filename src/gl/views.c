@@ -1,5 +1,7 @@
 /* views.c - drawing a planned view tree: the scene's geometry for one view, the surfaces
  * seen from it, and the two ways of nesting views (stencil and texture). */
+#include <math.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "gl/gl_internal.h"
@@ -268,40 +270,31 @@ static int clip4(double in[][4], int n, const double pl[4], double out[][4])
     return m;
 }
 
-static void draw_ndc(limen_renderer *r, double p[][4], int n, int fixed, double z)
+/* A surface as the screen sees it: its polygon clipped in double and split into the parts
+ * depth clamping puts at the near and far planes and the part between, in NDC (x, y and,
+ * for the middle part, z). The same floats serve every pass over the surface, so the mark,
+ * the seal and the nested view's region cover the same pixels. */
+typedef struct limen__spoly {
+    int n[3];                   /* vertices of the near, far and middle parts */
+    float p[3][32][3];
+    float z[2];                 /* NDC depth of the near and far planes */
+} limen__spoly;
+
+static void to_ndc(double p[][4], int n, float out[][3], int *count)
 {
-    if (n < 3)
-        return;
-    limen__vertex buf[32];
-    for (int i = 0; i < n; i++) {
-        buf[i].pos[0] = (float)(p[i][0] / p[i][3]);
-        buf[i].pos[1] = (float)(p[i][1] / p[i][3]);
-        buf[i].pos[2] = (float)(fixed ? z : p[i][2] / p[i][3]);
-        buf[i].nrm[0] = buf[i].nrm[1] = 0, buf[i].nrm[2] = 1;
-    }
-    GL(BufferData)(GL_ARRAY_BUFFER, (GLsizeiptr)(sizeof(limen__vertex) * (size_t)n), buf, GL_STREAM_DRAW);
-    GL(DrawArrays)(GL_TRIANGLE_FAN, 0, n);
+    *count = n < 3 ? 0 : n;
+    for (int i = 0; i < *count; i++)
+        for (int k = 0; k < 3; k++)
+            out[i][k] = (float)(p[i][k] / p[i][3]);
 }
 
-/* A surface's flat pass (mark, seal, fill) from its polygon clipped in double: to the view's
- * user clip plane, to the frustum's four sides (so that the GPU clips nothing: its float
- * clipping fails when the surface nearly touches the eye, w a few float steps of x), split at
- * the near and far planes into the parts depth clamping puts there and the part between. */
-static void draw_surface_flat(limen_renderer *r, const rview *v, const limen__node *node,
-                              int mode, const float *albedo)
+/* The surface polygon clipped to the view's user clip plane, to the frustum's four sides
+ * (so that the GPU clips nothing: its float clipping fails when the surface nearly touches
+ * the eye, w a few float steps of x), then split at the near and far planes. */
+static void surface_parts(const limen_renderer *r, const rview *v, const limen__node *node,
+                          limen__spoly *sp)
 {
-    if (!r->poly_vao) {
-        GL(GenVertexArrays)(1, &r->poly_vao);
-        GL(BindVertexArray)(r->poly_vao);
-        GL(GenBuffers)(1, &r->poly_vbo);
-        GL(BindBuffer)(GL_ARRAY_BUFFER, r->poly_vbo);
-        GL(EnableVertexAttribArray)(0);
-        GL(VertexAttribPointer)(0, 3, GL_FLOAT, GL_FALSE, sizeof(limen__vertex), (void *)0);
-        GL(EnableVertexAttribArray)(1);
-        GL(VertexAttribPointer)(1, 3, GL_FLOAT, GL_FALSE, sizeof(limen__vertex),
-                                (void *)offsetof(limen__vertex, nrm));
-    }
-    double a[32][4], b[32][4], c[32][4], d[32][4];
+    double a[32][4], b[32][4], c[32][4];
     const double lx[4] = { -0.5, 0.5, 0.5, -0.5 }, ly[4] = { -0.5, -0.5, 0.5, 0.5 };
     for (int i = 0; i < 4; i++) {
         for (int k = 0; k < 3; k++)
@@ -334,16 +327,71 @@ static void draw_surface_flat(limen_renderer *r, const rview *v, const limen__no
             memcpy(b[m++], a[i], sizeof(double) * 4);
     n = m;
     memcpy(a, b, sizeof(double) * 4 * (size_t)n);
-    if (n < 3)
-        return;
+    memset(sp->n, 0, sizeof sp->n);
     /* near and far planes (inside >= 0) and the depths clamping gives beyond them */
-    double np[4] = { 0, 0, 1, 1 }, fp[4] = { 0, 0, -1, 1 }, zn = -1, zf = 1;
+    double np[4] = { 0, 0, 1, 1 }, fp[4] = { 0, 0, -1, 1 };
+    sp->z[0] = -1, sp->z[1] = 1;
     if (r->range == LIMEN_DEPTH_ZO) {
-        np[3] = 0, zn = 0;
+        np[3] = 0, sp->z[0] = 0;
     } else if (r->range == LIMEN_DEPTH_ZO_REVERSED) {
         double t1[4] = { 0, 0, -1, 1 }, t2[4] = { 0, 0, 1, 0 };
         memcpy(np, t1, sizeof np), memcpy(fp, t2, sizeof fp);
-        zn = 1, zf = 0;
+        sp->z[0] = 1, sp->z[1] = 0;
+    }
+    if (n < 3)
+        return;
+    double nn[4] = { -np[0], -np[1], -np[2], -np[3] }, fn[4] = { -fp[0], -fp[1], -fp[2], -fp[3] };
+    to_ndc(c, clip4(a, n, nn, c), sp->p[0], &sp->n[0]);
+    to_ndc(c, clip4(a, n, fn, c), sp->p[1], &sp->n[1]);
+    int k = clip4(a, n, np, c);
+    to_ndc(b, clip4(c, k, fp, b), sp->p[2], &sp->n[2]);
+}
+
+/* Draws the parts of sp with the bound program: at their own depth, or all at z where
+ * fixed (the fill program ignores z and doubles x and y). */
+static void draw_parts(limen_renderer *r, const limen__spoly *sp, float scale, bool fixed, float z)
+{
+    if (!r->poly_vao) {
+        GL(GenVertexArrays)(1, &r->poly_vao);
+        GL(BindVertexArray)(r->poly_vao);
+        GL(GenBuffers)(1, &r->poly_vbo);
+        GL(BindBuffer)(GL_ARRAY_BUFFER, r->poly_vbo);
+        GL(EnableVertexAttribArray)(0);
+        GL(VertexAttribPointer)(0, 3, GL_FLOAT, GL_FALSE, sizeof(limen__vertex), (void *)0);
+        GL(EnableVertexAttribArray)(1);
+        GL(VertexAttribPointer)(1, 3, GL_FLOAT, GL_FALSE, sizeof(limen__vertex),
+                                (void *)offsetof(limen__vertex, nrm));
+    }
+    GL(BindVertexArray)(r->poly_vao);
+    GL(BindBuffer)(GL_ARRAY_BUFFER, r->poly_vbo);
+    for (int part = 0; part < 3; part++) {
+        int n = sp->n[part];
+        if (n < 3)
+            continue;
+        limen__vertex buf[32];
+        float pz = fixed ? z : part < 2 ? sp->z[part] : 0;
+        for (int i = 0; i < n; i++) {
+            buf[i].pos[0] = sp->p[part][i][0] * scale;
+            buf[i].pos[1] = sp->p[part][i][1] * scale;
+            buf[i].pos[2] = !fixed && part == 2 ? sp->p[part][i][2] : pz;
+            buf[i].nrm[0] = buf[i].nrm[1] = 0, buf[i].nrm[2] = 1;
+        }
+        GL(BufferData)(GL_ARRAY_BUFFER, (GLsizeiptr)(sizeof(limen__vertex) * (size_t)n), buf,
+                       GL_STREAM_DRAW);
+        GL(DrawArrays)(GL_TRIANGLE_FAN, 0, n);
+    }
+    GL(BindVertexArray)(r->vao);
+    GL(BindBuffer)(GL_ARRAY_BUFFER, r->vbo);
+}
+
+/* A surface's flat pass (mark, seal, fill) from its parts (computed here where sp is NULL). */
+static void draw_surface_flat(limen_renderer *r, const rview *v, const limen__node *node,
+                              int mode, const float *albedo, const limen__spoly *sp)
+{
+    limen__spoly own;
+    if (!sp) {
+        surface_parts(r, v, node, &own);
+        sp = &own;
     }
     static const float ident[16] = { 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1 };
     static const float keep_all[4] = { 0, 0, 0, 1 };
@@ -356,18 +404,7 @@ static void draw_surface_flat(limen_renderer *r, const rview *v, const limen__no
     GL(Uniform4fv)(r->u.clip_plane2, 1, keep_all);
     GL(Enable)(GL_DEPTH_CLAMP);
     GL(Disable)(GL_CULL_FACE);
-    GL(BindVertexArray)(r->poly_vao);
-    GL(BindBuffer)(GL_ARRAY_BUFFER, r->poly_vbo);
-    double nn[4] = { -np[0], -np[1], -np[2], -np[3] }, fn[4] = { -fp[0], -fp[1], -fp[2], -fp[3] };
-    int k = clip4(a, n, nn, c);
-    draw_ndc(r, c, k, 1, zn);
-    k = clip4(a, n, fn, c);
-    draw_ndc(r, c, k, 1, zf);
-    k = clip4(a, n, np, c);
-    k = clip4(c, k, fp, d);
-    draw_ndc(r, d, k, 0, 0);
-    GL(BindVertexArray)(r->vao);
-    GL(BindBuffer)(GL_ARRAY_BUFFER, r->vbo);
+    draw_parts(r, sp, 1.0f, false, 0);
     set_mat4(r, r->u.view_proj, (vec4 *)v->view_proj);
     bool plane = v->pub->clip == LIMEN_CLIP_PLANE;
     GL(Uniform4fv)(r->u.clip_plane, 1, plane ? v->pub->clip_plane : keep_all);
@@ -377,7 +414,7 @@ static void draw_node(limen_renderer *r, const rview *v, const limen__node *node
                       const float *albedo)
 {
     if ((mode == MODE_FLAT || mode == MODE_TEXTURE) && limen__is_surface(node)) {
-        draw_surface_flat(r, v, node, mode, albedo);
+        draw_surface_flat(r, v, node, mode, albedo, NULL);
         return;
     }
     draw_node_at(r, v, node, (vec4 *)node->world, mode, albedo);
@@ -394,13 +431,57 @@ static void set_cut(limen_renderer *r, const float *plane)
         GL(Disable)(GL_CLIP_DISTANCE1);
 }
 
-static void draw_geometry(limen_renderer *r, limen_scene *s, const rview *v)
+struct limen__draw_key {
+    float dist;                 /* from the eye to the bounding sphere's centre, squared */
+    int node;
+};
+
+static int by_distance(const void *a, const void *b)
 {
-    const limen_plan *p = r->plan;
-    for (int i = 0; i < s->cap; i++) {
+    const struct limen__draw_key *x = a, *y = b;
+    return (x->dist > y->dist) - (x->dist < y->dist);
+}
+
+/* The things view v can show, nearest first (so that, without a depth-only pass, what lies
+ * behind fails the depth test before it is shaded); in scene order where the list cannot
+ * grow. Returns the count. */
+static int view_order(limen_renderer *r, limen_scene *s, const rview *v)
+{
+    if (r->order_cap < s->cap) {
+        struct limen__draw_key *o = realloc(r->order, sizeof *o * (size_t)s->cap);
+        if (o) {
+            r->order = o;
+            r->order_cap = s->cap;
+        }
+    }
+    int n = 0;
+    bool sorted = r->order_cap >= s->cap;
+    for (int i = 0; i < s->cap && sorted; i++) {
         limen__node *node = &s->nodes[i];
         if (!limen__alive(node) || !node->visible || limen__is_surface(node) ||
             outside(v, node, NULL))
+            continue;
+        double c[3], rad;
+        limen__node_bounds(node, c, &rad);
+        (void)rad;
+        double dx = c[0] - v->pub->eye[0], dy = c[1] - v->pub->eye[1], dz = c[2] - v->pub->eye[2];
+        r->order[n++] = (struct limen__draw_key){ (float)(dx * dx + dy * dy + dz * dz), i };
+    }
+    if (!sorted)
+        return -1;
+    qsort(r->order, (size_t)n, sizeof *r->order, by_distance);
+    return n;
+}
+
+static void draw_geometry(limen_renderer *r, limen_scene *s, const rview *v)
+{
+    const limen_plan *p = r->plan;
+    int n = view_order(r, s, v);
+    for (int k = 0; k < (n < 0 ? s->cap : n); k++) {
+        int i = n < 0 ? k : r->order[k].node;
+        limen__node *node = &s->nodes[i];
+        if (n < 0 && (!limen__alive(node) || !node->visible || limen__is_surface(node) ||
+                      outside(v, node, NULL)))
             continue;
         int c = p->nclones ? p->clone_of[i] : -1;
         if (c >= 0)
@@ -424,9 +505,10 @@ static void draw_geometry(limen_renderer *r, limen_scene *s, const rview *v)
     }
 }
 
-/* A full-screen rectangle at the far plane in a flat colour (scissor and stencil decide
- * where): resets colour and depth inside a nested view. */
-static void draw_far_fill(limen_renderer *r, const float rgb[3], const float tint[3])
+/* The far-plane fill limited to a nested view's region: the parts of the surface it is
+ * seen through, as the parent view drew them (stencil decides the rest). */
+static void draw_region_fill(limen_renderer *r, const limen__spoly *reg, const float rgb[3],
+                             const float tint[3])
 {
     float c[3] = { rgb[0] * tint[0], rgb[1] * tint[1], rgb[2] * tint[2] };
     GL(UseProgram)(r->fill_prog);
@@ -434,8 +516,7 @@ static void draw_far_fill(limen_renderer *r, const float rgb[3], const float tin
     GL(Uniform3fv)(r->u_fill_color, 1, c);
     GL(Disable)(GL_CLIP_DISTANCE0);
     GL(Disable)(GL_CULL_FACE);
-    GL(DrawElements)(GL_TRIANGLES, (GLsizei)r->meshes.quad.count, GL_UNSIGNED_INT,
-                     (void *)(sizeof(uint32_t) * r->meshes.quad.first));
+    draw_parts(r, reg, 0.5f, true, 0);
 }
 
 /* The previous frame's picture of a surface where recursion stops: the rectangle of the
@@ -501,24 +582,26 @@ static GLenum depth_lequal(const limen_renderer *r)
     return r->range == LIMEN_DEPTH_ZO_REVERSED ? GL_GEQUAL : GL_LEQUAL;
 }
 
-/* The view's opaque things: geometry and the surfaces that end here. */
+/* The view's opaque things: the surfaces that end here (flat, cheap to shade twice), then
+ * the geometry. */
 static void draw_opaque(limen_renderer *r, limen_scene *s, const rview *v,
                         const limen__vsurf *vs, int n)
 {
-    draw_geometry(r, s, v);
     for (int k = 0; k < n; k++)
         if (vs[k].state != LIMEN__SURF_CHILD)
             draw_terminal_surface(r, s, v, &vs[k]);
+    draw_geometry(r, s, v);
 }
 
-/* Pixels of view `index` hold stencil == its depth when this is called.
+/* Pixels of view `index` hold stencil == its depth d when this is called, reg the parts of
+ * the surface the view is seen through (NULL for the root view).
  *
- * Each pixel is shaded once: a depth-only pass lays down what is nearest; the surfaces are
- * marked against it (only their visible pixels), their views drawn and sealed with the
- * surface's depth; then this view's things are shaded where their depth is the nearest,
- * which leaves the children's pixels alone (they hold the surface's depth, and what lies
- * behind a surface is farther). */
-static void stencil_view(limen_renderer *r, limen_scene *s, int index)
+ * Each pixel is shaded once, without a depth-only pass over the scene: the surfaces the view
+ * recurses into are laid into depth first (flat polygons, cheap), so that the view's things
+ * are shaded only where nothing nearer, surface or thing, covers them; then each surface is
+ * marked where its depth survived (its visible pixels), its view drawn there and sealed with
+ * the surface's depth again. */
+static void stencil_view(limen_renderer *r, limen_scene *s, int index, const limen__spoly *reg)
 {
     mat4 id;
     glm_mat4_identity(id);
@@ -532,36 +615,44 @@ static void stencil_view(limen_renderer *r, limen_scene *s, int index)
     GL(StencilFunc)(GL_EQUAL, d, 0xFF);
     GL(StencilOp)(GL_KEEP, GL_KEEP, GL_KEEP);
 
-    /* A view that recurses nowhere needs no depth pass of its own: one shading pass at
-     * LESS shades each pixel about once as it is (llvmpipe runs the fragment shader even
-     * for a depth-only pass, so a pre-pass costs about what it saves there). */
-    bool recurses = false;
-    for (int k = 0; k < n; k++)
-        recurses |= vs[k].state == LIMEN__SURF_CHILD;
-
-    /* depth: reset inside the surface, then the nearest of this view's things */
+    /* depth: reset inside the region, then the surfaces this view recurses into */
     GL(ColorMask)(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
     if (d > 0) {
         GL(DepthFunc)(GL_ALWAYS);
-        draw_far_fill(r, s->background, v.pub->tint);
+        draw_region_fill(r, reg, s->background, v.pub->tint);
         GL(DepthFunc)(depth_less(r));
     }
     apply_view(r, s, &v);
-    if (recurses)
-        draw_opaque(r, s, &v, vs, n);
+    /* (the parts are recomputed where needed: the same floats come out each time) */
+    limen__spoly sp;
+    for (int k = 0; k < n; k++) {
+        if (vs[k].state != LIMEN__SURF_CHILD)
+            continue;
+        surface_parts(r, &v, &s->nodes[vs[k].node], &sp);
+        draw_surface_flat(r, &v, &s->nodes[vs[k].node], MODE_FLAT, s->background, &sp);
+    }
+
+    /* shade this view's things where they are nearest */
+    GL(ColorMask)(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+    limen__samples_begin(r);
+    draw_opaque(r, s, &v, vs, n);
+    limen__samples_end(r);
 
     for (int k = 0; k < n; k++) {
         if (vs[k].state != LIMEN__SURF_CHILD)
             continue;
         const limen__node *node = &s->nodes[vs[k].node];
-        /* mark the surface's visible pixels with depth + 1 */
+        surface_parts(r, &v, node, &sp);
+        /* mark the surface's visible pixels (its depth still there) with d + 1 */
         GL(ColorMask)(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
         GL(DepthMask)(GL_FALSE);
+        GL(DepthFunc)(depth_lequal(r));
         GL(StencilOp)(GL_KEEP, GL_KEEP, GL_INCR);
-        draw_node(r, &v, node, MODE_FLAT, node->fill);
+        draw_surface_flat(r, &v, node, MODE_FLAT, node->fill, &sp);
         GL(DepthMask)(GL_TRUE);
+        GL(DepthFunc)(depth_less(r));
 
-        stencil_view(r, s, limen__plan_child_view(r->plan, vs[k].child));
+        stencil_view(r, s, limen__plan_child_view(r->plan, vs[k].child), &sp);
 
         /* seal: back to this view's stencil value, with the surface's depth written over
          * the child's */
@@ -571,35 +662,29 @@ static void stencil_view(limen_renderer *r, limen_scene *s, int index)
         GL(StencilFunc)(GL_EQUAL, d + 1, 0xFF);
         GL(StencilOp)(GL_KEEP, GL_KEEP, GL_DECR);
         GL(DepthFunc)(GL_ALWAYS);
-        draw_node(r, &v, node, MODE_FLAT, node->fill);
+        draw_surface_flat(r, &v, node, MODE_FLAT, node->fill, &sp);
         GL(DepthFunc)(depth_less(r));
         GL(StencilFunc)(GL_EQUAL, d, 0xFF);
         GL(StencilOp)(GL_KEEP, GL_KEEP, GL_KEEP);
     }
 
-    /* shade: after a depth pass only fragments at the nearest depth pass */
-    GL(ColorMask)(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
-    GL(DepthMask)(recurses ? GL_FALSE : GL_TRUE);
-    GL(DepthFunc)(recurses ? depth_lequal(r) : depth_less(r));
-    limen__samples_begin(r);
-    draw_opaque(r, s, &v, vs, n);
-    limen__samples_end(r);
     if (d > 0) {
         /* the background where nothing landed: still at the far depth */
+        GL(ColorMask)(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
         GL(DepthFunc)(GL_EQUAL);
         limen__samples_begin(r);
-        draw_far_fill(r, s->background, v.pub->tint);
+        draw_region_fill(r, reg, s->background, v.pub->tint);
         limen__samples_end(r);
+        GL(DepthFunc)(depth_less(r));
     }
-    GL(DepthMask)(GL_TRUE);
-    GL(DepthFunc)(depth_less(r));
+    GL(ColorMask)(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
 }
 
 limen_status limen__draw_stencil(limen_renderer *r, limen_scene *s)
 {
     set_lights(r, s);
     GL(Enable)(GL_STENCIL_TEST);
-    stencil_view(r, s, 0);
+    stencil_view(r, s, 0, NULL);
     GL(Disable)(GL_STENCIL_TEST);
     GL(Disable)(GL_SCISSOR_TEST);
     GL(FrontFace)(GL_CCW);
