@@ -36,8 +36,8 @@ struct limen_renderer {
 
     GLuint prog, vao, vbo, ibo;
     GLuint poly_vao, poly_vbo;              /* surfaces near the eye: CPU-clipped polygons */
-    GLuint fill_prog;                       /* flat full-viewport rectangle */
-    GLint u_fill_depth, u_fill_color;
+    GLuint fill_prog;                       /* flat polygons in NDC */
+    GLint u_fill_color;
     uniforms u;
     limen__meshes meshes;
 

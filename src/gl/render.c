@@ -133,15 +133,21 @@ static GLuint link(limen_renderer *r, const char *vsrc, const char *fsrc)
     return prog;
 }
 
-/* A rectangle over the whole viewport at a given depth, in a flat colour: resets depth and
- * writes the background inside nested views. It is its own program, without clip distances:
- * llvmpipe (Mesa 22.3) was seen to go on clipping a draw of the main program by the last
- * view's gl_ClipDistance plane after glDisable(GL_CLIP_DISTANCE0) and a new plane. */
+/* Flat polygons given in NDC (x, y, z), in one colour: the surfaces' marks, seals and fills
+ * and the depth resets and backgrounds of nested views. It is its own program because these
+ * passes are most of the stencil method's fragments and the main program's shader costs
+ * llvmpipe its full price even where colour writes are masked off; its clip distances cut
+ * nothing whatever is enabled (llvmpipe, Mesa 22.3, was seen to go on clipping a draw of the
+ * main program by the last view's gl_ClipDistance plane after glDisable(GL_CLIP_DISTANCE0)
+ * and a new plane). */
 static const char *fill_vs_src =
     "#version 330 core\n"
     "layout(location = 0) in vec3 a_pos;\n"
-    "uniform float u_depth;\n"
-    "void main() { gl_Position = vec4(2.0 * a_pos.xy, u_depth, 1.0); }\n";
+    "out float gl_ClipDistance[8];\n"
+    "void main() {\n"
+    "    gl_Position = vec4(a_pos, 1.0);\n"
+    "    for (int i = 0; i < 8; i++) gl_ClipDistance[i] = 1.0;\n"
+    "}\n";
 static const char *fill_fs_src =
     "#version 330 core\n"
     "uniform vec3 u_color;\n"
@@ -153,7 +159,6 @@ static limen_status build_program(limen_renderer *r)
     r->fill_prog = link(r, fill_vs_src, fill_fs_src);
     if (!r->fill_prog)
         return LIMEN_ERR_GL;
-    r->u_fill_depth = GL(GetUniformLocation)(r->fill_prog, "u_depth");
     r->u_fill_color = GL(GetUniformLocation)(r->fill_prog, "u_color");
     r->prog = link(r, vs_src, fs_src);
     if (!r->prog)

@@ -347,9 +347,9 @@ static void surface_parts(const limen_renderer *r, const rview *v, const limen__
     to_ndc(b, clip4(c, k, fp, b), sp->p[2], &sp->n[2]);
 }
 
-/* Draws the parts of sp with the bound program: at their own depth, or all at z where
- * fixed (the fill program ignores z and doubles x and y). */
-static void draw_parts(limen_renderer *r, const limen__spoly *sp, float scale, bool fixed, float z)
+/* Draws the parts of sp with the bound program (positions in NDC): at their own depth, or
+ * all at z where fixed. */
+static void draw_parts(limen_renderer *r, const limen__spoly *sp, bool fixed, float z)
 {
     if (!r->poly_vao) {
         GL(GenVertexArrays)(1, &r->poly_vao);
@@ -371,8 +371,8 @@ static void draw_parts(limen_renderer *r, const limen__spoly *sp, float scale, b
         limen__vertex buf[32];
         float pz = fixed ? z : part < 2 ? sp->z[part] : 0;
         for (int i = 0; i < n; i++) {
-            buf[i].pos[0] = sp->p[part][i][0] * scale;
-            buf[i].pos[1] = sp->p[part][i][1] * scale;
+            buf[i].pos[0] = sp->p[part][i][0];
+            buf[i].pos[1] = sp->p[part][i][1];
             buf[i].pos[2] = !fixed && part == 2 ? sp->p[part][i][2] : pz;
             buf[i].nrm[0] = buf[i].nrm[1] = 0, buf[i].nrm[2] = 1;
         }
@@ -384,7 +384,23 @@ static void draw_parts(limen_renderer *r, const limen__spoly *sp, float scale, b
     GL(BindBuffer)(GL_ARRAY_BUFFER, r->vbo);
 }
 
-/* A surface's flat pass (mark, seal, fill) from its parts (computed here where sp is NULL). */
+/* Flat polygons in one colour (times the view's tint) with the fill program; the main
+ * program is bound again after. */
+static void draw_flat_parts(limen_renderer *r, const rview *v, const limen__spoly *sp,
+                            const float rgb[3], bool fixed, float z)
+{
+    const float *t = v->pub->tint;
+    float c[3] = { rgb[0] * t[0], rgb[1] * t[1], rgb[2] * t[2] };
+    GL(UseProgram)(r->fill_prog);
+    GL(Uniform3fv)(r->u_fill_color, 1, c);
+    GL(Enable)(GL_DEPTH_CLAMP);
+    GL(Disable)(GL_CULL_FACE);
+    draw_parts(r, sp, fixed, z);
+    GL(UseProgram)(r->prog);
+}
+
+/* A surface's flat pass (mark, seal, fill: flat colour; or the previous frame's picture)
+ * from its parts (computed here where sp is NULL). */
 static void draw_surface_flat(limen_renderer *r, const rview *v, const limen__node *node,
                               int mode, const float *albedo, const limen__spoly *sp)
 {
@@ -392,6 +408,10 @@ static void draw_surface_flat(limen_renderer *r, const rview *v, const limen__no
     if (!sp) {
         surface_parts(r, v, node, &own);
         sp = &own;
+    }
+    if (mode == MODE_FLAT) {
+        draw_flat_parts(r, v, sp, albedo, false, 0);
+        return;
     }
     static const float ident[16] = { 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1 };
     static const float keep_all[4] = { 0, 0, 0, 1 };
@@ -404,7 +424,7 @@ static void draw_surface_flat(limen_renderer *r, const rview *v, const limen__no
     GL(Uniform4fv)(r->u.clip_plane2, 1, keep_all);
     GL(Enable)(GL_DEPTH_CLAMP);
     GL(Disable)(GL_CULL_FACE);
-    draw_parts(r, sp, 1.0f, false, 0);
+    draw_parts(r, sp, false, 0);
     set_mat4(r, r->u.view_proj, (vec4 *)v->view_proj);
     bool plane = v->pub->clip == LIMEN_CLIP_PLANE;
     GL(Uniform4fv)(r->u.clip_plane, 1, plane ? v->pub->clip_plane : keep_all);
@@ -507,16 +527,10 @@ static void draw_geometry(limen_renderer *r, limen_scene *s, const rview *v)
 
 /* The far-plane fill limited to a nested view's region: the parts of the surface it is
  * seen through, as the parent view drew them (stencil decides the rest). */
-static void draw_region_fill(limen_renderer *r, const limen__spoly *reg, const float rgb[3],
-                             const float tint[3])
+static void draw_region_fill(limen_renderer *r, const rview *v, const limen__spoly *reg,
+                             const float rgb[3])
 {
-    float c[3] = { rgb[0] * tint[0], rgb[1] * tint[1], rgb[2] * tint[2] };
-    GL(UseProgram)(r->fill_prog);
-    GL(Uniform1f)(r->u_fill_depth, r->range == LIMEN_DEPTH_ZO_REVERSED ? 0.0f : 1.0f);
-    GL(Uniform3fv)(r->u_fill_color, 1, c);
-    GL(Disable)(GL_CLIP_DISTANCE0);
-    GL(Disable)(GL_CULL_FACE);
-    draw_parts(r, reg, 0.5f, true, 0);
+    draw_flat_parts(r, v, reg, rgb, true, r->range == LIMEN_DEPTH_ZO_REVERSED ? 0.0f : 1.0f);
 }
 
 /* The previous frame's picture of a surface where recursion stops: the rectangle of the
@@ -619,7 +633,7 @@ static void stencil_view(limen_renderer *r, limen_scene *s, int index, const lim
     GL(ColorMask)(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
     if (d > 0) {
         GL(DepthFunc)(GL_ALWAYS);
-        draw_region_fill(r, reg, s->background, v.pub->tint);
+        draw_region_fill(r, &v, reg, s->background);
         GL(DepthFunc)(depth_less(r));
     }
     apply_view(r, s, &v);
@@ -673,7 +687,7 @@ static void stencil_view(limen_renderer *r, limen_scene *s, int index, const lim
         GL(ColorMask)(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
         GL(DepthFunc)(GL_EQUAL);
         limen__samples_begin(r);
-        draw_region_fill(r, reg, s->background, v.pub->tint);
+        draw_region_fill(r, &v, reg, s->background);
         limen__samples_end(r);
         GL(DepthFunc)(depth_less(r));
     }
