@@ -140,7 +140,8 @@ clean:
 # `make bench` (quick, a few minutes) or `BENCH=full make bench` (the whole sweep): speed
 # against accuracy over methods, clipping, depth, size and MSAA, the naive baseline and the
 # ray tracer, plus the matrix constructions; CSV, charts (gnuplot) and the three targets go
-# to $(B)/bench/. Copy the charts into bench/charts/ with `make bench-charts`.
+# to $(B)/bench/. Copy the charts into bench/charts/ with `make bench-charts`. Then the
+# stability sweeps in full (`make sweeps`, below).
 BENCH      ?= quick
 BENCH_DEBS := gnuplot-nox
 BENCH_C    := bench/bench.c bench/matrices.c
@@ -149,6 +150,7 @@ BENCH_BIN  := $(BENCH_C:bench/%.c=$(B)/bench/%)
 .PHONY: bench bench-deps bench-charts
 bench: all $(BENCH_BIN) bench-deps
 	@sh bench/run.sh $(B) $(BENCH)
+	@$(MAKE) --no-print-directory sweeps SWEEP=full
 
 bench-deps:
 	@$(call install_debs,$(BENCH_DEBS))
