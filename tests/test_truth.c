@@ -4,6 +4,7 @@
  * metric has teeth: clipping switched off, or a portal without its half turn, fails it by a
  * wide margin. Prints one line per scene and size with the worst share and the times. */
 #include <stdlib.h>
+#include <string.h>
 #include <time.h>
 
 #include "check.h"
@@ -26,7 +27,7 @@ static double now_ms(void)
 static limen_script *load(const char *name)
 {
     char path[256];
-    snprintf(path, sizeof path, "scenes/%s.lua", name);
+    snprintf(path, sizeof path, strchr(name, '/') ? "%s" : "scenes/%s.lua", name);
     limen_script *sc = NULL;
     limen_status st = limen_script_load(path, NULL, &sc);
     CHECK_MSG(st == LIMEN_OK, "%s: %s", path, sc ? limen_script_error(sc) : "");
@@ -159,8 +160,47 @@ static void test_metric_has_teeth(void)
     limen_renderer_destroy(r);
 }
 
+/* The stencil method gives each view a stencil value of its own up to 255 views, and counts
+ * nesting depth beyond: a tree on each side of that line, against the truth and against the
+ * texture method (which uses no stencil). */
+static void test_stencil_values(void)
+{
+    const int w = 320, h = 240;
+    limen_renderer *r = NULL;
+    CHECK_OK(limen_renderer_create(&(limen_renderer_desc){ .width = w, .height = h }, &r));
+    limen_script *sc = load("tests/scenes/mirror_box.lua");
+    unsigned char *rgb[2] = { malloc((size_t)w * h * 3), malloc((size_t)w * h * 3) };
+    const int depths[2] = { 6, 8 };
+    for (int k = 0; k < 2 && sc && r; k++) {
+        limen_scene *s = limen_script_scene(sc);
+        double ms;
+        unsigned char *truth = trace(s, w, h, depths[k], &ms);
+        for (int m = 0; m < 2; m++) {
+            limen_render_opts o = { .method = m, .limit_depth = 1, .max_depth = depths[k] };
+            CHECK_OK(limen_render_frame(r, s, &o, NULL));
+            CHECK_OK(limen_renderer_read_rgb(r, rgb[m]));
+        }
+        int views = limen_plan_count(limen_renderer_plan(r));
+        CHECK_MSG(k == 0 ? views <= 255 : views > 255, "depth %d: %d views, not on the %s side of 255",
+                  depths[k], views, k == 0 ? "lower" : "upper");
+        limen_diff dt = { 1, 0, 0, 0 }, dm = { 1, 0, 0, 0 };
+        limen_image_diff(rgb[0], truth, w, h, 8, &dt, NULL);
+        limen_image_diff(rgb[0], rgb[1], w, h, 8, &dm, NULL);
+        printf("     mirror_box depth %d, %d views: stencil %.3f%% off the truth, %.4f%% off the "
+               "texture method\n", depths[k], views, 100 * dt.bad_share, 100 * dm.bad_share);
+        CHECK_MSG(dt.bad_share <= BOUND, "%.3f%% off the truth", 100 * dt.bad_share);
+        CHECK_MSG(dm.bad_share <= 0.0005, "%.4f%% off the texture method", 100 * dm.bad_share);
+        free(truth);
+    }
+    free(rgb[0]);
+    free(rgb[1]);
+    limen_script_destroy(sc);
+    limen_renderer_destroy(r);
+}
+
 static const check_case cases[] = {
     { "gallery_320x240", test_gallery_320x240 },
+    { "stencil_values", test_stencil_values },
     { "gallery_640x480", test_gallery_640x480 },
     { "metric_has_teeth", test_metric_has_teeth },
     { 0 },

@@ -607,31 +607,40 @@ static void draw_opaque(limen_renderer *r, limen_scene *s, const rview *v,
     draw_geometry(r, s, v);
 }
 
-/* Pixels of view `index` hold stencil == its depth d when this is called, reg the parts of
- * the surface the view is seen through (NULL for the root view).
+/* How the stencil method tells views apart. Where the tree has at most 255 views each gets
+ * a value of its own (its parent's pixels are switched to it by inverting the bits in which
+ * the two differ), and a finished view's pixels keep it: nothing drawn after tests for it, so
+ * no pass has to seal them. Larger trees count nesting depth instead (the plan's `stencil`):
+ * a view's pixels go back to its parent's value, with the surface's depth, once it is done. */
+typedef struct stencil_ids {
+    bool unique;
+    int next;                   /* the next unused value */
+} stencil_ids;
+
+/* Pixels of view `index` hold stencil == sv when this is called, reg the parts of the surface
+ * the view is seen through (NULL for the root view).
  *
  * Each pixel is shaded once, without a depth-only pass over the scene: the surfaces the view
  * recurses into are laid into depth first (flat polygons, cheap), so that the view's things
  * are shaded only where nothing nearer, surface or thing, covers them; then each surface is
- * marked where its depth survived (its visible pixels), its view drawn there and sealed with
- * the surface's depth again. */
-static void stencil_view(limen_renderer *r, limen_scene *s, int index, const limen__spoly *reg)
+ * marked where its depth survived (its visible pixels) and its view drawn there. */
+static void stencil_view(limen_renderer *r, limen_scene *s, int index, const limen__spoly *reg,
+                         int sv, stencil_ids *ids)
 {
     mat4 id;
     glm_mat4_identity(id);
     rview v;
     make_rview(r, index, id, &v);
     cull_planes(r, &v, v.pub->scissor);
-    const int d = v.pub->depth;
     const limen__vsurf *vs;
     int n = limen__plan_view_surfaces(r->plan, index, &vs);
     set_scissor(r, v.pub->scissor);
-    GL(StencilFunc)(GL_EQUAL, d, 0xFF);
+    GL(StencilFunc)(GL_EQUAL, sv, 0xFF);
     GL(StencilOp)(GL_KEEP, GL_KEEP, GL_KEEP);
 
     /* depth: reset inside the region, then the surfaces this view recurses into */
     GL(ColorMask)(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
-    if (d > 0) {
+    if (reg) {
         GL(DepthFunc)(GL_ALWAYS);
         draw_region_fill(r, &v, reg, s->background);
         GL(DepthFunc)(depth_less(r));
@@ -657,32 +666,36 @@ static void stencil_view(limen_renderer *r, limen_scene *s, int index, const lim
             continue;
         const limen__node *node = &s->nodes[vs[k].node];
         surface_parts(r, &v, node, &sp);
-        /* mark the surface's visible pixels (its depth still there) with d + 1 */
+        int cv = ids->unique ? ids->next++ : sv + 1;
+        /* mark the surface's visible pixels (its depth still there) with the child's value */
         GL(ColorMask)(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
         GL(DepthMask)(GL_FALSE);
         GL(DepthFunc)(depth_lequal(r));
-        GL(StencilOp)(GL_KEEP, GL_KEEP, GL_INCR);
+        GL(StencilMask)((GLuint)(sv ^ cv));
+        GL(StencilOp)(GL_KEEP, GL_KEEP, GL_INVERT);
         draw_surface_flat(r, &v, node, MODE_FLAT, node->fill, &sp);
+        GL(StencilMask)(0xFF);
         GL(DepthMask)(GL_TRUE);
         GL(DepthFunc)(depth_less(r));
 
-        stencil_view(r, s, limen__plan_child_view(r->plan, vs[k].child), &sp);
+        stencil_view(r, s, limen__plan_child_view(r->plan, vs[k].child), &sp, cv, ids);
 
-        /* seal: back to this view's stencil value, with the surface's depth written over
-         * the child's */
         set_scissor(r, v.pub->scissor);
         apply_view(r, s, &v);
         GL(ColorMask)(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
-        GL(StencilFunc)(GL_EQUAL, d + 1, 0xFF);
-        GL(StencilOp)(GL_KEEP, GL_KEEP, GL_DECR);
-        GL(DepthFunc)(GL_ALWAYS);
-        draw_surface_flat(r, &v, node, MODE_FLAT, node->fill, &sp);
-        GL(DepthFunc)(depth_less(r));
-        GL(StencilFunc)(GL_EQUAL, d, 0xFF);
+        if (!ids->unique) {
+            /* seal: back to this view's value, with the surface's depth over the child's */
+            GL(StencilFunc)(GL_EQUAL, cv, 0xFF);
+            GL(StencilOp)(GL_KEEP, GL_KEEP, GL_DECR);
+            GL(DepthFunc)(GL_ALWAYS);
+            draw_surface_flat(r, &v, node, MODE_FLAT, node->fill, &sp);
+            GL(DepthFunc)(depth_less(r));
+        }
+        GL(StencilFunc)(GL_EQUAL, sv, 0xFF);
         GL(StencilOp)(GL_KEEP, GL_KEEP, GL_KEEP);
     }
 
-    if (d > 0) {
+    if (reg) {
         /* the background where nothing landed: still at the far depth */
         GL(ColorMask)(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
         GL(DepthFunc)(GL_EQUAL);
@@ -698,7 +711,8 @@ limen_status limen__draw_stencil(limen_renderer *r, limen_scene *s)
 {
     set_lights(r, s);
     GL(Enable)(GL_STENCIL_TEST);
-    stencil_view(r, s, 0, NULL);
+    stencil_ids ids = { .unique = limen_plan_count(r->plan) <= 255, .next = 1 };
+    stencil_view(r, s, 0, NULL, 0, &ids);
     GL(Disable)(GL_STENCIL_TEST);
     GL(Disable)(GL_SCISSOR_TEST);
     GL(FrontFace)(GL_CCW);
