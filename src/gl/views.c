@@ -272,8 +272,8 @@ static int clip4(double in[][4], int n, const double pl[4], double out[][4])
 
 /* A surface as the screen sees it: its polygon clipped in double and split into the parts
  * depth clamping puts at the near and far planes and the part between, in NDC (x, y and,
- * for the middle part, z). The same floats serve every pass over the surface, so the mark,
- * the seal and the nested view's region cover the same pixels. */
+ * for the middle part, z). The same floats serve every pass over the surface, so its depth,
+ * its mark, its seal and the nested view's region cover the same pixels. */
 typedef struct limen__spoly {
     int n[3];                   /* vertices of the near, far and middle parts */
     float p[3][32][3];
