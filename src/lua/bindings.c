@@ -1037,46 +1037,39 @@ static int l_node_world(lua_State *L)
     return 1;
 }
 
-/* node:face(normal [, up]): turns local +Z to normal and +Y towards up. */
-static int l_node_face(lua_State *L)
+/* node:face / node:look_at: a direction field (what, into the spec's field f) and an
+ * optional up, applied to the node. */
+static int turn_node(lua_State *L, const char *what, int f)
 {
     limen_scene *s;
     lua_settop(L, 3);
     lnode *nd = check_node(L, 1, &s);
-    char ctx[CTX_LEN];
+    char ctx[CTX_LEN], name[40];
     node_ctx(nd, ctx, sizeof ctx);
     spec sp;
     memset(&sp, 0, sizeof sp);
-    read_vec(L, 2, ctx, "face: normal", 3, ELEM_FINITE, sp.normal);
-    sp.have = BIT(F_NORMAL);
+    read_vec(L, 2, ctx, what, 3, ELEM_FINITE, f == F_NORMAL ? sp.normal : sp.look_at);
+    sp.have = BIT(f);
     if (!lua_isnoneornil(L, 3)) {
-        read_vec(L, 3, ctx, "face: up", 3, ELEM_FINITE, sp.up);
-        sp.have |= BIT(F_UP);
-    }
-    if (apply_spec(s, nd->n, &sp))
-        return c_error(L, s, ctx, nd->label);
-    return 0;
-}
-
-/* node:look_at(target [, up]): keeps the position, turns -Z towards target. */
-static int l_node_look_at(lua_State *L)
-{
-    limen_scene *s;
-    lua_settop(L, 3);
-    lnode *nd = check_node(L, 1, &s);
-    char ctx[CTX_LEN];
-    node_ctx(nd, ctx, sizeof ctx);
-    spec sp;
-    memset(&sp, 0, sizeof sp);
-    read_vec(L, 2, ctx, "look_at: target", 3, ELEM_FINITE, sp.look_at);
-    sp.have = BIT(F_LOOK_AT);
-    if (!lua_isnoneornil(L, 3)) {
-        read_vec(L, 3, ctx, "look_at: up", 3, ELEM_FINITE, sp.up);
+        snprintf(name, sizeof name, "%.*s: up", (int)(strchr(what, ':') - what), what);
+        read_vec(L, 3, ctx, name, 3, ELEM_FINITE, sp.up);
         sp.have |= BIT(F_UP);
     }
     if (apply_spec(s, nd->n, &sp))
         return spec_error(L, s, ctx, nd->label, &sp);
     return 0;
+}
+
+/* node:face(normal [, up]): turns local +Z to normal and +Y towards up. */
+static int l_node_face(lua_State *L)
+{
+    return turn_node(L, "face: normal", F_NORMAL);
+}
+
+/* node:look_at(target [, up]): keeps the position, turns -Z towards target. */
+static int l_node_look_at(lua_State *L)
+{
+    return turn_node(L, "look_at: target", F_LOOK_AT);
 }
 
 /* portal:link(other): pairs two portals both ways. */
