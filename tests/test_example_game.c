@@ -52,14 +52,12 @@
 #include <GL/glcorearb.h>
 #include <GL/osmesa.h>
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
-#include "check.h"
 #include "limen.h"
 
-#define W 320
-#define H 240
 #define SEGMENTS 96             /* fixed tessellation of spheres and cylinders */
 #define MAX_ITEMS 1024          /* nodes the game draws per frame */
 #define MAX_LIGHTS 8
@@ -93,6 +91,7 @@ typedef struct item {
 } item;
 
 typedef struct game {
+    int w, h;                           /* the frame's size in pixels */
     OSMesaContext ctx;
     unsigned char token[4 * 4 * 4];     /* OSMesa needs a buffer; we draw into our FBO */
     PFNGLCLIPCONTROLPROC clip_control;  /* GL 4.5 (NULL on a 3.3 context) */
@@ -102,10 +101,18 @@ typedef struct game {
             ambient, shape, flat, nlights, light_pos, light_col;
     } u;
     mesh meshes[MESH_COUNT];
-    limen_plan *plan;
+    limen_plan *plan;                   /* the game's plan, rebuilt every frame */
+    const limen_plan *drawing;          /* the plan being drawn */
     item items[MAX_ITEMS];              /* this frame's scene, read through the public API */
     int nitems;
     float background[3];
+    /* Hooks for tests/sweeps/plan_gl.h, which draws through this game with some views'
+     * projections or clip methods replaced and the surfaces' flat passes drawn its own way.
+     * A game leaves them NULL. */
+    const float (*proj)[16];
+    const limen_clip_method *clip;
+    void (*flat_surface)(struct game *g, const limen_view *v, const item *it, const float rgb[3]);
+    void *hook_data;
 } game;
 
 static int make_current(game *g)
@@ -113,12 +120,12 @@ static int make_current(game *g)
     return OSMesaMakeCurrent(g->ctx, g->token, GL_UNSIGNED_BYTE, 4, 4) ? 0 : -1;
 }
 
-static GLuint renderbuffer(GLenum format)
+static GLuint renderbuffer(GLenum format, int w, int h)
 {
     GLuint rb;
     glGenRenderbuffers(1, &rb);
     glBindRenderbuffer(GL_RENDERBUFFER, rb);
-    glRenderbufferStorage(GL_RENDERBUFFER, format, W, H);
+    glRenderbufferStorage(GL_RENDERBUFFER, format, w, h);
     return rb;
 }
 
@@ -140,8 +147,8 @@ static int context_create(game *g)
     glGetIntegerv(GL_MINOR_VERSION, &minor);
     if (major * 10 + minor >= 45)
         g->clip_control = (PFNGLCLIPCONTROLPROC)OSMesaGetProcAddress("glClipControl");
-    g->color_rb = renderbuffer(GL_RGBA8);
-    g->depth_rb = renderbuffer(GL_DEPTH24_STENCIL8);
+    g->color_rb = renderbuffer(GL_RGBA8, g->w, g->h);
+    g->depth_rb = renderbuffer(GL_DEPTH24_STENCIL8, g->w, g->h);
     glGenFramebuffers(1, &g->fbo);
     glBindFramebuffer(GL_FRAMEBUFFER, g->fbo);
     glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, g->color_rb);
@@ -356,11 +363,12 @@ static void game_destroy(game *g)
     free(g);
 }
 
-static game *game_create(void)
+static game *game_create(int w, int h)
 {
     game *g = calloc(1, sizeof *g);
     if (!g)
         return NULL;
+    g->w = w, g->h = h;
     if (context_create(g) || program_create(g) || meshes_create(g) || limen_plan_create(&g->plan)) {
         game_destroy(g);
         return NULL;
@@ -459,11 +467,12 @@ static void gl_set(GLenum cap, int on)
 static void use_view(game *g, const limen_view *v)
 {
     float vp[16];
-    mat4_mul(v->proj, v->view, vp);
+    mat4_mul(g->proj ? g->proj[v->id] : v->proj, v->view, vp);
     glUniformMatrix4fv(g->u.view_proj, 1, GL_FALSE, vp);
     glUniform3fv(g->u.eye, 1, v->eye);
     static const float no_clip[4] = { 0, 0, 0, 1 };
-    int plane = v->clip == LIMEN_CLIP_PLANE;    /* else the projection does the cutting */
+    limen_clip_method clip = g->clip ? g->clip[v->id] : v->clip;
+    int plane = clip == LIMEN_CLIP_PLANE;       /* else the projection does the cutting */
     gl_set(GL_CLIP_DISTANCE0, plane);
     glUniform4fv(g->u.clip_plane, 1, plane ? v->clip_plane : no_clip);
     glFrontFace(v->front_face_cw ? GL_CW : GL_CCW);
@@ -504,9 +513,18 @@ static void draw_far_plane(game *g, const limen_view *v, const float rgb[3])
     draw_item(g, &far, 1, rgb);                 /* a "surface": depth clamped at far */
 }
 
+/* A surface's unlit pass (mark, seal, fill). */
+static void draw_flat_surface(game *g, const limen_view *v, const item *it, const float rgb[3])
+{
+    if (g->flat_surface)
+        g->flat_surface(g, v, it, rgb);
+    else
+        draw_item(g, it, 1, rgb);
+}
+
 static void draw_view(game *g, int index)
 {
-    const limen_view *v = limen_plan_view(g->plan, index);
+    const limen_view *v = limen_plan_view(g->drawing, index);
     const int st = v->stencil;
     glScissor(v->scissor[0], v->scissor[1], v->scissor[2], v->scissor[3]);
     glStencilFunc(GL_EQUAL, st, 0xFF);
@@ -532,7 +550,7 @@ static void draw_view(game *g, int index)
     }
 
     const limen_view_surface *surf;
-    int n = limen_plan_view_surfaces(g->plan, index, &surf);
+    int n = limen_plan_view_surfaces(g->drawing, index, &surf);
     for (int k = 0; k < n; k++) {
         const item *it = find_item(g, surf[k].node);
         if (!it)
@@ -542,14 +560,14 @@ static void draw_view(game *g, int index)
             continue;
         }
         if (surf[k].state == LIMEN_SURFACE_FILL) {
-            draw_item(g, it, 1, it->fill);      /* unlit */
+            draw_flat_surface(g, v, it, it->fill);
             continue;
         }
         /* RECURSE. Mark: the surface's visible pixels go from st to st + 1. */
         glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
         glDepthMask(GL_FALSE);
         glStencilOp(GL_KEEP, GL_KEEP, GL_INCR);
-        draw_item(g, it, 1, it->fill);
+        draw_flat_surface(g, v, it, it->fill);
         glDepthMask(GL_TRUE);
         glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
 
@@ -563,7 +581,7 @@ static void draw_view(game *g, int index)
         glStencilFunc(GL_EQUAL, st + 1, 0xFF);
         glStencilOp(GL_KEEP, GL_KEEP, GL_DECR);
         glDepthFunc(GL_ALWAYS);
-        draw_item(g, it, 1, it->fill);
+        draw_flat_surface(g, v, it, it->fill);
         glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
         glDepthFunc(GL_LESS);
         glStencilFunc(GL_EQUAL, st, 0xFF);
@@ -573,27 +591,21 @@ static void draw_view(game *g, int index)
 
 /* ============================================================ 6. one frame */
 
-/* Plans and draws the scene's camera view tree; rgb (W*H*3, top row first) gets the frame.
- * range: the clip-space convention (NO, or ZO through glClipControl). Planning needs no
- * OpenGL; the context is made current first because these tests also run limen's own
- * renderer, which has a context of its own. */
-static int game_frame(game *g, limen_scene *s, limen_depth_range range,
-                      limen_clip_method clip, unsigned char *rgb)
+/* Draws plan p (planned for this game's size and the convention range) of scene s; rgb
+ * (w*h*3, top row first) gets the frame. The context is made current first because these
+ * tests also run limen's own renderer, which has a context of its own. */
+static int game_draw(game *g, limen_scene *s, const limen_plan *p, limen_depth_range range,
+                     unsigned char *rgb)
 {
     if (make_current(g) || range == LIMEN_DEPTH_ZO_REVERSED ||
         (range == LIMEN_DEPTH_ZO && !g->clip_control))
         return -1;      /* (reversed depth would need a float depth buffer) */
-    limen_plan_desc pd = { .width = W, .height = H, .range = range, .clip = clip };
-    limen_status st = limen_plan_build(g->plan, s, &pd);
-    if (st) {
-        fprintf(stderr, "  plan: %s\n", limen_last_error(s));
-        return -1;
-    }
     if (g->clip_control)
         g->clip_control(GL_LOWER_LEFT,
                         range == LIMEN_DEPTH_ZO ? GL_ZERO_TO_ONE : GL_NEGATIVE_ONE_TO_ONE);
+    g->drawing = p;
     glBindFramebuffer(GL_FRAMEBUFFER, g->fbo);
-    glViewport(0, 0, W, H);
+    glViewport(0, 0, g->w, g->h);
     glUseProgram(g->prog);
     glBindVertexArray(g->vao);
     read_scene(g, s);
@@ -617,15 +629,36 @@ static int game_frame(game *g, limen_scene *s, limen_depth_range range,
     glFrontFace(GL_CCW);
 
     glPixelStorei(GL_PACK_ALIGNMENT, 1);
-    for (int y = 0; y < H; y++)                 /* OpenGL's rows run bottom-up */
-        glReadPixels(0, H - 1 - y, W, 1, GL_RGB, GL_UNSIGNED_BYTE, rgb + 3 * W * y);
+    for (int y = 0; y < g->h; y++)              /* OpenGL's rows run bottom-up */
+        glReadPixels(0, g->h - 1 - y, g->w, 1, GL_RGB, GL_UNSIGNED_BYTE,
+                     rgb + 3 * (size_t)g->w * y);
     GLenum e = glGetError();
     if (e != GL_NO_ERROR)
         fprintf(stderr, "  OpenGL error 0x%x\n", e);
     return e == GL_NO_ERROR ? 0 : -1;
 }
 
+#ifndef LIMEN_EXAMPLE_GAME_NO_MAIN     /* (tests/sweeps/plan_gl.h stops here) */
+/* Plans the scene's camera view tree in the convention range (NO, or ZO through
+ * glClipControl) and draws it into rgb. Planning needs no OpenGL. */
+static int game_frame(game *g, limen_scene *s, limen_depth_range range,
+                      limen_clip_method clip, unsigned char *rgb)
+{
+    limen_plan_desc pd = { .width = g->w, .height = g->h, .range = range, .clip = clip };
+    limen_status st = limen_plan_build(g->plan, s, &pd);
+    if (st) {
+        fprintf(stderr, "  plan: %s\n", limen_last_error(s));
+        return -1;
+    }
+    return game_draw(g, s, g->plan, range, rgb);
+}
+
 /* ============================================================ 7. tests */
+
+#include "check.h"
+
+#define W 320
+#define H 240
 
 static game *the_game;
 static limen_renderer *limen_r[2];              /* limen's own renderer, for NO and ZO */
@@ -633,7 +666,7 @@ static limen_renderer *limen_r[2];              /* limen's own renderer, for NO 
 static game *get_game(void)
 {
     if (!the_game)
-        the_game = game_create();
+        the_game = game_create(W, H);
     CHECK_MSG(the_game, "cannot set up the game's OpenGL context");
     return the_game;
 }
@@ -797,3 +830,4 @@ int main(int argc, char **argv)
         game_destroy(the_game);
     return rc;
 }
+#endif

@@ -45,27 +45,6 @@ static void turn(limen_scene *s, limen_node n, double deg)
     CHECK_OK(limen_node_set_facing(s, n, normal, up));
 }
 
-/* Keeps the part of polygon in (4-vectors) where plane . v >= 0. */
-static int clip4(double in[][4], int n, const double plane[4], double out[][4])
-{
-    int m = 0;
-    for (int i = 0; i < n && m < 15; i++) {
-        const double *a = in[i], *b = in[(i + 1) % n];
-        double da = 0, db = 0;
-        for (int k = 0; k < 4; k++)
-            da += plane[k] * a[k], db += plane[k] * b[k];
-        if (da >= 0)
-            memcpy(out[m++], a, sizeof(double) * 4);
-        if ((da >= 0) != (db >= 0)) {
-            double t = da / (da - db);
-            for (int k = 0; k < 4; k++)
-                out[m][k] = a[k] + t * (b[k] - a[k]);
-            m++;
-        }
-    }
-    return m;
-}
-
 /* Pixel centres of view v's scissor that its surface covers, seen from v's parent (double
  * precision; the surface cut by the parent's clip plane and kept in front of its eye). */
 static long covered_pixels(limen_scene *s, const limen_plan *p, const limen_view *v, int w, int h)
@@ -84,7 +63,7 @@ static long covered_pixels(limen_scene *s, const limen_plan *p, const limen_view
     int n = 4;
     if (par->depth > 0) {
         const double c[4] = { par->clip_plane[0], par->clip_plane[1], par->clip_plane[2], par->clip_plane[3] };
-        n = clip4(a, n, c, b);
+        n = limen__d_clip4(a, n, c, b, 15);
         memcpy(a, b, sizeof(double) * 4 * (size_t)n);
     }
     double V[16], P[16], PV[16];
@@ -98,7 +77,7 @@ static long covered_pixels(limen_scene *s, const limen_plan *p, const limen_view
         memcpy(a[i], q, sizeof q);
     }
     const double front[4] = { 0, 0, 0, 1 };   /* w >= 0, then a hair in front of the eye */
-    n = clip4(a, n, front, b);
+    n = limen__d_clip4(a, n, front, b, 15);
     double px[16][2];
     int m = 0;
     for (int i = 0; i < n; i++)

@@ -110,4 +110,28 @@ static inline double limen__d_plane_dist(const double plane[4], const double p[3
     return plane[0] * p[0] + plane[1] * p[1] + plane[2] * p[2] + plane[3];
 }
 
+/* Keeps the part of polygon in (n homogeneous vertices) where plane . v >= 0, writing it to
+ * out; stops taking vertices once cap are written, so out must hold cap + 1. Returns the
+ * count. */
+static inline int limen__d_clip4(double in[][4], int n, const double plane[4], double out[][4],
+                                 int cap)
+{
+    int m = 0;
+    for (int i = 0; i < n && m < cap; i++) {
+        const double *a = in[i], *b = in[(i + 1) % n];
+        double da = 0, db = 0;
+        for (int k = 0; k < 4; k++)
+            da += plane[k] * a[k], db += plane[k] * b[k];
+        if (da >= 0)
+            memcpy(out[m++], a, sizeof(double) * 4);
+        if ((da >= 0) != (db >= 0)) {
+            double t = da / (da - db);
+            for (int k = 0; k < 4; k++)
+                out[m][k] = a[k] + t * (b[k] - a[k]);
+            m++;
+        }
+    }
+    return m;
+}
+
 #endif

@@ -4,6 +4,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "core/dmath.h"
 #include "gl/gl_internal.h"
 
 enum { MODE_LIT = 0, MODE_FLAT = 1, MODE_TEXTURE = 2 };
@@ -250,24 +251,10 @@ static void draw_node_at(limen_renderer *r, const rview *v, const limen__node *n
 #define GL_STREAM_DRAW 0x88E0
 #endif
 
+/* polygons of up to 31 vertices in arrays of 32 */
 static int clip4(double in[][4], int n, const double pl[4], double out[][4])
 {
-    int m = 0;
-    for (int i = 0; i < n && m < 30; i++) {
-        const double *a = in[i], *b = in[(i + 1) % n];
-        double da = 0, db = 0;
-        for (int k = 0; k < 4; k++)
-            da += pl[k] * a[k], db += pl[k] * b[k];
-        if (da >= 0)
-            memcpy(out[m++], a, sizeof(double) * 4);
-        if ((da >= 0) != (db >= 0)) {
-            double t = da / (da - db);
-            for (int k = 0; k < 4; k++)
-                out[m][k] = a[k] + t * (b[k] - a[k]);
-            m++;
-        }
-    }
-    return m;
+    return limen__d_clip4(in, n, pl, out, 30);
 }
 
 /* A surface as the screen sees it: its polygon clipped in double and split into the parts

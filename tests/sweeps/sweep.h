@@ -23,6 +23,7 @@
 #include <time.h>
 
 #include "../check.h"
+#include "core/dmath.h"
 #include "limen.h"
 
 #define SWEEP_BOUND 0.005   /* share of pixels over SWEEP_THRESHOLD */
