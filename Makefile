@@ -26,7 +26,8 @@ LIB_SRC  := $(CORE_SRC) $(GL_SRC) $(LUA_SRC)
 CLI_SRC  := src/cli/main.c src/cli/trace_cmd.c
 TEST_C   := tests/test_math.c tests/test_scene.c tests/test_plan.c tests/test_render.c tests/test_script.c tests/test_trace.c tests/test_gallery.c tests/test_threads.c tests/test_truth.c tests/test_example_game.c tests/test_crossing.c tests/test_sweep_approach.c tests/test_sweep_grazing.c tests/test_sweep_depth.c tests/test_sweep_recursion.c tests/test_sweep_matrix.c tests/test_sweep_odd.c
 
-LIB_OBJ  := $(LIB_SRC:%.c=$(B)/obj/%.o)
+LUA_KIT  := lua/limen/kit.lua
+LIB_OBJ  := $(LIB_SRC:%.c=$(B)/obj/%.o) $(B)/obj/lua_kit.o
 CLI_OBJ  := $(CLI_SRC:%.c=$(B)/obj/%.o)
 TEST_BIN := $(TEST_C:tests/%.c=$(B)/tests/%)
 ALL_OBJ  := $(LIB_OBJ) $(CLI_OBJ) $(TEST_C:%.c=$(B)/obj/%.o)
@@ -71,6 +72,21 @@ $(B)/config.mk: Makefile
 $(B)/obj/%.o: %.c $(B)/config.mk
 	@mkdir -p $(dir $@)
 	$(CC) $(ALL_CFLAGS) -MMD -MP -c $< -o $@
+
+# lua/limen/kit.lua goes into the library as bytes (src/lua/bindings.c preloads it as
+# "limen.kit"), so that scripts find it in safe mode and wherever the library is installed.
+$(B)/gen/lua_kit.c: $(LUA_KIT)
+	@mkdir -p $(dir $@)
+	@{ echo "/* generated from $(LUA_KIT) by the Makefile: do not edit */"; \
+	   echo '#include "lua/lua_internal.h"'; \
+	   echo "const unsigned char limen__lua_kit[] = {"; \
+	   od -An -v -tu1 $(LUA_KIT) | awk '{ for (i = 1; i <= NF; i++) printf "%s,", $$i; print "" }'; \
+	   echo "};"; \
+	   echo "const size_t limen__lua_kit_len = sizeof limen__lua_kit;"; } > $@
+
+$(B)/obj/lua_kit.o: $(B)/gen/lua_kit.c $(B)/config.mk
+	@mkdir -p $(dir $@)
+	$(CC) $(ALL_CFLAGS) -c $< -o $@
 
 $(B)/liblimen.a: $(LIB_OBJ)
 	@rm -f $@

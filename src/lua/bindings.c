@@ -1611,8 +1611,29 @@ static void new_type(lua_State *L, const char *name, const luaL_Reg *meta,
     lua_pop(L, 1);
 }
 
+/* package.preload["limen.kit"]: runs the built-in lua/limen/kit.lua (text, never bytecode)
+ * and returns its table. */
+static int load_kit(lua_State *L)
+{
+    if (luaL_loadbufferx(L, (const char *)limen__lua_kit, limen__lua_kit_len,
+                         LIMEN__KIT_CHUNK, "t") != LUA_OK)
+        return lua_error(L);
+    lua_pushstring(L, "limen.kit");
+    lua_call(L, 1, 1);
+    return 1;
+}
+
+void limen__lua_preload_kit(lua_State *L)
+{
+    luaL_getsubtable(L, LUA_REGISTRYINDEX, LUA_PRELOAD_TABLE);
+    lua_pushcfunction(L, load_kit);
+    lua_setfield(L, -2, "limen.kit");
+    lua_pop(L, 1);
+}
+
 LIMEN_API int luaopen_limen(lua_State *L)
 {
+    limen__lua_preload_kit(L);
     new_type(L, SCENE_MT, scene_meta, scene_methods, l_scene_index);
     new_type(L, NODE_MT, node_meta, node_methods, l_node_index);
     lua_createtable(L, 0, 2);

@@ -119,16 +119,25 @@ static void set_error(limen_script *sc, const char *msg)
     out[o] = '\0';
 }
 
-/* "file:line" of the innermost Lua function running at or above `level`, or "" if none. */
+/* Built-in Lua (limen.kit) is not where a script goes wrong: positions pass over it. */
+static int builtin(const lua_Debug *ar)
+{
+    return strcmp(ar->source, LIMEN__KIT_CHUNK) == 0;
+}
+
+/* "file:line" of the innermost Lua function running at or above `level` outside the
+ * built-in kit (inside it if nothing else runs), or "" if none. */
 static void lua_where(lua_State *L, int level, char *buf, size_t size)
 {
     lua_Debug ar;
     buf[0] = '\0';
-    for (; lua_getstack(L, level, &ar); level++) {
-        lua_getinfo(L, "Sl", &ar);
-        if (ar.currentline > 0) {
-            snprintf(buf, size, "%s:%d", ar.short_src, ar.currentline);
-            return;
+    for (int pass = 0; pass < 2 && !buf[0]; pass++) {
+        for (int l = level; lua_getstack(L, l, &ar); l++) {
+            lua_getinfo(L, "Sl", &ar);
+            if (ar.currentline > 0 && (pass == 1 || !builtin(&ar))) {
+                snprintf(buf, size, "%s:%d", ar.short_src, ar.currentline);
+                break;
+            }
         }
     }
 }
@@ -252,7 +261,9 @@ static limen_script *script_of(lua_State *L)
 static void note_where(char *buf, lua_State *L, lua_Debug *ar)
 {
     lua_getinfo(L, "Sl", ar);
-    if (ar->currentline > 0)
+    if (builtin(ar))
+        lua_where(L, 0, buf, WHERE_MAX);
+    else if (ar->currentline > 0)
         snprintf(buf, WHERE_MAX, "%s:%d", ar->short_src, ar->currentline);
 }
 
@@ -440,7 +451,7 @@ static int open_trusted(lua_State *L)
     return 0;
 }
 
-/* package.preload.limen = luaopen_limen, in either mode. Also keeps the string Lua makes
+/* package.preload.limen = luaopen_limen and package.preload["limen.kit"], in either mode. Also keeps the string Lua makes
  * when a message handler fails, so that making it never needs memory: it is made after the
  * protected call has returned, where an allocation failure would be fatal. */
 static int preload_limen(lua_State *L)
@@ -448,6 +459,8 @@ static int preload_limen(lua_State *L)
     luaL_getsubtable(L, LUA_REGISTRYINDEX, LUA_PRELOAD_TABLE);
     lua_pushcfunction(L, luaopen_limen);
     lua_setfield(L, -2, "limen");
+    lua_settop(L, 0);
+    limen__lua_preload_kit(L);
     lua_pushliteral(L, "error in error handling");
     lua_setfield(L, LUA_REGISTRYINDEX, "limen.errerr");
     lua_settop(L, 0);

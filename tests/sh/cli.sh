@@ -59,6 +59,14 @@ OUT="$TMP/lua.png"; export OUT
 t_ok "stock lua5.4 can require the module and render" lua_require
 
 t_ok "tests/lua/require.lua under stock lua5.4" env LUA_CPATH="$B/?.so" lua5.4 tests/lua/require.lua
+t_ok "tests/lua/kit.lua (require \"limen.kit\") under stock lua5.4" env LUA_CPATH="$B/?.so" lua5.4 tests/lua/kit.lua
+
+kit_scene() {
+    "$LIMEN" render tests/scenes/kit_room.lua -o "$TMP/kit.png" --size 320x180 --time 0.5 &&
+    "$LIMEN" trace tests/scenes/kit_room.lua -o "$TMP/kit_ref.png" --size 320x180 --time 0.5 &&
+    "$LIMEN" diff "$TMP/kit.png" "$TMP/kit_ref.png" --max-bad 0.005
+}
+t_ok "a safe scene built with limen.kit renders within the ground-truth bound" kit_scene
 
 pkgconfig_program() {
     cat > "$TMP/prog.c" <<'C'
