@@ -791,19 +791,22 @@ static bool texture_view(limen_renderer *r, limen_scene *s, int index, const pla
     GL(ClearDepth)(r->range == LIMEN_DEPTH_ZO_REVERSED ? 0.0 : 1.0);
     GL(Clear)(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
     apply_view(r, s, &v);
-    limen__samples_begin(r);
-    draw_geometry(r, s, &v);
-    limen__samples_end(r);
-
     const limen__vsurf *vs;
     int n = limen__plan_view_surfaces(r->plan, index, &vs);
+    /* the surfaces that show a child's image go into depth first, so that nothing behind
+     * them is shaded; then the view's own things, nearest first */
+    GL(ColorMask)(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
+    for (int k = 0; k < n; k++)
+        if (vs[k].state == LIMEN__SURF_CHILD)
+            draw_surface_flat(r, &v, &s->nodes[vs[k].node], MODE_FLAT, s->background, NULL);
+    GL(ColorMask)(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+    limen__samples_begin(r);
+    draw_opaque(r, s, &v, vs, n);
+    limen__samples_end(r);
+
     for (int k = 0; k < n; k++) {
-        if (vs[k].state != LIMEN__SURF_CHILD) {
-            limen__samples_begin(r);
-            draw_terminal_surface(r, s, &v, &vs[k]);
-            limen__samples_end(r);
+        if (vs[k].state != LIMEN__SURF_CHILD)
             continue;
-        }
         int ci = limen__plan_child_view(r->plan, vs[k].child);
         const limen_view *c = limen_plan_view(r->plan, ci);
         limen__target *t = level_target(r, c->depth, r->opts.texture_scale);
@@ -836,9 +839,11 @@ static bool texture_view(limen_renderer *r, limen_scene *s, int index, const pla
         };
         GL(Uniform4fv)(r->u.tex_map, 1, map);
         vec3 white = { 1, 1, 1 };
+        GL(DepthFunc)(depth_lequal(r));      /* its own depth is there already */
         limen__samples_begin(r);
         draw_node(r, &v, node, MODE_TEXTURE, white);
         limen__samples_end(r);
+        GL(DepthFunc)(depth_less(r));
     }
     return true;
 }
