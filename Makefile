@@ -139,6 +139,8 @@ install: all
 	install -m 755 $(B)/liblimen.so.0 $(DESTDIR)$(PREFIX)/lib/liblimen.so.0
 	ln -sf liblimen.so.0 $(DESTDIR)$(PREFIX)/lib/liblimen.so
 	install -m 755 $(B)/limen.so $(DESTDIR)$(PREFIX)/lib/lua/5.4/limen.so
+	install -d $(DESTDIR)$(PREFIX)/share/lua/5.4/limen
+	install -m 644 $(LUA_KIT) $(DESTDIR)$(PREFIX)/share/lua/5.4/limen/kit.lua
 	install -m 755 $(B)/limen $(DESTDIR)$(PREFIX)/bin/
 	sed -e 's|^prefix=.*|prefix=$(PREFIX)|' -e 's|^includedir=.*|includedir=$${prefix}/include|' \
 	    -e 's|^libdir=.*|libdir=$${prefix}/lib|' $(B)/limen.pc \
@@ -147,6 +149,7 @@ install: all
 uninstall:
 	rm -f $(DESTDIR)$(PREFIX)/include/limen.h $(DESTDIR)$(PREFIX)/lib/liblimen.* \
 	  $(DESTDIR)$(PREFIX)/lib/lua/5.4/limen.so $(DESTDIR)$(PREFIX)/bin/limen \
+	  $(DESTDIR)$(PREFIX)/share/lua/5.4/limen/kit.lua \
 	  $(DESTDIR)$(PREFIX)/lib/pkgconfig/limen.pc
 
 clean:

@@ -101,12 +101,16 @@ t_ok "a C program built only with pkg-config --cflags --libs limen renders" pkgc
 install_prefix() {
     make --no-print-directory -s install PREFIX="$TMP/inst" B="$B" > /dev/null &&
     for f in include/limen.h lib/liblimen.a lib/liblimen.so lib/pkgconfig/limen.pc \
-             lib/lua/5.4/limen.so bin/limen; do
+             lib/lua/5.4/limen.so share/lua/5.4/limen/kit.lua bin/limen; do
         [ -e "$TMP/inst/$f" ] || { echo "missing $f"; return 1; }
     done &&
     PKG_CONFIG_PATH="$TMP/inst/lib/pkgconfig" pkg-config --cflags limen | grep -q "$TMP/inst/include" &&
     cc -o "$TMP/prog2" "$TMP/prog.c" $(PKG_CONFIG_PATH="$TMP/inst/lib/pkgconfig" pkg-config --cflags --libs limen) &&
-    "$TMP/prog2" "$TMP/prog2.png"
+    "$TMP/prog2" "$TMP/prog2.png" &&
+    # the installed Lua module, from stock lua5.4, kit first
+    env LUA_CPATH="$TMP/inst/lib/lua/5.4/?.so" LUA_PATH="$TMP/inst/share/lua/5.4/?.lua" \
+        lua5.4 -e 'local kit = require "limen.kit"; local limen = require "limen"
+                   assert(kit.dot({1, 2, 3}, {1, 1, 1}) == 6 and limen.scene)'
 }
 t_ok "make install PREFIX=... installs library, header, .pc and Lua module" install_prefix
 
