@@ -49,8 +49,10 @@ function kit.orbit(t, o)
   return { c[1] + r * math.cos(a), c[2], c[3] - r * math.sin(a) }
 end
 
--- Calls f(i, pos, degrees) for n points evenly around a horizontal circle (i from 1), the
--- angle being the point's own about +Y (0 at centre + {radius, 0, 0}): to set out objects.
+-- Calls f(i, pos, degrees) for n points evenly around a horizontal circle (i from 1),
+--   o = { centre = {x, y, z}, radius = r, start = degrees of the first point }
+-- the angle being the point's own about +Y (0 at centre + {radius, 0, 0}, counter-clockwise
+-- seen from above): to set out objects.
 function kit.ring(n, o, f)
   local c, r = o.centre or { 0, 0, 0 }, o.radius or 1
   for i = 1, n do
