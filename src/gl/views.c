@@ -596,13 +596,46 @@ static void draw_opaque(limen_renderer *r, limen_scene *s, const rview *v,
 
 /* How the stencil method tells views apart. Where the tree has at most 255 views each gets
  * a value of its own (its parent's pixels are switched to it by inverting the bits in which
- * the two differ), and a finished view's pixels keep it: nothing drawn after tests for it, so
- * no pass has to seal them. Larger trees count nesting depth instead (the plan's `stencil`):
- * a view's pixels go back to its parent's value, with the surface's depth, once it is done. */
+ * the two differ). Then a view finishes its own passes, marks included, before any child
+ * draws, and nothing tests a finished view's pixels again: a child may reset depth with a
+ * clear of its whole rectangle, and no pass has to seal it. Larger trees count nesting depth
+ * instead (the plan's `stencil`): each child is marked, drawn and sealed in turn (its pixels
+ * back to its parent's value, with the surface's depth), and resets depth inside the
+ * surface's polygon only. */
 typedef struct stencil_ids {
     bool unique;
     int next;                   /* the next unused value */
 } stencil_ids;
+
+/* Marks the visible pixels of the surface of sp (its depth still there) with value cv. */
+static void mark_surface(limen_renderer *r, const rview *v, const limen__node *node,
+                         const limen__spoly *sp, int sv, int cv)
+{
+    GL(ColorMask)(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
+    GL(DepthMask)(GL_FALSE);
+    GL(DepthFunc)(depth_lequal(r));
+    GL(StencilFunc)(GL_EQUAL, sv, 0xFF);
+    GL(StencilMask)((GLuint)(sv ^ cv));
+    GL(StencilOp)(GL_KEEP, GL_KEEP, GL_INVERT);
+    draw_surface_flat(r, v, node, MODE_FLAT, node->fill, sp);
+    GL(StencilMask)(0xFF);
+    GL(StencilOp)(GL_KEEP, GL_KEEP, GL_KEEP);
+    GL(DepthMask)(GL_TRUE);
+    GL(DepthFunc)(depth_less(r));
+}
+
+/* The background of a nested view where nothing landed (depth still at the far plane). */
+static void view_background(limen_renderer *r, limen_scene *s, const rview *v,
+                            const limen__spoly *reg, int sv)
+{
+    GL(ColorMask)(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+    GL(StencilFunc)(GL_EQUAL, sv, 0xFF);
+    GL(DepthFunc)(GL_EQUAL);
+    limen__samples_begin(r);
+    draw_region_fill(r, v, reg, s->background);
+    limen__samples_end(r);
+    GL(DepthFunc)(depth_less(r));
+}
 
 /* Pixels of view `index` hold stencil == sv when this is called, reg the parts of the surface
  * the view is seen through (NULL for the root view).
@@ -625,9 +658,11 @@ static void stencil_view(limen_renderer *r, limen_scene *s, int index, const lim
     GL(StencilFunc)(GL_EQUAL, sv, 0xFF);
     GL(StencilOp)(GL_KEEP, GL_KEEP, GL_KEEP);
 
-    /* depth: reset inside the region, then the surfaces this view recurses into */
+    /* depth: reset inside the view, then the surfaces it recurses into */
     GL(ColorMask)(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
-    if (reg) {
+    if (reg && ids->unique) {
+        GL(Clear)(GL_DEPTH_BUFFER_BIT);
+    } else if (reg) {
         GL(DepthFunc)(GL_ALWAYS);
         draw_region_fill(r, &v, reg, s->background);
         GL(DepthFunc)(depth_less(r));
@@ -648,49 +683,49 @@ static void stencil_view(limen_renderer *r, limen_scene *s, int index, const lim
     draw_opaque(r, s, &v, vs, n);
     limen__samples_end(r);
 
+    if (ids->unique) {
+        const int first = ids->next;
+        for (int k = 0; k < n; k++) {
+            if (vs[k].state != LIMEN__SURF_CHILD)
+                continue;
+            surface_parts(r, &v, &s->nodes[vs[k].node], &sp);
+            mark_surface(r, &v, &s->nodes[vs[k].node], &sp, sv, ids->next++);
+        }
+        if (reg)
+            view_background(r, s, &v, reg, sv);
+        int cv = first;
+        for (int k = 0; k < n; k++) {
+            if (vs[k].state != LIMEN__SURF_CHILD)
+                continue;
+            surface_parts(r, &v, &s->nodes[vs[k].node], &sp);
+            stencil_view(r, s, limen__plan_child_view(r->plan, vs[k].child), &sp, cv++, ids);
+        }
+        GL(ColorMask)(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+        return;
+    }
+
     for (int k = 0; k < n; k++) {
         if (vs[k].state != LIMEN__SURF_CHILD)
             continue;
         const limen__node *node = &s->nodes[vs[k].node];
         surface_parts(r, &v, node, &sp);
-        int cv = ids->unique ? ids->next++ : sv + 1;
-        /* mark the surface's visible pixels (its depth still there) with the child's value */
-        GL(ColorMask)(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
-        GL(DepthMask)(GL_FALSE);
-        GL(DepthFunc)(depth_lequal(r));
-        GL(StencilMask)((GLuint)(sv ^ cv));
-        GL(StencilOp)(GL_KEEP, GL_KEEP, GL_INVERT);
-        draw_surface_flat(r, &v, node, MODE_FLAT, node->fill, &sp);
-        GL(StencilMask)(0xFF);
-        GL(DepthMask)(GL_TRUE);
-        GL(DepthFunc)(depth_less(r));
+        mark_surface(r, &v, node, &sp, sv, sv + 1);
+        stencil_view(r, s, limen__plan_child_view(r->plan, vs[k].child), &sp, sv + 1, ids);
 
-        stencil_view(r, s, limen__plan_child_view(r->plan, vs[k].child), &sp, cv, ids);
-
+        /* seal: back to this view's value, with the surface's depth over the child's */
         set_scissor(r, v.pub->scissor);
         apply_view(r, s, &v);
         GL(ColorMask)(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
-        if (!ids->unique) {
-            /* seal: back to this view's value, with the surface's depth over the child's */
-            GL(StencilFunc)(GL_EQUAL, cv, 0xFF);
-            GL(StencilOp)(GL_KEEP, GL_KEEP, GL_DECR);
-            GL(DepthFunc)(GL_ALWAYS);
-            draw_surface_flat(r, &v, node, MODE_FLAT, node->fill, &sp);
-            GL(DepthFunc)(depth_less(r));
-        }
+        GL(StencilFunc)(GL_EQUAL, sv + 1, 0xFF);
+        GL(StencilOp)(GL_KEEP, GL_KEEP, GL_DECR);
+        GL(DepthFunc)(GL_ALWAYS);
+        draw_surface_flat(r, &v, node, MODE_FLAT, node->fill, &sp);
+        GL(DepthFunc)(depth_less(r));
         GL(StencilFunc)(GL_EQUAL, sv, 0xFF);
         GL(StencilOp)(GL_KEEP, GL_KEEP, GL_KEEP);
     }
-
-    if (reg) {
-        /* the background where nothing landed: still at the far depth */
-        GL(ColorMask)(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
-        GL(DepthFunc)(GL_EQUAL);
-        limen__samples_begin(r);
-        draw_region_fill(r, &v, reg, s->background);
-        limen__samples_end(r);
-        GL(DepthFunc)(depth_less(r));
-    }
+    if (reg)
+        view_background(r, s, &v, reg, sv);
     GL(ColorMask)(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
 }
 

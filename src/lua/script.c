@@ -197,6 +197,23 @@ static void set_hook(limen_script *sc, int count)
     lua_sethook(sc->L, mask ? script_hook : NULL, mask, count);
 }
 
+/* Follows the lines from now on (sc->line), so that a limit met where no hook can look
+ * (in the allocator, whose failure Lua reports with no place) can still say where. */
+static void follow_lines(limen_script *sc)
+{
+    if (sc->tracking)
+        return;
+    sc->tracking = 1;
+    int count = lua_gethookcount(sc->L);
+    set_hook(sc, count > 0 ? count : sc->hook_every);
+}
+
+/* Spent most of the budget: time to follow the lines. */
+static int near_budget(const limen_script *sc)
+{
+    return sc->budget >= 0 && sc->spent > sc->budget - sc->budget / 8;
+}
+
 /* The call has run out of instructions: stop at the next instruction of the main thread
  * (lua_sethook may be called at any moment, even from a signal handler, lua.c shows). */
 static void run_out(limen_script *sc)
@@ -230,6 +247,8 @@ static void *script_alloc(void *ud, void *ptr, size_t osize, size_t nsize)
                 run_out(sc);
                 return NULL;
             }
+            if (near_budget(sc))
+                follow_lines(sc);
         }
     }
     void *p = realloc(ptr, nsize);
@@ -237,11 +256,8 @@ static void *script_alloc(void *ud, void *ptr, size_t osize, size_t nsize)
         return NULL;
     sc->mem_used = sc->mem_used - osize + nsize;
     /* near the cap, follow the lines, so that "not enough memory" can say where */
-    if (sc->running && sc->mem_cap && !sc->tracking && sc->mem_used > sc->mem_cap / 2 &&
-        !sc->over_budget) {
-        sc->tracking = 1;
-        set_hook(sc, sc->hook_every);
-    }
+    if (sc->running && sc->mem_cap && sc->mem_used > sc->mem_cap / 2 && !sc->over_budget)
+        follow_lines(sc);
     return p;
 }
 
@@ -290,6 +306,8 @@ static void script_hook(lua_State *L, lua_Debug *ar)
         }
     } else if (!sc->over_budget) {
         sc->spent += lua_gethookcount(L);
+        if (near_budget(sc))
+            follow_lines(sc);
         if (sc->spent > sc->budget) {
             run_out(sc);
         } else if (sc->time_limit > 0) {
