@@ -208,10 +208,10 @@ static void follow_lines(limen_script *sc)
     set_hook(sc, count > 0 ? count : sc->hook_every);
 }
 
-/* Spent most of the budget: time to follow the lines. */
+/* Near the end of the budget: time to follow the lines. */
 static int near_budget(const limen_script *sc)
 {
-    return sc->budget >= 0 && sc->spent > sc->budget - sc->budget / 8;
+    return sc->budget >= 0 && sc->spent > sc->budget - sc->budget / 64;
 }
 
 /* The call has run out of instructions: stop at the next instruction of the main thread
