@@ -57,7 +57,7 @@ static double window_depth(const limen_view *v, limen_depth_range range, const d
         double V[16], P[16], PV[16];
         for (int i = 0; i < 16; i++)
             V[i] = v->view[i], P[i] = v->proj[i];
-        sweep_mul4(P, V, PV);
+        limen__d_mul(P, V, PV);
         z = PV[2] * x[0] + PV[6] * x[1] + PV[10] * x[2] + PV[14];
         w = PV[3] * x[0] + PV[7] * x[1] + PV[11] * x[2] + PV[15];
     }
@@ -210,8 +210,5 @@ static const check_case cases[] = {
 
 int main(int argc, char **argv)
 {
-    double t0 = sweep_now_ms();
-    int rc = check_run(argc, argv, cases);
-    fprintf(stderr, "     (%s mode, %.1f s)\n", sweep_full() ? "full" : "quick", (sweep_now_ms() - t0) / 1e3);
-    return rc;
+    return sweep_main(argc, argv, cases);
 }

@@ -69,7 +69,7 @@ static long covered_pixels(limen_scene *s, const limen_plan *p, const limen_view
     double V[16], P[16], PV[16];
     for (int i = 0; i < 16; i++)
         V[i] = par->view[i], P[i] = par->proj[i];
-    sweep_mul4(P, V, PV);
+    limen__d_mul(P, V, PV);
     for (int i = 0; i < n; i++) {
         double q[4];
         for (int r = 0; r < 4; r++)
@@ -192,8 +192,5 @@ static const check_case cases[] = {
 
 int main(int argc, char **argv)
 {
-    double t0 = sweep_now_ms();
-    int rc = check_run(argc, argv, cases);
-    fprintf(stderr, "     (%s mode, %.1f s)\n", sweep_full() ? "full" : "quick", (sweep_now_ms() - t0) / 1e3);
-    return rc;
+    return sweep_main(argc, argv, cases);
 }

@@ -48,7 +48,7 @@ static void measure(const float m[16], const double exact[16], double *err, doub
         d[i] = m[i];
         *err = fmax(*err, fabs(d[i] - exact[i]));
     }
-    sweep_mul4(d, d, xx);
+    limen__d_mul(d, d, xx);
     for (int c = 0; c < 4; c++)
         for (int r = 0; r < 4; r++)
             *invol = fmax(*invol, fabs(xx[c * 4 + r] - (r == c)));
@@ -180,8 +180,5 @@ static const check_case cases[] = {
 
 int main(int argc, char **argv)
 {
-    double t0 = sweep_now_ms();
-    int rc = check_run(argc, argv, cases);
-    fprintf(stderr, "     (%s mode, %.1f s)\n", sweep_full() ? "full" : "quick", (sweep_now_ms() - t0) / 1e3);
-    return rc;
+    return sweep_main(argc, argv, cases);
 }

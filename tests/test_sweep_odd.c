@@ -93,8 +93,5 @@ static const check_case cases[] = {
 
 int main(int argc, char **argv)
 {
-    double t0 = sweep_now_ms();
-    int rc = check_run(argc, argv, cases);
-    fprintf(stderr, "     (%s mode, %.1f s)\n", sweep_full() ? "full" : "quick", (sweep_now_ms() - t0) / 1e3);
-    return rc;
+    return sweep_main(argc, argv, cases);
 }

@@ -70,8 +70,8 @@ static void rot_z(double m[16], double a)
 /* G * S * G^-1 */
 static void conjugate(const double g[16], const double ginv[16], const double s[16], double out[16])
 {
-    sweep_mul4(g, s, out);
-    sweep_mul4(out, ginv, out);
+    limen__d_mul(g, s, out);
+    limen__d_mul(out, ginv, out);
 }
 
 /* Frame-local surface matrices (before G): mirror 1 (z = -L, facing +z), mirror 2 (z = +L,
@@ -82,10 +82,10 @@ static void local_frames(const config *c, double wa[16], double wb[16])
     trans(wa, 0, 0, -c->L);
     trans(t, 0, 0, c->L);
     rot_z(r, c->phi);
-    sweep_mul4(t, r, wb);
+    limen__d_mul(t, r, wb);
     ident(r);
     r[0] = -1, r[10] = -1;               /* R_y(180): facing -z */
-    sweep_mul4(wb, r, wb);
+    limen__d_mul(wb, r, wb);
 }
 
 /* The exact carrying matrix M_k (world), closed form. */
@@ -100,14 +100,14 @@ static void exact_m(const config *c, const double g[16], const double ginv[16], 
             double f1[16];
             ident(f1);
             f1[10] = -1, f1[14] = -2 * c->L;
-            sweep_mul4(f1, s, s);
+            limen__d_mul(f1, s, s);
         }
     } else {
         /* X = T(0, 0, 2L) R_z(phi): X^k = T(0, 0, 2kL) R_z(k phi) */
         double r[16];
         trans(s, 0, 0, 2.0 * k * c->L);
         rot_z(r, k * c->phi);
-        sweep_mul4(s, r, s);
+        limen__d_mul(s, r, s);
     }
     conjugate(g, ginv, s, m);
 }
@@ -128,7 +128,7 @@ static void exact_x(const config *c, const double g[16], const double ginv[16], 
         double r[16];
         trans(s, 0, 0, 2 * c->L);
         rot_z(r, c->phi);
-        sweep_mul4(s, r, s);
+        limen__d_mul(s, r, s);
         conjugate(g, ginv, s, x[0]);
         memcpy(x[1], x[0], sizeof(double) * 16);
     }
@@ -225,12 +225,12 @@ static limen_scene *build_scene(const config *c, const double g[16], double cam_
     /* the camera: near the axis, 0.2 in front of the middle, looking at surface one */
     double ct[16];
     trans(ct, 0.05, 0.03, 0.2);
-    sweep_mul4(g, ct, cam_world);
+    limen__d_mul(g, ct, cam_world);
     const double *src[3] = { cam_world, wa, wb };
     limen_node nodes[3] = { cam, a, b };
     for (int i = 0; i < 3; i++) {
         if (i)
-            sweep_mul4(g, src[i], m);
+            limen__d_mul(g, src[i], m);
         else
             memcpy(m, src[i], sizeof m);
         for (int k = 0; k < 16; k++)
@@ -253,12 +253,12 @@ static limen_scene *build_scene(const config *c, const double g[16], double cam_
     trans(lf, 0, -0.9, 0);
     ident(r);                                   /* local +Z to +Y: a floor */
     r[5] = 0, r[6] = -1, r[9] = 1, r[10] = 0;
-    sweep_mul4(lf, r, lf);
+    limen__d_mul(lf, r, lf);
     trans(lb, 0.55, -0.5, -0.3);
     const double *loc[2] = { lf, lb };
     limen_node extra[2] = { floor_n, ball };
     for (int i = 0; i < 2; i++) {
-        sweep_mul4(g, loc[i], m);
+        limen__d_mul(g, loc[i], m);
         for (int k = 0; k < 16; k++)
             f[k] = (float)m[k];
         CHECK_OK(limen_node_set_local_matrix(s, extra[i], f));
@@ -270,7 +270,7 @@ static limen_scene *build_scene(const config *c, const double g[16], double cam_
     CHECK_OK(limen_node_set_color(s, ball, (float[3]){ 0.9f, 0.2f, 0.1f }));
     double lt[16];
     trans(lt, 0, 0.8, 0.5);
-    sweep_mul4(g, lt, m);
+    limen__d_mul(g, lt, m);
     CHECK_OK(limen_node_set_position(s, light, (float[3]){ (float)m[12], (float)m[13], (float)m[14] }));
     *s1 = a, *s2 = b;
     return s;
@@ -304,8 +304,8 @@ static void lib_x(limen_scene *s, limen_node n, limen_node partner, int mirror, 
             wb[i] = wf[i];
         ident(t);
         t[0] = -1, t[10] = -1;
-        sweep_mul4(wb, t, t);
-        sweep_mul4(t, wi, x);
+        limen__d_mul(wb, t, t);
+        limen__d_mul(t, wi, x);
     }
 }
 
@@ -383,17 +383,17 @@ static void test_recursion(void)
             v32[i] = v32o[i] = (float)e0[i];
         for (int k = 1; k <= KMAX; k++) {
             int which = c->mirrors ? (k - 1) % 2 : 0;   /* mirror 1, 2, 1, ... */
-            sweep_mul4(v64, xinv[which], v64);
-            sweep_mul4(v64o, xinv[which], v64o);
+            limen__d_mul(v64, xinv[which], v64);
+            limen__d_mul(v64o, xinv[which], v64o);
             ortho_d(v64o);
             mul_f(v32, xinv_f[which], v32);
             mul_f(v32o, xinv_f[which], v32o);
             ortho_f(v32o);
             if (s)
-                sweep_mul4(lv, lxinv[which], lv);
+                limen__d_mul(lv, lxinv[which], lv);
             double m[16], cw[16], ev[16];
             exact_m(c, g, ginv, k, m);
-            sweep_mul4(m, cam_world, cw);
+            limen__d_mul(m, cam_world, cw);
             sweep_inv4(cw, ev);
             double vd[4][16];
             for (int i = 0; i < 16; i++) {
@@ -481,8 +481,5 @@ static const check_case cases[] = {
 
 int main(int argc, char **argv)
 {
-    double t0 = sweep_now_ms();
-    int rc = check_run(argc, argv, cases);
-    fprintf(stderr, "     (%s mode, %.1f s)\n", sweep_full() ? "full" : "quick", (sweep_now_ms() - t0) / 1e3);
-    return rc;
+    return sweep_main(argc, argv, cases);
 }

@@ -89,7 +89,7 @@ static void pgl_surface_poly(game *gm, const limen_view *v, const item *it, cons
     double pv[16], P[16], V[16], M[16];
     for (int i = 0; i < 16; i++)
         P[i] = proj[i], V[i] = v->view[i], M[i] = it->model[i];
-    sweep_mul4(P, V, pv);
+    limen__d_mul(P, V, pv);
     double a[32][4], b[32][4];
     const double local[4][2] = { { -0.5, -0.5 }, { 0.5, -0.5 }, { 0.5, 0.5 }, { -0.5, 0.5 } };
     int n = 4;
