@@ -449,54 +449,61 @@ static int by_distance(const void *a, const void *b)
     return (x->dist > y->dist) - (x->dist < y->dist);
 }
 
+/* A thing (not a surface) that view v may show. */
+static bool shows(const rview *v, const limen__node *node)
+{
+    return limen__alive(node) && node->visible && !limen__is_surface(node) &&
+           !outside(v, node, NULL);
+}
+
 /* The things view v can show, nearest first (so that, without a depth-only pass, what lies
- * behind fails the depth test before it is shaded); in scene order where the list cannot
- * grow. Returns the count. */
+ * behind fails the depth test before it is shaded), in r->order. Returns the count, or -1
+ * where the list cannot grow (then draw them in scene order). */
 static int view_order(limen_renderer *r, limen_scene *s, const rview *v)
 {
     if (r->order_cap < s->cap) {
         struct limen__draw_key *o = realloc(r->order, sizeof *o * (size_t)s->cap);
-        if (o) {
-            r->order = o;
-            r->order_cap = s->cap;
-        }
+        if (!o)
+            return -1;
+        r->order = o;
+        r->order_cap = s->cap;
     }
     int n = 0;
-    bool sorted = r->order_cap >= s->cap;
-    for (int i = 0; i < s->cap && sorted; i++) {
-        limen__node *node = &s->nodes[i];
-        if (!limen__alive(node) || !node->visible || limen__is_surface(node) ||
-            outside(v, node, NULL))
+    for (int i = 0; i < s->cap; i++) {
+        if (!shows(v, &s->nodes[i]))
             continue;
         double c[3], rad;
-        limen__node_bounds(node, c, &rad);
-        (void)rad;
+        limen__node_bounds(&s->nodes[i], c, &rad);
         double dx = c[0] - v->pub->eye[0], dy = c[1] - v->pub->eye[1], dz = c[2] - v->pub->eye[2];
         r->order[n++] = (struct limen__draw_key){ (float)(dx * dx + dy * dy + dz * dz), i };
     }
-    if (!sorted)
-        return -1;
     qsort(r->order, (size_t)n, sizeof *r->order, by_distance);
     return n;
+}
+
+/* Node i, cut at its portal where it passes through one. */
+static void draw_thing(limen_renderer *r, limen_scene *s, const rview *v, int i)
+{
+    const limen_plan *p = r->plan;
+    int c = p->nclones ? p->clone_of[i] : -1;
+    if (c >= 0)
+        set_cut(r, p->clones[c].keep);
+    draw_node(r, v, &s->nodes[i], MODE_LIT, s->nodes[i].color);
+    if (c >= 0)
+        set_cut(r, NULL);
 }
 
 static void draw_geometry(limen_renderer *r, limen_scene *s, const rview *v)
 {
     const limen_plan *p = r->plan;
     int n = view_order(r, s, v);
-    for (int k = 0; k < (n < 0 ? s->cap : n); k++) {
-        int i = n < 0 ? k : r->order[k].node;
-        limen__node *node = &s->nodes[i];
-        if (n < 0 && (!limen__alive(node) || !node->visible || limen__is_surface(node) ||
-                      outside(v, node, NULL)))
-            continue;
-        int c = p->nclones ? p->clone_of[i] : -1;
-        if (c >= 0)
-            set_cut(r, p->clones[c].keep);
-        draw_node(r, v, node, MODE_LIT, node->color);
-        if (c >= 0)
-            set_cut(r, NULL);
+    if (n < 0) {
+        for (int i = 0; i < s->cap; i++)
+            if (shows(v, &s->nodes[i]))
+                draw_thing(r, s, v, i);
     }
+    for (int k = 0; k < n; k++)
+        draw_thing(r, s, v, r->order[k].node);
     /* what has gone into a portal, coming out of its partner */
     for (int c = 0; c < p->nclones; c++) {
         const limen_clone *cl = &p->clones[c];
