@@ -1037,22 +1037,21 @@ static int l_node_world(lua_State *L)
     return 1;
 }
 
-/* node:face / node:look_at: a direction field (what, into the spec's field f) and an
- * optional up, applied to the node. */
-static int turn_node(lua_State *L, const char *what, int f)
+/* node:face / node:look_at: a direction (labelled what, into the spec's field f) and an
+ * optional up (labelled up_what), applied to the node. */
+static int turn_node(lua_State *L, const char *what, const char *up_what, int f)
 {
     limen_scene *s;
     lua_settop(L, 3);
     lnode *nd = check_node(L, 1, &s);
-    char ctx[CTX_LEN], name[40];
+    char ctx[CTX_LEN];
     node_ctx(nd, ctx, sizeof ctx);
     spec sp;
     memset(&sp, 0, sizeof sp);
     read_vec(L, 2, ctx, what, 3, ELEM_FINITE, f == F_NORMAL ? sp.normal : sp.look_at);
     sp.have = BIT(f);
     if (!lua_isnoneornil(L, 3)) {
-        snprintf(name, sizeof name, "%.*s: up", (int)(strchr(what, ':') - what), what);
-        read_vec(L, 3, ctx, name, 3, ELEM_FINITE, sp.up);
+        read_vec(L, 3, ctx, up_what, 3, ELEM_FINITE, sp.up);
         sp.have |= BIT(F_UP);
     }
     if (apply_spec(s, nd->n, &sp))
@@ -1063,13 +1062,13 @@ static int turn_node(lua_State *L, const char *what, int f)
 /* node:face(normal [, up]): turns local +Z to normal and +Y towards up. */
 static int l_node_face(lua_State *L)
 {
-    return turn_node(L, "face: normal", F_NORMAL);
+    return turn_node(L, "face: normal", "face: up", F_NORMAL);
 }
 
 /* node:look_at(target [, up]): keeps the position, turns -Z towards target. */
 static int l_node_look_at(lua_State *L)
 {
-    return turn_node(L, "look_at: target", F_LOOK_AT);
+    return turn_node(L, "look_at: target", "look_at: up", F_LOOK_AT);
 }
 
 /* portal:link(other): pairs two portals both ways. */
