@@ -10,4 +10,9 @@ int limen_cli_trace(int argc, char **argv);
  * names a place in it ("SCENE:12: ..."). */
 void limen_cli_scene_error(const char *scene, const char *msg);
 
+/* Option values, whole strings only; 0 on success, -1 (out untouched) otherwise. */
+int limen_cli_parse_long(const char *s, long lo, long hi, long *out);     /* lo..hi */
+int limen_cli_parse_double(const char *s, double *out);                  /* finite */
+int limen_cli_parse_size(const char *s, int *w, int *h);   /* "WxH", 1..16384 each */
+
 #endif

@@ -66,7 +66,7 @@ typedef struct options {
     int stats, trusted;
 } options;
 
-static int parse_long(const char *s, long lo, long hi, long *out)
+int limen_cli_parse_long(const char *s, long lo, long hi, long *out)
 {
     char *end;
     errno = 0;
@@ -77,7 +77,7 @@ static int parse_long(const char *s, long lo, long hi, long *out)
     return 0;
 }
 
-static int parse_double(const char *s, double *out)
+int limen_cli_parse_double(const char *s, double *out)
 {
     char *end;
     errno = 0;
@@ -85,6 +85,16 @@ static int parse_double(const char *s, double *out)
     if (errno || end == s || *end || v != v || v - v != 0)
         return -1;
     *out = v;
+    return 0;
+}
+
+int limen_cli_parse_size(const char *s, int *w, int *h)
+{
+    int x = 0, y = 0;
+    char tail;
+    if (sscanf(s, "%dx%d%c", &x, &y, &tail) != 2 || x < 1 || y < 1 || x > 16384 || y > 16384)
+        return -1;
+    *w = x, *h = y;
     return 0;
 }
 
@@ -107,13 +117,8 @@ static int parse_render(int argc, char **argv, options *o)
             o->out = v;
         } else if (!strcmp(a, "--size")) {
             NEED_VALUE();
-            int w = 0, h = 0;
-            char tail;
-            if (sscanf(v, "%dx%d%c", &w, &h, &tail) != 2 || w < 1 || h < 1 || w > 16384 ||
-                h > 16384)
+            if (limen_cli_parse_size(v, &o->rd.width, &o->rd.height))
                 return fail("--size: expected WxH with 1 <= W, H <= 16384, got '%s'%s", v, "");
-            o->rd.width = w;
-            o->rd.height = h;
         } else if (!strcmp(a, "--backend")) {
             NEED_VALUE();
             if (!strcmp(v, "osmesa"))
@@ -125,7 +130,7 @@ static int parse_render(int argc, char **argv, options *o)
         } else if (!strcmp(a, "--msaa")) {
             NEED_VALUE();
             long n;
-            if (parse_long(v, 0, 64, &n))
+            if (limen_cli_parse_long(v, 0, 64, &n))
                 return fail("--msaa: expected 0 to 64, got '%s'%s", v, "");
             o->rd.msaa = (int)n;
         } else if (!strcmp(a, "--depth-mode")) {
@@ -140,15 +145,15 @@ static int parse_render(int argc, char **argv, options *o)
                 return fail("--depth-mode: expected no, zo or zo-reversed, got '%s'%s", v, "");
         } else if (!strcmp(a, "--time")) {
             NEED_VALUE();
-            if (parse_double(v, &o->time))
+            if (limen_cli_parse_double(v, &o->time))
                 return fail("--time: expected a number, got '%s'%s", v, "");
         } else if (!strcmp(a, "--frames")) {
             NEED_VALUE();
-            if (parse_long(v, 1, 1000000, &o->frames))
+            if (limen_cli_parse_long(v, 1, 1000000, &o->frames))
                 return fail("--frames: expected 1 to 1000000, got '%s'%s", v, "");
         } else if (!strcmp(a, "--fps")) {
             NEED_VALUE();
-            if (parse_double(v, &o->fps) || !(o->fps > 0))
+            if (limen_cli_parse_double(v, &o->fps) || !(o->fps > 0))
                 return fail("--fps: expected a positive number, got '%s'%s", v, "");
         } else if (!strcmp(a, "--method")) {
             NEED_VALUE();
@@ -163,14 +168,14 @@ static int parse_render(int argc, char **argv, options *o)
         } else if (!strcmp(a, "--adaptive")) {
             NEED_VALUE();
             double t;
-            if (parse_double(v, &t) || !(t >= 0 && t <= 255))
+            if (limen_cli_parse_double(v, &t) || !(t >= 0 && t <= 255))
                 return fail("--adaptive: expected a threshold in 8-bit steps (0 to 255), got "
                             "'%s'%s", v, "");
             o->ro.adaptive = (float)(t / 255.0);
         } else if (!strcmp(a, "--depth-bits")) {
             NEED_VALUE();
             long n;
-            if (parse_long(v, 24, 32, &n) || (n != 24 && n != 32))
+            if (limen_cli_parse_long(v, 24, 32, &n) || (n != 24 && n != 32))
                 return fail("--depth-bits: expected 24 or 32, got '%s'%s", v, "");
             o->rd.depth_bits = (int)n;
         } else if (!strcmp(a, "--fill")) {
@@ -184,7 +189,7 @@ static int parse_render(int argc, char **argv, options *o)
         } else if (!strcmp(a, "--texture-scale")) {
             NEED_VALUE();
             double sc;
-            if (parse_double(v, &sc) || !(sc > 0 && sc <= 1))
+            if (limen_cli_parse_double(v, &sc) || !(sc > 0 && sc <= 1))
                 return fail("--texture-scale: expected 0 < S <= 1, got '%s'%s", v, "");
             o->ro.texture_scale = (float)sc;
         } else if (!strcmp(a, "--clip")) {
@@ -200,14 +205,14 @@ static int parse_render(int argc, char **argv, options *o)
         } else if (!strcmp(a, "--depth")) {
             NEED_VALUE();
             long n;
-            if (parse_long(v, 0, 255, &n))
+            if (limen_cli_parse_long(v, 0, 255, &n))
                 return fail("--depth: expected 0 to 255, got '%s'%s", v, "");
             o->ro.limit_depth = 1;
             o->ro.max_depth = (int)n;
         } else if (!strcmp(a, "--max-views")) {
             NEED_VALUE();
             long n;
-            if (parse_long(v, 1, 1000000, &n))
+            if (limen_cli_parse_long(v, 1, 1000000, &n))
                 return fail("--max-views: expected 1 to 1000000, got '%s'%s", v, "");
             o->ro.max_views = (int)n;
         } else if (!strcmp(a, "--plan")) {
@@ -327,11 +332,11 @@ static int cmd_diff(int argc, char **argv)
             heat = v;
             i++;
         } else if (!strcmp(argv[i], "--threshold") && v) {
-            if (parse_long(v, 0, 255, &threshold))
+            if (limen_cli_parse_long(v, 0, 255, &threshold))
                 return fail("--threshold: expected 0 to 255, got '%s'%s", v, ""), 2;
             i++;
         } else if (!strcmp(argv[i], "--max-bad") && v) {
-            if (parse_double(v, &max_bad) || max_bad < 0 || max_bad > 1)
+            if (limen_cli_parse_double(v, &max_bad) || max_bad < 0 || max_bad > 1)
                 return fail("--max-bad: expected 0 to 1, got '%s'%s", v, ""), 2;
             i++;
         } else if (!strcmp(argv[i], "--json")) {

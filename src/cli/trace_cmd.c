@@ -1,5 +1,4 @@
 /* trace_cmd.c - `limen trace`: the ray-traced reference image of a scene. */
-#include <errno.h>
 #include <stdbool.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -19,17 +18,6 @@ static int usage_error(const char *fmt, const char *arg)
     fprintf(stderr, fmt, arg);
     fputc('\n', stderr);
     return 2;
-}
-
-static int parse_long(const char *s, long lo, long hi, long *out)
-{
-    char *end;
-    errno = 0;
-    long v = strtol(s, &end, 10);
-    if (errno || end == s || *end || v < lo || v > hi)
-        return -1;
-    *out = v;
-    return 0;
 }
 
 static double now_ms(void)
@@ -62,29 +50,21 @@ int limen_cli_trace(int argc, char **argv)
         if (!strcmp(a, "-o") || !strcmp(a, "--output")) {
             out = v;
         } else if (!strcmp(a, "--size")) {
-            int w = 0, h = 0;
-            char tail;
-            if (sscanf(v, "%dx%d%c", &w, &h, &tail) != 2 || w < 1 || h < 1 || w > 16384 ||
-                h > 16384)
+            if (limen_cli_parse_size(v, &d.width, &d.height))
                 return usage_error("--size: expected WxH with 1 <= W, H <= 16384, got '%s'", v);
-            d.width = w;
-            d.height = h;
         } else if (!strcmp(a, "--depth")) {
             long n;
-            if (parse_long(v, 0, 255, &n))
+            if (limen_cli_parse_long(v, 0, 255, &n))
                 return usage_error("--depth: expected 0 to 255, got '%s'", v);
             d.limit_depth = 1;
             d.max_depth = (int)n;
         } else if (!strcmp(a, "--threads")) {
             long n;
-            if (parse_long(v, 1, 256, &n))
+            if (limen_cli_parse_long(v, 1, 256, &n))
                 return usage_error("--threads: expected 1 to 256, got '%s'", v);
             d.threads = (int)n;
         } else if (!strcmp(a, "--time")) {
-            char *end;
-            errno = 0;
-            time = strtod(v, &end);
-            if (errno || end == v || *end || time != time || time - time != 0)
+            if (limen_cli_parse_double(v, &time))
                 return usage_error("--time: expected a number, got '%s'", v);
         } else if (!strcmp(a, "--stats")) {
             stats = 1;
