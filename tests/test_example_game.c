@@ -656,6 +656,7 @@ static int game_frame(game *g, limen_scene *s, limen_depth_range range,
 /* ============================================================ 7. tests */
 
 #include "check.h"
+#include "load.h"
 
 #define W 320
 #define H 240
@@ -669,18 +670,6 @@ static game *get_game(void)
         the_game = game_create(W, H);
     CHECK_MSG(the_game, "cannot set up the game's OpenGL context");
     return the_game;
-}
-
-static limen_script *load(const char *path)
-{
-    limen_script *sc = NULL;
-    limen_status st = limen_script_load(path, NULL, &sc);
-    CHECK_MSG(st == LIMEN_OK, "%s: %s", path, sc ? limen_script_error(sc) : "");
-    if (st) {
-        limen_script_destroy(sc);
-        return NULL;
-    }
-    return sc;
 }
 
 static void write_png(const char *name, const unsigned char *rgb)
@@ -737,7 +726,7 @@ static void compare(const char *name, limen_scene *s, limen_depth_range range,
 static void compare_script(const char *path, const char *name, limen_depth_range range,
                            limen_clip_method clip, int min_views)
 {
-    limen_script *sc = load(path);
+    limen_script *sc = check_load_script(path);
     if (!sc)
         return;
     compare(name, limen_script_scene(sc), range, clip);
@@ -782,7 +771,7 @@ static void test_clip_plane(void)
  * out of the orange one) while the game bobs the red ball; every frame matches limen's. */
 static void test_game_loop(void)
 {
-    limen_script *sc = load("scenes/portals.lua");
+    limen_script *sc = check_load_script("scenes/portals.lua");
     if (!sc)
         return;
     limen_scene *s = limen_script_scene(sc);

@@ -5,6 +5,7 @@
 
 #include "check.h"
 #include "limen.h"
+#include "load.h"
 
 #define W 160
 #define H 120
@@ -15,18 +16,6 @@ static const char *const scenes[] = {
     "scenes/portals.lua",      "scenes/tunnel.lua",      "scenes/portal_mirror.lua",
     "scenes/portal_sizes.lua", "scenes/moving_portal.lua", "scenes/flythrough.lua", NULL,
 };
-
-static limen_script *load(const char *path)
-{
-    limen_script *sc = NULL;
-    limen_status st = limen_script_load(path, NULL, &sc);
-    CHECK_MSG(st == LIMEN_OK, "%s: %s", path, sc ? limen_script_error(sc) : "");
-    if (st) {
-        limen_script_destroy(sc);
-        return NULL;
-    }
-    return sc;
-}
 
 static limen_renderer *renderer(int w, int h)
 {
@@ -63,7 +52,7 @@ static void test_methods_and_clips_agree(void)
 {
     limen_renderer *r = renderer(W, H);
     for (int i = 0; scenes[i] && r; i++) {
-        limen_script *sc = load(scenes[i]);
+        limen_script *sc = check_load_script(scenes[i]);
         if (!sc)
             continue;
         limen_scene *s = limen_script_scene(sc);
@@ -91,7 +80,7 @@ static void test_methods_and_clips_agree(void)
 /* Nothing behind the mirror shows in it with oblique or plane clipping; with none it does. */
 static void test_mirror_room_hides_what_is_behind(void)
 {
-    limen_script *sc = load("scenes/mirror_room.lua");
+    limen_script *sc = check_load_script("scenes/mirror_room.lua");
     if (!sc)
         return;
     limen_scene *s = limen_script_scene(sc);
@@ -167,7 +156,7 @@ static limen_plan *plan_scene(limen_scene *s, limen_plan_desc d)
 
 static void test_corridor_depth_16(void)
 {
-    limen_script *sc = load("scenes/corridor.lua");
+    limen_script *sc = check_load_script("scenes/corridor.lua");
     if (!sc)
         return;
     limen_plan *p = plan_scene(limen_script_scene(sc),
@@ -188,7 +177,7 @@ static void test_corridor_depth_16(void)
 
 static void test_kaleidoscope_budget(void)
 {
-    limen_script *sc = load("scenes/kaleidoscope.lua");
+    limen_script *sc = check_load_script("scenes/kaleidoscope.lua");
     if (!sc)
         return;
     limen_scene *s = limen_script_scene(sc);
@@ -217,7 +206,7 @@ static void test_kaleidoscope_budget(void)
 static void test_winding(void)
 {
     for (int i = 0; scenes[i]; i++) {
-        limen_script *sc = load(scenes[i]);
+        limen_script *sc = check_load_script(scenes[i]);
         if (!sc)
             continue;
         limen_plan *p = plan_scene(limen_script_scene(sc), (limen_plan_desc){ 0 });
@@ -233,7 +222,7 @@ static void test_winding(void)
 
 static void test_portal_mirror_chain(void)
 {
-    limen_script *sc = load("scenes/portal_mirror.lua");
+    limen_script *sc = check_load_script("scenes/portal_mirror.lua");
     if (!sc)
         return;
     limen_scene *s = limen_script_scene(sc);
@@ -256,7 +245,7 @@ static void test_portal_mirror_chain(void)
 
 static void test_moving_portal_moves(void)
 {
-    limen_script *sc = load("scenes/moving_portal.lua");
+    limen_script *sc = check_load_script("scenes/moving_portal.lua");
     if (!sc)
         return;
     limen_scene *s = limen_script_scene(sc);
@@ -285,7 +274,7 @@ static void test_moving_portal_moves(void)
 
 static void test_texture_scale(void)
 {
-    limen_script *sc = load("scenes/corridor.lua");
+    limen_script *sc = check_load_script("scenes/corridor.lua");
     if (!sc)
         return;
     limen_scene *s = limen_script_scene(sc);
@@ -432,7 +421,7 @@ static void test_marker_through_portal(void)
  * renderers. */
 static void test_fill_previous(void)
 {
-    limen_script *sc = load("scenes/corridor.lua");
+    limen_script *sc = check_load_script("scenes/corridor.lua");
     if (!sc)
         return;
     limen_scene *s = limen_script_scene(sc);
@@ -464,7 +453,7 @@ static void test_depth_modes_agree(void)
     const char *some[] = { "scenes/mirror_room.lua", "scenes/corridor.lua", "scenes/portals.lua",
                            "scenes/tunnel.lua", NULL };
     for (int i = 0; some[i]; i++) {
-        limen_script *sc = load(some[i]);
+        limen_script *sc = check_load_script(some[i]);
         if (!sc)
             continue;
         unsigned char *img[3] = { NULL, NULL, NULL };

@@ -161,7 +161,7 @@ static void test_approach(void)
     printf("     %-7s %5s  %-10s %-8s %9s %9s %9s %9s %9s %9s\n", "surface", "angle", "d",
            "default", "err_def", "err_plane", "err_none", "err_obl", "own_quad", "own_poly");
     for (int sfi = 0; sfi < 2 && nsteps; sfi++) {
-        limen_script *sc = sweep_load(sfi ? "tests/sweeps/approach_portal.lua"
+        limen_script *sc = check_load_script(sfi ? "tests/sweeps/approach_portal.lua"
                                           : "tests/sweeps/approach_mirror.lua");
         if (!sc)
             continue;

@@ -124,7 +124,7 @@ static void test_depth(void)
     for (int rg = 0; rg < 3; rg++)
         for (int b = 0; b < 2; b++)
             r[rg][b] = sweep_renderer(w, h, rg, b ? 32 : 24);
-    limen_script *sc = sweep_load("tests/sweeps/depth_mirror.lua");
+    limen_script *sc = check_load_script("tests/sweeps/depth_mirror.lua");
     limen_plan *p = NULL;
     CHECK_OK(limen_plan_create(&p));
     FILE *csv = sweep_csv("depth",

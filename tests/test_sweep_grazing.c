@@ -127,7 +127,7 @@ static void test_grazing(void)
     printf("     %-7s %8s %5s %8s %8s %6s %9s\n", "surface", "angle", "views", "rect_px",
            "covered", "zero", "err_def");
     for (int si = 0; si < 2 && r && p && csv; si++) {
-        limen_script *sc = sweep_load(si ? "tests/sweeps/grazing_portal.lua"
+        limen_script *sc = check_load_script(si ? "tests/sweeps/grazing_portal.lua"
                                          : "tests/sweeps/grazing_mirror.lua");
         if (!sc)
             continue;

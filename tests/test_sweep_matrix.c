@@ -148,7 +148,7 @@ static void test_matrix(void)
     /* and in a picture: mirrors facing exactly and nearly straight down, drawn by limen
      * against the ray tracer */
     const int w = full ? 320 : 160, h = full ? 240 : 120;
-    limen_script *sc = sweep_load("tests/sweeps/matrix_ceiling.lua");
+    limen_script *sc = check_load_script("tests/sweeps/matrix_ceiling.lua");
     limen_renderer *r = sweep_renderer(w, h, LIMEN_DEPTH_NO, 24);
     if (sc && r) {
         limen_scene *cs = limen_script_scene(sc);

@@ -9,6 +9,7 @@
 
 #include "check.h"
 #include "limen.h"
+#include "load.h"
 
 #define BOUND 0.005
 
@@ -28,14 +29,7 @@ static limen_script *load(const char *name)
 {
     char path[256];
     snprintf(path, sizeof path, strchr(name, '/') ? "%s" : "scenes/%s.lua", name);
-    limen_script *sc = NULL;
-    limen_status st = limen_script_load(path, NULL, &sc);
-    CHECK_MSG(st == LIMEN_OK, "%s: %s", path, sc ? limen_script_error(sc) : "");
-    if (st) {
-        limen_script_destroy(sc);
-        return NULL;
-    }
-    return sc;
+    return check_load_script(path);
 }
 
 /* depth < 0: the scene's own limits */

@@ -25,6 +25,7 @@
 #include "../check.h"
 #include "core/dmath.h"
 #include "limen.h"
+#include "../load.h"
 
 #define SWEEP_BOUND 0.005   /* share of pixels over SWEEP_THRESHOLD */
 #define SWEEP_THRESHOLD 8   /* 8-bit steps */
@@ -209,18 +210,6 @@ static SWEEP_UNUSED int sweep_plane_to_view(const float view[16], const float c_
     for (int j = 0; j < 4; j++)
         out[j] /= len;
     return 1;
-}
-
-static SWEEP_UNUSED limen_script *sweep_load(const char *path)
-{
-    limen_script *sc = NULL;
-    limen_status st = limen_script_load(path, NULL, &sc);
-    CHECK_MSG(st == LIMEN_OK, "%s: %s", path, sc ? limen_script_error(sc) : "");
-    if (st) {
-        limen_script_destroy(sc);
-        return NULL;
-    }
-    return sc;
 }
 
 static SWEEP_UNUSED limen_renderer *sweep_renderer(int w, int h, limen_depth_range range, int bits)
