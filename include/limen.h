@@ -13,8 +13,9 @@
  *          limen_node_set_position(s, ball, (float[3]){0, 1, 0});
  *          limen_node_set_dims(s, ball, (float[3]){0.5f, 0, 0});   // radius
  *      Or load a Lua scene script (limen_script_load, below) that does the same.
- *   3. Create a renderer (OSMesa by default, EGL surfaceless on request) and
- *      render frames; read the pixels or write a PNG:
+ *   3. Create a renderer (OSMesa by default, EGL surfaceless on request, or the
+ *      game's own context: LIMEN_BACKEND_HOST, below) and render frames; read the
+ *      pixels or write a PNG:
  *          limen_renderer *r;
  *          limen_renderer_create(&(limen_renderer_desc){.width = 640,
  *                                .height = 480}, &r);
@@ -369,16 +370,49 @@ typedef struct limen_renderer limen_renderer;
 
 typedef enum limen_backend {
     LIMEN_BACKEND_OSMESA = 0,   /* Mesa's off-screen software renderer (llvmpipe) */
-    LIMEN_BACKEND_EGL           /* EGL surfaceless; a GPU where there is one */
+    LIMEN_BACKEND_EGL,          /* EGL surfaceless; a GPU where there is one */
+    LIMEN_BACKEND_HOST          /* the caller's own OpenGL context (a game's window) */
 } limen_backend;
+
+/* LIMEN_BACKEND_HOST: drawing into the game's context.
+ *   The game owns the window and an OpenGL 3.3+ core context, makes it current on the
+ *   calling thread before every limen_renderer_* call, and passes its function loader
+ *   (SDL_GL_GetProcAddress; cast eglGetProcAddress or glfwGetProcAddress to this type).
+ *   limen creates no context: it draws the planned tree into `framebuffer` (0: the default
+ *   one, a window's back buffer) over the viewport (x, y, width, height), clearing that
+ *   rectangle first, with either method. The framebuffer needs a depth buffer, and 8
+ *   stencil bits for the stencil method (SDL_GL_STENCIL_SIZE 8); without them a frame fails
+ *   with LIMEN_ERR_UNSUPPORTED and says so (it does not switch methods behind your back).
+ *   msaa must be 0: a multisampled host framebuffer is drawn multisampled as it is.
+ *   What limen's objects are: programs, buffers, vertex arrays, queries, and for the texture
+ *   method (and LIMEN_FILL_PREVIOUS) textures, renderbuffers and framebuffers of its own.
+ *   GL state: every call restores what it changes, so the game's next draw is unaffected:
+ *   bound program, vertex array (with its element buffer), array buffer, draw and read
+ *   framebuffers, renderbuffer, viewport, scissor box and test, depth test/func/mask/clear
+ *   value/clamp, stencil test and both faces' func/ref/masks/ops/clear value, colour mask
+ *   and clear value, blend, cull face and mode, front face, polygon mode and offset fill,
+ *   clip distances 0-7, clip control (origin, depth mode), multisample, framebuffer sRGB,
+ *   logic op, sample coverage/alpha-to-coverage/mask, rasterizer discard, primitive
+ *   restart, active texture unit, texture unit 0's 2D texture and sampler, pixel pack and
+ *   unpack buffers and pack alignment/row length/skips. While it draws limen turns off
+ *   blend, sRGB writes, polygon offset, logic op, coverage, discard and restart, fills
+ *   polygons, and unbinds samplers and pixel buffers from what it uses.
+ *   Two things it cannot give back: errors pending in glGetError when limen is called are
+ *   read and dropped (so that limen reports only its own), and the game must not have an
+ *   occlusion or pipeline-statistics query active during a frame (limen counts with them). */
+typedef void *(*limen_gl_loader)(const char *name);
 
 typedef struct limen_renderer_desc {
     limen_backend backend;          /* default OSMesa */
-    int width, height;              /* 0 -> 640 x 480 */
-    int msaa;                       /* samples per pixel; 0 or 1 -> off */
+    int width, height;              /* 0 -> 640 x 480 (host: the viewport's size) */
+    int msaa;                       /* samples per pixel; 0 or 1 -> off (host: 0) */
     limen_depth_range depth_range;  /* default NO */
     int depth_bits;                 /* 24 (integer) or 32 (float); 0 -> 24, or 32 for
-                                     * ZO_REVERSED, where a float buffer is the point */
+                                     * ZO_REVERSED, where a float buffer is the point (host:
+                                     * limen's offscreen targets; the frame has the host's) */
+    limen_gl_loader gl_loader;      /* host: the game's loader (required) */
+    unsigned framebuffer;           /* host: framebuffer object to draw into; 0: default */
+    int x, y;                       /* host: lower-left corner of the viewport in it */
 } limen_renderer_desc;
 
 typedef struct limen_frame_stats {
@@ -426,9 +460,16 @@ typedef struct limen_render_opts {
 LIMEN_API limen_status limen_render_frame(limen_renderer *r, limen_scene *s,
                                           const limen_render_opts *opts,
                                           limen_frame_stats *stats);
+/* LIMEN_BACKEND_HOST: draw from now on into `framebuffer` over the viewport (x, y, width,
+ * height), for example after the window was resized (with the game's context current).
+ * Other backends -> LIMEN_ERR_UNSUPPORTED. */
+LIMEN_API limen_status limen_renderer_set_viewport(limen_renderer *r, unsigned framebuffer,
+                                                   int x, int y, int width, int height);
 /* The plan of the last frame (owned by the renderer; valid until the next frame). */
 LIMEN_API const limen_plan *limen_renderer_plan(const limen_renderer *r);
-/* Copies the last frame as 8-bit RGB, top row first: width * height * 3 bytes. */
+/* Copies the last frame as 8-bit RGB, top row first: width * height * 3 bytes. (Host: read
+ * back from the viewport of its framebuffer's read buffer, before the game draws over it or
+ * swaps; a multisampled host framebuffer -> LIMEN_ERR_UNSUPPORTED.) */
 LIMEN_API limen_status limen_renderer_read_rgb(limen_renderer *r, unsigned char *rgb);
 LIMEN_API limen_status limen_renderer_write_png(limen_renderer *r, const char *path);
 

@@ -1,5 +1,7 @@
 /* ctx_egl.c - an EGL context with no surface (EGL_MESA_platform_surfaceless, or the first
- * EGL device): the same code runs on a GPU or, without one, on Mesa's software driver. */
+ * EGL device): the same code runs on a GPU or, without one, on Mesa's software driver. A
+ * call gives the thread back its EGL context, surfaces and bound API as they were. (A
+ * context current through GLX is beyond EGL's reach: use LIMEN_BACKEND_HOST there.) */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -8,11 +10,17 @@
 #include <EGL/egl.h>
 #include <EGL/eglext.h>
 
+#include "limen.h"
 #include "gl/glapi.h"
 
 struct limen__ctx {
     EGLDisplay dpy;
     EGLContext ctx;
+    int depth;                  /* enter/leave nesting */
+    EGLenum prev_api;           /* what was current at the outermost enter */
+    EGLDisplay prev_dpy;
+    EGLContext prev_ctx;
+    EGLSurface prev_draw, prev_read;
 };
 
 static bool has_ext(const char *list, const char *ext)
@@ -62,7 +70,7 @@ static EGLDisplay open_display(void)
     return dpy;
 }
 
-static limen__ctx *egl_create(char *err, size_t errsize)
+static limen__ctx *egl_create(const limen_renderer_desc *d, char *err, size_t errsize)
 {
     limen__ctx *c = calloc(1, sizeof *c);
     if (!c) {
@@ -84,6 +92,7 @@ static limen__ctx *egl_create(char *err, size_t errsize)
         free(c);
         return NULL;
     }
+    EGLenum api = eglQueryAPI();
     if (!eglBindAPI(EGL_OPENGL_API)) {
         snprintf(err, errsize, "egl: desktop OpenGL is not available");
         eglTerminate(c->dpy);
@@ -100,6 +109,7 @@ static limen__ctx *egl_create(char *err, size_t errsize)
         if (c->ctx == EGL_NO_CONTEXT)
             c->ctx = NULL;
     }
+    eglBindAPI(api);
     if (!c->ctx) {
         snprintf(err, errsize, "egl: cannot create an OpenGL 3.3 core context (0x%x)",
                  (unsigned)eglGetError());
@@ -110,12 +120,42 @@ static limen__ctx *egl_create(char *err, size_t errsize)
     return c;
 }
 
-static int egl_make_current(limen__ctx *c)
+static int egl_enter(limen__ctx *c, const limen__gl *gl, char *err, size_t errsize)
 {
-    return eglMakeCurrent(c->dpy, EGL_NO_SURFACE, EGL_NO_SURFACE, c->ctx) ? 0 : -1;
+    if (c->depth++)
+        return 0;
+    c->prev_api = eglQueryAPI();
+    c->prev_dpy = eglGetCurrentDisplay();
+    c->prev_ctx = eglGetCurrentContext();
+    c->prev_draw = eglGetCurrentSurface(EGL_DRAW);
+    c->prev_read = eglGetCurrentSurface(EGL_READ);
+    if (!eglBindAPI(EGL_OPENGL_API) ||
+        !eglMakeCurrent(c->dpy, EGL_NO_SURFACE, EGL_NO_SURFACE, c->ctx)) {
+        eglBindAPI(c->prev_api);
+        c->depth = 0;
+        snprintf(err, errsize, "egl: cannot make the context current (0x%x)",
+                 (unsigned)eglGetError());
+        return -1;
+    }
+    return 0;
 }
 
-static limen__glproc egl_getproc(const char *name)
+static void egl_leave(limen__ctx *c, const limen__gl *gl)
+{
+    if (c->depth == 0 || --c->depth)
+        return;
+    if (c->prev_ctx == c->ctx)
+        return;
+    if (c->prev_ctx != EGL_NO_CONTEXT) {
+        eglBindAPI(c->prev_api);
+        eglMakeCurrent(c->prev_dpy, c->prev_draw, c->prev_read, c->prev_ctx);
+    } else {
+        eglMakeCurrent(c->dpy, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
+        eglBindAPI(c->prev_api);
+    }
+}
+
+static limen__glproc egl_getproc(limen__ctx *c, const char *name)
 {
     return (limen__glproc)eglGetProcAddress(name);
 }
@@ -135,5 +175,5 @@ static void egl_destroy(limen__ctx *c)
 }
 
 const limen__ctx_ops limen__ctx_egl = {
-    "egl", egl_create, egl_make_current, egl_getproc, egl_destroy,
+    "egl", egl_create, egl_enter, egl_leave, egl_getproc, egl_destroy,
 };

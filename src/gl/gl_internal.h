@@ -28,9 +28,12 @@ struct limen_renderer {
     limen__ctx *ctx;
     limen__gl gl;
     int width, height, msaa;
+    bool host;                              /* LIMEN_BACKEND_HOST: fbo is the game's */
+    int origin[2];                          /* the frame's lower-left corner in fbo */
     limen_depth_range range;
     int depth_bits;                         /* 24: DEPTH24_STENCIL8, 32: DEPTH32F_STENCIL8 */
     bool has_fragment_stats;
+    bool ready;                             /* set up completely */
     char err[LIMEN__ERR_MAX];
     char info[256];
 
@@ -41,7 +44,8 @@ struct limen_renderer {
     uniforms u;
     limen__meshes meshes;
 
-    GLuint fbo, color_rb, depth_rb;         /* the frame (multisampled if msaa) */
+    GLuint fbo, color_rb, depth_rb;         /* the frame (multisampled if msaa); host: the
+                                             * game's framebuffer, no renderbuffers */
     GLuint resolve_fbo, resolve_rb;         /* single-sampled copy when msaa */
     GLuint q_fragments;
     GLuint *q_pool;                         /* occlusion queries around shading passes */

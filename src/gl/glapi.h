@@ -101,7 +101,18 @@
     X(void, EndQuery, (GLenum target))                                                   \
     X(void, GetQueryObjectui64v, (GLuint q, GLenum pname, GLuint64 *v))                  \
     X(void, DrawElements, (GLenum mode, GLsizei count, GLenum type, const void *idx))    \
-    X(void, DrawArrays, (GLenum mode, GLint first, GLsizei count))
+    X(void, DrawArrays, (GLenum mode, GLint first, GLsizei count))                     \
+    X(GLboolean, IsEnabled, (GLenum cap))                                                \
+    X(void, GetBooleanv, (GLenum pname, GLboolean *data))                                \
+    X(void, GetFloatv, (GLenum pname, GLfloat *data))                                    \
+    X(void, GetDoublev, (GLenum pname, GLdouble *data))                                  \
+    X(void, StencilFuncSeparate, (GLenum face, GLenum func, GLint ref, GLuint mask))     \
+    X(void, StencilOpSeparate, (GLenum face, GLenum sfail, GLenum dpfail, GLenum dppass))\
+    X(void, StencilMaskSeparate, (GLenum face, GLuint mask))                             \
+    X(void, PolygonMode, (GLenum face, GLenum mode))                                     \
+    X(void, BindSampler, (GLuint unit, GLuint sampler))                                  \
+    X(void, GetFramebufferAttachmentParameteriv, (GLenum target, GLenum att,             \
+                                                  GLenum pname, GLint *v))
 
 /* May be missing (NULL): glClipControl needs GL 4.5 or ARB_clip_control. */
 #define LIMEN_GL_OPTIONAL(X) X(void, ClipControl, (GLenum origin, GLenum depth))
@@ -114,26 +125,38 @@ typedef struct limen__gl {
 } limen__gl;
 
 typedef void (*limen__glproc)(void);
-typedef limen__glproc (*limen__getproc)(const char *name);
+struct limen__ctx;
 
-/* Fills gl from getproc; returns the name of the first required entry point missing, or
- * NULL when all are there. */
-const char *limen__gl_load(limen__gl *gl, limen__getproc getproc);
+/* Fills gl from getproc(c, name); returns the name of the first required entry point
+ * missing, or NULL when all are there. */
+const char *limen__gl_load(limen__gl *gl, limen__glproc (*getproc)(struct limen__ctx *c,
+                                                                   const char *name),
+                           struct limen__ctx *c);
 
 /* ------------------------------------------------------------------ contexts */
 
 typedef struct limen__ctx limen__ctx;
+struct limen_renderer_desc;
 
+/* Every public call that touches GL runs between enter and leave, so that the caller's GL
+ * world is as it was afterwards: limen's own contexts (OSMesa, EGL) give the thread back the
+ * context that was current before; the host's context gets back the GL state limen
+ * changes (ctx_host.c lists it). */
 typedef struct limen__ctx_ops {
     const char *name;
-    /* Creates a GL 3.3+ core context; on failure returns NULL with a message in err. */
-    limen__ctx *(*create)(char *err, size_t errsize);
-    int (*make_current)(limen__ctx *c);
-    limen__getproc getproc;
+    /* Creates the context (for the host's: takes its loader); on failure returns NULL with
+     * a message in err. */
+    limen__ctx *(*create)(const struct limen_renderer_desc *d, char *err, size_t errsize);
+    /* Makes the context current (or, for the host's, checks that one is and saves its
+     * state); -1 with a message in err if it cannot. gl: the loaded table. */
+    int (*enter)(limen__ctx *c, const limen__gl *gl, char *err, size_t errsize);
+    void (*leave)(limen__ctx *c, const limen__gl *gl);
+    limen__glproc (*getproc)(limen__ctx *c, const char *name);
     void (*destroy)(limen__ctx *c);
 } limen__ctx_ops;
 
 extern const limen__ctx_ops limen__ctx_osmesa;
 extern const limen__ctx_ops limen__ctx_egl;
+extern const limen__ctx_ops limen__ctx_host;
 
 #endif

@@ -20,13 +20,15 @@ limen_status limen__rfail(limen_renderer *r, limen_status st, const char *fmt, .
 
 /* ------------------------------------------------------------------ GL loading */
 
-const char *limen__gl_load(limen__gl *gl, limen__getproc getproc)
+const char *limen__gl_load(limen__gl *gl, limen__glproc (*getproc)(struct limen__ctx *c,
+                                                                   const char *name),
+                           struct limen__ctx *c)
 {
 #define LOAD_REQ(ret, name, args)                                                        \
-    gl->name = (ret(APIENTRY *) args)getproc("gl" #name);                                \
+    gl->name = (ret(APIENTRY *) args)getproc(c, "gl" #name);                             \
     if (!gl->name)                                                                       \
         return "gl" #name;
-#define LOAD_OPT(ret, name, args) gl->name = (ret(APIENTRY *) args)getproc("gl" #name);
+#define LOAD_OPT(ret, name, args) gl->name = (ret(APIENTRY *) args)getproc(c, "gl" #name);
     LIMEN_GL_REQUIRED(LOAD_REQ)
     LIMEN_GL_OPTIONAL(LOAD_OPT)
 #undef LOAD_REQ
@@ -227,6 +229,8 @@ static GLuint renderbuffer(limen_renderer *r, GLenum format, int samples)
 
 static limen_status build_targets(limen_renderer *r)
 {
+    if (r->host)
+        return LIMEN_OK;    /* the frame is the game's framebuffer */
     GLenum depth_fmt = limen__depth_format(r);
     r->color_rb = renderbuffer(r, GL_RGBA8, r->msaa);
     r->depth_rb = renderbuffer(r, depth_fmt, r->msaa);
@@ -265,11 +269,30 @@ static bool has_gl_ext(limen_renderer *r, const char *name)
     return false;
 }
 
+static limen_status setup_gl(limen_renderer *r);
+
+/* Runs the GL work of a public call between the context's enter and leave. */
+static limen_status enter(limen_renderer *r)
+{
+    char err[LIMEN__ERR_MAX];
+    if (r->ops->enter(r->ctx, &r->gl, err, sizeof err))
+        return limen__rfail(r, LIMEN_ERR_GL, "%s", err);
+    return LIMEN_OK;
+}
+
+static void leave(limen_renderer *r)
+{
+    r->ops->leave(r->ctx, &r->gl);
+}
+
 static limen_status setup(limen_renderer *r, const limen_renderer_desc *d)
 {
-    r->ops = d->backend == LIMEN_BACKEND_EGL ? &limen__ctx_egl : &limen__ctx_osmesa;
-    if ((unsigned)d->backend > LIMEN_BACKEND_EGL)
+    static const limen__ctx_ops *const backends[] = { &limen__ctx_osmesa, &limen__ctx_egl,
+                                                      &limen__ctx_host };
+    if ((unsigned)d->backend > LIMEN_BACKEND_HOST)
         return limen__rfail(r, LIMEN_ERR_ARG, "unknown backend %d", (int)d->backend);
+    r->ops = backends[d->backend];
+    r->host = d->backend == LIMEN_BACKEND_HOST;
     if ((unsigned)d->depth_range > LIMEN_DEPTH_ZO_REVERSED)
         return limen__rfail(r, LIMEN_ERR_ARG, "unknown depth range %d", (int)d->depth_range);
     r->width = d->width > 0 ? d->width : 640;
@@ -279,6 +302,14 @@ static limen_status setup(limen_renderer *r, const limen_renderer_desc *d)
                      d->height);
     if (d->msaa < 0 || d->msaa > 64)
         return limen__rfail(r, LIMEN_ERR_ARG, "msaa %d out of range (0 to 64)", d->msaa);
+    if (r->host && d->msaa > 1)
+        return limen__rfail(r, LIMEN_ERR_ARG, "host: msaa must be 0 (a multisampled host "
+                                              "framebuffer is drawn multisampled as it is)");
+    if (r->host) {
+        r->fbo = d->framebuffer;
+        r->origin[0] = d->x;
+        r->origin[1] = d->y;
+    }
     r->msaa = d->msaa > 1 ? d->msaa : 0;
     r->range = d->depth_range;
     if (d->depth_bits != 0 && d->depth_bits != 24 && d->depth_bits != 32)
@@ -286,15 +317,34 @@ static limen_status setup(limen_renderer *r, const limen_renderer_desc *d)
                             d->depth_bits);
     r->depth_bits = d->depth_bits ? d->depth_bits : r->range == LIMEN_DEPTH_ZO_REVERSED ? 32 : 24;
 
-    r->ctx = r->ops->create(r->err, sizeof r->err);
+    r->ctx = r->ops->create(d, r->err, sizeof r->err);
     if (!r->ctx)
         return LIMEN_ERR_GL;
-    if (r->ops->make_current(r->ctx))
-        return limen__rfail(r, LIMEN_ERR_GL, "%s: cannot make the context current", r->ops->name);
-    const char *missing = limen__gl_load(&r->gl, r->ops->getproc);
+    const char *missing = limen__gl_load(&r->gl, r->ops->getproc, r->ctx);
     if (missing)
         return limen__rfail(r, LIMEN_ERR_UNSUPPORTED, "%s: OpenGL entry point %s missing",
                      r->ops->name, missing);
+    limen_status st = enter(r);
+    if (st)
+        return st;
+    st = setup_gl(r);
+    leave(r);
+    if (st)
+        return st;
+    r->ready = true;
+    return LIMEN_OK;
+}
+
+static limen_status setup_gl(limen_renderer *r)
+{
+    if (r->host) {
+        GLint major = 0, minor = 0;
+        GL(GetIntegerv)(GL_MAJOR_VERSION, &major);
+        GL(GetIntegerv)(GL_MINOR_VERSION, &minor);
+        if (major * 10 + minor < 33)
+            return limen__rfail(r, LIMEN_ERR_UNSUPPORTED, "host: the current context is OpenGL "
+                                "%d.%d; limen needs 3.3 or later", major, minor);
+    }
     snprintf(r->info, sizeof r->info, "%s: %s, OpenGL %s", r->ops->name,
              (const char *)GL(GetString)(GL_RENDERER), (const char *)GL(GetString)(GL_VERSION));
     if (r->msaa) {
@@ -345,7 +395,7 @@ void limen_renderer_destroy(limen_renderer *r)
 {
     if (!r)
         return;
-    if (r->ctx && r->prog && !r->ops->make_current(r->ctx)) {
+    if (r->ctx && r->prog && !enter(r)) {
         GL(DeleteProgram)(r->prog);
         GL(DeleteProgram)(r->fill_prog);
         GL(DeleteBuffers)(1, &r->vbo);
@@ -355,9 +405,11 @@ void limen_renderer_destroy(limen_renderer *r)
             GL(DeleteVertexArrays)(1, &r->poly_vao);
             GL(DeleteBuffers)(1, &r->poly_vbo);
         }
-        GL(DeleteFramebuffers)(1, &r->fbo);
-        GL(DeleteRenderbuffers)(1, &r->color_rb);
-        GL(DeleteRenderbuffers)(1, &r->depth_rb);
+        if (!r->host) {
+            GL(DeleteFramebuffers)(1, &r->fbo);
+            GL(DeleteRenderbuffers)(1, &r->color_rb);
+            GL(DeleteRenderbuffers)(1, &r->depth_rb);
+        }
         if (r->resolve_fbo) {
             GL(DeleteFramebuffers)(1, &r->resolve_fbo);
             GL(DeleteRenderbuffers)(1, &r->resolve_rb);
@@ -370,6 +422,7 @@ void limen_renderer_destroy(limen_renderer *r)
             GL(DeleteFramebuffers)(1, &r->prev_fbo);
             GL(DeleteTextures)(1, &r->prev_tex);
         }
+        leave(r);
     }
     limen_plan_destroy(r->plan);
     free(r->q_pool);
@@ -406,15 +459,53 @@ static double now_ms(void)
     return (double)ts.tv_sec * 1e3 + (double)ts.tv_nsec * 1e-6;
 }
 
-static void begin_frame(limen_renderer *r, limen_scene *s)
+/* The bits of one of the game's framebuffer attachments (0 where there is none). */
+static GLint host_bits(limen_renderer *r, GLenum fbo_att, GLenum default_att, GLenum pname)
+{
+    GLenum att = r->fbo ? fbo_att : default_att;
+    GLint type = GL_NONE, bits = 0;
+    GL(GetFramebufferAttachmentParameteriv)(GL_DRAW_FRAMEBUFFER, att,
+                                            GL_FRAMEBUFFER_ATTACHMENT_OBJECT_TYPE, &type);
+    if (type != GL_NONE)
+        GL(GetFramebufferAttachmentParameteriv)(GL_DRAW_FRAMEBUFFER, att, pname, &bits);
+    return bits;
+}
+
+/* The game's framebuffer must be complete and have what the method needs. */
+static limen_status check_host_target(limen_renderer *r)
+{
+    GLenum status = GL(CheckFramebufferStatus)(GL_DRAW_FRAMEBUFFER);
+    if (status != GL_FRAMEBUFFER_COMPLETE)
+        return limen__rfail(r, LIMEN_ERR_GL, "host: framebuffer %u is incomplete (0x%x)",
+                            r->fbo, status);
+    if (host_bits(r, GL_DEPTH_ATTACHMENT, GL_DEPTH, GL_FRAMEBUFFER_ATTACHMENT_DEPTH_SIZE) < 16)
+        return limen__rfail(r, LIMEN_ERR_UNSUPPORTED, "host: framebuffer %u has no depth buffer "
+                            "(limen needs one; with SDL: SDL_GL_DEPTH_SIZE 24)", r->fbo);
+    if (r->opts.method == LIMEN_METHOD_STENCIL &&
+        host_bits(r, GL_STENCIL_ATTACHMENT, GL_STENCIL,
+                  GL_FRAMEBUFFER_ATTACHMENT_STENCIL_SIZE) < 8)
+        return limen__rfail(r, LIMEN_ERR_UNSUPPORTED, "host: framebuffer %u has no 8-bit stencil "
+                            "buffer, which the stencil method needs (with SDL: "
+                            "SDL_GL_STENCIL_SIZE 8; or use the texture method)", r->fbo);
+    return LIMEN_OK;
+}
+
+static limen_status begin_frame(limen_renderer *r, limen_scene *s)
 {
     GL(BindFramebuffer)(GL_FRAMEBUFFER, r->fbo);
-    GL(Viewport)(0, 0, r->width, r->height);
+    if (r->host) {
+        limen_status st = check_host_target(r);
+        if (st)
+            return st;
+    }
+    GL(Viewport)(r->origin[0], r->origin[1], r->width, r->height);
     if (r->gl.ClipControl)
         GL(ClipControl)(GL_LOWER_LEFT,
                         r->range == LIMEN_DEPTH_NO ? GL_NEGATIVE_ONE_TO_ONE : GL_ZERO_TO_ONE);
     bool reversed = r->range == LIMEN_DEPTH_ZO_REVERSED;
-    GL(Disable)(GL_SCISSOR_TEST);
+    /* the clear stays inside the frame (a game's framebuffer may hold more) */
+    GL(Enable)(GL_SCISSOR_TEST);
+    GL(Scissor)(r->origin[0], r->origin[1], r->width, r->height);
     GL(Disable)(GL_BLEND);
     GL(ColorMask)(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
     GL(DepthMask)(GL_TRUE);
@@ -423,12 +514,14 @@ static void begin_frame(limen_renderer *r, limen_scene *s)
     GL(ClearDepth)(reversed ? 0.0 : 1.0);
     GL(ClearStencil)(0);
     GL(Clear)(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT | GL_STENCIL_BUFFER_BIT);
+    GL(Disable)(GL_SCISSOR_TEST);
     GL(Enable)(GL_DEPTH_TEST);
     GL(DepthFunc)(reversed ? GL_GREATER : GL_LESS);
     GL(CullFace)(GL_BACK);
     GL(FrontFace)(GL_CCW);
     if (r->msaa)
         GL(Enable)(GL_MULTISAMPLE);
+    return LIMEN_OK;
 }
 
 void limen__samples_begin(limen_renderer *r)
@@ -472,8 +565,9 @@ static void keep_previous(limen_renderer *r)
     }
     GL(BindFramebuffer)(GL_READ_FRAMEBUFFER, r->msaa ? r->resolve_fbo : r->fbo);
     GL(BindFramebuffer)(GL_DRAW_FRAMEBUFFER, r->prev_fbo);
-    GL(BlitFramebuffer)(0, 0, r->width, r->height, 0, 0, r->width, r->height,
-                        GL_COLOR_BUFFER_BIT, GL_NEAREST);
+    const int *o = r->origin;
+    GL(BlitFramebuffer)(o[0], o[1], o[0] + r->width, o[1] + r->height, 0, 0, r->width,
+                        r->height, GL_COLOR_BUFFER_BIT, GL_NEAREST);
     GL(BindFramebuffer)(GL_FRAMEBUFFER, r->fbo);
     r->have_prev = true;
 }
@@ -492,12 +586,14 @@ static limen_status check_opts(limen_renderer *r, const limen_render_opts *o)
     return LIMEN_OK;
 }
 
+static limen_status frame(limen_renderer *r, limen_scene *s, limen_frame_stats *stats);
+
 limen_status limen_render_frame(limen_renderer *r, limen_scene *s, const limen_render_opts *opts,
                                 limen_frame_stats *stats)
 {
     if (!r || !s)
         return LIMEN_ERR_ARG;
-    if (!r->prog)
+    if (!r->ready)
         return limen__rfail(r, LIMEN_ERR_GL, "renderer was not set up: %s", r->err);
     r->opts = opts ? *opts : (limen_render_opts){ 0 };
     if (r->opts.texture_scale == 0 || r->opts.method == LIMEN_METHOD_NAIVE)
@@ -505,8 +601,15 @@ limen_status limen_render_frame(limen_renderer *r, limen_scene *s, const limen_r
     limen_status st = check_opts(r, &r->opts);
     if (st)
         return st;
-    if (r->ops->make_current(r->ctx))
-        return limen__rfail(r, LIMEN_ERR_GL, "%s: cannot make the context current", r->ops->name);
+    if ((st = enter(r)))
+        return st;
+    st = frame(r, s, stats);
+    leave(r);
+    return st;
+}
+
+static limen_status frame(limen_renderer *r, limen_scene *s, limen_frame_stats *stats)
+{
     double t0 = now_ms();
 
     limen_plan_desc pd = { .width = r->width, .height = r->height, .range = r->range,
@@ -515,11 +618,11 @@ limen_status limen_render_frame(limen_renderer *r, limen_scene *s, const limen_r
                            .adaptive = r->opts.adaptive,
                            .no_cull = r->opts.method == LIMEN_METHOD_NAIVE,
                            .test_faults = r->opts.test_faults };
-    st = limen_plan_build(r->plan, s, &pd);
+    limen_status st = limen_plan_build(r->plan, s, &pd);
     if (st)
         return limen__rfail(r, st, "%s", limen_last_error(s));
-
-    begin_frame(r, s);
+    if ((st = begin_frame(r, s)))
+        return st;
     r->q_used = 0;
     if (r->has_fragment_stats)
         GL(BeginQuery)(GL_FRAGMENT_SHADER_INVOCATIONS_ARB, r->q_fragments);
@@ -573,11 +676,24 @@ limen_status limen_renderer_read_rgb(limen_renderer *r, unsigned char *rgb)
         return LIMEN_ERR_ARG;
     if (!r->have_frame)
         return limen__rfail(r, LIMEN_ERR_ARG, "no frame rendered yet");
-    if (r->ops->make_current(r->ctx))
-        return limen__rfail(r, LIMEN_ERR_GL, "%s: cannot make the context current", r->ops->name);
+    limen_status st = enter(r);
+    if (st)
+        return st;
     GL(BindFramebuffer)(GL_READ_FRAMEBUFFER, r->msaa ? r->resolve_fbo : r->fbo);
+    GLint samples = 0;
+    if (r->host)
+        GL(GetIntegerv)(GL_SAMPLE_BUFFERS, &samples);
+    if (samples) {
+        leave(r);
+        return limen__rfail(r, LIMEN_ERR_UNSUPPORTED, "host: framebuffer %u is multisampled; "
+                            "resolve it and read it yourself", r->fbo);
+    }
     GL(PixelStorei)(GL_PACK_ALIGNMENT, 1);
-    GL(ReadPixels)(0, 0, r->width, r->height, GL_RGBA, GL_UNSIGNED_BYTE, r->rgba);
+    GL(PixelStorei)(GL_PACK_ROW_LENGTH, 0);
+    GL(PixelStorei)(GL_PACK_SKIP_ROWS, 0);
+    GL(PixelStorei)(GL_PACK_SKIP_PIXELS, 0);
+    GL(ReadPixels)(r->origin[0], r->origin[1], r->width, r->height, GL_RGBA, GL_UNSIGNED_BYTE,
+                   r->rgba);
     size_t w = (size_t)r->width, h = (size_t)r->height;
     for (size_t y = 0; y < h; y++) {
         const unsigned char *src = r->rgba + (h - 1 - y) * w * 4;
@@ -589,6 +705,7 @@ limen_status limen_renderer_read_rgb(limen_renderer *r, unsigned char *rgb)
         }
     }
     GLenum e = GL(GetError)();
+    leave(r);
     return e == GL_NO_ERROR ? LIMEN_OK
                             : limen__rfail(r, LIMEN_ERR_GL, "OpenGL error 0x%x reading pixels", e);
 }
@@ -608,4 +725,44 @@ limen_status limen_renderer_write_png(limen_renderer *r, const char *path)
     }
     free(rgb);
     return st;
+}
+
+limen_status limen_renderer_set_viewport(limen_renderer *r, unsigned framebuffer, int x, int y,
+                                         int width, int height)
+{
+    if (!r)
+        return LIMEN_ERR_ARG;
+    if (!r->host)
+        return limen__rfail(r, LIMEN_ERR_UNSUPPORTED, "set_viewport: only for the host backend");
+    if (width < 1 || height < 1 || width > 16384 || height > 16384 || x < 0 || y < 0)
+        return limen__rfail(r, LIMEN_ERR_ARG, "viewport %d,%d %dx%d out of range", x, y, width,
+                            height);
+    if (!r->ready)
+        return limen__rfail(r, LIMEN_ERR_GL, "renderer was not set up: %s", r->err);
+    if (width != r->width || height != r->height) {
+        unsigned char *rgba = realloc(r->rgba, (size_t)width * (size_t)height * 4);
+        if (!rgba)
+            return limen__rfail(r, LIMEN_ERR_NOMEM, "out of memory for a %dx%d image", width,
+                                height);
+        r->rgba = rgba;
+        limen_status st = enter(r);
+        if (st)
+            return st;
+        /* offscreen targets follow the frame's size */
+        limen__targets_free(r);
+        if (r->prev_fbo) {
+            GL(DeleteFramebuffers)(1, &r->prev_fbo);
+            GL(DeleteTextures)(1, &r->prev_tex);
+            r->prev_fbo = r->prev_tex = 0;
+        }
+        leave(r);
+        r->have_prev = false;
+        r->have_frame = false;
+    }
+    r->fbo = framebuffer;
+    r->origin[0] = x;
+    r->origin[1] = y;
+    r->width = width;
+    r->height = height;
+    return LIMEN_OK;
 }

@@ -104,7 +104,8 @@ static void make_rview(limen_renderer *r, int index, mat4 proj_pre, rview *v)
     glm_mat4_mul(v->proj, v->view, v->view_proj);
     v->px_scale = pub->proj[5] * 0.5f * (float)r->height;
     v->img_map[0] = v->img_map[1] = 1.0f;
-    v->img_map[2] = v->img_map[3] = 0.0f;
+    v->img_map[2] = -(float)r->origin[0];
+    v->img_map[3] = -(float)r->origin[1];
 }
 
 static void apply_view(limen_renderer *r, limen_scene *s, const rview *v)
@@ -580,7 +581,7 @@ static GLenum depth_less(const limen_renderer *r)
 static void set_scissor(limen_renderer *r, const int rect[4])
 {
     GL(Enable)(GL_SCISSOR_TEST);
-    GL(Scissor)(rect[0], rect[1], rect[2], rect[3]);
+    GL(Scissor)(r->origin[0] + rect[0], r->origin[1] + rect[1], rect[2], rect[3]);
 }
 
 /* ------------------------------------------------------------------ stencil method */
@@ -799,6 +800,7 @@ static limen__target *level_target(limen_renderer *r, int level, float scale)
 /* Where a view's pixels land in its target: image pixel rect -> target viewport. */
 typedef struct placement {
     GLuint fbo;
+    int ox, oy;             /* the viewport's corner in the target (the frame's origin) */
     int vw, vh;             /* viewport size in the target */
     float sx, sy;           /* target pixels per image pixel */
     int rect[4];            /* image rectangle the viewport covers */
@@ -807,9 +809,9 @@ typedef struct placement {
 static void bind_placement(limen_renderer *r, const placement *pl)
 {
     GL(BindFramebuffer)(GL_FRAMEBUFFER, pl->fbo);
-    GL(Viewport)(0, 0, pl->vw, pl->vh);
+    GL(Viewport)(pl->ox, pl->oy, pl->vw, pl->vh);
     GL(Enable)(GL_SCISSOR_TEST);
-    GL(Scissor)(0, 0, pl->vw, pl->vh);
+    GL(Scissor)(pl->ox, pl->oy, pl->vw, pl->vh);
 }
 
 /* Renders view `index` into the placement; returns false if a target could not be made. */
@@ -822,8 +824,11 @@ static bool texture_view(limen_renderer *r, limen_scene *s, int index, const pla
     make_rview(r, index, narrow, &v);
     v.img_map[0] = 1.0f / pl->sx;
     v.img_map[1] = 1.0f / pl->sy;
-    v.img_map[2] = (float)pl->rect[0];
-    v.img_map[3] = (float)pl->rect[1];
+    /* the image pixels of the target's first fragment */
+    const float px0 = (float)pl->rect[0] - (float)pl->ox / pl->sx;
+    const float py0 = (float)pl->rect[1] - (float)pl->oy / pl->sy;
+    v.img_map[2] = px0;
+    v.img_map[3] = py0;
     cull_planes(r, &v, NULL);
 
     bind_placement(r, pl);
@@ -856,6 +861,7 @@ static bool texture_view(limen_renderer *r, limen_scene *s, int index, const pla
             return false;
         placement cp;
         cp.fbo = t->fbo;
+        cp.ox = cp.oy = 0;
         cp.vw = (int)ceilf((float)c->scissor[2] * r->opts.texture_scale);
         cp.vh = (int)ceilf((float)c->scissor[3] * r->opts.texture_scale);
         cp.sx = (float)cp.vw / (float)c->scissor[2];
@@ -876,8 +882,8 @@ static bool texture_view(limen_renderer *r, limen_scene *s, int index, const pla
         float map[4] = {
             cp.sx / (pl->sx * (float)t->w),
             cp.sy / (pl->sy * (float)t->h),
-            (float)(pl->rect[0] - cp.rect[0]) * cp.sx / (float)t->w,
-            (float)(pl->rect[1] - cp.rect[1]) * cp.sy / (float)t->h,
+            (px0 - (float)cp.rect[0]) * cp.sx / (float)t->w,
+            (py0 - (float)cp.rect[1]) * cp.sy / (float)t->h,
         };
         GL(Uniform4fv)(r->u.tex_map, 1, map);
         vec3 white = { 1, 1, 1 };
@@ -893,10 +899,11 @@ static bool texture_view(limen_renderer *r, limen_scene *s, int index, const pla
 limen_status limen__draw_texture(limen_renderer *r, limen_scene *s)
 {
     set_lights(r, s);
-    placement root = { r->fbo, r->width, r->height, 1.0f, 1.0f, { 0, 0, r->width, r->height } };
+    placement root = { r->fbo, r->origin[0], r->origin[1], r->width, r->height, 1.0f, 1.0f,
+                       { 0, 0, r->width, r->height } };
     bool ok = texture_view(r, s, 0, &root);
     GL(BindFramebuffer)(GL_FRAMEBUFFER, r->fbo);
-    GL(Viewport)(0, 0, r->width, r->height);
+    GL(Viewport)(r->origin[0], r->origin[1], r->width, r->height);
     GL(Disable)(GL_SCISSOR_TEST);
     GL(FrontFace)(GL_CCW);
     if (!ok)
