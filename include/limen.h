@@ -389,7 +389,7 @@ typedef enum limen_backend {
  *   GL state: every call restores what it changes, so the game's next draw is unaffected:
  *   bound program, vertex array (with its element buffer), array buffer, draw and read
  *   framebuffers, renderbuffer, viewport, scissor box and test, depth test/func/mask/clear
- *   value/clamp, stencil test and both faces' func/ref/masks/ops/clear value, colour mask
+ *   value/clamp/range, stencil test and both faces' func/ref/masks/ops/clear value, colour mask
  *   and clear value, blend, cull face and mode, front face, polygon mode and offset fill,
  *   clip distances 0-7, clip control (origin, depth mode), multisample, framebuffer sRGB,
  *   logic op, sample coverage/alpha-to-coverage/mask, rasterizer discard, primitive

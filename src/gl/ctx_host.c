@@ -41,7 +41,7 @@ typedef struct saved {
     GLint viewport[4], scissor[4], polygon_mode[2];
     GLboolean caps[NCAPS], depth_mask, color_mask[4];
     GLfloat color_clear[4];
-    GLdouble depth_clear;
+    GLdouble depth_clear, depth_range[2];
     stencil_face front, back;
 } saved;
 
@@ -129,6 +129,7 @@ static void save(const limen__gl *gl, saved *sv)
     gl->GetBooleanv(GL_COLOR_WRITEMASK, sv->color_mask);
     gl->GetFloatv(GL_COLOR_CLEAR_VALUE, sv->color_clear);
     gl->GetDoublev(GL_DEPTH_CLEAR_VALUE, &sv->depth_clear);
+    gl->GetDoublev(GL_DEPTH_RANGE, sv->depth_range);
     get_face(gl, false, &sv->front);
     get_face(gl, true, &sv->back);
 }
@@ -143,6 +144,7 @@ static void neutral(const limen__gl *gl)
         gl->Disable(GL_CLIP_DISTANCE0 + (GLenum)k);
     gl->Disable(GL_BLEND);
     gl->PolygonMode(GL_FRONT_AND_BACK, GL_FILL);
+    gl->DepthRange(0.0, 1.0);
     gl->BindSampler(0, 0);
     gl->BindBuffer(GL_PIXEL_PACK_BUFFER, 0);
     gl->BindBuffer(GL_PIXEL_UNPACK_BUFFER, 0);
@@ -181,6 +183,7 @@ static void restore(const limen__gl *gl, const saved *sv)
     gl->DepthFunc((GLenum)sv->i[I_DEPTH_FUNC]);
     gl->DepthMask(sv->depth_mask);
     gl->ClearDepth(sv->depth_clear);
+    gl->DepthRange(sv->depth_range[0], sv->depth_range[1]);
     set_face(gl, GL_FRONT, &sv->front);
     set_face(gl, GL_BACK, &sv->back);
     gl->ClearStencil(sv->i[I_STENCIL_CLEAR]);

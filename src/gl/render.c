@@ -515,6 +515,7 @@ static limen_status begin_frame(limen_renderer *r, limen_scene *s)
     GL(ClearStencil)(0);
     GL(Clear)(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT | GL_STENCIL_BUFFER_BIT);
     GL(Disable)(GL_SCISSOR_TEST);
+    GL(Disable)(GL_STENCIL_TEST);
     GL(Enable)(GL_DEPTH_TEST);
     GL(DepthFunc)(reversed ? GL_GREATER : GL_LESS);
     GL(CullFace)(GL_BACK);
