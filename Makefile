@@ -11,7 +11,9 @@ B        ?= build
 PKGS     := osmesa egl lua5.4 cglm
 # Debian packages the build, the tests and the benchmarks need.
 DEBS     := pkg-config libosmesa6-dev libegl-dev libegl1-mesa-dev libgl-dev liblua5.4-dev \
-            lua5.4 libcglm-dev libstb-dev
+            lua5.4 libcglm-dev libstb-dev libsdl2-dev
+# ... and what the viewer's test needs: an X server, key presses, Mesa's GLX.
+TEST_DEBS := xvfb xdotool libgl1-mesa-dri libglx-mesa0
 
 ALL_CFLAGS = -std=c11 -D_GNU_SOURCE -fPIC -fvisibility=hidden $(WARN) -Iinclude -Isrc \
              $(DEP_CFLAGS) $(CFLAGS)
@@ -24,7 +26,7 @@ GL_SRC   := src/gl/render.c src/gl/views.c src/gl/mesh.c src/gl/ctx_osmesa.c src
             src/gl/ctx_host.c
 LUA_SRC  := src/lua/bindings.c src/lua/script.c src/lua/safe.c
 LIB_SRC  := $(CORE_SRC) $(GL_SRC) $(LUA_SRC)
-CLI_SRC  := src/cli/main.c src/cli/trace_cmd.c
+CLI_SRC  := src/cli/main.c src/cli/trace_cmd.c src/cli/pose.c src/cli/view.c
 TEST_C   := tests/test_host.c tests/test_math.c tests/test_scene.c tests/test_plan.c tests/test_render.c tests/test_script.c tests/test_trace.c tests/test_gallery.c tests/test_threads.c tests/test_truth.c tests/test_example_game.c tests/test_crossing.c tests/test_sweep_approach.c tests/test_sweep_grazing.c tests/test_sweep_depth.c tests/test_sweep_recursion.c tests/test_sweep_matrix.c tests/test_sweep_odd.c
 
 LUA_KIT  := lua/limen/kit.lua
@@ -33,7 +35,7 @@ CLI_OBJ  := $(CLI_SRC:%.c=$(B)/obj/%.o)
 TEST_BIN := $(TEST_C:tests/%.c=$(B)/tests/%)
 ALL_OBJ  := $(LIB_OBJ) $(CLI_OBJ) $(TEST_C:%.c=$(B)/obj/%.o)
 
-.PHONY: all lib demo test install uninstall clean deps
+.PHONY: all lib demo test install uninstall clean deps test-deps
 all: lib $(B)/limen $(B)/limen.so $(B)/limen.pc
 lib: $(B)/liblimen.a $(B)/liblimen.so
 
@@ -61,13 +63,18 @@ endef
 deps:
 	@$(call install_debs,$(DEBS))
 
+test-deps:
+	@$(call install_debs,$(TEST_DEBS))
+
 $(B)/config.mk: Makefile
 	@$(MAKE) --no-print-directory deps
 	@mkdir -p $(B)
-	@pkg-config --exists $(PKGS) || { echo "limen: pkg-config cannot find: $(PKGS)"; exit 1; }
+	@pkg-config --exists $(PKGS) sdl2 || { echo "limen: pkg-config cannot find: $(PKGS) sdl2"; exit 1; }
 	@{ echo "DEP_CFLAGS := $$(pkg-config --cflags $(PKGS) stb)"; \
 	   echo "DEP_LIBS := $$(pkg-config --libs $(PKGS))"; \
-	   echo "DEP_LIBS_NOLUA := $$(pkg-config --libs osmesa egl cglm)"; } > $@
+	   echo "DEP_LIBS_NOLUA := $$(pkg-config --libs osmesa egl cglm)"; \
+	   echo "SDL_CFLAGS := $$(pkg-config --cflags sdl2)"; \
+	   echo "SDL_LIBS := $$(pkg-config --libs sdl2)"; } > $@
 
 # ------------------------------------------------------------------ build
 $(B)/obj/%.o: %.c $(B)/config.mk
@@ -101,8 +108,11 @@ $(B)/liblimen.so: $(LIB_OBJ)
 $(B)/limen.so: $(LIB_OBJ)
 	$(CC) -shared -o $@ $^ $(LIBS_NOLUA)
 
+# Only the program's viewer uses SDL; the library does not.
+$(B)/obj/src/cli/view.o: ALL_CFLAGS += $(SDL_CFLAGS)
+
 $(B)/limen: $(CLI_OBJ) $(B)/liblimen.a
-	$(CC) -o $@ $(CLI_OBJ) $(B)/liblimen.a $(LIBS)
+	$(CC) -o $@ $(CLI_OBJ) $(B)/liblimen.a $(LIBS) $(SDL_LIBS)
 
 $(B)/limen.pc: Makefile
 	@mkdir -p $(B)
@@ -127,7 +137,7 @@ SCENES := $(wildcard scenes/*.lua)
 demo: all
 	@sh tests/demo.sh $(B)
 
-test: all $(TEST_BIN)
+test: all $(TEST_BIN) test-deps
 	@sh tests/run.sh $(B)
 	@$(MAKE) --no-print-directory test-sanitize
 

@@ -15,6 +15,7 @@ static const char *usage =
     "       limen diff A.png B.png [--threshold N] [--heatmap H.png] [--json]\n"
     "                  [--max-bad SHARE]   exit 1 if more than SHARE (0..1) are over\n"
     "       limen trace SCENE.lua -o REF.png [--size WxH] [--depth N] [--time T]\n"
+    "       limen view SCENE.lua [options] [--shots DIR]   a window to walk through\n"
     "options:\n"
     "  --size WxH            image size (default 640x480)\n"
     "  --backend osmesa|egl  OpenGL context (default osmesa)\n"
@@ -38,7 +39,9 @@ static const char *usage =
     "  --plan PLAN.json      write the view tree of the (last) frame\n"
     "  --stats               print one JSON line per frame: ms, views, fragments,\n"
     "                        samples, pixels\n"
-    "  --trusted             run the script with the full Lua standard library\n";
+    "  --trusted             run the script with the full Lua standard library\n"
+    "  --eye X,Y,Z --look X,Y,Z [--up X,Y,Z]   place the camera there instead (render,\n"
+    "                        trace and view; what view's screenshots print)\n";
 
 void limen_cli_scene_error(const char *scene, const char *msg)
 {
@@ -64,6 +67,7 @@ typedef struct options {
     double time, fps;
     long frames;
     int stats, trusted;
+    limen_cli_pose pose;
 } options;
 
 int limen_cli_parse_long(const char *s, long lo, long hi, long *out)
@@ -98,7 +102,7 @@ int limen_cli_parse_size(const char *s, int *w, int *h)
     return 0;
 }
 
-static int parse_render(int argc, char **argv, options *o)
+static int parse_render(int argc, char **argv, options *o, int need_out)
 {
     memset(o, 0, sizeof *o);
     o->frames = 1;
@@ -106,6 +110,13 @@ static int parse_render(int argc, char **argv, options *o)
     for (int i = 0; i < argc; i++) {
         const char *a = argv[i];
         const char *v = i + 1 < argc ? argv[i + 1] : NULL;
+        int pose = limen_cli_pose_option(a, v, &o->pose);
+        if (pose) {
+            if (pose < 0)
+                return 1;
+            i++;
+            continue;
+        }
 #define NEED_VALUE()                                                                     \
     do {                                                                                 \
         if (!v)                                                                          \
@@ -233,8 +244,26 @@ static int parse_render(int argc, char **argv, options *o)
     }
     if (!o->scene)
         return fail("render: no scene script given%s%s", "", "");
-    if (!o->out)
+    if (!o->out && need_out)
         return fail("render: no output given (-o OUT.png)%s%s", "", "");
+    return limen_cli_pose_check(&o->pose) ? 1 : 0;
+}
+
+int limen_cli_render_options(int argc, char **argv, const char **scene,
+                             limen_renderer_desc *rd, limen_render_opts *ro, int *trusted,
+                             limen_cli_pose *pose)
+{
+    options o;
+    if (parse_render(argc, argv, &o, 0))
+        return 2;
+    if (o.out || o.plan || o.stats || o.frames != 1)
+        return fail("view: -o, --frames, --plan and --stats are render's options%s%s", "", ""),
+               2;
+    *scene = o.scene;
+    *rd = o.rd;
+    *ro = o.ro;
+    *trusted = o.trusted;
+    *pose = o.pose;
     return 0;
 }
 
@@ -254,7 +283,7 @@ static void frame_path(const char *out, long frame, long frames, char *buf, size
 static int cmd_render(int argc, char **argv)
 {
     options o;
-    if (parse_render(argc, argv, &o))
+    if (parse_render(argc, argv, &o, 1))
         return 2;
     limen_script *sc = NULL;
     limen_status st = limen_script_load(o.scene, &(limen_script_desc){ .trusted = o.trusted }, &sc);
@@ -279,6 +308,10 @@ static int cmd_render(int argc, char **argv)
         limen_frame_stats stats;
         if (limen_script_animated(sc) && limen_script_update(sc, t)) {
             fprintf(stderr, "%slimen: %s\n", tty && f ? "\n" : "", limen_script_error(sc));
+            rc = 1;
+            break;
+        }
+        if (limen_cli_pose_apply(limen_script_scene(sc), &o.pose)) {
             rc = 1;
             break;
         }
@@ -408,6 +441,8 @@ int main(int argc, char **argv)
         return cmd_diff(argc - 2, argv + 2);
     if (!strcmp(argv[1], "trace"))
         return limen_cli_trace(argc - 2, argv + 2);
+    if (!strcmp(argv[1], "view"))
+        return limen_cli_view(argc - 2, argv + 2);
     if (!strcmp(argv[1], "--version")) {
         printf("limen %s\n", LIMEN_VERSION);
         return 0;

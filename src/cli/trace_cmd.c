@@ -10,7 +10,8 @@
 
 static const char *usage =
     "usage: limen trace SCENE.lua -o REF.png [--size WxH] [--depth N] [--time T]\n"
-    "                   [--threads N] [--stats] [--trusted]\n";
+    "                   [--threads N] [--stats] [--trusted]\n"
+    "                   [--eye X,Y,Z --look X,Y,Z [--up X,Y,Z]]\n";
 
 static int usage_error(const char *fmt, const char *arg)
 {
@@ -33,6 +34,7 @@ int limen_cli_trace(int argc, char **argv)
     limen_trace_desc d = { 0 };
     double time = 0;
     int stats = 0, trusted = 0;
+    limen_cli_pose pose = { 0 };
     if (argc == 0) {
         fputs(usage, stderr);
         return 2;
@@ -40,6 +42,13 @@ int limen_cli_trace(int argc, char **argv)
     for (int i = 0; i < argc; i++) {
         const char *a = argv[i];
         const char *v = i + 1 < argc ? argv[i + 1] : NULL;
+        int pose_arg = limen_cli_pose_option(a, v, &pose);
+        if (pose_arg < 0)
+            return 2;
+        if (pose_arg) {
+            i++;
+            continue;
+        }
         bool takes_value = !strcmp(a, "-o") || !strcmp(a, "--output") ||
                            !strcmp(a, "--size") || !strcmp(a, "--depth") ||
                            !strcmp(a, "--time") || !strcmp(a, "--threads");
@@ -82,6 +91,8 @@ int limen_cli_trace(int argc, char **argv)
         return usage_error("trace: no scene script given%s", "");
     if (!out)
         return usage_error("trace: no output given (-o OUT.png)%s", "");
+    if (limen_cli_pose_check(&pose))
+        return 2;
     if (!d.width) {
         d.width = 640;
         d.height = 480;
@@ -100,6 +111,10 @@ int limen_cli_trace(int argc, char **argv)
         return 1;
     }
     limen_scene *s = limen_script_scene(sc);
+    if (limen_cli_pose_apply(s, &pose)) {
+        limen_script_destroy(sc);
+        return 1;
+    }
     unsigned char *rgb = malloc((size_t)d.width * (size_t)d.height * 3);
     int rc = 0;
     if (!rgb) {
