@@ -35,7 +35,7 @@ CLI_OBJ  := $(CLI_SRC:%.c=$(B)/obj/%.o)
 TEST_BIN := $(TEST_C:tests/%.c=$(B)/tests/%)
 ALL_OBJ  := $(LIB_OBJ) $(CLI_OBJ) $(TEST_C:%.c=$(B)/obj/%.o)
 
-.PHONY: all lib demo test install uninstall clean deps test-deps
+.PHONY: all lib demo test install uninstall clean deps test-deps examples
 all: lib $(B)/limen $(B)/limen.so $(B)/limen.pc
 lib: $(B)/liblimen.a $(B)/liblimen.so
 
@@ -137,9 +137,26 @@ SCENES := $(wildcard scenes/*.lua)
 demo: all
 	@sh tests/demo.sh $(B)
 
-test: all $(TEST_BIN) test-deps
+test: all $(TEST_BIN) test-deps examples
 	@sh tests/run.sh $(B)
 	@$(MAKE) --no-print-directory test-sanitize
+
+# ------------------------------------------------------------------ examples
+# examples/: a game on SDL2 that lets limen draw into its window (walk.c) and a game that
+# draws limen's plan with its own OpenGL (own_renderer.c), each built as a user would build
+# it: from the library's pkg-config file alone (here build/limen.pc).
+EXAMPLES := $(B)/examples/walk $(B)/examples/own_renderer
+EX_PC     = PKG_CONFIG_PATH=$(abspath $(B)) pkg-config
+
+examples: all $(EXAMPLES)
+
+$(B)/examples/walk: examples/walk.c $(B)/limen.pc $(B)/liblimen.so
+	@mkdir -p $(dir $@)
+	$(CC) -std=c11 $(WARN) $(CFLAGS) -o $@ $< $$($(EX_PC) --cflags --libs limen sdl2) -lm
+
+$(B)/examples/own_renderer: examples/own_renderer.c $(B)/limen.pc $(B)/liblimen.so
+	@mkdir -p $(dir $@)
+	$(CC) -std=c11 $(WARN) $(CFLAGS) -o $@ $< $$($(EX_PC) --cflags --libs limen osmesa) -lm
 
 # ------------------------------------------------------------------ install
 install: all
@@ -260,7 +277,7 @@ FUZZ_SAN   := -fsanitize=address,undefined -fno-sanitize-recover=all
 .PHONY: test-sanitize fuzz
 test-sanitize:
 	@$(MAKE) --no-print-directory B=$(SAN_B) CC="$(SAN_CC)" CFLAGS="$(SAN_CFLAGS)" \
-	  all $(TEST_C:tests/%.c=$(SAN_B)/tests/%)
+	  all examples $(TEST_C:tests/%.c=$(SAN_B)/tests/%)
 	@mkdir -p $(SAN_B)/sanbin && \
 	  printf '#!/bin/sh\nASAN_OPTIONS=$$ASAN_OPTIONS:detect_leaks=0 LD_PRELOAD=%s exec %s "$$@"\n' \
 	    "$$($(firstword $(SAN_CC)) -print-file-name=libasan.so)" "$$(command -v lua5.4)" \

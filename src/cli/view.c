@@ -149,6 +149,16 @@ static void walk(viewer *v, const float d[3])
     take_pose(v);
 }
 
+/* Rebuilds the camera from the pose a screenshot prints (eye, look, up as floats), so that
+ * `--eye --look --up` gives this very camera again, bit for bit. (A scale that a portal
+ * pair of two sizes gave the camera is dropped: it would only move the near plane.) */
+static void snap(viewer *v)
+{
+    limen_cli_pose p;
+    if (!limen_cli_pose_get(scene(v), &p) && !limen_cli_pose_apply(scene(v), &p))
+        take_pose(v);
+}
+
 static void controls(viewer *v, double dt)
 {
     const Uint8 *k = SDL_GetKeyboardState(NULL);
@@ -184,6 +194,7 @@ static void controls(viewer *v, double dt)
         walk(v, d);
     else
         apply_pose(v);
+    snap(v);
 }
 
 /* ------------------------------------------------------------------ the script */

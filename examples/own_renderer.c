@@ -1,0 +1,697 @@
+/* own_renderer.c - limen in a game that draws by itself (engine-agnostic use).
+ *
+ * A game with its own renderer uses limen for two things only: the scene graph (nodes and
+ * transforms, mirrors and portals, moving through portals) and, every frame, the plan of
+ * the view tree: which virtual views the mirrors and portals open, with their matrices,
+ * clip planes, windings, scissor rectangles and stencil values. Everything else is the
+ * game's: its OpenGL context, shader, meshes and draw calls. This file is such a game cut
+ * to the bone; tests/test_example_game.c holds its frames to limen's own renderer's.
+ *
+ *     make examples && build/examples/own_renderer scenes/portals.lua portals.png
+ *
+ * builds it against the installed library (pkg-config limen) and draws a scene script.
+ *
+ * THE STEPS
+ *   1. Context (section 1). The game's own: here OSMesa with OpenGL 3.3+ core, drawing into
+ *      its own framebuffer object with a depth24/stencil8 attachment (the stencil nests
+ *      the views). Any window system works the same way.
+ *   2. Shader and meshes (sections 2, 3). The game's own. To match limen's pictures it
+ *      shades with limen's formula
+ *          colour = albedo * (ambient + (1 - ambient) * sum_i light_i * max(0, n . l_i))
+ *      with per-pixel true normals for spheres and cylinders, the normal turned towards
+ *      the view's eye, and the checker of limen_node_get_checker in node-local units.
+ *   3. Scene (section 7). Load a Lua scene script with limen_script_load, or build the
+ *      nodes in C with limen_node_create and friends.
+ *   4. Every frame (section 6):
+ *      a. the game moves things: limen_node_set_position, limen_node_look_at, or
+ *         limen_node_move, which carries a node through a portal it walks into;
+ *      b. limen_plan_build(plan, scene, {width, height, range}) with the game's
+ *         clip-space convention (LIMEN_DEPTH_NO for OpenGL's default, LIMEN_DEPTH_ZO with
+ *         glClipControl or for Direct3D/Vulkan);
+ *      c. read the scene (section 4): limen_scene_nodes enumerates the nodes; their kind,
+ *         dims, colour, checker, world matrix and surface colours come from getters;
+ *      d. draw view 0, the camera, which recurses through the tree (section 5).
+ *
+ * DRAWING ONE VIEW v (the stencil method; v's pixels hold stencil == v->stencil)
+ *   - scissor to v->scissor, stencil test EQUAL v->stencil;
+ *   - a nested view first resets depth to the far plane inside its pixels;
+ *   - v->view and v->proj (already oblique where v->clip is LIMEN_CLIP_OBLIQUE), the clip
+ *     plane as gl_ClipDistance[0] where v->clip is LIMEN_CLIP_PLANE, glFrontFace(GL_CW)
+ *     where v->front_face_cw (an odd number of mirrors), every colour times v->tint (the
+ *     product of the mirror tints on the way to v);
+ *   - the shapes; then, in a nested view, the background where depth is still far;
+ *   - each surface of limen_plan_view_surfaces(plan, v):
+ *       RECURSE: mark its visible pixels with stencil + 1 (no colour, no depth), draw the
+ *                child view, then seal: write the surface's depth over the child's pixels
+ *                and bring their stencil back to v->stencil, so that later shapes of v
+ *                are hidden behind the mirror or portal;
+ *       FILL:    recursion stopped there: the surface's fill colour, unlit;
+ *       BACK:    a mirror seen from behind: a lit matte quad of its back colour.
+ *     Mirrors and portals are drawn with depth clamping: the near plane does not cut them.
+ *
+ * The tests (tests/test_example_game.c) render scenes/mirror_room.lua, portals.lua and
+ * corridor.lua with this code and with limen's renderer and compare; frames go to
+ * build/example_*.png.
+ */
+#ifndef _DEFAULT_SOURCE
+#define _DEFAULT_SOURCE         /* M_PI */
+#endif
+#define GL_GLEXT_PROTOTYPES
+#include <GL/glcorearb.h>
+#include <GL/osmesa.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "limen.h"
+
+#define SEGMENTS 96             /* fixed tessellation of spheres and cylinders */
+#define MAX_ITEMS 1024          /* nodes the game draws per frame */
+#define MAX_LIGHTS 8
+
+/* ============================================================ 0. small maths */
+
+/* c = a * b, column-major 4x4 (c may not alias a or b). */
+static void mat4_mul(const float a[16], const float b[16], float c[16])
+{
+    for (int j = 0; j < 4; j++)
+        for (int i = 0; i < 4; i++)
+            c[j * 4 + i] = a[i] * b[j * 4] + a[4 + i] * b[j * 4 + 1] +
+                           a[8 + i] * b[j * 4 + 2] + a[12 + i] * b[j * 4 + 3];
+}
+
+/* ============================================================ 1. context */
+
+typedef struct mesh { GLsizei first, count; } mesh;
+enum { MESH_QUAD, MESH_BOX, MESH_SPHERE, MESH_CYLINDER, MESH_COUNT };
+enum { SHAPE_FLAT = 0, SHAPE_SPHERE = 1, SHAPE_CYLINDER = 2 }; /* where the normal comes from */
+
+/* What the game draws for one node this frame. */
+typedef struct item {
+    limen_node node;
+    limen_node_kind kind;
+    int mesh, shape;
+    float model[16];                    /* world matrix times the mesh's scale */
+    float scale[3];                     /* unit mesh -> node-local units (for the checker) */
+    float color[3], color_b[3], cell;   /* albedo, or checker colours a and b */
+    float back[3], fill[3];             /* mirrors and portals */
+} item;
+
+typedef struct game {
+    int w, h;                           /* the frame's size in pixels */
+    OSMesaContext ctx;
+    unsigned char token[4 * 4 * 4];     /* OSMesa needs a buffer; we draw into our FBO */
+    PFNGLCLIPCONTROLPROC clip_control;  /* GL 4.5 (NULL on a 3.3 context) */
+    GLuint fbo, color_rb, depth_rb, prog, vao, vbo, ibo;
+    struct {
+        GLint model, view_proj, clip_plane, scale, eye, albedo, albedo_b, cell, tint,
+            ambient, shape, flat, nlights, light_pos, light_col;
+    } u;
+    mesh meshes[MESH_COUNT];
+    limen_plan *plan;                   /* the game's plan, rebuilt every frame */
+    const limen_plan *drawing;          /* the plan being drawn */
+    item items[MAX_ITEMS];              /* this frame's scene, read through the public API */
+    int nitems;
+    float background[3];
+    /* Hooks for tests/sweeps/plan_gl.h, which draws through this game with some views'
+     * projections or clip methods replaced and the surfaces' flat passes drawn its own way.
+     * A game leaves them NULL. */
+    const float (*proj)[16];
+    const limen_clip_method *clip;
+    void (*flat_surface)(struct game *g, const limen_view *v, const item *it, const float rgb[3]);
+    void *hook_data;
+} game;
+
+static int make_current(game *g)
+{
+    return OSMesaMakeCurrent(g->ctx, g->token, GL_UNSIGNED_BYTE, 4, 4) ? 0 : -1;
+}
+
+static GLuint renderbuffer(GLenum format, int w, int h)
+{
+    GLuint rb;
+    glGenRenderbuffers(1, &rb);
+    glBindRenderbuffer(GL_RENDERBUFFER, rb);
+    glRenderbufferStorage(GL_RENDERBUFFER, format, w, h);
+    return rb;
+}
+
+static int context_create(game *g)
+{
+    static const int versions[][2] = { { 4, 5 }, { 3, 3 } };
+    for (int i = 0; i < 2 && !g->ctx; i++) {
+        const int attribs[] = { OSMESA_FORMAT, OSMESA_RGBA, OSMESA_DEPTH_BITS, 0,
+                                OSMESA_STENCIL_BITS, 0, OSMESA_PROFILE, OSMESA_CORE_PROFILE,
+                                OSMESA_CONTEXT_MAJOR_VERSION, versions[i][0],
+                                OSMESA_CONTEXT_MINOR_VERSION, versions[i][1], 0 };
+        g->ctx = OSMesaCreateContextAttribs(attribs, NULL);
+    }
+    if (!g->ctx || make_current(g))
+        return -1;
+    /* glClipControl (GL 4.5) is not exported by libOSMesa: fetch it as a loader would */
+    GLint major = 0, minor = 0;
+    glGetIntegerv(GL_MAJOR_VERSION, &major);
+    glGetIntegerv(GL_MINOR_VERSION, &minor);
+    if (major * 10 + minor >= 45)
+        g->clip_control = (PFNGLCLIPCONTROLPROC)OSMesaGetProcAddress("glClipControl");
+    g->color_rb = renderbuffer(GL_RGBA8, g->w, g->h);
+    g->depth_rb = renderbuffer(GL_DEPTH24_STENCIL8, g->w, g->h);
+    glGenFramebuffers(1, &g->fbo);
+    glBindFramebuffer(GL_FRAMEBUFFER, g->fbo);
+    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, g->color_rb);
+    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_STENCIL_ATTACHMENT, GL_RENDERBUFFER,
+                              g->depth_rb);
+    return glCheckFramebufferStatus(GL_FRAMEBUFFER) == GL_FRAMEBUFFER_COMPLETE ? 0 : -1;
+}
+
+/* ============================================================ 2. shader */
+
+static const char *vs_src =
+    "#version 330 core\n"
+    "layout(location = 0) in vec3 a_pos;\n"
+    "layout(location = 1) in vec3 a_nrm;\n"
+    "uniform mat4 u_model, u_view_proj;\n"
+    "uniform vec3 u_scale;\n"
+    "uniform vec4 u_clip_plane;\n"
+    "uniform int u_shape;\n"
+    "out vec3 v_world, v_local, v_normal;\n"
+    "void main() {\n"
+    "    vec4 w = u_model * vec4(a_pos, 1.0);\n"
+    "    v_world = w.xyz; v_local = a_pos * u_scale;\n"
+    "    vec3 n = a_nrm;\n"                                /* boxes, quads, cylinder caps */
+    "    if (u_shape == 1) n = a_pos;\n"                   /* the true sphere's normal */
+    "    else if (u_shape == 2 && abs(a_nrm.y) < 0.5) n = vec3(a_pos.x, 0.0, a_pos.z);\n"
+    /* linear in n, so interpolating it gives the true normal at every pixel */
+    "    v_normal = transpose(inverse(mat3(u_model))) * n;\n"
+    "    gl_ClipDistance[0] = dot(u_clip_plane, w);\n"
+    "    gl_Position = u_view_proj * w;\n"
+    "}\n";
+
+static const char *fs_src =
+    "#version 330 core\n"
+    "in vec3 v_world, v_local, v_normal;\n"
+    "uniform vec3 u_eye, u_albedo, u_albedo_b, u_tint;\n"
+    "uniform float u_cell, u_ambient;\n"
+    "uniform int u_flat, u_nlights;\n"
+    "uniform vec3 u_light_pos[8], u_light_col[8];\n"
+    "out vec4 o_color;\n"
+    "void main() {\n"
+    "    if (u_flat != 0) { o_color = vec4(u_albedo * u_tint, 1.0); return; }\n"
+    "    vec3 n = normalize(v_normal);\n"
+    "    if (dot(n, u_eye - v_world) < 0.0) n = -n;\n"  /* two-sided: face the eye */
+    "    vec3 albedo = u_albedo;\n"
+    "    if (u_cell > 0.0) {\n"                     /* a quad's local z is 0: xy only */
+    "        vec3 c = floor(v_local / u_cell);\n"
+    "        float k = c.x + c.y + c.z;\n"
+    "        if (k - 2.0 * floor(k * 0.5) > 0.5) albedo = u_albedo_b;\n"
+    "    }\n"
+    "    vec3 light = vec3(0.0);\n"
+    "    for (int i = 0; i < u_nlights; i++)\n"
+    "        light += u_light_col[i] * max(0.0, dot(n, normalize(u_light_pos[i] - v_world)));\n"
+    "    vec3 c = clamp(albedo * (u_ambient + (1.0 - u_ambient) * light), 0.0, 1.0);\n"
+    "    o_color = vec4(c * u_tint, 1.0);\n"
+    "}\n";
+
+static int program_create(game *g)
+{
+    const char *src[2] = { vs_src, fs_src };
+    const GLenum type[2] = { GL_VERTEX_SHADER, GL_FRAGMENT_SHADER };
+    char log[512] = "";
+    GLint ok = 0;
+    g->prog = glCreateProgram();
+    for (int i = 0; i < 2; i++) {
+        GLuint sh = glCreateShader(type[i]);
+        glShaderSource(sh, 1, &src[i], NULL);
+        glCompileShader(sh);
+        glGetShaderiv(sh, GL_COMPILE_STATUS, &ok);
+        if (!ok) {
+            glGetShaderInfoLog(sh, sizeof log, NULL, log);
+            fprintf(stderr, "shader: %s\n", log);
+        }
+        glAttachShader(g->prog, sh);
+        glDeleteShader(sh);                     /* goes with the program */
+    }
+    glLinkProgram(g->prog);
+    glGetProgramiv(g->prog, GL_LINK_STATUS, &ok);
+#define U(field, name) g->u.field = glGetUniformLocation(g->prog, name)
+    U(model, "u_model"); U(view_proj, "u_view_proj");
+    U(clip_plane, "u_clip_plane"); U(scale, "u_scale"); U(eye, "u_eye");
+    U(albedo, "u_albedo"); U(albedo_b, "u_albedo_b"); U(cell, "u_cell"); U(tint, "u_tint");
+    U(ambient, "u_ambient"); U(shape, "u_shape"); U(flat, "u_flat");
+    U(nlights, "u_nlights"); U(light_pos, "u_light_pos"); U(light_col, "u_light_col");
+#undef U
+    return ok ? 0 : -1;
+}
+
+/* ============================================================ 3. meshes */
+
+/* Unit meshes in one vertex buffer (position, normal), counter-clockwise seen from
+ * outside: quad 1x1 on z = 0 facing +Z; box 1x1x1 centred; sphere of radius 1; cylinder of
+ * radius 1 from y = 0 to y = 1, capped. */
+#define MAX_VERTS (28 + (SEGMENTS + 1) * (SEGMENTS / 2 + 7))
+#define MAX_INDEX (42 + 6 * SEGMENTS * (SEGMENTS / 2 + 3))
+typedef struct builder { float v[6 * MAX_VERTS]; GLuint idx[MAX_INDEX]; GLuint nv, ni; } builder;
+
+static GLuint vtx(builder *b, float x, float y, float z, float nx, float ny, float nz)
+{
+    float *p = b->v + 6 * b->nv;
+    p[0] = x, p[1] = y, p[2] = z, p[3] = nx, p[4] = ny, p[5] = nz;
+    return b->nv++;
+}
+
+static void tri(builder *b, GLuint i0, GLuint i1, GLuint i2)
+{
+    b->idx[b->ni++] = i0, b->idx[b->ni++] = i1, b->idx[b->ni++] = i2;
+}
+
+/* The square face of the unit box facing (sgn) `axis`, at distance `dist` from the origin. */
+static void face(builder *b, int axis, int sgn, float dist)
+{
+    static const float uv[4][2] = { { -1, -1 }, { 1, -1 }, { 1, 1 }, { -1, 1 } };
+    int u = (axis + 1) % 3, v = (axis + 2) % 3;     /* u x v = +axis */
+    GLuint id[4];
+    for (int k = 0; k < 4; k++) {
+        float p[3], n[3] = { 0, 0, 0 };
+        n[axis] = (float)sgn;
+        p[axis] = dist, p[u] = 0.5f * uv[k][0], p[v] = 0.5f * uv[k][1] * (float)sgn;
+        id[k] = vtx(b, p[0], p[1], p[2], n[0], n[1], n[2]);
+    }
+    tri(b, id[0], id[1], id[2]);
+    tri(b, id[0], id[2], id[3]);
+}
+
+/* A surface of revolution about +Y: rings of (radius, height, normal radial, normal y),
+ * listed from the top down, each of SEGMENTS + 1 vertices (the seam is doubled). */
+static void lathe(builder *b, int rings, const float (*ring)[4])
+{
+    GLuint base = b->nv;
+    for (int i = 0; i < rings; i++)
+        for (int j = 0; j <= SEGMENTS; j++) {
+            double th = 2.0 * M_PI * j / SEGMENTS;
+            float c = (float)cos(th), s = (float)-sin(th);
+            const float *r = ring[i];
+            vtx(b, r[0] * c, r[1], r[0] * s, r[2] * c, r[3], r[2] * s);
+        }
+    for (int i = 0; i + 1 < rings; i++)
+        for (int j = 0; j < SEGMENTS; j++) {
+            GLuint a = base + (GLuint)(i * (SEGMENTS + 1) + j), c = a + SEGMENTS + 1;
+            tri(b, a, c, c + 1);
+            tri(b, a, c + 1, a + 1);
+        }
+}
+
+static void build_meshes(game *g, builder *b)
+{
+    g->meshes[MESH_QUAD].first = (GLsizei)b->ni;
+    face(b, 2, 1, 0.0f);
+    g->meshes[MESH_BOX].first = (GLsizei)b->ni;
+    for (int axis = 0; axis < 3; axis++)
+        for (int sgn = -1; sgn <= 1; sgn += 2)
+            face(b, axis, sgn, 0.5f * (float)sgn);
+    g->meshes[MESH_SPHERE].first = (GLsizei)b->ni;
+    float sphere[SEGMENTS / 2 + 1][4];
+    for (int i = 0; i <= SEGMENTS / 2; i++) {
+        double phi = M_PI * i / (SEGMENTS / 2);     /* from the north pole down */
+        float r = (float)sin(phi), y = (float)cos(phi);
+        sphere[i][0] = sphere[i][2] = r, sphere[i][1] = sphere[i][3] = y;
+    }
+    lathe(b, SEGMENTS / 2 + 1, sphere);
+    g->meshes[MESH_CYLINDER].first = (GLsizei)b->ni;
+    static const float top[2][4] = { { 0, 1, 0, 1 }, { 1, 1, 0, 1 } };
+    static const float side[2][4] = { { 1, 1, 1, 0 }, { 1, 0, 1, 0 } };
+    static const float bottom[2][4] = { { 1, 0, 0, -1 }, { 0, 0, 0, -1 } };
+    lathe(b, 2, top);
+    lathe(b, 2, side);
+    lathe(b, 2, bottom);
+    for (int m = 0; m < MESH_COUNT; m++)
+        g->meshes[m].count = (m + 1 < MESH_COUNT ? g->meshes[m + 1].first : (GLsizei)b->ni) -
+                             g->meshes[m].first;
+}
+
+static int meshes_create(game *g)
+{
+    builder *b = calloc(1, sizeof *b);
+    if (!b)
+        return -1;
+    build_meshes(g, b);
+    glGenVertexArrays(1, &g->vao);
+    glBindVertexArray(g->vao);
+    glGenBuffers(1, &g->vbo);
+    glBindBuffer(GL_ARRAY_BUFFER, g->vbo);
+    glBufferData(GL_ARRAY_BUFFER, (GLsizeiptr)(sizeof(float) * 6 * b->nv), b->v, GL_STATIC_DRAW);
+    glGenBuffers(1, &g->ibo);
+    glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, g->ibo);
+    glBufferData(GL_ELEMENT_ARRAY_BUFFER, (GLsizeiptr)(sizeof(GLuint) * b->ni), b->idx,
+                 GL_STATIC_DRAW);
+    glEnableVertexAttribArray(0);
+    glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, 6 * sizeof(float), (void *)0);
+    glEnableVertexAttribArray(1);
+    glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, 6 * sizeof(float),
+                          (void *)(3 * sizeof(float)));
+    free(b);
+    return 0;
+}
+
+static void game_destroy(game *g)
+{
+    if (g->ctx && !make_current(g)) {
+        glDeleteProgram(g->prog);
+        glDeleteBuffers(1, &g->vbo);
+        glDeleteBuffers(1, &g->ibo);
+        glDeleteVertexArrays(1, &g->vao);
+        glDeleteFramebuffers(1, &g->fbo);
+        glDeleteRenderbuffers(1, &g->color_rb);
+        glDeleteRenderbuffers(1, &g->depth_rb);
+        OSMesaMakeCurrent(NULL, NULL, GL_UNSIGNED_BYTE, 0, 0);
+    }
+    if (g->ctx)
+        OSMesaDestroyContext(g->ctx);
+    limen_plan_destroy(g->plan);
+    free(g);
+}
+
+static game *game_create(int w, int h)
+{
+    game *g = calloc(1, sizeof *g);
+    if (!g)
+        return NULL;
+    g->w = w, g->h = h;
+    if (context_create(g) || program_create(g) || meshes_create(g) || limen_plan_create(&g->plan)) {
+        game_destroy(g);
+        return NULL;
+    }
+    return g;
+}
+
+/* ============================================================ 4. reading the scene */
+
+/* The game's picture of one node, from limen's public getters; 0 if it draws nothing. */
+static int read_node(limen_scene *s, limen_node n, item *it)
+{
+    memset(it, 0, sizeof *it);
+    it->node = n;
+    it->kind = limen_node_get_kind(s, n);
+    float d[3], world[16];
+    limen_node_get_dims(s, n, d);
+    switch (it->kind) {
+    case LIMEN_NODE_BOX:      it->mesh = MESH_BOX;      memcpy(it->scale, d, sizeof d); break;
+    case LIMEN_NODE_SPHERE:   it->mesh = MESH_SPHERE;   it->shape = SHAPE_SPHERE;
+                              it->scale[0] = it->scale[1] = it->scale[2] = d[0]; break;
+    case LIMEN_NODE_CYLINDER: it->mesh = MESH_CYLINDER; it->shape = SHAPE_CYLINDER;
+                              it->scale[0] = it->scale[2] = d[0], it->scale[1] = d[1]; break;
+    case LIMEN_NODE_QUAD: case LIMEN_NODE_MIRROR: case LIMEN_NODE_PORTAL:
+        it->mesh = MESH_QUAD, it->scale[0] = d[0], it->scale[1] = d[1], it->scale[2] = 1;
+        break;
+    default:
+        return 0;                               /* groups, lights, cameras */
+    }
+    limen_node_world_matrix(s, n, world);
+    memcpy(it->model, world, sizeof world);
+    for (int c = 0; c < 3; c++)
+        for (int r = 0; r < 3; r++)
+            it->model[c * 4 + r] *= it->scale[c];
+    limen_node_get_checker(s, n, it->color, it->color_b, &it->cell);
+    float tint[3];      /* the planner folds mirror tints into limen_view.tint */
+    int max_depth;
+    if (it->kind == LIMEN_NODE_MIRROR || it->kind == LIMEN_NODE_PORTAL)
+        limen_surface_get(s, n, tint, it->back, it->fill, &max_depth);
+    return 1;
+}
+
+/* Reads what this frame draws: shapes and surfaces, lights, ambient and background. */
+static void read_scene(game *g, limen_scene *s)
+{
+    limen_node nodes[MAX_ITEMS];
+    int n = limen_scene_nodes(s, nodes, MAX_ITEMS);
+    float light_pos[MAX_LIGHTS][3], light_col[MAX_LIGHTS][3];
+    int nlights = 0;
+    g->nitems = 0;
+    for (int i = 0; i < n && i < MAX_ITEMS; i++) {
+        if (!limen_node_get_visible(s, nodes[i]))
+            continue;
+        if (limen_node_get_kind(s, nodes[i]) == LIMEN_NODE_LIGHT && nlights < MAX_LIGHTS) {
+            float m[16];
+            limen_node_world_matrix(s, nodes[i], m);
+            memcpy(light_pos[nlights], m + 12, sizeof light_pos[0]);
+            limen_node_get_color(s, nodes[i], light_col[nlights++]);
+        } else if (read_node(s, nodes[i], &g->items[g->nitems])) {
+            g->nitems++;
+        }
+    }
+    limen_scene_get_background(s, g->background);
+    glUniform1f(g->u.ambient, limen_scene_get_ambient(s));
+    glUniform1i(g->u.nlights, nlights);
+    if (nlights) {
+        glUniform3fv(g->u.light_pos, nlights, &light_pos[0][0]);
+        glUniform3fv(g->u.light_col, nlights, &light_col[0][0]);
+    }
+}
+
+static const item *find_item(const game *g, limen_node n)
+{
+    for (int i = 0; i < g->nitems; i++)
+        if (g->items[i].node.id == n.id)
+            return &g->items[i];
+    return NULL;
+}
+
+static int is_surface(const item *it)
+{
+    return it->kind == LIMEN_NODE_MIRROR || it->kind == LIMEN_NODE_PORTAL;
+}
+
+/* ============================================================ 5. drawing the view tree */
+
+static void gl_set(GLenum cap, int on)
+{
+    if (on)
+        glEnable(cap);
+    else
+        glDisable(cap);
+}
+
+/* The uniforms of one view: matrices, eye, clip plane, winding, tint. */
+static void use_view(game *g, const limen_view *v)
+{
+    float vp[16];
+    mat4_mul(g->proj ? g->proj[v->id] : v->proj, v->view, vp);
+    glUniformMatrix4fv(g->u.view_proj, 1, GL_FALSE, vp);
+    glUniform3fv(g->u.eye, 1, v->eye);
+    static const float no_clip[4] = { 0, 0, 0, 1 };
+    limen_clip_method clip = g->clip ? g->clip[v->id] : v->clip;
+    int plane = clip == LIMEN_CLIP_PLANE;       /* else the projection does the cutting */
+    gl_set(GL_CLIP_DISTANCE0, plane);
+    glUniform4fv(g->u.clip_plane, 1, plane ? v->clip_plane : no_clip);
+    glFrontFace(v->front_face_cw ? GL_CW : GL_CCW);
+    glUniform3fv(g->u.tint, 1, v->tint);
+}
+
+/* One node; flat: unlit colour `albedo` (masks, seals, fills). */
+static void draw_item(game *g, const item *it, int flat, const float albedo[3])
+{
+    glUniformMatrix4fv(g->u.model, 1, GL_FALSE, it->model);
+    glUniform3fv(g->u.scale, 1, it->scale);
+    glUniform3fv(g->u.albedo, 1, albedo);
+    glUniform3fv(g->u.albedo_b, 1, it->color_b);
+    glUniform1f(g->u.cell, flat || is_surface(it) ? 0.0f : it->cell);
+    glUniform1i(g->u.shape, it->shape);
+    glUniform1i(g->u.flat, flat);
+    /* mirrors and portals are not cut by the near plane; closed shapes cull back faces */
+    gl_set(GL_DEPTH_CLAMP, is_surface(it));
+    gl_set(GL_CULL_FACE, it->mesh != MESH_QUAD);
+    const mesh *m = &g->meshes[it->mesh];
+    glDrawElements(GL_TRIANGLES, m->count, GL_UNSIGNED_INT,
+                   (void *)(sizeof(GLuint) * (size_t)m->first));
+}
+
+/* A screen-filling quad on the far plane (NDC z = +1 in both NO and ZO), colour times the
+ * view's tint; stencil, scissor and the depth test decide where it lands. */
+static void draw_far_plane(game *g, const limen_view *v, const float rgb[3])
+{
+    static const float identity[16] = { 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1 };
+    item far = { .mesh = MESH_QUAD, .kind = LIMEN_NODE_MIRROR, .scale = { 1, 1, 1 },
+                 .model = { 2, 0, 0, 0, 0, 2, 0, 0, 0, 0, 1, 0, 0, 0, 1, 1 } };
+    glUniformMatrix4fv(g->u.view_proj, 1, GL_FALSE, identity);
+    glUniform3fv(g->u.tint, 1, v->tint);
+    /* a plane that keeps everything as well as the disable: llvmpipe (Mesa 22.3) was seen
+     * to go on clipping by the last plane after glDisable(GL_CLIP_DISTANCE0) */
+    glUniform4f(g->u.clip_plane, 0, 0, 0, 1);
+    glDisable(GL_CLIP_DISTANCE0);
+    draw_item(g, &far, 1, rgb);                 /* a "surface": depth clamped at far */
+}
+
+/* A surface's unlit pass (mark, seal, fill). */
+static void draw_flat_surface(game *g, const limen_view *v, const item *it, const float rgb[3])
+{
+    if (g->flat_surface)
+        g->flat_surface(g, v, it, rgb);
+    else
+        draw_item(g, it, 1, rgb);
+}
+
+static void draw_view(game *g, int index)
+{
+    const limen_view *v = limen_plan_view(g->drawing, index);
+    const int st = v->stencil;
+    glScissor(v->scissor[0], v->scissor[1], v->scissor[2], v->scissor[3]);
+    glStencilFunc(GL_EQUAL, st, 0xFF);
+    glStencilOp(GL_KEEP, GL_KEEP, GL_KEEP);
+    if (v->depth > 0) {
+        /* this view's pixels still hold the parent's depth: reset it to the far plane */
+        glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
+        glDepthFunc(GL_ALWAYS);
+        draw_far_plane(g, v, g->background);
+        glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+        glDepthFunc(GL_LESS);
+    }
+    use_view(g, v);
+    for (int i = 0; i < g->nitems; i++)
+        if (!is_surface(&g->items[i]))
+            draw_item(g, &g->items[i], 0, g->items[i].color);
+    if (v->depth > 0) {
+        /* the background (tinted) where no shape landed: depth is still at the far plane */
+        glDepthFunc(GL_EQUAL);
+        draw_far_plane(g, v, g->background);
+        glDepthFunc(GL_LESS);
+        use_view(g, v);
+    }
+
+    const limen_view_surface *surf;
+    int n = limen_plan_view_surfaces(g->drawing, index, &surf);
+    for (int k = 0; k < n; k++) {
+        const item *it = find_item(g, surf[k].node);
+        if (!it)
+            continue;
+        if (surf[k].state == LIMEN_SURFACE_BACK) {
+            draw_item(g, it, 0, it->back);      /* lit, matte */
+            continue;
+        }
+        if (surf[k].state == LIMEN_SURFACE_FILL) {
+            draw_flat_surface(g, v, it, it->fill);
+            continue;
+        }
+        /* RECURSE. Mark: the surface's visible pixels go from st to st + 1. */
+        glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
+        glDepthMask(GL_FALSE);
+        glStencilOp(GL_KEEP, GL_KEEP, GL_INCR);
+        draw_flat_surface(g, v, it, it->fill);
+        glDepthMask(GL_TRUE);
+        glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+
+        draw_view(g, surf[k].child);            /* draws where stencil == st + 1 */
+
+        /* Seal: back in this view, the surface's own depth over the child's pixels and
+         * their stencil back to st. (The child's colours carry its tint already.) */
+        glScissor(v->scissor[0], v->scissor[1], v->scissor[2], v->scissor[3]);
+        use_view(g, v);
+        glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
+        glStencilFunc(GL_EQUAL, st + 1, 0xFF);
+        glStencilOp(GL_KEEP, GL_KEEP, GL_DECR);
+        glDepthFunc(GL_ALWAYS);
+        draw_flat_surface(g, v, it, it->fill);
+        glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+        glDepthFunc(GL_LESS);
+        glStencilFunc(GL_EQUAL, st, 0xFF);
+        glStencilOp(GL_KEEP, GL_KEEP, GL_KEEP);
+    }
+}
+
+/* ============================================================ 6. one frame */
+
+/* Draws plan p (planned for this game's size and the convention range) of scene s; rgb
+ * (w*h*3, top row first) gets the frame. The context is made current first because these
+ * tests also run limen's own renderer, which has a context of its own. */
+static int game_draw(game *g, limen_scene *s, const limen_plan *p, limen_depth_range range,
+                     unsigned char *rgb)
+{
+    if (make_current(g) || range == LIMEN_DEPTH_ZO_REVERSED ||
+        (range == LIMEN_DEPTH_ZO && !g->clip_control))
+        return -1;      /* (reversed depth would need a float depth buffer) */
+    if (g->clip_control)
+        g->clip_control(GL_LOWER_LEFT,
+                        range == LIMEN_DEPTH_ZO ? GL_ZERO_TO_ONE : GL_NEGATIVE_ONE_TO_ONE);
+    g->drawing = p;
+    glBindFramebuffer(GL_FRAMEBUFFER, g->fbo);
+    glViewport(0, 0, g->w, g->h);
+    glUseProgram(g->prog);
+    glBindVertexArray(g->vao);
+    read_scene(g, s);
+
+    glDisable(GL_SCISSOR_TEST);
+    glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+    glDepthMask(GL_TRUE);
+    glStencilMask(0xFF);
+    glClearColor(g->background[0], g->background[1], g->background[2], 1.0f);
+    glClearDepth(1.0);
+    glClearStencil(0);
+    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT | GL_STENCIL_BUFFER_BIT);
+    glEnable(GL_DEPTH_TEST);
+    glDepthFunc(GL_LESS);
+    glEnable(GL_STENCIL_TEST);
+    glEnable(GL_SCISSOR_TEST);
+    glCullFace(GL_BACK);
+    draw_view(g, 0);
+    glDisable(GL_SCISSOR_TEST);
+    glDisable(GL_STENCIL_TEST);
+    glFrontFace(GL_CCW);
+
+    glPixelStorei(GL_PACK_ALIGNMENT, 1);
+    for (int y = 0; y < g->h; y++)              /* OpenGL's rows run bottom-up */
+        glReadPixels(0, g->h - 1 - y, g->w, 1, GL_RGB, GL_UNSIGNED_BYTE,
+                     rgb + 3 * (size_t)g->w * y);
+    GLenum e = glGetError();
+    if (e != GL_NO_ERROR)
+        fprintf(stderr, "  OpenGL error 0x%x\n", e);
+    return e == GL_NO_ERROR ? 0 : -1;
+}
+
+#ifndef LIMEN_EXAMPLE_GAME_NO_MAIN     /* (tests/sweeps/plan_gl.h stops here) */
+/* Plans the scene's camera view tree in the convention range (NO, or ZO through
+ * glClipControl) and draws it into rgb. Planning needs no OpenGL. */
+static int game_frame(game *g, limen_scene *s, limen_depth_range range,
+                      limen_clip_method clip, unsigned char *rgb)
+{
+    limen_plan_desc pd = { .width = g->w, .height = g->h, .range = range, .clip = clip };
+    limen_status st = limen_plan_build(g->plan, s, &pd);
+    if (st) {
+        fprintf(stderr, "  plan: %s\n", limen_last_error(s));
+        return -1;
+    }
+    return game_draw(g, s, g->plan, range, rgb);
+}
+
+#ifndef LIMEN_EXAMPLE_NO_MAIN
+/* ============================================================ 7. main */
+
+/* own_renderer SCENE.lua OUT.png [WxH]: one frame of the scene, drawn by the game. */
+int main(int argc, char **argv)
+{
+    int w = 640, h = 480;
+    if (argc < 3 || (argc > 3 && sscanf(argv[3], "%dx%d", &w, &h) != 2) || w < 1 || h < 1) {
+        fprintf(stderr, "usage: own_renderer SCENE.lua OUT.png [WxH]\n");
+        return 2;
+    }
+    limen_script *sc = NULL;
+    if (limen_script_load(argv[1], NULL, &sc)) {
+        fprintf(stderr, "own_renderer: %s\n", sc ? limen_script_error(sc) : argv[1]);
+        limen_script_destroy(sc);
+        return 1;
+    }
+    game *g = game_create(w, h);
+    unsigned char *rgb = malloc((size_t)w * (size_t)h * 3);
+    char tmp[4096];
+    snprintf(tmp, sizeof tmp, "%s.tmp", argv[2]);
+    int rc = !g || !rgb ||
+             game_frame(g, limen_script_scene(sc), LIMEN_DEPTH_NO, LIMEN_CLIP_OBLIQUE, rgb) ||
+             limen_write_png(tmp, w, h, rgb) || rename(tmp, argv[2]);
+    if (rc)
+        fprintf(stderr, "own_renderer: cannot draw %s into %s\n", argv[1], argv[2]);
+    free(rgb);
+    if (g)
+        game_destroy(g);
+    limen_script_destroy(sc);
+    return rc;
+}
+#endif
+#endif
