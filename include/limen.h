@@ -425,7 +425,9 @@ typedef struct limen_frame_stats {
 
 LIMEN_API limen_status limen_renderer_create(const limen_renderer_desc *desc,
                                              limen_renderer **out);
-/* If create fails, *out may still hold a renderer carrying the message; destroy it. */
+/* If create fails, *out may still hold a renderer carrying the message; destroy it.
+ * OSMesa and EGL renderers make their own context current only within a call: afterwards
+ * the context that was current on the thread before (of the same API) is current again. */
 LIMEN_API void limen_renderer_destroy(limen_renderer *r);              /* NULL is fine */
 LIMEN_API const char *limen_renderer_error(const limen_renderer *r);   /* "" when none */
 LIMEN_API const char *limen_renderer_gl_info(const limen_renderer *r); /* GL_RENDERER, GL_VERSION */

@@ -276,6 +276,26 @@ static GLuint game_fbo(int fw, int fh, GLenum depth_format, GLuint rb[2], const 
     return fbo;
 }
 
+static void game_fbo_free(GLuint fbo, GLuint rb[2])
+{
+    if (fbo) {
+        glDeleteFramebuffers(1, &fbo);
+        glDeleteRenderbuffers(2, rb);
+    }
+}
+
+/* The share of pixels of r's last frame off limen's own renderer's (the game current). */
+static double off_reference(game *g, limen_renderer *r, limen_scene *s, limen_method method)
+{
+    unsigned char *rgb = calloc(W * H * 3, 1), *ref = reference(s, method);
+    game_current(g);
+    CHECK_OK(limen_renderer_read_rgb(r, rgb));
+    double off = share_off(rgb, ref);
+    free(rgb);
+    free(ref);
+    return off;
+}
+
 /* ------------------------------------------------------------------ tests */
 
 /* limen draws scenes into the game's default framebuffer and into a framebuffer object at
@@ -364,10 +384,7 @@ static void host_frames(void)
                 free(px);
                 free(rgb);
                 limen_renderer_destroy(r);
-                if (use_fbo) {
-                    glDeleteFramebuffers(1, &fbo);
-                    glDeleteRenderbuffers(2, rb);
-                }
+                game_fbo_free(fbo, rb);
                 game_destroy(&g);
             }
             free(ref);
@@ -401,17 +418,9 @@ static void host_without_stencil(void)
         st = limen_render_frame(r, s, &(limen_render_opts){ .method = LIMEN_METHOD_TEXTURE },
                                 NULL);
         CHECK_MSG(st == LIMEN_OK, "texture method: %s", limen_renderer_error(r));
-        unsigned char *rgb = calloc(W * H * 3, 1), *ref = reference(s, LIMEN_METHOD_TEXTURE);
-        game_current(&g);
-        CHECK_OK(limen_renderer_read_rgb(r, rgb));
-        CHECK(share_off(rgb, ref) == 0);
-        free(rgb);
-        free(ref);
+        CHECK(off_reference(&g, r, s, LIMEN_METHOD_TEXTURE) == 0);
         limen_renderer_destroy(r);
-        if (use_fbo) {
-            glDeleteFramebuffers(1, &fbo);
-            glDeleteRenderbuffers(2, rb);
-        }
+        game_fbo_free(fbo, rb);
         game_destroy(&g);
     }
     limen_script_destroy(sc);
@@ -462,12 +471,7 @@ static void host_resize(void)
     limen_renderer_size(r, &w, &h);
     CHECK(w == W && h == H);
     CHECK_OK(limen_render_frame(r, s, NULL, NULL));
-    unsigned char *rgb = calloc(W * H * 3, 1), *ref = reference(s, LIMEN_METHOD_STENCIL);
-    game_current(&g);
-    CHECK_OK(limen_renderer_read_rgb(r, rgb));
-    CHECK(share_off(rgb, ref) == 0);
-    free(rgb);
-    free(ref);
+    CHECK(off_reference(&g, r, s, LIMEN_METHOD_STENCIL) == 0);
     limen_renderer_destroy(r);
     game_destroy(&g);
     limen_script_destroy(sc);
