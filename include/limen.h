@@ -500,11 +500,19 @@ LIMEN_API limen_status limen_trace_image(limen_scene *s, const limen_trace_desc 
  * can lift the budget with debug.sethook, and its finalizers run unbounded. */
 typedef struct limen_script limen_script;
 
+/* Receives what the script prints: one line per print() call, its values separated by tabs,
+ * control bytes and invalid UTF-8 escaped (\n, \t, \xNN), cut at 1,023 bytes; no newline.
+ * Called during the script's load or update, on that thread; it must not call the script. */
+typedef void (*limen_script_print_fn)(void *user, const char *line);
+
 typedef struct limen_script_desc {
     int trusted;                /* 1: full standard library; 0: the safe subset */
     int64_t instruction_budget; /* per load and per update call; 0 -> 50 million, < 0 -> none
                                  * (and no time limit) */
     int64_t memory_cap;         /* bytes; 0 -> 64 MiB, < 0 -> none */
+    limen_script_print_fn print; /* where print() goes; NULL: nowhere (safe mode), stdout
+                                 * (trusted mode, as stock Lua) */
+    void *print_user;           /* passed to print */
 } limen_script_desc;
 
 /* Runs the script. On failure *out may still hold a script whose limen_script_error()

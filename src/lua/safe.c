@@ -20,12 +20,17 @@
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
+#include <time.h>
 
 #include <lualib.h>
 
 #include "lua/lua_internal.h"
 
 #define PATTERN_STEPS 4         /* worst-case pattern steps that cost one instruction */
+#define ESTIMATE_STEPS 8        /* steps of the pattern estimator that cost one instruction */
+#define ESTIMATE_SLICE (1 << 16) /* ... charged this many at a time */
+#define GC_BYTES 32             /* bytes held that a full collection visits per instruction */
+#define SORT_BYTES 32           /* bytes compared per instruction, sorting strings */
 
 /* Calls the stock C function kept as upvalue 1 with the arguments as they are. The stock
  * functions wrapped here have no upvalues of their own. */
@@ -68,18 +73,6 @@ static void charge(lua_State *L, double n)
 }
 
 /* ------------------------------------------------------------------ base */
-
-/* load(chunk [, chunkname [, mode [, env]]]) with the mode forced to text, whatever the
- * script asks: a binary chunk is refused as "attempt to load a binary chunk (mode is 't')".
- * The argument count is kept, since load tells an absent env from a nil one. */
-static int l_safe_load(lua_State *L)
-{
-    if (lua_gettop(L) < 3)
-        lua_settop(L, 3);
-    lua_pushliteral(L, "t");
-    lua_replace(L, 3);
-    return call_stock(L);
-}
 
 static int l_safe_setmetatable(lua_State *L)
 {
@@ -155,11 +148,25 @@ static int l_table_unpack(lua_State *L)
     return call_stock(L);
 }
 
+/* table.sort charges its comparisons; without a comparison function, comparing two strings
+ * takes time that grows with them (one comparison, uncounted by the hook): it charges for
+ * comparisons of its longest string too. */
 static int l_table_sort(lua_State *L)
 {
     double n = table_len(L, 1);
-    if (n > 1 && n < 2147483647.0)
-        charge(L, n * log2(n));
+    if (n > 1 && n < 2147483647.0) {
+        double compares = n * log2(n);
+        charge(L, compares);
+        if (lua_isnoneornil(L, 2)) {
+            size_t longest = 0;
+            for (lua_Integer i = 1; i <= (lua_Integer)n; i++) {
+                if (lua_rawgeti(L, 1, i) == LUA_TSTRING && lua_rawlen(L, -1) > longest)
+                    longest = lua_rawlen(L, -1);
+                lua_pop(L, 1);
+            }
+            charge(L, compares * (double)longest / SORT_BYTES);
+        }
+    }
     return call_stock(L);
 }
 
@@ -293,11 +300,25 @@ typedef struct subject {
     const unsigned char *s;
     size_t n;
     unsigned char present[256];   /* bytes that occur in s */
+    lua_State *L;
+    double work;                  /* the estimator's own steps, not yet charged */
 } subject;
 
-/* Longest run of bytes of s in the class [p, ep). */
-static double max_run(const subject *sj, const char *p, const char *ep)
+/* The estimator's own work is charged too, a slice at a time (a long pattern on a long
+ * subject makes it long). */
+static void estimator_work(subject *sj, double steps)
 {
+    sj->work += steps;
+    if (sj->work >= ESTIMATE_SLICE) {
+        charge(sj->L, sj->work / ESTIMATE_STEPS);
+        sj->work = 0;
+    }
+}
+
+/* Longest run of bytes of s in the class [p, ep). */
+static double max_run(subject *sj, const char *p, const char *ep)
+{
+    estimator_work(sj, 256);
     unsigned char in[256];
     int any = 0;
     for (int c = 0; c < 256; c++) {
@@ -307,6 +328,7 @@ static double max_run(const subject *sj, const char *p, const char *ep)
     }
     if (!any)
         return 0;
+    estimator_work(sj, (double)sj->n);
     size_t best = 0, run = 0;
     for (size_t i = 0; i < sj->n; i++) {
         run = in[sj->s[i]] ? run + 1 : 0;
@@ -320,10 +342,11 @@ static double max_run(const subject *sj, const char *p, const char *ep)
  * start position (gmatch and gsub: all of them together): each item of the pattern with a
  * repetition (* + -) can take as many lengths as the longest run of its class in s, plus one;
  * ? two; %b and back-references scan up to the whole subject. */
-static double pattern_cost(const char *s, size_t n, const char *p, size_t m,
+static double pattern_cost(lua_State *L, const char *s, size_t n, const char *p, size_t m,
                            int anchorable, double limit)
 {
-    subject sj = { (const unsigned char *)s, n, { 0 } };
+    subject sj = { (const unsigned char *)s, n, { 0 }, L, 0 };
+    estimator_work(&sj, (double)n);
     for (size_t i = 0; i < n; i++)
         sj.present[(unsigned char)s[i]] = 1;
     const char *pe = p + m;
@@ -334,6 +357,7 @@ static double pattern_cost(const char *s, size_t n, const char *p, size_t m,
     }
     while (p < pe && starts * per * items <= limit) {
         items++;
+        estimator_work(&sj, 1);
         if (*p == '(' || *p == ')' || (*p == '$' && p + 1 == pe)) {
             p++;
             continue;
@@ -366,6 +390,7 @@ static double pattern_cost(const char *s, size_t n, const char *p, size_t m,
         }
         p = ep;
     }
+    charge(L, sj.work / ESTIMATE_STEPS);
     return starts * per * items;
 }
 
@@ -393,7 +418,7 @@ static int l_string_pattern(lua_State *L)
     if (find && (lua_toboolean(L, 4) || no_specials(p, m)))
         cost = ((double)n + 1) * ((double)m + 1);   /* plain search (lmemfind) */
     else
-        cost = pattern_cost(s, n, p, m, strcmp(what, "gmatch") != 0,
+        cost = pattern_cost(L, s, n, p, m, strcmp(what, "gmatch") != 0,
                             limen__lua_budget_left(L) * PATTERN_STEPS + 1);
     double steps = cost / PATTERN_STEPS;
     if (steps > limen__lua_budget_left(L)) {
@@ -404,6 +429,417 @@ static int l_string_pattern(lua_State *L)
         return luaL_error(L, "%s", msg);
     }
     charge(L, steps);
+    return call_stock(L);
+}
+
+/* ------------------------------------------------------------------ guards (either mode) */
+
+/* What keeps the limits whole, trusted or not (script.c has the limits themselves):
+ *   - the catchers (pcall, xpcall, coroutine.resume and wrap, coroutine.close, load) raise a
+ *     limit's error again instead of returning it: the memory cap, the budget and the time
+ *     limit end the script, whatever it catches;
+ *   - a coroutine runs under the script's one budget and clock: resuming it arms its hook;
+ *   - load reads its chunk in slices that charge the budget and look at the clock, so that
+ *     compiling a huge string is neither free nor endless. */
+
+#define READER_SLOT 5           /* stack slot of load's reader keeping its last piece */
+#define PIECE (64 << 10)        /* bytes of source compiled between two looks at the clock */
+#define PARSE_BYTES 4           /* bytes of source compiled per instruction charged */
+
+static int finish_pcall(lua_State *L, int status, lua_KContext base)
+{
+    if (status != LUA_OK && status != LUA_YIELD) {
+        limen__lua_caught(L, status);
+        lua_pushboolean(L, 0);
+        lua_pushvalue(L, -2);
+        return 2;
+    }
+    return lua_gettop(L) - (int)base;
+}
+
+/* pcall(f, ...) and xpcall(f, msgh, ...) as the stock ones (yields across them included), but
+ * a limit's error goes on up. */
+static int l_pcall(lua_State *L)
+{
+    luaL_checkany(L, 1);
+    lua_pushboolean(L, 1);
+    lua_insert(L, 1);
+    return finish_pcall(L, lua_pcallk(L, lua_gettop(L) - 2, LUA_MULTRET, 0, 0, finish_pcall), 0);
+}
+
+/* xpcall's message handler runs where the error is raised: inside the count hook when a limit
+ * raised it, where hooks are off and a loop in it would never end. So the script's handler is
+ * not run for a limit's error (nothing can catch it anyway). */
+static int l_handler(lua_State *L)
+{
+    if (limen__lua_limited(L))
+        return 1;
+    lua_pushvalue(L, lua_upvalueindex(1));
+    lua_insert(L, 1);
+    lua_call(L, lua_gettop(L) - 1, 1);
+    return 1;
+}
+
+static int l_xpcall(lua_State *L)
+{
+    int n = lua_gettop(L);
+    luaL_checktype(L, 2, LUA_TFUNCTION);
+    lua_pushvalue(L, 2);
+    lua_pushcclosure(L, l_handler, 1);
+    lua_replace(L, 2);
+    lua_pushboolean(L, 1);
+    lua_pushvalue(L, 1);
+    lua_rotate(L, 3, 2);        /* f, msgh, true, f, args... */
+    return finish_pcall(L, lua_pcallk(L, n - 2, LUA_MULTRET, 2, 2, finish_pcall), 2);
+}
+
+/* Resumes co with the n values on top of L. Returns co's status: LUA_OK or LUA_YIELD with its
+ * *nres results on top of L, or an error status with its error object there. */
+static int resume(lua_State *L, lua_State *co, int n, int *nres)
+{
+    *nres = 0;
+    if (!lua_checkstack(co, n)) {
+        lua_pop(L, n);
+        lua_pushliteral(L, "too many arguments to resume");
+        return LUA_ERRRUN;
+    }
+    lua_xmove(L, co, n);
+    limen__lua_enter(L, co);
+    int st = lua_resume(co, L, n, nres);
+    limen__lua_leave(L, co, st);
+    if (st != LUA_OK && st != LUA_YIELD) {
+        lua_xmove(co, L, 1);
+        return st;
+    }
+    if (!lua_checkstack(L, *nres + 1)) {
+        lua_pop(co, *nres);
+        lua_pushliteral(L, "too many results to resume");
+        return LUA_ERRRUN;
+    }
+    lua_xmove(co, L, *nres);
+    return st;
+}
+
+static int l_co_resume(lua_State *L)
+{
+    lua_State *co = lua_tothread(L, 1);
+    luaL_argexpected(L, co, 1, "coroutine");
+    int nres, st = resume(L, co, lua_gettop(L) - 1, &nres);
+    if (st == LUA_OK || st == LUA_YIELD) {
+        lua_pushboolean(L, 1);
+        lua_insert(L, -(nres + 1));
+        return nres + 1;
+    }
+    lua_pushboolean(L, 0);
+    lua_insert(L, -2);
+    return 2;
+}
+
+/* Closes co's pending to-be-closed variables (Lua code that runs in co). Returns the status,
+ * the error object on top of L if it is not LUA_OK. */
+static int close_thread(lua_State *L, lua_State *co)
+{
+    limen__lua_enter(L, co);
+    int st = lua_resetthread(co);
+    limen__lua_leave(L, co, st);
+    if (st != LUA_OK)
+        lua_xmove(co, L, 1);
+    return st;
+}
+
+/* The function coroutine.wrap returns: resumes its coroutine, raising its errors (with the
+ * caller's position, as the stock one). */
+static int l_co_call(lua_State *L)
+{
+    lua_State *co = lua_tothread(L, lua_upvalueindex(1));
+    int nres, st = resume(L, co, lua_gettop(L), &nres);
+    if (st == LUA_OK || st == LUA_YIELD)
+        return nres;
+    int cst = lua_status(co);
+    if (cst != LUA_OK && cst != LUA_YIELD) {   /* it died of the error: close it */
+        lua_pop(L, 1);
+        st = close_thread(L, co);
+        if (st == LUA_OK)
+            lua_pushliteral(L, "cannot resume dead coroutine");
+    }
+    if (st != LUA_ERRMEM && lua_type(L, -1) == LUA_TSTRING) {
+        luaL_where(L, 1);
+        lua_insert(L, -2);
+        lua_concat(L, 2);
+    }
+    return lua_error(L);
+}
+
+static int l_co_wrap(lua_State *L)
+{
+    lua_pushvalue(L, lua_upvalueindex(1));      /* the stock coroutine.create */
+    lua_insert(L, 1);
+    lua_call(L, lua_gettop(L) - 1, 1);
+    lua_pushcclosure(L, l_co_call, 1);
+    return 1;
+}
+
+/* coroutine.close(co): the stock one refuses a running or normal coroutine. */
+static int l_co_close(lua_State *L)
+{
+    lua_State *co = lua_tothread(L, 1);
+    luaL_argexpected(L, co, 1, "coroutine");
+    lua_Debug ar;
+    int st = lua_status(co);
+    if (co == L || (st == LUA_OK && lua_getstack(co, 0, &ar)))
+        return call_stock(L);
+    if (close_thread(L, co) == LUA_OK) {
+        lua_pushboolean(L, 1);
+        return 1;
+    }
+    lua_pushboolean(L, 0);
+    lua_insert(L, -2);
+    return 2;
+}
+
+typedef struct piece_reader {
+    const char *s;              /* what is left of the current string */
+    size_t left;
+    int fn;                     /* 1: more comes from the function at stack index 1 */
+} piece_reader;
+
+static const char *read_piece(lua_State *L, void *ud, size_t *size)
+{
+    piece_reader *r = ud;
+    if (r->left == 0 && r->fn) {
+        luaL_checkstack(L, 2, "too many nested functions");
+        lua_pushvalue(L, 1);
+        lua_call(L, 0, 1);
+        if (lua_isnil(L, -1)) {
+            lua_pop(L, 1);
+            r->fn = 0;
+        } else if (!lua_isstring(L, -1)) {
+            luaL_error(L, "reader function must return a string");
+        } else {
+            lua_replace(L, READER_SLOT);
+            r->s = lua_tolstring(L, READER_SLOT, &r->left);
+        }
+    }
+    size_t n = r->left < PIECE ? r->left : PIECE;
+    limen__lua_charge(L, (double)n / PARSE_BYTES);
+    *size = n;
+    r->s += n;
+    r->left -= n;
+    return n ? r->s - n : NULL;
+}
+
+int limen__lua_load_string(lua_State *L, const char *s, size_t len, const char *name,
+                           const char *mode)
+{
+    piece_reader r = { s, len, 0 };
+    return lua_load(L, read_piece, &r, name, mode);
+}
+
+/* load(chunk [, chunkname [, mode [, env]]]), a string or a reader function, as the stock
+ * one; upvalue 1 is true in safe mode, where the mode is text whatever the script asks (a
+ * binary chunk is refused as "attempt to load a binary chunk (mode is 't')"). */
+static int l_load(lua_State *L)
+{
+    size_t len;
+    const char *s = lua_tolstring(L, 1, &len);
+    const char *mode = lua_toboolean(L, lua_upvalueindex(1)) ? "t" : luaL_optstring(L, 3, "bt");
+    int env = lua_isnone(L, 4) ? 0 : 4;
+    int st;
+    if (s) {
+        st = limen__lua_load_string(L, s, len, luaL_optstring(L, 2, s), mode);
+    } else {
+        const char *name = luaL_optstring(L, 2, "=(load)");
+        luaL_checktype(L, 1, LUA_TFUNCTION);
+        lua_settop(L, READER_SLOT);
+        piece_reader r = { NULL, 0, 1 };
+        st = lua_load(L, read_piece, &r, name, mode);
+    }
+    if (st == LUA_OK) {
+        if (env) {
+            lua_pushvalue(L, env);
+            if (!lua_setupvalue(L, -2, 1))
+                lua_pop(L, 1);
+        }
+        return 1;
+    }
+    limen__lua_caught(L, st);
+    luaL_pushfail(L);
+    lua_insert(L, -2);
+    return 2;
+}
+
+/* ------------------------------------------------------------------ showing values */
+
+/* Safe scripts see no addresses (they would help an attack on the host): a value that would
+ * show one (a table, a function, a coroutine, a userdata without __tostring) shows as its type
+ * and a number instead, "table: #3", the number counting the values shown so far. */
+static const char ids_key = 0;
+
+static lua_Integer value_id(lua_State *L, int idx)
+{
+    idx = lua_absindex(L, idx);
+    if (lua_rawgetp(L, LUA_REGISTRYINDEX, &ids_key) != LUA_TTABLE) {
+        lua_pop(L, 1);
+        lua_newtable(L);
+        lua_createtable(L, 0, 1);
+        lua_pushliteral(L, "k");
+        lua_setfield(L, -2, "__mode");
+        lua_setmetatable(L, -2);
+        lua_pushvalue(L, -1);
+        lua_rawsetp(L, LUA_REGISTRYINDEX, &ids_key);
+    }
+    lua_pushvalue(L, idx);
+    lua_Integer id;
+    if (lua_rawget(L, -2) == LUA_TNUMBER) {
+        id = lua_tointeger(L, -1);
+    } else {
+        lua_rawgeti(L, -2, 0);
+        id = lua_tointeger(L, -1) + 1;
+        lua_pop(L, 1);
+        lua_pushinteger(L, id);
+        lua_rawseti(L, -3, 0);
+        lua_pushvalue(L, idx);
+        lua_pushinteger(L, id);
+        lua_rawset(L, -4);
+    }
+    lua_pop(L, 2);
+    return id;
+}
+
+/* Would luaL_tolstring show an address for the value at idx? */
+static int shows_address(lua_State *L, int idx)
+{
+    int t = lua_type(L, idx);
+    if (t == LUA_TNIL || t == LUA_TBOOLEAN || t == LUA_TNUMBER || t == LUA_TSTRING)
+        return 0;
+    if (luaL_getmetafield(L, idx, "__tostring") == LUA_TNIL)
+        return 1;
+    lua_pop(L, 1);
+    return 0;
+}
+
+/* luaL_tolstring without addresses: pushes the text of the value at idx. */
+static const char *show(lua_State *L, int idx, size_t *len)
+{
+    idx = lua_absindex(L, idx);
+    if (!shows_address(L, idx))
+        return luaL_tolstring(L, idx, len);
+    lua_Integer id = value_id(L, idx);
+    if (luaL_getmetafield(L, idx, "__name") == LUA_TSTRING)
+        lua_pushfstring(L, "%s: #%I", lua_tostring(L, -1), (LUAI_UACINT)id);
+    else
+        lua_pushfstring(L, "%s: #%I", luaL_typename(L, idx), (LUAI_UACINT)id);
+    if (lua_type(L, -2) == LUA_TSTRING)
+        lua_remove(L, -2);
+    return lua_tolstring(L, -1, len);
+}
+
+/* print(...): one line, its values' text separated by tabs, to the host's callback (script.c);
+ * upvalue 1 is true in safe mode (no addresses), where without a callback it goes nowhere.
+ * Trusted without a callback keeps the stock print. */
+static int l_print(lua_State *L)
+{
+    int n = lua_gettop(L), safe = lua_toboolean(L, lua_upvalueindex(1));
+    luaL_Buffer b;
+    luaL_buffinit(L, &b);
+    for (int i = 1; i <= n; i++) {
+        if (i > 1)
+            luaL_addchar(&b, '\t');
+        if (safe)
+            show(L, i, NULL);
+        else
+            luaL_tolstring(L, i, NULL);
+        luaL_addvalue(&b);
+    }
+    luaL_pushresult(&b);
+    size_t len;
+    const char *line = lua_tolstring(L, -1, &len);
+    limen__lua_print(L, line, len);
+    return 0;
+}
+
+static int l_safe_tostring(lua_State *L)
+{
+    luaL_checkany(L, 1);
+    show(L, 1, NULL);
+    return 1;
+}
+
+/* string.format with %p and %s of values that would show an address: the value's number
+ * instead ("#3"; "(null)" for a value that is no object, as the stock %p). */
+#define FORMAT_FLAGS "-+ #0123456789."
+
+static int l_string_format(lua_State *L)
+{
+    size_t flen;
+    const char *f = luaL_checklstring(L, 1, &flen), *end = f + flen;
+    int arg = 1, top = lua_gettop(L), any_p = 0;
+    for (const char *p = f; p < end; p++) {
+        if (*p != '%' || ++p >= end || *p == '%')
+            continue;
+        while (p < end && *p && strchr(FORMAT_FLAGS, *p))
+            p++;
+        if (p >= end || ++arg > top)
+            break;
+        if (*p == 'p') {
+            any_p = 1;
+            int t = lua_type(L, arg);
+            if (t == LUA_TNIL || t == LUA_TBOOLEAN || t == LUA_TNUMBER)
+                lua_pushliteral(L, "(null)");
+            else
+                lua_pushfstring(L, "#%I", (LUAI_UACINT)value_id(L, arg));
+            lua_replace(L, arg);
+        } else if (*p == 's' && shows_address(L, arg)) {
+            show(L, arg, NULL);
+            lua_replace(L, arg);
+        }
+    }
+    if (any_p) {        /* the same format with %p made %s */
+        luaL_Buffer b;
+        luaL_buffinit(L, &b);
+        for (const char *p = f; p < end; p++) {
+            luaL_addchar(&b, *p);
+            if (*p != '%')
+                continue;
+            if (p + 1 < end && p[1] == '%') {
+                luaL_addchar(&b, *++p);
+                continue;
+            }
+            while (p + 1 < end && p[1] && strchr(FORMAT_FLAGS, p[1]))
+                luaL_addchar(&b, *++p);
+            if (p + 1 < end && p[1] == 'p') {
+                luaL_addchar(&b, 's');
+                p++;
+            }
+        }
+        luaL_pushresult(&b);
+        lua_replace(L, 1);
+    }
+    return call_stock(L);
+}
+
+/* math.randomseed(): seeded from the clock, not from an address as the stock one (which also
+ * returns its seeds), and so is the first state. */
+static int l_math_randomseed(lua_State *L)
+{
+    if (lua_isnone(L, 1)) {
+        struct timespec ts;
+        clock_gettime(CLOCK_REALTIME, &ts);
+        lua_pushinteger(L, (lua_Integer)ts.tv_sec);
+        lua_pushinteger(L, (lua_Integer)ts.tv_nsec);
+    }
+    lua_pushvalue(L, lua_upvalueindex(1));   /* the stock one keeps its state as an upvalue */
+    lua_insert(L, 1);
+    lua_call(L, lua_gettop(L) - 1, LUA_MULTRET);
+    return lua_gettop(L);
+}
+
+/* collectgarbage("collect" / "step"): a full collection's work grows with the memory held. */
+static int l_collectgarbage(lua_State *L)
+{
+    const char *opt = luaL_optstring(L, 1, "collect");
+    if (strcmp(opt, "collect") == 0 || strcmp(opt, "step") == 0)
+        charge(L, (double)limen__lua_memory(L) / GC_BYTES);
     return call_stock(L);
 }
 
@@ -435,6 +871,34 @@ static void remove_fields(lua_State *L, int t, const char *const *names)
     }
 }
 
+/* Replaces t[name] by the C function f with upvalue `flag` (a boolean). */
+static void replace(lua_State *L, int t, const char *name, lua_CFunction f, int flag)
+{
+    lua_pushboolean(L, flag);
+    lua_pushcclosure(L, f, 1);
+    lua_setfield(L, t, name);
+}
+
+void limen__lua_open_guards(lua_State *L, int safe, int print)
+{
+    lua_pushglobaltable(L);
+    int g = lua_gettop(L);
+    replace(L, g, "pcall", l_pcall, 0);
+    replace(L, g, "xpcall", l_xpcall, 0);
+    replace(L, g, "load", l_load, safe);
+    if (print || safe)
+        replace(L, g, "print", l_print, safe);
+    if (lua_getfield(L, g, LUA_COLIBNAME) == LUA_TTABLE) {
+        int co = lua_gettop(L);
+        replace(L, co, "resume", l_co_resume, 0);
+        wrap(L, co, "close", l_co_close, NULL);
+        lua_getfield(L, co, "create");
+        lua_pushcclosure(L, l_co_wrap, 1);
+        lua_setfield(L, co, "wrap");
+    }
+    lua_settop(L, g - 1);
+}
+
 /* Runs in protected mode: an allocation failure here is an error, not a panic. */
 int limen__lua_open_safe(lua_State *L)
 {
@@ -456,8 +920,11 @@ int limen__lua_open_safe(lua_State *L)
     int g = lua_gettop(L);
     static const char *const base_out[] = { "dofile", "loadfile", NULL };
     remove_fields(L, g, base_out);
-    wrap(L, g, "load", l_safe_load, NULL);
     wrap(L, g, "setmetatable", l_safe_setmetatable, NULL);
+    wrap(L, g, "collectgarbage", l_collectgarbage, NULL);
+    lua_pushcfunction(L, l_safe_tostring);
+    lua_setfield(L, g, "tostring");
+    limen__lua_open_guards(L, 1, 1);
 
     lua_getfield(L, g, LUA_TABLIBNAME);
     int t = lua_gettop(L);
@@ -476,6 +943,11 @@ int limen__lua_open_safe(lua_State *L)
     static const char *const patterns[] = { "find", "match", "gmatch", "gsub", NULL };
     for (const char *const *k = patterns; *k; k++)
         wrap(L, str, *k, l_string_pattern, *k);
+    wrap(L, str, "format", l_string_format, NULL);
+    lua_getfield(L, g, LUA_MATHLIBNAME);
+    wrap(L, lua_gettop(L), "randomseed", l_math_randomseed, NULL);
+    lua_getfield(L, -1, "randomseed");     /* the stock seed came from an address */
+    lua_call(L, 0, 0);
     lua_getfield(L, g, LUA_UTF8LIBNAME);
     wrap(L, lua_gettop(L), "codepoint", l_string_slice, NULL);
     lua_settop(L, g);
