@@ -541,7 +541,10 @@ void limen__lua_caught(lua_State *L, int status)
     limen_script *sc = script_of(L);
     if (!sc || !sc->running)
         return;
-    if (status == LUA_ERRMEM && sc->mem_refused && !sc->limit) {
+    /* lauxlib's buffers report a refused allocation as a plain error of this message */
+    int lauxlib = status == LUA_ERRRUN && lua_type(L, -1) == LUA_TSTRING &&
+                  strcmp(lua_tostring(L, -1), "not enough memory") == 0;
+    if ((status == LUA_ERRMEM || lauxlib) && sc->mem_refused && !sc->limit) {
         hit(sc, LIMIT_MEMORY);
         /* where the memory ran out (followed near the cap), not where it was caught */
         if (!sc->where[0])
