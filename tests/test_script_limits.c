@@ -362,7 +362,19 @@ static void test_budget_load_metered(void)
     desc.instruction_budget = 0;
     CHECK_OK(limen__script_load_buffer("mem.lua", text, strlen(text), &desc, &sc));
     limen_script_destroy(sc);
+    /* the same text from a file */
+    CHECK(load_limited("comments.lua", text, 1000000, 0, &sc) == LIMEN_ERR_SCRIPT);
+    expect_tail(sc, "comments.lua", "script exceeded its instruction budget (1000000)");
+    limen_script_destroy(sc);
+    CHECK_OK(load_limited("comments.lua", text, 0, 0, &sc));
+    limen_script_destroy(sc);
     free(text);
+    /* a file read in slices keeps what luaL_loadfilex does: a BOM and a '#' first line are
+     * skipped, the line numbers stay */
+    CHECK(load_limited("shebang.lua", "\xEF\xBB\xBF#!/usr/bin/env lua\n" HEAD "error(\"x\")\n",
+                       0, 0, &sc) == LIMEN_ERR_SCRIPT);
+    expect_message(sc, "shebang.lua", 4, "x");
+    limen_script_destroy(sc);
 }
 
 /* s:nodes() pays for its sort: 100 calls on 4,000 nodes charge 4.8 million. */

@@ -72,7 +72,8 @@ limen_status limen__script_load_buffer(const char *name, const char *buf, size_t
 
 /* safe.c: opens the safe standard library in L (call it under lua_pcall). */
 int limen__lua_open_safe(lua_State *L);
-/* Replaces, in either mode, what must hold the limits: pcall, xpcall, load, the coroutine
+
+/* guards.c: replaces, in either mode, what must hold the limits: pcall, xpcall, load, the coroutine
  * functions; and print if `print` (the host gave a callback). `safe`: load takes text only,
  * and print shows no addresses. Under lua_pcall. */
 void limen__lua_open_guards(lua_State *L, int safe, int print);
@@ -80,5 +81,13 @@ void limen__lua_open_guards(lua_State *L, int safe, int print);
  * look at the clock; a limit raises. Leaves the function or the message, as lua_load. */
 int limen__lua_load_string(lua_State *L, const char *s, size_t len, const char *name,
                            const char *mode);
+/* The same for the file at path, as luaL_loadfilex in text mode (a first line starting with '#'
+ * and a UTF-8 BOM are skipped); LUA_ERRFILE with "cannot open PATH: why" if it cannot be read.
+ * The script's own text is loaded so (script.c). */
+int limen__lua_load_file(lua_State *L, const char *path, const char *name);
+/* luaL_tolstring without addresses: pushes the text of the value at idx, a table, function,
+ * coroutine or userdata without __tostring shown as "table: #3" (its number among the values
+ * shown so far; the same value, the same number). */
+const char *limen__lua_show(lua_State *L, int idx, size_t *len);
 
 #endif

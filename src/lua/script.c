@@ -748,7 +748,7 @@ static int run_chunk(lua_State *L)
     lua_settop(L, 0);
     const char *name = lua_pushfstring(L, "@%s", sc->path);
     int st = c->buf ? limen__lua_load_string(L, c->buf, c->len, name, "t")
-                    : luaL_loadfilex(L, sc->path, "t");
+                    : limen__lua_load_file(L, sc->path, name);
     if (st != LUA_OK) {
         c->load_status = st;
         const char *msg = lua_tostring(L, -1);
