@@ -53,6 +53,16 @@ static void expect_message(const limen_script *sc, const char *name, int line, c
               "    expected '%s'", name, sc ? limen_script_error(sc) : "(no script)", want);
 }
 
+/* Checks that text loads as dir/name with the given limits, with no message. */
+static void expect_loads(const char *name, const char *text, int64_t budget, int64_t cap)
+{
+    limen_script *sc = NULL;
+    limen_status st = load_limited(name, text, budget, cap, &sc);
+    CHECK_MSG(st == LIMEN_OK && strcmp(limen_script_error(sc), "") == 0, "%s: status %d, '%s'",
+              name, st, sc ? limen_script_error(sc) : "");
+    limen_script_destroy(sc);
+}
+
 #define BUDGET_MSG "script exceeded its instruction budget (100000)"
 
 /* An endless loop at load ends with the budget error, however the script tries to catch it:
@@ -170,11 +180,9 @@ static void test_memory_scenes(void)
     expect_message(sc, "scenes_bomb.lua", 7, "not enough memory (script memory cap 4 MiB)");
     limen_script_destroy(sc);
     /* the memory comes back with the scenes */
-    CHECK_OK(load_limited("scenes_churn.lua", HEAD "for k = 1, 8 do\n"
-                          "  local o = limen.scene {}\n  for i = 1, 1500 do o:group {} end\n"
-                          "  o = nil\n  collectgarbage()\nend\nreturn s\n", 0, 4 << 20, &sc));
-    CHECK_MSG(strcmp(limen_script_error(sc), "") == 0, "%s", limen_script_error(sc));
-    limen_script_destroy(sc);
+    expect_loads("scenes_churn.lua", HEAD "for k = 1, 8 do\n"
+                 "  local o = limen.scene {}\n  for i = 1, 1500 do o:group {} end\n"
+                 "  o = nil\n  collectgarbage()\nend\nreturn s\n", 0, 4 << 20);
 }
 
 /* A memory bomb in update stops the script cleanly; the next update fails the same way. */
@@ -214,15 +222,13 @@ static void test_metered(void)
               "%s", limen_script_error(sc));
     limen_script_destroy(sc);
     /* ordinary patterns on long subjects are fine */
-    CHECK_OK(load_limited("pattern_ok.lua", HEAD "local words = string.rep(\"ab cd \", 20000)\n"
-                          "local n = 0\nfor w in words:gmatch(\"%S+\") do n = n + 1 end\n"
-                          "assert(n == 40000)\n"
-                          "assert(select(2, words:gsub(\"(%w+) (%w+)\", \"%2 %1\")) == 20000)\n"
-                          "assert(words:find(\"cd ab\", 1, true) == 4)\n"
-                          "assert((\"k=v\"):match(\"^(%w+)=(%w+)$\") == \"k\")\nreturn s\n",
-                          0, 0, &sc));
-    CHECK_MSG(strcmp(limen_script_error(sc), "") == 0, "%s", limen_script_error(sc));
-    limen_script_destroy(sc);
+    expect_loads("pattern_ok.lua", HEAD "local words = string.rep(\"ab cd \", 20000)\n"
+                 "local n = 0\nfor w in words:gmatch(\"%S+\") do n = n + 1 end\n"
+                 "assert(n == 40000)\n"
+                 "assert(select(2, words:gsub(\"(%w+) (%w+)\", \"%2 %1\")) == 20000)\n"
+                 "assert(words:find(\"cd ab\", 1, true) == 4)\n"
+                 "assert((\"k=v\"):match(\"^(%w+)=(%w+)$\") == \"k\")\nreturn s\n",
+                 0, 0);
     /* one instruction comparing two long strings: the time limit (1 s here) ends it */
     CHECK(load_limited("compare.lua", HEAD "local a, b = (\"x\"):rep(4096):rep(4096), (\"x\"):rep(4096):rep(4096)\n"
                        "while a == b do end\n", 5000000, 0, &sc) == LIMEN_ERR_SCRIPT);
@@ -509,12 +515,9 @@ static void test_memory_uncatchable(void)
         limen_script_destroy(sc);
     }
     /* garbage is not a hit: an emergency collection that makes room lets the script go on */
-    limen_script *sc = NULL;
-    CHECK_OK(load_limited("mem_garbage.lua", HEAD "collectgarbage(\"stop\")\n"
-                          "for i = 1, 100 do\n  local x = {}\n  for j = 1, 1000 do x[j] = j end\n"
-                          "end\nreturn s\n", 0, 1 << 20, &sc));
-    CHECK_MSG(strcmp(limen_script_error(sc), "") == 0, "%s", limen_script_error(sc));
-    limen_script_destroy(sc);
+    expect_loads("mem_garbage.lua", HEAD "collectgarbage(\"stop\")\n"
+                 "for i = 1, 100 do\n  local x = {}\n  for j = 1, 1000 do x[j] = j end\n"
+                 "end\nreturn s\n", 0, 1 << 20);
 }
 
 /* No cap aborts the program: every cap from 0 to 64 KiB, 16 bytes apart, loads (or fails with
@@ -594,28 +597,25 @@ static void test_print(void)
  * one returned the state's). */
 static void test_no_addresses(void)
 {
-    limen_script *sc = NULL;
-    CHECK_OK(load_limited("addresses.lua", HEAD
-                          "local t, u = {}, {}\n"
-                          "assert(tostring(t):match(\"^table: #%d+$\"), tostring(t))\n"
-                          "assert(tostring(t) == tostring(t) and tostring(t) ~= tostring(u))\n"
-                          "assert(tostring(print):match(\"^function: #%d+$\"))\n"
-                          "assert(tostring(coroutine.running()):match(\"^thread: #%d+$\"))\n"
-                          "local p = string.format(\"%p|%8p|%p|%p\", t, u, 1, \"str\")\n"
-                          "assert(p:match(\"^#%d+| +#%d+|%(null%)|#%d+$\"), p)\n"
-                          "assert(string.format(\"%s\", t) == tostring(t))\n"
-                          "assert(string.format(\"%p\", t) == tostring(t):match(\"#%d+\"))\n"
-                          "assert(string.format(\"%5.1f %%p %s\", 1, \"x\") == \"  1.0 %p x\")\n"
-                          "local named = setmetatable({}, { __name = \"thing\" })\n"
-                          "assert(tostring(named):match(\"^thing: #%d+$\"), tostring(named))\n"
-                          "assert(tostring(setmetatable({}, { __tostring = function() "
-                          "return \"mine\" end })) == \"mine\")\n"
-                          "local a, b = math.randomseed()\n"
-                          "assert(b >= 0 and b < 1000000000, b)\n"
-                          "assert(math.random(1, 6) >= 1)\n"
-                          "assert(not tostring(s):find(\"0x\"))\nreturn s\n", 0, 0, &sc));
-    CHECK_MSG(strcmp(limen_script_error(sc), "") == 0, "%s", limen_script_error(sc));
-    limen_script_destroy(sc);
+    expect_loads("addresses.lua", HEAD
+                 "local t, u = {}, {}\n"
+                 "assert(tostring(t):match(\"^table: #%d+$\"), tostring(t))\n"
+                 "assert(tostring(t) == tostring(t) and tostring(t) ~= tostring(u))\n"
+                 "assert(tostring(print):match(\"^function: #%d+$\"))\n"
+                 "assert(tostring(coroutine.running()):match(\"^thread: #%d+$\"))\n"
+                 "local p = string.format(\"%p|%8p|%p|%p\", t, u, 1, \"str\")\n"
+                 "assert(p:match(\"^#%d+| +#%d+|%(null%)|#%d+$\"), p)\n"
+                 "assert(string.format(\"%s\", t) == tostring(t))\n"
+                 "assert(string.format(\"%p\", t) == tostring(t):match(\"#%d+\"))\n"
+                 "assert(string.format(\"%5.1f %%p %s\", 1, \"x\") == \"  1.0 %p x\")\n"
+                 "local named = setmetatable({}, { __name = \"thing\" })\n"
+                 "assert(tostring(named):match(\"^thing: #%d+$\"), tostring(named))\n"
+                 "assert(tostring(setmetatable({}, { __tostring = function() "
+                 "return \"mine\" end })) == \"mine\")\n"
+                 "local a, b = math.randomseed()\n"
+                 "assert(b >= 0 and b < 1000000000, b)\n"
+                 "assert(math.random(1, 6) >= 1)\n"
+                 "assert(not tostring(s):find(\"0x\"))\nreturn s\n", 0, 0);
 }
 
 static const check_case cases[] = {

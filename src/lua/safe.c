@@ -1,9 +1,10 @@
 /* safe.c - the standard library of a scene script run in safe mode (the default).
  *
- * What it has: base without dofile/loadfile, with a load that takes text only and a
- * setmetatable that refuses __gc; string, table, math, utf8, coroutine; os.clock/time/date/
- * difftime; no io, no debug; require finds only "limen" (and what is already loaded or in
- * package.preload).
+ * What it has: base without dofile/loadfile, with a load that takes text only (guards.c), a
+ * setmetatable that refuses __gc, a print that reaches the host's callback only and a
+ * tostring that shows no address (guards.c); string, table, math, utf8, coroutine;
+ * os.clock/time/date/difftime; no io, no debug; require finds only "limen" (and what is
+ * already loaded or in package.preload).
  *
  * Why __gc is refused: Lua runs finalizers with hooks turned off, so a finalizer would run
  * outside the instruction budget (script.c), and a loop in one would hang the program.
@@ -14,7 +15,10 @@
  * 1e15 slots, and a backtracking pattern can take n^k steps on a subject of n bytes. Their
  * wrappers charge that work to the budget before calling the stock function (which runs in
  * the wrapper's own frame, so that its errors still name it and the script's line). A
- * pattern whose worst case is more than the budget left is refused before it runs. */
+ * pattern whose worst case is more than the budget left is refused before it runs, and the
+ * estimate itself is charged as it goes. table.sort charges its comparisons, by the length of
+ * its longest string when it compares strings itself; collectgarbage a collection's visit of
+ * the memory held. */
 #include <ctype.h>
 #include <limits.h>
 #include <math.h>
