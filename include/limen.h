@@ -525,29 +525,49 @@ LIMEN_API limen_status limen_trace_image(limen_scene *s, const limen_trace_desc 
  * `function s.update(t)` animates it. The script owns its scene, and runs in a Lua state of
  * its own, within limits, so that it cannot hang or exhaust the program that runs it:
  *   - Safe mode (the default): no io, no os but the clock, no debug, no C modules, no
- *     bytecode, no __gc metamethods (finalizers would run outside the budget).
- *   - An instruction budget per call (the load, and each update): Lua VM instructions, plus
- *     one per 32 bytes allocated, plus the work of library functions that loop over their
- *     arguments (string.rep, table.insert, ...); a string pattern whose worst case exceeds
- *     what is left is refused before it runs.
+ *     bytecode, no __gc metamethods (finalizers would run outside the budget); print goes to
+ *     the host's callback (desc.print) or nowhere, never to stdout; no value shows an address
+ *     (tostring, print and string.format's %s and %p show "table: #3", a number per value;
+ *     math.randomseed() seeds from the clock).
+ *   - An instruction budget per call (the load, and each update), for the script as a whole:
+ *     Lua VM instructions of every coroutine, plus one per 32 bytes allocated, plus one per 4
+ *     bytes of source compiled (the script's own, and load's), plus the work of library
+ *     functions that loop over their arguments (string.rep, table.insert, table.sort, s:nodes,
+ *     ...); a string pattern whose worst case exceeds what is left is refused before it runs.
+ *     A coroutine pays 100 instructions when first resumed (its last instructions before it
+ *     ends are not counted one by one).
  *   - A time limit per call that follows from the budget: 100 ns per instruction of it, at
- *     least 1 s (5 s by default). Only a script whose single instructions are slow meets it
- *     (comparing two long strings is one instruction).
- *   - A memory cap on what its Lua state and its scenes' nodes hold.
+ *     least 1 s (5 s by default), of the calling thread's processor time (a busy machine does
+ *     not make a script fail). Only a script whose single instructions are slow meets it
+ *     (comparing two long strings is one instruction); the clock is read often enough that a
+ *     call ends within a sixteenth of the limit, plus one instruction, after passing it.
+ *   - A memory cap on what its Lua state and its scenes' nodes hold. It is hit when an
+ *     allocation it refused ends in "not enough memory" (garbage that a collection frees is
+ *     no hit). Any cap is safe, down to 0 (then the load fails with a message).
  * A call that exceeds a limit fails with LIMEN_ERR_SCRIPT and a message such as
- *   "scenes/x.lua:3: script exceeded its instruction budget (50000000)" or
+ *   "scenes/x.lua:3: script exceeded its instruction budget (50000000)",
+ *   "scenes/x.lua:3: script exceeded its time limit (5 s, set by its instruction budget)" or
  *   "scenes/x.lua:3: not enough memory (script memory cap 64 MiB)"
- * (with the line where it is known); the script's own pcall cannot catch it. It stops the
- * script: later updates fail at once with the same message, while its scene stays readable
- * and the script can be destroyed. A trusted script keeps the limits its desc gives, but it
- * can lift the budget with debug.sethook, and its finalizers run unbounded. */
+ * (with the line where it is known). The script cannot catch it: pcall, xpcall (whose handler
+ * does not run for it), coroutine.resume/wrap/close and load pass it on. It stops the script:
+ * later updates fail at once with the same message, while its scene stays readable and the
+ * script can be destroyed. A trusted script keeps the limits its desc gives, but it can lift
+ * the budget with debug.sethook, and its finalizers run unbounded. */
 typedef struct limen_script limen_script;
+
+/* Receives what the script prints: one line per print() call, its values separated by tabs,
+ * control bytes and invalid UTF-8 escaped (\n, \t, \xNN), cut at 1,023 bytes; no newline.
+ * Called during the script's load or update, on that thread; it must not call the script. */
+typedef void (*limen_script_print_fn)(void *user, const char *line);
 
 typedef struct limen_script_desc {
     int trusted;                /* 1: full standard library; 0: the safe subset */
     int64_t instruction_budget; /* per load and per update call; 0 -> 50 million, < 0 -> none
                                  * (and no time limit) */
     int64_t memory_cap;         /* bytes; 0 -> 64 MiB, < 0 -> none */
+    limen_script_print_fn print; /* where print() goes; NULL: nowhere (safe mode), stdout
+                                 * (trusted mode, as stock Lua) */
+    void *print_user;           /* passed to print */
 } limen_script_desc;
 
 /* Runs the script. On failure *out may still hold a script whose limen_script_error()

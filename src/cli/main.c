@@ -52,6 +52,13 @@ void limen_cli_scene_error(const char *scene, const char *msg)
         fprintf(stderr, "limen: %s: %s\n", scene, msg);
 }
 
+/* What a scene script prints goes to stderr, marked as the script's: it cannot pass for the
+ * program's own output (stdout), nor for one of its messages. */
+static void script_print(void *scene, const char *line)
+{
+    fprintf(stderr, "limen: %s: print: %s\n", (const char *)scene, line);
+}
+
 static int fail(const char *fmt, const char *a, const char *b)
 {
     fprintf(stderr, "limen: ");
@@ -286,7 +293,8 @@ static int cmd_render(int argc, char **argv)
     if (parse_render(argc, argv, &o, 1))
         return 2;
     limen_script *sc = NULL;
-    limen_status st = limen_script_load(o.scene, &(limen_script_desc){ .trusted = o.trusted }, &sc);
+    limen_status st = limen_script_load(o.scene, &(limen_script_desc){
+        .trusted = o.trusted, .print = script_print, .print_user = (void *)o.scene }, &sc);
     if (st) {
         fprintf(stderr, "limen: %s\n", sc ? limen_script_error(sc) : limen_status_string(st));
         limen_script_destroy(sc);

@@ -1238,7 +1238,19 @@ static int l_scene_find(lua_State *L)
     return 1;
 }
 
-/* s:nodes() -> an array of the live nodes, in the order they were made. */
+typedef struct node_order {
+    lua_Integer seq;
+    lua_Integer at;             /* index in the unsorted array */
+} node_order;
+
+static int by_seq(const void *a, const void *b)
+{
+    lua_Integer x = ((const node_order *)a)->seq, y = ((const node_order *)b)->seq;
+    return (x > y) - (x < y);
+}
+
+/* s:nodes() -> an array of the live nodes, in the order they were made (the map's order is a
+ * hash's): sorted in n log n, charged to the script's budget. */
 static int l_scene_nodes(lua_State *L)
 {
     check_scene(L, 1);
@@ -1250,21 +1262,20 @@ static int l_scene_nodes(lua_State *L)
     while (lua_next(L, 2)) {
         lua_rawseti(L, 3, ++k);
     }
-    /* insertion sort by creation order (the map's order is a hash's) */
-    for (lua_Integer i = 2; i <= k; i++) {
+    if (k > 1)
+        limen__lua_charge(L, (double)k * log2((double)k));
+    node_order *order = lua_newuserdatauv(L, (size_t)(k > 0 ? k : 1) * sizeof *order, 0);
+    for (lua_Integer i = 1; i <= k; i++) {
         lua_rawgeti(L, 3, i);
-        const lnode *x = lua_touserdata(L, -1);
-        lua_Integer j = i;
-        for (; j > 1; j--) {
-            lua_rawgeti(L, 3, j - 1);
-            const lnode *y = lua_touserdata(L, -1);
-            if (y->seq < x->seq) {
-                lua_pop(L, 1);
-                break;
-            }
-            lua_rawseti(L, 3, j);
-        }
-        lua_rawseti(L, 3, j);
+        order[i - 1].seq = ((const lnode *)lua_touserdata(L, -1))->seq;
+        order[i - 1].at = i;
+        lua_pop(L, 1);
+    }
+    qsort(order, (size_t)k, sizeof *order, by_seq);
+    lua_createtable(L, (int)(k < 1 << 24 ? k : 0), 0);
+    for (lua_Integer i = 1; i <= k; i++) {
+        lua_rawgeti(L, 3, order[i - 1].at);
+        lua_rawseti(L, -2, i);
     }
     return 1;
 }

@@ -33,10 +33,27 @@ limen_scene *limen__lua_toscene(lua_State *L, int idx);
 /* Pushes the update function of the scene userdata at idx (nil if none); returns its type. */
 int limen__lua_push_update(lua_State *L, int idx);
 
-/* script.c: charges `steps` to the instruction budget of the running call; raises "script
- * exceeded its instruction budget" (and stops the script) if there is not that much left.
- * A no-op in a state that is not a limen_script's (a stock lua5.4 with limen.so). */
+/* script.c: charges `steps` to the instruction budget of the running call, and looks at the
+ * clock once every HOOK_EVERY steps charged; raises the limit's error (and stops the script)
+ * if there is not that much left, or the time is up. A C loop whose work may be long charges
+ * it in slices as it goes. A no-op in a state that is not a limen_script's (a stock lua5.4
+ * with limen.so). */
 void limen__lua_charge(lua_State *L, double steps);
+/* Around Lua code run in thread co on behalf of L (coroutine.resume, wrap, close): enter arms
+ * co's hook (one budget, one clock for all threads) and raises in L if a limit was hit; leave,
+ * with the status co ended with, raises in L if a limit was hit meanwhile. */
+void limen__lua_enter(lua_State *L, lua_State *co);
+void limen__lua_leave(lua_State *L, lua_State *co, int status);
+/* A catcher (pcall, xpcall, load) caught an error of this status: raises it again if it is a
+ * limit's (the memory cap's, too), so that no catcher can stop one. */
+void limen__lua_caught(lua_State *L, int status);
+/* Has the running call hit a limit? */
+int limen__lua_limited(lua_State *L);
+/* Bytes the script's state holds (its allocator's count). */
+size_t limen__lua_memory(lua_State *L);
+/* print's line: hands it, escaped to one printable line, to the host's callback
+ * (limen_script_desc.print). Returns 0 if there is none (it went nowhere). */
+int limen__lua_print(lua_State *L, const char *text, size_t len);
 /* Counts `bytes` held outside the Lua state (a scene's C-side nodes) against the memory cap
  * of the script running in L, or gives them back if negative. Returns 0, counting nothing,
  * if that would pass the cap. Always 1 in a state that is not a limen_script's. */
@@ -55,5 +72,22 @@ limen_status limen__script_load_buffer(const char *name, const char *buf, size_t
 
 /* safe.c: opens the safe standard library in L (call it under lua_pcall). */
 int limen__lua_open_safe(lua_State *L);
+
+/* guards.c: replaces, in either mode, what must hold the limits: pcall, xpcall, load, the coroutine
+ * functions; and print if `print` (the host gave a callback). `safe`: load takes text only,
+ * and print shows no addresses. Under lua_pcall. */
+void limen__lua_open_guards(lua_State *L, int safe, int print);
+/* Loads len bytes at s as a chunk (mode as lua_load's), in slices that charge the budget and
+ * look at the clock; a limit raises. Leaves the function or the message, as lua_load. */
+int limen__lua_load_string(lua_State *L, const char *s, size_t len, const char *name,
+                           const char *mode);
+/* The same for the file at path, as luaL_loadfilex in text mode (a first line starting with '#'
+ * and a UTF-8 BOM are skipped); LUA_ERRFILE with "cannot open PATH: why" if it cannot be read.
+ * The script's own text is loaded so (script.c). */
+int limen__lua_load_file(lua_State *L, const char *path, const char *name);
+/* luaL_tolstring without addresses: pushes the text of the value at idx, a table, function,
+ * coroutine or userdata without __tostring shown as "table: #3" (its number among the values
+ * shown so far; the same value, the same number). */
+const char *limen__lua_show(lua_State *L, int idx, size_t *len);
 
 #endif

@@ -1,9 +1,10 @@
 /* safe.c - the standard library of a scene script run in safe mode (the default).
  *
- * What it has: base without dofile/loadfile, with a load that takes text only and a
- * setmetatable that refuses __gc; string, table, math, utf8, coroutine; os.clock/time/date/
- * difftime; no io, no debug; require finds only "limen" (and what is already loaded or in
- * package.preload).
+ * What it has: base without dofile/loadfile, with a load that takes text only (guards.c), a
+ * setmetatable that refuses __gc, a print that reaches the host's callback only and a
+ * tostring that shows no address (guards.c); string, table, math, utf8, coroutine;
+ * os.clock/time/date/difftime; no io, no debug; require finds only "limen" (and what is
+ * already loaded or in package.preload).
  *
  * Why __gc is refused: Lua runs finalizers with hooks turned off, so a finalizer would run
  * outside the instruction budget (script.c), and a loop in one would hang the program.
@@ -14,18 +15,26 @@
  * 1e15 slots, and a backtracking pattern can take n^k steps on a subject of n bytes. Their
  * wrappers charge that work to the budget before calling the stock function (which runs in
  * the wrapper's own frame, so that its errors still name it and the script's line). A
- * pattern whose worst case is more than the budget left is refused before it runs. */
+ * pattern whose worst case is more than the budget left is refused before it runs, and the
+ * estimate itself is charged as it goes. table.sort charges its comparisons, by the length of
+ * its longest string when it compares strings itself; collectgarbage a collection's visit of
+ * the memory held. */
 #include <ctype.h>
 #include <limits.h>
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
+#include <time.h>
 
 #include <lualib.h>
 
 #include "lua/lua_internal.h"
 
 #define PATTERN_STEPS 4         /* worst-case pattern steps that cost one instruction */
+#define ESTIMATE_STEPS 8        /* steps of the pattern estimator that cost one instruction */
+#define ESTIMATE_SLICE (1 << 16) /* ... charged this many at a time */
+#define GC_BYTES 32             /* bytes held that a full collection visits per instruction */
+#define SORT_BYTES 32           /* bytes compared per instruction, sorting strings */
 
 /* Calls the stock C function kept as upvalue 1 with the arguments as they are. The stock
  * functions wrapped here have no upvalues of their own. */
@@ -68,18 +77,6 @@ static void charge(lua_State *L, double n)
 }
 
 /* ------------------------------------------------------------------ base */
-
-/* load(chunk [, chunkname [, mode [, env]]]) with the mode forced to text, whatever the
- * script asks: a binary chunk is refused as "attempt to load a binary chunk (mode is 't')".
- * The argument count is kept, since load tells an absent env from a nil one. */
-static int l_safe_load(lua_State *L)
-{
-    if (lua_gettop(L) < 3)
-        lua_settop(L, 3);
-    lua_pushliteral(L, "t");
-    lua_replace(L, 3);
-    return call_stock(L);
-}
 
 static int l_safe_setmetatable(lua_State *L)
 {
@@ -155,11 +152,25 @@ static int l_table_unpack(lua_State *L)
     return call_stock(L);
 }
 
+/* table.sort charges its comparisons; without a comparison function, comparing two strings
+ * takes time that grows with them (one comparison, uncounted by the hook): it charges for
+ * comparisons of its longest string too. */
 static int l_table_sort(lua_State *L)
 {
     double n = table_len(L, 1);
-    if (n > 1 && n < 2147483647.0)
-        charge(L, n * log2(n));
+    if (n > 1 && n < 2147483647.0) {
+        double compares = n * log2(n);
+        charge(L, compares);
+        if (lua_isnoneornil(L, 2)) {
+            size_t longest = 0;
+            for (lua_Integer i = 1; i <= (lua_Integer)n; i++) {
+                if (lua_rawgeti(L, 1, i) == LUA_TSTRING && lua_rawlen(L, -1) > longest)
+                    longest = lua_rawlen(L, -1);
+                lua_pop(L, 1);
+            }
+            charge(L, compares * (double)longest / SORT_BYTES);
+        }
+    }
     return call_stock(L);
 }
 
@@ -293,11 +304,25 @@ typedef struct subject {
     const unsigned char *s;
     size_t n;
     unsigned char present[256];   /* bytes that occur in s */
+    lua_State *L;
+    double work;                  /* the estimator's own steps, not yet charged */
 } subject;
 
-/* Longest run of bytes of s in the class [p, ep). */
-static double max_run(const subject *sj, const char *p, const char *ep)
+/* The estimator's own work is charged too, a slice at a time (a long pattern on a long
+ * subject makes it long). */
+static void estimator_work(subject *sj, double steps)
 {
+    sj->work += steps;
+    if (sj->work >= ESTIMATE_SLICE) {
+        charge(sj->L, sj->work / ESTIMATE_STEPS);
+        sj->work = 0;
+    }
+}
+
+/* Longest run of bytes of s in the class [p, ep). */
+static double max_run(subject *sj, const char *p, const char *ep)
+{
+    estimator_work(sj, 256);
     unsigned char in[256];
     int any = 0;
     for (int c = 0; c < 256; c++) {
@@ -307,6 +332,7 @@ static double max_run(const subject *sj, const char *p, const char *ep)
     }
     if (!any)
         return 0;
+    estimator_work(sj, (double)sj->n);
     size_t best = 0, run = 0;
     for (size_t i = 0; i < sj->n; i++) {
         run = in[sj->s[i]] ? run + 1 : 0;
@@ -320,10 +346,11 @@ static double max_run(const subject *sj, const char *p, const char *ep)
  * start position (gmatch and gsub: all of them together): each item of the pattern with a
  * repetition (* + -) can take as many lengths as the longest run of its class in s, plus one;
  * ? two; %b and back-references scan up to the whole subject. */
-static double pattern_cost(const char *s, size_t n, const char *p, size_t m,
+static double pattern_cost(lua_State *L, const char *s, size_t n, const char *p, size_t m,
                            int anchorable, double limit)
 {
-    subject sj = { (const unsigned char *)s, n, { 0 } };
+    subject sj = { (const unsigned char *)s, n, { 0 }, L, 0 };
+    estimator_work(&sj, (double)n);
     for (size_t i = 0; i < n; i++)
         sj.present[(unsigned char)s[i]] = 1;
     const char *pe = p + m;
@@ -334,6 +361,7 @@ static double pattern_cost(const char *s, size_t n, const char *p, size_t m,
     }
     while (p < pe && starts * per * items <= limit) {
         items++;
+        estimator_work(&sj, 1);
         if (*p == '(' || *p == ')' || (*p == '$' && p + 1 == pe)) {
             p++;
             continue;
@@ -366,6 +394,7 @@ static double pattern_cost(const char *s, size_t n, const char *p, size_t m,
         }
         p = ep;
     }
+    charge(L, sj.work / ESTIMATE_STEPS);
     return starts * per * items;
 }
 
@@ -393,7 +422,7 @@ static int l_string_pattern(lua_State *L)
     if (find && (lua_toboolean(L, 4) || no_specials(p, m)))
         cost = ((double)n + 1) * ((double)m + 1);   /* plain search (lmemfind) */
     else
-        cost = pattern_cost(s, n, p, m, strcmp(what, "gmatch") != 0,
+        cost = pattern_cost(L, s, n, p, m, strcmp(what, "gmatch") != 0,
                             limen__lua_budget_left(L) * PATTERN_STEPS + 1);
     double steps = cost / PATTERN_STEPS;
     if (steps > limen__lua_budget_left(L)) {
@@ -404,6 +433,31 @@ static int l_string_pattern(lua_State *L)
         return luaL_error(L, "%s", msg);
     }
     charge(L, steps);
+    return call_stock(L);
+}
+
+/* math.randomseed(): seeded from the clock, not from an address as the stock one (which also
+ * returns its seeds), and so is the first state. */
+static int l_math_randomseed(lua_State *L)
+{
+    if (lua_isnone(L, 1)) {
+        struct timespec ts;
+        clock_gettime(CLOCK_REALTIME, &ts);
+        lua_pushinteger(L, (lua_Integer)ts.tv_sec);
+        lua_pushinteger(L, (lua_Integer)ts.tv_nsec);
+    }
+    lua_pushvalue(L, lua_upvalueindex(1));   /* the stock one keeps its state as an upvalue */
+    lua_insert(L, 1);
+    lua_call(L, lua_gettop(L) - 1, LUA_MULTRET);
+    return lua_gettop(L);
+}
+
+/* collectgarbage("collect" / "step"): a full collection's work grows with the memory held. */
+static int l_collectgarbage(lua_State *L)
+{
+    const char *opt = luaL_optstring(L, 1, "collect");
+    if (strcmp(opt, "collect") == 0 || strcmp(opt, "step") == 0)
+        charge(L, (double)limen__lua_memory(L) / GC_BYTES);
     return call_stock(L);
 }
 
@@ -456,8 +510,9 @@ int limen__lua_open_safe(lua_State *L)
     int g = lua_gettop(L);
     static const char *const base_out[] = { "dofile", "loadfile", NULL };
     remove_fields(L, g, base_out);
-    wrap(L, g, "load", l_safe_load, NULL);
     wrap(L, g, "setmetatable", l_safe_setmetatable, NULL);
+    wrap(L, g, "collectgarbage", l_collectgarbage, NULL);
+    limen__lua_open_guards(L, 1, 1);
 
     lua_getfield(L, g, LUA_TABLIBNAME);
     int t = lua_gettop(L);
@@ -476,6 +531,10 @@ int limen__lua_open_safe(lua_State *L)
     static const char *const patterns[] = { "find", "match", "gmatch", "gsub", NULL };
     for (const char *const *k = patterns; *k; k++)
         wrap(L, str, *k, l_string_pattern, *k);
+    lua_getfield(L, g, LUA_MATHLIBNAME);
+    wrap(L, lua_gettop(L), "randomseed", l_math_randomseed, NULL);
+    lua_getfield(L, -1, "randomseed");     /* the stock seed came from an address */
+    lua_call(L, 0, 0);
     lua_getfield(L, g, LUA_UTF8LIBNAME);
     wrap(L, lua_gettop(L), "codepoint", l_string_slice, NULL);
     lua_settop(L, g);
