@@ -38,6 +38,14 @@
  *
  * The library never prints and never exits. It keeps no global state: each
  * scene and each renderer carries its own error message.
+ *
+ * THREADS
+ *   A scene belongs to one thread at a time: a call that takes a (non-const) limen_scene *
+ *   (an edit, but also planning, tracing, ray casts and rendering, which refresh its world
+ *   matrices and may set its message) must not overlap any other call on that scene.
+ *   Calls that take a const limen_scene * only read it (they never write, not even the
+ *   error message), so any number of threads may make them at once while no other call
+ *   runs. Different scenes, renderers and scripts are independent.
  */
 #ifndef LIMEN_H
 #define LIMEN_H
@@ -120,9 +128,12 @@ LIMEN_API limen_status limen_projection_planes(const float proj[16], limen_depth
 
 typedef struct limen_scene limen_scene;
 
-/* A node handle: index plus a generation counter; a handle to a destroyed node is
- * refused with LIMEN_ERR_HANDLE. The zero handle means "no node". */
-typedef struct limen_node { uint32_t id; } limen_node;
+/* A node handle: slot index (low 32 bits, plus one) and the slot's generation (high 32
+ * bits). A handle to a destroyed node is refused with LIMEN_ERR_HANDLE, for good: freed
+ * slots are reused first freed, first reused, and a slot whose generation would wrap is
+ * retired, so no later node ever gets an old handle. The zero handle means "no node".
+ * ABI change: 64 bits (it was 32, with a 12-bit generation that came round again). */
+typedef struct limen_node { uint64_t id; } limen_node;
 
 typedef enum limen_node_kind {
     LIMEN_NODE_GROUP = 0,   /* transform only */
@@ -138,12 +149,15 @@ typedef enum limen_node_kind {
 } limen_node_kind;
 
 typedef struct limen_scene_desc {
-    int max_nodes;          /* 0 -> 4096 */
+    int max_nodes;          /* live nodes at most; 0 -> no limit but memory (the pool grows) */
 } limen_scene_desc;
 
 LIMEN_API limen_status limen_scene_create(const limen_scene_desc *desc, limen_scene **out);
 LIMEN_API void limen_scene_destroy(limen_scene *s);                    /* NULL is fine */
-LIMEN_API const char *limen_last_error(const limen_scene *s);          /* "" when none */
+/* The message of the last failed call that takes a (non-const) limen_scene *; "" when none.
+ * Calls taking a const limen_scene * only read: a bad handle is their status or return
+ * value, and they leave this message as it was. */
+LIMEN_API const char *limen_last_error(const limen_scene *s);
 LIMEN_API limen_status limen_scene_set_background(limen_scene *s, const float rgb[3]);
 LIMEN_API limen_status limen_scene_set_ambient(limen_scene *s, float ambient); /* [0, 1] */
 LIMEN_API void limen_scene_get_background(const limen_scene *s, float rgb[3]);
@@ -151,8 +165,9 @@ LIMEN_API float limen_scene_get_ambient(const limen_scene *s);
 LIMEN_API limen_status limen_scene_set_camera(limen_scene *s, limen_node camera);
 LIMEN_API limen_node limen_scene_get_camera(const limen_scene *s);    /* zero handle if none */
 LIMEN_API int limen_scene_node_count(const limen_scene *s);            /* live nodes */
-/* Fills out[0..max) with the live nodes in pool order (the order lights and shapes are
- * drawn in); returns how many there are (which may exceed max). */
+/* Fills out[0..max) with the live nodes in creation order (the order lights and shapes are
+ * drawn in); returns how many there are (which may exceed max). Costs the live count, not
+ * the pool's size. */
 LIMEN_API int limen_scene_nodes(const limen_scene *s, limen_node *out, int max);
 /* Recompute world matrices now (done implicitly by every call that needs them). */
 LIMEN_API limen_status limen_scene_update(limen_scene *s);
@@ -273,7 +288,7 @@ typedef enum limen_view_kind {
  * children, children in the order their surfaces should be processed. A nested view first
  * resets depth inside its pixels (stencil == its stencil value, within its scissor), draws,
  * and shows the scene background times its tint where nothing lands. limen's shading, which
- * the ray tracer reproduces: at most 8 lights (LIGHT nodes in pool order); sphere normals
+ * the ray tracer reproduces: at most 8 lights (the first LIGHT nodes in creation order); sphere normals
  * and cylinder side normals (x, 0, z) from the true shape; checker cells in the node's local
  * units before its own scale, x+y for quads, x+y+z for other shapes. */
 typedef struct limen_view {

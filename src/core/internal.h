@@ -16,7 +16,8 @@
 #define LIMEN__MAX_LIGHTS 8
 
 typedef struct limen__node {
-    uint32_t gen;               /* generation; odd while alive */
+    uint32_t gen;               /* generation; odd while alive, never repeats for a slot */
+    int live_at;                /* position in the scene's live list while alive */
     limen_node_kind kind;
     uint32_t parent;            /* index + 1; 0 = none */
     char name[LIMEN__NAME_MAX];
@@ -45,10 +46,18 @@ typedef struct limen__node {
 struct limen_scene {
     limen__node *nodes;
     int cap;                    /* slots allocated */
-    int max_nodes;
+    int max_nodes;              /* 0: as many as memory holds */
     int count;                  /* live nodes */
-    uint32_t *free_list;
-    int free_count;
+    /* Free slots, first freed first reused (a ring of cap entries), so that a slot's
+     * generation advances as slowly as the churn allows; a slot whose generation would wrap
+     * is retired instead of freed, so a stale handle never comes back. */
+    uint32_t *free_ring;
+    int free_head, free_count;
+    /* Slot indices of the live nodes in creation order, with holes (-1) where nodes were
+     * destroyed; compacted whenever the holes outnumber the live nodes, so walking it costs
+     * at most twice the live count (never the pool's capacity). */
+    int *live;
+    int live_len, live_cap, live_holes;
     bool dirty;                 /* world matrices need recomputing */
     vec3 background;
     float ambient;
@@ -74,7 +83,7 @@ limen_status limen__scene_check(limen_scene *s);
 /* Slot index of a handle's node (without checking that it is alive); -1 for none. */
 static inline int limen__node_get_index(limen_node n)
 {
-    return n.id ? (int)(n.id & 0xFFFFFu) - 1 : -1;
+    return n.id ? (int)((uint32_t)n.id - 1u) : -1;
 }
 /* Handle of the node in slot i. */
 limen_node limen__node_handle(const limen_scene *s, int index);

@@ -12,9 +12,12 @@ static int first_crossing(limen_scene *s, const double p0[3], const double p1[3]
 {
     int best = -1;
     double best_t = 2.0;
-    for (int i = 0; i < s->cap; i++) {
+    for (int li = 0; li < s->live_len; li++) {
+        int i = s->live[li];
+        if (i < 0)
+            continue;
         const limen__node *n = &s->nodes[i];
-        if (!limen__alive(n) || !n->visible || n->kind != LIMEN_NODE_PORTAL || !n->pair ||
+        if (!n->visible || n->kind != LIMEN_NODE_PORTAL || !n->pair ||
             !s->nodes[n->pair - 1].visible)
             continue;
         double plane[4];

@@ -271,9 +271,12 @@ static limen_status collect_clones(limen_plan *p, limen_scene *s);
 static limen_status collect_surfaces(limen_plan *p, limen_scene *s)
 {
     p->nsurf = 0;
-    for (int i = 0; i < s->cap; i++) {
+    for (int li = 0; li < s->live_len; li++) {
+        int i = s->live[li];
+        if (i < 0)
+            continue;
         limen__node *n = &s->nodes[i];
-        if (!limen__alive(n) || !n->visible || !limen__is_surface(n))
+        if (!n->visible || !limen__is_surface(n))
             continue;
         if (!reserve((void **)&p->surf, &p->surf_cap, p->nsurf + 1, sizeof *p->surf))
             return limen__fail(s, LIMEN_ERR_NOMEM, "plan: out of memory");
@@ -500,8 +503,9 @@ static limen_status collect_clones(limen_plan *p, limen_scene *s)
     int n = limen__find_straddlers(s, p->clone_of);
     if (n && !reserve((void **)&p->clones, &p->clones_cap, n, sizeof *p->clones))
         return limen__fail(s, LIMEN_ERR_NOMEM, "plan: out of memory");
-    for (int i = 0; i < s->cap; i++) {
-        int a = p->clone_of[i];
+    for (int li = 0; li < s->live_len; li++) {
+        int i = s->live[li];
+        int a = i >= 0 ? p->clone_of[i] : -1;
         if (a < 0)
             continue;
         const limen__node *pa = &s->nodes[a], *pb = &s->nodes[pa->pair - 1];

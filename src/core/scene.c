@@ -5,16 +5,15 @@
 
 #include "core/internal.h"
 
-#define INDEX_BITS 20u
-#define INDEX_MASK ((1u << INDEX_BITS) - 1u)
-#define GEN_MASK ((1u << (32u - INDEX_BITS)) - 1u)
-#define DEFAULT_MAX_NODES 4096
+/* The pool grows by doubling up to this many slots (an index must fit a handle's low 32
+ * bits and an int). */
+#define MAX_SLOTS (INT32_MAX / 2)
 
 /* ------------------------------------------------------------------ handles */
 
 static limen_node make_handle(uint32_t index, uint32_t gen)
 {
-    return (limen_node){ ((gen & GEN_MASK) << INDEX_BITS) | (index + 1u) };
+    return (limen_node){ ((uint64_t)gen << 32) | ((uint64_t)index + 1u) };
 }
 
 limen_node limen__node_handle(const limen_scene *s, int index)
@@ -26,11 +25,11 @@ limen__node *limen__node_get(const limen_scene *s, limen_node n)
 {
     if (!s || !n.id)
         return NULL;
-    uint32_t index = (n.id & INDEX_MASK) - 1u;
-    if (index >= (uint32_t)s->cap)
+    uint64_t index = (n.id & 0xFFFFFFFFu) - 1u;
+    if (index >= (uint64_t)s->cap)
         return NULL;
     limen__node *node = &s->nodes[index];
-    if (!(node->gen & 1u) || (node->gen & GEN_MASK) != (n.id >> INDEX_BITS))
+    if (!(node->gen & 1u) || node->gen != (uint32_t)(n.id >> 32))
         return NULL;
     return node;
 }
@@ -52,6 +51,13 @@ static limen__node *get_or_fail(limen_scene *s, limen_node n, const char *fn)
     return node;
 }
 
+/* Const readers never write the scene, not even its message, so that any number of
+ * threads may read one scene at once: a bad handle is only a status. */
+#define GET_CONST(node, s, n)                                                            \
+    const limen__node *node = limen__node_get((s), (n));                                 \
+    if (!node)                                                                           \
+    return (s) ? LIMEN_ERR_HANDLE : LIMEN_ERR_ARG
+
 #define GET(node, s, n)                                                                  \
     limen__node *node = get_or_fail((s), (n), __func__);                                 \
     if (!node)                                                                           \
@@ -71,8 +77,8 @@ limen_status limen_scene_create(const limen_scene_desc *desc, limen_scene **out)
     if (!out)
         return LIMEN_ERR_ARG;
     *out = NULL;
-    int max_nodes = desc && desc->max_nodes > 0 ? desc->max_nodes : DEFAULT_MAX_NODES;
-    if (max_nodes > (int)INDEX_MASK - 1)
+    int max_nodes = desc && desc->max_nodes > 0 ? desc->max_nodes : 0;
+    if (desc && desc->max_nodes < 0)
         return LIMEN_ERR_ARG;
     limen_scene *s = calloc(1, sizeof *s);
     if (!s)
@@ -88,7 +94,8 @@ void limen_scene_destroy(limen_scene *s)
     if (!s)
         return;
     free(s->nodes);
-    free(s->free_list);
+    free(s->free_ring);
+    free(s->live);
     free(s);
 }
 
@@ -151,8 +158,9 @@ int limen_scene_nodes(const limen_scene *s, limen_node *out, int max)
     if (!s)
         return 0;
     int n = 0;
-    for (int i = 0; i < s->cap; i++) {
-        if (!limen__alive(&s->nodes[i]))
+    for (int k = 0; k < s->live_len; k++) {
+        int i = s->live[k];
+        if (i < 0)
             continue;
         if (out && n < max)
             out[n] = limen__node_handle(s, i);
@@ -195,8 +203,9 @@ void limen__scene_refresh(limen_scene *s)
         free(stack);
         return;     /* keep the old matrices; dirty stays set and the next call retries */
     }
-    for (int i = 0; i < s->cap; i++) {
-        if (!(s->nodes[i].gen & 1u) || done[i])
+    for (int li = 0; li < s->live_len; li++) {
+        int i = s->live[li];
+        if (i < 0 || done[i])
             continue;
         int top = 0;
         uint32_t at = (uint32_t)i;
@@ -303,26 +312,65 @@ static void node_defaults(limen__node *node, limen_node_kind kind)
     node->zfar = 100.0f;
 }
 
+/* Doubles the pool (and the free ring, which holds at most every slot). */
 static bool grow(limen_scene *s)
 {
-    int cap = s->cap ? s->cap * 2 : 64;
-    if (cap > s->max_nodes)
-        cap = s->max_nodes;
-    if (cap <= s->cap)
+    if (s->cap >= MAX_SLOTS)
         return false;
+    int cap = s->cap ? (s->cap > MAX_SLOTS / 2 ? MAX_SLOTS : s->cap * 2) : 64;
     limen__node *nodes = realloc(s->nodes, sizeof *nodes * (size_t)cap);
     if (!nodes)
         return false;
     s->nodes = nodes;
-    uint32_t *fl = realloc(s->free_list, sizeof *fl * (size_t)cap);
-    if (!fl)
+    uint32_t *ring = malloc(sizeof *ring * (size_t)cap);
+    if (!ring)
         return false;
-    s->free_list = fl;
-    for (int i = cap - 1; i >= s->cap; i--) {
+    int n = 0;
+    for (int k = 0; k < s->free_count; k++)
+        ring[n++] = s->free_ring[(s->free_head + k) % s->cap];
+    for (int i = s->cap; i < cap; i++) {
         nodes[i].gen = 0;
-        s->free_list[s->free_count++] = (uint32_t)i;
+        ring[n++] = (uint32_t)i;
     }
+    free(s->free_ring);
+    s->free_ring = ring;
+    s->free_head = 0;
+    s->free_count = n;
     s->cap = cap;
+    return true;
+}
+
+/* Drops the holes from the live list, keeping creation order. */
+static void compact_live(limen_scene *s)
+{
+    int n = 0;
+    for (int k = 0; k < s->live_len; k++) {
+        int i = s->live[k];
+        if (i < 0)
+            continue;
+        s->nodes[i].live_at = n;
+        s->live[n++] = i;
+    }
+    s->live_len = n;
+    s->live_holes = 0;
+}
+
+static bool push_live(limen_scene *s, int index)
+{
+    if (s->live_len == s->live_cap) {
+        if (s->live_holes)
+            compact_live(s);
+        if (s->live_len == s->live_cap) {
+            int cap = s->live_cap ? s->live_cap * 2 : 64;
+            int *live = realloc(s->live, sizeof *live * (size_t)cap);
+            if (!live)
+                return false;
+            s->live = live;
+            s->live_cap = cap;
+        }
+    }
+    s->nodes[index].live_at = s->live_len;
+    s->live[s->live_len++] = index;
     return true;
 }
 
@@ -336,14 +384,22 @@ limen_status limen_node_create(limen_scene *s, limen_node_kind kind, const char 
         return limen__fail(s, LIMEN_ERR_ARG, "node_create: unknown kind %d", (int)kind);
     if (name && !valid_utf8(name))
         return limen__fail(s, LIMEN_ERR_ARG, "node_create: the name is not valid UTF-8");
-    if (!s->free_count && !grow(s))
+    if (s->max_nodes && s->count >= s->max_nodes)
         return limen__fail(s, LIMEN_ERR_NOMEM, "node_create: more than %d nodes", s->max_nodes);
-    uint32_t index = s->free_list[--s->free_count];
+    if (!s->free_count && !grow(s))
+        return limen__fail(s, LIMEN_ERR_NOMEM, "node_create: out of memory (%d nodes)",
+                           s->count);
+    uint32_t index = s->free_ring[s->free_head];
+    if (!push_live(s, (int)index))
+        return limen__fail(s, LIMEN_ERR_NOMEM, "node_create: out of memory (%d nodes)",
+                           s->count);
+    s->free_head = (s->free_head + 1) % s->cap;
+    s->free_count--;
     limen__node *node = &s->nodes[index];
-    node->gen = (node->gen + 1u) | 1u;
-    if ((node->gen & GEN_MASK) == 0)
-        node->gen = 1;
+    int live_at = node->live_at;
+    node->gen++;    /* odd: alive, a value this slot never had */
     node_defaults(node, kind);
+    node->live_at = live_at;
     if (name)
         snprintf(node->name, sizeof node->name, "%s", name);
     s->count++;
@@ -356,15 +412,27 @@ limen_status limen_node_destroy(limen_scene *s, limen_node n)
 {
     GET(node, s, n);
     uint32_t self = (uint32_t)(node - s->nodes) + 1u;
-    for (int i = 0; i < s->cap; i++)
-        if ((s->nodes[i].gen & 1u) && s->nodes[i].parent == self)
+    for (int k = 0; k < s->live_len; k++) {
+        int i = s->live[k];
+        if (i >= 0 && s->nodes[i].parent == self)
             s->nodes[i].parent = node->parent;
+    }
     if (s->camera == self)
         s->camera = 0;
     if (node->pair)
         s->nodes[node->pair - 1].pair = 0;
-    node->gen++;    /* even: dead; the next create makes it odd again with a new value */
-    s->free_list[s->free_count++] = self - 1u;
+    s->live[node->live_at] = -1;
+    if (++s->live_holes > s->count)
+        compact_live(s);
+    /* even: dead. The last odd value (UINT32_MAX) retires the slot: it stays dead, off the
+     * free ring, so its generation never wraps back to one a handle still holds. */
+    if (node->gen != UINT32_MAX) {
+        node->gen++;
+        s->free_ring[(s->free_head + s->free_count) % s->cap] = self - 1u;
+        s->free_count++;
+    } else {
+        node->gen = 0;
+    }
     s->count--;
     s->dirty = true;
     return LIMEN_OK;
@@ -380,13 +448,14 @@ limen_status limen_node_find(const limen_scene *s, const char *name, limen_node 
     if (!s || !name || !out)
         return LIMEN_ERR_ARG;
     out->id = 0;
-    for (int i = 0; i < s->cap; i++) {
-        if ((s->nodes[i].gen & 1u) && strcmp(s->nodes[i].name, name) == 0) {
+    for (int k = 0; k < s->live_len; k++) {
+        int i = s->live[k];
+        if (i >= 0 && strcmp(s->nodes[i].name, name) == 0) {
             *out = limen__node_handle(s, i);
             return LIMEN_OK;
         }
     }
-    return limen__fail((limen_scene *)s, LIMEN_ERR_HANDLE, "no node named '%s'", name);
+    return LIMEN_ERR_HANDLE;   /* a const reader: no message (see limen_last_error) */
 }
 
 const char *limen_node_name(const limen_scene *s, limen_node n)
@@ -585,7 +654,7 @@ limen_status limen_node_look_at(limen_scene *s, limen_node n, const float eye[3]
 
 limen_status limen_node_get_position(const limen_scene *s, limen_node n, float p[3])
 {
-    GET(node, (limen_scene *)s, n);
+    GET_CONST(node, s, n);
     if (!p)
         return LIMEN_ERR_ARG;
     if (node->explicit_local)
@@ -597,7 +666,7 @@ limen_status limen_node_get_position(const limen_scene *s, limen_node n, float p
 
 limen_status limen_node_get_rotation(const limen_scene *s, limen_node n, float xyz[3])
 {
-    GET(node, (limen_scene *)s, n);
+    GET_CONST(node, s, n);
     if (!xyz)
         return LIMEN_ERR_ARG;
     memcpy(xyz, node->euler, sizeof(float) * 3);
@@ -606,7 +675,7 @@ limen_status limen_node_get_rotation(const limen_scene *s, limen_node n, float x
 
 limen_status limen_node_get_scale(const limen_scene *s, limen_node n, float xyz[3])
 {
-    GET(node, (limen_scene *)s, n);
+    GET_CONST(node, s, n);
     if (!xyz)
         return LIMEN_ERR_ARG;
     memcpy(xyz, node->scale, sizeof(float) * 3);
@@ -669,7 +738,7 @@ limen_status limen_node_set_dims(limen_scene *s, limen_node n, const float dims[
 
 limen_status limen_node_get_dims(const limen_scene *s, limen_node n, float dims[3])
 {
-    GET(node, (limen_scene *)s, n);
+    GET_CONST(node, s, n);
     if (!dims)
         return LIMEN_ERR_ARG;
     memcpy(dims, node->dims, sizeof(float) * 3);
@@ -698,7 +767,7 @@ limen_status limen_node_set_color(limen_scene *s, limen_node n, const float rgb[
 
 limen_status limen_node_get_color(const limen_scene *s, limen_node n, float rgb[3])
 {
-    GET(node, (limen_scene *)s, n);
+    GET_CONST(node, s, n);
     if (!rgb)
         return LIMEN_ERR_ARG;
     memcpy(rgb, node->color, sizeof(float) * 3);
@@ -729,7 +798,7 @@ limen_status limen_node_set_checker(limen_scene *s, limen_node n, const float a[
 limen_status limen_node_get_checker(const limen_scene *s, limen_node n, float a[3], float b[3],
                                     float *cell)
 {
-    GET(node, (limen_scene *)s, n);
+    GET_CONST(node, s, n);
     if (a)
         memcpy(a, node->color, sizeof(float) * 3);
     if (b)
@@ -776,7 +845,7 @@ limen_status limen_camera_set_lens(limen_scene *s, limen_node cam, float fovy, f
 limen_status limen_camera_get_lens(const limen_scene *s, limen_node cam, float *fovy,
                                    float *znear, float *zfar)
 {
-    GET(node, (limen_scene *)s, cam);
+    GET_CONST(node, s, cam);
     if (fovy)
         *fovy = node->fovy;
     if (znear)

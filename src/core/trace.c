@@ -25,7 +25,7 @@
  *
  * Shading, as the fragment shader: colour = albedo * (ambient + (1 - ambient) *
  * sum_i light_i * max(0, n . normalize(light_pos_i - p))), clamped to [0, 1], no shadows.
- * Lights: the first 8 live, visible LIGHT nodes in index order (world translation, colour).
+ * Lights: the first 8 live, visible LIGHT nodes in creation order (world translation, colour).
  * n = normalize(N * n_unit), N the inverse transpose of M's 3x3, n_unit the unit-space
  * point (sphere), (x, 0, z) of it (cylinder side), or the face normal (caps, box faces,
  * quads), turned to face the incoming ray (the shader turns it towards the view's eye, which
@@ -257,9 +257,9 @@ static limen_status tracer_init(tracer *t, limen_scene *s, const char *fn)
     t->s = s;
     limen__scene_refresh(s);
     int count = 0;
-    for (int i = 0; i < s->cap; i++) {
-        const limen__node *n = &s->nodes[i];
-        if (limen__alive(n) && n->visible && hittable(n))
+    for (int li = 0; li < s->live_len; li++) {
+        int i = s->live[li];
+        if (i >= 0 && s->nodes[i].visible && hittable(&s->nodes[i]))
             count++;
     }
     size_t cap = s->cap > 0 ? (size_t)s->cap : 1;
@@ -272,11 +272,13 @@ static limen_status tracer_init(tracer *t, limen_scene *s, const char *fn)
         tracer_free(t);
         return limen__fail(s, LIMEN_ERR_NOMEM, "%s: out of memory", fn);
     }
-    for (int i = 0; i < s->cap; i++) {
-        const limen__node *n = &s->nodes[i];
+    for (int i = 0; i < s->cap; i++)
         slot[i] = -1;
-        if (!limen__alive(n))
+    for (int li = 0; li < s->live_len; li++) {
+        int i = s->live[li];
+        if (i < 0)
             continue;
+        const limen__node *n = &s->nodes[i];
         if (n->kind == LIMEN_NODE_LIGHT && n->visible && t->nlights < LIMEN__MAX_LIGHTS) {
             copy3f(n->world[3], t->lpos[t->nlights]);
             copy3f(n->color, t->lcol[t->nlights]);
@@ -296,8 +298,9 @@ static limen_status tracer_init(tracer *t, limen_scene *s, const char *fn)
             p->exit = slot[n->pair - 1];
     }
     /* shapes passing through portals: cut at the entry, and a copy out of the partner */
-    for (int i = 0; i < s->cap; i++) {
-        int a = through[i];
+    for (int li = 0; li < s->live_len; li++) {
+        int i = s->live[li];
+        int a = i >= 0 ? through[i] : -1;
         double x[16];
         if (a < 0 || slot[i] < 0 || !limen__surface_matrix_d(s, &s->nodes[a], x))
             continue;
