@@ -1,9 +1,14 @@
 /* test_trace.c - the reference ray tracer against analytic answers: exact hits on the true
  * shapes, paths through portals and mirrors, the drift of a long corridor of reflections,
  * the shading of an image, bounce limits and errors. No OpenGL. */
+#include <dirent.h>
 #include <math.h>
+#include <signal.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/resource.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 #include "check.h"
 #include "limen.h"
@@ -439,6 +444,68 @@ static void test_errors(void)
     limen_scene_destroy(s);
 }
 
+/* ------------------------------------------------------------------ files */
+
+static long file_size(const char *path)
+{
+    struct stat st;
+    return stat(path, &st) == 0 ? (long)st.st_size : -1;
+}
+
+/* Files in dir other than the good one: temporaries left behind. */
+static int temporaries(const char *dir)
+{
+    DIR *d = opendir(dir);
+    int n = 0;
+    for (struct dirent *e; d && (e = readdir(d));)
+        n += strcmp(e->d_name, ".") && strcmp(e->d_name, "..") && strcmp(e->d_name, "good.png");
+    if (d)
+        closedir(d);
+    return d ? n : -1;
+}
+
+/* A PNG is written whole or not at all: a full device, a missing folder and a write cut
+ * short by a file size limit fail, and the good file already there stays as it was
+ * (stb's writer ignored write errors: /dev/full "succeeded"). */
+static void test_png_write_whole_or_not(void)
+{
+    enum { W = 256, H = 256 };
+    unsigned char *img = malloc(W * H * 3), *back = NULL;
+    for (int i = 0; i < W * H * 3; i++)
+        img[i] = (unsigned char)((i * 7919u) >> 3);   /* noisy: does not compress */
+    char dir[] = "/tmp/limen_png_XXXXXX", path[128];
+    CHECK(mkdtemp(dir) != NULL);
+    snprintf(path, sizeof path, "%s/good.png", dir);
+    CHECK(limen_write_png(path, 8, 8, img) == LIMEN_OK);
+    long good = file_size(path);
+    CHECK(good > 0);
+
+    CHECK(limen_write_png("/dev/full", W, H, img) == LIMEN_ERR_IO);
+    CHECK(limen_write_png("/nonexistent-dir/x.png", W, H, img) == LIMEN_ERR_IO);
+
+    /* a file size limit of 4 KB: the big image cannot be written */
+    struct rlimit old, small = { 4096, 4096 };
+    getrlimit(RLIMIT_FSIZE, &old);
+    small.rlim_max = old.rlim_max;
+    void (*was)(int) = signal(SIGXFSZ, SIG_IGN);
+    setrlimit(RLIMIT_FSIZE, &small);
+    limen_status st = limen_write_png(path, W, H, img);
+    setrlimit(RLIMIT_FSIZE, &old);
+    signal(SIGXFSZ, was);
+    CHECK(st == LIMEN_ERR_IO);
+    CHECK_MSG(file_size(path) == good, "the good file was replaced (%ld bytes, was %ld)",
+              file_size(path), good);
+    int w = 0, h = 0;
+    CHECK(limen_read_png(path, &w, &h, &back) == LIMEN_OK && w == 8 && h == 8);
+    limen_free(back);
+    CHECK(temporaries(dir) == 0);
+
+    char cmd[160];
+    snprintf(cmd, sizeof cmd, "rm -rf %s", dir);
+    CHECK(system(cmd) == 0);
+    free(img);
+}
+
 static const check_case cases[] = {
     { "sphere_analytic", test_sphere_analytic },
     { "shapes_scaled", test_shapes_scaled },
@@ -449,6 +516,7 @@ static const check_case cases[] = {
     { "checker", test_checker },
     { "bounce_limit", test_bounce_limit },
     { "errors", test_errors },
+    { "png_write_whole_or_not", test_png_write_whole_or_not },
     { 0 },
 };
 

@@ -27,13 +27,24 @@
 
 #include "core/internal.h"
 
+static void write_to_file(void *ctx, void *data, int size)
+{
+    fwrite(data, 1, (size_t)size, ctx);     /* errors stay in the stream's error flag */
+}
+
 limen_status limen_write_png(const char *path, int width, int height, const unsigned char *rgb)
 {
     if (!path || !rgb || width <= 0 || height <= 0 || width > INT_MAX / 3 / height)
         return LIMEN_ERR_ARG;
-    if (!stbi_write_png(path, width, height, 3, rgb, width * 3))
+    limen__out o;
+    limen_status st = limen__out_open(&o, path);
+    if (st)
+        return st;
+    if (!stbi_write_png_to_func(write_to_file, o.f, width, height, 3, rgb, width * 3)) {
+        limen__out_abort(&o);
         return LIMEN_ERR_IO;
-    return LIMEN_OK;
+    }
+    return limen__out_close(&o);
 }
 
 limen_status limen_read_png(const char *path, int *width, int *height, unsigned char **rgb)

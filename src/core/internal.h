@@ -5,6 +5,7 @@
 
 #include <stdarg.h>
 #include <stdbool.h>
+#include <stdio.h>
 
 #include <cglm/cglm.h>
 
@@ -117,6 +118,19 @@ void limen__node_bounds(const limen__node *n, double centre[3], double *radius);
 /* For each node slot: the portal (slot index) a closed shape passes through, or -1;
  * portal_of has s->cap entries. Returns how many shapes pass through one. */
 int limen__find_straddlers(limen_scene *s, int *portal_of);
+
+/* A file written whole or not at all (core/file.c): open, write to o->f, then close (which
+ * flushes, syncs and renames into place) or abort. Any failure is LIMEN_ERR_IO; a path
+ * with no room for the temporary name beside it is LIMEN_ERR_ARG. */
+typedef struct limen__out {
+    FILE *f;
+    bool direct;                /* the target is a device or a pipe: written in place */
+    char path[4096];
+    char tmp[4096];
+} limen__out;
+limen_status limen__out_open(limen__out *o, const char *path);
+limen_status limen__out_close(limen__out *o);
+void limen__out_abort(limen__out *o);
 
 static inline bool limen__finite3(const float v[3])
 {

@@ -574,9 +574,11 @@ limen_status limen_plan_write_json(const limen_plan *p, const limen_scene *s, co
 {
     if (!p || !s || !path)
         return LIMEN_ERR_ARG;
-    FILE *f = fopen(path, "w");
-    if (!f)
-        return LIMEN_ERR_IO;
+    limen__out out;
+    limen_status st = limen__out_open(&out, path);
+    if (st)
+        return st;
+    FILE *f = out.f;
     static const char *kinds[] = { "camera", "mirror", "portal" };
     static const char *clips[] = { "oblique", "plane", "none" };
     fprintf(f, "{\"width\": %d, \"height\": %d, \"truncated\": %d, \"views\": [", p->width,
@@ -613,5 +615,5 @@ limen_status limen_plan_write_json(const limen_plan *p, const limen_scene *s, co
         fputc('}', f);
     }
     fprintf(f, "\n]}\n");
-    return fclose(f) == 0 ? LIMEN_OK : LIMEN_ERR_IO;
+    return limen__out_close(&out);
 }
