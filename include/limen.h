@@ -357,7 +357,7 @@ LIMEN_API limen_status limen_plan_build(limen_plan *p, limen_scene *s, const lim
 LIMEN_API int limen_plan_count(const limen_plan *p);
 LIMEN_API const limen_view *limen_plan_view(const limen_plan *p, int i); /* NULL if out of range */
 /* The surfaces view i sees (a portal seen from behind and the view's own exit surface are
- * not listed: they draw nothing); returns their count. */
+ * not listed: they draw nothing); returns their count (*out is NULL when it is 0). */
 LIMEN_API int limen_plan_view_surfaces(const limen_plan *p, int i, const limen_view_surface **out);
 /* A closed shape (box, sphere, cylinder) passing through a portal, its centre over the
  * rectangle: it is drawn twice in every view, itself cut at the portal's plane and a copy
@@ -540,7 +540,12 @@ LIMEN_API limen_status limen_script_update(limen_script *sc, double t);
 /* Writes 8-bit RGB (top row first) as PNG. */
 LIMEN_API limen_status limen_write_png(const char *path, int width, int height,
                                        const unsigned char *rgb);
-/* Reads a PNG (any channel count) as 8-bit RGB; free *rgb with limen_free. */
+/* The largest image limen_read_png decodes: 64 million pixels (192 MB as RGB). */
+#define LIMEN_IMAGE_MAX_PIXELS (64LL * 1024 * 1024)
+
+/* Reads a PNG (any channel count) as 8-bit RGB; free *rgb with limen_free. An image over
+ * LIMEN_IMAGE_MAX_PIXELS is refused from its header, before decoding: LIMEN_ERR_ARG. A file
+ * that cannot be read or is not a PNG: LIMEN_ERR_IO. */
 LIMEN_API limen_status limen_read_png(const char *path, int *width, int *height,
                                       unsigned char **rgb);
 LIMEN_API void limen_free(void *p);

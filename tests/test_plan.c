@@ -344,6 +344,20 @@ static void test_json(void)
     CHECK(strstr(buf, "\"kind\": \"mirror\"") != NULL);
     CHECK(strstr(buf, "nan") == NULL && strstr(buf, "inf") == NULL);
     CHECK(limen_plan_write_json(p, s, "/nonexistent/dir/plan.json") == LIMEN_ERR_IO);
+    CHECK(limen_plan_write_json(p, s, "/dev/full") == LIMEN_ERR_IO);
+    limen_plan_destroy(p);
+    limen_scene_destroy(s);
+}
+
+/* A plan of a scene without mirrors or portals: one view that sees no surface (the public
+ * list was NULL plus an offset). */
+static void test_plan_without_surfaces(void)
+{
+    limen_scene *s = scene_with_camera((float[3]){ 0, 1, 5 }, (float[3]){ 0, 1, 0 });
+    limen_plan *p = plan(s, (limen_plan_desc){ 0 });
+    const limen_view_surface *vs = (const limen_view_surface *)p;
+    CHECK(limen_plan_count(p) == 1);
+    CHECK(limen_plan_view_surfaces(p, 0, &vs) == 0 && vs == NULL);
     limen_plan_destroy(p);
     limen_scene_destroy(s);
 }
@@ -410,6 +424,7 @@ static const check_case cases[] = {
     { "budget_kaleidoscope", test_budget_kaleidoscope },
     { "oblique_fallback", test_oblique_fallback },
     { "json", test_json },
+    { "plan_without_surfaces", test_plan_without_surfaces },
     { 0 },
 };
 

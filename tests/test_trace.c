@@ -506,6 +506,77 @@ static void test_png_write_whole_or_not(void)
     free(img);
 }
 
+/* A PNG in memory, chunk by chunk (stb_image does not check CRCs: they are left 0). */
+typedef struct pngbuf { unsigned char b[4096]; size_t n; } pngbuf;
+
+static void png_u32(pngbuf *p, unsigned v)
+{
+    for (int i = 3; i >= 0; i--)
+        p->b[p->n++] = (unsigned char)(v >> (8 * i));
+}
+
+static void png_chunk(pngbuf *p, const char *type, const unsigned char *data, unsigned len)
+{
+    png_u32(p, len);
+    memcpy(p->b + p->n, type, 4);
+    p->n += 4;
+    memcpy(p->b + p->n, data, len);
+    p->n += len;
+    png_u32(p, 0);
+}
+
+static void png_start(pngbuf *p, unsigned w, unsigned h)
+{
+    static const unsigned char sig[8] = { 0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n' };
+    memcpy(p->b, sig, 8);
+    p->n = 8;
+    unsigned char ihdr[13] = { (unsigned char)(w >> 24), (unsigned char)(w >> 16),
+                               (unsigned char)(w >> 8), (unsigned char)w,
+                               (unsigned char)(h >> 24), (unsigned char)(h >> 16),
+                               (unsigned char)(h >> 8), (unsigned char)h, 8, 2, 0, 0, 0 };
+    png_chunk(p, "IHDR", ihdr, 13);
+}
+
+static limen_status read_bytes(const pngbuf *p, int *w, int *h, unsigned char **rgb)
+{
+    char path[] = "/tmp/limen-png-XXXXXX";
+    int fd = mkstemp(path);
+    CHECK(fd >= 0 && write(fd, p->b, p->n) == (ssize_t)p->n);
+    close(fd);
+    limen_status st = limen_read_png(path, w, h, rgb);
+    remove(path);
+    return st;
+}
+
+/* Reading: an image declaring more than LIMEN_IMAGE_MAX_PIXELS is refused from its header
+ * (it took seconds and gigabytes to fail), and an empty IDAT chunk is read as nothing
+ * (stb_image copied zero bytes to NULL for it: undefined behaviour). */
+static void test_png_read_limits(void)
+{
+    pngbuf p;
+    int w = -1, h = -1;
+    unsigned char *rgb = NULL;
+    png_start(&p, 16384, 16384);
+    static const unsigned char junk[64] = { 0x78, 0x01 };
+    png_chunk(&p, "IDAT", junk, sizeof junk);
+    png_chunk(&p, "IEND", NULL, 0);
+    CHECK(read_bytes(&p, &w, &h, &rgb) == LIMEN_ERR_ARG);
+    CHECK(rgb == NULL);
+
+    /* 1x1 red: an empty IDAT, then a stored zlib block with the scanline 0, 255, 0, 0 */
+    png_start(&p, 1, 1);
+    png_chunk(&p, "IDAT", NULL, 0);
+    unsigned a = 1 + 255, b = 1 + a + a + a;    /* adler-32 of 0, 255, 0, 0 */
+    const unsigned char z[] = { 0x78, 0x01, 0x01, 4, 0, 0xfb, 0xff, 0, 255, 0, 0,
+                                (unsigned char)(b >> 8), (unsigned char)b,
+                                (unsigned char)(a >> 8), (unsigned char)a };
+    png_chunk(&p, "IDAT", z, sizeof z);
+    png_chunk(&p, "IEND", NULL, 0);
+    CHECK(read_bytes(&p, &w, &h, &rgb) == LIMEN_OK);
+    CHECK(w == 1 && h == 1 && rgb && rgb[0] == 255 && rgb[1] == 0 && rgb[2] == 0);
+    limen_free(rgb);
+}
+
 static const check_case cases[] = {
     { "sphere_analytic", test_sphere_analytic },
     { "shapes_scaled", test_shapes_scaled },
@@ -517,6 +588,7 @@ static const check_case cases[] = {
     { "bounce_limit", test_bounce_limit },
     { "errors", test_errors },
     { "png_write_whole_or_not", test_png_write_whole_or_not },
+    { "png_read_limits", test_png_read_limits },
     { 0 },
 };
 

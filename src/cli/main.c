@@ -373,11 +373,14 @@ static int cmd_diff(int argc, char **argv)
         return fail("diff: needs two images%s%s", "", ""), 2;
     int wa, ha, wb, hb;
     unsigned char *pa = NULL, *pb = NULL, *ph = NULL;
-    if (limen_read_png(a, &wa, &ha, &pa))
-        return fail("cannot read '%s'%s", a, "");
-    if (limen_read_png(b, &wb, &hb, &pb)) {
+    static const char too_big[] = ": more pixels than limen reads (LIMEN_IMAGE_MAX_PIXELS)";
+    limen_status ra = limen_read_png(a, &wa, &ha, &pa);
+    if (ra)
+        return fail("cannot read '%s'%s", a, ra == LIMEN_ERR_ARG ? too_big : "");
+    limen_status rb = limen_read_png(b, &wb, &hb, &pb);
+    if (rb) {
         limen_free(pa);
-        return fail("cannot read '%s'%s", b, "");
+        return fail("cannot read '%s'%s", b, rb == LIMEN_ERR_ARG ? too_big : "");
     }
     int rc = 0;
     limen_diff d;

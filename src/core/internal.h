@@ -132,6 +132,10 @@ limen_status limen__out_open(limen__out *o, const char *path);
 limen_status limen__out_close(limen__out *o);
 void limen__out_abort(limen__out *o);
 
+/* limen_read_png on bytes in memory (which it may rearrange). */
+limen_status limen__png_decode(unsigned char *buf, size_t len, int *width, int *height,
+                               unsigned char **rgb);
+
 static inline bool limen__finite3(const float v[3])
 {
     return isfinite(v[0]) && isfinite(v[1]) && isfinite(v[2]);

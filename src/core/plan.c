@@ -542,8 +542,9 @@ int limen_plan_view_surfaces(const limen_plan *p, int i, const limen_view_surfac
             *out = NULL;
         return 0;
     }
-    *out = p->pubsurf + p->pubfirst[i];
-    return p->pubfirst[i + 1] - p->pubfirst[i];
+    int n = p->pubfirst[i + 1] - p->pubfirst[i];
+    *out = n ? p->pubsurf + p->pubfirst[i] : NULL;     /* pubsurf is NULL in a plan of none */
+    return n;
 }
 
 /* ------------------------------------------------------------------ JSON */

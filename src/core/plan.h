@@ -72,7 +72,7 @@ static inline int limen__plan_view_surfaces(const limen_plan *p, int view,
                                             const limen__vsurf **out)
 {
     const limen__pview *v = &p->pv[p->dfs_to_bfs[view]];
-    *out = &p->vsurf[v->first_surf];
+    *out = v->nsurf ? &p->vsurf[v->first_surf] : NULL;
     return v->nsurf;
 }
 
