@@ -126,6 +126,20 @@ LIMEN_API limen_status limen_projection_planes(const float proj[16], limen_depth
 
 /* ---------------------------------------------------------------- scene */
 
+/* NUMBERS. Every setter checks its numbers, and the Lua bindings pass scripts' values
+ * through the same setters, so C and Lua accept the same scenes: coordinates (positions,
+ * directions, local matrix elements, displacements) from -LIMEN_MAX_MAGNITUDE to
+ * LIMEN_MAX_MAGNITUDE; sizes, scales, near and far distances and checker cells from
+ * LIMEN_MIN_SIZE to LIMEN_MAX_MAGNITUDE, positive (a scale of -1, or a local matrix with a
+ * negative determinant, would mirror the node and turn its faces inside out); light
+ * intensities up to LIMEN_MAX_MAGNITUDE. A float holds up to 3.4e38 and the maths multiplies
+ * four such numbers, so within these bounds it stays finite. Out of range -> LIMEN_ERR_ARG.
+ * What parents compose is checked where a scene is planned, traced or cast into: a camera,
+ * mirror or portal whose world scale (the product along its parent chain) leaves
+ * [LIMEN_MIN_SIZE, LIMEN_MAX_MAGNITUDE] is refused by all three with one message. */
+#define LIMEN_MAX_MAGNITUDE 1e9f
+#define LIMEN_MIN_SIZE 1e-9f
+
 typedef struct limen_scene limen_scene;
 
 /* A node handle: slot index (low 32 bits, plus one) and the slot's generation (high 32
@@ -260,7 +274,8 @@ typedef struct limen_move_result {
 LIMEN_API limen_status limen_node_move(limen_scene *s, limen_node n, const float d[3],
                                        limen_move_result *out);
 
-/* Cameras: vertical fov in radians, 0 < near < far. Defaults: 60 degrees, 0.05, 100. */
+/* Cameras: vertical fov in radians, near < far, both from LIMEN_MIN_SIZE to
+ * LIMEN_MAX_MAGNITUDE. Defaults: 60 degrees, 0.05, 100. */
 LIMEN_API limen_status limen_camera_set_lens(limen_scene *s, limen_node cam, float fovy,
                                              float znear, float zfar);
 LIMEN_API limen_status limen_camera_get_lens(const limen_scene *s, limen_node cam, float *fovy,

@@ -413,6 +413,83 @@ static void test_move_through_portal(void)
     limen_scene_destroy(s);
 }
 
+/* ------------------------------------------------------------------ extremes of scale */
+
+/* Two facing mirrors a billion units wide and ten apart recurse as deep as allowed, and the
+ * tracer passes as many surfaces (the on-plane tolerance grew with the coordinates: 1e-6 of
+ * 5e8 put each mirror behind the other). */
+static void test_huge_facing_mirrors(void)
+{
+    limen_scene *s = scene_with_camera((float[3]){ 0, 0, 5 }, (float[3]){ 0, 0, 0 });
+    surface(s, LIMEN_NODE_MIRROR, "a", (float[3]){ 0, 0, 0 }, (float[3]){ 0, 0, 1 }, 1e9f, 1e9f);
+    surface(s, LIMEN_NODE_MIRROR, "b", (float[3]){ 0, 0, 10 }, (float[3]){ 0, 0, -1 }, 1e9f,
+            1e9f);
+    limen_plan *p = plan(s, (limen_plan_desc){ .limit_depth = 1, .max_depth = 6 });
+    CHECK_MSG(limen_plan_count(p) == 7, "%d views, expected a chain of 7",
+              limen_plan_count(p));
+    for (int i = 0; i < limen_plan_count(p); i++)
+        CHECK(finite_view(limen_plan_view(p, i)));
+    limen_hit h;
+    CHECK_OK(limen_ray_cast(s, (float[3]){ 0, 0, 5 }, (float[3]){ 0.01f, 0.02f, -1 }, 6, &h));
+    CHECK(h.surface_count == 6);
+    limen_plan_destroy(p);
+    limen_scene_destroy(s);
+}
+
+/* Scales in range whose product along a parent chain leaves [1e-9, 1e9] for a camera or a
+ * portal: planner (so renderer), tracer and ray casts refuse with one message, and no plan
+ * or JSON with infinities comes out. */
+static void check_refused_by_all(limen_scene *s, const char *name)
+{
+    char first[512];
+    limen_plan *p;
+    CHECK_OK(limen_plan_create(&p));
+    CHECK(limen_plan_build(p, s, &(limen_plan_desc){ .width = W, .height = H }) ==
+          LIMEN_ERR_ARG);
+    snprintf(first, sizeof first, "%s", limen_last_error(s));
+    CHECK_MSG(strstr(first, name) && strstr(first, "between 1e-9 and 1e9"), "planner: %s", first);
+    unsigned char *rgb = malloc(W * H * 3);
+    CHECK(limen_trace_image(s, &(limen_trace_desc){ .width = W, .height = H }, rgb) ==
+          LIMEN_ERR_ARG);
+    CHECK_MSG(strcmp(limen_last_error(s), first) == 0, "tracer: %s", limen_last_error(s));
+    limen_hit h;
+    CHECK(limen_ray_cast(s, (float[3]){ 0, 0, 0 }, (float[3]){ 0, 0, -1 }, -1, &h) ==
+          LIMEN_ERR_ARG);
+    CHECK_MSG(strcmp(limen_last_error(s), first) == 0, "ray cast: %s", limen_last_error(s));
+    free(rgb);
+    limen_plan_destroy(p);
+}
+
+static void test_tiny_parents_refused(void)
+{
+    limen_scene *s = scene_with_camera((float[3]){ 0, 0, 5 }, (float[3]){ 0, 0, 0 });
+    limen_node g[3], cam = limen_scene_get_camera(s);
+    for (int i = 0; i < 3; i++) {
+        CHECK_OK(limen_node_create(s, LIMEN_NODE_GROUP, NULL, &g[i]));
+        CHECK_OK(limen_node_set_scale(s, g[i], (float[3]){ 1e-9f, 1e-9f, 1e-9f }));
+        if (i)
+            CHECK_OK(limen_node_set_parent(s, g[i], g[i - 1]));
+    }
+    CHECK_OK(limen_node_set_parent(s, cam, g[2]));
+    check_refused_by_all(s, "camera 'cam'");
+    CHECK_OK(limen_node_set_parent(s, cam, (limen_node){ 0 }));
+    limen_node a = surface(s, LIMEN_NODE_PORTAL, "in", (float[3]){ 0, 0, 0 },
+                           (float[3]){ 0, 0, 1 }, 1, 1);
+    limen_node b = surface(s, LIMEN_NODE_PORTAL, "out", (float[3]){ 0, 0, 0 },
+                           (float[3]){ 0, 0, 1 }, 1, 1);
+    CHECK_OK(limen_portal_link(s, a, b));
+    CHECK_OK(limen_node_set_parent(s, b, g[2]));
+    check_refused_by_all(s, "portal 'out'");
+    CHECK_OK(limen_node_set_parent(s, b, g[1]));   /* 1e-18: still out */
+    check_refused_by_all(s, "portal 'out'");
+    CHECK_OK(limen_node_set_parent(s, b, g[0]));   /* 1e-9: in range, planned */
+    limen_plan *p = plan(s, (limen_plan_desc){ 0 });
+    for (int i = 0; i < limen_plan_count(p); i++)
+        CHECK(finite_view(limen_plan_view(p, i)));
+    limen_plan_destroy(p);
+    limen_scene_destroy(s);
+}
+
 static const check_case cases[] = {
     { "move_through_portal", test_move_through_portal },
     { "corridor_one_view_per_level", test_corridor_one_view_per_level },
@@ -425,6 +502,8 @@ static const check_case cases[] = {
     { "oblique_fallback", test_oblique_fallback },
     { "json", test_json },
     { "plan_without_surfaces", test_plan_without_surfaces },
+    { "huge_facing_mirrors", test_huge_facing_mirrors },
+    { "tiny_parents_refused", test_tiny_parents_refused },
     { 0 },
 };
 

@@ -263,7 +263,7 @@ static void test_validation(void)
     CHECK(d[0] == 2);
     CHECK(limen_node_set_color(s, b, (float[3]){ 1.5f, 0, 0 }) == LIMEN_ERR_ARG);
     CHECK_OK(limen_node_set_color(s, l, (float[3]){ 1.5f, 1.5f, 1.5f }));  /* intensity */
-    CHECK(limen_node_set_scale(s, b, (float[3]){ 0, 1, 1 }) == LIMEN_ERR_DEGENERATE);
+    CHECK(limen_node_set_scale(s, b, (float[3]){ 0, 1, 1 }) == LIMEN_ERR_ARG);
     CHECK(limen_node_set_position(s, b, (float[3]){ 0, NAN, 0 }) == LIMEN_ERR_ARG);
     CHECK(limen_node_set_position(s, b, NULL) == LIMEN_ERR_ARG);
     CHECK(limen_scene_set_ambient(s, 1.5f) == LIMEN_ERR_ARG);
@@ -276,6 +276,46 @@ static void test_validation(void)
     limen_scene_destroy(s);
     limen_scene_destroy(NULL);
     CHECK(limen_scene_create(NULL, NULL) == LIMEN_ERR_ARG);
+}
+
+/* Values the C API took but Lua refused (and with which renderer and tracer disagreed): the
+ * core setters now refuse them for both, one message each. */
+static void test_numbers_in_range(void)
+{
+    limen_scene *s = new_scene();
+    limen_node cam, m, l, b;
+    CHECK_OK(limen_node_create(s, LIMEN_NODE_CAMERA, "cam", &cam));
+    CHECK_OK(limen_node_create(s, LIMEN_NODE_MIRROR, "m", &m));
+    CHECK_OK(limen_node_create(s, LIMEN_NODE_LIGHT, "l", &l));
+    CHECK_OK(limen_node_create(s, LIMEN_NODE_BOX, "b", &b));
+    CHECK(limen_node_set_scale(s, cam, (float[3]){ -1, 1, 1 }) == LIMEN_ERR_ARG);
+    CHECK(strstr(limen_last_error(s), "scale: must be positive numbers from 1e-9 to 1e9"));
+    CHECK(limen_node_set_scale(s, b, (float[3]){ 1, 1, 1e-12f }) == LIMEN_ERR_ARG);
+    CHECK(limen_node_set_dims(s, m, (float[3]){ 1e38f, 1, 0 }) == LIMEN_ERR_ARG);
+    CHECK(strstr(limen_last_error(s), "dims: ") && strstr(limen_last_error(s), "to 1e9 (got 1e+38)"));
+    CHECK_OK(limen_node_set_dims(s, m, (float[3]){ 1e9f, 1e9f, 0 }));
+    CHECK(limen_node_set_position(s, b, (float[3]){ 0, 2e9f, 0 }) == LIMEN_ERR_ARG);
+    CHECK(strstr(limen_last_error(s), "position: components must be numbers from -1e9 to 1e9"));
+    CHECK(limen_node_set_rotation(s, b, (float[3]){ 0, 0, -1e30f }) == LIMEN_ERR_ARG);
+    CHECK(limen_node_set_facing(s, b, (float[3]){ 0, 0, 1e30f }, NULL) == LIMEN_ERR_ARG);
+    CHECK(limen_node_look_at(s, cam, (float[3]){ 1e10f, 0, 0 }, (float[3]){ 0, 0, 0 }, NULL) ==
+          LIMEN_ERR_ARG);
+    CHECK(limen_camera_set_lens(s, cam, 1, 1, 1) == LIMEN_ERR_ARG);     /* near == far */
+    CHECK(limen_camera_set_lens(s, cam, 1, 2, 1) == LIMEN_ERR_ARG);
+    CHECK(limen_camera_set_lens(s, cam, 1, 1e-12f, 1) == LIMEN_ERR_ARG);
+    CHECK(limen_camera_set_lens(s, cam, 1, 0.1f, 1e12f) == LIMEN_ERR_ARG);
+    CHECK_OK(limen_camera_set_lens(s, cam, 1, 0.01f, 1e6f));
+    CHECK(limen_node_set_color(s, l, (float[3]){ 1e10f, 1, 1 }) == LIMEN_ERR_ARG);
+    CHECK(limen_node_set_checker(s, b, (float[3]){ 1, 1, 1 }, (float[3]){ 0, 0, 0 }, 1e30f) ==
+          LIMEN_ERR_ARG);
+    float mirror_x[16] = { -1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1 };
+    CHECK(limen_node_set_local_matrix(s, cam, mirror_x) == LIMEN_ERR_ARG);
+    CHECK(strstr(limen_last_error(s), "must not mirror"));
+    float huge[16] = { 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 1e20f, 0, 0, 1 };
+    CHECK(limen_node_set_local_matrix(s, b, huge) == LIMEN_ERR_ARG);
+    limen_move_result mr;
+    CHECK(limen_node_move(s, b, (float[3]){ 1e20f, 0, 0 }, &mr) == LIMEN_ERR_ARG);
+    limen_scene_destroy(s);
 }
 
 static void test_local_matrix(void)
@@ -342,6 +382,7 @@ static const check_case cases[] = {
     { "look_at", test_look_at },
     { "validation", test_validation },
     { "local_matrix", test_local_matrix },
+    { "numbers_in_range", test_numbers_in_range },
     { 0 },
 };
 

@@ -577,6 +577,35 @@ static void test_png_read_limits(void)
     limen_free(rgb);
 }
 
+/* A lens from 0.01 to 1e6: the tracer built its rays by unprojecting through the float
+ * projection, whose far point was off by half, and saw only background. */
+static void test_wide_depth_range(void)
+{
+    limen_scene *s = new_scene();
+    limen_node cam = add(s, LIMEN_NODE_CAMERA, "cam", 0, 0, 5);
+    CHECK_OK(limen_camera_set_lens(s, cam, 1.0f, 0.01f, 1e6f));
+    CHECK_OK(limen_scene_set_camera(s, cam));
+    limen_node ball = add(s, LIMEN_NODE_SPHERE, "ball", 0, 0, 0);
+    set_dims(s, ball, 1, 0, 0);
+    CHECK_OK(limen_node_set_color(s, ball, (float[3]){ 1, 0, 0 }));
+    CHECK_OK(limen_scene_set_ambient(s, 1));
+    enum { TW = 31, TH = 21 };
+    unsigned char rgb[TW * TH * 3];
+    CHECK_OK(limen_trace_image(s, &(limen_trace_desc){ .width = TW, .height = TH }, rgb));
+    const unsigned char *c = rgb + ((TH / 2) * TW + TW / 2) * 3;
+    CHECK_MSG(c[0] == 255 && c[1] == 0 && c[2] == 0, "centre %d %d %d, expected the red ball",
+              c[0], c[1], c[2]);
+    /* the ball covers what its angular size says: tan(half fov) = 0.546 over 10 columns */
+    int red = 0;
+    for (int x = 0; x < TW; x++)
+        red += rgb[((TH / 2) * TW + x) * 3] == 255;
+    double half = atan(1.0 / sqrt(24.0));   /* tangent cone half-angle from 5 units */
+    int expect = 2 * (int)floor(tan(half) / (tan(0.5) * TW / TH) * (TW / 2.0) + 0.5) + 1;
+    CHECK_MSG(abs(red - expect) <= 2, "%d red pixels on the middle row, expected ~%d", red,
+              expect);
+    limen_scene_destroy(s);
+}
+
 static const check_case cases[] = {
     { "sphere_analytic", test_sphere_analytic },
     { "shapes_scaled", test_shapes_scaled },
@@ -589,6 +618,7 @@ static const check_case cases[] = {
     { "errors", test_errors },
     { "png_write_whole_or_not", test_png_write_whole_or_not },
     { "png_read_limits", test_png_read_limits },
+    { "wide_depth_range", test_wide_depth_range },
     { 0 },
 };
 

@@ -94,8 +94,10 @@ limen_status limen_node_move(limen_scene *s, limen_node n, const float d[3],
     if (!node)
         return s ? limen__fail(s, LIMEN_ERR_HANDLE, "move: stale or null node handle")
                  : LIMEN_ERR_ARG;
-    if (!d || !limen__finite3(d))
-        return limen__fail(s, LIMEN_ERR_ARG, "move: displacement needs three finite numbers");
+    if (!d || !limen__finite3(d) || fabsf(d[0]) > LIMEN_MAX_MAGNITUDE ||
+        fabsf(d[1]) > LIMEN_MAX_MAGNITUDE || fabsf(d[2]) > LIMEN_MAX_MAGNITUDE)
+        return limen__fail(s, LIMEN_ERR_ARG, "move: displacement needs three numbers from -1e9 "
+                           "to 1e9");
     limen__scene_refresh(s);
     double world[16], total[16], step[3] = { d[0], d[1], d[2] };
     limen__d_from_f(&node->world[0][0], world);

@@ -5,6 +5,7 @@
  * faces the parent's eye, survives the parent's clip plane and near plane, and covers at
  * least one pixel centre inside the parent's scissor rectangle; the child's scissor is that
  * rectangle. Matrices are composed in double precision. */
+#include <float.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -103,14 +104,15 @@ static bool surface_rect(const limen_plan *p, const limen__pview *v, const limen
     int n = 4;
     if (v->pub.depth > 0) {
         /* only what lies in front of the exit surface: a surface on its plane (to within the
-         * rounding of float world coordinates) is not, as for the ray tracer, whose next
-         * segment leaves the exit's plane */
-        double c[4], scale = 1;
+         * rounding of the float world matrices of both) is not, as for the ray tracer, whose
+         * next segment leaves the exit's plane. The bound follows the matrices' entries
+         * along the plane's normal, not the size of the coordinates: two facing mirrors a
+         * billion units wide and ten apart are not on each other's plane. */
+        double c[4], tol = 0;
         memcpy(c, v->clip, sizeof c);
-        for (int i = 0; i < 4; i++)
-            for (int k = 0; k < 3; k++)
-                scale = fmax(scale, fabs(a[i][k]));
-        c[3] -= 1e-6 * scale;
+        for (int k = 0; k < 3; k++)
+            tol += fabs(c[k]) * (sf->err[k] + v->clip_err[k]);
+        c[3] -= 4.0 * tol;
         n = clip_poly(a, n, c, b);
         memcpy(a, b, sizeof(double) * 3 * (size_t)n);
     }
@@ -268,6 +270,19 @@ static bool push_vsurf(limen_plan *p, limen__pview *v, int surf, int child, int 
 
 static limen_status collect_clones(limen_plan *p, limen_scene *s);
 
+/* Per world axis r, a bound on how far float rounding of the world matrix W (half an ulp
+ * per entry) can move a corner (+-w/2, +-h/2, 0) of the surface: sum over the columns j of
+ * ulp(W[j][r]) times the corner's local coordinate, plus the translation's. */
+static void rounding_bound(const limen__node *n, double err[3])
+{
+    const double half[2] = { 0.5 * n->dims[0], 0.5 * n->dims[1] };
+    for (int r = 0; r < 3; r++) {
+        err[r] = 0.5 * ((double)fabsf(n->world[3][r]) * FLT_EPSILON + FLT_MIN);
+        for (int j = 0; j < 2; j++)
+            err[r] += 0.5 * ((double)fabsf(n->world[j][r]) * FLT_EPSILON + FLT_MIN) * half[j];
+    }
+}
+
 static limen_status collect_surfaces(limen_plan *p, limen_scene *s)
 {
     p->nsurf = 0;
@@ -283,6 +298,7 @@ static limen_status collect_surfaces(limen_plan *p, limen_scene *s)
         limen__psurf *sf = &p->surf[p->nsurf];
         memset(sf, 0, sizeof *sf);
         sf->node = i;
+        rounding_bound(n, sf->err);
         limen__surface_plane_d(n, sf->plane);
         limen__surface_corners(n, sf->corners);
         sf->has_x = limen__surface_matrix_d(s, n, sf->x);
@@ -319,6 +335,20 @@ static limen_status collect_surfaces(limen_plan *p, limen_scene *s)
         p->nsurf++;
     }
     return LIMEN_OK;
+}
+
+static bool all_finite(const float *v, int n)
+{
+    for (int i = 0; i < n; i++)
+        if (!isfinite(v[i]))
+            return false;
+    return true;
+}
+
+static bool view_finite(const limen_view *v)
+{
+    return all_finite(v->view, 16) && all_finite(v->proj, 16) && all_finite(v->eye, 3) &&
+           all_finite(v->clip_plane, 4) && all_finite(v->tint, 3);
 }
 
 /* Depth-first order from the breadth-first list, re-linking parents and children. */
@@ -448,6 +478,7 @@ limen_status limen_plan_build(limen_plan *p, limen_scene *s, const limen_plan_de
                             exit = &p->surf[k];
                 }
                 memcpy(c->clip, exit->plane, sizeof c->clip);
+                memcpy(c->clip_err, exit->err, sizeof c->clip_err);
                 c->pub.front_face_cw = v->pub.front_face_cw ^ (n->kind == LIMEN_NODE_MIRROR);
                 memcpy(c->pub.scissor, rect, sizeof rect);
                 for (int k = 0; k < 3; k++)
@@ -465,8 +496,20 @@ limen_status limen_plan_build(limen_plan *p, limen_scene *s, const limen_plan_de
         return limen__fail(s, LIMEN_ERR_NOMEM, "plan: out of memory");
     p->bfs_to_dfs = p->tmp;
     p->dfs_to_bfs = p->tmp + p->nviews;
-    for (int i = 0; i < p->nviews; i++)
+    for (int i = 0; i < p->nviews; i++) {
         fill_public(&p->pv[i], s, p);
+        if (!view_finite(&p->pv[i].pub)) {
+            /* portals that scale the view, nested until a float overflows: a clear refusal,
+             * never a tree (or a JSON plan) with infinities in it */
+            const limen__node *n = &s->nodes[p->pv[i].surface];
+            return limen__fail(s, LIMEN_ERR_ARG,
+                               "%s%s%s '%s': the view through it at depth %d is out of a "
+                               "float's range (the portals on the way scale it past what a "
+                               "float holds)", n->label, n->label[0] ? ": " : "",
+                               n->kind == LIMEN_NODE_MIRROR ? "mirror" : "portal", n->name,
+                               p->pv[i].pub.depth);
+        }
+    }
     int pos = 0;
     order_views(p, 0, -1, &pos);
     p->count = p->nviews;
@@ -575,6 +618,9 @@ limen_status limen_plan_write_json(const limen_plan *p, const limen_scene *s, co
 {
     if (!p || !s || !path)
         return LIMEN_ERR_ARG;
+    for (int i = 0; i < p->count; i++)
+        if (!view_finite(&p->views[i]))
+            return LIMEN_ERR_ARG;   /* JSON has no inf or nan (plan_build refuses them too) */
     limen__out out;
     limen_status st = limen__out_open(&out, path);
     if (st)

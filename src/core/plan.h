@@ -24,6 +24,7 @@ typedef struct limen__psurf {
     double plane[4];
     double corners[4][3];
     double x[16], xinv[16];
+    double err[3];          /* bound on the float rounding of its corners, per world axis */
     bool has_x;
 } limen__psurf;
 
@@ -32,6 +33,7 @@ typedef struct limen__pview {
     double view[16];
     double eye[3];
     double clip[4];
+    double clip_err[3];     /* the exit surface's rounding bound (limen__psurf.err) */
     int parent;             /* bfs index */
     int surface, exit;      /* node indices, -1 for the camera */
     int first_surf, nsurf;  /* range in vsurf */

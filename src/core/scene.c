@@ -235,20 +235,62 @@ void limen__scene_refresh(limen_scene *s)
     s->dirty = false;
 }
 
+/* "label: kind 'name'" of a node for messages. */
+static void node_title(const limen__node *n, char *buf, size_t size)
+{
+    snprintf(buf, size, "%s%s%s%s%s%s", n->label, n->label[0] ? ": " : "", kind_name(n->kind),
+             n->name[0] ? " '" : "", n->name, n->name[0] ? "'" : "");
+}
+
+/* The largest and smallest length of the world matrix's three axes. */
+static void world_scale(const limen__node *n, double *lo, double *hi)
+{
+    *lo = INFINITY;
+    *hi = 0;
+    for (int c = 0; c < 3; c++) {
+        double l = sqrt((double)n->world[c][0] * n->world[c][0] +
+                        (double)n->world[c][1] * n->world[c][1] +
+                        (double)n->world[c][2] * n->world[c][2]);
+        *lo = fmin(*lo, l);
+        *hi = fmax(*hi, l);
+    }
+}
+
 limen_status limen__scene_check(limen_scene *s)
 {
     limen__scene_refresh(s);
     if (s->dirty)
         return limen__fail(s, LIMEN_ERR_NOMEM, "out of memory");
-    if (!s->bad_world || s->bad_world > (uint32_t)s->cap ||
-        !limen__alive(&s->nodes[s->bad_world - 1]))
-        return LIMEN_OK;
-    const limen__node *n = &s->nodes[s->bad_world - 1];
-    return limen__fail(s, LIMEN_ERR_ARG,
-                       "%s%s%s%s%s%s: its world transform is not finite (the scales along its "
-                       "parent chain multiply past what a float holds)",
-                       n->label, n->label[0] ? ": " : "", kind_name(n->kind),
-                       n->name[0] ? " '" : "", n->name, n->name[0] ? "'" : "");
+    char title[256];
+    if (s->bad_world && s->bad_world <= (uint32_t)s->cap &&
+        limen__alive(&s->nodes[s->bad_world - 1])) {
+        node_title(&s->nodes[s->bad_world - 1], title, sizeof title);
+        return limen__fail(s, LIMEN_ERR_ARG,
+                           "%s: its world transform is not finite (the scales along its "
+                           "parent chain multiply past what a float holds)", title);
+    }
+    /* The views through cameras, mirrors and portals invert their world matrices; scales
+     * multiplied along a parent chain past the bounds each node keeps (1e-9 three times)
+     * would give view matrices out of a float's range. Planner, renderer, tracer and ray
+     * casts all refuse them here, with one message. (The slack covers the rounding of
+     * products of in-range scales.) */
+    for (int k = 0; k < s->live_len; k++) {
+        if (s->live[k] < 0)
+            continue;
+        const limen__node *n = &s->nodes[s->live[k]];
+        if (n->kind != LIMEN_NODE_CAMERA && !limen__is_surface(n))
+            continue;
+        double lo, hi;
+        world_scale(n, &lo, &hi);
+        if (lo >= LIMEN_MIN_SIZE * (1 - 1e-6) && hi <= LIMEN_MAX_MAGNITUDE * (1 + 1e-6))
+            continue;
+        node_title(n, title, sizeof title);
+        return limen__fail(s, LIMEN_ERR_ARG,
+                           "%s: its world transform scales it by %g (the scales along its "
+                           "parent chain must keep a camera, mirror or portal between 1e-9 and "
+                           "1e9)", title, lo < LIMEN_MIN_SIZE ? lo : hi);
+    }
+    return LIMEN_OK;
 }
 
 limen_status limen_scene_update(limen_scene *s)
@@ -516,10 +558,28 @@ limen_node limen_node_get_parent(const limen_scene *s, limen_node n)
 
 /* ------------------------------------------------------------------ transforms */
 
+/* One validation for C and Lua alike (the bindings call these setters): see "NUMBERS" in
+ * limen.h for why the bounds are where they are. */
 static limen_status check_vec(limen_scene *s, const float *v, const char *what)
 {
     if (!v || !limen__finite3(v))
         return limen__fail(s, LIMEN_ERR_ARG, "%s: needs three finite numbers", what);
+    for (int i = 0; i < 3; i++)
+        if (fabsf(v[i]) > LIMEN_MAX_MAGNITUDE)
+            return limen__fail(s, LIMEN_ERR_ARG, "%s: components must be numbers from -1e9 to "
+                               "1e9 (got %g)", what, v[i]);
+    return LIMEN_OK;
+}
+
+/* n sizes (or scales, distances): positive, from LIMEN_MIN_SIZE to LIMEN_MAX_MAGNITUDE. */
+static limen_status check_sizes(limen_scene *s, const float *v, int n, const char *what)
+{
+    if (!v)
+        return limen__fail(s, LIMEN_ERR_ARG, "%s: NULL", what);
+    for (int i = 0; i < n; i++)
+        if (!(v[i] >= LIMEN_MIN_SIZE && v[i] <= LIMEN_MAX_MAGNITUDE))
+            return limen__fail(s, LIMEN_ERR_ARG, "%s: must be %s from 1e-9 to 1e9 (got %g)", what,
+                               n > 1 ? "positive numbers" : "a positive number", v[i]);
     return LIMEN_OK;
 }
 
@@ -604,9 +664,10 @@ limen_status limen_node_set_facing(limen_scene *s, limen_node n, const float nor
 limen_status limen_node_set_scale(limen_scene *s, limen_node n, const float xyz[3])
 {
     GET(node, s, n);
-    CHECK_VEC(s, xyz, "scale");
-    if (xyz[0] == 0 || xyz[1] == 0 || xyz[2] == 0)
-        return limen__fail(s, LIMEN_ERR_DEGENERATE, "scale: components must not be zero");
+    /* positive: a mirrored node would turn its faces inside out for the renderer's culling */
+    limen_status st = check_sizes(s, xyz, 3, "scale");
+    if (st)
+        return st;
     glm_vec3_copy((float *)xyz, node->scale);
     to_trs(s, node);
     return LIMEN_OK;
@@ -621,10 +682,17 @@ limen_status limen_node_set_local_matrix(limen_scene *s, limen_node n, const flo
     for (int i = 0; i < 16; i++) {
         if (!isfinite(m[i]))
             return limen__fail(s, LIMEN_ERR_ARG, "local matrix: element %d is not finite", i);
+        if (fabsf(m[i]) > LIMEN_MAX_MAGNITUDE)
+            return limen__fail(s, LIMEN_ERR_ARG, "local matrix: element %d must be from -1e9 to "
+                               "1e9 (got %g)", i, m[i]);
         l[i / 4][i % 4] = m[i];
     }
-    if (fabsf(glm_mat4_det(l)) < 1e-12f)
+    float det = glm_mat4_det(l);
+    if (fabsf(det) < 1e-12f)
         return limen__fail(s, LIMEN_ERR_DEGENERATE, "local matrix: singular");
+    if (det < 0)
+        return limen__fail(s, LIMEN_ERR_ARG, "local matrix: must not mirror (its determinant "
+                           "is %g; scales must be positive)", det);
     glm_mat4_copy(l, node->local);
     node->explicit_local = true;
     s->dirty = true;
@@ -728,9 +796,9 @@ limen_status limen_node_set_dims(limen_scene *s, limen_node n, const float dims[
         return limen__fail(s, LIMEN_ERR_ARG, "dims: a %s has no size", kind_name(node->kind));
     }
     for (int i = 0; i < used; i++)
-        if (!(dims[i] > 0))
-            return limen__fail(s, LIMEN_ERR_ARG, "dims: %s size %d must be positive (got %g)",
-                               kind_name(node->kind), i, dims[i]);
+        if (!(dims[i] >= LIMEN_MIN_SIZE && dims[i] <= LIMEN_MAX_MAGNITUDE))
+            return limen__fail(s, LIMEN_ERR_ARG, "dims: %s size %d must be a positive number "
+                               "from 1e-9 to 1e9 (got %g)", kind_name(node->kind), i, dims[i]);
     for (int i = 0; i < 3; i++)
         node->dims[i] = i < used ? dims[i] : 0.0f;
     return LIMEN_OK;
@@ -751,7 +819,7 @@ static limen_status check_color(limen_scene *s, const float rgb[3], bool unit, c
     for (int i = 0; i < 3; i++)
         if (rgb[i] < 0 || (unit && rgb[i] > 1))
             return limen__fail(s, LIMEN_ERR_ARG, "%s: components must be in [0, %s] (got %g)",
-                               what, unit ? "1" : "inf", rgb[i]);
+                               what, unit ? "1" : "1e9", rgb[i]);
     return LIMEN_OK;
 }
 
@@ -778,8 +846,9 @@ limen_status limen_node_set_checker(limen_scene *s, limen_node n, const float a[
                                     const float b[3], float cell)
 {
     GET(node, s, n);
-    if (!(cell >= 0) || !isfinite(cell))
-        return limen__fail(s, LIMEN_ERR_ARG, "checker: cell size must be >= 0 (got %g)", cell);
+    if (!(cell == 0 || (cell >= LIMEN_MIN_SIZE && cell <= LIMEN_MAX_MAGNITUDE)))
+        return limen__fail(s, LIMEN_ERR_ARG, "checker: cell size must be 0 or a positive number "
+                           "from 1e-9 to 1e9 (got %g)", cell);
     if (cell == 0) {
         node->checker_cell = 0;
         return LIMEN_OK;
@@ -832,10 +901,14 @@ limen_status limen_camera_set_lens(limen_scene *s, limen_node cam, float fovy, f
     if (!(fovy > 0 && fovy < GLM_PIf))
         return limen__fail(s, LIMEN_ERR_ARG, "fov: must be in (0, 180) degrees (got %g)",
                            glm_deg(fovy));
-    if (!(znear > 0) || !isfinite(znear))
-        return limen__fail(s, LIMEN_ERR_ARG, "near: must be positive (got %g)", znear);
-    if (!(zfar > znear) || !isfinite(zfar))
-        return limen__fail(s, LIMEN_ERR_ARG, "far: must be greater than near (got %g)", zfar);
+    limen_status st = check_sizes(s, &znear, 1, "near");
+    if (!st)
+        st = check_sizes(s, &zfar, 1, "far");
+    if (st)
+        return st;
+    if (!(zfar > znear))
+        return limen__fail(s, LIMEN_ERR_ARG, "far: must be greater than near (got %g, near %g)",
+                           zfar, znear);
     node->fovy = fovy;
     node->znear = znear;
     node->zfar = zfar;
