@@ -220,6 +220,8 @@ static limen_render_opts opts_for(int v, int clip, int depth)
     o.clip = (limen_clip_method)clip;
     o.limit_depth = 1;
     o.max_depth = depth;
+    /* the methods as they are, the naive one's full-image views included: no frame budget */
+    o.budget = (limen_frame_budget){ INT64_MAX, INT64_MAX };
     return o;
 }
 

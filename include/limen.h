@@ -348,6 +348,25 @@ enum {
     LIMEN_FAULT_PORTAL_NO_TURN = 1   /* portal matrix without its 180-degree turn */
 };
 
+/* What one frame may cost, whoever made the scene (scripts come from modders): a budget that
+ * the planner spends breadth first like max_views. A view that would overspend it is not
+ * created and its surface shows the fill colour (counted in limen_plan_truncated, the
+ * limits it met in limen_plan_work.budgets_hit). Zero fields take the defaults, which no
+ * scene of the gallery meets; negative ones are refused. */
+typedef struct limen_frame_budget {
+    int64_t view_pixels;        /* sum of the views' scissor areas, the root's included: the
+                                 * pixels the renderer may shade more than once;
+                                 * 0 -> 64 x width x height */
+    int64_t surface_tests;      /* views x mirrors and portals: each view tests (and a
+                                 * renderer may draw) every visible surface; 0 -> 131072 */
+} limen_frame_budget;
+
+enum {                          /* limen_plan_work.budgets_hit */
+    LIMEN_BUDGET_VIEWS = 1,             /* max_views */
+    LIMEN_BUDGET_VIEW_PIXELS = 2,
+    LIMEN_BUDGET_SURFACE_TESTS = 4
+};
+
 typedef struct limen_plan_desc {
     int width, height;          /* image size in pixels (0 -> 640 x 480) */
     limen_depth_range range;    /* clip-space convention of proj */
@@ -361,6 +380,7 @@ typedef struct limen_plan_desc {
     int no_cull;                /* 1: keep views of surfaces outside the parent's narrowed
                                  * frustum, with full-image scissors (the naive baseline) */
     unsigned test_faults;       /* LIMEN_FAULT_* bits; 0 */
+    limen_frame_budget budget;  /* what the frame may cost; zero -> defaults */
 } limen_plan_desc;
 
 typedef struct limen_plan limen_plan;
@@ -389,6 +409,15 @@ LIMEN_API int limen_plan_clones(const limen_plan *p, const limen_clone **out);
 /* Views that hit the budget or a depth limit and so were not created (their surfaces show
  * the fill colour). */
 LIMEN_API int limen_plan_truncated(const limen_plan *p);
+/* What the plan spent of its budget. */
+typedef struct limen_plan_work {
+    int views;                  /* limen_plan_count */
+    int truncated;              /* limen_plan_truncated */
+    int64_t view_pixels;        /* sum of the views' scissor areas */
+    int64_t surface_tests;      /* view x surface tests made */
+    unsigned budgets_hit;       /* LIMEN_BUDGET_* bits of the budgets that stopped a view */
+} limen_plan_work;
+LIMEN_API void limen_plan_get_work(const limen_plan *p, limen_plan_work *out);
 /* Writes the plan as JSON ({"views": [...]}); returns LIMEN_ERR_IO if it cannot. */
 LIMEN_API limen_status limen_plan_write_json(const limen_plan *p, const limen_scene *s,
                                              const char *path);
@@ -417,6 +446,7 @@ typedef struct limen_frame_stats {
     uint64_t fragments;         /* fragment-shader invocations (pipeline statistics); 0 if unavailable */
     uint64_t samples;           /* samples that passed depth and stencil (occlusion query) */
     uint64_t pixels;            /* width * height */
+    int truncated;              /* views not created: limits or the budget (see the plan) */
 } limen_frame_stats;
 
 LIMEN_API limen_status limen_renderer_create(const limen_renderer_desc *desc,
@@ -450,6 +480,7 @@ typedef struct limen_render_opts {
     int max_views;              /* 0 -> 1024 */
     float adaptive;             /* as in limen_plan_desc */
     unsigned test_faults;       /* LIMEN_FAULT_* bits (tests only); 0 */
+    limen_frame_budget budget;  /* as in limen_plan_desc: what the frame may cost */
 } limen_render_opts;
 
 /* Plans and draws one frame of the scene from its camera. opts and stats may be NULL. */

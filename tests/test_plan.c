@@ -490,6 +490,57 @@ static void test_tiny_parents_refused(void)
     limen_scene_destroy(s);
 }
 
+/* ------------------------------------------------------------------ frame budget */
+
+/* 2,000 mirrors stacked 1 mm apart (twelve lines of a safe script) made one 640x480 frame
+ * take 1,024 views, each testing and drawing every mirror: minutes and most of a gigabyte.
+ * The frame budget bounds it; counts, not times. */
+static void test_frame_budget_bounds_stacked_mirrors(void)
+{
+    enum { N = 2000, FW = 640, FH = 480 };
+    limen_scene *s = scene_with_camera((float[3]){ 0, 0, 3 }, (float[3]){ 0, 0, 0 });
+    for (int i = 0; i < N; i++)
+        surface(s, LIMEN_NODE_MIRROR, NULL, (float[3]){ 0, 0, -0.001f * (float)i },
+                (float[3]){ 0, 0, 1 }, 4, 3);
+    limen_plan *p = plan(s, (limen_plan_desc){ .width = FW, .height = FH });
+    limen_plan_work w;
+    limen_plan_get_work(p, &w);
+    const int64_t screen = (int64_t)FW * FH;
+    /* the defaults: 64 screens of drawing, 131072 surface tests, each exceeded by at most
+     * one view's own work (every surface in its scissor) */
+    CHECK_MSG(w.view_pixels <= 64 * screen + (int64_t)(N + 1) * screen,
+              "%lld pixels drawn", (long long)w.view_pixels);
+    CHECK_MSG(w.surface_tests <= 131072 + N, "%lld surface tests", (long long)w.surface_tests);
+    CHECK(w.views == limen_plan_count(p) && w.views < 70);
+    CHECK(w.truncated > 0 && (w.budgets_hit & (LIMEN_BUDGET_VIEW_PIXELS |
+                                               LIMEN_BUDGET_SURFACE_TESTS)));
+    CHECK(w.truncated == limen_plan_truncated(p));
+    /* memory follows the work: the planner's per-view surface lists */
+    int listed = 0;
+    for (int i = 0; i < limen_plan_count(p); i++) {
+        const limen_view_surface *vs;
+        listed += limen_plan_view_surfaces(p, i, &vs);
+    }
+    CHECK_MSG(listed <= w.surface_tests, "%d surfaces listed", listed);
+    /* every surface of the tree is still drawn: as a view or as its fill colour */
+    const limen_view_surface *vs;
+    CHECK(limen_plan_view_surfaces(p, 0, &vs) == N);
+
+    /* a budget the caller sets: one surface test more than the root's allows no child */
+    limen_plan_destroy(p);
+    p = plan(s, (limen_plan_desc){ .width = FW, .height = FH,
+                                   .budget = { .view_pixels = INT64_MAX,
+                                               .surface_tests = N + 1 } });
+    limen_plan_get_work(p, &w);
+    CHECK(w.views == 1 && w.surface_tests == N && (w.budgets_hit & LIMEN_BUDGET_SURFACE_TESTS));
+    limen_plan_destroy(p);
+    limen_plan_create(&p);
+    CHECK(limen_plan_build(p, s, &(limen_plan_desc){ .budget = { .view_pixels = -1 } }) ==
+          LIMEN_ERR_ARG);
+    limen_plan_destroy(p);
+    limen_scene_destroy(s);
+}
+
 static const check_case cases[] = {
     { "move_through_portal", test_move_through_portal },
     { "corridor_one_view_per_level", test_corridor_one_view_per_level },
@@ -504,6 +555,7 @@ static const check_case cases[] = {
     { "plan_without_surfaces", test_plan_without_surfaces },
     { "huge_facing_mirrors", test_huge_facing_mirrors },
     { "tiny_parents_refused", test_tiny_parents_refused },
+    { "frame_budget_bounds_stacked_mirrors", test_frame_budget_bounds_stacked_mirrors },
     { 0 },
 };
 

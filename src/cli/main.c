@@ -317,9 +317,11 @@ static int cmd_render(int argc, char **argv)
         }
         if (o.stats)
             printf("{\"frame\": %ld, \"time\": %.6g, \"ms\": %.3f, \"views\": %d, "
-                   "\"fragments\": %llu, \"samples\": %llu, \"pixels\": %llu}\n",
-                   f, t, stats.ms, stats.views, (unsigned long long)stats.fragments,
-                   (unsigned long long)stats.samples, (unsigned long long)stats.pixels);
+                   "\"truncated\": %d, \"fragments\": %llu, \"samples\": %llu, "
+                   "\"pixels\": %llu}\n",
+                   f, t, stats.ms, stats.views, stats.truncated,
+                   (unsigned long long)stats.fragments, (unsigned long long)stats.samples,
+                   (unsigned long long)stats.pixels);
         if (o.frames > 1 && tty)
             fprintf(stderr, "\rlimen: frame %ld/%ld", f + 1, o.frames);
     }

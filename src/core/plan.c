@@ -15,6 +15,8 @@
 #include "core/plan.h"
 
 #define DEFAULT_MAX_VIEWS 1024
+#define DEFAULT_VIEW_SCREENS 64         /* view_pixels: 64 full screens */
+#define DEFAULT_SURFACE_TESTS 131072
 #define MAX_POLY 12
 
 /* ------------------------------------------------------------------ storage */
@@ -71,6 +73,44 @@ const limen_view *limen_plan_view(const limen_plan *p, int i)
 int limen_plan_truncated(const limen_plan *p)
 {
     return p ? p->truncated : 0;
+}
+
+void limen_plan_get_work(const limen_plan *p, limen_plan_work *out)
+{
+    if (!out)
+        return;
+    memset(out, 0, sizeof *out);
+    if (!p)
+        return;
+    out->views = p->count;
+    out->truncated = p->truncated;
+    out->view_pixels = p->view_pixels;
+    out->surface_tests = p->surface_tests;
+    out->budgets_hit = p->budgets_hit;
+}
+
+/* Which frame budget (LIMEN_BUDGET_* bit) is spent before a view is looked into; 0 if none.
+ * Views are looked into breadth first, so once one is dropped, all later ones are; what a
+ * view spends past the budget is at most one view's work (every surface in its scissor). */
+static unsigned budget_spent(const limen_plan *p)
+{
+    if (p->view_pixels >= p->budget.view_pixels)
+        return LIMEN_BUDGET_VIEW_PIXELS;
+    if (p->nsurf > p->budget.surface_tests - p->surface_tests)
+        return LIMEN_BUDGET_SURFACE_TESTS;
+    return 0;
+}
+
+/* A view made by its parent but over the budget when its turn came: the parent shows the
+ * surface's fill instead, and the view is left out of the tree (it has no children yet). */
+static void drop_view(limen_plan *p, limen__pview *v, unsigned why)
+{
+    limen__vsurf *vs = &p->vsurf[v->from_vsurf];
+    vs->child = -1;
+    vs->state = LIMEN__SURF_FILL;
+    v->dropped = true;
+    p->truncated++;
+    p->budgets_hit |= why;
 }
 
 /* ------------------------------------------------------------------ screen rectangles */
@@ -264,6 +304,7 @@ static bool push_vsurf(limen_plan *p, limen__pview *v, int surf, int child, int 
     if (!reserve((void **)&p->vsurf, &p->vsurf_cap, p->nvsurf + 1, sizeof *p->vsurf))
         return false;
     p->vsurf[p->nvsurf++] = (limen__vsurf){ surf, child, state, { rect[0], rect[1], rect[2], rect[3] } };
+    p->view_pixels += (int64_t)rect[2] * rect[3];   /* the renderer draws it in this view */
     v->nsurf++;
     return true;
 }
@@ -396,6 +437,12 @@ limen_status limen_plan_build(limen_plan *p, limen_scene *s, const limen_plan_de
                            d.max_depth);
     if (d.max_views < 0)
         return limen__fail(s, LIMEN_ERR_ARG, "plan: view budget must be positive");
+    if (d.budget.view_pixels < 0 || d.budget.surface_tests < 0)
+        return limen__fail(s, LIMEN_ERR_ARG, "plan: frame budget must not be negative");
+    p->budget.view_pixels = d.budget.view_pixels ? d.budget.view_pixels
+                                                 : (int64_t)DEFAULT_VIEW_SCREENS * p->width * p->height;
+    p->budget.surface_tests = d.budget.surface_tests ? d.budget.surface_tests
+                                                     : DEFAULT_SURFACE_TESTS;
     p->clip = d.clip;
     p->range = d.range;
     p->test_faults = d.test_faults;
@@ -406,6 +453,8 @@ limen_status limen_plan_build(limen_plan *p, limen_scene *s, const limen_plan_de
     int max_views = d.max_views > 0 ? d.max_views : DEFAULT_MAX_VIEWS;
     int global_depth = d.limit_depth ? d.max_depth : 255;
     p->nviews = p->nvsurf = p->count = p->truncated = 0;
+    p->view_pixels = p->surface_tests = 0;
+    p->budgets_hit = 0;
 
     float view_f[16];
     limen_status st = limen_camera_matrices(s, (float)p->width / (float)p->height, p->range,
@@ -436,6 +485,13 @@ limen_status limen_plan_build(limen_plan *p, limen_scene *s, const limen_plan_de
     for (int vi = 0; vi < p->nviews; vi++) {
         limen__pview *v = &p->pv[vi];
         v->first_surf = p->nvsurf;
+        unsigned spent = vi ? budget_spent(p) : 0;     /* the root is always drawn */
+        if (spent) {
+            drop_view(p, v, spent);
+            continue;
+        }
+        p->view_pixels += (int64_t)v->pub.scissor[2] * v->pub.scissor[3];
+        p->surface_tests += p->nsurf;
         for (int si = 0; si < p->nsurf; si++) {
             const limen__psurf *sf = &p->surf[si];
             if (sf->node == v->exit)
@@ -452,17 +508,20 @@ limen_status limen_plan_build(limen_plan *p, limen_scene *s, const limen_plan_de
             }
             int depth = v->pub.depth + 1;
             int child = -1;
+            unsigned over = 0;
             if (!sf->has_x) {
                 /* unpaired portal: fill */
-            } else if (depth > n->max_depth || depth > global_depth || p->nviews >= max_views ||
-                       too_faint(p, v, n)) {
+            } else if (depth > n->max_depth || depth > global_depth || too_faint(p, v, n) ||
+                       (p->nviews >= max_views && (over = LIMEN_BUDGET_VIEWS))) {
                 p->truncated++;
+                p->budgets_hit |= over;
             } else {
                 limen__pview *c = push_view(p);
                 if (!c)
                     return limen__fail(s, LIMEN_ERR_NOMEM, "plan: out of memory");
                 v = &p->pv[vi];     /* push_view may move the array */
                 child = p->nviews - 1;
+                c->from_vsurf = p->nvsurf;
                 c->parent = vi;
                 c->surface = sf->node;
                 c->exit = sf->exit;
@@ -498,7 +557,7 @@ limen_status limen_plan_build(limen_plan *p, limen_scene *s, const limen_plan_de
     p->dfs_to_bfs = p->tmp + p->nviews;
     for (int i = 0; i < p->nviews; i++) {
         fill_public(&p->pv[i], s, p);
-        if (!view_finite(&p->pv[i].pub)) {
+        if (!p->pv[i].dropped && !view_finite(&p->pv[i].pub)) {
             /* portals that scale the view, nested until a float overflows: a clear refusal,
              * never a tree (or a JSON plan) with infinities in it */
             const limen__node *n = &s->nodes[p->pv[i].surface];
@@ -512,7 +571,7 @@ limen_status limen_plan_build(limen_plan *p, limen_scene *s, const limen_plan_de
     }
     int pos = 0;
     order_views(p, 0, -1, &pos);
-    p->count = p->nviews;
+    p->count = pos;     /* dropped views are not reached */
 
     /* the surfaces of each view, in draw order and public form */
     if (!reserve((void **)&p->pubsurf, &p->pubsurf_cap, p->nvsurf, sizeof *p->pubsurf) ||
@@ -628,8 +687,9 @@ limen_status limen_plan_write_json(const limen_plan *p, const limen_scene *s, co
     FILE *f = out.f;
     static const char *kinds[] = { "camera", "mirror", "portal" };
     static const char *clips[] = { "oblique", "plane", "none" };
-    fprintf(f, "{\"width\": %d, \"height\": %d, \"truncated\": %d, \"views\": [", p->width,
-            p->height, p->truncated);
+    fprintf(f, "{\"width\": %d, \"height\": %d, \"truncated\": %d, \"view_pixels\": %lld, "
+               "\"surface_tests\": %lld, \"budgets_hit\": %u, \"views\": [", p->width, p->height,
+            p->truncated, (long long)p->view_pixels, (long long)p->surface_tests, p->budgets_hit);
     for (int i = 0; i < p->count; i++) {
         const limen_view *v = &p->views[i];
         fprintf(f, "%s\n  {\"id\": %d, \"parent\": ", i ? "," : "", v->id);

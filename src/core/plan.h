@@ -37,6 +37,8 @@ typedef struct limen__pview {
     int parent;             /* bfs index */
     int surface, exit;      /* node indices, -1 for the camera */
     int first_surf, nsurf;  /* range in vsurf */
+    int from_vsurf;         /* the parent's vsurf entry that made it */
+    bool dropped;           /* over the frame budget: not in the tree */
 } limen__pview;
 
 struct limen_plan {
@@ -67,6 +69,9 @@ struct limen_plan {
     int *tmp, tmp_cap;
     int *bfs_to_dfs, *dfs_to_bfs;
     int truncated;
+    limen_frame_budget budget;      /* with the defaults filled in */
+    int64_t view_pixels, surface_tests;
+    unsigned budgets_hit;
 };
 
 /* The surfaces seen from view `view` (draw-order index); returns their count. */
