@@ -21,7 +21,7 @@ LIBS_NOLUA = $(DEP_LIBS_NOLUA) -lm -lpthread
 LIBS       = $(DEP_LIBS) -lm -lpthread
 
 # ------------------------------------------------------------------ objects
-CORE_SRC := src/core/error.c src/core/lmath.c src/core/scene.c src/core/surface.c src/core/move.c src/core/straddle.c src/core/plan.c src/core/trace.c src/core/image.c
+CORE_SRC := src/core/error.c src/core/lmath.c src/core/scene.c src/core/surface.c src/core/move.c src/core/straddle.c src/core/plan.c src/core/trace.c src/core/image.c src/core/file.c
 GL_SRC   := src/gl/render.c src/gl/views.c src/gl/mesh.c src/gl/ctx_osmesa.c src/gl/ctx_egl.c \
             src/gl/ctx_host.c
 LUA_SRC  := src/lua/bindings.c src/lua/script.c src/lua/safe.c src/lua/guards.c
@@ -259,9 +259,11 @@ sweep-charts:
 # program against the instrumented liblimen.so. LeakSanitizer skips only memory that Mesa
 # and LLVM allocate themselves (tests/sanitize.supp), and is off in lua5.4, which unloads
 # limen.so and Mesa before it runs, so that it could not tell their memory from limen's.
-# `make fuzz` (not part of make test): libFuzzer (clang) on the scene loader for FUZZ_TIME
-# seconds (60 by default), corpus in $(B)/fuzz/corpus seeded from scenes/ and
-# tests/malformed/, crashes and hangs written to $(B)/fuzz/ (tests/fuzz/fuzz_scene.c).
+# `make fuzz` (not part of make test): libFuzzer (clang), FUZZ_TIME seconds (60 by default)
+# for each of three targets, crashes and hangs written to $(B)/fuzz/: the scene loader
+# (tests/fuzz/fuzz_scene.c, corpus seeded from scenes/ and tests/malformed/); the C API
+# (fuzz_api.c: a scene built from byte-coded calls, then planned, written as JSON, traced,
+# cast into and moved); PNG reading (fuzz_png.c, corpus seeded from the project's PNGs).
 SAN_B      ?= $(B)/asan
 SAN_CC     ?= gcc -fsanitize=address,undefined -fno-sanitize-recover=all
 SAN_CFLAGS ?= -O2 -g -fno-omit-frame-pointer
@@ -270,6 +272,7 @@ SAN_ENV     = ASAN_OPTIONS=halt_on_error=1:detect_leaks=1:verify_asan_link_order
               UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1 \
               PATH="$(abspath $(SAN_B))/sanbin:$$PATH"
 FUZZ_TIME  ?= 60
+FUZZ_TARGETS := scene api png
 FUZZ_B     := $(B)/fuzz
 FUZZ_CC    ?= clang
 FUZZ_SAN   := -fsanitize=address,undefined -fno-sanitize-recover=all
@@ -288,9 +291,17 @@ test-sanitize:
 fuzz: $(B)/config.mk
 	@$(MAKE) --no-print-directory B=$(FUZZ_B) CC="$(FUZZ_CC) $(FUZZ_SAN) -fsanitize=fuzzer-no-link" \
 	  CFLAGS="-O1 -g" $(FUZZ_B)/liblimen.a
-	$(FUZZ_CC) $(FUZZ_SAN) -fsanitize=fuzzer -O1 -g -Iinclude -o $(FUZZ_B)/fuzz_scene \
-	  tests/fuzz/fuzz_scene.c $(FUZZ_B)/liblimen.a $(LIBS)
-	@mkdir -p $(FUZZ_B)/corpus && cp scenes/*.lua tests/malformed/*.lua $(FUZZ_B)/corpus/
+	@for t in $(FUZZ_TARGETS); do \
+	  $(FUZZ_CC) $(FUZZ_SAN) -fsanitize=fuzzer -O1 -g -Iinclude -o $(FUZZ_B)/fuzz_$$t \
+	    tests/fuzz/fuzz_$$t.c $(FUZZ_B)/liblimen.a $(LIBS) || exit 1; done
+	@mkdir -p $(FUZZ_B)/corpus $(FUZZ_B)/corpus_api $(FUZZ_B)/corpus_png && \
+	  cp scenes/*.lua tests/malformed/*.lua $(FUZZ_B)/corpus/ && \
+	  find bench/charts tests -name '*.png' -size -64k -exec cp {} $(FUZZ_B)/corpus_png/ \;
 	$(FUZZ_B)/fuzz_scene -max_total_time=$(FUZZ_TIME) -timeout=10 -max_len=16384 \
 	  -dict=tests/fuzz/scene.dict -artifact_prefix=$(FUZZ_B)/ -print_final_stats=1 \
 	  $(FUZZ_B)/corpus
+	$(FUZZ_B)/fuzz_api -max_total_time=$(FUZZ_TIME) -timeout=10 -max_len=2048 \
+	  -artifact_prefix=$(FUZZ_B)/api- -print_final_stats=1 $(FUZZ_B)/corpus_api
+	$(FUZZ_B)/fuzz_png -max_total_time=$(FUZZ_TIME) -timeout=10 -max_len=65536 \
+	  -dict=tests/fuzz/png.dict -artifact_prefix=$(FUZZ_B)/png- -print_final_stats=1 \
+	  $(FUZZ_B)/corpus_png

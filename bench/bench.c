@@ -18,6 +18,7 @@
 #include <time.h>
 #include <unistd.h>
 
+#include "core/internal.h"
 #include "limen.h"
 
 /* ------------------------------------------------------------------ the space */
@@ -106,6 +107,20 @@ static void die(const char *fmt, ...)
     fputc('\n', stderr);
     va_end(ap);
     exit(1);
+}
+
+/* Results are written whole or not at all (core/file.c), like everything limen writes. */
+static FILE *out_open(limen__out *o, const char *path)
+{
+    if (limen__out_open(o, path))
+        die("cannot write %s", path);
+    return o->f;
+}
+
+static void out_close(limen__out *o)
+{
+    if (limen__out_close(o))
+        die("cannot write %s", o->path);
 }
 
 static double now_ms(void)
@@ -205,6 +220,8 @@ static limen_render_opts opts_for(int v, int clip, int depth)
     o.clip = (limen_clip_method)clip;
     o.limit_depth = 1;
     o.max_depth = depth;
+    /* the methods as they are, the naive one's full-image views included: no frame budget */
+    o.budget = (limen_frame_budget){ INT64_MAX, INT64_MAX };
     return o;
 }
 
@@ -287,9 +304,8 @@ static const char *series_name(const point *p)
 
 static void write_csv(const char *path)
 {
-    FILE *f = fopen(path, "w");
-    if (!f)
-        die("cannot write %s", path);
+    limen__out out;
+    FILE *f = out_open(&out, path);
     fprintf(f, "scene,width,height,msaa,series,method,texture_scale,clip,depth,frames,"
                "ms_median,ms_p25,ms_p75,views,truncated,fragments,samples,pixels,"
                "samples_per_pixel,bad_share,psnr\n");
@@ -307,16 +323,15 @@ static void write_csv(const char *path)
                 p->ms_p25, p->ms_p75, p->views, p->truncated, p->fragments, p->samples,
                 p->pixels, p->pixels > 0 ? p->samples / p->pixels : 0.0, p->bad, p->psnr);
     }
-    fclose(f);
+    out_close(&out);
 }
 
 /* Per scene at the largest size: the points that no other point of that scene beats in
  * both frame time and bad pixels, fastest first (the ray tracer included). */
 static void write_pareto(const char *path, size2 sz)
 {
-    FILE *f = fopen(path, "w");
-    if (!f)
-        die("cannot write %s", path);
+    limen__out out;
+    FILE *f = out_open(&out, path);
     fprintf(f, "scene,ms_median,bad_share,series,clip,depth,msaa\n");
     for (int s = 0; s < NSCENES; s++) {
         int idx[MAX_POINTS], n = 0;
@@ -342,7 +357,7 @@ static void write_pareto(const char *path, size2 sz)
         }
         fprintf(f, "\n\n");     /* gnuplot: one data set per scene */
     }
-    fclose(f);
+    out_close(&out);
 }
 
 /* ------------------------------------------------------------------ interleaved targets */
@@ -547,7 +562,8 @@ int main(int argc, char **argv)
             tp->ms_p75 = quantile(ms, n, 0.75);
             char path[600];
             snprintf(path, sizeof path, "%s/truth/%s_%dx%d.png", out, b->name, sz.w, sz.h);
-            limen_write_png(path, sz.w, sz.h, truth[s][si]);
+            if (limen_write_png(path, sz.w, sz.h, truth[s][si]))
+                die("cannot write %s", path);
             fprintf(stderr, "  %-12s %4dx%-4d ray tracer (depth %d): %.1f ms\n", b->name, sz.w,
                     sz.h, TRUTH_DEPTH, tp->ms);
 
@@ -592,9 +608,8 @@ int main(int argc, char **argv)
 
     /* ---------------------------------------------------------------- targets */
     snprintf(path, sizeof path, "%s/targets.txt", out);
-    FILE *tf = fopen(path, "w");
-    if (!tf)
-        die("cannot write %s", path);
+    limen__out tout;
+    FILE *tf = out_open(&tout, path);
     size2 tsz = { 1280, 720 };
     int tsi = -1;
     for (int si = 0; si < cfg->nsizes; si++)
@@ -755,18 +770,19 @@ int main(int argc, char **argv)
                          "error is under 20x faster than the tracer)" : "",
             detail);
     }
-    fclose(tf);
+    out_close(&tout);
 
     double t_end = now_ms();
     snprintf(path, sizeof path, "%s/meta.txt", out);
-    FILE *mf = fopen(path, "w");
-    if (mf) {
+    limen__out mout;
+    FILE *mf = out_open(&mout, path);
+    {
         fprintf(mf, "run: %s\npoints: %d\nsweep: %.0f s\ntargets: %.0f s\ntotal: %.0f s\n"
                     "gl: %s\nonline cpus: %ld\n",
                 cfg->name, g_npoints, (t_sweep - t_start) / 1e3, (t_end - t_sweep) / 1e3,
                 (t_end - t_start) / 1e3, limen_renderer_gl_info(g_slots[0].r),
                 sysconf(_SC_NPROCESSORS_ONLN));
-        fclose(mf);
+        out_close(&mout);
     }
     fprintf(stderr, "bench: %d points in %.0f s, targets in %.0f s\n", g_npoints,
             (t_sweep - t_start) / 1e3, (t_end - t_sweep) / 1e3);

@@ -19,6 +19,7 @@
 #include <string.h>
 #include <time.h>
 
+#include "core/internal.h"
 #include "core/lmath.h"
 
 enum { NPLANES = 4096, METHODS = 3, SETS = 5 };
@@ -224,11 +225,12 @@ int main(int argc, char **argv)
         }
     }
     int calls = full ? 2000000 : 400000, runs = full ? 11 : 5;
-    FILE *f = fopen(out, "w");
-    if (!f) {
+    limen__out file;    /* written whole or not at all */
+    if (limen__out_open(&file, out)) {
         fprintf(stderr, "matrices: cannot write %s\n", out);
         return 1;
     }
+    FILE *f = file.f;
     fprintf(f, "method,set,ns_per_matrix,err_median,err_max,ortho_max,invol_max,exact_max,"
                "non_finite_share\n");
     printf("%-18s %-14s %9s %11s %11s %11s %11s %11s %9s\n", "method", "planes", "ns/matrix",
@@ -260,6 +262,9 @@ int main(int argc, char **argv)
                    100.0 * bad / NPLANES);
         }
     }
-    fclose(f);
+    if (limen__out_close(&file)) {
+        fprintf(stderr, "matrices: cannot write %s\n", out);
+        return 1;
+    }
     return 0;
 }

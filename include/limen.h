@@ -39,6 +39,14 @@
  *
  * The library never prints and never exits. It keeps no global state: each
  * scene and each renderer carries its own error message.
+ *
+ * THREADS
+ *   A scene belongs to one thread at a time: a call that takes a (non-const) limen_scene *
+ *   (an edit, but also planning, tracing, ray casts and rendering, which refresh its world
+ *   matrices and may set its message) must not overlap any other call on that scene.
+ *   Calls that take a const limen_scene * only read it (they never write, not even the
+ *   error message), so any number of threads may make them at once while no other call
+ *   runs. Different scenes, renderers and scripts are independent.
  */
 #ifndef LIMEN_H
 #define LIMEN_H
@@ -119,11 +127,28 @@ LIMEN_API limen_status limen_projection_planes(const float proj[16], limen_depth
 
 /* ---------------------------------------------------------------- scene */
 
+/* NUMBERS. Every setter checks its numbers, and the Lua bindings pass scripts' values
+ * through the same setters, so C and Lua accept the same scenes: coordinates (positions,
+ * directions, local matrix elements, displacements) from -LIMEN_MAX_MAGNITUDE to
+ * LIMEN_MAX_MAGNITUDE; sizes, scales, near and far distances and checker cells from
+ * LIMEN_MIN_SIZE to LIMEN_MAX_MAGNITUDE, positive (a scale of -1, or a local matrix with a
+ * negative determinant, would mirror the node and turn its faces inside out); light
+ * intensities up to LIMEN_MAX_MAGNITUDE. A float holds up to 3.4e38 and the maths multiplies
+ * four such numbers, so within these bounds it stays finite. Out of range -> LIMEN_ERR_ARG.
+ * What parents compose is checked where a scene is planned, traced or cast into: a camera,
+ * mirror or portal whose world scale (the product along its parent chain) leaves
+ * [LIMEN_MIN_SIZE, LIMEN_MAX_MAGNITUDE] is refused by all three with one message. */
+#define LIMEN_MAX_MAGNITUDE 1e9f
+#define LIMEN_MIN_SIZE 1e-9f
+
 typedef struct limen_scene limen_scene;
 
-/* A node handle: index plus a generation counter; a handle to a destroyed node is
- * refused with LIMEN_ERR_HANDLE. The zero handle means "no node". */
-typedef struct limen_node { uint32_t id; } limen_node;
+/* A node handle: slot index (low 32 bits, plus one) and the slot's generation (high 32
+ * bits). A handle to a destroyed node is refused with LIMEN_ERR_HANDLE, for good: freed
+ * slots are reused first freed, first reused, and a slot whose generation would wrap is
+ * retired, so no later node ever gets an old handle. The zero handle means "no node".
+ * ABI change: 64 bits (it was 32, with a 12-bit generation that came round again). */
+typedef struct limen_node { uint64_t id; } limen_node;
 
 typedef enum limen_node_kind {
     LIMEN_NODE_GROUP = 0,   /* transform only */
@@ -139,12 +164,15 @@ typedef enum limen_node_kind {
 } limen_node_kind;
 
 typedef struct limen_scene_desc {
-    int max_nodes;          /* 0 -> 4096 */
+    int max_nodes;          /* live nodes at most; 0 -> no limit but memory (the pool grows) */
 } limen_scene_desc;
 
 LIMEN_API limen_status limen_scene_create(const limen_scene_desc *desc, limen_scene **out);
 LIMEN_API void limen_scene_destroy(limen_scene *s);                    /* NULL is fine */
-LIMEN_API const char *limen_last_error(const limen_scene *s);          /* "" when none */
+/* The message of the last failed call that takes a (non-const) limen_scene *; "" when none.
+ * Calls taking a const limen_scene * only read: a bad handle is their status or return
+ * value, and they leave this message as it was. */
+LIMEN_API const char *limen_last_error(const limen_scene *s);
 LIMEN_API limen_status limen_scene_set_background(limen_scene *s, const float rgb[3]);
 LIMEN_API limen_status limen_scene_set_ambient(limen_scene *s, float ambient); /* [0, 1] */
 LIMEN_API void limen_scene_get_background(const limen_scene *s, float rgb[3]);
@@ -152,8 +180,9 @@ LIMEN_API float limen_scene_get_ambient(const limen_scene *s);
 LIMEN_API limen_status limen_scene_set_camera(limen_scene *s, limen_node camera);
 LIMEN_API limen_node limen_scene_get_camera(const limen_scene *s);    /* zero handle if none */
 LIMEN_API int limen_scene_node_count(const limen_scene *s);            /* live nodes */
-/* Fills out[0..max) with the live nodes in pool order (the order lights and shapes are
- * drawn in); returns how many there are (which may exceed max). */
+/* Fills out[0..max) with the live nodes in creation order (the order lights and shapes are
+ * drawn in); returns how many there are (which may exceed max). Costs the live count, not
+ * the pool's size. */
 LIMEN_API int limen_scene_nodes(const limen_scene *s, limen_node *out, int max);
 /* Recompute world matrices now (done implicitly by every call that needs them). */
 LIMEN_API limen_status limen_scene_update(limen_scene *s);
@@ -246,7 +275,8 @@ typedef struct limen_move_result {
 LIMEN_API limen_status limen_node_move(limen_scene *s, limen_node n, const float d[3],
                                        limen_move_result *out);
 
-/* Cameras: vertical fov in radians, 0 < near < far. Defaults: 60 degrees, 0.05, 100. */
+/* Cameras: vertical fov in radians, near < far, both from LIMEN_MIN_SIZE to
+ * LIMEN_MAX_MAGNITUDE. Defaults: 60 degrees, 0.05, 100. */
 LIMEN_API limen_status limen_camera_set_lens(limen_scene *s, limen_node cam, float fovy,
                                              float znear, float zfar);
 LIMEN_API limen_status limen_camera_get_lens(const limen_scene *s, limen_node cam, float *fovy,
@@ -274,7 +304,7 @@ typedef enum limen_view_kind {
  * children, children in the order their surfaces should be processed. A nested view first
  * resets depth inside its pixels (stencil == its stencil value, within its scissor), draws,
  * and shows the scene background times its tint where nothing lands. limen's shading, which
- * the ray tracer reproduces: at most 8 lights (LIGHT nodes in pool order); sphere normals
+ * the ray tracer reproduces: at most 8 lights (the first LIGHT nodes in creation order); sphere normals
  * and cylinder side normals (x, 0, z) from the true shape; checker cells in the node's local
  * units before its own scale, x+y for quads, x+y+z for other shapes. */
 typedef struct limen_view {
@@ -319,6 +349,25 @@ enum {
     LIMEN_FAULT_PORTAL_NO_TURN = 1   /* portal matrix without its 180-degree turn */
 };
 
+/* What one frame may cost, whoever made the scene (scripts come from modders): a budget that
+ * the planner spends breadth first like max_views. A view that would overspend it is not
+ * created and its surface shows the fill colour (counted in limen_plan_truncated, the
+ * limits it met in limen_plan_work.budgets_hit). Zero fields take the defaults, which no
+ * scene of the gallery meets; negative ones are refused. */
+typedef struct limen_frame_budget {
+    int64_t view_pixels;        /* sum of the views' scissor areas, the root's included: the
+                                 * pixels the renderer may shade more than once;
+                                 * 0 -> 64 x width x height */
+    int64_t surface_tests;      /* views x mirrors and portals: each view tests (and a
+                                 * renderer may draw) every visible surface; 0 -> 131072 */
+} limen_frame_budget;
+
+enum {                          /* limen_plan_work.budgets_hit */
+    LIMEN_BUDGET_VIEWS = 1,             /* max_views */
+    LIMEN_BUDGET_VIEW_PIXELS = 2,
+    LIMEN_BUDGET_SURFACE_TESTS = 4
+};
+
 typedef struct limen_plan_desc {
     int width, height;          /* image size in pixels (0 -> 640 x 480) */
     limen_depth_range range;    /* clip-space convention of proj */
@@ -332,6 +381,7 @@ typedef struct limen_plan_desc {
     int no_cull;                /* 1: keep views of surfaces outside the parent's narrowed
                                  * frustum, with full-image scissors (the naive baseline) */
     unsigned test_faults;       /* LIMEN_FAULT_* bits; 0 */
+    limen_frame_budget budget;  /* what the frame may cost; zero -> defaults */
 } limen_plan_desc;
 
 typedef struct limen_plan limen_plan;
@@ -343,7 +393,7 @@ LIMEN_API limen_status limen_plan_build(limen_plan *p, limen_scene *s, const lim
 LIMEN_API int limen_plan_count(const limen_plan *p);
 LIMEN_API const limen_view *limen_plan_view(const limen_plan *p, int i); /* NULL if out of range */
 /* The surfaces view i sees (a portal seen from behind and the view's own exit surface are
- * not listed: they draw nothing); returns their count. */
+ * not listed: they draw nothing); returns their count (*out is NULL when it is 0). */
 LIMEN_API int limen_plan_view_surfaces(const limen_plan *p, int i, const limen_view_surface **out);
 /* A closed shape (box, sphere, cylinder) passing through a portal, its centre over the
  * rectangle: it is drawn twice in every view, itself cut at the portal's plane and a copy
@@ -360,6 +410,15 @@ LIMEN_API int limen_plan_clones(const limen_plan *p, const limen_clone **out);
 /* Views that hit the budget or a depth limit and so were not created (their surfaces show
  * the fill colour). */
 LIMEN_API int limen_plan_truncated(const limen_plan *p);
+/* What the plan spent of its budget. */
+typedef struct limen_plan_work {
+    int views;                  /* limen_plan_count */
+    int truncated;              /* limen_plan_truncated */
+    int64_t view_pixels;        /* sum of the views' scissor areas */
+    int64_t surface_tests;      /* view x surface tests made */
+    unsigned budgets_hit;       /* LIMEN_BUDGET_* bits of the budgets that stopped a view */
+} limen_plan_work;
+LIMEN_API void limen_plan_get_work(const limen_plan *p, limen_plan_work *out);
 /* Writes the plan as JSON ({"views": [...]}); returns LIMEN_ERR_IO if it cannot. */
 LIMEN_API limen_status limen_plan_write_json(const limen_plan *p, const limen_scene *s,
                                              const char *path);
@@ -421,6 +480,7 @@ typedef struct limen_frame_stats {
     uint64_t fragments;         /* fragment-shader invocations (pipeline statistics); 0 if unavailable */
     uint64_t samples;           /* samples that passed depth and stencil (occlusion query) */
     uint64_t pixels;            /* width * height */
+    int truncated;              /* views not created: limits or the budget (see the plan) */
 } limen_frame_stats;
 
 LIMEN_API limen_status limen_renderer_create(const limen_renderer_desc *desc,
@@ -456,6 +516,7 @@ typedef struct limen_render_opts {
     int max_views;              /* 0 -> 1024 */
     float adaptive;             /* as in limen_plan_desc */
     unsigned test_faults;       /* LIMEN_FAULT_* bits (tests only); 0 */
+    limen_frame_budget budget;  /* as in limen_plan_desc: what the frame may cost */
 } limen_render_opts;
 
 /* Plans and draws one frame of the scene from its camera. opts and stats may be NULL. */
@@ -588,7 +649,12 @@ LIMEN_API limen_status limen_script_update(limen_script *sc, double t);
 /* Writes 8-bit RGB (top row first) as PNG. */
 LIMEN_API limen_status limen_write_png(const char *path, int width, int height,
                                        const unsigned char *rgb);
-/* Reads a PNG (any channel count) as 8-bit RGB; free *rgb with limen_free. */
+/* The largest image limen_read_png decodes: 64 million pixels (192 MB as RGB). */
+#define LIMEN_IMAGE_MAX_PIXELS (64LL * 1024 * 1024)
+
+/* Reads a PNG (any channel count) as 8-bit RGB; free *rgb with limen_free. An image over
+ * LIMEN_IMAGE_MAX_PIXELS is refused from its header, before decoding: LIMEN_ERR_ARG. A file
+ * that cannot be read or is not a PNG: LIMEN_ERR_IO. */
 LIMEN_API limen_status limen_read_png(const char *path, int *width, int *height,
                                       unsigned char **rgb);
 LIMEN_API void limen_free(void *p);

@@ -344,6 +344,20 @@ static void test_json(void)
     CHECK(strstr(buf, "\"kind\": \"mirror\"") != NULL);
     CHECK(strstr(buf, "nan") == NULL && strstr(buf, "inf") == NULL);
     CHECK(limen_plan_write_json(p, s, "/nonexistent/dir/plan.json") == LIMEN_ERR_IO);
+    CHECK(limen_plan_write_json(p, s, "/dev/full") == LIMEN_ERR_IO);
+    limen_plan_destroy(p);
+    limen_scene_destroy(s);
+}
+
+/* A plan of a scene without mirrors or portals: one view that sees no surface (the public
+ * list was NULL plus an offset). */
+static void test_plan_without_surfaces(void)
+{
+    limen_scene *s = scene_with_camera((float[3]){ 0, 1, 5 }, (float[3]){ 0, 1, 0 });
+    limen_plan *p = plan(s, (limen_plan_desc){ 0 });
+    const limen_view_surface *vs = (const limen_view_surface *)p;
+    CHECK(limen_plan_count(p) == 1);
+    CHECK(limen_plan_view_surfaces(p, 0, &vs) == 0 && vs == NULL);
     limen_plan_destroy(p);
     limen_scene_destroy(s);
 }
@@ -399,6 +413,134 @@ static void test_move_through_portal(void)
     limen_scene_destroy(s);
 }
 
+/* ------------------------------------------------------------------ extremes of scale */
+
+/* Two facing mirrors a billion units wide and ten apart recurse as deep as allowed, and the
+ * tracer passes as many surfaces (the on-plane tolerance grew with the coordinates: 1e-6 of
+ * 5e8 put each mirror behind the other). */
+static void test_huge_facing_mirrors(void)
+{
+    limen_scene *s = scene_with_camera((float[3]){ 0, 0, 5 }, (float[3]){ 0, 0, 0 });
+    surface(s, LIMEN_NODE_MIRROR, "a", (float[3]){ 0, 0, 0 }, (float[3]){ 0, 0, 1 }, 1e9f, 1e9f);
+    surface(s, LIMEN_NODE_MIRROR, "b", (float[3]){ 0, 0, 10 }, (float[3]){ 0, 0, -1 }, 1e9f,
+            1e9f);
+    limen_plan *p = plan(s, (limen_plan_desc){ .limit_depth = 1, .max_depth = 6 });
+    CHECK_MSG(limen_plan_count(p) == 7, "%d views, expected a chain of 7",
+              limen_plan_count(p));
+    for (int i = 0; i < limen_plan_count(p); i++)
+        CHECK(finite_view(limen_plan_view(p, i)));
+    limen_hit h;
+    CHECK_OK(limen_ray_cast(s, (float[3]){ 0, 0, 5 }, (float[3]){ 0.01f, 0.02f, -1 }, 6, &h));
+    CHECK(h.surface_count == 6);
+    limen_plan_destroy(p);
+    limen_scene_destroy(s);
+}
+
+/* Scales in range whose product along a parent chain leaves [1e-9, 1e9] for a camera or a
+ * portal: planner (so renderer), tracer and ray casts refuse with one message, and no plan
+ * or JSON with infinities comes out. */
+static void check_refused_by_all(limen_scene *s, const char *name)
+{
+    char first[512];
+    limen_plan *p;
+    CHECK_OK(limen_plan_create(&p));
+    CHECK(limen_plan_build(p, s, &(limen_plan_desc){ .width = W, .height = H }) ==
+          LIMEN_ERR_ARG);
+    snprintf(first, sizeof first, "%s", limen_last_error(s));
+    CHECK_MSG(strstr(first, name) && strstr(first, "between 1e-9 and 1e9"), "planner: %s", first);
+    unsigned char *rgb = malloc(W * H * 3);
+    CHECK(limen_trace_image(s, &(limen_trace_desc){ .width = W, .height = H }, rgb) ==
+          LIMEN_ERR_ARG);
+    CHECK_MSG(strcmp(limen_last_error(s), first) == 0, "tracer: %s", limen_last_error(s));
+    limen_hit h;
+    CHECK(limen_ray_cast(s, (float[3]){ 0, 0, 0 }, (float[3]){ 0, 0, -1 }, -1, &h) ==
+          LIMEN_ERR_ARG);
+    CHECK_MSG(strcmp(limen_last_error(s), first) == 0, "ray cast: %s", limen_last_error(s));
+    free(rgb);
+    limen_plan_destroy(p);
+}
+
+static void test_tiny_parents_refused(void)
+{
+    limen_scene *s = scene_with_camera((float[3]){ 0, 0, 5 }, (float[3]){ 0, 0, 0 });
+    limen_node g[3], cam = limen_scene_get_camera(s);
+    for (int i = 0; i < 3; i++) {
+        CHECK_OK(limen_node_create(s, LIMEN_NODE_GROUP, NULL, &g[i]));
+        CHECK_OK(limen_node_set_scale(s, g[i], (float[3]){ 1e-9f, 1e-9f, 1e-9f }));
+        if (i)
+            CHECK_OK(limen_node_set_parent(s, g[i], g[i - 1]));
+    }
+    CHECK_OK(limen_node_set_parent(s, cam, g[2]));
+    check_refused_by_all(s, "camera 'cam'");
+    CHECK_OK(limen_node_set_parent(s, cam, (limen_node){ 0 }));
+    limen_node a = surface(s, LIMEN_NODE_PORTAL, "in", (float[3]){ 0, 0, 0 },
+                           (float[3]){ 0, 0, 1 }, 1, 1);
+    limen_node b = surface(s, LIMEN_NODE_PORTAL, "out", (float[3]){ 0, 0, 0 },
+                           (float[3]){ 0, 0, 1 }, 1, 1);
+    CHECK_OK(limen_portal_link(s, a, b));
+    CHECK_OK(limen_node_set_parent(s, b, g[2]));
+    check_refused_by_all(s, "portal 'out'");
+    CHECK_OK(limen_node_set_parent(s, b, g[1]));   /* 1e-18: still out */
+    check_refused_by_all(s, "portal 'out'");
+    CHECK_OK(limen_node_set_parent(s, b, g[0]));   /* 1e-9: in range, planned */
+    limen_plan *p = plan(s, (limen_plan_desc){ 0 });
+    for (int i = 0; i < limen_plan_count(p); i++)
+        CHECK(finite_view(limen_plan_view(p, i)));
+    limen_plan_destroy(p);
+    limen_scene_destroy(s);
+}
+
+/* ------------------------------------------------------------------ frame budget */
+
+/* 2,000 mirrors stacked 1 mm apart (twelve lines of a safe script) made one 640x480 frame
+ * take 1,024 views, each testing and drawing every mirror: minutes and most of a gigabyte.
+ * The frame budget bounds it; counts, not times. */
+static void test_frame_budget_bounds_stacked_mirrors(void)
+{
+    enum { N = 2000, FW = 640, FH = 480 };
+    limen_scene *s = scene_with_camera((float[3]){ 0, 0, 3 }, (float[3]){ 0, 0, 0 });
+    for (int i = 0; i < N; i++)
+        surface(s, LIMEN_NODE_MIRROR, NULL, (float[3]){ 0, 0, -0.001f * (float)i },
+                (float[3]){ 0, 0, 1 }, 4, 3);
+    limen_plan *p = plan(s, (limen_plan_desc){ .width = FW, .height = FH });
+    limen_plan_work w;
+    limen_plan_get_work(p, &w);
+    const int64_t screen = (int64_t)FW * FH;
+    /* the defaults: 64 screens of drawing, 131072 surface tests, each exceeded by at most
+     * one view's own work (every surface in its scissor) */
+    CHECK_MSG(w.view_pixels <= 64 * screen + (int64_t)(N + 1) * screen,
+              "%lld pixels drawn", (long long)w.view_pixels);
+    CHECK_MSG(w.surface_tests <= 131072 + N, "%lld surface tests", (long long)w.surface_tests);
+    CHECK(w.views == limen_plan_count(p) && w.views < 70);
+    CHECK(w.truncated > 0 && (w.budgets_hit & (LIMEN_BUDGET_VIEW_PIXELS |
+                                               LIMEN_BUDGET_SURFACE_TESTS)));
+    CHECK(w.truncated == limen_plan_truncated(p));
+    /* memory follows the work: the planner's per-view surface lists */
+    int listed = 0;
+    for (int i = 0; i < limen_plan_count(p); i++) {
+        const limen_view_surface *vs;
+        listed += limen_plan_view_surfaces(p, i, &vs);
+    }
+    CHECK_MSG(listed <= w.surface_tests, "%d surfaces listed", listed);
+    /* every surface of the tree is still drawn: as a view or as its fill colour */
+    const limen_view_surface *vs;
+    CHECK(limen_plan_view_surfaces(p, 0, &vs) == N);
+
+    /* a budget the caller sets: one surface test more than the root's allows no child */
+    limen_plan_destroy(p);
+    p = plan(s, (limen_plan_desc){ .width = FW, .height = FH,
+                                   .budget = { .view_pixels = INT64_MAX,
+                                               .surface_tests = N + 1 } });
+    limen_plan_get_work(p, &w);
+    CHECK(w.views == 1 && w.surface_tests == N && (w.budgets_hit & LIMEN_BUDGET_SURFACE_TESTS));
+    limen_plan_destroy(p);
+    limen_plan_create(&p);
+    CHECK(limen_plan_build(p, s, &(limen_plan_desc){ .budget = { .view_pixels = -1 } }) ==
+          LIMEN_ERR_ARG);
+    limen_plan_destroy(p);
+    limen_scene_destroy(s);
+}
+
 static const check_case cases[] = {
     { "move_through_portal", test_move_through_portal },
     { "corridor_one_view_per_level", test_corridor_one_view_per_level },
@@ -410,6 +552,10 @@ static const check_case cases[] = {
     { "budget_kaleidoscope", test_budget_kaleidoscope },
     { "oblique_fallback", test_oblique_fallback },
     { "json", test_json },
+    { "plan_without_surfaces", test_plan_without_surfaces },
+    { "huge_facing_mirrors", test_huge_facing_mirrors },
+    { "tiny_parents_refused", test_tiny_parents_refused },
+    { "frame_budget_bounds_stacked_mirrors", test_frame_budget_bounds_stacked_mirrors },
     { 0 },
 };
 

@@ -2,6 +2,7 @@
 #include <stdlib.h>
 
 #include "check.h"
+#include "core/internal.h"
 #include "limen.h"
 
 static limen_scene *new_scene(void)
@@ -56,6 +57,74 @@ static void test_capacity(void)
         CHECK_OK(limen_node_create(s, LIMEN_NODE_GROUP, NULL, &n));
     CHECK(limen_node_create(s, LIMEN_NODE_GROUP, NULL, &n) == LIMEN_ERR_NOMEM);
     CHECK(n.id == 0);
+    limen_scene_destroy(s);
+}
+
+/* A destroyed node's handle stays stale however often slots are reused: with a 12-bit
+ * generation and the last freed slot reused first, it came back after 2,048 reuses. */
+static void test_stale_handles_stay_stale(void)
+{
+    limen_scene *s = new_scene();
+    limen_node keep, old, n;
+    CHECK_OK(limen_node_create(s, LIMEN_NODE_GROUP, "keep", &keep));
+    CHECK_OK(limen_node_create(s, LIMEN_NODE_CAMERA, "old", &old));
+    CHECK_OK(limen_node_destroy(s, old));
+    int revived = 0;
+    for (int i = 0; i < 20000; i++) {
+        CHECK_OK(limen_node_create(s, LIMEN_NODE_GROUP, NULL, &n));
+        revived += n.id == old.id || limen_node_valid(s, old);
+        CHECK_OK(limen_node_destroy(s, n));
+    }
+    CHECK_MSG(revived == 0, "a stale handle came back %d times", revived);
+    CHECK(limen_scene_set_camera(s, old) == LIMEN_ERR_HANDLE);
+    CHECK(limen_node_valid(s, keep));
+    limen_scene_destroy(s);
+}
+
+/* A slot whose generation has run out is retired, never handed out again. */
+static void test_generation_wrap_retires_slot(void)
+{
+    limen_scene *s = new_scene();
+    limen_node n, m;
+    CHECK_OK(limen_node_create(s, LIMEN_NODE_GROUP, "n", &n));
+    int slot = (int)((uint32_t)n.id - 1u);
+    s->nodes[slot].gen = UINT32_MAX;    /* as after 2^31 reuses */
+    n = limen__node_handle(s, slot);
+    CHECK(limen_node_valid(s, n));
+    CHECK_OK(limen_node_destroy(s, n));
+    CHECK(!limen_node_valid(s, n));
+    int reused = 0;
+    for (int i = 0; i < 1000; i++) {
+        CHECK_OK(limen_node_create(s, LIMEN_NODE_GROUP, NULL, &m));
+        reused += (int)((uint32_t)m.id - 1u) == slot;
+        reused += limen_node_valid(s, (limen_node){ ((uint64_t)1 << 32) | (uint64_t)(slot + 1) });
+        CHECK_OK(limen_node_destroy(s, m));
+    }
+    CHECK_MSG(reused == 0, "a retired slot was used %d times", reused);
+    limen_scene_destroy(s);
+}
+
+/* No fixed node limit: the pool grows; iteration follows the live nodes in creation order
+ * and costs no more than twice their number however many were destroyed. */
+static void test_pool_grows(void)
+{
+    limen_scene *s = new_scene();
+    enum { N = 10000 };
+    limen_node *made = malloc(sizeof *made * N), *got = malloc(sizeof *got * N);
+    for (int i = 0; i < N; i++)
+        CHECK_OK(limen_node_create(s, LIMEN_NODE_SPHERE, NULL, &made[i]));
+    CHECK(limen_scene_node_count(s) == N);
+    for (int i = 0; i < N - 3; i++)
+        CHECK_OK(limen_node_destroy(s, made[i]));
+    CHECK(limen_scene_node_count(s) == 3);
+    CHECK_MSG(s->live_len <= 2 * s->count + 1, "live list of %d entries for %d nodes",
+              s->live_len, s->count);
+    limen_node fresh;
+    CHECK_OK(limen_node_create(s, LIMEN_NODE_BOX, NULL, &fresh));
+    CHECK(limen_scene_nodes(s, got, N) == 4);
+    CHECK(got[0].id == made[N - 3].id && got[2].id == made[N - 1].id && got[3].id == fresh.id);
+    free(made);
+    free(got);
     limen_scene_destroy(s);
 }
 
@@ -194,7 +263,7 @@ static void test_validation(void)
     CHECK(d[0] == 2);
     CHECK(limen_node_set_color(s, b, (float[3]){ 1.5f, 0, 0 }) == LIMEN_ERR_ARG);
     CHECK_OK(limen_node_set_color(s, l, (float[3]){ 1.5f, 1.5f, 1.5f }));  /* intensity */
-    CHECK(limen_node_set_scale(s, b, (float[3]){ 0, 1, 1 }) == LIMEN_ERR_DEGENERATE);
+    CHECK(limen_node_set_scale(s, b, (float[3]){ 0, 1, 1 }) == LIMEN_ERR_ARG);
     CHECK(limen_node_set_position(s, b, (float[3]){ 0, NAN, 0 }) == LIMEN_ERR_ARG);
     CHECK(limen_node_set_position(s, b, NULL) == LIMEN_ERR_ARG);
     CHECK(limen_scene_set_ambient(s, 1.5f) == LIMEN_ERR_ARG);
@@ -207,6 +276,46 @@ static void test_validation(void)
     limen_scene_destroy(s);
     limen_scene_destroy(NULL);
     CHECK(limen_scene_create(NULL, NULL) == LIMEN_ERR_ARG);
+}
+
+/* Values the C API took but Lua refused (and with which renderer and tracer disagreed): the
+ * core setters now refuse them for both, one message each. */
+static void test_numbers_in_range(void)
+{
+    limen_scene *s = new_scene();
+    limen_node cam, m, l, b;
+    CHECK_OK(limen_node_create(s, LIMEN_NODE_CAMERA, "cam", &cam));
+    CHECK_OK(limen_node_create(s, LIMEN_NODE_MIRROR, "m", &m));
+    CHECK_OK(limen_node_create(s, LIMEN_NODE_LIGHT, "l", &l));
+    CHECK_OK(limen_node_create(s, LIMEN_NODE_BOX, "b", &b));
+    CHECK(limen_node_set_scale(s, cam, (float[3]){ -1, 1, 1 }) == LIMEN_ERR_ARG);
+    CHECK(strstr(limen_last_error(s), "scale: must be positive numbers from 1e-9 to 1e9"));
+    CHECK(limen_node_set_scale(s, b, (float[3]){ 1, 1, 1e-12f }) == LIMEN_ERR_ARG);
+    CHECK(limen_node_set_dims(s, m, (float[3]){ 1e38f, 1, 0 }) == LIMEN_ERR_ARG);
+    CHECK(strstr(limen_last_error(s), "dims: ") && strstr(limen_last_error(s), "to 1e9 (got 1e+38)"));
+    CHECK_OK(limen_node_set_dims(s, m, (float[3]){ 1e9f, 1e9f, 0 }));
+    CHECK(limen_node_set_position(s, b, (float[3]){ 0, 2e9f, 0 }) == LIMEN_ERR_ARG);
+    CHECK(strstr(limen_last_error(s), "position: components must be numbers from -1e9 to 1e9"));
+    CHECK(limen_node_set_rotation(s, b, (float[3]){ 0, 0, -1e30f }) == LIMEN_ERR_ARG);
+    CHECK(limen_node_set_facing(s, b, (float[3]){ 0, 0, 1e30f }, NULL) == LIMEN_ERR_ARG);
+    CHECK(limen_node_look_at(s, cam, (float[3]){ 1e10f, 0, 0 }, (float[3]){ 0, 0, 0 }, NULL) ==
+          LIMEN_ERR_ARG);
+    CHECK(limen_camera_set_lens(s, cam, 1, 1, 1) == LIMEN_ERR_ARG);     /* near == far */
+    CHECK(limen_camera_set_lens(s, cam, 1, 2, 1) == LIMEN_ERR_ARG);
+    CHECK(limen_camera_set_lens(s, cam, 1, 1e-12f, 1) == LIMEN_ERR_ARG);
+    CHECK(limen_camera_set_lens(s, cam, 1, 0.1f, 1e12f) == LIMEN_ERR_ARG);
+    CHECK_OK(limen_camera_set_lens(s, cam, 1, 0.01f, 1e6f));
+    CHECK(limen_node_set_color(s, l, (float[3]){ 1e10f, 1, 1 }) == LIMEN_ERR_ARG);
+    CHECK(limen_node_set_checker(s, b, (float[3]){ 1, 1, 1 }, (float[3]){ 0, 0, 0 }, 1e30f) ==
+          LIMEN_ERR_ARG);
+    float mirror_x[16] = { -1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1 };
+    CHECK(limen_node_set_local_matrix(s, cam, mirror_x) == LIMEN_ERR_ARG);
+    CHECK(strstr(limen_last_error(s), "must not mirror"));
+    float huge[16] = { 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 1e20f, 0, 0, 1 };
+    CHECK(limen_node_set_local_matrix(s, b, huge) == LIMEN_ERR_ARG);
+    limen_move_result mr;
+    CHECK(limen_node_move(s, b, (float[3]){ 1e20f, 0, 0 }, &mr) == LIMEN_ERR_ARG);
+    limen_scene_destroy(s);
 }
 
 static void test_local_matrix(void)
@@ -264,12 +373,16 @@ static const check_case cases[] = {
     { "overflowing_world", test_overflowing_world },
     { "handles", test_handles },
     { "capacity", test_capacity },
+    { "stale_handles_stay_stale", test_stale_handles_stay_stale },
+    { "generation_wrap_retires_slot", test_generation_wrap_retires_slot },
+    { "pool_grows", test_pool_grows },
     { "hierarchy", test_hierarchy },
     { "rotation_order", test_rotation_order },
     { "facing", test_facing },
     { "look_at", test_look_at },
     { "validation", test_validation },
     { "local_matrix", test_local_matrix },
+    { "numbers_in_range", test_numbers_in_range },
     { 0 },
 };
 

@@ -1,5 +1,6 @@
 /* test_threads.c - no global state: two scenes and two renderers, each on its own thread,
- * render the same pictures as they do alone. */
+ * render the same pictures as they do alone; and const readers of one scene never write
+ * it, so several threads may read it at once. */
 #include <pthread.h>
 #include <stdlib.h>
 
@@ -87,9 +88,64 @@ static void test_osmesa_egl(void)
     two_threads(LIMEN_BACKEND_OSMESA, LIMEN_BACKEND_EGL);
 }
 
+/* ------------------------------------------------------------------ readers of one scene */
+
+typedef struct reader {
+    const limen_scene *s;
+    limen_node good, stale;
+    int wrong;
+} reader;
+
+/* Const calls only, half of them failing (a stale handle, a missing name): before, each
+ * failure wrote the scene's message, so two readers raced on it. */
+static void *read_scene(void *arg)
+{
+    reader *r = arg;
+    for (int i = 0; i < 20000; i++) {
+        float v[3], a[3], b[3], cell, fovy;
+        limen_node found;
+        r->wrong += limen_node_get_position(r->s, r->good, v) != LIMEN_OK;
+        r->wrong += limen_node_get_position(r->s, r->stale, v) != LIMEN_ERR_HANDLE;
+        r->wrong += limen_node_get_dims(r->s, r->stale, v) != LIMEN_ERR_HANDLE;
+        r->wrong += limen_node_get_checker(r->s, r->stale, a, b, &cell) != LIMEN_ERR_HANDLE;
+        r->wrong += limen_camera_get_lens(r->s, r->stale, &fovy, NULL, NULL) != LIMEN_ERR_HANDLE;
+        r->wrong += limen_surface_get(r->s, r->good, NULL, NULL, NULL, NULL) != LIMEN_ERR_HANDLE;
+        r->wrong += limen_node_find(r->s, "nobody", &found) != LIMEN_ERR_HANDLE;
+        r->wrong += limen_node_find(r->s, "ball", &found) != LIMEN_OK || found.id != r->good.id;
+        r->wrong += limen_node_name(r->s, r->stale) != NULL;
+        r->wrong += limen_scene_nodes(r->s, NULL, 0) != 2;
+    }
+    return NULL;
+}
+
+static void test_readers_share_a_scene(void)
+{
+    limen_scene *s = NULL;
+    CHECK(limen_scene_create(NULL, &s) == LIMEN_OK);
+    limen_node ball, cam, gone;
+    CHECK(limen_node_create(s, LIMEN_NODE_SPHERE, "ball", &ball) == LIMEN_OK);
+    CHECK(limen_node_create(s, LIMEN_NODE_CAMERA, "cam", &cam) == LIMEN_OK);
+    CHECK(limen_node_create(s, LIMEN_NODE_GROUP, "gone", &gone) == LIMEN_OK);
+    CHECK(limen_node_destroy(s, gone) == LIMEN_OK);
+    CHECK(limen_last_error(s)[0] == 0);
+    reader rd[4];
+    pthread_t t[4];
+    for (int i = 0; i < 4; i++) {
+        rd[i] = (reader){ s, ball, gone, 0 };
+        CHECK(pthread_create(&t[i], NULL, read_scene, &rd[i]) == 0);
+    }
+    for (int i = 0; i < 4; i++) {
+        pthread_join(t[i], NULL);
+        CHECK_MSG(rd[i].wrong == 0, "reader %d: %d wrong answers", i, rd[i].wrong);
+    }
+    CHECK_MSG(limen_last_error(s)[0] == 0, "readers wrote the message: %s", limen_last_error(s));
+    limen_scene_destroy(s);
+}
+
 static const check_case cases[] = {
     { "osmesa_osmesa", test_osmesa_osmesa },
     { "osmesa_egl", test_osmesa_egl },
+    { "readers_share_a_scene", test_readers_share_a_scene },
     { 0 },
 };
 

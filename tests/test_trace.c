@@ -1,9 +1,14 @@
 /* test_trace.c - the reference ray tracer against analytic answers: exact hits on the true
  * shapes, paths through portals and mirrors, the drift of a long corridor of reflections,
  * the shading of an image, bounce limits and errors. No OpenGL. */
+#include <dirent.h>
 #include <math.h>
+#include <signal.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/resource.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 #include "check.h"
 #include "limen.h"
@@ -439,6 +444,168 @@ static void test_errors(void)
     limen_scene_destroy(s);
 }
 
+/* ------------------------------------------------------------------ files */
+
+static long file_size(const char *path)
+{
+    struct stat st;
+    return stat(path, &st) == 0 ? (long)st.st_size : -1;
+}
+
+/* Files in dir other than the good one: temporaries left behind. */
+static int temporaries(const char *dir)
+{
+    DIR *d = opendir(dir);
+    int n = 0;
+    for (struct dirent *e; d && (e = readdir(d));)
+        n += strcmp(e->d_name, ".") && strcmp(e->d_name, "..") && strcmp(e->d_name, "good.png");
+    if (d)
+        closedir(d);
+    return d ? n : -1;
+}
+
+/* A PNG is written whole or not at all: a full device, a missing folder and a write cut
+ * short by a file size limit fail, and the good file already there stays as it was
+ * (stb's writer ignored write errors: /dev/full "succeeded"). */
+static void test_png_write_whole_or_not(void)
+{
+    enum { W = 256, H = 256 };
+    unsigned char *img = malloc(W * H * 3), *back = NULL;
+    for (int i = 0; i < W * H * 3; i++)
+        img[i] = (unsigned char)((i * 7919u) >> 3);   /* noisy: does not compress */
+    char dir[] = "/tmp/limen_png_XXXXXX", path[128];
+    CHECK(mkdtemp(dir) != NULL);
+    snprintf(path, sizeof path, "%s/good.png", dir);
+    CHECK(limen_write_png(path, 8, 8, img) == LIMEN_OK);
+    long good = file_size(path);
+    CHECK(good > 0);
+
+    CHECK(limen_write_png("/dev/full", W, H, img) == LIMEN_ERR_IO);
+    CHECK(limen_write_png("/nonexistent-dir/x.png", W, H, img) == LIMEN_ERR_IO);
+
+    /* a file size limit of 4 KB: the big image cannot be written */
+    struct rlimit old, small = { 4096, 4096 };
+    getrlimit(RLIMIT_FSIZE, &old);
+    small.rlim_max = old.rlim_max;
+    void (*was)(int) = signal(SIGXFSZ, SIG_IGN);
+    setrlimit(RLIMIT_FSIZE, &small);
+    limen_status st = limen_write_png(path, W, H, img);
+    setrlimit(RLIMIT_FSIZE, &old);
+    signal(SIGXFSZ, was);
+    CHECK(st == LIMEN_ERR_IO);
+    CHECK_MSG(file_size(path) == good, "the good file was replaced (%ld bytes, was %ld)",
+              file_size(path), good);
+    int w = 0, h = 0;
+    CHECK(limen_read_png(path, &w, &h, &back) == LIMEN_OK && w == 8 && h == 8);
+    limen_free(back);
+    CHECK(temporaries(dir) == 0);
+
+    char cmd[160];
+    snprintf(cmd, sizeof cmd, "rm -rf %s", dir);
+    CHECK(system(cmd) == 0);
+    free(img);
+}
+
+/* A PNG in memory, chunk by chunk (stb_image does not check CRCs: they are left 0). */
+typedef struct pngbuf { unsigned char b[4096]; size_t n; } pngbuf;
+
+static void png_u32(pngbuf *p, unsigned v)
+{
+    for (int i = 3; i >= 0; i--)
+        p->b[p->n++] = (unsigned char)(v >> (8 * i));
+}
+
+static void png_chunk(pngbuf *p, const char *type, const unsigned char *data, unsigned len)
+{
+    png_u32(p, len);
+    memcpy(p->b + p->n, type, 4);
+    p->n += 4;
+    memcpy(p->b + p->n, data, len);
+    p->n += len;
+    png_u32(p, 0);
+}
+
+static void png_start(pngbuf *p, unsigned w, unsigned h)
+{
+    static const unsigned char sig[8] = { 0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n' };
+    memcpy(p->b, sig, 8);
+    p->n = 8;
+    unsigned char ihdr[13] = { (unsigned char)(w >> 24), (unsigned char)(w >> 16),
+                               (unsigned char)(w >> 8), (unsigned char)w,
+                               (unsigned char)(h >> 24), (unsigned char)(h >> 16),
+                               (unsigned char)(h >> 8), (unsigned char)h, 8, 2, 0, 0, 0 };
+    png_chunk(p, "IHDR", ihdr, 13);
+}
+
+static limen_status read_bytes(const pngbuf *p, int *w, int *h, unsigned char **rgb)
+{
+    char path[] = "/tmp/limen-png-XXXXXX";
+    int fd = mkstemp(path);
+    CHECK(fd >= 0 && write(fd, p->b, p->n) == (ssize_t)p->n);
+    close(fd);
+    limen_status st = limen_read_png(path, w, h, rgb);
+    remove(path);
+    return st;
+}
+
+/* Reading: an image declaring more than LIMEN_IMAGE_MAX_PIXELS is refused from its header
+ * (it took seconds and gigabytes to fail), and an empty IDAT chunk is read as nothing
+ * (stb_image copied zero bytes to NULL for it: undefined behaviour). */
+static void test_png_read_limits(void)
+{
+    pngbuf p;
+    int w = -1, h = -1;
+    unsigned char *rgb = NULL;
+    png_start(&p, 16384, 16384);
+    static const unsigned char junk[64] = { 0x78, 0x01 };
+    png_chunk(&p, "IDAT", junk, sizeof junk);
+    png_chunk(&p, "IEND", NULL, 0);
+    CHECK(read_bytes(&p, &w, &h, &rgb) == LIMEN_ERR_ARG);
+    CHECK(rgb == NULL);
+
+    /* 1x1 red: an empty IDAT, then a stored zlib block with the scanline 0, 255, 0, 0 */
+    png_start(&p, 1, 1);
+    png_chunk(&p, "IDAT", NULL, 0);
+    unsigned a = 1 + 255, b = 1 + a + a + a;    /* adler-32 of 0, 255, 0, 0 */
+    const unsigned char z[] = { 0x78, 0x01, 0x01, 4, 0, 0xfb, 0xff, 0, 255, 0, 0,
+                                (unsigned char)(b >> 8), (unsigned char)b,
+                                (unsigned char)(a >> 8), (unsigned char)a };
+    png_chunk(&p, "IDAT", z, sizeof z);
+    png_chunk(&p, "IEND", NULL, 0);
+    CHECK(read_bytes(&p, &w, &h, &rgb) == LIMEN_OK);
+    CHECK(w == 1 && h == 1 && rgb && rgb[0] == 255 && rgb[1] == 0 && rgb[2] == 0);
+    limen_free(rgb);
+}
+
+/* A lens from 0.01 to 1e6: the tracer built its rays by unprojecting through the float
+ * projection, whose far point was off by half, and saw only background. */
+static void test_wide_depth_range(void)
+{
+    limen_scene *s = new_scene();
+    limen_node cam = add(s, LIMEN_NODE_CAMERA, "cam", 0, 0, 5);
+    CHECK_OK(limen_camera_set_lens(s, cam, 1.0f, 0.01f, 1e6f));
+    CHECK_OK(limen_scene_set_camera(s, cam));
+    limen_node ball = add(s, LIMEN_NODE_SPHERE, "ball", 0, 0, 0);
+    set_dims(s, ball, 1, 0, 0);
+    CHECK_OK(limen_node_set_color(s, ball, (float[3]){ 1, 0, 0 }));
+    CHECK_OK(limen_scene_set_ambient(s, 1));
+    enum { TW = 31, TH = 21 };
+    unsigned char rgb[TW * TH * 3];
+    CHECK_OK(limen_trace_image(s, &(limen_trace_desc){ .width = TW, .height = TH }, rgb));
+    const unsigned char *c = rgb + ((TH / 2) * TW + TW / 2) * 3;
+    CHECK_MSG(c[0] == 255 && c[1] == 0 && c[2] == 0, "centre %d %d %d, expected the red ball",
+              c[0], c[1], c[2]);
+    /* the ball covers what its angular size says: tan(half fov) = 0.546 over 10 columns */
+    int red = 0;
+    for (int x = 0; x < TW; x++)
+        red += rgb[((TH / 2) * TW + x) * 3] == 255;
+    double half = atan(1.0 / sqrt(24.0));   /* tangent cone half-angle from 5 units */
+    int expect = 2 * (int)floor(tan(half) / (tan(0.5) * TW / TH) * (TW / 2.0) + 0.5) + 1;
+    CHECK_MSG(abs(red - expect) <= 2, "%d red pixels on the middle row, expected ~%d", red,
+              expect);
+    limen_scene_destroy(s);
+}
+
 static const check_case cases[] = {
     { "sphere_analytic", test_sphere_analytic },
     { "shapes_scaled", test_shapes_scaled },
@@ -449,6 +616,9 @@ static const check_case cases[] = {
     { "checker", test_checker },
     { "bounce_limit", test_bounce_limit },
     { "errors", test_errors },
+    { "png_write_whole_or_not", test_png_write_whole_or_not },
+    { "png_read_limits", test_png_read_limits },
+    { "wide_depth_range", test_wide_depth_range },
     { 0 },
 };
 

@@ -101,11 +101,17 @@ int limen_cli_parse_double(const char *s, double *out)
 
 int limen_cli_parse_size(const char *s, int *w, int *h)
 {
-    int x = 0, y = 0;
-    char tail;
-    if (sscanf(s, "%dx%d%c", &x, &y, &tail) != 2 || x < 1 || y < 1 || x > 16384 || y > 16384)
+    /* strtol with range checks, not sscanf's %d, whose overflow is undefined (glibc wraps
+     * 4294967297 to 1) */
+    char *x_end, *end;
+    errno = 0;
+    long x = strtol(s, &x_end, 10);
+    if (errno || x_end == s || *x_end != 'x' || x_end[1] == '-' || x_end[1] == '+')
         return -1;
-    *w = x, *h = y;
+    long y = strtol(x_end + 1, &end, 10);
+    if (errno || end == x_end + 1 || *end || x < 1 || y < 1 || x > 16384 || y > 16384)
+        return -1;
+    *w = (int)x, *h = (int)y;
     return 0;
 }
 
@@ -275,16 +281,24 @@ int limen_cli_render_options(int argc, char **argv, const char **scene,
 }
 
 /* OUT.png -> OUT_0007.png for frame 7 of a sequence. */
-static void frame_path(const char *out, long frame, long frames, char *buf, size_t size)
+/* The file of frame `frame`; -1 if its name does not fit in buf (never a truncated name,
+ * which would write every frame to one file). */
+static int frame_path(const char *out, long frame, long frames, char *buf, size_t size)
 {
+    int n;
     if (frames == 1) {
-        snprintf(buf, size, "%s", out);
-        return;
+        n = snprintf(buf, size, "%s", out);
+    } else {
+        const char *dot = strrchr(out, '.');
+        const char *slash = strrchr(out, '/');
+        size_t len = strlen(out);
+        size_t stem = dot && (!slash || dot > slash) ? (size_t)(dot - out) : len;
+        if (stem > (size_t)INT_MAX)
+            return -1;
+        n = snprintf(buf, size, "%.*s_%04ld%s", (int)stem, out, frame,
+                     dot && stem < len ? dot : ".png");
     }
-    const char *dot = strrchr(out, '.');
-    const char *slash = strrchr(out, '/');
-    int stem = (int)(dot && (!slash || dot > slash) ? dot - out : (int)strlen(out));
-    snprintf(buf, size, "%.*s_%04ld%s", stem, out, frame, dot && stem < (int)strlen(out) ? dot : ".png");
+    return n < 0 || (size_t)n >= size ? -1 : 0;
 }
 
 static int cmd_render(int argc, char **argv)
@@ -331,7 +345,11 @@ static int cmd_render(int argc, char **argv)
             rc = 1;
             break;
         }
-        frame_path(o.out, f, o.frames, path, sizeof path);
+        if (frame_path(o.out, f, o.frames, path, sizeof path)) {
+            fprintf(stderr, "%slimen: -o: the path is too long\n", tty && f ? "\n" : "");
+            rc = 1;
+            break;
+        }
         st = limen_renderer_write_png(r, path);
         if (st) {
             fprintf(stderr, "%slimen: %s\n", tty && f ? "\n" : "", limen_renderer_error(r));
@@ -340,9 +358,11 @@ static int cmd_render(int argc, char **argv)
         }
         if (o.stats)
             printf("{\"frame\": %ld, \"time\": %.6g, \"ms\": %.3f, \"views\": %d, "
-                   "\"fragments\": %llu, \"samples\": %llu, \"pixels\": %llu}\n",
-                   f, t, stats.ms, stats.views, (unsigned long long)stats.fragments,
-                   (unsigned long long)stats.samples, (unsigned long long)stats.pixels);
+                   "\"truncated\": %d, \"fragments\": %llu, \"samples\": %llu, "
+                   "\"pixels\": %llu}\n",
+                   f, t, stats.ms, stats.views, stats.truncated,
+                   (unsigned long long)stats.fragments, (unsigned long long)stats.samples,
+                   (unsigned long long)stats.pixels);
         if (o.frames > 1 && tty)
             fprintf(stderr, "\rlimen: frame %ld/%ld", f + 1, o.frames);
     }
@@ -396,11 +416,14 @@ static int cmd_diff(int argc, char **argv)
         return fail("diff: needs two images%s%s", "", ""), 2;
     int wa, ha, wb, hb;
     unsigned char *pa = NULL, *pb = NULL, *ph = NULL;
-    if (limen_read_png(a, &wa, &ha, &pa))
-        return fail("cannot read '%s'%s", a, "");
-    if (limen_read_png(b, &wb, &hb, &pb)) {
+    static const char too_big[] = ": more pixels than limen reads (LIMEN_IMAGE_MAX_PIXELS)";
+    limen_status ra = limen_read_png(a, &wa, &ha, &pa);
+    if (ra)
+        return fail("cannot read '%s'%s", a, ra == LIMEN_ERR_ARG ? too_big : "");
+    limen_status rb = limen_read_png(b, &wb, &hb, &pb);
+    if (rb) {
         limen_free(pa);
-        return fail("cannot read '%s'%s", b, "");
+        return fail("cannot read '%s'%s", b, rb == LIMEN_ERR_ARG ? too_big : "");
     }
     int rc = 0;
     limen_diff d;

@@ -2,6 +2,7 @@
 #include <limits.h>
 #include <math.h>
 #include <stdlib.h>
+#include <string.h>
 
 #define STB_IMAGE_WRITE_IMPLEMENTATION
 #define STB_IMAGE_WRITE_STATIC
@@ -27,12 +28,70 @@
 
 #include "core/internal.h"
 
+static void write_to_file(void *ctx, void *data, int size)
+{
+    fwrite(data, 1, (size_t)size, ctx);     /* errors stay in the stream's error flag */
+}
+
 limen_status limen_write_png(const char *path, int width, int height, const unsigned char *rgb)
 {
     if (!path || !rgb || width <= 0 || height <= 0 || width > INT_MAX / 3 / height)
         return LIMEN_ERR_ARG;
-    if (!stbi_write_png(path, width, height, 3, rgb, width * 3))
+    limen__out o;
+    limen_status st = limen__out_open(&o, path);
+    if (st)
+        return st;
+    if (!stbi_write_png_to_func(write_to_file, o.f, width, height, 3, rgb, width * 3)) {
+        limen__out_abort(&o);
         return LIMEN_ERR_IO;
+    }
+    return limen__out_close(&o);
+}
+
+/* PNG chunks with a zero-length IDAT left out: they hold no data, and stb_image copies
+ * zero bytes to a NULL buffer for one that comes first (undefined behaviour). Anything
+ * that is not a well-formed chunk sequence is passed on as it is, for stb to refuse. */
+static size_t drop_empty_idat(unsigned char *buf, size_t len)
+{
+    static const unsigned char sig[8] = { 0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n' };
+    if (len < 8 || memcmp(buf, sig, 8) != 0)
+        return len;
+    size_t in = 8, out = 8;
+    while (len - in >= 12) {
+        size_t n = (size_t)buf[in] << 24 | (size_t)buf[in + 1] << 16 |
+                   (size_t)buf[in + 2] << 8 | buf[in + 3];
+        if (n > len - in - 12)
+            break;
+        size_t whole = n + 12;
+        if (!(n == 0 && memcmp(buf + in + 4, "IDAT", 4) == 0)) {
+            memmove(buf + out, buf + in, whole);
+            out += whole;
+        }
+        in += whole;
+    }
+    memmove(buf + out, buf + in, len - in);
+    return out + (len - in);
+}
+
+limen_status limen__png_decode(unsigned char *buf, size_t len, int *width, int *height,
+                               unsigned char **rgb)
+{
+    *rgb = NULL;
+    *width = *height = 0;
+    if (len > INT_MAX)
+        return LIMEN_ERR_ARG;
+    len = drop_empty_idat(buf, len);
+    int w = 0, h = 0, n = 0;
+    if (!stbi_info_from_memory(buf, (int)len, &w, &h, &n))
+        return LIMEN_ERR_IO;
+    if (w <= 0 || h <= 0 || (long long)w * h > LIMEN_IMAGE_MAX_PIXELS)
+        return LIMEN_ERR_ARG;   /* refused from the header, before any decoding */
+    unsigned char *data = stbi_load_from_memory(buf, (int)len, &w, &h, &n, 3);
+    if (!data)
+        return LIMEN_ERR_IO;
+    *width = w;
+    *height = h;
+    *rgb = data;
     return LIMEN_OK;
 }
 
@@ -41,12 +100,41 @@ limen_status limen_read_png(const char *path, int *width, int *height, unsigned 
     if (!path || !width || !height || !rgb)
         return LIMEN_ERR_ARG;
     *rgb = NULL;
-    int n = 0;
-    unsigned char *data = stbi_load(path, width, height, &n, 3);
-    if (!data)
+    FILE *f = fopen(path, "rb");
+    if (!f)
         return LIMEN_ERR_IO;
-    *rgb = data;
-    return LIMEN_OK;
+    /* the whole file in memory (a PNG is compressed: a file as large as the largest image
+     * allowed uncompressed is surely not one) */
+    size_t cap = 1 << 16, len = 0;
+    unsigned char *buf = malloc(cap);
+    limen_status st = buf ? LIMEN_OK : LIMEN_ERR_NOMEM;
+    while (!st) {
+        if (len == cap) {
+            if (cap >= (size_t)LIMEN_IMAGE_MAX_PIXELS * 3) {
+                st = LIMEN_ERR_ARG;
+                break;
+            }
+            unsigned char *more = realloc(buf, cap * 2);
+            if (!more) {
+                st = LIMEN_ERR_NOMEM;
+                break;
+            }
+            buf = more;
+            cap *= 2;
+        }
+        size_t got = fread(buf + len, 1, cap - len, f);
+        len += got;
+        if (got == 0) {
+            if (ferror(f))
+                st = LIMEN_ERR_IO;
+            break;
+        }
+    }
+    fclose(f);
+    if (!st)
+        st = limen__png_decode(buf, len, width, height, rgb);
+    free(buf);
+    return st;
 }
 
 void limen_free(void *p)

@@ -5,6 +5,7 @@
 
 #include <stdarg.h>
 #include <stdbool.h>
+#include <stdio.h>
 
 #include <cglm/cglm.h>
 
@@ -16,7 +17,8 @@
 #define LIMEN__MAX_LIGHTS 8
 
 typedef struct limen__node {
-    uint32_t gen;               /* generation; odd while alive */
+    uint32_t gen;               /* generation; odd while alive, never repeats for a slot */
+    int live_at;                /* position in the scene's live list while alive */
     limen_node_kind kind;
     uint32_t parent;            /* index + 1; 0 = none */
     char name[LIMEN__NAME_MAX];
@@ -45,10 +47,18 @@ typedef struct limen__node {
 struct limen_scene {
     limen__node *nodes;
     int cap;                    /* slots allocated */
-    int max_nodes;
+    int max_nodes;              /* 0: as many as memory holds */
     int count;                  /* live nodes */
-    uint32_t *free_list;
-    int free_count;
+    /* Free slots, first freed first reused (a ring of cap entries), so that a slot's
+     * generation advances as slowly as the churn allows; a slot whose generation would wrap
+     * is retired instead of freed, so a stale handle never comes back. */
+    uint32_t *free_ring;
+    int free_head, free_count;
+    /* Slot indices of the live nodes in creation order, with holes (-1) where nodes were
+     * destroyed; compacted whenever the holes outnumber the live nodes, so walking it costs
+     * at most twice the live count (never the pool's capacity). */
+    int *live;
+    int live_len, live_cap, live_holes;
     bool dirty;                 /* world matrices need recomputing */
     vec3 background;
     float ambient;
@@ -74,7 +84,7 @@ limen_status limen__scene_check(limen_scene *s);
 /* Slot index of a handle's node (without checking that it is alive); -1 for none. */
 static inline int limen__node_get_index(limen_node n)
 {
-    return n.id ? (int)(n.id & 0xFFFFFu) - 1 : -1;
+    return n.id ? (int)((uint32_t)n.id - 1u) : -1;
 }
 /* Handle of the node in slot i. */
 limen_node limen__node_handle(const limen_scene *s, int index);
@@ -108,6 +118,23 @@ void limen__node_bounds(const limen__node *n, double centre[3], double *radius);
 /* For each node slot: the portal (slot index) a closed shape passes through, or -1;
  * portal_of has s->cap entries. Returns how many shapes pass through one. */
 int limen__find_straddlers(limen_scene *s, int *portal_of);
+
+/* A file written whole or not at all (core/file.c): open, write to o->f, then close (which
+ * flushes, syncs and renames into place) or abort. Any failure is LIMEN_ERR_IO; a path
+ * with no room for the temporary name beside it is LIMEN_ERR_ARG. */
+typedef struct limen__out {
+    FILE *f;
+    bool direct;                /* the target is a device or a pipe: written in place */
+    char path[4096];
+    char tmp[4096];
+} limen__out;
+limen_status limen__out_open(limen__out *o, const char *path);
+limen_status limen__out_close(limen__out *o);
+void limen__out_abort(limen__out *o);
+
+/* limen_read_png on bytes in memory (which it may rearrange). */
+limen_status limen__png_decode(unsigned char *buf, size_t len, int *width, int *height,
+                               unsigned char **rgb);
 
 static inline bool limen__finite3(const float v[3])
 {

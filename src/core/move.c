@@ -12,9 +12,12 @@ static int first_crossing(limen_scene *s, const double p0[3], const double p1[3]
 {
     int best = -1;
     double best_t = 2.0;
-    for (int i = 0; i < s->cap; i++) {
+    for (int li = 0; li < s->live_len; li++) {
+        int i = s->live[li];
+        if (i < 0)
+            continue;
         const limen__node *n = &s->nodes[i];
-        if (!limen__alive(n) || !n->visible || n->kind != LIMEN_NODE_PORTAL || !n->pair ||
+        if (!n->visible || n->kind != LIMEN_NODE_PORTAL || !n->pair ||
             !s->nodes[n->pair - 1].visible)
             continue;
         double plane[4];
@@ -91,8 +94,10 @@ limen_status limen_node_move(limen_scene *s, limen_node n, const float d[3],
     if (!node)
         return s ? limen__fail(s, LIMEN_ERR_HANDLE, "move: stale or null node handle")
                  : LIMEN_ERR_ARG;
-    if (!d || !limen__finite3(d))
-        return limen__fail(s, LIMEN_ERR_ARG, "move: displacement needs three finite numbers");
+    if (!d || !limen__finite3(d) || fabsf(d[0]) > LIMEN_MAX_MAGNITUDE ||
+        fabsf(d[1]) > LIMEN_MAX_MAGNITUDE || fabsf(d[2]) > LIMEN_MAX_MAGNITUDE)
+        return limen__fail(s, LIMEN_ERR_ARG, "move: displacement needs three numbers from -1e9 "
+                           "to 1e9");
     limen__scene_refresh(s);
     double world[16], total[16], step[3] = { d[0], d[1], d[2] };
     limen__d_from_f(&node->world[0][0], world);

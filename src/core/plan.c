@@ -5,6 +5,7 @@
  * faces the parent's eye, survives the parent's clip plane and near plane, and covers at
  * least one pixel centre inside the parent's scissor rectangle; the child's scissor is that
  * rectangle. Matrices are composed in double precision. */
+#include <float.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -14,6 +15,8 @@
 #include "core/plan.h"
 
 #define DEFAULT_MAX_VIEWS 1024
+#define DEFAULT_VIEW_SCREENS 64         /* view_pixels: 64 full screens */
+#define DEFAULT_SURFACE_TESTS 131072
 #define MAX_POLY 12
 
 /* ------------------------------------------------------------------ storage */
@@ -72,6 +75,44 @@ int limen_plan_truncated(const limen_plan *p)
     return p ? p->truncated : 0;
 }
 
+void limen_plan_get_work(const limen_plan *p, limen_plan_work *out)
+{
+    if (!out)
+        return;
+    memset(out, 0, sizeof *out);
+    if (!p)
+        return;
+    out->views = p->count;
+    out->truncated = p->truncated;
+    out->view_pixels = p->view_pixels;
+    out->surface_tests = p->surface_tests;
+    out->budgets_hit = p->budgets_hit;
+}
+
+/* Which frame budget (LIMEN_BUDGET_* bit) is spent before a view is looked into; 0 if none.
+ * Views are looked into breadth first, so once one is dropped, all later ones are; what a
+ * view spends past the budget is at most one view's work (every surface in its scissor). */
+static unsigned budget_spent(const limen_plan *p)
+{
+    if (p->view_pixels >= p->budget.view_pixels)
+        return LIMEN_BUDGET_VIEW_PIXELS;
+    if (p->nsurf > p->budget.surface_tests - p->surface_tests)
+        return LIMEN_BUDGET_SURFACE_TESTS;
+    return 0;
+}
+
+/* A view made by its parent but over the budget when its turn came: the parent shows the
+ * surface's fill instead, and the view is left out of the tree (it has no children yet). */
+static void drop_view(limen_plan *p, limen__pview *v, unsigned why)
+{
+    limen__vsurf *vs = &p->vsurf[v->from_vsurf];
+    vs->child = -1;
+    vs->state = LIMEN__SURF_FILL;
+    v->dropped = true;
+    p->truncated++;
+    p->budgets_hit |= why;
+}
+
 /* ------------------------------------------------------------------ screen rectangles */
 
 /* Keeps the part of the polygon where plane . p >= 0 (Sutherland-Hodgman). */
@@ -103,14 +144,15 @@ static bool surface_rect(const limen_plan *p, const limen__pview *v, const limen
     int n = 4;
     if (v->pub.depth > 0) {
         /* only what lies in front of the exit surface: a surface on its plane (to within the
-         * rounding of float world coordinates) is not, as for the ray tracer, whose next
-         * segment leaves the exit's plane */
-        double c[4], scale = 1;
+         * rounding of the float world matrices of both) is not, as for the ray tracer, whose
+         * next segment leaves the exit's plane. The bound follows the matrices' entries
+         * along the plane's normal, not the size of the coordinates: two facing mirrors a
+         * billion units wide and ten apart are not on each other's plane. */
+        double c[4], tol = 0;
         memcpy(c, v->clip, sizeof c);
-        for (int i = 0; i < 4; i++)
-            for (int k = 0; k < 3; k++)
-                scale = fmax(scale, fabs(a[i][k]));
-        c[3] -= 1e-6 * scale;
+        for (int k = 0; k < 3; k++)
+            tol += fabs(c[k]) * (sf->err[k] + v->clip_err[k]);
+        c[3] -= 4.0 * tol;
         n = clip_poly(a, n, c, b);
         memcpy(a, b, sizeof(double) * 3 * (size_t)n);
     }
@@ -262,24 +304,42 @@ static bool push_vsurf(limen_plan *p, limen__pview *v, int surf, int child, int 
     if (!reserve((void **)&p->vsurf, &p->vsurf_cap, p->nvsurf + 1, sizeof *p->vsurf))
         return false;
     p->vsurf[p->nvsurf++] = (limen__vsurf){ surf, child, state, { rect[0], rect[1], rect[2], rect[3] } };
+    p->view_pixels += (int64_t)rect[2] * rect[3];   /* the renderer draws it in this view */
     v->nsurf++;
     return true;
 }
 
 static limen_status collect_clones(limen_plan *p, limen_scene *s);
 
+/* Per world axis r, a bound on how far float rounding of the world matrix W (half an ulp
+ * per entry) can move a corner (+-w/2, +-h/2, 0) of the surface: sum over the columns j of
+ * ulp(W[j][r]) times the corner's local coordinate, plus the translation's. */
+static void rounding_bound(const limen__node *n, double err[3])
+{
+    const double half[2] = { 0.5 * n->dims[0], 0.5 * n->dims[1] };
+    for (int r = 0; r < 3; r++) {
+        err[r] = 0.5 * ((double)fabsf(n->world[3][r]) * FLT_EPSILON + FLT_MIN);
+        for (int j = 0; j < 2; j++)
+            err[r] += 0.5 * ((double)fabsf(n->world[j][r]) * FLT_EPSILON + FLT_MIN) * half[j];
+    }
+}
+
 static limen_status collect_surfaces(limen_plan *p, limen_scene *s)
 {
     p->nsurf = 0;
-    for (int i = 0; i < s->cap; i++) {
+    for (int li = 0; li < s->live_len; li++) {
+        int i = s->live[li];
+        if (i < 0)
+            continue;
         limen__node *n = &s->nodes[i];
-        if (!limen__alive(n) || !n->visible || !limen__is_surface(n))
+        if (!n->visible || !limen__is_surface(n))
             continue;
         if (!reserve((void **)&p->surf, &p->surf_cap, p->nsurf + 1, sizeof *p->surf))
             return limen__fail(s, LIMEN_ERR_NOMEM, "plan: out of memory");
         limen__psurf *sf = &p->surf[p->nsurf];
         memset(sf, 0, sizeof *sf);
         sf->node = i;
+        rounding_bound(n, sf->err);
         limen__surface_plane_d(n, sf->plane);
         limen__surface_corners(n, sf->corners);
         sf->has_x = limen__surface_matrix_d(s, n, sf->x);
@@ -316,6 +376,20 @@ static limen_status collect_surfaces(limen_plan *p, limen_scene *s)
         p->nsurf++;
     }
     return LIMEN_OK;
+}
+
+static bool all_finite(const float *v, int n)
+{
+    for (int i = 0; i < n; i++)
+        if (!isfinite(v[i]))
+            return false;
+    return true;
+}
+
+static bool view_finite(const limen_view *v)
+{
+    return all_finite(v->view, 16) && all_finite(v->proj, 16) && all_finite(v->eye, 3) &&
+           all_finite(v->clip_plane, 4) && all_finite(v->tint, 3);
 }
 
 /* Depth-first order from the breadth-first list, re-linking parents and children. */
@@ -363,6 +437,12 @@ limen_status limen_plan_build(limen_plan *p, limen_scene *s, const limen_plan_de
                            d.max_depth);
     if (d.max_views < 0)
         return limen__fail(s, LIMEN_ERR_ARG, "plan: view budget must be positive");
+    if (d.budget.view_pixels < 0 || d.budget.surface_tests < 0)
+        return limen__fail(s, LIMEN_ERR_ARG, "plan: frame budget must not be negative");
+    p->budget.view_pixels = d.budget.view_pixels ? d.budget.view_pixels
+                                                 : (int64_t)DEFAULT_VIEW_SCREENS * p->width * p->height;
+    p->budget.surface_tests = d.budget.surface_tests ? d.budget.surface_tests
+                                                     : DEFAULT_SURFACE_TESTS;
     p->clip = d.clip;
     p->range = d.range;
     p->test_faults = d.test_faults;
@@ -373,6 +453,8 @@ limen_status limen_plan_build(limen_plan *p, limen_scene *s, const limen_plan_de
     int max_views = d.max_views > 0 ? d.max_views : DEFAULT_MAX_VIEWS;
     int global_depth = d.limit_depth ? d.max_depth : 255;
     p->nviews = p->nvsurf = p->count = p->truncated = 0;
+    p->view_pixels = p->surface_tests = 0;
+    p->budgets_hit = 0;
 
     float view_f[16];
     limen_status st = limen_camera_matrices(s, (float)p->width / (float)p->height, p->range,
@@ -403,6 +485,13 @@ limen_status limen_plan_build(limen_plan *p, limen_scene *s, const limen_plan_de
     for (int vi = 0; vi < p->nviews; vi++) {
         limen__pview *v = &p->pv[vi];
         v->first_surf = p->nvsurf;
+        unsigned spent = vi ? budget_spent(p) : 0;     /* the root is always drawn */
+        if (spent) {
+            drop_view(p, v, spent);
+            continue;
+        }
+        p->view_pixels += (int64_t)v->pub.scissor[2] * v->pub.scissor[3];
+        p->surface_tests += p->nsurf;
         for (int si = 0; si < p->nsurf; si++) {
             const limen__psurf *sf = &p->surf[si];
             if (sf->node == v->exit)
@@ -419,17 +508,20 @@ limen_status limen_plan_build(limen_plan *p, limen_scene *s, const limen_plan_de
             }
             int depth = v->pub.depth + 1;
             int child = -1;
+            unsigned over = 0;
             if (!sf->has_x) {
                 /* unpaired portal: fill */
-            } else if (depth > n->max_depth || depth > global_depth || p->nviews >= max_views ||
-                       too_faint(p, v, n)) {
+            } else if (depth > n->max_depth || depth > global_depth || too_faint(p, v, n) ||
+                       (p->nviews >= max_views && (over = LIMEN_BUDGET_VIEWS))) {
                 p->truncated++;
+                p->budgets_hit |= over;
             } else {
                 limen__pview *c = push_view(p);
                 if (!c)
                     return limen__fail(s, LIMEN_ERR_NOMEM, "plan: out of memory");
                 v = &p->pv[vi];     /* push_view may move the array */
                 child = p->nviews - 1;
+                c->from_vsurf = p->nvsurf;
                 c->parent = vi;
                 c->surface = sf->node;
                 c->exit = sf->exit;
@@ -445,6 +537,7 @@ limen_status limen_plan_build(limen_plan *p, limen_scene *s, const limen_plan_de
                             exit = &p->surf[k];
                 }
                 memcpy(c->clip, exit->plane, sizeof c->clip);
+                memcpy(c->clip_err, exit->err, sizeof c->clip_err);
                 c->pub.front_face_cw = v->pub.front_face_cw ^ (n->kind == LIMEN_NODE_MIRROR);
                 memcpy(c->pub.scissor, rect, sizeof rect);
                 for (int k = 0; k < 3; k++)
@@ -462,11 +555,23 @@ limen_status limen_plan_build(limen_plan *p, limen_scene *s, const limen_plan_de
         return limen__fail(s, LIMEN_ERR_NOMEM, "plan: out of memory");
     p->bfs_to_dfs = p->tmp;
     p->dfs_to_bfs = p->tmp + p->nviews;
-    for (int i = 0; i < p->nviews; i++)
+    for (int i = 0; i < p->nviews; i++) {
         fill_public(&p->pv[i], s, p);
+        if (!p->pv[i].dropped && !view_finite(&p->pv[i].pub)) {
+            /* portals that scale the view, nested until a float overflows: a clear refusal,
+             * never a tree (or a JSON plan) with infinities in it */
+            const limen__node *n = &s->nodes[p->pv[i].surface];
+            return limen__fail(s, LIMEN_ERR_ARG,
+                               "%s%s%s '%s': the view through it at depth %d is out of a "
+                               "float's range (the portals on the way scale it past what a "
+                               "float holds)", n->label, n->label[0] ? ": " : "",
+                               n->kind == LIMEN_NODE_MIRROR ? "mirror" : "portal", n->name,
+                               p->pv[i].pub.depth);
+        }
+    }
     int pos = 0;
     order_views(p, 0, -1, &pos);
-    p->count = p->nviews;
+    p->count = pos;     /* dropped views are not reached */
 
     /* the surfaces of each view, in draw order and public form */
     if (!reserve((void **)&p->pubsurf, &p->pubsurf_cap, p->nvsurf, sizeof *p->pubsurf) ||
@@ -500,8 +605,9 @@ static limen_status collect_clones(limen_plan *p, limen_scene *s)
     int n = limen__find_straddlers(s, p->clone_of);
     if (n && !reserve((void **)&p->clones, &p->clones_cap, n, sizeof *p->clones))
         return limen__fail(s, LIMEN_ERR_NOMEM, "plan: out of memory");
-    for (int i = 0; i < s->cap; i++) {
-        int a = p->clone_of[i];
+    for (int li = 0; li < s->live_len; li++) {
+        int i = s->live[li];
+        int a = i >= 0 ? p->clone_of[i] : -1;
         if (a < 0)
             continue;
         const limen__node *pa = &s->nodes[a], *pb = &s->nodes[pa->pair - 1];
@@ -538,8 +644,9 @@ int limen_plan_view_surfaces(const limen_plan *p, int i, const limen_view_surfac
             *out = NULL;
         return 0;
     }
-    *out = p->pubsurf + p->pubfirst[i];
-    return p->pubfirst[i + 1] - p->pubfirst[i];
+    int n = p->pubfirst[i + 1] - p->pubfirst[i];
+    *out = n ? p->pubsurf + p->pubfirst[i] : NULL;     /* pubsurf is NULL in a plan of none */
+    return n;
 }
 
 /* ------------------------------------------------------------------ JSON */
@@ -570,13 +677,19 @@ limen_status limen_plan_write_json(const limen_plan *p, const limen_scene *s, co
 {
     if (!p || !s || !path)
         return LIMEN_ERR_ARG;
-    FILE *f = fopen(path, "w");
-    if (!f)
-        return LIMEN_ERR_IO;
+    for (int i = 0; i < p->count; i++)
+        if (!view_finite(&p->views[i]))
+            return LIMEN_ERR_ARG;   /* JSON has no inf or nan (plan_build refuses them too) */
+    limen__out out;
+    limen_status st = limen__out_open(&out, path);
+    if (st)
+        return st;
+    FILE *f = out.f;
     static const char *kinds[] = { "camera", "mirror", "portal" };
     static const char *clips[] = { "oblique", "plane", "none" };
-    fprintf(f, "{\"width\": %d, \"height\": %d, \"truncated\": %d, \"views\": [", p->width,
-            p->height, p->truncated);
+    fprintf(f, "{\"width\": %d, \"height\": %d, \"truncated\": %d, \"view_pixels\": %lld, "
+               "\"surface_tests\": %lld, \"budgets_hit\": %u, \"views\": [", p->width, p->height,
+            p->truncated, (long long)p->view_pixels, (long long)p->surface_tests, p->budgets_hit);
     for (int i = 0; i < p->count; i++) {
         const limen_view *v = &p->views[i];
         fprintf(f, "%s\n  {\"id\": %d, \"parent\": ", i ? "," : "", v->id);
@@ -609,5 +722,5 @@ limen_status limen_plan_write_json(const limen_plan *p, const limen_scene *s, co
         fputc('}', f);
     }
     fprintf(f, "\n]}\n");
-    return fclose(f) == 0 ? LIMEN_OK : LIMEN_ERR_IO;
+    return limen__out_close(&out);
 }

@@ -24,6 +24,7 @@ typedef struct limen__psurf {
     double plane[4];
     double corners[4][3];
     double x[16], xinv[16];
+    double err[3];          /* bound on the float rounding of its corners, per world axis */
     bool has_x;
 } limen__psurf;
 
@@ -32,9 +33,12 @@ typedef struct limen__pview {
     double view[16];
     double eye[3];
     double clip[4];
+    double clip_err[3];     /* the exit surface's rounding bound (limen__psurf.err) */
     int parent;             /* bfs index */
     int surface, exit;      /* node indices, -1 for the camera */
     int first_surf, nsurf;  /* range in vsurf */
+    int from_vsurf;         /* the parent's vsurf entry that made it */
+    bool dropped;           /* over the frame budget: not in the tree */
 } limen__pview;
 
 struct limen_plan {
@@ -65,6 +69,9 @@ struct limen_plan {
     int *tmp, tmp_cap;
     int *bfs_to_dfs, *dfs_to_bfs;
     int truncated;
+    limen_frame_budget budget;      /* with the defaults filled in */
+    int64_t view_pixels, surface_tests;
+    unsigned budgets_hit;
 };
 
 /* The surfaces seen from view `view` (draw-order index); returns their count. */
@@ -72,7 +79,7 @@ static inline int limen__plan_view_surfaces(const limen_plan *p, int view,
                                             const limen__vsurf **out)
 {
     const limen__pview *v = &p->pv[p->dfs_to_bfs[view]];
-    *out = &p->vsurf[v->first_surf];
+    *out = v->nsurf ? &p->vsurf[v->first_surf] : NULL;
     return v->nsurf;
 }
 

@@ -5,16 +5,15 @@
 
 #include "core/internal.h"
 
-#define INDEX_BITS 20u
-#define INDEX_MASK ((1u << INDEX_BITS) - 1u)
-#define GEN_MASK ((1u << (32u - INDEX_BITS)) - 1u)
-#define DEFAULT_MAX_NODES 4096
+/* The pool grows by doubling up to this many slots (an index must fit a handle's low 32
+ * bits and an int). */
+#define MAX_SLOTS (INT32_MAX / 2)
 
 /* ------------------------------------------------------------------ handles */
 
 static limen_node make_handle(uint32_t index, uint32_t gen)
 {
-    return (limen_node){ ((gen & GEN_MASK) << INDEX_BITS) | (index + 1u) };
+    return (limen_node){ ((uint64_t)gen << 32) | ((uint64_t)index + 1u) };
 }
 
 limen_node limen__node_handle(const limen_scene *s, int index)
@@ -26,11 +25,11 @@ limen__node *limen__node_get(const limen_scene *s, limen_node n)
 {
     if (!s || !n.id)
         return NULL;
-    uint32_t index = (n.id & INDEX_MASK) - 1u;
-    if (index >= (uint32_t)s->cap)
+    uint64_t index = (n.id & 0xFFFFFFFFu) - 1u;
+    if (index >= (uint64_t)s->cap)
         return NULL;
     limen__node *node = &s->nodes[index];
-    if (!(node->gen & 1u) || (node->gen & GEN_MASK) != (n.id >> INDEX_BITS))
+    if (!(node->gen & 1u) || node->gen != (uint32_t)(n.id >> 32))
         return NULL;
     return node;
 }
@@ -52,6 +51,13 @@ static limen__node *get_or_fail(limen_scene *s, limen_node n, const char *fn)
     return node;
 }
 
+/* Const readers never write the scene, not even its message, so that any number of
+ * threads may read one scene at once: a bad handle is only a status. */
+#define GET_CONST(node, s, n)                                                            \
+    const limen__node *node = limen__node_get((s), (n));                                 \
+    if (!node)                                                                           \
+    return (s) ? LIMEN_ERR_HANDLE : LIMEN_ERR_ARG
+
 #define GET(node, s, n)                                                                  \
     limen__node *node = get_or_fail((s), (n), __func__);                                 \
     if (!node)                                                                           \
@@ -71,8 +77,8 @@ limen_status limen_scene_create(const limen_scene_desc *desc, limen_scene **out)
     if (!out)
         return LIMEN_ERR_ARG;
     *out = NULL;
-    int max_nodes = desc && desc->max_nodes > 0 ? desc->max_nodes : DEFAULT_MAX_NODES;
-    if (max_nodes > (int)INDEX_MASK - 1)
+    int max_nodes = desc && desc->max_nodes > 0 ? desc->max_nodes : 0;
+    if (desc && desc->max_nodes < 0)
         return LIMEN_ERR_ARG;
     limen_scene *s = calloc(1, sizeof *s);
     if (!s)
@@ -88,7 +94,8 @@ void limen_scene_destroy(limen_scene *s)
     if (!s)
         return;
     free(s->nodes);
-    free(s->free_list);
+    free(s->free_ring);
+    free(s->live);
     free(s);
 }
 
@@ -151,8 +158,9 @@ int limen_scene_nodes(const limen_scene *s, limen_node *out, int max)
     if (!s)
         return 0;
     int n = 0;
-    for (int i = 0; i < s->cap; i++) {
-        if (!limen__alive(&s->nodes[i]))
+    for (int k = 0; k < s->live_len; k++) {
+        int i = s->live[k];
+        if (i < 0)
             continue;
         if (out && n < max)
             out[n] = limen__node_handle(s, i);
@@ -195,8 +203,9 @@ void limen__scene_refresh(limen_scene *s)
         free(stack);
         return;     /* keep the old matrices; dirty stays set and the next call retries */
     }
-    for (int i = 0; i < s->cap; i++) {
-        if (!(s->nodes[i].gen & 1u) || done[i])
+    for (int li = 0; li < s->live_len; li++) {
+        int i = s->live[li];
+        if (i < 0 || done[i])
             continue;
         int top = 0;
         uint32_t at = (uint32_t)i;
@@ -226,20 +235,62 @@ void limen__scene_refresh(limen_scene *s)
     s->dirty = false;
 }
 
+/* "label: kind 'name'" of a node for messages. */
+static void node_title(const limen__node *n, char *buf, size_t size)
+{
+    snprintf(buf, size, "%s%s%s%s%s%s", n->label, n->label[0] ? ": " : "", kind_name(n->kind),
+             n->name[0] ? " '" : "", n->name, n->name[0] ? "'" : "");
+}
+
+/* The largest and smallest length of the world matrix's three axes. */
+static void world_scale(const limen__node *n, double *lo, double *hi)
+{
+    *lo = INFINITY;
+    *hi = 0;
+    for (int c = 0; c < 3; c++) {
+        double l = sqrt((double)n->world[c][0] * n->world[c][0] +
+                        (double)n->world[c][1] * n->world[c][1] +
+                        (double)n->world[c][2] * n->world[c][2]);
+        *lo = fmin(*lo, l);
+        *hi = fmax(*hi, l);
+    }
+}
+
 limen_status limen__scene_check(limen_scene *s)
 {
     limen__scene_refresh(s);
     if (s->dirty)
         return limen__fail(s, LIMEN_ERR_NOMEM, "out of memory");
-    if (!s->bad_world || s->bad_world > (uint32_t)s->cap ||
-        !limen__alive(&s->nodes[s->bad_world - 1]))
-        return LIMEN_OK;
-    const limen__node *n = &s->nodes[s->bad_world - 1];
-    return limen__fail(s, LIMEN_ERR_ARG,
-                       "%s%s%s%s%s%s: its world transform is not finite (the scales along its "
-                       "parent chain multiply past what a float holds)",
-                       n->label, n->label[0] ? ": " : "", kind_name(n->kind),
-                       n->name[0] ? " '" : "", n->name, n->name[0] ? "'" : "");
+    char title[256];
+    if (s->bad_world && s->bad_world <= (uint32_t)s->cap &&
+        limen__alive(&s->nodes[s->bad_world - 1])) {
+        node_title(&s->nodes[s->bad_world - 1], title, sizeof title);
+        return limen__fail(s, LIMEN_ERR_ARG,
+                           "%s: its world transform is not finite (the scales along its "
+                           "parent chain multiply past what a float holds)", title);
+    }
+    /* The views through cameras, mirrors and portals invert their world matrices; scales
+     * multiplied along a parent chain past the bounds each node keeps (1e-9 three times)
+     * would give view matrices out of a float's range. Planner, renderer, tracer and ray
+     * casts all refuse them here, with one message. (The slack covers the rounding of
+     * products of in-range scales.) */
+    for (int k = 0; k < s->live_len; k++) {
+        if (s->live[k] < 0)
+            continue;
+        const limen__node *n = &s->nodes[s->live[k]];
+        if (n->kind != LIMEN_NODE_CAMERA && !limen__is_surface(n))
+            continue;
+        double lo, hi;
+        world_scale(n, &lo, &hi);
+        if (lo >= LIMEN_MIN_SIZE * (1 - 1e-6) && hi <= LIMEN_MAX_MAGNITUDE * (1 + 1e-6))
+            continue;
+        node_title(n, title, sizeof title);
+        return limen__fail(s, LIMEN_ERR_ARG,
+                           "%s: its world transform scales it by %g (the scales along its "
+                           "parent chain must keep a camera, mirror or portal between 1e-9 and "
+                           "1e9)", title, lo < LIMEN_MIN_SIZE ? lo : hi);
+    }
+    return LIMEN_OK;
 }
 
 limen_status limen_scene_update(limen_scene *s)
@@ -303,26 +354,65 @@ static void node_defaults(limen__node *node, limen_node_kind kind)
     node->zfar = 100.0f;
 }
 
+/* Doubles the pool (and the free ring, which holds at most every slot). */
 static bool grow(limen_scene *s)
 {
-    int cap = s->cap ? s->cap * 2 : 64;
-    if (cap > s->max_nodes)
-        cap = s->max_nodes;
-    if (cap <= s->cap)
+    if (s->cap >= MAX_SLOTS)
         return false;
+    int cap = s->cap ? (s->cap > MAX_SLOTS / 2 ? MAX_SLOTS : s->cap * 2) : 64;
     limen__node *nodes = realloc(s->nodes, sizeof *nodes * (size_t)cap);
     if (!nodes)
         return false;
     s->nodes = nodes;
-    uint32_t *fl = realloc(s->free_list, sizeof *fl * (size_t)cap);
-    if (!fl)
+    uint32_t *ring = malloc(sizeof *ring * (size_t)cap);
+    if (!ring)
         return false;
-    s->free_list = fl;
-    for (int i = cap - 1; i >= s->cap; i--) {
+    int n = 0;
+    for (int k = 0; k < s->free_count; k++)
+        ring[n++] = s->free_ring[(s->free_head + k) % s->cap];
+    for (int i = s->cap; i < cap; i++) {
         nodes[i].gen = 0;
-        s->free_list[s->free_count++] = (uint32_t)i;
+        ring[n++] = (uint32_t)i;
     }
+    free(s->free_ring);
+    s->free_ring = ring;
+    s->free_head = 0;
+    s->free_count = n;
     s->cap = cap;
+    return true;
+}
+
+/* Drops the holes from the live list, keeping creation order. */
+static void compact_live(limen_scene *s)
+{
+    int n = 0;
+    for (int k = 0; k < s->live_len; k++) {
+        int i = s->live[k];
+        if (i < 0)
+            continue;
+        s->nodes[i].live_at = n;
+        s->live[n++] = i;
+    }
+    s->live_len = n;
+    s->live_holes = 0;
+}
+
+static bool push_live(limen_scene *s, int index)
+{
+    if (s->live_len == s->live_cap) {
+        if (s->live_holes)
+            compact_live(s);
+        if (s->live_len == s->live_cap) {
+            int cap = s->live_cap ? s->live_cap * 2 : 64;
+            int *live = realloc(s->live, sizeof *live * (size_t)cap);
+            if (!live)
+                return false;
+            s->live = live;
+            s->live_cap = cap;
+        }
+    }
+    s->nodes[index].live_at = s->live_len;
+    s->live[s->live_len++] = index;
     return true;
 }
 
@@ -336,14 +426,22 @@ limen_status limen_node_create(limen_scene *s, limen_node_kind kind, const char 
         return limen__fail(s, LIMEN_ERR_ARG, "node_create: unknown kind %d", (int)kind);
     if (name && !valid_utf8(name))
         return limen__fail(s, LIMEN_ERR_ARG, "node_create: the name is not valid UTF-8");
-    if (!s->free_count && !grow(s))
+    if (s->max_nodes && s->count >= s->max_nodes)
         return limen__fail(s, LIMEN_ERR_NOMEM, "node_create: more than %d nodes", s->max_nodes);
-    uint32_t index = s->free_list[--s->free_count];
+    if (!s->free_count && !grow(s))
+        return limen__fail(s, LIMEN_ERR_NOMEM, "node_create: out of memory (%d nodes)",
+                           s->count);
+    uint32_t index = s->free_ring[s->free_head];
+    if (!push_live(s, (int)index))
+        return limen__fail(s, LIMEN_ERR_NOMEM, "node_create: out of memory (%d nodes)",
+                           s->count);
+    s->free_head = (s->free_head + 1) % s->cap;
+    s->free_count--;
     limen__node *node = &s->nodes[index];
-    node->gen = (node->gen + 1u) | 1u;
-    if ((node->gen & GEN_MASK) == 0)
-        node->gen = 1;
+    int live_at = node->live_at;
+    node->gen++;    /* odd: alive, a value this slot never had */
     node_defaults(node, kind);
+    node->live_at = live_at;
     if (name)
         snprintf(node->name, sizeof node->name, "%s", name);
     s->count++;
@@ -356,15 +454,27 @@ limen_status limen_node_destroy(limen_scene *s, limen_node n)
 {
     GET(node, s, n);
     uint32_t self = (uint32_t)(node - s->nodes) + 1u;
-    for (int i = 0; i < s->cap; i++)
-        if ((s->nodes[i].gen & 1u) && s->nodes[i].parent == self)
+    for (int k = 0; k < s->live_len; k++) {
+        int i = s->live[k];
+        if (i >= 0 && s->nodes[i].parent == self)
             s->nodes[i].parent = node->parent;
+    }
     if (s->camera == self)
         s->camera = 0;
     if (node->pair)
         s->nodes[node->pair - 1].pair = 0;
-    node->gen++;    /* even: dead; the next create makes it odd again with a new value */
-    s->free_list[s->free_count++] = self - 1u;
+    s->live[node->live_at] = -1;
+    if (++s->live_holes > s->count)
+        compact_live(s);
+    /* even: dead. The last odd value (UINT32_MAX) retires the slot: it stays dead, off the
+     * free ring, so its generation never wraps back to one a handle still holds. */
+    if (node->gen != UINT32_MAX) {
+        node->gen++;
+        s->free_ring[(s->free_head + s->free_count) % s->cap] = self - 1u;
+        s->free_count++;
+    } else {
+        node->gen = 0;
+    }
     s->count--;
     s->dirty = true;
     return LIMEN_OK;
@@ -380,13 +490,14 @@ limen_status limen_node_find(const limen_scene *s, const char *name, limen_node 
     if (!s || !name || !out)
         return LIMEN_ERR_ARG;
     out->id = 0;
-    for (int i = 0; i < s->cap; i++) {
-        if ((s->nodes[i].gen & 1u) && strcmp(s->nodes[i].name, name) == 0) {
+    for (int k = 0; k < s->live_len; k++) {
+        int i = s->live[k];
+        if (i >= 0 && strcmp(s->nodes[i].name, name) == 0) {
             *out = limen__node_handle(s, i);
             return LIMEN_OK;
         }
     }
-    return limen__fail((limen_scene *)s, LIMEN_ERR_HANDLE, "no node named '%s'", name);
+    return LIMEN_ERR_HANDLE;   /* a const reader: no message (see limen_last_error) */
 }
 
 const char *limen_node_name(const limen_scene *s, limen_node n)
@@ -447,10 +558,28 @@ limen_node limen_node_get_parent(const limen_scene *s, limen_node n)
 
 /* ------------------------------------------------------------------ transforms */
 
+/* One validation for C and Lua alike (the bindings call these setters): see "NUMBERS" in
+ * limen.h for why the bounds are where they are. */
 static limen_status check_vec(limen_scene *s, const float *v, const char *what)
 {
     if (!v || !limen__finite3(v))
         return limen__fail(s, LIMEN_ERR_ARG, "%s: needs three finite numbers", what);
+    for (int i = 0; i < 3; i++)
+        if (fabsf(v[i]) > LIMEN_MAX_MAGNITUDE)
+            return limen__fail(s, LIMEN_ERR_ARG, "%s: components must be numbers from -1e9 to "
+                               "1e9 (got %g)", what, v[i]);
+    return LIMEN_OK;
+}
+
+/* n sizes (or scales, distances): positive, from LIMEN_MIN_SIZE to LIMEN_MAX_MAGNITUDE. */
+static limen_status check_sizes(limen_scene *s, const float *v, int n, const char *what)
+{
+    if (!v)
+        return limen__fail(s, LIMEN_ERR_ARG, "%s: NULL", what);
+    for (int i = 0; i < n; i++)
+        if (!(v[i] >= LIMEN_MIN_SIZE && v[i] <= LIMEN_MAX_MAGNITUDE))
+            return limen__fail(s, LIMEN_ERR_ARG, "%s: must be %s from 1e-9 to 1e9 (got %g)", what,
+                               n > 1 ? "positive numbers" : "a positive number", v[i]);
     return LIMEN_OK;
 }
 
@@ -535,9 +664,10 @@ limen_status limen_node_set_facing(limen_scene *s, limen_node n, const float nor
 limen_status limen_node_set_scale(limen_scene *s, limen_node n, const float xyz[3])
 {
     GET(node, s, n);
-    CHECK_VEC(s, xyz, "scale");
-    if (xyz[0] == 0 || xyz[1] == 0 || xyz[2] == 0)
-        return limen__fail(s, LIMEN_ERR_DEGENERATE, "scale: components must not be zero");
+    /* positive: a mirrored node would turn its faces inside out for the renderer's culling */
+    limen_status st = check_sizes(s, xyz, 3, "scale");
+    if (st)
+        return st;
     glm_vec3_copy((float *)xyz, node->scale);
     to_trs(s, node);
     return LIMEN_OK;
@@ -552,10 +682,17 @@ limen_status limen_node_set_local_matrix(limen_scene *s, limen_node n, const flo
     for (int i = 0; i < 16; i++) {
         if (!isfinite(m[i]))
             return limen__fail(s, LIMEN_ERR_ARG, "local matrix: element %d is not finite", i);
+        if (fabsf(m[i]) > LIMEN_MAX_MAGNITUDE)
+            return limen__fail(s, LIMEN_ERR_ARG, "local matrix: element %d must be from -1e9 to "
+                               "1e9 (got %g)", i, m[i]);
         l[i / 4][i % 4] = m[i];
     }
-    if (fabsf(glm_mat4_det(l)) < 1e-12f)
+    float det = glm_mat4_det(l);
+    if (fabsf(det) < 1e-12f)
         return limen__fail(s, LIMEN_ERR_DEGENERATE, "local matrix: singular");
+    if (det < 0)
+        return limen__fail(s, LIMEN_ERR_ARG, "local matrix: must not mirror (its determinant "
+                           "is %g; scales must be positive)", det);
     glm_mat4_copy(l, node->local);
     node->explicit_local = true;
     s->dirty = true;
@@ -585,7 +722,7 @@ limen_status limen_node_look_at(limen_scene *s, limen_node n, const float eye[3]
 
 limen_status limen_node_get_position(const limen_scene *s, limen_node n, float p[3])
 {
-    GET(node, (limen_scene *)s, n);
+    GET_CONST(node, s, n);
     if (!p)
         return LIMEN_ERR_ARG;
     if (node->explicit_local)
@@ -597,7 +734,7 @@ limen_status limen_node_get_position(const limen_scene *s, limen_node n, float p
 
 limen_status limen_node_get_rotation(const limen_scene *s, limen_node n, float xyz[3])
 {
-    GET(node, (limen_scene *)s, n);
+    GET_CONST(node, s, n);
     if (!xyz)
         return LIMEN_ERR_ARG;
     memcpy(xyz, node->euler, sizeof(float) * 3);
@@ -606,7 +743,7 @@ limen_status limen_node_get_rotation(const limen_scene *s, limen_node n, float x
 
 limen_status limen_node_get_scale(const limen_scene *s, limen_node n, float xyz[3])
 {
-    GET(node, (limen_scene *)s, n);
+    GET_CONST(node, s, n);
     if (!xyz)
         return LIMEN_ERR_ARG;
     memcpy(xyz, node->scale, sizeof(float) * 3);
@@ -659,9 +796,9 @@ limen_status limen_node_set_dims(limen_scene *s, limen_node n, const float dims[
         return limen__fail(s, LIMEN_ERR_ARG, "dims: a %s has no size", kind_name(node->kind));
     }
     for (int i = 0; i < used; i++)
-        if (!(dims[i] > 0))
-            return limen__fail(s, LIMEN_ERR_ARG, "dims: %s size %d must be positive (got %g)",
-                               kind_name(node->kind), i, dims[i]);
+        if (!(dims[i] >= LIMEN_MIN_SIZE && dims[i] <= LIMEN_MAX_MAGNITUDE))
+            return limen__fail(s, LIMEN_ERR_ARG, "dims: %s size %d must be a positive number "
+                               "from 1e-9 to 1e9 (got %g)", kind_name(node->kind), i, dims[i]);
     for (int i = 0; i < 3; i++)
         node->dims[i] = i < used ? dims[i] : 0.0f;
     return LIMEN_OK;
@@ -669,7 +806,7 @@ limen_status limen_node_set_dims(limen_scene *s, limen_node n, const float dims[
 
 limen_status limen_node_get_dims(const limen_scene *s, limen_node n, float dims[3])
 {
-    GET(node, (limen_scene *)s, n);
+    GET_CONST(node, s, n);
     if (!dims)
         return LIMEN_ERR_ARG;
     memcpy(dims, node->dims, sizeof(float) * 3);
@@ -682,7 +819,7 @@ static limen_status check_color(limen_scene *s, const float rgb[3], bool unit, c
     for (int i = 0; i < 3; i++)
         if (rgb[i] < 0 || (unit && rgb[i] > 1))
             return limen__fail(s, LIMEN_ERR_ARG, "%s: components must be in [0, %s] (got %g)",
-                               what, unit ? "1" : "inf", rgb[i]);
+                               what, unit ? "1" : "1e9", rgb[i]);
     return LIMEN_OK;
 }
 
@@ -698,7 +835,7 @@ limen_status limen_node_set_color(limen_scene *s, limen_node n, const float rgb[
 
 limen_status limen_node_get_color(const limen_scene *s, limen_node n, float rgb[3])
 {
-    GET(node, (limen_scene *)s, n);
+    GET_CONST(node, s, n);
     if (!rgb)
         return LIMEN_ERR_ARG;
     memcpy(rgb, node->color, sizeof(float) * 3);
@@ -709,8 +846,9 @@ limen_status limen_node_set_checker(limen_scene *s, limen_node n, const float a[
                                     const float b[3], float cell)
 {
     GET(node, s, n);
-    if (!(cell >= 0) || !isfinite(cell))
-        return limen__fail(s, LIMEN_ERR_ARG, "checker: cell size must be >= 0 (got %g)", cell);
+    if (!(cell == 0 || (cell >= LIMEN_MIN_SIZE && cell <= LIMEN_MAX_MAGNITUDE)))
+        return limen__fail(s, LIMEN_ERR_ARG, "checker: cell size must be 0 or a positive number "
+                           "from 1e-9 to 1e9 (got %g)", cell);
     if (cell == 0) {
         node->checker_cell = 0;
         return LIMEN_OK;
@@ -729,7 +867,7 @@ limen_status limen_node_set_checker(limen_scene *s, limen_node n, const float a[
 limen_status limen_node_get_checker(const limen_scene *s, limen_node n, float a[3], float b[3],
                                     float *cell)
 {
-    GET(node, (limen_scene *)s, n);
+    GET_CONST(node, s, n);
     if (a)
         memcpy(a, node->color, sizeof(float) * 3);
     if (b)
@@ -763,10 +901,14 @@ limen_status limen_camera_set_lens(limen_scene *s, limen_node cam, float fovy, f
     if (!(fovy > 0 && fovy < GLM_PIf))
         return limen__fail(s, LIMEN_ERR_ARG, "fov: must be in (0, 180) degrees (got %g)",
                            glm_deg(fovy));
-    if (!(znear > 0) || !isfinite(znear))
-        return limen__fail(s, LIMEN_ERR_ARG, "near: must be positive (got %g)", znear);
-    if (!(zfar > znear) || !isfinite(zfar))
-        return limen__fail(s, LIMEN_ERR_ARG, "far: must be greater than near (got %g)", zfar);
+    limen_status st = check_sizes(s, &znear, 1, "near");
+    if (!st)
+        st = check_sizes(s, &zfar, 1, "far");
+    if (st)
+        return st;
+    if (!(zfar > znear))
+        return limen__fail(s, LIMEN_ERR_ARG, "far: must be greater than near (got %g, near %g)",
+                           zfar, znear);
     node->fovy = fovy;
     node->znear = znear;
     node->zfar = zfar;
@@ -776,7 +918,7 @@ limen_status limen_camera_set_lens(limen_scene *s, limen_node cam, float fovy, f
 limen_status limen_camera_get_lens(const limen_scene *s, limen_node cam, float *fovy,
                                    float *znear, float *zfar)
 {
-    GET(node, (limen_scene *)s, cam);
+    GET_CONST(node, s, cam);
     if (fovy)
         *fovy = node->fovy;
     if (znear)

@@ -52,17 +52,23 @@ static bool straddles(const limen__node *n, const limen__node *a)
 int limen__find_straddlers(limen_scene *s, int *portal_of)
 {
     limen__scene_refresh(s);
-    int count = 0;
-    for (int i = 0; i < s->cap; i++) {
+    for (int i = 0; i < s->cap; i++)
         portal_of[i] = -1;
-        const limen__node *n = &s->nodes[i];
-        if (!limen__alive(n) || !n->visible ||
-            (n->kind != LIMEN_NODE_BOX && n->kind != LIMEN_NODE_SPHERE &&
-             n->kind != LIMEN_NODE_CYLINDER))
+    int count = 0;
+    for (int li = 0; li < s->live_len; li++) {
+        int i = s->live[li];
+        if (i < 0)
             continue;
-        for (int j = 0; j < s->cap; j++) {
+        const limen__node *n = &s->nodes[i];
+        if (!n->visible || (n->kind != LIMEN_NODE_BOX && n->kind != LIMEN_NODE_SPHERE &&
+                            n->kind != LIMEN_NODE_CYLINDER))
+            continue;
+        for (int lj = 0; lj < s->live_len; lj++) {
+            int j = s->live[lj];
+            if (j < 0)
+                continue;
             const limen__node *a = &s->nodes[j];
-            if (!limen__alive(a) || !a->visible || a->kind != LIMEN_NODE_PORTAL || !a->pair ||
+            if (!a->visible || a->kind != LIMEN_NODE_PORTAL || !a->pair ||
                 !s->nodes[a->pair - 1].visible || !straddles(n, a))
                 continue;
             portal_of[i] = j;

@@ -67,8 +67,8 @@ limen_status limen_surface_set_max_depth(limen_scene *s, limen_node n, int max_d
 limen_status limen_surface_get(const limen_scene *s, limen_node n, float tint[3], float back[3],
                                float fill[3], int *max_depth)
 {
-    limen__node *node = surface_or_fail((limen_scene *)s, n, "surface_get");
-    if (!node)
+    const limen__node *node = limen__node_get(s, n);     /* a const reader never writes */
+    if (!node || !limen__is_surface(node))
         return s ? LIMEN_ERR_HANDLE : LIMEN_ERR_ARG;
     if (tint)
         memcpy(tint, node->tint, sizeof(float) * 3);

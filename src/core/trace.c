@@ -5,7 +5,9 @@
  *
  * Camera. limen_camera_matrices(s, W/H, NO): pixel column x, GL row y (0 = bottom; PNG row
  * r is GL row H-1-r) is sampled at its centre, NDC ((x+0.5)*2/W-1, (y+0.5)*2/H-1). The ray
- * runs from the eye through the unprojected near point. Shapes count only from the near
+ * runs from the eye along camera_world * (nx tan(fovy/2) aspect, ny tan(fovy/2), -1), in
+ * double (not through a float projection, whose far point is lost when far/near is large,
+ * nor through the far plane at all, which the tracer does not model). Shapes count only from the near
  * plane on, as the rasterizer's near clip drops what is nearer; mirrors and portals count
  * from the eye on, as the renderer draws them depth-clamped (a camera closer to a portal
  * than its near distance still sees through it).
@@ -25,7 +27,7 @@
  *
  * Shading, as the fragment shader: colour = albedo * (ambient + (1 - ambient) *
  * sum_i light_i * max(0, n . normalize(light_pos_i - p))), clamped to [0, 1], no shadows.
- * Lights: the first 8 live, visible LIGHT nodes in index order (world translation, colour).
+ * Lights: the first 8 live, visible LIGHT nodes in creation order (world translation, colour).
  * n = normalize(N * n_unit), N the inverse transpose of M's 3x3, n_unit the unit-space
  * point (sphere), (x, 0, z) of it (cylinder side), or the face normal (caps, box faces,
  * quads), turned to face the incoming ray (the shader turns it towards the view's eye, which
@@ -257,9 +259,9 @@ static limen_status tracer_init(tracer *t, limen_scene *s, const char *fn)
     t->s = s;
     limen__scene_refresh(s);
     int count = 0;
-    for (int i = 0; i < s->cap; i++) {
-        const limen__node *n = &s->nodes[i];
-        if (limen__alive(n) && n->visible && hittable(n))
+    for (int li = 0; li < s->live_len; li++) {
+        int i = s->live[li];
+        if (i >= 0 && s->nodes[i].visible && hittable(&s->nodes[i]))
             count++;
     }
     size_t cap = s->cap > 0 ? (size_t)s->cap : 1;
@@ -272,11 +274,13 @@ static limen_status tracer_init(tracer *t, limen_scene *s, const char *fn)
         tracer_free(t);
         return limen__fail(s, LIMEN_ERR_NOMEM, "%s: out of memory", fn);
     }
-    for (int i = 0; i < s->cap; i++) {
-        const limen__node *n = &s->nodes[i];
+    for (int i = 0; i < s->cap; i++)
         slot[i] = -1;
-        if (!limen__alive(n))
+    for (int li = 0; li < s->live_len; li++) {
+        int i = s->live[li];
+        if (i < 0)
             continue;
+        const limen__node *n = &s->nodes[i];
         if (n->kind == LIMEN_NODE_LIGHT && n->visible && t->nlights < LIMEN__MAX_LIGHTS) {
             copy3f(n->world[3], t->lpos[t->nlights]);
             copy3f(n->color, t->lcol[t->nlights]);
@@ -296,8 +300,9 @@ static limen_status tracer_init(tracer *t, limen_scene *s, const char *fn)
             p->exit = slot[n->pair - 1];
     }
     /* shapes passing through portals: cut at the entry, and a copy out of the partner */
-    for (int i = 0; i < s->cap; i++) {
-        int a = through[i];
+    for (int li = 0; li < s->live_len; li++) {
+        int i = s->live[li];
+        int a = i >= 0 ? through[i] : -1;
         double x[16];
         if (a < 0 || slot[i] < 0 || !limen__surface_matrix_d(s, &s->nodes[a], x))
             continue;
@@ -672,7 +677,9 @@ limen_status limen_ray_cast(limen_scene *s, const float origin[3], const float d
 
 typedef struct job {
     const tracer *tr;
-    double inv_vp[16];          /* (proj * view)^-1 */
+    double cam[16];             /* the camera's world matrix: eye space -> world */
+    double tx, ty;              /* tan(fovy / 2) * aspect, tan(fovy / 2) */
+    double znear;
     double eye[3];
     int width, height, global;
     int first, step;            /* rows first, first + step, ... (PNG order) */
@@ -694,18 +701,15 @@ static void *trace_rows(void *arg)
         unsigned char *dst = j->rgb + (size_t)row * (size_t)j->width * 3;
         for (int x = 0; x < j->width; x++) {
             double nx = (x + 0.5) * 2.0 / j->width - 1.0;
-            double pn[3], pf[3], d[3], rgb[3];
-            limen__d_point(j->inv_vp, (double[3]){ nx, ny, -1.0 }, pn);
-            limen__d_point(j->inv_vp, (double[3]){ nx, ny, 1.0 }, pf);
+            /* the ray through the pixel centre, built from the lens in double: unprojecting
+             * points through a float projection lost the far point when far/near is large */
+            double de[3] = { nx * j->tx, ny * j->ty, -1.0 }, d[3], rgb[3];
+            for (int k = 0; k < 3; k++)
+                d[k] = j->cam[k] * de[0] + j->cam[4 + k] * de[1] + j->cam[8 + k] * de[2];
             /* from the eye: shapes count from the near plane on (the rasterizer's near clip),
-             * mirrors and portals from the eye on (the renderer draws them depth-clamped) */
-            double near_t[3];
-            for (int k = 0; k < 3; k++) {
-                d[k] = pf[k] - pn[k];
-                near_t[k] = pn[k] - j->eye[k];
-            }
-            double tn = sqrt(dot3(near_t, near_t) / dot3(d, d));
-            follow(j->tr, j->eye, d, tn, 1e-12, j->global, rgb, NULL);
+             * mirrors and portals from the eye on (the renderer draws them depth-clamped);
+             * eye-space z = -near is t = near in units of d */
+            follow(j->tr, j->eye, d, j->znear, 1e-12, j->global, rgb, NULL);
             for (int k = 0; k < 3; k++)
                 dst[3 * x + k] = to_byte(rgb[k]);
         }
@@ -739,22 +743,19 @@ limen_status limen_trace_image(limen_scene *s, const limen_trace_desc *desc, uns
     limen_status cst = limen__scene_check(s);
     if (cst)
         return cst;
-    float view[16], proj[16];
-    limen_status st = limen_camera_matrices(s, (float)width / (float)height, LIMEN_DEPTH_NO,
-                                            view, proj);
-    if (st)
-        return st;
-    job base = { .width = width, .height = height, .rgb = rgb,
+    if (!s->camera)
+        return limen__fail(s, LIMEN_ERR_ARG, "scene has no camera (add s:camera{...})");
+    const limen__node *cam = &s->nodes[s->camera - 1];
+    /* the lens as the renderer's float projection has it (limen_perspective) */
+    float aspect = (float)width / (float)height;
+    double ty = tan(0.5 * (double)cam->fovy);
+    job base = { .width = width, .height = height, .rgb = rgb, .tx = ty * (double)aspect,
+                 .ty = ty, .znear = cam->znear,
                  .global = d.limit_depth ? d.max_depth : GLOBAL_NONE };
-    double vd[16], pd[16], vp[16];
-    limen__d_from_f(view, vd);
-    limen__d_from_f(proj, pd);
-    limen__d_mul(pd, vd, vp);
-    double vinv[16];
-    if (!limen__d_inv(vp, base.inv_vp) || !limen__d_inv(vd, vinv))
-        return limen__fail(s, LIMEN_ERR_DEGENERATE, "trace: the camera's matrices are singular");
+    limen__d_from_f(&cam->world[0][0], base.cam);
     for (int k = 0; k < 3; k++)
-        base.eye[k] = vinv[12 + k];
+        base.eye[k] = base.cam[12 + k];
+    limen_status st;
     tracer tr;
     if ((st = tracer_init(&tr, s, "trace")))
         return st;

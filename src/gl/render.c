@@ -618,7 +618,7 @@ static limen_status frame(limen_renderer *r, limen_scene *s, limen_frame_stats *
                            .max_depth = r->opts.max_depth, .max_views = r->opts.max_views,
                            .adaptive = r->opts.adaptive,
                            .no_cull = r->opts.method == LIMEN_METHOD_NAIVE,
-                           .test_faults = r->opts.test_faults };
+                           .test_faults = r->opts.test_faults, .budget = r->opts.budget };
     limen_status st = limen_plan_build(r->plan, s, &pd);
     if (st)
         return limen__rfail(r, st, "%s", limen_last_error(s));
@@ -659,6 +659,7 @@ static limen_status frame(limen_renderer *r, limen_scene *s, limen_frame_stats *
             GL(GetQueryObjectui64v)(r->q_fragments, GL_QUERY_RESULT, &frags);
         stats->ms = t1 - t0;
         stats->views = limen_plan_count(r->plan);
+        stats->truncated = limen_plan_truncated(r->plan);
         stats->samples = samples;
         stats->fragments = frags;
         stats->pixels = (uint64_t)r->width * (uint64_t)r->height;

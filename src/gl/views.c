@@ -132,9 +132,11 @@ static void set_lights(limen_renderer *r, limen_scene *s)
 {
     float pos[LIMEN__MAX_LIGHTS][3], col[LIMEN__MAX_LIGHTS][3];
     int n = 0;
-    for (int i = 0; i < s->cap && n < LIMEN__MAX_LIGHTS; i++) {
-        limen__node *node = &s->nodes[i];
-        if (!limen__alive(node) || node->kind != LIMEN_NODE_LIGHT || !node->visible)
+    for (int li = 0; li < s->live_len && n < LIMEN__MAX_LIGHTS; li++) {
+        if (s->live[li] < 0)
+            continue;
+        limen__node *node = &s->nodes[s->live[li]];
+        if (node->kind != LIMEN_NODE_LIGHT || !node->visible)
             continue;
         memcpy(pos[n], node->world[3], sizeof(float) * 3);
         memcpy(col[n], node->color, sizeof(float) * 3);

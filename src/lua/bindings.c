@@ -1590,7 +1590,7 @@ static int l_scene_new(lua_State *L)
     lscene *ls = lua_newuserdatauv(L, sizeof *ls, 2);
     ls->s = NULL;
     ls->seq = 0;
-    ls->max_nodes = desc.max_nodes ? desc.max_nodes : 4096;
+    ls->max_nodes = desc.max_nodes ? desc.max_nodes : INT_MAX;   /* the pool grows */
     ls->held = 0;
     luaL_setmetatable(L, SCENE_MT);   /* from here __gc frees whatever is made */
     hold_scene(L, ls, 0);

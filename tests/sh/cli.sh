@@ -43,6 +43,29 @@ t_ok "script error -> file:line: message naming the field" expect_fail 1 "bad.lu
 printf 'local limen = require "limen"\nlocal s = limen.scene {}\nreturn s\n' > "$TMP/nocam.lua"
 t_ok "scene without camera -> clear error" expect_fail 1 "camera" "$LIMEN" render "$TMP/nocam.lua" -o "$TMP/x.png"
 t_ok "unwritable output -> exit 1" expect_fail 1 "cannot write" "$LIMEN" render scenes/plain.lua -o "$TMP/no/such/dir/x.png"
+t_ok "output to a full device -> exit 1" expect_fail 1 "cannot write" "$LIMEN" render scenes/plain.lua -o /dev/full --size 32x24
+t_ok "plan to a full device -> exit 1" expect_fail 1 "cannot write" "$LIMEN" render scenes/plain.lua -o "$TMP/x.png" --size 32x24 --plan /dev/full
+t_ok "trace to a full device -> exit 1" expect_fail 1 "" "$LIMEN" trace scenes/plain.lua -o /dev/full --size 32x24
+t_ok "--size whose width overflows an int -> exit 2" expect_fail 2 "limen: --size" "$LIMEN" render scenes/plain.lua -o "$TMP/x.png" --size 4294967297x1
+t_ok "trace --size that overflows -> exit 2" expect_fail 2 "limen: --size" "$LIMEN" trace scenes/plain.lua -o "$TMP/x.png" --size 1x4294967297
+long_path() {   # a frame-numbered name that does not fit is refused, never truncated
+    p="$TMP/$(head -c 4080 /dev/zero | tr '\0' a)"
+    expect_fail 1 "too long" "$LIMEN" render scenes/plain.lua -o "$p.png" --size 16x12 --frames 2
+}
+t_ok "an -o path with no room for frame numbers -> exit 1" long_path
+extreme_scale() {   # near 0.01 / far 1e6 and 1e9-wide facing mirrors: render agrees with trace
+    "$LIMEN" render tests/scenes/extreme_scale.lua -o "$TMP/ex.png" --size 160x120 &&
+    "$LIMEN" trace tests/scenes/extreme_scale.lua -o "$TMP/ex_ref.png" --size 160x120 &&
+    "$LIMEN" diff "$TMP/ex.png" "$TMP/ex_ref.png" --max-bad 0.005 > /dev/null
+}
+t_ok "extremes of scale: the frame is within 0.5% of the tracer" extreme_scale
+tiny_camera() {     # scales multiplied past the bounds: render, --plan and trace all refuse
+    printf 'local limen = require "limen"\nlocal s = limen.scene {}\nlocal g = s:group { scale = 1e-9 }\nlocal h = s:group { scale = 1e-9, parent = g }\nlocal k = s:group { scale = 1e-9, parent = h }\ns:camera { pos = {0, 0, 5}, parent = k }\ns:sphere {}\nreturn s\n' > "$TMP/tiny.lua" &&
+    expect_fail 1 "between 1e-9 and 1e9" "$LIMEN" render "$TMP/tiny.lua" -o "$TMP/t.png" --plan "$TMP/t.json" &&
+    [ ! -e "$TMP/t.json" ] &&
+    expect_fail 1 "between 1e-9 and 1e9" "$LIMEN" trace "$TMP/tiny.lua" -o "$TMP/t.png"
+}
+t_ok "a camera scaled 1e-27 by its parents: render and trace refuse alike" tiny_camera
 
 lua_require() {
     LUA_CPATH="$B/?.so" LUA_PATH="lua/?.lua;;" lua5.4 -e '
