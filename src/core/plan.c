@@ -54,6 +54,8 @@ void limen_plan_destroy(limen_plan *p)
     free(p->pubfirst);
     free(p->clones);
     free(p->clone_of);
+    free(p->surf_of);
+    free(p->cand);
     free(p);
 }
 
@@ -271,10 +273,14 @@ static limen_status collect_clones(limen_plan *p, limen_scene *s);
 static limen_status collect_surfaces(limen_plan *p, limen_scene *s)
 {
     p->nsurf = 0;
+    if (!reserve((void **)&p->surf_of, &p->surf_of_cap, s->cap, sizeof *p->surf_of))
+        return limen__fail(s, LIMEN_ERR_NOMEM, "plan: out of memory");
     for (int i = 0; i < s->cap; i++) {
         limen__node *n = &s->nodes[i];
+        p->surf_of[i] = -1;
         if (!limen__alive(n) || !n->visible || !limen__is_surface(n))
             continue;
+        p->surf_of[i] = p->nsurf;
         if (!reserve((void **)&p->surf, &p->surf_cap, p->nsurf + 1, sizeof *p->surf))
             return limen__fail(s, LIMEN_ERR_NOMEM, "plan: out of memory");
         limen__psurf *sf = &p->surf[p->nsurf];
@@ -400,15 +406,21 @@ limen_status limen_plan_build(limen_plan *p, limen_scene *s, const limen_plan_de
     root->pub.scissor[3] = p->height;
     root->pub.tint[0] = root->pub.tint[1] = root->pub.tint[2] = 1.0f;
 
+    p->surface_tests = 0;
+    memset(&p->stat_index, 0, sizeof p->stat_index);
     for (int vi = 0; vi < p->nviews; vi++) {
         limen__pview *v = &p->pv[vi];
         v->first_surf = p->nvsurf;
-        for (int si = 0; si < p->nsurf; si++) {
-            const limen__psurf *sf = &p->surf[si];
+        /* the surfaces the index finds in the view's region, or all of them */
+        int ncand = s->brute_force ? -1 : limen__plan_candidates(p, s, v);
+        int ntest = ncand >= 0 ? ncand : p->nsurf;
+        for (int ci = 0; ci < ntest; ci++) {
+            const limen__psurf *sf = &p->surf[ncand >= 0 ? p->cand[ci] : ci];
             if (sf->node == v->exit)
                 continue;
             const limen__node *n = &s->nodes[sf->node];
             int rect[4];
+            p->surface_tests++;
             if (!surface_rect(p, v, sf, rect))
                 continue;   /* clipped away, off screen or under a pixel */
             bool front = limen__d_plane_dist(sf->plane, v->eye) > 0;
@@ -439,11 +451,8 @@ limen_status limen_plan_build(limen_plan *p, limen_scene *s, const limen_plan_de
                 limen__d_mul(v->view, sf->xinv, c->view);
                 limen__d_point(sf->x, v->eye, c->eye);
                 const limen__psurf *exit = sf;
-                if (sf->exit != sf->node) {
-                    for (int k = 0; k < p->nsurf; k++)
-                        if (p->surf[k].node == sf->exit)
-                            exit = &p->surf[k];
-                }
+                if (sf->exit != sf->node && p->surf_of[sf->exit] >= 0)
+                    exit = &p->surf[p->surf_of[sf->exit]];
                 memcpy(c->clip, exit->plane, sizeof c->clip);
                 c->pub.front_face_cw = v->pub.front_face_cw ^ (n->kind == LIMEN_NODE_MIRROR);
                 memcpy(c->pub.scissor, rect, sizeof rect);

@@ -2,6 +2,7 @@
 #ifndef LIMEN_PLAN_H
 #define LIMEN_PLAN_H
 
+#include "core/bvh.h"
 #include "core/internal.h"
 
 enum {
@@ -65,7 +66,16 @@ struct limen_plan {
     int *tmp, tmp_cap;
     int *bfs_to_dfs, *dfs_to_bfs;
     int truncated;
+    /* the spatial index's part (core/cull.c) */
+    int *surf_of, surf_of_cap;      /* per node slot: index in surf, or -1 */
+    int *cand, cand_cap;            /* one view's candidate surfaces */
+    long surface_tests;             /* exact surface-in-view tests made (tests read it) */
+    limen__bvh_stats stat_index;    /* the index's box tests */
 };
+
+/* The surfaces (indices in p->surf, ascending) whose boxes meet view v's narrowed region,
+ * left in p->cand; their count, or -1 when out of memory. */
+int limen__plan_candidates(limen_plan *p, limen_scene *s, const limen__pview *v);
 
 /* The surfaces seen from view `view` (draw-order index); returns their count. */
 static inline int limen__plan_view_surfaces(const limen_plan *p, int view,
