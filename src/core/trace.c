@@ -62,6 +62,7 @@
 #include <string.h>
 #include <unistd.h>
 
+#include "core/bvh.h"
 #include "core/dmath.h"
 #include "core/internal.h"
 
@@ -101,6 +102,8 @@ typedef struct tracer {
     double lpos[LIMEN__MAX_LIGHTS][3], lcol[LIMEN__MAX_LIGHTS][3];
     int nlights;
     double ambient, background[3];
+    limen__bvh bvh;             /* over the prims' bounding spheres (images only) */
+    bool indexed;
 } tracer;
 
 /* Where one path ended (for limen_ray_cast). */
@@ -249,6 +252,34 @@ static void tracer_free(tracer *t)
 {
     free(t->prims);
     t->prims = NULL;
+    limen__bvh_free(&t->bvh);
+}
+
+/* A BVH over the prims' bounding spheres, so that a ray tests the few prims near its path:
+ * the boxes only choose which exact tests run, in double precision as before, and are
+ * wider than the spheres by far more than rounding, so they never drop a hit. Without
+ * memory the tracer tests every prim, as it does for single rays (limen_ray_cast). */
+static void tracer_index(tracer *t)
+{
+    limen__box *boxes = malloc(sizeof *boxes * (size_t)(t->n > 0 ? t->n : 1));
+    int *ids = malloc(sizeof *ids * (size_t)(t->n > 0 ? t->n : 1)), n = 0;
+    if (boxes && ids) {
+        for (int i = 0; i < t->n; i++) {
+            const prim *p = &t->prims[i];
+            if (p->br < 0)
+                continue;
+            limen__box_sphere(&boxes[i], p->bc, p->br);
+            for (int k = 0; k < 3; k++) {
+                double e = 1e-9 * (fabs(p->bc[k]) + p->br);
+                boxes[i].lo[k] -= e;
+                boxes[i].hi[k] += e;
+            }
+            ids[n++] = i;
+        }
+        t->indexed = limen__bvh_build(&t->bvh, ids, n, boxes, t->n);
+    }
+    free(boxes);
+    free(ids);
 }
 
 static limen_status tracer_init(tracer *t, limen_scene *s, const char *fn)
@@ -434,64 +465,97 @@ static bool hit_flat(const double o[3], const double d[3], double tmin, double t
     return true;
 }
 
+/* The search for the nearest hit of one segment. */
+typedef struct search {
+    const tracer *tr;
+    const double *o, *d;
+    double tmin_shape, tmin_surface;
+    int skip;
+    int best;
+    double tbest, pu[3], nu[3];
+} search;
+
+/* Tests prim i against the search's segment, keeping the nearest hit; between hits at the
+ * same distance, the lower prim index, so that the order prims are tested in (all of them
+ * in order, or as the BVH finds them) never changes the answer. */
+static void test_prim(search *q, int i)
+{
+    const prim *p = &q->tr->prims[i];
+    const double *o = q->o, *d = q->d;
+    if (i == q->skip || p->br < 0)
+        return;
+    if (p->kind == LIMEN_NODE_PORTAL && dot3(p->plane, d) >= 0)
+        return;     /* from behind (or edge on): empty air */
+    double tmin = p->kind == LIMEN_NODE_MIRROR || p->kind == LIMEN_NODE_PORTAL ? q->tmin_surface
+                                                                                : q->tmin_shape;
+    double tbest = i < q->best ? nextafter(q->tbest, INFINITY) : q->tbest;
+    /* bounding sphere: distance of its centre from the line, and t range */
+    double oc[3] = { p->bc[0] - o[0], p->bc[1] - o[1], p->bc[2] - o[2] };
+    double tc = dot3(oc, d);
+    double r2 = p->br * p->br;
+    double perp2 = dot3(oc, oc) - tc * tc;
+    if (perp2 > r2 || tc + p->br <= tmin || tc - p->br >= tbest)
+        return;
+    double ou[3], du[3], t, n[3];
+    limen__d_point(p->minv, o, ou);
+    d_dir(p->minv, d, du);
+    bool hit;
+    switch (p->shape) {
+    case SHAPE_BOX:
+        hit = hit_box(ou, du, tmin, tbest, &t, n);
+        break;
+    case SHAPE_SPHERE:
+        hit = hit_sphere(ou, du, tmin, tbest, &t, n);
+        break;
+    case SHAPE_CYLINDER:
+        hit = hit_cylinder(ou, du, tmin, tbest, &t, n);
+        break;
+    default:
+        hit = hit_flat(ou, du, tmin, tbest, &t, n);
+        break;
+    }
+    if (!hit)
+        return;
+    if (p->has_cut) {
+        /* entered on the cut-away side: the renderer draws nothing of it there (its back
+         * faces are culled), so neither does the tracer */
+        double w[3] = { o[0] + t * d[0], o[1] + t * d[1], o[2] + t * d[2] };
+        if (limen__d_plane_dist(p->cut, w) < 0)
+            return;
+    }
+    q->best = i;
+    q->tbest = t;
+    memcpy(q->nu, n, sizeof n);
+    for (int k = 0; k < 3; k++)
+        q->pu[k] = ou[k] + t * du[k];
+}
+
+static void test_prim_bvh(void *ctx, int item, double *tmax)
+{
+    search *q = ctx;
+    test_prim(q, item);
+    /* a box entered exactly at tbest may still hold a lower-indexed prim hit there */
+    *tmax = q->tbest;
+}
+
 /* The nearest hit along o + t d (d a unit vector) with tmin < t, leaving out prim `skip`
  * and portals seen from behind. Returns the prim index or -1; *t, the unit-space point and
  * the unit-space normal of the hit. */
 static int nearest(const tracer *tr, const double o[3], const double d[3], double tmin_shape,
                    double tmin_surface, int skip, double *t_out, double pu[3], double nu[3])
 {
-    int best = -1;
-    double tbest = INFINITY;
-    for (int i = 0; i < tr->n; i++) {
-        const prim *p = &tr->prims[i];
-        if (i == skip || p->br < 0)
-            continue;
-        if (p->kind == LIMEN_NODE_PORTAL && dot3(p->plane, d) >= 0)
-            continue;   /* from behind (or edge on): empty air */
-        double tmin = p->kind == LIMEN_NODE_MIRROR || p->kind == LIMEN_NODE_PORTAL ? tmin_surface
-                                                                                    : tmin_shape;
-        /* bounding sphere: distance of its centre from the line, and t range */
-        double oc[3] = { p->bc[0] - o[0], p->bc[1] - o[1], p->bc[2] - o[2] };
-        double tc = dot3(oc, d);
-        double r2 = p->br * p->br;
-        double perp2 = dot3(oc, oc) - tc * tc;
-        if (perp2 > r2 || tc + p->br <= tmin || tc - p->br >= tbest)
-            continue;
-        double ou[3], du[3], t, n[3];
-        limen__d_point(p->minv, o, ou);
-        d_dir(p->minv, d, du);
-        bool hit;
-        switch (p->shape) {
-        case SHAPE_BOX:
-            hit = hit_box(ou, du, tmin, tbest, &t, n);
-            break;
-        case SHAPE_SPHERE:
-            hit = hit_sphere(ou, du, tmin, tbest, &t, n);
-            break;
-        case SHAPE_CYLINDER:
-            hit = hit_cylinder(ou, du, tmin, tbest, &t, n);
-            break;
-        default:
-            hit = hit_flat(ou, du, tmin, tbest, &t, n);
-            break;
-        }
-        if (!hit)
-            continue;
-        if (p->has_cut) {
-            /* entered on the cut-away side: the renderer draws nothing of it there (its
-             * back faces are culled), so neither does the tracer */
-            double w[3] = { o[0] + t * d[0], o[1] + t * d[1], o[2] + t * d[2] };
-            if (limen__d_plane_dist(p->cut, w) < 0)
-                continue;
-        }
-        best = i;
-        tbest = t;
-        memcpy(nu, n, sizeof n);
-        for (int k = 0; k < 3; k++)
-            pu[k] = ou[k] + t * du[k];
-    }
-    *t_out = tbest;
-    return best;
+    search q = { .tr = tr, .o = o, .d = d, .tmin_shape = tmin_shape,
+                 .tmin_surface = tmin_surface, .skip = skip, .best = -1, .tbest = INFINITY };
+    if (tr->indexed)
+        limen__bvh_ray(&tr->bvh, o, d, fmin(tmin_shape, tmin_surface), INFINITY, test_prim_bvh,
+                       &q);
+    else
+        for (int i = 0; i < tr->n; i++)
+            test_prim(&q, i);
+    *t_out = q.tbest;
+    memcpy(pu, q.pu, sizeof q.pu);
+    memcpy(nu, q.nu, sizeof q.nu);
+    return q.best;
 }
 
 /* ------------------------------------------------------------------ shading */
@@ -758,6 +822,8 @@ limen_status limen_trace_image(limen_scene *s, const limen_trace_desc *desc, uns
     tracer tr;
     if ((st = tracer_init(&tr, s, "trace")))
         return st;
+    if (!s->brute_force)
+        tracer_index(&tr);
     base.tr = &tr;
 
     int nthreads = d.threads ? d.threads : online_cpus();
