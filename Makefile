@@ -163,7 +163,7 @@ clean:
 # stability sweeps in full (`make sweeps`, below).
 BENCH      ?= quick
 BENCH_DEBS := gnuplot-nox
-BENCH_C    := bench/bench.c bench/matrices.c
+BENCH_C    := bench/bench.c bench/matrices.c bench/scale.c
 BENCH_BIN  := $(BENCH_C:bench/%.c=$(B)/bench/%)
 
 .PHONY: bench bench-deps bench-charts

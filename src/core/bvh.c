@@ -12,7 +12,8 @@
 #include "core/bvh.h"
 
 #define LEAF_MAX 4
-#define STACK_MAX 128       /* > 2 x depth of a median-split tree of 2^31 items */
+#define DEPTH_SAH 48        /* deeper than this, median splits: depth <= 48 + 31 */
+#define STACK_MAX 128       /* > 2 x that depth */
 
 static bool grow(void **p, int *cap, int need, size_t size)
 {
@@ -45,6 +46,76 @@ static double centre(const limen__bvh *b, int id, int axis)
     return b->boxes[id].lo[axis] + b->boxes[id].hi[axis];
 }
 
+static double area(const limen__box *x)
+{
+    double e[3];
+    for (int k = 0; k < 3; k++)
+        e[k] = x->hi[k] > x->lo[k] ? x->hi[k] - x->lo[k] : 0;
+    return e[0] * e[1] + e[1] * e[2] + e[2] * e[0];
+}
+
+/* Where to split order[lo..hi) along `axis` (centres spread over [c0, c1]): the surface area
+ * heuristic over BINS bins, which keeps the boxes of a ray's path small where objects
+ * cluster; -1 when no split beats the median. Returns the position of the split after
+ * partitioning. */
+static int split_sah(limen__bvh *b, int lo, int hi, int axis, double c0, double c1)
+{
+    enum { BINS = 16 };
+    limen__box bins[BINS];
+    int counts[BINS] = { 0 };
+    for (int i = 0; i < BINS; i++)
+        limen__box_empty(&bins[i]);
+    double scale = BINS / (c1 - c0);
+    for (int i = lo; i < hi; i++) {
+        int id = b->order[i];
+        int k = (int)((centre(b, id, axis) - c0) * scale);
+        k = k < 0 ? 0 : k >= BINS ? BINS - 1 : k;
+        counts[k]++;
+        limen__box_add(&bins[k], &b->boxes[id]);
+    }
+    /* cost of each split: area x count of each side, swept from both ends */
+    double right_cost[BINS];
+    limen__box acc;
+    limen__box_empty(&acc);
+    int n = 0;
+    for (int k = BINS - 1; k > 0; k--) {
+        limen__box_add(&acc, &bins[k]);
+        n += counts[k];
+        right_cost[k] = n ? area(&acc) * n : 0;
+    }
+    limen__box_empty(&acc);
+    n = 0;
+    int best = -1;
+    double best_cost = INFINITY;
+    for (int k = 0; k < BINS - 1; k++) {
+        limen__box_add(&acc, &bins[k]);
+        n += counts[k];
+        if (!n || n == hi - lo)
+            continue;
+        double c = area(&acc) * n + right_cost[k + 1];
+        if (c < best_cost) {
+            best_cost = c;
+            best = k;
+        }
+    }
+    if (best < 0)
+        return -1;
+    /* partition: bins 0..best to the left */
+    int i = lo, j = hi - 1;
+    while (i <= j) {
+        int k = (int)((centre(b, b->order[i], axis) - c0) * scale);
+        k = k < 0 ? 0 : k >= BINS ? BINS - 1 : k;
+        if (k <= best) {
+            i++;
+        } else {
+            int t = b->order[i];
+            b->order[i] = b->order[j];
+            b->order[j--] = t;
+        }
+    }
+    return i > lo && i < hi ? i : -1;
+}
+
 /* Reorders order[lo..hi) so that position k holds the item of rank k along the axis, the
  * ones before it no greater and the ones after no smaller (Hoare's selection). */
 static void select_rank(limen__bvh *b, int lo, int hi, int k, int axis)
@@ -73,20 +144,20 @@ static void select_rank(limen__bvh *b, int lo, int hi, int k, int axis)
     }
 }
 
-static void build_node(limen__bvh *b, int at, int lo, int hi, int parent)
+static void build_node(limen__bvh *b, int at, int lo, int hi, int parent, int depth)
 {
     limen__bvh_node *nd = &b->nodes[at];
     nd->parent = parent;
     limen__box_empty(&nd->box);
-    limen__box spread;
-    limen__box_empty(&spread);
+    double c0[3] = { INFINITY, INFINITY, INFINITY }, c1[3] = { -INFINITY, -INFINITY, -INFINITY };
     for (int i = lo; i < hi; i++) {
         const limen__box *ib = &b->boxes[b->order[i]];
         limen__box_add(&nd->box, ib);
-        limen__box c;
-        for (int k = 0; k < 3; k++)
-            c.lo[k] = c.hi[k] = 0.5 * (ib->lo[k] + ib->hi[k]);
-        limen__box_add(&spread, &c);
+        for (int k = 0; k < 3; k++) {
+            double c = ib->lo[k] + ib->hi[k];
+            c0[k] = c < c0[k] ? c : c0[k];
+            c1[k] = c > c1[k] ? c : c1[k];
+        }
     }
     if (hi - lo <= LEAF_MAX) {
         nd->first = lo;
@@ -97,16 +168,23 @@ static void build_node(limen__bvh *b, int at, int lo, int hi, int parent)
     }
     int axis = 0;
     for (int k = 1; k < 3; k++)
-        if (spread.hi[k] - spread.lo[k] > spread.hi[axis] - spread.lo[axis])
+        if (c1[k] - c0[k] > c1[axis] - c0[axis])
             axis = k;
-    int mid = lo + (hi - lo) / 2;
-    select_rank(b, lo, hi, mid, axis);
+    /* the heuristic while the tree is shallow enough that any split keeps the stacks
+     * bounded, the median below that (and where all centres coincide) */
+    int mid = -1;
+    if (depth < DEPTH_SAH && c1[axis] > c0[axis])
+        mid = split_sah(b, lo, hi, axis, c0[axis], c1[axis]);
+    if (mid < 0) {
+        mid = lo + (hi - lo) / 2;
+        select_rank(b, lo, hi, mid, axis);
+    }
     int left = b->nnodes;
     b->nnodes += 2;
     nd->first = left;
     nd->count = 0;
-    build_node(b, left, lo, mid, at);
-    build_node(b, left + 1, mid, hi, at);
+    build_node(b, left, lo, mid, at, depth + 1);
+    build_node(b, left + 1, mid, hi, at, depth + 1);
 }
 
 bool limen__bvh_build(limen__bvh *b, const int *ids, int n, const limen__box *boxes,
@@ -135,7 +213,7 @@ bool limen__bvh_build(limen__bvh *b, const int *ids, int n, const limen__box *bo
     if (n == 0)
         return true;
     b->nnodes = 1;
-    build_node(b, 0, 0, n, -1);
+    build_node(b, 0, 0, n, -1, 0);
     return true;
 }
 
@@ -240,16 +318,25 @@ int limen__bvh_query_box(const limen__bvh *b, const limen__box *q, int **out, in
     return query(b, NULL, 0, 0, q, out, count, cap, stats);
 }
 
-/* Entry distance of the segment into the box, or INFINITY when it misses. A zero direction
- * component makes 0 * inf = NaN where the origin lies on a face: fmin/fmax drop the NaN,
- * leaving that axis unconstrained, which can only keep a box, never lose one. */
-static double slab(const limen__box *bx, const double o[3], const double inv[3], double tmin,
-                   double tmax)
+/* Entry distance of the segment into the box, or INFINITY when it misses. A zero
+ * direction component constrains nothing but the origin's own coordinate. */
+static double slab(const limen__box *bx, const double o[3], const double d[3],
+                   const double inv[3], double tmin, double tmax)
 {
     for (int k = 0; k < 3; k++) {
+        if (d[k] == 0) {
+            if (o[k] < bx->lo[k] || o[k] > bx->hi[k])
+                return INFINITY;
+            continue;
+        }
         double t0 = (bx->lo[k] - o[k]) * inv[k], t1 = (bx->hi[k] - o[k]) * inv[k];
-        tmin = fmax(tmin, fmin(t0, t1));
-        tmax = fmin(tmax, fmax(t0, t1));
+        if (t0 > t1) {
+            double t = t0;
+            t0 = t1;
+            t1 = t;
+        }
+        tmin = t0 > tmin ? t0 : tmin;
+        tmax = t1 < tmax ? t1 : tmax;
     }
     return tmin <= tmax ? tmin : INFINITY;
 }
@@ -262,31 +349,36 @@ void limen__bvh_ray(const limen__bvh *b, const double o[3], const double d[3], d
     double inv[3];
     for (int k = 0; k < 3; k++)
         inv[k] = 1.0 / d[k];
-    int stack[STACK_MAX], top = 0;
-    if (slab(&b->nodes[0].box, o, inv, tmin, tmax) == INFINITY)
+    struct { int node; double t; } stack[STACK_MAX];
+    int top = 0;
+    double t_root = slab(&b->nodes[0].box, o, d, inv, tmin, tmax);
+    if (t_root == INFINITY)
         return;
-    stack[top++] = 0;
+    stack[top].node = 0;
+    stack[top++].t = t_root;
     while (top > 0) {
-        const limen__bvh_node *nd = &b->nodes[stack[--top]];
+        top--;
+        if (stack[top].t > tmax)
+            continue;   /* entered beyond a hit found since it was pushed */
+        const limen__bvh_node *nd = &b->nodes[stack[top].node];
         if (nd->count) {
             for (int i = 0; i < nd->count; i++)
                 hit(ctx, b->order[nd->first + i], &tmax);
             continue;
         }
         int l = nd->first, r = nd->first + 1;
-        double tl = slab(&b->nodes[l].box, o, inv, tmin, tmax);
-        double tr = slab(&b->nodes[r].box, o, inv, tmin, tmax);
-        /* nearer child on top; a popped box is tested again only through its items, whose
-         * callers bound their own work by tmax */
-        if (tl <= tr) {
-            if (tr != INFINITY)
-                stack[top++] = r;
-            if (tl != INFINITY)
-                stack[top++] = l;
-        } else {
-            if (tl != INFINITY)
-                stack[top++] = l;
-            stack[top++] = r;
+        double tl = slab(&b->nodes[l].box, o, d, inv, tmin, tmax);
+        double tr = slab(&b->nodes[r].box, o, d, inv, tmin, tmax);
+        /* the nearer child on top */
+        int near = tl <= tr ? l : r, far = tl <= tr ? r : l;
+        double tn = tl <= tr ? tl : tr, tf = tl <= tr ? tr : tl;
+        if (tf != INFINITY) {
+            stack[top].node = far;
+            stack[top++].t = tf;
+        }
+        if (tn != INFINITY) {
+            stack[top].node = near;
+            stack[top++].t = tn;
         }
     }
 }
