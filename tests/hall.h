@@ -50,7 +50,7 @@ static limen_node hall__camera(limen_scene *s, float x, float y, float z, float 
     return cam;
 }
 
-static limen_scene *hall_create(int n, int pairs, unsigned long long seed)
+__attribute__((unused)) static limen_scene *hall_create(int n, int pairs, unsigned long long seed)
 {
     limen_scene *s = hall__scene(n + 2 * pairs);
     if (!s)
@@ -86,7 +86,7 @@ static limen_scene *hall_create(int n, int pairs, unsigned long long seed)
     return s;
 }
 
-static limen_scene *field_create(int n, unsigned long long seed)
+__attribute__((unused)) static limen_scene *field_create(int n, unsigned long long seed)
 {
     limen_scene *s = hall__scene(n);
     if (!s)

@@ -11,7 +11,9 @@
 
 #include "core/bvh.h"
 
-#define LEAF_MAX 4
+#define LEAF_MIN 2           /* leaves of up to this many items always */
+#define LEAF_MAX 8          /* and of up to this many where a split would not pay */
+#define COST_NODE 1.0       /* a box test against an item test, in the heuristic */
 #define DEPTH_SAH 48        /* deeper than this, median splits: depth <= 48 + 31 */
 #define STACK_MAX 128       /* > 2 x that depth */
 
@@ -58,7 +60,8 @@ static double area(const limen__box *x)
  * heuristic over BINS bins, which keeps the boxes of a ray's path small where objects
  * cluster; -1 when no split beats the median. Returns the position of the split after
  * partitioning. */
-static int split_sah(limen__bvh *b, int lo, int hi, int axis, double c0, double c1)
+static int split_sah(limen__bvh *b, int lo, int hi, int axis, double c0, double c1,
+                     double node_area)
 {
     enum { BINS = 16 };
     limen__box bins[BINS];
@@ -100,6 +103,9 @@ static int split_sah(limen__bvh *b, int lo, int hi, int axis, double c0, double 
     }
     if (best < 0)
         return -1;
+    if (hi - lo <= LEAF_MAX && node_area > 0 &&
+        COST_NODE + best_cost / node_area >= (double)(hi - lo))
+        return -2;  /* a leaf costs less */
     /* partition: bins 0..best to the left */
     int i = lo, j = hi - 1;
     while (i <= j) {
@@ -159,22 +165,22 @@ static void build_node(limen__bvh *b, int at, int lo, int hi, int parent, int de
             c1[k] = c > c1[k] ? c : c1[k];
         }
     }
-    if (hi - lo <= LEAF_MAX) {
-        nd->first = lo;
-        nd->count = hi - lo;
-        for (int i = lo; i < hi; i++)
-            b->leaf[b->order[i]] = at;
-        return;
-    }
     int axis = 0;
     for (int k = 1; k < 3; k++)
         if (c1[k] - c0[k] > c1[axis] - c0[axis])
             axis = k;
     /* the heuristic while the tree is shallow enough that any split keeps the stacks
      * bounded, the median below that (and where all centres coincide) */
-    int mid = -1;
-    if (depth < DEPTH_SAH && c1[axis] > c0[axis])
-        mid = split_sah(b, lo, hi, axis, c0[axis], c1[axis]);
+    int mid = hi - lo <= LEAF_MIN ? -2 : -1;
+    if (mid == -1 && depth < DEPTH_SAH && c1[axis] > c0[axis])
+        mid = split_sah(b, lo, hi, axis, c0[axis], c1[axis], area(&nd->box));
+    if (mid == -2) {
+        nd->first = lo;
+        nd->count = hi - lo;
+        for (int i = lo; i < hi; i++)
+            b->leaf[b->order[i]] = at;
+        return;
+    }
     if (mid < 0) {
         mid = lo + (hi - lo) / 2;
         select_rank(b, lo, hi, mid, axis);
@@ -318,23 +324,21 @@ int limen__bvh_query_box(const limen__bvh *b, const limen__box *q, int **out, in
     return query(b, NULL, 0, 0, q, out, count, cap, stats);
 }
 
-/* Entry distance of the segment into the box, or INFINITY when it misses. A zero
- * direction component constrains nothing but the origin's own coordinate. */
-static double slab(const limen__box *bx, const double o[3], const double d[3],
-                   const double inv[3], double tmin, double tmax)
+/* A ray prepared for slab tests: reciprocal direction, and which face each axis enters. */
+typedef struct ray {
+    double o[3], inv[3];
+    int neg[3];
+} ray;
+
+/* Entry distance of the segment into the box, or INFINITY when it misses. A zero direction
+ * component gets a reciprocal of +-1e300 rather than infinity: no 0 * inf = NaN where the
+ * origin lies on a face, at the price of keeping a box the ray passes beside, never of
+ * losing one it meets. */
+static double slab(const limen__box *bx, const ray *r, double tmin, double tmax)
 {
     for (int k = 0; k < 3; k++) {
-        if (d[k] == 0) {
-            if (o[k] < bx->lo[k] || o[k] > bx->hi[k])
-                return INFINITY;
-            continue;
-        }
-        double t0 = (bx->lo[k] - o[k]) * inv[k], t1 = (bx->hi[k] - o[k]) * inv[k];
-        if (t0 > t1) {
-            double t = t0;
-            t0 = t1;
-            t1 = t;
-        }
+        double t0 = ((r->neg[k] ? bx->hi : bx->lo)[k] - r->o[k]) * r->inv[k];
+        double t1 = ((r->neg[k] ? bx->lo : bx->hi)[k] - r->o[k]) * r->inv[k];
         tmin = t0 > tmin ? t0 : tmin;
         tmax = t1 < tmax ? t1 : tmax;
     }
@@ -346,12 +350,15 @@ void limen__bvh_ray(const limen__bvh *b, const double o[3], const double d[3], d
 {
     if (!b->nnodes)
         return;
-    double inv[3];
-    for (int k = 0; k < 3; k++)
-        inv[k] = 1.0 / d[k];
+    ray r;
+    for (int k = 0; k < 3; k++) {
+        r.o[k] = o[k];
+        r.inv[k] = d[k] != 0 ? 1.0 / d[k] : signbit(d[k]) ? -1e300 : 1e300;
+        r.neg[k] = r.inv[k] < 0;
+    }
     struct { int node; double t; } stack[STACK_MAX];
     int top = 0;
-    double t_root = slab(&b->nodes[0].box, o, d, inv, tmin, tmax);
+    double t_root = slab(&b->nodes[0].box, &r, tmin, tmax);
     if (t_root == INFINITY)
         return;
     stack[top].node = 0;
@@ -366,11 +373,11 @@ void limen__bvh_ray(const limen__bvh *b, const double o[3], const double d[3], d
                 hit(ctx, b->order[nd->first + i], &tmax);
             continue;
         }
-        int l = nd->first, r = nd->first + 1;
-        double tl = slab(&b->nodes[l].box, o, d, inv, tmin, tmax);
-        double tr = slab(&b->nodes[r].box, o, d, inv, tmin, tmax);
+        int l = nd->first, rt = nd->first + 1;
+        double tl = slab(&b->nodes[l].box, &r, tmin, tmax);
+        double tr = slab(&b->nodes[rt].box, &r, tmin, tmax);
         /* the nearer child on top */
-        int near = tl <= tr ? l : r, far = tl <= tr ? r : l;
+        int near = tl <= tr ? l : rt, far = tl <= tr ? rt : l;
         double tn = tl <= tr ? tl : tr, tf = tl <= tr ? tr : tl;
         if (tf != INFINITY) {
             stack[top].node = far;

@@ -215,21 +215,47 @@ static bool is_shape(const limen__node *n)
 
 void limen__node_box(const limen__node *n, limen__box *b)
 {
-    if (limen__is_surface(n)) {
-        double c[4][3];
-        limen__surface_corners(n, c);
-        limen__box_empty(b);
-        for (int i = 0; i < 4; i++) {
-            limen__box p = { { c[i][0], c[i][1], c[i][2] }, { c[i][0], c[i][1], c[i][2] } };
-            limen__box_add(b, &p);
+    /* the node's extent in its own space ... */
+    double lo[3] = { -0.5 * n->dims[0], -0.5 * n->dims[1], -0.5 * n->dims[2] };
+    double hi[3] = { 0.5 * n->dims[0], 0.5 * n->dims[1], 0.5 * n->dims[2] };
+    switch (n->kind) {
+    case LIMEN_NODE_SPHERE:
+        for (int k = 0; k < 3; k++) {
+            lo[k] = -n->dims[0];
+            hi[k] = n->dims[0];
         }
-    } else {
+        break;
+    case LIMEN_NODE_CYLINDER:
+        lo[0] = lo[2] = -n->dims[0];
+        hi[0] = hi[2] = n->dims[0];
+        lo[1] = 0;
+        hi[1] = n->dims[1];
+        break;
+    case LIMEN_NODE_BOX: break;
+    default: lo[2] = hi[2] = 0; break;     /* flat */
+    }
+    /* ... carried to the world exactly: centre by M, half-extents by |M| */
+    double w[16];
+    limen__d_from_f(&n->world[0][0], w);
+    for (int r = 0; r < 3; r++) {
+        double c = w[12 + r], e = 0;
+        for (int k = 0; k < 3; k++) {
+            c += w[k * 4 + r] * 0.5 * (lo[k] + hi[k]);
+            e += fabs(w[k * 4 + r]) * 0.5 * (hi[k] - lo[k]);
+        }
+        b->lo[r] = c - e;
+        b->hi[r] = c + e;
+    }
+    if (!limen__is_surface(n)) {
+        /* and the bounding sphere the straddling test uses, which a shear may push out */
         double c[3], r;
+        limen__box sb;
         limen__node_bounds(n, c, &r);
-        limen__box_sphere(b, c, r);
+        limen__box_sphere(&sb, c, r);
+        limen__box_add(b, &sb);
     }
     /* widened by far more than the rounding of the tests that use it (plane distances,
-     * straddling), so that the index only ever keeps too much */
+     * straddling, ray hits), so that the index only ever keeps too much */
     for (int k = 0; k < 3; k++) {
         double e = 1e-9 * (1.0 + fabs(b->lo[k]) + fabs(b->hi[k]));
         b->lo[k] -= e;

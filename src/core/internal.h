@@ -62,6 +62,7 @@ struct limen_scene {
     int nbad;                   /* nodes whose world matrix is not finite */
     limen__spatial *index;        /* spatial index; NULL until first used */
     bool brute_force;           /* tests only: plan and trace without the index */
+    long straddle_tests;        /* tests only: shape-through-portal tests made so far */
     vec3 background;
     float ambient;
     uint32_t camera;            /* index + 1 */

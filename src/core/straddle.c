@@ -73,7 +73,10 @@ static int find_all_pairs(limen_scene *s, int *portal_of)
         if (!closed_shape(&s->nodes[i]))
             continue;
         for (int j = 0; j < s->cap; j++) {
-            if (!open_portal(s, &s->nodes[j]) || !straddles(&s->nodes[i], &s->nodes[j]))
+            if (!open_portal(s, &s->nodes[j]))
+                continue;
+            s->straddle_tests++;
+            if (!straddles(&s->nodes[i], &s->nodes[j]))
                 continue;
             portal_of[i] = j;
             count++;
@@ -111,7 +114,10 @@ int limen__find_straddlers(limen_scene *s, int *portal_of)
         }
         for (int k = 0; k < n; k++) {
             int i = hits[k];
-            if (portal_of[i] >= 0 || !closed_shape(&s->nodes[i]) || !straddles(&s->nodes[i], a))
+            if (portal_of[i] >= 0 || !closed_shape(&s->nodes[i]))
+                continue;
+            s->straddle_tests++;
+            if (!straddles(&s->nodes[i], a))
                 continue;
             portal_of[i] = portals[pi];
             count++;

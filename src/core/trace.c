@@ -64,6 +64,7 @@
 
 #include "core/bvh.h"
 #include "core/dmath.h"
+#include "core/index.h"
 #include "core/internal.h"
 
 #define MAX_THREADS 256
@@ -102,8 +103,12 @@ typedef struct tracer {
     double lpos[LIMEN__MAX_LIGHTS][3], lcol[LIMEN__MAX_LIGHTS][3];
     int nlights;
     double ambient, background[3];
-    limen__bvh bvh;             /* over the prims' bounding spheres (images only) */
+    /* images: the scene's spatial index finds the prims near a ray (core/index.c) */
     bool indexed;
+    const limen__bvh *shapes, *surfaces;
+    int *prim_of;               /* per node slot: its prim, or -1 */
+    double (*spheres)[4];       /* per prim: bc, br, packed for the ray's first test */
+    int nbase;                  /* prims [nbase, n) are copies of straddlers, not indexed */
 } tracer;
 
 /* Where one path ended (for limen_ray_cast). */
@@ -251,35 +256,24 @@ static void setup_prim(limen_scene *s, const limen__node *n, prim *p)
 static void tracer_free(tracer *t)
 {
     free(t->prims);
+    free(t->prim_of);
+    free(t->spheres);
     t->prims = NULL;
-    limen__bvh_free(&t->bvh);
+    t->prim_of = NULL;
+    t->spheres = NULL;
 }
 
-/* A BVH over the prims' bounding spheres, so that a ray tests the few prims near its path:
- * the boxes only choose which exact tests run, in double precision as before, and are
- * wider than the spheres by far more than rounding, so they never drop a hit. Without
- * memory the tracer tests every prim, as it does for single rays (limen_ray_cast). */
-static void tracer_index(tracer *t)
+/* Rays look up prims through the scene's index: its boxes (wider than each node's exact
+ * extent) only choose which exact tests run, in double precision as before. The copies
+ * of shapes passing through portals are not in it and are tested on every segment. */
+static void tracer_index(tracer *t, limen_scene *s)
 {
-    limen__box *boxes = malloc(sizeof *boxes * (size_t)(t->n > 0 ? t->n : 1));
-    int *ids = malloc(sizeof *ids * (size_t)(t->n > 0 ? t->n : 1)), n = 0;
-    if (boxes && ids) {
-        for (int i = 0; i < t->n; i++) {
-            const prim *p = &t->prims[i];
-            if (p->br < 0)
-                continue;
-            limen__box_sphere(&boxes[i], p->bc, p->br);
-            for (int k = 0; k < 3; k++) {
-                double e = 1e-9 * (fabs(p->bc[k]) + p->br);
-                boxes[i].lo[k] -= e;
-                boxes[i].hi[k] += e;
-            }
-            ids[n++] = i;
-        }
-        t->indexed = limen__bvh_build(&t->bvh, ids, n, boxes, t->n);
-    }
-    free(boxes);
-    free(ids);
+    limen__spatial *x = limen__scene_index(s);
+    if (!x || !t->prim_of)
+        return;     /* the tracer tests every prim, as for single rays (limen_ray_cast) */
+    t->shapes = limen__index_shapes(x);
+    t->surfaces = limen__index_surfaces(x);
+    t->indexed = true;
 }
 
 static limen_status tracer_init(tracer *t, limen_scene *s, const char *fn)
@@ -318,6 +312,7 @@ static limen_status tracer_init(tracer *t, limen_scene *s, const char *fn)
             setup_prim(s, n, &t->prims[t->n++]);
         }
     }
+    t->nbase = t->n;
     for (int i = 0; i < t->n; i++) {
         prim *p = &t->prims[i];
         const limen__node *n = &s->nodes[p->node];
@@ -341,8 +336,17 @@ static limen_status tracer_init(tracer *t, limen_scene *s, const char *fn)
         if (derive(copy))
             t->n++;
     }
-    free(slot);
+    t->prim_of = slot;
     free(through);
+    t->spheres = malloc(sizeof *t->spheres * (size_t)(t->n > 0 ? t->n : 1));
+    if (!t->spheres) {
+        tracer_free(t);
+        return limen__fail(s, LIMEN_ERR_NOMEM, "%s: out of memory", fn);
+    }
+    for (int i = 0; i < t->n; i++) {
+        memcpy(t->spheres[i], t->prims[i].bc, sizeof t->prims[i].bc);
+        t->spheres[i][3] = t->prims[i].br;
+    }
     t->ambient = s->ambient;
     copy3f(s->background, t->background);
     return LIMEN_OK;
@@ -480,21 +484,25 @@ typedef struct search {
  * in order, or as the BVH finds them) never changes the answer. */
 static void test_prim(search *q, int i)
 {
-    const prim *p = &q->tr->prims[i];
+    /* bounding sphere first, from the compact copy: distance of its centre from the line,
+     * and t range */
+    const double *sb = q->tr->spheres[i];
     const double *o = q->o, *d = q->d;
-    if (i == q->skip || p->br < 0)
+    if (i == q->skip || sb[3] < 0)
         return;
+    double tbest = i < q->best ? nextafter(q->tbest, INFINITY) : q->tbest;
+    double oc[3] = { sb[0] - o[0], sb[1] - o[1], sb[2] - o[2] };
+    double tc = dot3(oc, d);
+    double r2 = sb[3] * sb[3];
+    double perp2 = dot3(oc, oc) - tc * tc;
+    if (perp2 > r2 || tc - sb[3] >= tbest)
+        return;
+    const prim *p = &q->tr->prims[i];
     if (p->kind == LIMEN_NODE_PORTAL && dot3(p->plane, d) >= 0)
         return;     /* from behind (or edge on): empty air */
     double tmin = p->kind == LIMEN_NODE_MIRROR || p->kind == LIMEN_NODE_PORTAL ? q->tmin_surface
                                                                                 : q->tmin_shape;
-    double tbest = i < q->best ? nextafter(q->tbest, INFINITY) : q->tbest;
-    /* bounding sphere: distance of its centre from the line, and t range */
-    double oc[3] = { p->bc[0] - o[0], p->bc[1] - o[1], p->bc[2] - o[2] };
-    double tc = dot3(oc, d);
-    double r2 = p->br * p->br;
-    double perp2 = dot3(oc, oc) - tc * tc;
-    if (perp2 > r2 || tc + p->br <= tmin || tc - p->br >= tbest)
+    if (tc + p->br <= tmin)
         return;
     double ou[3], du[3], t, n[3];
     limen__d_point(p->minv, o, ou);
@@ -533,7 +541,9 @@ static void test_prim(search *q, int i)
 static void test_prim_bvh(void *ctx, int item, double *tmax)
 {
     search *q = ctx;
-    test_prim(q, item);
+    int i = q->tr->prim_of[item];
+    if (i >= 0)
+        test_prim(q, i);
     /* a box entered exactly at tbest may still hold a lower-indexed prim hit there */
     *tmax = q->tbest;
 }
@@ -546,10 +556,13 @@ static int nearest(const tracer *tr, const double o[3], const double d[3], doubl
 {
     search q = { .tr = tr, .o = o, .d = d, .tmin_shape = tmin_shape,
                  .tmin_surface = tmin_surface, .skip = skip, .best = -1, .tbest = INFINITY };
-    if (tr->indexed)
-        limen__bvh_ray(&tr->bvh, o, d, fmin(tmin_shape, tmin_surface), INFINITY, test_prim_bvh,
-                       &q);
-    else
+    if (tr->indexed) {
+        double tmin = fmin(tmin_shape, tmin_surface);
+        limen__bvh_ray(tr->surfaces, o, d, tmin, INFINITY, test_prim_bvh, &q);
+        limen__bvh_ray(tr->shapes, o, d, tmin, q.tbest, test_prim_bvh, &q);
+        for (int i = tr->nbase; i < tr->n; i++)
+            test_prim(&q, i);
+    } else
         for (int i = 0; i < tr->n; i++)
             test_prim(&q, i);
     *t_out = q.tbest;
@@ -823,7 +836,7 @@ limen_status limen_trace_image(limen_scene *s, const limen_trace_desc *desc, uns
     if ((st = tracer_init(&tr, s, "trace")))
         return st;
     if (!s->brute_force)
-        tracer_index(&tr);
+        tracer_index(&tr, s);
     base.tr = &tr;
 
     int nthreads = d.threads ? d.threads : online_cpus();
