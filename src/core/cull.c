@@ -84,6 +84,13 @@ int limen__plan_candidates(limen_plan *p, limen_scene *s, const limen__pview *v)
     return m;
 }
 
+int limen__plan_surface_slots(limen_scene *s, const int **out)
+{
+    limen__spatial *x = s->brute_force ? NULL : limen__scene_index(s);
+    *out = NULL;
+    return x ? limen__index_surface_slots(x, out) : s->cap;
+}
+
 int limen_plan_view_things(const limen_plan *p, limen_scene *s, int i, limen_node *out, int max)
 {
     if (!p || !s || i < 0 || i >= p->count || max < 0 || (max > 0 && !out)) {

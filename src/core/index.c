@@ -21,6 +21,7 @@ struct limen__spatial {
     bool built;                 /* false: rebuild on the next use */
     int *moved, nmoved, moved_cap;
     int *portals, nportals, portals_cap;    /* live portal slots, ascending */
+    int *surf_slots, nsurf_slots, surf_slots_cap;   /* live mirror and portal slots, ascending */
     limen__box *boxes;          /* per slot, for building */
     int boxes_cap;
     int *ids, ids_cap;
@@ -51,6 +52,7 @@ void limen__index_free(limen_scene *s)
     limen__bvh_free(&x->surfaces);
     free(x->moved);
     free(x->portals);
+    free(x->surf_slots);
     free(x->boxes);
     free(x->ids);
     free(x->hits);
@@ -270,6 +272,7 @@ static bool rebuild(limen_scene *s, limen__spatial *x)
         return false;
     int nshapes = 0, nsurf = 0;
     x->nportals = 0;
+    x->nsurf_slots = 0;
     /* shapes from the front of ids, surfaces from the back */
     for (int i = 0; i < s->cap; i++) {
         const limen__node *n = &s->nodes[i];
@@ -281,6 +284,10 @@ static bool rebuild(limen_scene *s, limen__spatial *x)
             continue;
         }
         x->ids[s->cap - 1 - nsurf++] = i;
+        if (!grow((void **)&x->surf_slots, &x->surf_slots_cap, x->nsurf_slots + 1,
+                  sizeof *x->surf_slots))
+            return false;
+        x->surf_slots[x->nsurf_slots++] = i;
         if (n->kind == LIMEN_NODE_PORTAL) {
             if (!grow((void **)&x->portals, &x->portals_cap, x->nportals + 1, sizeof *x->portals))
                 return false;
@@ -335,4 +342,10 @@ int limen__index_portals(const limen__spatial *x, const int **out)
 {
     *out = x->portals;
     return x->nportals;
+}
+
+int limen__index_surface_slots(const limen__spatial *x, const int **out)
+{
+    *out = x->surf_slots;
+    return x->nsurf_slots;
 }

@@ -13,8 +13,9 @@ limen__spatial *limen__scene_index(limen_scene *s);
 /* Boxes, quads (shapes) and mirrors, portals (surfaces). */
 const limen__bvh *limen__index_shapes(const limen__spatial *x);
 const limen__bvh *limen__index_surfaces(const limen__spatial *x);
-/* The live portals' slots, ascending. */
+/* The live portals' slots, ascending; the live mirrors' and portals' slots, ascending. */
 int limen__index_portals(const limen__spatial *x, const int **out);
+int limen__index_surface_slots(const limen__spatial *x, const int **out);
 /* World box of a node as the index holds it (a little wider than its bounds). */
 void limen__node_box(const limen__node *n, limen__box *b);
 

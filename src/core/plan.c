@@ -275,9 +275,14 @@ static limen_status collect_surfaces(limen_plan *p, limen_scene *s)
     p->nsurf = 0;
     if (!reserve((void **)&p->surf_of, &p->surf_of_cap, s->cap, sizeof *p->surf_of))
         return limen__fail(s, LIMEN_ERR_NOMEM, "plan: out of memory");
-    for (int i = 0; i < s->cap; i++) {
-        limen__node *n = &s->nodes[i];
+    for (int i = 0; i < s->cap; i++)
         p->surf_of[i] = -1;
+    /* the index's list of surfaces, or every slot */
+    const int *slots = NULL;
+    int nslots = limen__plan_surface_slots(s, &slots);
+    for (int k = 0; k < nslots; k++) {
+        int i = slots ? slots[k] : k;
+        limen__node *n = &s->nodes[i];
         if (!limen__alive(n) || !n->visible || !limen__is_surface(n))
             continue;
         p->surf_of[i] = p->nsurf;

@@ -76,6 +76,9 @@ struct limen_plan {
 /* The surfaces (indices in p->surf, ascending) whose boxes meet view v's narrowed region,
  * left in p->cand; their count, or -1 when out of memory. */
 int limen__plan_candidates(limen_plan *p, limen_scene *s, const limen__pview *v);
+/* The slots of the scene's mirrors and portals, ascending, from its index; or *out = NULL
+ * and s->cap (every slot) without the index. */
+int limen__plan_surface_slots(limen_scene *s, const int **out);
 
 /* The surfaces seen from view `view` (draw-order index); returns their count. */
 static inline int limen__plan_view_surfaces(const limen_plan *p, int view,
