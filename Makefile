@@ -162,12 +162,13 @@ clean:
 # to $(B)/bench/. Copy the charts into bench/charts/ with `make bench-charts`. Then the
 # stability sweeps in full (`make sweeps`, below).
 BENCH      ?= quick
-BENCH_DEBS := gnuplot-nox
-BENCH_C    := bench/bench.c bench/matrices.c bench/scale.c
+# libembree-dev: bench/embree.c measures Embree 3 against core/bvh.c for the tracer's job
+BENCH_DEBS := gnuplot-nox libembree-dev
+BENCH_C    := bench/bench.c bench/matrices.c bench/scale.c bench/embree.c
 BENCH_BIN  := $(BENCH_C:bench/%.c=$(B)/bench/%)
 
 .PHONY: bench bench-deps bench-charts
-bench: all $(BENCH_BIN) bench-deps
+bench: all bench-deps $(BENCH_BIN)
 	@sh bench/run.sh $(B) $(BENCH)
 	@$(MAKE) --no-print-directory sweeps SWEEP=full
 
@@ -181,6 +182,11 @@ bench-charts:
 $(B)/bench/%: $(B)/obj/bench/%.o $(B)/liblimen.a
 	@mkdir -p $(dir $@)
 	$(CC) -o $@ $< $(B)/liblimen.a $(LIBS)
+
+$(B)/obj/bench/embree.o: | bench-deps
+$(B)/bench/embree: $(B)/obj/bench/embree.o $(B)/liblimen.a
+	@mkdir -p $(dir $@)
+	$(CC) -o $@ $< $(B)/liblimen.a -lembree3 $(LIBS)
 
 -include $(BENCH_C:%.c=$(B)/obj/%.d)
 .SECONDARY: $(BENCH_C:%.c=$(B)/obj/%.o)
