@@ -19,31 +19,13 @@
 #include <embree3/rtcore.h>
 
 #include "core/bvh.h"
+#include "timing.h"
 
 enum { W = 320, H = 240, REPS = 5 };
 
 typedef struct sphere {
     double c[3], r;
 } sphere;
-
-static double now_ms(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return ts.tv_sec * 1e3 + ts.tv_nsec * 1e-6;
-}
-
-static int cmp_double(const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return (x > y) - (x < y);
-}
-
-static double median(double *v, int n)
-{
-    qsort(v, (size_t)n, sizeof *v, cmp_double);
-    return v[n / 2];
-}
 
 static unsigned long long rng = 11;
 
@@ -184,7 +166,9 @@ static int embree_trace(RTCScene sc, const sphere *sp, bool user, const int *tru
             rh.ray.mask = ~0u;
             rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
             rtcIntersect1(sc, &ctx.base, &rh);
-            int id = user ? q.id : rh.hit.geomID == RTC_INVALID_GEOMETRY_ID ? -1 : (int)rh.hit.primID;
+            int id = user                                         ? q.id
+                     : rh.hit.geomID == RTC_INVALID_GEOMETRY_ID ? -1
+                                                                : (int)rh.hit.primID;
             wrong += truth && id != truth[y * W + x];
         }
     }

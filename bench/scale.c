@@ -18,28 +18,10 @@
 
 #include "core/internal.h"
 #include "../tests/hall.h"
+#include "timing.h"
 
 /* traces on one thread: the shared machine's other work disturbs one thread less */
 enum { PAIRS = 50, TRACE_W = 320, TRACE_H = 240 };
-
-static double now_ms(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return ts.tv_sec * 1e3 + ts.tv_nsec * 1e-6;
-}
-
-static int cmp_double(const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return (x > y) - (x < y);
-}
-
-static double median(double *v, int n)
-{
-    qsort(v, (size_t)n, sizeof *v, cmp_double);
-    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
 
 static void fail(const char *what, limen_scene *s)
 {
@@ -120,8 +102,8 @@ static double plan_median(hall *h, int reps, int movers)
 static double trace_once(limen_scene *s, unsigned char *rgb)
 {
     double t0 = now_ms();
-    if (limen_trace_image(s, &(limen_trace_desc){ .width = TRACE_W, .height = TRACE_H, .threads = 1 },
-                          rgb))
+    limen_trace_desc d = { .width = TRACE_W, .height = TRACE_H, .threads = 1 };
+    if (limen_trace_image(s, &d, rgb))
         fail("trace", s);
     return now_ms() - t0;
 }

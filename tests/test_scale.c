@@ -235,12 +235,12 @@ static void test_edits_same(void)
             }
             case 3:
                 if (kind != LIMEN_NODE_GROUP && kind != LIMEN_NODE_LIGHT)
-                    limen_node_set_dims(s, x, (float[3]){ uni(0.5f, 2), uni(0.5f, 2), uni(0.5f, 2) });
+                    limen_node_set_dims(s, x, (float[3]){ uni(0.5f, 2), uni(0.5f, 2), 1 });
                 break;
             default:
                 if (round % 3 == 0 && kind != LIMEN_NODE_GROUP) {
                     limen_node_destroy(s, x);
-                    limen_node fresh = add(s, LIMEN_NODE_SPHERE, uni(-6, 6), uni(-6, 6), uni(-6, 6));
+                    limen_node fresh = add(s, LIMEN_NODE_SPHERE, uni(-6, 6), uni(-6, 6), 0);
                     for (int i = 0; i < n; i++)
                         if (all[i].id == x.id)
                             all[i] = fresh;

@@ -10,27 +10,13 @@
 #include <string.h>
 
 #include "core/bvh.h"
+#include "core/reserve.h"
 
 #define LEAF_MIN 2           /* leaves of up to this many items always */
 #define LEAF_MAX 8          /* and of up to this many where a split would not pay */
 #define COST_NODE 1.0       /* a box test against an item test, in the heuristic */
 #define DEPTH_SAH 48        /* deeper than this, median splits: depth <= 48 + 31 */
 #define STACK_MAX 128       /* > 2 x that depth */
-
-static bool grow(void **p, int *cap, int need, size_t size)
-{
-    if (need <= *cap)
-        return true;
-    int n = *cap ? *cap : 16;
-    while (n < need)
-        n *= 2;
-    void *q = realloc(*p, size * (size_t)n);
-    if (!q)
-        return false;
-    *p = q;
-    *cap = n;
-    return true;
-}
 
 void limen__bvh_free(limen__bvh *b)
 {
@@ -196,8 +182,8 @@ static void build_node(limen__bvh *b, int at, int lo, int hi, int parent, int de
 bool limen__bvh_build(limen__bvh *b, const int *ids, int n, const limen__box *boxes,
                       int id_count)
 {
-    if (!grow((void **)&b->order, &b->order_cap, n > 0 ? n : 1, sizeof *b->order) ||
-        !grow((void **)&b->nodes, &b->nodes_cap, n > 0 ? 2 * n : 1, sizeof *b->nodes))
+    if (!limen__reserve((void **)&b->order, &b->order_cap, n > 0 ? n : 1, sizeof *b->order) ||
+        !limen__reserve((void **)&b->nodes, &b->nodes_cap, n > 0 ? 2 * n : 1, sizeof *b->nodes))
         return false;
     if (id_count > b->id_cap) {
         limen__box *bx = realloc(b->boxes, sizeof *bx * (size_t)id_count);
@@ -245,7 +231,7 @@ void limen__bvh_update(limen__bvh *b, int id, const limen__box *box)
 
 static bool push_item(int id, int **out, int *count, int *cap)
 {
-    if (!grow((void **)out, cap, *count + 1, sizeof **out))
+    if (!limen__reserve((void **)out, cap, *count + 1, sizeof **out))
         return false;
     (*out)[(*count)++] = id;
     return true;

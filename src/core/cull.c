@@ -38,7 +38,8 @@ static int view_planes(const limen_plan *p, const limen__pview *v, double planes
         n++;
     }
     if (v->pub.depth > 0) {
-        double len = sqrt(v->clip[0] * v->clip[0] + v->clip[1] * v->clip[1] + v->clip[2] * v->clip[2]);
+        const double *c = v->clip;
+        double len = sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]);
         if (len > 0 && isfinite(len)) {
             for (int j = 0; j < 4; j++)
                 planes[n][j] = v->clip[j] / len;

@@ -15,6 +15,7 @@
 #include "core/dmath.h"
 #include "core/index.h"
 #include "core/internal.h"
+#include "core/reserve.h"
 
 struct limen__spatial {
     limen__bvh shapes, surfaces;
@@ -27,21 +28,6 @@ struct limen__spatial {
     int *ids, ids_cap;
     int *hits, hits_cap;
 };
-
-static bool grow(void **p, int *cap, int need, size_t size)
-{
-    if (need <= *cap)
-        return true;
-    int n = *cap ? *cap : 16;
-    while (n < need)
-        n *= 2;
-    void *q = realloc(*p, size * (size_t)n);
-    if (!q)
-        return false;
-    *p = q;
-    *cap = n;
-    return true;
-}
 
 void limen__index_free(limen_scene *s)
 {
@@ -67,7 +53,8 @@ void limen__node_touch(limen_scene *s, limen__node *node)
     s->dirty = true;
     if (node->stale || s->all_stale)
         return;
-    if (!grow((void **)&s->stale_list, &s->stale_cap, s->nstale + 1, sizeof *s->stale_list)) {
+    if (!limen__reserve((void **)&s->stale_list, &s->stale_cap, s->nstale + 1,
+                        sizeof *s->stale_list)) {
         s->all_stale = true;    /* out of memory: recompute everything next time */
         return;
     }
@@ -86,7 +73,7 @@ static void note_moved(limen_scene *s, int k)
     limen__spatial *x = s->index;
     if (!x || !x->built)
         return;
-    if (!grow((void **)&x->moved, &x->moved_cap, x->nmoved + 1, sizeof *x->moved))
+    if (!limen__reserve((void **)&x->moved, &x->moved_cap, x->nmoved + 1, sizeof *x->moved))
         x->built = false;
     else
         x->moved[x->nmoved++] = k;
@@ -267,8 +254,8 @@ void limen__node_box(const limen__node *n, limen__box *b)
 
 static bool rebuild(limen_scene *s, limen__spatial *x)
 {
-    if (!grow((void **)&x->boxes, &x->boxes_cap, s->cap, sizeof *x->boxes) ||
-        !grow((void **)&x->ids, &x->ids_cap, s->cap, sizeof *x->ids))
+    if (!limen__reserve((void **)&x->boxes, &x->boxes_cap, s->cap, sizeof *x->boxes) ||
+        !limen__reserve((void **)&x->ids, &x->ids_cap, s->cap, sizeof *x->ids))
         return false;
     int nshapes = 0, nsurf = 0;
     x->nportals = 0;
@@ -284,12 +271,13 @@ static bool rebuild(limen_scene *s, limen__spatial *x)
             continue;
         }
         x->ids[s->cap - 1 - nsurf++] = i;
-        if (!grow((void **)&x->surf_slots, &x->surf_slots_cap, x->nsurf_slots + 1,
+        if (!limen__reserve((void **)&x->surf_slots, &x->surf_slots_cap, x->nsurf_slots + 1,
                   sizeof *x->surf_slots))
             return false;
         x->surf_slots[x->nsurf_slots++] = i;
         if (n->kind == LIMEN_NODE_PORTAL) {
-            if (!grow((void **)&x->portals, &x->portals_cap, x->nportals + 1, sizeof *x->portals))
+            if (!limen__reserve((void **)&x->portals, &x->portals_cap, x->nportals + 1,
+                                sizeof *x->portals))
                 return false;
             x->portals[x->nportals++] = i;
         }

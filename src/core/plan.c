@@ -12,26 +12,12 @@
 #include "core/dmath.h"
 #include "core/internal.h"
 #include "core/plan.h"
+#include "core/reserve.h"
 
 #define DEFAULT_MAX_VIEWS 1024
 #define MAX_POLY 12
 
 /* ------------------------------------------------------------------ storage */
-
-static bool reserve(void **p, int *cap, int need, size_t size)
-{
-    if (need <= *cap)
-        return true;
-    int n = *cap ? *cap : 16;
-    while (n < need)
-        n *= 2;
-    void *q = realloc(*p, size * (size_t)n);
-    if (!q)
-        return false;
-    *p = q;
-    *cap = n;
-    return true;
-}
 
 limen_status limen_plan_create(limen_plan **out)
 {
@@ -248,7 +234,7 @@ static bool too_faint(const limen_plan *p, const limen__pview *v, const limen__n
 
 static limen__pview *push_view(limen_plan *p)
 {
-    if (!reserve((void **)&p->pv, &p->pv_cap, p->nviews + 1, sizeof *p->pv))
+    if (!limen__reserve((void **)&p->pv, &p->pv_cap, p->nviews + 1, sizeof *p->pv))
         return NULL;
     limen__pview *v = &p->pv[p->nviews++];
     memset(v, 0, sizeof *v);
@@ -261,7 +247,7 @@ static limen__pview *push_view(limen_plan *p)
 static bool push_vsurf(limen_plan *p, limen__pview *v, int surf, int child, int state,
                        const int rect[4])
 {
-    if (!reserve((void **)&p->vsurf, &p->vsurf_cap, p->nvsurf + 1, sizeof *p->vsurf))
+    if (!limen__reserve((void **)&p->vsurf, &p->vsurf_cap, p->nvsurf + 1, sizeof *p->vsurf))
         return false;
     p->vsurf[p->nvsurf++] = (limen__vsurf){ surf, child, state, { rect[0], rect[1], rect[2], rect[3] } };
     v->nsurf++;
@@ -273,7 +259,7 @@ static limen_status collect_clones(limen_plan *p, limen_scene *s);
 static limen_status collect_surfaces(limen_plan *p, limen_scene *s)
 {
     p->nsurf = 0;
-    if (!reserve((void **)&p->surf_of, &p->surf_of_cap, s->cap, sizeof *p->surf_of))
+    if (!limen__reserve((void **)&p->surf_of, &p->surf_of_cap, s->cap, sizeof *p->surf_of))
         return limen__fail(s, LIMEN_ERR_NOMEM, "plan: out of memory");
     for (int i = 0; i < s->cap; i++)
         p->surf_of[i] = -1;
@@ -286,7 +272,7 @@ static limen_status collect_surfaces(limen_plan *p, limen_scene *s)
         if (!limen__alive(n) || !n->visible || !limen__is_surface(n))
             continue;
         p->surf_of[i] = p->nsurf;
-        if (!reserve((void **)&p->surf, &p->surf_cap, p->nsurf + 1, sizeof *p->surf))
+        if (!limen__reserve((void **)&p->surf, &p->surf_cap, p->nsurf + 1, sizeof *p->surf))
             return limen__fail(s, LIMEN_ERR_NOMEM, "plan: out of memory");
         limen__psurf *sf = &p->surf[p->nsurf];
         memset(sf, 0, sizeof *sf);
@@ -471,8 +457,8 @@ limen_status limen_plan_build(limen_plan *p, limen_scene *s, const limen_plan_de
         }
     }
 
-    if (!reserve((void **)&p->views, &p->views_cap, p->nviews, sizeof *p->views) ||
-        !reserve((void **)&p->tmp, &p->tmp_cap, 2 * p->nviews, sizeof *p->tmp))
+    if (!limen__reserve((void **)&p->views, &p->views_cap, p->nviews, sizeof *p->views) ||
+        !limen__reserve((void **)&p->tmp, &p->tmp_cap, 2 * p->nviews, sizeof *p->tmp))
         return limen__fail(s, LIMEN_ERR_NOMEM, "plan: out of memory");
     p->bfs_to_dfs = p->tmp;
     p->dfs_to_bfs = p->tmp + p->nviews;
@@ -483,8 +469,8 @@ limen_status limen_plan_build(limen_plan *p, limen_scene *s, const limen_plan_de
     p->count = p->nviews;
 
     /* the surfaces of each view, in draw order and public form */
-    if (!reserve((void **)&p->pubsurf, &p->pubsurf_cap, p->nvsurf, sizeof *p->pubsurf) ||
-        !reserve((void **)&p->pubfirst, &p->pubfirst_cap, p->count + 1, sizeof *p->pubfirst))
+    if (!limen__reserve((void **)&p->pubsurf, &p->pubsurf_cap, p->nvsurf, sizeof *p->pubsurf) ||
+        !limen__reserve((void **)&p->pubfirst, &p->pubfirst_cap, p->count + 1, sizeof *p->pubfirst))
         return limen__fail(s, LIMEN_ERR_NOMEM, "plan: out of memory");
     int k = 0;
     for (int i = 0; i < p->count; i++) {
@@ -509,10 +495,10 @@ limen_status limen_plan_build(limen_plan *p, limen_scene *s, const limen_plan_de
 static limen_status collect_clones(limen_plan *p, limen_scene *s)
 {
     p->nclones = 0;
-    if (!reserve((void **)&p->clone_of, &p->clone_of_cap, s->cap, sizeof *p->clone_of))
+    if (!limen__reserve((void **)&p->clone_of, &p->clone_of_cap, s->cap, sizeof *p->clone_of))
         return limen__fail(s, LIMEN_ERR_NOMEM, "plan: out of memory");
     int n = limen__find_straddlers(s, p->clone_of);
-    if (n && !reserve((void **)&p->clones, &p->clones_cap, n, sizeof *p->clones))
+    if (n && !limen__reserve((void **)&p->clones, &p->clones_cap, n, sizeof *p->clones))
         return limen__fail(s, LIMEN_ERR_NOMEM, "plan: out of memory");
     for (int i = 0; i < s->cap; i++) {
         int a = p->clone_of[i];
