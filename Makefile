@@ -11,15 +11,16 @@ B        ?= build
 PKGS     := osmesa egl lua5.4 cglm
 # Debian packages the build, the tests and the benchmarks need.
 DEBS     := pkg-config libosmesa6-dev libegl-dev libegl1-mesa-dev libgl-dev liblua5.4-dev \
-            lua5.4 libcglm-dev libstb-dev
+            lua5.4 libcglm-dev libstb-dev libembree-dev
 
 ALL_CFLAGS = -std=c11 -D_GNU_SOURCE -fPIC -fvisibility=hidden $(WARN) -Iinclude -Isrc \
              $(DEP_CFLAGS) $(CFLAGS)
-LIBS_NOLUA = $(DEP_LIBS_NOLUA) -lm -lpthread
-LIBS       = $(DEP_LIBS) -lm -lpthread
+# Embree 3 (the tracer's traversal, core/rtc.c) has no pkg-config file in Debian
+LIBS_NOLUA = $(DEP_LIBS_NOLUA) -lembree3 -lm -lpthread
+LIBS       = $(DEP_LIBS) -lembree3 -lm -lpthread
 
 # ------------------------------------------------------------------ objects
-CORE_SRC := src/core/error.c src/core/lmath.c src/core/scene.c src/core/surface.c src/core/move.c src/core/straddle.c src/core/bvh.c src/core/index.c src/core/cull.c src/core/plan.c src/core/trace.c src/core/image.c
+CORE_SRC := src/core/error.c src/core/lmath.c src/core/scene.c src/core/surface.c src/core/move.c src/core/straddle.c src/core/bvh.c src/core/index.c src/core/rtc.c src/core/cull.c src/core/plan.c src/core/trace.c src/core/image.c
 GL_SRC   := src/gl/render.c src/gl/views.c src/gl/mesh.c src/gl/ctx_osmesa.c src/gl/ctx_egl.c
 LUA_SRC  := src/lua/bindings.c src/lua/script.c src/lua/safe.c
 LIB_SRC  := $(CORE_SRC) $(GL_SRC) $(LUA_SRC)
@@ -111,7 +112,7 @@ $(B)/limen.pc: Makefile
 	   echo "Version: 0.1.0"; echo "Requires.private: $(PKGS)"; \
 	   echo "Cflags: -I\$${includedir}"; \
 	   echo "Libs: -L\$${libdir} -Wl,-rpath,\$${libdir} -llimen"; \
-	   echo "Libs.private: -lm -lpthread"; } > $@
+	   echo "Libs.private: -lembree3 -lm -lpthread"; } > $@
 
 $(B)/tests/%: $(B)/obj/tests/%.o $(B)/liblimen.a
 	@mkdir -p $(dir $@)
@@ -186,7 +187,7 @@ $(B)/bench/%: $(B)/obj/bench/%.o $(B)/liblimen.a
 $(B)/obj/bench/embree.o: | bench-deps
 $(B)/bench/embree: $(B)/obj/bench/embree.o $(B)/liblimen.a
 	@mkdir -p $(dir $@)
-	$(CC) -o $@ $< $(B)/liblimen.a -lembree3 $(LIBS)
+	$(CC) -o $@ $< $(B)/liblimen.a $(LIBS)
 
 -include $(BENCH_C:%.c=$(B)/obj/%.d)
 .SECONDARY: $(BENCH_C:%.c=$(B)/obj/%.o)

@@ -16,6 +16,7 @@
 #include "core/index.h"
 #include "core/internal.h"
 #include "core/reserve.h"
+#include "core/rtc.h"
 
 struct limen__spatial {
     limen__bvh shapes, surfaces;
@@ -27,6 +28,8 @@ struct limen__spatial {
     int boxes_cap;
     int *ids, ids_cap;
     int *hits, hits_cap;
+    limen__rtc *rtc;            /* the tracer's Embree copy of the trees (core/rtc.c) */
+    bool rtc_current, rtc_failed;
 };
 
 void limen__index_free(limen_scene *s)
@@ -42,6 +45,7 @@ void limen__index_free(limen_scene *s)
     free(x->boxes);
     free(x->ids);
     free(x->hits);
+    limen__rtc_free(x->rtc);
     free(x);
     s->index = NULL;
 }
@@ -287,6 +291,7 @@ static bool rebuild(limen_scene *s, limen__spatial *x)
         return false;
     x->nmoved = 0;
     x->built = true;
+    x->rtc_current = false;
     return true;
 }
 
@@ -311,6 +316,7 @@ limen__spatial *limen__scene_index(limen_scene *s)
         limen__box b;
         limen__node_box(n, &b);
         limen__bvh_update(is_shape(n) ? &x->shapes : &x->surfaces, k, &b);
+        x->rtc_current = false;
     }
     x->nmoved = 0;
     return x;
@@ -324,6 +330,22 @@ const limen__bvh *limen__index_shapes(const limen__spatial *x)
 const limen__bvh *limen__index_surfaces(const limen__spatial *x)
 {
     return &x->surfaces;
+}
+
+const limen__rtc *limen__index_rtc(limen__spatial *x)
+{
+    if (x->rtc_failed)
+        return NULL;
+    if (!x->rtc && !(x->rtc = limen__rtc_create())) {
+        x->rtc_failed = true;
+        return NULL;
+    }
+    if (!x->rtc_current && !limen__rtc_commit(x->rtc, &x->shapes, &x->surfaces)) {
+        x->rtc_failed = true;
+        return NULL;
+    }
+    x->rtc_current = true;
+    return x->rtc;
 }
 
 int limen__index_portals(const limen__spatial *x, const int **out)

@@ -5,6 +5,7 @@
 
 #include "core/bvh.h"
 #include "core/internal.h"
+#include "core/rtc.h"
 
 /* Refreshes the world matrices and brings the index up to date: refits the leaves of the
  * nodes that moved, rebuilds after nodes were created or destroyed. NULL when out of memory.
@@ -13,6 +14,9 @@ limen__spatial *limen__scene_index(limen_scene *s);
 /* Boxes, quads (shapes) and mirrors, portals (surfaces). */
 const limen__bvh *limen__index_shapes(const limen__spatial *x);
 const limen__bvh *limen__index_surfaces(const limen__spatial *x);
+/* The trees as Embree holds them, current with the index (call limen__scene_index first),
+ * for tracing rays; NULL where Embree does not work (walk the trees instead). */
+const limen__rtc *limen__index_rtc(limen__spatial *x);
 /* The live portals' slots, ascending; the live mirrors' and portals' slots, ascending. */
 int limen__index_portals(const limen__spatial *x, const int **out);
 int limen__index_surface_slots(const limen__spatial *x, const int **out);

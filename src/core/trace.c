@@ -56,7 +56,9 @@
  * the tessellation of curved shapes (the tracer is what the meshes approximate).
  *
  * Images are traced by pthreads over interleaved rows; every thread only reads a snapshot
- * of the scene (`tracer`) taken before they start. */
+ * of the scene (`tracer`) taken before they start. Each segment tests only the prims whose
+ * boxes in the scene's spatial index it meets, found through Embree (core/rtc.c) or
+ * limen's own BVH (core/bvh.c); the tests above decide, so the picture is the same. */
 #include <pthread.h>
 #include <stdlib.h>
 #include <string.h>
@@ -106,6 +108,7 @@ typedef struct tracer {
     /* images: the scene's spatial index finds the prims near a ray (core/index.c) */
     bool indexed;
     const limen__bvh *shapes, *surfaces;
+    const limen__rtc *rtc;      /* the same through Embree; NULL: walk them here */
     int *prim_of;               /* per node slot: its prim, or -1 */
     double (*spheres)[4];       /* per prim: bc, br, packed for the ray's first test */
     int nbase;                  /* prims [nbase, n) are copies of straddlers, not indexed */
@@ -273,6 +276,7 @@ static void tracer_index(tracer *t, limen_scene *s)
         return;     /* the tracer tests every prim, as for single rays (limen_ray_cast) */
     t->shapes = limen__index_shapes(x);
     t->surfaces = limen__index_surfaces(x);
+    t->rtc = limen__index_rtc(x);
     t->indexed = true;
 }
 
@@ -558,8 +562,12 @@ static int nearest(const tracer *tr, const double o[3], const double d[3], doubl
                  .tmin_surface = tmin_surface, .skip = skip, .best = -1, .tbest = INFINITY };
     if (tr->indexed) {
         double tmin = fmin(tmin_shape, tmin_surface);
-        limen__bvh_ray(tr->surfaces, o, d, tmin, INFINITY, test_prim_bvh, &q);
-        limen__bvh_ray(tr->shapes, o, d, tmin, q.tbest, test_prim_bvh, &q);
+        if (tr->rtc) {
+            limen__rtc_ray(tr->rtc, o, d, tmin, INFINITY, test_prim_bvh, &q);
+        } else {
+            limen__bvh_ray(tr->surfaces, o, d, tmin, INFINITY, test_prim_bvh, &q);
+            limen__bvh_ray(tr->shapes, o, d, tmin, q.tbest, test_prim_bvh, &q);
+        }
         for (int i = tr->nbase; i < tr->n; i++)
             test_prim(&q, i);
     } else
