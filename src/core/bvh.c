@@ -196,10 +196,12 @@ bool limen__bvh_build(limen__bvh *b, const int *ids, int n, const limen__box *bo
             return false;
         b->id_cap = id_count;
     }
-    memcpy(b->boxes, boxes, sizeof *boxes * (size_t)id_count);
+    if (id_count > 0)
+        memcpy(b->boxes, boxes, sizeof *boxes * (size_t)id_count);
     for (int i = 0; i < id_count; i++)
         b->leaf[i] = -1;
-    memcpy(b->order, ids, sizeof *ids * (size_t)n);
+    if (n > 0)
+        memcpy(b->order, ids, sizeof *ids * (size_t)n);
     b->nitems = n;
     b->nnodes = 0;
     if (n == 0)

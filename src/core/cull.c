@@ -81,7 +81,8 @@ int limen__plan_candidates(limen_plan *p, limen_scene *s, const limen__pview *v)
     for (int i = 0; i < n; i++)
         if (p->surf_of[p->cand[i]] >= 0)
             p->cand[m++] = p->surf_of[p->cand[i]];
-    qsort(p->cand, (size_t)m, sizeof *p->cand, cmp_int);
+    if (m > 1)
+        qsort(p->cand, (size_t)m, sizeof *p->cand, cmp_int);
     return m;
 }
 
@@ -114,7 +115,8 @@ int limen_plan_view_things(const limen_plan *p, limen_scene *s, int i, limen_nod
         limen__fail(s, LIMEN_ERR_NOMEM, "plan_view_things: out of memory");
         return -1;
     }
-    qsort(hits, (size_t)n, sizeof *hits, cmp_int);
+    if (n > 1)
+        qsort(hits, (size_t)n, sizeof *hits, cmp_int);
     int m = 0;
     for (int k = 0; k < n; k++) {
         if (!s->nodes[hits[k]].visible)
