@@ -22,6 +22,6 @@ plot dir.'/scale_plan.csv' skip 1 using 1:3 with linespoints pt 7 lc rgb "#1f77b
 set title "Trace of a sphere field (320x240, one thread)"
 set xlabel "spheres in the field"
 set ylabel "median trace time (ms)"
-plot dir.'/scale_trace.csv' skip 1 using 1:2 with linespoints pt 7 lc rgb "#1f77b4" title "through the index (BVH)", \
+plot dir.'/scale_trace.csv' skip 1 using 1:2 with linespoints pt 7 lc rgb "#1f77b4" title "through the index (Embree over its boxes)", \
      ''                     skip 1 using 1:3 with linespoints pt 13 lc rgb "#d62728" title "every prim per ray"
 unset multiplot
