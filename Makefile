@@ -11,23 +11,24 @@ B        ?= build
 PKGS     := osmesa egl lua5.4 cglm
 # Debian packages the build, the tests and the benchmarks need.
 DEBS     := pkg-config libosmesa6-dev libegl-dev libegl1-mesa-dev libgl-dev liblua5.4-dev \
-            lua5.4 libcglm-dev libstb-dev libsdl2-dev
+            lua5.4 libcglm-dev libstb-dev libsdl2-dev libembree-dev
 # ... and what the viewer's test needs: an X server, key presses, Mesa's GLX.
 TEST_DEBS := xvfb xdotool libgl1-mesa-dri libglx-mesa0
 
 ALL_CFLAGS = -std=c11 -D_GNU_SOURCE -fPIC -fvisibility=hidden $(WARN) -Iinclude -Isrc \
              $(DEP_CFLAGS) $(CFLAGS)
-LIBS_NOLUA = $(DEP_LIBS_NOLUA) -lm -lpthread
-LIBS       = $(DEP_LIBS) -lm -lpthread
+# Embree 3 (the tracer's traversal, core/rtc.c) has no pkg-config file in Debian
+LIBS_NOLUA = $(DEP_LIBS_NOLUA) -lembree3 -lm -lpthread
+LIBS       = $(DEP_LIBS) -lembree3 -lm -lpthread
 
 # ------------------------------------------------------------------ objects
-CORE_SRC := src/core/error.c src/core/lmath.c src/core/scene.c src/core/surface.c src/core/move.c src/core/straddle.c src/core/plan.c src/core/trace.c src/core/image.c src/core/file.c
+CORE_SRC := src/core/error.c src/core/lmath.c src/core/scene.c src/core/surface.c src/core/move.c src/core/straddle.c src/core/bvh.c src/core/index.c src/core/rtc.c src/core/cull.c src/core/plan.c src/core/trace.c src/core/image.c src/core/file.c
 GL_SRC   := src/gl/render.c src/gl/views.c src/gl/mesh.c src/gl/ctx_osmesa.c src/gl/ctx_egl.c \
             src/gl/ctx_host.c
 LUA_SRC  := src/lua/bindings.c src/lua/script.c src/lua/safe.c src/lua/guards.c
 LIB_SRC  := $(CORE_SRC) $(GL_SRC) $(LUA_SRC)
 CLI_SRC  := src/cli/main.c src/cli/trace_cmd.c src/cli/pose.c src/cli/view.c
-TEST_C   := tests/test_host.c tests/test_math.c tests/test_scene.c tests/test_plan.c tests/test_render.c tests/test_script.c tests/test_script_limits.c tests/test_trace.c tests/test_gallery.c tests/test_threads.c tests/test_truth.c tests/test_example_game.c tests/test_crossing.c tests/test_sweep_approach.c tests/test_sweep_grazing.c tests/test_sweep_depth.c tests/test_sweep_recursion.c tests/test_sweep_matrix.c tests/test_sweep_odd.c
+TEST_C   := tests/test_host.c tests/test_math.c tests/test_scene.c tests/test_plan.c tests/test_render.c tests/test_script.c tests/test_script_limits.c tests/test_trace.c tests/test_gallery.c tests/test_threads.c tests/test_truth.c tests/test_example_game.c tests/test_crossing.c tests/test_sweep_approach.c tests/test_sweep_grazing.c tests/test_sweep_depth.c tests/test_sweep_recursion.c tests/test_sweep_matrix.c tests/test_sweep_odd.c tests/test_scale.c
 
 LUA_KIT  := lua/limen/kit.lua
 LIB_OBJ  := $(LIB_SRC:%.c=$(B)/obj/%.o) $(B)/obj/lua_kit.o
@@ -122,7 +123,7 @@ $(B)/limen.pc: Makefile
 	   echo "Version: 0.1.0"; echo "Requires.private: $(PKGS)"; \
 	   echo "Cflags: -I\$${includedir}"; \
 	   echo "Libs: -L\$${libdir} -Wl,-rpath,\$${libdir} -llimen"; \
-	   echo "Libs.private: -lm -lpthread"; } > $@
+	   echo "Libs.private: -lembree3 -lm -lpthread"; } > $@
 
 $(B)/tests/%: $(B)/obj/tests/%.o $(B)/liblimen.a
 	@mkdir -p $(dir $@)
@@ -190,12 +191,13 @@ clean:
 # to $(B)/bench/. Copy the charts into bench/charts/ with `make bench-charts`. Then the
 # stability sweeps in full (`make sweeps`, below).
 BENCH      ?= quick
-BENCH_DEBS := gnuplot-nox
-BENCH_C    := bench/bench.c bench/matrices.c
+# libembree-dev: bench/embree.c measures Embree 3 against core/bvh.c for the tracer's job
+BENCH_DEBS := gnuplot-nox libembree-dev
+BENCH_C    := bench/bench.c bench/matrices.c bench/scale.c bench/embree.c
 BENCH_BIN  := $(BENCH_C:bench/%.c=$(B)/bench/%)
 
 .PHONY: bench bench-deps bench-charts
-bench: all $(BENCH_BIN) bench-deps
+bench: all bench-deps $(BENCH_BIN)
 	@sh bench/run.sh $(B) $(BENCH)
 	@$(MAKE) --no-print-directory sweeps SWEEP=full
 
@@ -207,6 +209,11 @@ bench-charts:
 	cp $(B)/bench/*.png bench/charts/
 
 $(B)/bench/%: $(B)/obj/bench/%.o $(B)/liblimen.a
+	@mkdir -p $(dir $@)
+	$(CC) -o $@ $< $(B)/liblimen.a $(LIBS)
+
+$(B)/obj/bench/embree.o: | bench-deps
+$(B)/bench/embree: $(B)/obj/bench/embree.o $(B)/liblimen.a
 	@mkdir -p $(dir $@)
 	$(CC) -o $@ $< $(B)/liblimen.a $(LIBS)
 

@@ -14,9 +14,13 @@ echo "bench ($MODE): matrix constructions"
 "$B/bench/matrices" --"$MODE" --out "$OUT/matrices.csv" | tee "$OUT/matrices.txt"
 echo "bench ($MODE): speed against accuracy (progress on stderr)"
 "$B/bench/bench" --"$MODE" --out "$OUT" > "$OUT/bench.log"
+echo "bench ($MODE): cost against object count (progress on stderr)"
+"$B/bench/scale" --out "$OUT" 2> "$OUT/scale.log"
+"$B/bench/embree" --out "$OUT/embree.csv" > "$OUT/embree.txt"
 echo "bench ($MODE): charts"
 # gnuplot warns about series the quick run leaves empty: keep its words in a log
-if ! gnuplot -e "dir='$OUT'" bench/plots.gp 2> "$OUT/gnuplot.log"; then
+if ! gnuplot -e "dir='$OUT'" bench/plots.gp 2> "$OUT/gnuplot.log" ||
+   ! gnuplot -e "dir='$OUT'" bench/scale.gp 2>> "$OUT/gnuplot.log"; then
     cat "$OUT/gnuplot.log" >&2
     exit 1
 fi
@@ -25,4 +29,4 @@ end=$(date +%s)
 echo "runtime: $((end - start)) s" >> "$OUT/meta.txt"
 echo
 echo "bench ($MODE) done in $((end - start)) s: $OUT/points.csv, $OUT/matrices.csv, charts $OUT/*.png"
-cat "$OUT/targets.txt"
+cat "$OUT/targets.txt" "$OUT/scale_targets.txt" "$OUT/embree.txt"

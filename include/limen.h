@@ -395,6 +395,16 @@ LIMEN_API const limen_view *limen_plan_view(const limen_plan *p, int i); /* NULL
 /* The surfaces view i sees (a portal seen from behind and the view's own exit surface are
  * not listed: they draw nothing); returns their count (*out is NULL when it is 0). */
 LIMEN_API int limen_plan_view_surfaces(const limen_plan *p, int i, const limen_view_surface **out);
+/* The shapes (boxes, spheres, cylinders, quads; visible ones) that view i may show: those
+ * whose world bounds meet the view's pyramid from its eye through its scissor rectangle and,
+ * below the camera, lie partly in front of its clip plane. Found through the scene's spatial
+ * index, in time that follows what the view holds, not what the scene holds, so a renderer
+ * can draw only these (plus the view's surfaces and the copies in limen_plan_clones). A
+ * superset: a shape listed may still be hidden. Writes up to max handles, in node order,
+ * and returns how many there are (more than max when out is too small); -1 on error
+ * (limen_last_error). Call it before the scene changes again. */
+LIMEN_API int limen_plan_view_things(const limen_plan *p, limen_scene *s, int i, limen_node *out,
+                                     int max);
 /* A closed shape (box, sphere, cylinder) passing through a portal, its centre over the
  * rectangle: it is drawn twice in every view, itself cut at the portal's plane and a copy
  * carried by the portal matrix, cut at the partner's plane. */

@@ -16,6 +16,8 @@
 #define LIMEN__ERR_MAX 512
 #define LIMEN__MAX_LIGHTS 8
 
+typedef struct limen__spatial limen__spatial;
+
 typedef struct limen__node {
     uint32_t gen;               /* generation; odd while alive, never repeats for a slot */
     int live_at;                /* position in the scene's live list while alive */
@@ -30,6 +32,9 @@ typedef struct limen__node {
     bool explicit_local;
     mat4 local;
     mat4 world;                 /* valid after limen__scene_refresh */
+    bool stale;                 /* on the scene's stale list: world to recompute */
+    bool bad_world;             /* world not finite */
+    int nchildren;              /* live nodes whose parent this is */
 
     vec3 color;                 /* albedo; light intensity */
     vec3 checker_b;
@@ -60,10 +65,17 @@ struct limen_scene {
     int *live;
     int live_len, live_cap, live_holes;
     bool dirty;                 /* world matrices need recomputing */
+    uint32_t *stale_list;       /* slots touched since the last refresh (core/index.c) */
+    int nstale, stale_cap;
+    bool all_stale;             /* recompute every world matrix (first time, no memory) */
+    bool world_valid;
+    int nbad;                   /* nodes whose world matrix is not finite */
+    limen__spatial *index;        /* spatial index; NULL until first used */
+    bool brute_force;           /* tests only: plan and trace without the index */
+    long straddle_tests;        /* tests only: shape-through-portal tests made so far */
     vec3 background;
     float ambient;
     uint32_t camera;            /* index + 1 */
-    uint32_t bad_world;         /* index + 1 of a node whose world matrix overflowed; 0 */
     char err[LIMEN__ERR_MAX];
 };
 
@@ -75,8 +87,18 @@ void limen__vformat(char *buf, size_t size, const char *fmt, va_list ap);
 
 /* Live node for a handle, or NULL. */
 limen__node *limen__node_get(const limen_scene *s, limen_node n);
-/* Recomputes world matrices if something moved. */
+/* Recomputes the world matrices of the nodes touched since the last call and of their
+ * descendants (core/index.c). */
 void limen__scene_refresh(limen_scene *s);
+/* Sets node->local from its position, rotation, facing and scale (unless set directly). */
+void limen__node_compose_local(limen__node *node);
+/* Marks a node whose transform, parent or size changed. */
+void limen__node_touch(limen_scene *s, limen__node *node);
+/* Nodes were created or destroyed: the spatial index is rebuilt on its next use. */
+void limen__scene_restructure(limen_scene *s);
+void limen__index_free(limen_scene *s);
+/* Slot of the node where a non-finite world matrix starts, or -1. */
+int limen__scene_bad_world(const limen_scene *s);
 /* Refreshes, then refuses a scene whose world matrices are not all finite (scales along a
  * parent chain multiplied past what a float holds), naming the node. fn prefixes nothing;
  * the message starts with the node's label. */

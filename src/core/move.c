@@ -79,7 +79,7 @@ static limen_status set_world(limen_scene *s, limen__node *node, const double wo
     }
     glm_vec3_zero(node->euler);
     node->explicit_local = false;
-    s->dirty = true;
+    limen__node_touch(s, node);
     return LIMEN_OK;
 }
 

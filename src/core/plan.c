@@ -13,6 +13,7 @@
 #include "core/dmath.h"
 #include "core/internal.h"
 #include "core/plan.h"
+#include "core/reserve.h"
 
 #define DEFAULT_MAX_VIEWS 1024
 #define DEFAULT_VIEW_SCREENS 64         /* view_pixels: 64 full screens */
@@ -20,21 +21,6 @@
 #define MAX_POLY 12
 
 /* ------------------------------------------------------------------ storage */
-
-static bool reserve(void **p, int *cap, int need, size_t size)
-{
-    if (need <= *cap)
-        return true;
-    int n = *cap ? *cap : 16;
-    while (n < need)
-        n *= 2;
-    void *q = realloc(*p, size * (size_t)n);
-    if (!q)
-        return false;
-    *p = q;
-    *cap = n;
-    return true;
-}
 
 limen_status limen_plan_create(limen_plan **out)
 {
@@ -57,6 +43,8 @@ void limen_plan_destroy(limen_plan *p)
     free(p->pubfirst);
     free(p->clones);
     free(p->clone_of);
+    free(p->surf_of);
+    free(p->cand);
     free(p);
 }
 
@@ -288,7 +276,7 @@ static bool too_faint(const limen_plan *p, const limen__pview *v, const limen__n
 
 static limen__pview *push_view(limen_plan *p)
 {
-    if (!reserve((void **)&p->pv, &p->pv_cap, p->nviews + 1, sizeof *p->pv))
+    if (!limen__reserve((void **)&p->pv, &p->pv_cap, p->nviews + 1, sizeof *p->pv))
         return NULL;
     limen__pview *v = &p->pv[p->nviews++];
     memset(v, 0, sizeof *v);
@@ -301,7 +289,7 @@ static limen__pview *push_view(limen_plan *p)
 static bool push_vsurf(limen_plan *p, limen__pview *v, int surf, int child, int state,
                        const int rect[4])
 {
-    if (!reserve((void **)&p->vsurf, &p->vsurf_cap, p->nvsurf + 1, sizeof *p->vsurf))
+    if (!limen__reserve((void **)&p->vsurf, &p->vsurf_cap, p->nvsurf + 1, sizeof *p->vsurf))
         return false;
     p->vsurf[p->nvsurf++] = (limen__vsurf){ surf, child, state, { rect[0], rect[1], rect[2], rect[3] } };
     p->view_pixels += (int64_t)rect[2] * rect[3];   /* the renderer draws it in this view */
@@ -327,14 +315,20 @@ static void rounding_bound(const limen__node *n, double err[3])
 static limen_status collect_surfaces(limen_plan *p, limen_scene *s)
 {
     p->nsurf = 0;
-    for (int li = 0; li < s->live_len; li++) {
-        int i = s->live[li];
-        if (i < 0)
-            continue;
+    if (!limen__reserve((void **)&p->surf_of, &p->surf_of_cap, s->cap, sizeof *p->surf_of))
+        return limen__fail(s, LIMEN_ERR_NOMEM, "plan: out of memory");
+    for (int i = 0; i < s->cap; i++)
+        p->surf_of[i] = -1;
+    /* the index's list of surfaces, or every slot */
+    const int *slots = NULL;
+    int nslots = limen__plan_surface_slots(s, &slots);
+    for (int k = 0; k < nslots; k++) {
+        int i = slots ? slots[k] : k;
         limen__node *n = &s->nodes[i];
-        if (!n->visible || !limen__is_surface(n))
+        if (!limen__alive(n) || !n->visible || !limen__is_surface(n))
             continue;
-        if (!reserve((void **)&p->surf, &p->surf_cap, p->nsurf + 1, sizeof *p->surf))
+        p->surf_of[i] = p->nsurf;
+        if (!limen__reserve((void **)&p->surf, &p->surf_cap, p->nsurf + 1, sizeof *p->surf))
             return limen__fail(s, LIMEN_ERR_NOMEM, "plan: out of memory");
         limen__psurf *sf = &p->surf[p->nsurf];
         memset(sf, 0, sizeof *sf);
@@ -482,6 +476,8 @@ limen_status limen_plan_build(limen_plan *p, limen_scene *s, const limen_plan_de
     root->pub.scissor[3] = p->height;
     root->pub.tint[0] = root->pub.tint[1] = root->pub.tint[2] = 1.0f;
 
+    p->surface_tests = 0;
+    memset(&p->stat_index, 0, sizeof p->stat_index);
     for (int vi = 0; vi < p->nviews; vi++) {
         limen__pview *v = &p->pv[vi];
         v->first_surf = p->nvsurf;
@@ -491,13 +487,16 @@ limen_status limen_plan_build(limen_plan *p, limen_scene *s, const limen_plan_de
             continue;
         }
         p->view_pixels += (int64_t)v->pub.scissor[2] * v->pub.scissor[3];
-        p->surface_tests += p->nsurf;
-        for (int si = 0; si < p->nsurf; si++) {
-            const limen__psurf *sf = &p->surf[si];
+        /* the surfaces the index finds in the view's region, or all of them */
+        int ncand = s->brute_force ? -1 : limen__plan_candidates(p, s, v);
+        int ntest = ncand >= 0 ? ncand : p->nsurf;
+        for (int ci = 0; ci < ntest; ci++) {
+            const limen__psurf *sf = &p->surf[ncand >= 0 ? p->cand[ci] : ci];
             if (sf->node == v->exit)
                 continue;
             const limen__node *n = &s->nodes[sf->node];
             int rect[4];
+            p->surface_tests++;
             if (!surface_rect(p, v, sf, rect))
                 continue;   /* clipped away, off screen or under a pixel */
             bool front = limen__d_plane_dist(sf->plane, v->eye) > 0;
@@ -531,11 +530,8 @@ limen_status limen_plan_build(limen_plan *p, limen_scene *s, const limen_plan_de
                 limen__d_mul(v->view, sf->xinv, c->view);
                 limen__d_point(sf->x, v->eye, c->eye);
                 const limen__psurf *exit = sf;
-                if (sf->exit != sf->node) {
-                    for (int k = 0; k < p->nsurf; k++)
-                        if (p->surf[k].node == sf->exit)
-                            exit = &p->surf[k];
-                }
+                if (sf->exit != sf->node && p->surf_of[sf->exit] >= 0)
+                    exit = &p->surf[p->surf_of[sf->exit]];
                 memcpy(c->clip, exit->plane, sizeof c->clip);
                 memcpy(c->clip_err, exit->err, sizeof c->clip_err);
                 c->pub.front_face_cw = v->pub.front_face_cw ^ (n->kind == LIMEN_NODE_MIRROR);
@@ -550,8 +546,8 @@ limen_status limen_plan_build(limen_plan *p, limen_scene *s, const limen_plan_de
         }
     }
 
-    if (!reserve((void **)&p->views, &p->views_cap, p->nviews, sizeof *p->views) ||
-        !reserve((void **)&p->tmp, &p->tmp_cap, 2 * p->nviews, sizeof *p->tmp))
+    if (!limen__reserve((void **)&p->views, &p->views_cap, p->nviews, sizeof *p->views) ||
+        !limen__reserve((void **)&p->tmp, &p->tmp_cap, 2 * p->nviews, sizeof *p->tmp))
         return limen__fail(s, LIMEN_ERR_NOMEM, "plan: out of memory");
     p->bfs_to_dfs = p->tmp;
     p->dfs_to_bfs = p->tmp + p->nviews;
@@ -574,8 +570,8 @@ limen_status limen_plan_build(limen_plan *p, limen_scene *s, const limen_plan_de
     p->count = pos;     /* dropped views are not reached */
 
     /* the surfaces of each view, in draw order and public form */
-    if (!reserve((void **)&p->pubsurf, &p->pubsurf_cap, p->nvsurf, sizeof *p->pubsurf) ||
-        !reserve((void **)&p->pubfirst, &p->pubfirst_cap, p->count + 1, sizeof *p->pubfirst))
+    if (!limen__reserve((void **)&p->pubsurf, &p->pubsurf_cap, p->nvsurf, sizeof *p->pubsurf) ||
+        !limen__reserve((void **)&p->pubfirst, &p->pubfirst_cap, p->count + 1, sizeof *p->pubfirst))
         return limen__fail(s, LIMEN_ERR_NOMEM, "plan: out of memory");
     int k = 0;
     for (int i = 0; i < p->count; i++) {
@@ -600,10 +596,10 @@ limen_status limen_plan_build(limen_plan *p, limen_scene *s, const limen_plan_de
 static limen_status collect_clones(limen_plan *p, limen_scene *s)
 {
     p->nclones = 0;
-    if (!reserve((void **)&p->clone_of, &p->clone_of_cap, s->cap, sizeof *p->clone_of))
+    if (!limen__reserve((void **)&p->clone_of, &p->clone_of_cap, s->cap, sizeof *p->clone_of))
         return limen__fail(s, LIMEN_ERR_NOMEM, "plan: out of memory");
     int n = limen__find_straddlers(s, p->clone_of);
-    if (n && !reserve((void **)&p->clones, &p->clones_cap, n, sizeof *p->clones))
+    if (n && !limen__reserve((void **)&p->clones, &p->clones_cap, n, sizeof *p->clones))
         return limen__fail(s, LIMEN_ERR_NOMEM, "plan: out of memory");
     for (int li = 0; li < s->live_len; li++) {
         int i = s->live[li];

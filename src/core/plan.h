@@ -2,6 +2,7 @@
 #ifndef LIMEN_PLAN_H
 #define LIMEN_PLAN_H
 
+#include "core/bvh.h"
 #include "core/internal.h"
 
 enum {
@@ -70,9 +71,21 @@ struct limen_plan {
     int *bfs_to_dfs, *dfs_to_bfs;
     int truncated;
     limen_frame_budget budget;      /* with the defaults filled in */
-    int64_t view_pixels, surface_tests;
+    int64_t view_pixels;
+    int64_t surface_tests;          /* exact surface-in-view tests made (tests read it) */
     unsigned budgets_hit;
+    /* the spatial index's part (core/cull.c) */
+    int *surf_of, surf_of_cap;      /* per node slot: index in surf, or -1 */
+    int *cand, cand_cap;            /* one view's candidate surfaces */
+    limen__bvh_stats stat_index;    /* the index's box tests */
 };
+
+/* The surfaces (indices in p->surf, ascending) whose boxes meet view v's narrowed region,
+ * left in p->cand; their count, or -1 when out of memory. */
+int limen__plan_candidates(limen_plan *p, limen_scene *s, const limen__pview *v);
+/* The slots of the scene's mirrors and portals, ascending, from its index; or *out = NULL
+ * and s->cap (every slot) without the index. */
+int limen__plan_surface_slots(limen_scene *s, const int **out);
 
 /* The surfaces seen from view `view` (draw-order index); returns their count. */
 static inline int limen__plan_view_surfaces(const limen_plan *p, int view,

@@ -93,9 +93,11 @@ void limen_scene_destroy(limen_scene *s)
 {
     if (!s)
         return;
+    limen__index_free(s);
     free(s->nodes);
     free(s->free_ring);
     free(s->live);
+    free(s->stale_list);
     free(s);
 }
 
@@ -171,70 +173,6 @@ int limen_scene_nodes(const limen_scene *s, limen_node *out, int max)
 
 /* ------------------------------------------------------------------ world matrices */
 
-static void compose_local(limen__node *node)
-{
-    if (node->explicit_local)
-        return;
-    mat4 r, f;
-    /* R = Rz * Ry * Rx: X applied first (cglm's glm_euler_xyz composes the other way) */
-    glm_rotate_make(r, node->euler[2], GLM_ZUP);
-    glm_rotate(r, node->euler[1], GLM_YUP);
-    glm_rotate(r, node->euler[0], GLM_XUP);
-    glm_mat4_identity(f);
-    glm_mat4_ins3(node->facing, f);
-    glm_mat4_mul(r, f, node->local);
-    glm_scale(node->local, node->scale);
-    node->local[3][0] = node->pos[0];
-    node->local[3][1] = node->pos[1];
-    node->local[3][2] = node->pos[2];
-}
-
-void limen__scene_refresh(limen_scene *s)
-{
-    if (!s->dirty)
-        return;
-    /* Parents may sit at any index: resolve each node after its ancestors, using `done`
-     * marks; chains are acyclic by construction (set_parent refuses cycles). */
-    s->bad_world = 0;
-    unsigned char *done = calloc((size_t)s->cap, 1);
-    uint32_t *stack = malloc(sizeof *stack * (size_t)(s->cap ? s->cap : 1));
-    if (!done || !stack) {
-        free(done);
-        free(stack);
-        return;     /* keep the old matrices; dirty stays set and the next call retries */
-    }
-    for (int li = 0; li < s->live_len; li++) {
-        int i = s->live[li];
-        if (i < 0 || done[i])
-            continue;
-        int top = 0;
-        uint32_t at = (uint32_t)i;
-        for (;;) {  /* climb to the first resolved ancestor */
-            stack[top++] = at;
-            uint32_t p = s->nodes[at].parent;
-            if (!p || done[p - 1])
-                break;
-            at = p - 1;
-        }
-        while (top > 0) {
-            uint32_t k = stack[--top];
-            limen__node *node = &s->nodes[k];
-            compose_local(node);
-            if (node->parent)
-                glm_mat4_mul(s->nodes[node->parent - 1].world, node->local, node->world);
-            else
-                glm_mat4_copy(node->local, node->world);
-            for (int e = 0; e < 16 && !s->bad_world; e++)
-                if (!isfinite(node->world[e / 4][e % 4]))
-                    s->bad_world = k + 1u;
-            done[k] = 1;
-        }
-    }
-    free(done);
-    free(stack);
-    s->dirty = false;
-}
-
 /* "label: kind 'name'" of a node for messages. */
 static void node_title(const limen__node *n, char *buf, size_t size)
 {
@@ -262,9 +200,9 @@ limen_status limen__scene_check(limen_scene *s)
     if (s->dirty)
         return limen__fail(s, LIMEN_ERR_NOMEM, "out of memory");
     char title[256];
-    if (s->bad_world && s->bad_world <= (uint32_t)s->cap &&
-        limen__alive(&s->nodes[s->bad_world - 1])) {
-        node_title(&s->nodes[s->bad_world - 1], title, sizeof title);
+    int bad = limen__scene_bad_world(s);
+    if (bad >= 0) {
+        node_title(&s->nodes[bad], title, sizeof title);
         return limen__fail(s, LIMEN_ERR_ARG,
                            "%s: its world transform is not finite (the scales along its "
                            "parent chain multiply past what a float holds)", title);
@@ -445,7 +383,8 @@ limen_status limen_node_create(limen_scene *s, limen_node_kind kind, const char 
     if (name)
         snprintf(node->name, sizeof node->name, "%s", name);
     s->count++;
-    s->dirty = true;
+    limen__node_touch(s, node);
+    limen__scene_restructure(s);
     *out = make_handle(index, node->gen);
     return LIMEN_OK;
 }
@@ -454,11 +393,21 @@ limen_status limen_node_destroy(limen_scene *s, limen_node n)
 {
     GET(node, s, n);
     uint32_t self = (uint32_t)(node - s->nodes) + 1u;
-    for (int k = 0; k < s->live_len; k++) {
+    for (int k = 0; k < s->live_len && node->nchildren > 0; k++) {
         int i = s->live[k];
-        if (i >= 0 && s->nodes[i].parent == self)
+        if (i >= 0 && s->nodes[i].parent == self) {
             s->nodes[i].parent = node->parent;
+            node->nchildren--;
+            if (node->parent)
+                s->nodes[node->parent - 1].nchildren++;
+            limen__node_touch(s, &s->nodes[i]);
+        }
     }
+    if (node->parent)
+        s->nodes[node->parent - 1].nchildren--;
+    if (node->bad_world)
+        s->nbad--;
+    node->bad_world = false;
     if (s->camera == self)
         s->camera = 0;
     if (node->pair)
@@ -477,6 +426,7 @@ limen_status limen_node_destroy(limen_scene *s, limen_node n)
     }
     s->count--;
     s->dirty = true;
+    limen__scene_restructure(s);
     return LIMEN_OK;
 }
 
@@ -521,13 +471,24 @@ limen_status limen_node_set_label(limen_scene *s, limen_node n, const char *labe
 
 /* ------------------------------------------------------------------ hierarchy */
 
+/* Re-links a node (parent = index + 1, 0 for none), keeping the child counts that tell
+ * the refresh whether a subtree moves with it. */
+static void set_parent_slot(limen_scene *s, limen__node *node, uint32_t parent)
+{
+    if (node->parent)
+        s->nodes[node->parent - 1].nchildren--;
+    node->parent = parent;
+    if (parent)
+        s->nodes[parent - 1].nchildren++;
+    limen__node_touch(s, node);
+}
+
 limen_status limen_node_set_parent(limen_scene *s, limen_node n, limen_node parent)
 {
     GET(node, s, n);
     uint32_t self = (uint32_t)(node - s->nodes) + 1u;
     if (!parent.id) {
-        node->parent = 0;
-        s->dirty = true;
+        set_parent_slot(s, node, 0);
         return LIMEN_OK;
     }
     limen__node *p = get_or_fail(s, parent, "set_parent");
@@ -543,8 +504,7 @@ limen_status limen_node_set_parent(limen_scene *s, limen_node n, limen_node pare
                                p->name);
         }
     }
-    node->parent = pi;
-    s->dirty = true;
+    set_parent_slot(s, node, pi);
     return LIMEN_OK;
 }
 
@@ -594,7 +554,7 @@ static limen_status check_sizes(limen_scene *s, const float *v, int n, const cha
 static void to_trs(limen_scene *s, limen__node *node)
 {
     node->explicit_local = false;
-    s->dirty = true;
+    limen__node_touch(s, node);
 }
 
 limen_status limen_node_set_position(limen_scene *s, limen_node n, const float p[3])
@@ -695,7 +655,7 @@ limen_status limen_node_set_local_matrix(limen_scene *s, limen_node n, const flo
                            "is %g; scales must be positive)", det);
     glm_mat4_copy(l, node->local);
     node->explicit_local = true;
-    s->dirty = true;
+    limen__node_touch(s, node);
     return LIMEN_OK;
 }
 
@@ -761,7 +721,7 @@ limen_status limen_node_local_matrix(limen_scene *s, limen_node n, float m[16])
     GET(node, s, n);
     if (!m)
         return LIMEN_ERR_ARG;
-    compose_local(node);
+    limen__node_compose_local(node);
     mat_out(node->local, m);
     return LIMEN_OK;
 }
@@ -801,6 +761,7 @@ limen_status limen_node_set_dims(limen_scene *s, limen_node n, const float dims[
                                "from 1e-9 to 1e9 (got %g)", kind_name(node->kind), i, dims[i]);
     for (int i = 0; i < 3; i++)
         node->dims[i] = i < used ? dims[i] : 0.0f;
+    limen__node_touch(s, node);     /* its bounds changed */
     return LIMEN_OK;
 }
 

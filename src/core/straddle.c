@@ -2,7 +2,10 @@
  * cut at the entry portal's plane, and a copy carried by the portal matrix, cut at the
  * partner's plane, so that what has gone in shows coming out. The planner, the renderer and
  * the ray tracer all take the list from here. */
+#include <stdlib.h>
+
 #include "core/dmath.h"
+#include "core/index.h"
 #include "core/internal.h"
 
 void limen__node_bounds(const limen__node *n, double centre[3], double *radius)
@@ -49,32 +52,77 @@ static bool straddles(const limen__node *n, const limen__node *a)
     return fabs(local[0]) <= hw && fabs(local[1]) <= hh && r <= sx * sqrt(hw * hw + hh * hh);
 }
 
-int limen__find_straddlers(limen_scene *s, int *portal_of)
+static bool closed_shape(const limen__node *n)
 {
-    limen__scene_refresh(s);
-    for (int i = 0; i < s->cap; i++)
-        portal_of[i] = -1;
+    return limen__alive(n) && n->visible &&
+           (n->kind == LIMEN_NODE_BOX || n->kind == LIMEN_NODE_SPHERE ||
+            n->kind == LIMEN_NODE_CYLINDER);
+}
+
+static bool open_portal(const limen_scene *s, const limen__node *a)
+{
+    return limen__alive(a) && a->visible && a->kind == LIMEN_NODE_PORTAL && a->pair &&
+           s->nodes[a->pair - 1].visible;
+}
+
+/* Every shape against every portal: what the index must reproduce (tests compare). */
+static int find_all_pairs(limen_scene *s, int *portal_of)
+{
     int count = 0;
-    for (int li = 0; li < s->live_len; li++) {
-        int i = s->live[li];
-        if (i < 0)
+    for (int i = 0; i < s->cap; i++) {
+        if (!closed_shape(&s->nodes[i]))
             continue;
-        const limen__node *n = &s->nodes[i];
-        if (!n->visible || (n->kind != LIMEN_NODE_BOX && n->kind != LIMEN_NODE_SPHERE &&
-                            n->kind != LIMEN_NODE_CYLINDER))
-            continue;
-        for (int lj = 0; lj < s->live_len; lj++) {
-            int j = s->live[lj];
-            if (j < 0)
+        for (int j = 0; j < s->cap; j++) {
+            if (!open_portal(s, &s->nodes[j]))
                 continue;
-            const limen__node *a = &s->nodes[j];
-            if (!a->visible || a->kind != LIMEN_NODE_PORTAL || !a->pair ||
-                !s->nodes[a->pair - 1].visible || !straddles(n, a))
+            s->straddle_tests++;
+            if (!straddles(&s->nodes[i], &s->nodes[j]))
                 continue;
             portal_of[i] = j;
             count++;
             break;
         }
     }
+    return count;
+}
+
+int limen__find_straddlers(limen_scene *s, int *portal_of)
+{
+    limen__scene_refresh(s);
+    for (int i = 0; i < s->cap; i++)
+        portal_of[i] = -1;
+    limen__spatial *x = s->brute_force ? NULL : limen__scene_index(s);
+    if (!x)
+        return find_all_pairs(s, portal_of);
+    /* A shape passing through a portal has its bounding sphere meet the portal's rectangle,
+     * so its box meets the rectangle's box: ask the index, portal by portal in slot order,
+     * so that a shape through two portals takes the first, as the scan above does. */
+    const int *portals;
+    int nportals = limen__index_portals(x, &portals), count = 0, *hits = NULL, cap = 0;
+    for (int pi = 0; pi < nportals; pi++) {
+        const limen__node *a = &s->nodes[portals[pi]];
+        if (!open_portal(s, a))
+            continue;
+        limen__box q;
+        limen__node_box(a, &q);
+        int n = 0;
+        if (limen__bvh_query_box(limen__index_shapes(x), &q, &hits, &n, &cap, NULL) < 0) {
+            free(hits);
+            for (int i = 0; i < s->cap; i++)
+                portal_of[i] = -1;
+            return find_all_pairs(s, portal_of);
+        }
+        for (int k = 0; k < n; k++) {
+            int i = hits[k];
+            if (portal_of[i] >= 0 || !closed_shape(&s->nodes[i]))
+                continue;
+            s->straddle_tests++;
+            if (!straddles(&s->nodes[i], a))
+                continue;
+            portal_of[i] = portals[pi];
+            count++;
+        }
+    }
+    free(hits);
     return count;
 }

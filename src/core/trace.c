@@ -58,13 +58,17 @@
  * the tessellation of curved shapes (the tracer is what the meshes approximate).
  *
  * Images are traced by pthreads over interleaved rows; every thread only reads a snapshot
- * of the scene (`tracer`) taken before they start. */
+ * of the scene (`tracer`) taken before they start. Each segment tests only the prims whose
+ * boxes in the scene's spatial index it meets, found through Embree (core/rtc.c) or
+ * limen's own BVH (core/bvh.c); the tests above decide, so the picture is the same. */
 #include <pthread.h>
 #include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
 
+#include "core/bvh.h"
 #include "core/dmath.h"
+#include "core/index.h"
 #include "core/internal.h"
 
 #define MAX_THREADS 256
@@ -103,6 +107,13 @@ typedef struct tracer {
     double lpos[LIMEN__MAX_LIGHTS][3], lcol[LIMEN__MAX_LIGHTS][3];
     int nlights;
     double ambient, background[3];
+    /* images: the scene's spatial index finds the prims near a ray (core/index.c) */
+    bool indexed;
+    const limen__bvh *shapes, *surfaces;
+    const limen__rtc *rtc;      /* the same through Embree; NULL: walk them here */
+    int *prim_of;               /* per node slot: its prim, or -1 */
+    double (*spheres)[4];       /* per prim: bc, br, packed for the ray's first test */
+    int nbase;                  /* prims [nbase, n) are copies of straddlers, not indexed */
 } tracer;
 
 /* Where one path ended (for limen_ray_cast). */
@@ -250,7 +261,25 @@ static void setup_prim(limen_scene *s, const limen__node *n, prim *p)
 static void tracer_free(tracer *t)
 {
     free(t->prims);
+    free(t->prim_of);
+    free(t->spheres);
     t->prims = NULL;
+    t->prim_of = NULL;
+    t->spheres = NULL;
+}
+
+/* Rays look up prims through the scene's index: its boxes (wider than each node's exact
+ * extent) only choose which exact tests run, in double precision as before. The copies
+ * of shapes passing through portals are not in it and are tested on every segment. */
+static void tracer_index(tracer *t, limen_scene *s)
+{
+    limen__spatial *x = limen__scene_index(s);
+    if (!x || !t->prim_of)
+        return;     /* the tracer tests every prim, as for single rays (limen_ray_cast) */
+    t->shapes = limen__index_shapes(x);
+    t->surfaces = limen__index_surfaces(x);
+    t->rtc = limen__index_rtc(x);
+    t->indexed = true;
 }
 
 static limen_status tracer_init(tracer *t, limen_scene *s, const char *fn)
@@ -291,6 +320,7 @@ static limen_status tracer_init(tracer *t, limen_scene *s, const char *fn)
             setup_prim(s, n, &t->prims[t->n++]);
         }
     }
+    t->nbase = t->n;
     for (int i = 0; i < t->n; i++) {
         prim *p = &t->prims[i];
         const limen__node *n = &s->nodes[p->node];
@@ -315,8 +345,17 @@ static limen_status tracer_init(tracer *t, limen_scene *s, const char *fn)
         if (derive(copy))
             t->n++;
     }
-    free(slot);
+    t->prim_of = slot;
     free(through);
+    t->spheres = malloc(sizeof *t->spheres * (size_t)(t->n > 0 ? t->n : 1));
+    if (!t->spheres) {
+        tracer_free(t);
+        return limen__fail(s, LIMEN_ERR_NOMEM, "%s: out of memory", fn);
+    }
+    for (int i = 0; i < t->n; i++) {
+        memcpy(t->spheres[i], t->prims[i].bc, sizeof t->prims[i].bc);
+        t->spheres[i][3] = t->prims[i].br;
+    }
     t->ambient = s->ambient;
     copy3f(s->background, t->background);
     return LIMEN_OK;
@@ -439,64 +478,110 @@ static bool hit_flat(const double o[3], const double d[3], double tmin, double t
     return true;
 }
 
+/* The search for the nearest hit of one segment. */
+typedef struct search {
+    const tracer *tr;
+    const double *o, *d;
+    double tmin_shape, tmin_surface;
+    int skip;
+    int best;
+    double tbest, pu[3], nu[3];
+} search;
+
+/* Tests prim i against the search's segment, keeping the nearest hit; between hits at the
+ * same distance, the lower prim index, so that the order prims are tested in (all of them
+ * in order, or as the BVH finds them) never changes the answer. */
+static void test_prim(search *q, int i)
+{
+    /* bounding sphere first, from the compact copy: distance of its centre from the line,
+     * and t range */
+    const double *sb = q->tr->spheres[i];
+    const double *o = q->o, *d = q->d;
+    if (i == q->skip || sb[3] < 0)
+        return;
+    double tbest = i < q->best ? nextafter(q->tbest, INFINITY) : q->tbest;
+    double oc[3] = { sb[0] - o[0], sb[1] - o[1], sb[2] - o[2] };
+    double tc = dot3(oc, d);
+    double r2 = sb[3] * sb[3];
+    double perp2 = dot3(oc, oc) - tc * tc;
+    if (perp2 > r2 || tc - sb[3] >= tbest)
+        return;
+    const prim *p = &q->tr->prims[i];
+    if (p->kind == LIMEN_NODE_PORTAL && dot3(p->plane, d) >= 0)
+        return;     /* from behind (or edge on): empty air */
+    double tmin = p->kind == LIMEN_NODE_MIRROR || p->kind == LIMEN_NODE_PORTAL ? q->tmin_surface
+                                                                                : q->tmin_shape;
+    if (tc + p->br <= tmin)
+        return;
+    double ou[3], du[3], t, n[3];
+    limen__d_point(p->minv, o, ou);
+    d_dir(p->minv, d, du);
+    bool hit;
+    switch (p->shape) {
+    case SHAPE_BOX:
+        hit = hit_box(ou, du, tmin, tbest, &t, n);
+        break;
+    case SHAPE_SPHERE:
+        hit = hit_sphere(ou, du, tmin, tbest, &t, n);
+        break;
+    case SHAPE_CYLINDER:
+        hit = hit_cylinder(ou, du, tmin, tbest, &t, n);
+        break;
+    default:
+        hit = hit_flat(ou, du, tmin, tbest, &t, n);
+        break;
+    }
+    if (!hit)
+        return;
+    if (p->has_cut) {
+        /* entered on the cut-away side: the renderer draws nothing of it there (its back
+         * faces are culled), so neither does the tracer */
+        double w[3] = { o[0] + t * d[0], o[1] + t * d[1], o[2] + t * d[2] };
+        if (limen__d_plane_dist(p->cut, w) < 0)
+            return;
+    }
+    q->best = i;
+    q->tbest = t;
+    memcpy(q->nu, n, sizeof n);
+    for (int k = 0; k < 3; k++)
+        q->pu[k] = ou[k] + t * du[k];
+}
+
+static void test_prim_bvh(void *ctx, int item, double *tmax)
+{
+    search *q = ctx;
+    int i = q->tr->prim_of[item];
+    if (i >= 0)
+        test_prim(q, i);
+    /* a box entered exactly at tbest may still hold a lower-indexed prim hit there */
+    *tmax = q->tbest;
+}
+
 /* The nearest hit along o + t d (d a unit vector) with tmin < t, leaving out prim `skip`
  * and portals seen from behind. Returns the prim index or -1; *t, the unit-space point and
  * the unit-space normal of the hit. */
 static int nearest(const tracer *tr, const double o[3], const double d[3], double tmin_shape,
                    double tmin_surface, int skip, double *t_out, double pu[3], double nu[3])
 {
-    int best = -1;
-    double tbest = INFINITY;
-    for (int i = 0; i < tr->n; i++) {
-        const prim *p = &tr->prims[i];
-        if (i == skip || p->br < 0)
-            continue;
-        if (p->kind == LIMEN_NODE_PORTAL && dot3(p->plane, d) >= 0)
-            continue;   /* from behind (or edge on): empty air */
-        double tmin = p->kind == LIMEN_NODE_MIRROR || p->kind == LIMEN_NODE_PORTAL ? tmin_surface
-                                                                                    : tmin_shape;
-        /* bounding sphere: distance of its centre from the line, and t range */
-        double oc[3] = { p->bc[0] - o[0], p->bc[1] - o[1], p->bc[2] - o[2] };
-        double tc = dot3(oc, d);
-        double r2 = p->br * p->br;
-        double perp2 = dot3(oc, oc) - tc * tc;
-        if (perp2 > r2 || tc + p->br <= tmin || tc - p->br >= tbest)
-            continue;
-        double ou[3], du[3], t, n[3];
-        limen__d_point(p->minv, o, ou);
-        d_dir(p->minv, d, du);
-        bool hit;
-        switch (p->shape) {
-        case SHAPE_BOX:
-            hit = hit_box(ou, du, tmin, tbest, &t, n);
-            break;
-        case SHAPE_SPHERE:
-            hit = hit_sphere(ou, du, tmin, tbest, &t, n);
-            break;
-        case SHAPE_CYLINDER:
-            hit = hit_cylinder(ou, du, tmin, tbest, &t, n);
-            break;
-        default:
-            hit = hit_flat(ou, du, tmin, tbest, &t, n);
-            break;
+    search q = { .tr = tr, .o = o, .d = d, .tmin_shape = tmin_shape,
+                 .tmin_surface = tmin_surface, .skip = skip, .best = -1, .tbest = INFINITY };
+    if (tr->indexed) {
+        double tmin = fmin(tmin_shape, tmin_surface);
+        if (tr->rtc) {
+            limen__rtc_ray(tr->rtc, o, d, tmin, INFINITY, test_prim_bvh, &q);
+        } else {
+            limen__bvh_ray(tr->surfaces, o, d, tmin, INFINITY, test_prim_bvh, &q);
+            limen__bvh_ray(tr->shapes, o, d, tmin, q.tbest, test_prim_bvh, &q);
         }
-        if (!hit)
-            continue;
-        if (p->has_cut) {
-            /* entered on the cut-away side: the renderer draws nothing of it there (its
-             * back faces are culled), so neither does the tracer */
-            double w[3] = { o[0] + t * d[0], o[1] + t * d[1], o[2] + t * d[2] };
-            if (limen__d_plane_dist(p->cut, w) < 0)
-                continue;
-        }
-        best = i;
-        tbest = t;
-        memcpy(nu, n, sizeof n);
-        for (int k = 0; k < 3; k++)
-            pu[k] = ou[k] + t * du[k];
-    }
-    *t_out = tbest;
-    return best;
+        for (int i = tr->nbase; i < tr->n; i++)
+            test_prim(&q, i);
+    } else
+        for (int i = 0; i < tr->n; i++)
+            test_prim(&q, i);
+    *t_out = q.tbest;
+    memcpy(pu, q.pu, sizeof q.pu);
+    memcpy(nu, q.nu, sizeof q.nu);
+    return q.best;
 }
 
 /* ------------------------------------------------------------------ shading */
@@ -759,6 +844,8 @@ limen_status limen_trace_image(limen_scene *s, const limen_trace_desc *desc, uns
     tracer tr;
     if ((st = tracer_init(&tr, s, "trace")))
         return st;
+    if (!s->brute_force)
+        tracer_index(&tr, s);
     base.tr = &tr;
 
     int nthreads = d.threads ? d.threads : online_cpus();

@@ -1,0 +1,379 @@
+/* bvh.c - a bounding volume hierarchy over axis-aligned boxes (see bvh.h).
+ *
+ * Built top down by median splits of the item centres along the longest axis of their
+ * spread: O(n log n), balanced (depth log2(n / LEAF_MAX) + 1), which bounds the traversal
+ * stacks below. Moving items are refitted in place (limen__bvh_update): the tree keeps its
+ * shape and its ancestors' boxes follow, so a scene whose objects move stays indexed at
+ * O(depth) per moved object; the caller rebuilds when items come or go. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "core/bvh.h"
+#include "core/reserve.h"
+
+#define LEAF_MIN 2           /* leaves of up to this many items always */
+#define LEAF_MAX 8          /* and of up to this many where a split would not pay */
+#define COST_NODE 1.0       /* a box test against an item test, in the heuristic */
+#define DEPTH_SAH 48        /* deeper than this, median splits: depth <= 48 + 31 */
+#define STACK_MAX 128       /* > 2 x that depth */
+
+void limen__bvh_free(limen__bvh *b)
+{
+    free(b->nodes);
+    free(b->order);
+    free(b->boxes);
+    free(b->leaf);
+    memset(b, 0, sizeof *b);
+}
+
+/* ------------------------------------------------------------------ build */
+
+static double centre(const limen__bvh *b, int id, int axis)
+{
+    return b->boxes[id].lo[axis] + b->boxes[id].hi[axis];
+}
+
+static double area(const limen__box *x)
+{
+    double e[3];
+    for (int k = 0; k < 3; k++)
+        e[k] = x->hi[k] > x->lo[k] ? x->hi[k] - x->lo[k] : 0;
+    return e[0] * e[1] + e[1] * e[2] + e[2] * e[0];
+}
+
+/* Where to split order[lo..hi) along `axis` (centres spread over [c0, c1]): the surface area
+ * heuristic over BINS bins, which keeps the boxes of a ray's path small where objects
+ * cluster; -1 when no split beats the median. Returns the position of the split after
+ * partitioning. */
+static int split_sah(limen__bvh *b, int lo, int hi, int axis, double c0, double c1,
+                     double node_area)
+{
+    enum { BINS = 16 };
+    limen__box bins[BINS];
+    int counts[BINS] = { 0 };
+    for (int i = 0; i < BINS; i++)
+        limen__box_empty(&bins[i]);
+    double scale = BINS / (c1 - c0);
+    for (int i = lo; i < hi; i++) {
+        int id = b->order[i];
+        int k = (int)((centre(b, id, axis) - c0) * scale);
+        k = k < 0 ? 0 : k >= BINS ? BINS - 1 : k;
+        counts[k]++;
+        limen__box_add(&bins[k], &b->boxes[id]);
+    }
+    /* cost of each split: area x count of each side, swept from both ends */
+    double right_cost[BINS];
+    limen__box acc;
+    limen__box_empty(&acc);
+    int n = 0;
+    for (int k = BINS - 1; k > 0; k--) {
+        limen__box_add(&acc, &bins[k]);
+        n += counts[k];
+        right_cost[k] = n ? area(&acc) * n : 0;
+    }
+    limen__box_empty(&acc);
+    n = 0;
+    int best = -1;
+    double best_cost = INFINITY;
+    for (int k = 0; k < BINS - 1; k++) {
+        limen__box_add(&acc, &bins[k]);
+        n += counts[k];
+        if (!n || n == hi - lo)
+            continue;
+        double c = area(&acc) * n + right_cost[k + 1];
+        if (c < best_cost) {
+            best_cost = c;
+            best = k;
+        }
+    }
+    if (best < 0)
+        return -1;
+    if (hi - lo <= LEAF_MAX && node_area > 0 &&
+        COST_NODE + best_cost / node_area >= (double)(hi - lo))
+        return -2;  /* a leaf costs less */
+    /* partition: bins 0..best to the left */
+    int i = lo, j = hi - 1;
+    while (i <= j) {
+        int k = (int)((centre(b, b->order[i], axis) - c0) * scale);
+        k = k < 0 ? 0 : k >= BINS ? BINS - 1 : k;
+        if (k <= best) {
+            i++;
+        } else {
+            int t = b->order[i];
+            b->order[i] = b->order[j];
+            b->order[j--] = t;
+        }
+    }
+    return i > lo && i < hi ? i : -1;
+}
+
+/* Reorders order[lo..hi) so that position k holds the item of rank k along the axis, the
+ * ones before it no greater and the ones after no smaller (Hoare's selection). */
+static void select_rank(limen__bvh *b, int lo, int hi, int k, int axis)
+{
+    int *o = b->order;
+    while (hi - lo > 1) {
+        double pivot = centre(b, o[lo + (hi - lo) / 2], axis);
+        int i = lo, j = hi - 1;
+        while (i <= j) {
+            while (centre(b, o[i], axis) < pivot)
+                i++;
+            while (centre(b, o[j], axis) > pivot)
+                j--;
+            if (i <= j) {
+                int t = o[i];
+                o[i++] = o[j];
+                o[j--] = t;
+            }
+        }
+        if (k <= j)
+            hi = j + 1;
+        else if (k >= i)
+            lo = i;
+        else
+            return;
+    }
+}
+
+static void build_node(limen__bvh *b, int at, int lo, int hi, int parent, int depth)
+{
+    limen__bvh_node *nd = &b->nodes[at];
+    nd->parent = parent;
+    limen__box_empty(&nd->box);
+    double c0[3] = { INFINITY, INFINITY, INFINITY }, c1[3] = { -INFINITY, -INFINITY, -INFINITY };
+    for (int i = lo; i < hi; i++) {
+        const limen__box *ib = &b->boxes[b->order[i]];
+        limen__box_add(&nd->box, ib);
+        for (int k = 0; k < 3; k++) {
+            double c = ib->lo[k] + ib->hi[k];
+            c0[k] = c < c0[k] ? c : c0[k];
+            c1[k] = c > c1[k] ? c : c1[k];
+        }
+    }
+    int axis = 0;
+    for (int k = 1; k < 3; k++)
+        if (c1[k] - c0[k] > c1[axis] - c0[axis])
+            axis = k;
+    /* the heuristic while the tree is shallow enough that any split keeps the stacks
+     * bounded, the median below that (and where all centres coincide) */
+    int mid = hi - lo <= LEAF_MIN ? -2 : -1;
+    if (mid == -1 && depth < DEPTH_SAH && c1[axis] > c0[axis])
+        mid = split_sah(b, lo, hi, axis, c0[axis], c1[axis], area(&nd->box));
+    if (mid == -2) {
+        nd->first = lo;
+        nd->count = hi - lo;
+        for (int i = lo; i < hi; i++)
+            b->leaf[b->order[i]] = at;
+        return;
+    }
+    if (mid < 0) {
+        mid = lo + (hi - lo) / 2;
+        select_rank(b, lo, hi, mid, axis);
+    }
+    int left = b->nnodes;
+    b->nnodes += 2;
+    nd->first = left;
+    nd->count = 0;
+    build_node(b, left, lo, mid, at, depth + 1);
+    build_node(b, left + 1, mid, hi, at, depth + 1);
+}
+
+bool limen__bvh_build(limen__bvh *b, const int *ids, int n, const limen__box *boxes,
+                      int id_count)
+{
+    if (!limen__reserve((void **)&b->order, &b->order_cap, n > 0 ? n : 1, sizeof *b->order) ||
+        !limen__reserve((void **)&b->nodes, &b->nodes_cap, n > 0 ? 2 * n : 1, sizeof *b->nodes))
+        return false;
+    if (id_count > b->id_cap) {
+        limen__box *bx = realloc(b->boxes, sizeof *bx * (size_t)id_count);
+        if (bx)
+            b->boxes = bx;
+        int *lf = realloc(b->leaf, sizeof *lf * (size_t)id_count);
+        if (lf)
+            b->leaf = lf;
+        if (!bx || !lf)
+            return false;
+        b->id_cap = id_count;
+    }
+    if (id_count > 0)
+        memcpy(b->boxes, boxes, sizeof *boxes * (size_t)id_count);
+    for (int i = 0; i < id_count; i++)
+        b->leaf[i] = -1;
+    if (n > 0)
+        memcpy(b->order, ids, sizeof *ids * (size_t)n);
+    b->nitems = n;
+    b->nnodes = 0;
+    if (n == 0)
+        return true;
+    b->nnodes = 1;
+    build_node(b, 0, 0, n, -1, 0);
+    return true;
+}
+
+void limen__bvh_update(limen__bvh *b, int id, const limen__box *box)
+{
+    if (id < 0 || id >= b->id_cap || b->leaf[id] < 0)
+        return;
+    b->boxes[id] = *box;
+    for (int at = b->leaf[id]; at >= 0; at = b->nodes[at].parent) {
+        limen__bvh_node *nd = &b->nodes[at];
+        limen__box_empty(&nd->box);
+        if (nd->count) {
+            for (int i = 0; i < nd->count; i++)
+                limen__box_add(&nd->box, &b->boxes[b->order[nd->first + i]]);
+        } else {
+            limen__box_add(&nd->box, &b->nodes[nd->first].box);
+            limen__box_add(&nd->box, &b->nodes[nd->first + 1].box);
+        }
+    }
+}
+
+/* ------------------------------------------------------------------ queries */
+
+static bool push_item(int id, int **out, int *count, int *cap)
+{
+    if (!limen__reserve((void **)out, cap, *count + 1, sizeof **out))
+        return false;
+    (*out)[(*count)++] = id;
+    return true;
+}
+
+static bool outside_planes(const limen__box *bx, const double (*planes)[4], int nplanes,
+                           double slack)
+{
+    for (int i = 0; i < nplanes; i++) {
+        const double *p = planes[i];
+        /* the corner furthest along the plane's normal */
+        double d = p[3];
+        for (int k = 0; k < 3; k++)
+            d += p[k] * (p[k] >= 0 ? bx->hi[k] : bx->lo[k]);
+        if (d < -slack)
+            return true;
+    }
+    return false;
+}
+
+static bool boxes_meet(const limen__box *a, const limen__box *q)
+{
+    for (int k = 0; k < 3; k++)
+        if (a->hi[k] < q->lo[k] || a->lo[k] > q->hi[k])
+            return false;
+    return true;
+}
+
+/* One walk for both queries: planes when q is NULL, else the box. */
+static int query(const limen__bvh *b, const double (*planes)[4], int nplanes, double slack,
+                 const limen__box *q, int **out, int *count, int *cap, limen__bvh_stats *stats)
+{
+    if (!b->nnodes)
+        return *count;
+    int stack[STACK_MAX], top = 0;
+    stack[top++] = 0;
+    long tested = 0;
+    int first = *count;
+    while (top > 0) {
+        const limen__bvh_node *nd = &b->nodes[stack[--top]];
+        tested++;
+        if (q ? !boxes_meet(&nd->box, q) : outside_planes(&nd->box, planes, nplanes, slack))
+            continue;
+        if (!nd->count) {
+            stack[top++] = nd->first + 1;
+            stack[top++] = nd->first;
+            continue;
+        }
+        for (int i = 0; i < nd->count; i++) {
+            int id = b->order[nd->first + i];
+            const limen__box *ib = &b->boxes[id];
+            tested++;
+            if (q ? !boxes_meet(ib, q) : outside_planes(ib, planes, nplanes, slack))
+                continue;
+            if (!push_item(id, out, count, cap))
+                return -1;
+        }
+    }
+    if (stats) {
+        stats->boxes += tested;
+        stats->items += *count - first;
+    }
+    return *count;
+}
+
+int limen__bvh_query_planes(const limen__bvh *b, const double (*planes)[4], int nplanes,
+                            double slack, int **out, int *count, int *cap,
+                            limen__bvh_stats *stats)
+{
+    return query(b, planes, nplanes, slack, NULL, out, count, cap, stats);
+}
+
+int limen__bvh_query_box(const limen__bvh *b, const limen__box *q, int **out, int *count,
+                         int *cap, limen__bvh_stats *stats)
+{
+    return query(b, NULL, 0, 0, q, out, count, cap, stats);
+}
+
+/* A ray prepared for slab tests: reciprocal direction, and which face each axis enters. */
+typedef struct ray {
+    double o[3], inv[3];
+    int neg[3];
+} ray;
+
+/* Entry distance of the segment into the box, or INFINITY when it misses. A zero direction
+ * component gets a reciprocal of +-1e300 rather than infinity: no 0 * inf = NaN where the
+ * origin lies on a face, at the price of keeping a box the ray passes beside, never of
+ * losing one it meets. */
+static double slab(const limen__box *bx, const ray *r, double tmin, double tmax)
+{
+    for (int k = 0; k < 3; k++) {
+        double t0 = ((r->neg[k] ? bx->hi : bx->lo)[k] - r->o[k]) * r->inv[k];
+        double t1 = ((r->neg[k] ? bx->lo : bx->hi)[k] - r->o[k]) * r->inv[k];
+        tmin = t0 > tmin ? t0 : tmin;
+        tmax = t1 < tmax ? t1 : tmax;
+    }
+    return tmin <= tmax ? tmin : INFINITY;
+}
+
+void limen__bvh_ray(const limen__bvh *b, const double o[3], const double d[3], double tmin,
+                    double tmax, limen__bvh_hit_fn hit, void *ctx)
+{
+    if (!b->nnodes)
+        return;
+    ray r;
+    for (int k = 0; k < 3; k++) {
+        r.o[k] = o[k];
+        r.inv[k] = d[k] != 0 ? 1.0 / d[k] : signbit(d[k]) ? -1e300 : 1e300;
+        r.neg[k] = r.inv[k] < 0;
+    }
+    struct { int node; double t; } stack[STACK_MAX];
+    int top = 0;
+    double t_root = slab(&b->nodes[0].box, &r, tmin, tmax);
+    if (t_root == INFINITY)
+        return;
+    stack[top].node = 0;
+    stack[top++].t = t_root;
+    while (top > 0) {
+        top--;
+        if (stack[top].t > tmax)
+            continue;   /* entered beyond a hit found since it was pushed */
+        const limen__bvh_node *nd = &b->nodes[stack[top].node];
+        if (nd->count) {
+            for (int i = 0; i < nd->count; i++)
+                hit(ctx, b->order[nd->first + i], &tmax);
+            continue;
+        }
+        int l = nd->first, rt = nd->first + 1;
+        double tl = slab(&b->nodes[l].box, &r, tmin, tmax);
+        double tr = slab(&b->nodes[rt].box, &r, tmin, tmax);
+        /* the nearer child on top */
+        int near = tl <= tr ? l : rt, far = tl <= tr ? rt : l;
+        double tn = tl <= tr ? tl : tr, tf = tl <= tr ? tr : tl;
+        if (tf != INFINITY) {
+            stack[top].node = far;
+            stack[top++].t = tf;
+        }
+        if (tn != INFINITY) {
+            stack[top].node = near;
+            stack[top++].t = tn;
+        }
+    }
+}

@@ -1,0 +1,390 @@
+/* test_scale.c - the spatial index changes what is tested, never what is found: plans
+ * (views, matrices, surfaces, clones) and traced images are the same with the index as
+ * with the scan of everything it replaces (the gallery, random scenes, scenes being edited),
+ * world matrices recomputed for what moved equal a full recompute, and the counts of tests
+ * show the cost following what a view sees rather than what the scene holds. No timing. */
+#include <stdlib.h>
+#include <string.h>
+
+#include "check.h"
+#include "core/internal.h"
+#include "core/plan.h"
+#include "hall.h"
+#include "limen.h"
+#include "load.h"
+
+static const char *GALLERY[] = {
+    "scenes/plain.lua",        "scenes/mirror_room.lua", "scenes/corridor.lua",
+    "scenes/kaleidoscope.lua", "scenes/periscope.lua",   "scenes/water.lua",
+    "scenes/portals.lua",      "scenes/tunnel.lua",      "scenes/portal_mirror.lua",
+    "scenes/portal_sizes.lua", "scenes/moving_portal.lua", "scenes/flythrough.lua", NULL,
+};
+
+/* ------------------------------------------------------------------ comparing */
+
+/* Plans the scene with the index and without it; the two must agree in every field. */
+static int check_same_plan(limen_scene *s, const limen_plan_desc *d, const char *what)
+{
+    limen_plan *a = NULL, *b = NULL;
+    limen_plan_create(&a);
+    limen_plan_create(&b);
+    s->brute_force = false;
+    limen_status sa = limen_plan_build(a, s, d);
+    s->brute_force = true;
+    limen_status sb = limen_plan_build(b, s, d);
+    s->brute_force = false;
+    CHECK_MSG(sa == sb, "%s: status %d with the index, %d without", what, sa, sb);
+    int bad = 0;
+    if (!sa && !sb) {
+        bad |= limen_plan_count(a) != limen_plan_count(b);
+        bad |= limen_plan_truncated(a) != limen_plan_truncated(b);
+        for (int i = 0; !bad && i < limen_plan_count(a); i++) {
+            bad |= memcmp(limen_plan_view(a, i), limen_plan_view(b, i), sizeof(limen_view)) != 0;
+            const limen_view_surface *va, *vb;
+            int na = limen_plan_view_surfaces(a, i, &va), nb = limen_plan_view_surfaces(b, i, &vb);
+            bad |= na != nb || (na && memcmp(va, vb, sizeof *va * (size_t)na) != 0);
+        }
+        const limen_clone *ca, *cb;
+        int na = limen_plan_clones(a, &ca), nb = limen_plan_clones(b, &cb);
+        bad |= na != nb || (na && memcmp(ca, cb, sizeof *ca * (size_t)na) != 0);
+        CHECK_MSG(!bad, "%s: the plans differ (%d views with the index, %d without)", what,
+                  limen_plan_count(a), limen_plan_count(b));
+    }
+    int views = limen_plan_count(a);
+    limen_plan_destroy(a);
+    limen_plan_destroy(b);
+    return views;
+}
+
+/* Traces with the index and without it: the same bytes. */
+static void check_same_trace(limen_scene *s, int w, int h, const char *what)
+{
+    unsigned char *a = malloc((size_t)w * h * 3), *b = malloc((size_t)w * h * 3);
+    limen_trace_desc d = { .width = w, .height = h, .threads = 2 };
+    s->brute_force = false;
+    CHECK_OK(limen_trace_image(s, &d, a));
+    s->brute_force = true;
+    CHECK_OK(limen_trace_image(s, &d, b));
+    s->brute_force = false;
+    long differ = 0;
+    for (long i = 0; i < (long)w * h * 3; i++)
+        differ += a[i] != b[i];
+    CHECK_MSG(differ == 0, "%s: %ld bytes differ between the traces", what, differ);
+    free(a);
+    free(b);
+}
+
+/* World matrices as the refresh left them against a recompute of every node. */
+static void check_worlds(limen_scene *s, const char *what)
+{
+    limen__scene_refresh(s);
+    int n = s->cap, bad = 0;
+    float (*kept)[16] = malloc(sizeof *kept * (size_t)n);
+    for (int i = 0; i < n; i++)
+        memcpy(kept[i], &s->nodes[i].world[0][0], sizeof kept[i]);
+    s->all_stale = true;
+    s->dirty = true;
+    limen__scene_refresh(s);
+    for (int i = 0; i < n; i++)
+        if (limen__alive(&s->nodes[i]))
+            bad += memcmp(kept[i], &s->nodes[i].world[0][0], sizeof kept[i]) != 0;
+    CHECK_MSG(bad == 0, "%s: %d world matrices differ from a full recompute", what, bad);
+    free(kept);
+}
+
+/* ------------------------------------------------------------------ random scenes */
+
+static unsigned long long rng = 1;
+
+static float uni(float a, float b)
+{
+    rng = rng * 6364136223846793005ull + 1442695040888963407ull;
+    return a + (b - a) * (float)((rng >> 11) * (1.0 / 9007199254740992.0));
+}
+
+static limen_node add(limen_scene *s, limen_node_kind kind, float x, float y, float z)
+{
+    limen_node n = { 0 };
+    limen_node_create(s, kind, NULL, &n);
+    limen_node_set_position(s, n, (float[3]){ x, y, z });
+    limen_node_set_rotation(s, n, (float[3]){ uni(-3, 3), uni(-3, 3), uni(-3, 3) });
+    return n;
+}
+
+/* Mirrors, linked portals and shapes at random in a box, some under rotated and scaled
+ * groups (shears), some hidden, a camera inside. */
+static limen_scene *random_scene(unsigned long long seed, int shapes, int surfaces)
+{
+    rng = seed;
+    limen_scene *s = NULL;
+    limen_scene_create(&(limen_scene_desc){ .max_nodes = 4096 }, &s);
+    limen_node groups[4];
+    for (int g = 0; g < 4; g++) {
+        groups[g] = add(s, LIMEN_NODE_GROUP, uni(-2, 2), uni(-2, 2), uni(-2, 2));
+        limen_node_set_scale(s, groups[g], (float[3]){ uni(0.5f, 2), uni(0.5f, 2), uni(0.5f, 2) });
+        if (g)
+            limen_node_set_parent(s, groups[g], groups[g - 1]);
+    }
+    limen_node prev = { 0 };
+    for (int i = 0; i < surfaces; i++) {
+        bool portal = i % 3 != 0;
+        limen_node n = add(s, portal ? LIMEN_NODE_PORTAL : LIMEN_NODE_MIRROR, uni(-8, 8),
+                           uni(-8, 8), uni(-8, 8));
+        float w = uni(1, 4);
+        limen_node_set_dims(s, n, (float[3]){ w, portal ? w * 0.75f : uni(1, 4), 0 });
+        if (portal && prev.id) {
+            limen_portal_link(s, prev, n);
+            prev.id = 0;
+        } else if (portal) {
+            prev = n;
+        }
+    }
+    static const limen_node_kind kinds[] = { LIMEN_NODE_BOX, LIMEN_NODE_SPHERE,
+                                             LIMEN_NODE_CYLINDER, LIMEN_NODE_QUAD };
+    for (int i = 0; i < shapes; i++) {
+        limen_node n = add(s, kinds[i % 4], uni(-8, 8), uni(-8, 8), uni(-8, 8));
+        limen_node_set_dims(s, n, (float[3]){ uni(0.1f, 1), uni(0.1f, 1), uni(0.1f, 1) });
+        limen_node_set_color(s, n, (float[3]){ uni(0, 1), uni(0, 1), uni(0, 1) });
+        if (i % 5 == 0)
+            limen_node_set_parent(s, n, groups[i % 4]);
+        if (i % 11 == 0)
+            limen_node_set_visible(s, n, 0);
+    }
+    limen_node light = add(s, LIMEN_NODE_LIGHT, 3, 6, 3);
+    limen_node_set_color(s, light, (float[3]){ 1, 1, 1 });
+    limen_node cam = add(s, LIMEN_NODE_CAMERA, 0, 0, 0);
+    limen_node_look_at(s, cam, (float[3]){ uni(-3, 3), uni(-3, 3), 9 }, (float[3]){ 0, 0, 0 },
+                       (float[3]){ 0, 1, 0 });
+    limen_scene_set_camera(s, cam);
+    return s;
+}
+
+/* ------------------------------------------------------------------ tests */
+
+static void test_gallery_same(void)
+{
+    for (const char **g = GALLERY; *g; g++) {
+        limen_script *sc = check_load_script(*g);
+        if (!sc)
+            continue;
+        limen_scene *s = limen_script_scene(sc);
+        check_same_plan(s, NULL, *g);
+        check_same_plan(s, &(limen_plan_desc){ .width = 320, .height = 240, .no_cull = 1 }, *g);
+        check_same_plan(s, &(limen_plan_desc){ .max_views = 7 }, *g);
+        check_same_trace(s, 96, 72, *g);
+        if (limen_script_animated(sc)) {
+            for (int k = 1; k <= 3; k++) {
+                CHECK_OK(limen_script_update(sc, 0.7 * k));
+                check_same_plan(s, NULL, *g);
+                check_worlds(s, *g);
+            }
+            check_same_trace(s, 96, 72, *g);
+        }
+        limen_script_destroy(sc);
+    }
+}
+
+static void test_random_same(void)
+{
+    for (unsigned long long seed = 1; seed <= 12; seed++) {
+        char what[64];
+        snprintf(what, sizeof what, "random scene %llu", seed);
+        limen_scene *s = random_scene(seed, 60 + 20 * (int)seed, 6 + (int)seed);
+        check_same_plan(s, NULL, what);
+        check_same_plan(s, &(limen_plan_desc){ .limit_depth = 1, .max_depth = 3 }, what);
+        check_worlds(s, what);
+        if (seed <= 4)
+            check_same_trace(s, 64, 48, what);
+        limen_scene_destroy(s);
+    }
+}
+
+/* Edits between plans: moves (refits), reparenting (subtrees), creation and destruction
+ * (rebuilds), resizing; after each, the same plan and images as the full scans, and the
+ * same world matrices as a full recompute. */
+static void test_edits_same(void)
+{
+    limen_scene *s = random_scene(99, 150, 12);
+    limen_node all[512];
+    int n = limen_scene_nodes(s, all, 512);
+    check_same_plan(s, NULL, "before edits");
+    for (int round = 0; round < 12; round++) {
+        char what[64];
+        snprintf(what, sizeof what, "edit round %d", round);
+        for (int k = 0; k < 20; k++) {
+            limen_node x = all[(int)uni(0, (float)n - 0.01f)];
+            if (!limen_node_valid(s, x))
+                continue;
+            limen_node_kind kind = limen_node_get_kind(s, x);
+            if (kind == LIMEN_NODE_CAMERA)
+                continue;
+            switch (k % 5) {
+            case 0:
+                limen_node_set_position(s, x, (float[3]){ uni(-8, 8), uni(-8, 8), uni(-8, 8) });
+                break;
+            case 1: {
+                limen_move_result mr;
+                limen_node_move(s, x, (float[3]){ uni(-1, 1), uni(-1, 1), uni(-1, 1) }, &mr);
+                break;
+            }
+            case 2: {
+                limen_node p = all[(int)uni(0, (float)n - 0.01f)];
+                if (limen_node_set_parent(s, x, p))
+                    limen_node_set_parent(s, x, (limen_node){ 0 });
+                break;
+            }
+            case 3:
+                if (kind != LIMEN_NODE_GROUP && kind != LIMEN_NODE_LIGHT)
+                    limen_node_set_dims(s, x, (float[3]){ uni(0.5f, 2), uni(0.5f, 2), 1 });
+                break;
+            default:
+                if (round % 3 == 0 && kind != LIMEN_NODE_GROUP) {
+                    limen_node_destroy(s, x);
+                    limen_node fresh = add(s, LIMEN_NODE_SPHERE, uni(-6, 6), uni(-6, 6), 0);
+                    for (int i = 0; i < n; i++)
+                        if (all[i].id == x.id)
+                            all[i] = fresh;
+                } else {
+                    limen_node_set_rotation(s, x, (float[3]){ uni(-3, 3), uni(-3, 3), 0 });
+                }
+            }
+        }
+        check_same_plan(s, NULL, what);
+        check_worlds(s, what);
+        if (round % 4 == 3)
+            check_same_trace(s, 64, 48, what);
+    }
+    limen_scene_destroy(s);
+}
+
+/* Plans the hall; returns the exact surface tests per view, and the straddling tests, the
+ * views and the surfaces those views found. */
+static double hall_tests(int spheres, int pairs, bool brute, long *straddle_tests, int *views,
+                         double *found)
+{
+    limen_scene *s = hall_create(spheres, pairs, 3);
+    limen_plan *p = NULL;
+    limen_plan_create(&p);
+    s->brute_force = brute;
+    CHECK_OK(limen_plan_build(p, s, NULL));
+    *views = limen_plan_count(p);
+    *straddle_tests = s->straddle_tests;
+    double per_view = (double)p->surface_tests / *views;
+    *found = (double)p->nvsurf / *views;
+    limen_plan_destroy(p);
+    limen_scene_destroy(s);
+    return per_view;
+}
+
+static void test_cost_follows_visibility(void)
+{
+    long st_small, st_big, st_brute;
+    int v_small, v_big, v_brute;
+    double f_small, f_big, f_brute;
+    /* 16 times the surfaces (the hall 16 times as long): every view still tests every
+     * surface without the index; with it, about those the view finds */
+    double small = hall_tests(200, 10, false, &st_small, &v_small, &f_small);
+    double big = hall_tests(200, 160, false, &st_big, &v_big, &f_big);
+    double brute = hall_tests(200, 160, true, &st_brute, &v_brute, &f_brute);
+    CHECK_MSG(brute >= 319, "without the index every view tests every surface (%g)", brute);
+    CHECK(v_big == v_brute && f_big == f_brute);
+    /* the longer hall shows more portals, many of them under a pixel far away (which the
+     * exact test rejects): the tests grow, but by less than half as much as the surfaces */
+    CHECK_MSG(big < 8 * small, "surface tests per view: %g (finding %g) with 20 surfaces, %g "
+              "(finding %g) with 320", small, f_small, big, f_big);
+    CHECK_MSG(big < brute / 16, "surface tests per view: %g with the index, %g without", big,
+              brute);
+    /* 16 times the spheres: the straddling tests are a small share of the shapes, where the
+     * scan tests every shape against every portal */
+    hall_tests(1000, 50, false, &st_small, &v_small, &f_small);
+    hall_tests(16000, 50, false, &st_big, &v_big, &f_big);
+    CHECK_MSG(st_big < 16000 / 10, "straddling tests: %ld for 16,000 spheres", st_big);
+    CHECK_MSG(st_big <= 32 * (st_small + 1), "straddling tests: %ld for 1,000, %ld for 16,000",
+              st_small, st_big);
+    CHECK(v_small == v_big);
+}
+
+/* The shapes listed for a view: every sphere whose centre shows inside the view's scissor
+ * rectangle, in front of its clip plane, is there; through a portal far fewer than all. */
+static void test_view_things(void)
+{
+    limen_scene *s = hall_create(4000, 50, 5);
+    limen_plan *p = NULL;
+    limen_plan_create(&p);
+    CHECK_OK(limen_plan_build(p, s, NULL));
+    limen_node *things = malloc(sizeof *things * 8192);
+    int narrow = 0;
+    for (int i = 0; i < limen_plan_count(p); i++) {
+        const limen_view *v = limen_plan_view(p, i);
+        int n = limen_plan_view_things(p, s, i, things, 8192);
+        CHECK(n >= 0 && n <= 4000);
+        if (v->depth > 0 && n < 1000)
+            narrow++;
+        int missing = 0;
+        for (int k = 0; k < s->cap; k++) {
+            const limen__node *nd = &s->nodes[k];
+            if (!limen__alive(nd) || nd->kind != LIMEN_NODE_SPHERE)
+                continue;
+            const float *c = nd->world[3];
+            float e[4], cl[4];
+            for (int r = 0; r < 4; r++)
+                e[r] = v->view[r] * c[0] + v->view[4 + r] * c[1] + v->view[8 + r] * c[2] +
+                       v->view[12 + r];
+            for (int r = 0; r < 4; r++)
+                cl[r] = v->proj[r] * e[0] + v->proj[4 + r] * e[1] + v->proj[8 + r] * e[2] +
+                        v->proj[12 + r] * e[3];
+            if (!(cl[3] > 0.01f))
+                continue;
+            float px = (cl[0] / cl[3] + 1) * 0.5f * 640, py = (cl[1] / cl[3] + 1) * 0.5f * 480;
+            const int *sc = v->scissor;
+            if (px < sc[0] || px > sc[0] + sc[2] || py < sc[1] || py > sc[1] + sc[3])
+                continue;
+            if (v->depth > 0 && v->clip_plane[0] * c[0] + v->clip_plane[1] * c[1] +
+                                        v->clip_plane[2] * c[2] + v->clip_plane[3] < 0)
+                continue;
+            limen_node h = limen__node_handle(s, k);
+            bool found = false;
+            for (int j = 0; j < n && !found; j++)
+                found = things[j].id == h.id;
+            missing += !found;
+        }
+        CHECK_MSG(missing == 0, "view %d: %d spheres in sight not listed", i, missing);
+    }
+    CHECK_MSG(narrow > limen_plan_count(p) / 2, "views through portals listing few shapes: %d "
+              "of %d", narrow, limen_plan_count(p));
+    CHECK(limen_plan_view_things(p, s, limen_plan_count(p), things, 10) == -1);
+    free(things);
+    limen_plan_destroy(p);
+    limen_scene_destroy(s);
+}
+
+/* A hall with shapes straddling its portals: the same clones and images both ways. */
+static void test_hall_same(void)
+{
+    limen_scene *s = hall_create(3000, 20, 9);
+    int views = check_same_plan(s, NULL, "hall");
+    CHECK(views > 20);
+    limen_plan *p = NULL;
+    limen_plan_create(&p);
+    CHECK_OK(limen_plan_build(p, s, NULL));
+    const limen_clone *c;
+    CHECK_MSG(limen_plan_clones(p, &c) > 5, "the hall should have spheres through its portals");
+    limen_plan_destroy(p);
+    check_same_trace(s, 120, 90, "hall");
+    limen_scene_destroy(s);
+}
+
+static const check_case cases[] = {
+    { "gallery_same", test_gallery_same },
+    { "random_same", test_random_same },
+    { "edits_same", test_edits_same },
+    { "hall_same", test_hall_same },
+    { "cost_follows_visibility", test_cost_follows_visibility },
+    { "view_things", test_view_things },
+    { 0 },
+};
+
+int main(int argc, char **argv)
+{
+    return check_run(argc, argv, cases);
+}
