@@ -97,6 +97,13 @@ static bool outside(const rview *v, const limen_drawable *n, const float *carry)
     return false;
 }
 
+/* Whether the view must cut what lies behind its exit surface: every nested view but those
+ * of the CLIP_NONE baseline. */
+static bool exit_cuts(const rview *v)
+{
+    return v->pub->depth > 0 && v->pub->clip != LIMEN_CLIP_NONE;
+}
+
 static void set_mat4(limen_renderer *r, GLint loc, mat4 m)
 {
     GL(UniformMatrix4fv)(loc, 1, GL_FALSE, (const GLfloat *)m);
@@ -250,8 +257,21 @@ static void draw_node_at(limen_renderer *r, const rview *v, const limen_drawable
         GL(Enable)(GL_CULL_FACE);
     else
         GL(Disable)(GL_CULL_FACE);
+    /* In an oblique view the near plane is the exit plane, and clamping would keep what of a
+     * surface lies beyond it (a neighbour poking through a mirror shows its back there): the
+     * clip plane cuts it instead, as in a plane view. */
+    bool cut = is_surface(node) && exit_cuts(v) && v->pub->clip == LIMEN_CLIP_OBLIQUE;
+    if (cut) {
+        GL(Uniform4fv)(r->u.clip_plane, 1, v->pub->clip_plane);
+        GL(Enable)(GL_CLIP_DISTANCE0);
+    }
     GL(DrawElements)(GL_TRIANGLES, (GLsizei)range.count, GL_UNSIGNED_INT,
                      (void *)(sizeof(uint32_t) * range.first));
+    if (cut) {
+        static const float keep_all[4] = { 0, 0, 0, 1 };
+        GL(Uniform4fv)(r->u.clip_plane, 1, keep_all);
+        GL(Disable)(GL_CLIP_DISTANCE0);
+    }
 }
 
 
@@ -288,9 +308,10 @@ static void to_ndc(double p[][4], int n, float out[][3], int *count)
             out[i][k] = (float)(p[i][k] / p[i][3]);
 }
 
-/* The surface polygon clipped to the view's user clip plane, to the frustum's four sides
- * (so that the GPU clips nothing: its float clipping fails when the surface nearly touches
- * the eye, w a few float steps of x), then split at the near and far planes. */
+/* The surface polygon clipped to the view's exit plane (in every nested view: with depth
+ * clamping an oblique near plane would not cut it), to the frustum's four sides (so that the
+ * GPU clips nothing: its float clipping fails when the surface nearly touches the eye, w a
+ * few float steps of x), then split at the near and far planes. */
 static void surface_parts(const limen_renderer *r, const rview *v, const limen_drawable *node,
                           limen__spoly *sp)
 {
@@ -304,7 +325,7 @@ static void surface_parts(const limen_renderer *r, const rview *v, const limen_d
         a[i][3] = 1;
     }
     int n = 4;
-    if (v->pub->clip == LIMEN_CLIP_PLANE && v->pub->depth > 0) {
+    if (exit_cuts(v)) {
         const double cp[4] = { v->pub->clip_plane[0], v->pub->clip_plane[1],
                                v->pub->clip_plane[2], v->pub->clip_plane[3] };
         n = clip4(a, n, cp, b);
