@@ -46,6 +46,9 @@
  *       FILL:    recursion stopped there: the surface's fill colour, unlit;
  *       BACK:    a mirror seen from behind: a lit matte quad of its back colour.
  *     Mirrors and portals are drawn with depth clamping: the near plane does not cut them.
+ *     So in a nested view with an oblique projection, whose near plane is the exit plane,
+ *     they are cut by v->clip_plane as gl_ClipDistance[0]: else what of one lies behind the
+ *     exit surface (a neighbour poking through a mirror) would show.
  *
  * The tests (section 7) render scenes/mirror_room.lua, portals.lua and corridor.lua with
  * this code and with limen's renderer and compare; frames go to build/example_*.png.
@@ -116,6 +119,7 @@ typedef struct game {
     const limen_clip_method *clip;
     void (*flat_surface)(struct game *g, const limen_view *v, const item *it, const float rgb[3]);
     void *hook_data;
+    const float *cut;                   /* world plane that cuts surfaces (see use_view) */
 } game;
 
 static int make_current(game *g)
@@ -480,6 +484,8 @@ static void use_view(game *g, const limen_view *v)
     glUniform4fv(g->u.clip_plane, 1, plane ? v->clip_plane : no_clip);
     glFrontFace(v->front_face_cw ? GL_CW : GL_CCW);
     glUniform3fv(g->u.tint, 1, v->tint);
+    /* depth clamping keeps surfaces from the near plane, the exit plane of an oblique view */
+    g->cut = v->depth > 0 && clip == LIMEN_CLIP_OBLIQUE ? v->clip_plane : NULL;
 }
 
 /* One node; flat: unlit colour `albedo` (masks, seals, fills). */
@@ -495,9 +501,18 @@ static void draw_item(game *g, const item *it, int flat, const float albedo[3])
     /* mirrors and portals are not cut by the near plane; closed shapes cull back faces */
     gl_set(GL_DEPTH_CLAMP, is_surface(it));
     gl_set(GL_CULL_FACE, it->mesh != MESH_QUAD);
+    int cut = is_surface(it) && g->cut;
+    if (cut) {
+        glUniform4fv(g->u.clip_plane, 1, g->cut);
+        glEnable(GL_CLIP_DISTANCE0);
+    }
     const mesh *m = &g->meshes[it->mesh];
     glDrawElements(GL_TRIANGLES, m->count, GL_UNSIGNED_INT,
                    (void *)(sizeof(GLuint) * (size_t)m->first));
+    if (cut) {
+        glUniform4f(g->u.clip_plane, 0, 0, 0, 1);
+        glDisable(GL_CLIP_DISTANCE0);
+    }
 }
 
 /* A screen-filling quad on the far plane (NDC z = +1 in both NO and ZO), colour times the
@@ -513,6 +528,7 @@ static void draw_far_plane(game *g, const limen_view *v, const float rgb[3])
      * to go on clipping by the last plane after glDisable(GL_CLIP_DISTANCE0) */
     glUniform4f(g->u.clip_plane, 0, 0, 0, 1);
     glDisable(GL_CLIP_DISTANCE0);
+    g->cut = NULL;                              /* (use_view sets it again) */
     draw_item(g, &far, 1, rgb);                 /* a "surface": depth clamped at far */
 }
 
@@ -748,6 +764,14 @@ static void test_portals(void)
     compare_script("scenes/portals.lua", "portals", LIMEN_DEPTH_NO, LIMEN_CLIP_OBLIQUE, 2);
 }
 
+/* Mirror walls wider than their room poke through each other: in the reflected corners
+ * what lies beyond the exit plane must be cut, surfaces included. */
+static void test_crossing_walls(void)
+{
+    compare_script("tests/scenes/mirror_box_crossing.lua", "crossing_walls", LIMEN_DEPTH_NO,
+                   LIMEN_CLIP_OBLIQUE, 20);
+}
+
 static void test_corridor(void)
 {
     compare_script("scenes/corridor.lua", "corridor", LIMEN_DEPTH_NO, LIMEN_CLIP_OBLIQUE, 8);
@@ -810,6 +834,7 @@ static const check_case cases[] = {
     { "mirror_room", test_mirror_room }, { "portals", test_portals },
     { "corridor", test_corridor },       { "depth_zo", test_depth_zo },
     { "clip_plane", test_clip_plane },   { "game_loop", test_game_loop },
+    { "crossing_walls", test_crossing_walls },
     { 0 },
 };
 
