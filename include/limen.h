@@ -327,10 +327,14 @@ typedef enum limen_view_kind {
 /* One view of the tree. Views are stored in draw order: depth first, a parent before its
  * children, children in the order their surfaces should be processed. A nested view first
  * resets depth inside its pixels (stencil == its stencil value, within its scissor), draws,
- * and shows the scene background times its tint where nothing lands. limen's shading, which
- * the ray tracer reproduces: at most LIMEN_MAX_LIGHTS lights (LIGHT nodes in pool order);
- * sphere normals and cylinder side normals (x, 0, z) from the true shape; checker cells in
- * the node's local units before its own scale, x+y for quads, x+y+z for other shapes. */
+ * and shows the scene background times its tint where nothing lands. Mirrors and portals
+ * are drawn with depth clamping (the near plane must not cut them), so a nested view cuts
+ * them at clip_plane even where clip is OBLIQUE: an oblique near plane does not cut clamped
+ * geometry, and what of a surface lies behind the exit surface would show. limen's shading,
+ * which the ray tracer reproduces: at most LIMEN_MAX_LIGHTS lights (LIGHT nodes in pool
+ * order); sphere normals and cylinder side normals (x, 0, z) from the true shape; checker
+ * cells in the node's local units before its own scale, x+y for quads, x+y+z for other
+ * shapes. */
 typedef struct limen_view {
     int id;                     /* index in the plan */
     int parent;                 /* -1 for the camera view */
