@@ -22,7 +22,7 @@ LIBS_NOLUA = $(DEP_LIBS_NOLUA) -lembree3 -lm -lpthread
 LIBS       = $(DEP_LIBS) -lembree3 -lm -lpthread
 
 # ------------------------------------------------------------------ objects
-CORE_SRC := src/core/error.c src/core/lmath.c src/core/scene.c src/core/surface.c src/core/move.c src/core/straddle.c src/core/bvh.c src/core/index.c src/core/rtc.c src/core/cull.c src/core/plan.c src/core/trace.c src/core/image.c src/core/file.c
+CORE_SRC := src/core/error.c src/core/lmath.c src/core/scene.c src/core/surface.c src/core/move.c src/core/straddle.c src/core/bvh.c src/core/index.c src/core/rtc.c src/core/cull.c src/core/plan.c src/core/drawables.c src/core/trace.c src/core/image.c src/core/file.c
 GL_SRC   := src/gl/render.c src/gl/views.c src/gl/mesh.c src/gl/ctx_osmesa.c src/gl/ctx_egl.c \
             src/gl/ctx_host.c
 LUA_SRC  := src/lua/bindings.c src/lua/script.c src/lua/safe.c src/lua/guards.c

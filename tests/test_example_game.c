@@ -96,6 +96,14 @@ static void test_portals(void)
     compare_script("scenes/portals.lua", "portals", LIMEN_DEPTH_NO, LIMEN_CLIP_OBLIQUE, 2);
 }
 
+/* Mirror walls wider than their room poke through each other: in the reflected corners
+ * what lies beyond the exit plane must be cut, surfaces included. */
+static void test_crossing_walls(void)
+{
+    compare_script("tests/scenes/mirror_box_crossing.lua", "crossing_walls", LIMEN_DEPTH_NO,
+                   LIMEN_CLIP_OBLIQUE, 20);
+}
+
 static void test_corridor(void)
 {
     compare_script("scenes/corridor.lua", "corridor", LIMEN_DEPTH_NO, LIMEN_CLIP_OBLIQUE, 8);
@@ -158,6 +166,7 @@ static const check_case cases[] = {
     { "mirror_room", test_mirror_room }, { "portals", test_portals },
     { "corridor", test_corridor },       { "depth_zo", test_depth_zo },
     { "clip_plane", test_clip_plane },   { "game_loop", test_game_loop },
+    { "crossing_walls", test_crossing_walls },
     { 0 },
 };
 

@@ -3,8 +3,11 @@
 #ifndef LIMEN_GL_INTERNAL_H
 #define LIMEN_GL_INTERNAL_H
 
-#include "core/internal.h"
-#include "core/plan.h"
+#include <stdbool.h>
+
+#include <cglm/cglm.h>
+
+#include "limen.h"
 #include "gl/glapi.h"
 #include "gl/mesh.h"
 
@@ -34,7 +37,7 @@ struct limen_renderer {
     int depth_bits;                         /* 24: DEPTH24_STENCIL8, 32: DEPTH32F_STENCIL8 */
     bool has_fragment_stats;
     bool ready;                             /* set up completely */
-    char err[LIMEN__ERR_MAX];
+    char err[512];
     char info[256];
 
     GLuint prog, vao, vbo, ibo;
@@ -60,7 +63,10 @@ struct limen_renderer {
     struct limen__draw_key *order;          /* a view's things, nearest first */
     int order_cap;
 
-    limen_plan *plan;
+    limen_plan *plan;                       /* what to draw: the view tree of the frame ... */
+    limen_drawables *draw;                  /* ... and the nodes, read once per frame */
+    int *clone_of, clone_of_cap;            /* per drawable: its limen_clone, or -1 */
+    float background[3], ambient;           /* the scene's, as the drawables read them */
     limen_render_opts opts;
     unsigned char *rgba;                    /* read-back buffer */
     bool have_frame;
@@ -81,9 +87,10 @@ limen_status limen__rfail(limen_renderer *r, limen_status st, const char *fmt, .
 void limen__samples_begin(limen_renderer *r);
 void limen__samples_end(limen_renderer *r);
 
-/* Draws the planned tree into the frame buffer (bound by the caller, cleared). */
-limen_status limen__draw_stencil(limen_renderer *r, limen_scene *s);
-limen_status limen__draw_texture(limen_renderer *r, limen_scene *s);
+/* Draws the planned tree of r->plan and r->draw into the frame buffer (bound by the caller,
+ * cleared). */
+limen_status limen__draw_stencil(limen_renderer *r);
+limen_status limen__draw_texture(limen_renderer *r);
 void limen__targets_free(limen_renderer *r);
 
 #endif
