@@ -434,16 +434,24 @@ static void test_drawables(void)
     CHECK(bg[0] == 0.1f && bg[2] == 0.3f && amb == 0.25f);
 
     /* a list is a snapshot: a node made later is not in it until the next build, and then
-     * it takes the destroyed box's slot, so its place in pool order */
+     * it comes last (creation order), whichever slot it took */
     limen_node late;
     CHECK_OK(limen_node_create(s, LIMEN_NODE_QUAD, "late", &late));
     CHECK(limen_drawables_find(d, late) == -1);
     CHECK_OK(limen_drawables_build(d, s));
-    CHECK(limen_drawables_items(d, NULL) == 5 && limen_drawables_find(d, late) == 0);
+    CHECK(limen_drawables_items(d, NULL) == 5 && limen_drawables_find(d, late) == 4);
 
-    /* a world matrix that overflows is refused, as by the planner, and the list is empty */
-    CHECK_OK(limen_node_set_scale(s, grp, (float[3]){ 1e30f, 1e30f, 1e30f }));
-    CHECK_OK(limen_node_set_scale(s, box, (float[3]){ 1e30f, 1e30f, 1e30f }));
+    /* a world matrix that overflows is refused, as by the planner, and the list is empty:
+     * each scale is in range (at most 1e9), their product along the chain is not */
+    limen_node up = grp;
+    for (int k = 0; k < 4; k++) {
+        limen_node g;
+        CHECK_OK(limen_node_create(s, LIMEN_NODE_GROUP, NULL, &g));
+        CHECK_OK(limen_node_set_scale(s, g, (float[3]){ 1e9f, 1e9f, 1e9f }));
+        CHECK_OK(limen_node_set_parent(s, up, g));
+        up = g;
+    }
+    CHECK_OK(limen_node_set_scale(s, box, (float[3]){ 1e9f, 1e9f, 1e9f }));
     CHECK(limen_drawables_build(d, s) == LIMEN_ERR_ARG);
     CHECK(strstr(limen_last_error(s), "not finite") != NULL);
     CHECK(limen_drawables_items(d, &it) == 0 && limen_drawables_find(d, lamp) == -1);
