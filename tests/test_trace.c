@@ -520,7 +520,8 @@ static void png_chunk(pngbuf *p, const char *type, const unsigned char *data, un
     png_u32(p, len);
     memcpy(p->b + p->n, type, 4);
     p->n += 4;
-    memcpy(p->b + p->n, data, len);
+    if (len)
+        memcpy(p->b + p->n, data, len);
     p->n += len;
     png_u32(p, 0);
 }
