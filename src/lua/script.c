@@ -507,6 +507,32 @@ void limen__lua_charge(lua_State *L, double steps)
         raise_limit(L, sc);
 }
 
+/* Did the error of this status, its object on top of T, come from a refused allocation? */
+static int memory_error(lua_State *T, int status)
+{
+    /* lauxlib's buffers report one as a plain error of this message */
+    return status == LUA_ERRMEM ||
+           (status == LUA_ERRRUN && lua_type(T, -1) == LUA_TSTRING &&
+            strcmp(lua_tostring(T, -1), "not enough memory") == 0);
+}
+
+/* An error of this status (its object on top of T) ended Lua code run for L: if the memory cap
+ * caused it, the cap is hit; a limit hit raises in L. */
+static void check_caught(lua_State *L, lua_State *T, int status)
+{
+    limen_script *sc = script_of(L);
+    if (!sc || !sc->running)
+        return;
+    if (memory_error(T, status) && sc->mem_refused && !sc->limit) {
+        hit(sc, LIMIT_MEMORY);
+        /* where the memory ran out (followed near the cap), not where it was caught */
+        if (!sc->where[0])
+            memcpy(sc->where, sc->line, sizeof sc->where);
+    }
+    if (sc->limit)
+        raise_limit(L, sc);
+}
+
 void limen__lua_enter(lua_State *L, lua_State *co)
 {
     limen_script *sc = script_of(L);
@@ -528,7 +554,7 @@ void limen__lua_leave(lua_State *L, lua_State *co, int status)
     if (!sc || !sc->running)
         return;
     sc->current = L;
-    limen__lua_caught(L, status);
+    check_caught(L, co, status);
     if (sc->every < lua_gethookcount(L))
         arm(sc, L);
     look_at_clock(sc);
@@ -538,20 +564,7 @@ void limen__lua_leave(lua_State *L, lua_State *co, int status)
 
 void limen__lua_caught(lua_State *L, int status)
 {
-    limen_script *sc = script_of(L);
-    if (!sc || !sc->running)
-        return;
-    /* lauxlib's buffers report a refused allocation as a plain error of this message */
-    int lauxlib = status == LUA_ERRRUN && lua_type(L, -1) == LUA_TSTRING &&
-                  strcmp(lua_tostring(L, -1), "not enough memory") == 0;
-    if ((status == LUA_ERRMEM || lauxlib) && sc->mem_refused && !sc->limit) {
-        hit(sc, LIMIT_MEMORY);
-        /* where the memory ran out (followed near the cap), not where it was caught */
-        if (!sc->where[0])
-            memcpy(sc->where, sc->line, sizeof sc->where);
-    }
-    if (sc->limit)
-        raise_limit(L, sc);
+    check_caught(L, L, status);
 }
 
 int limen__lua_hold(lua_State *L, ptrdiff_t bytes)
