@@ -19,11 +19,11 @@ LIBS_NOLUA = $(DEP_LIBS_NOLUA) -lm -lpthread
 LIBS       = $(DEP_LIBS) -lm -lpthread
 
 # ------------------------------------------------------------------ objects
-CORE_SRC := src/core/error.c src/core/lmath.c src/core/scene.c src/core/surface.c src/core/move.c src/core/straddle.c src/core/plan.c src/core/trace.c src/core/image.c
+CORE_SRC := src/core/error.c src/core/limits.c src/core/lmath.c src/core/scene.c src/core/surface.c src/core/move.c src/core/straddle.c src/core/plan.c src/core/trace.c src/core/image.c
 GL_SRC   := src/gl/render.c src/gl/views.c src/gl/mesh.c src/gl/ctx_osmesa.c src/gl/ctx_egl.c
 LUA_SRC  := src/lua/bindings.c src/lua/script.c src/lua/safe.c
 LIB_SRC  := $(CORE_SRC) $(GL_SRC) $(LUA_SRC)
-CLI_SRC  := src/cli/main.c src/cli/trace_cmd.c
+CLI_SRC  := src/cli/main.c src/cli/common.c src/cli/trace_cmd.c
 TEST_C   := tests/test_math.c tests/test_scene.c tests/test_plan.c tests/test_render.c tests/test_script.c tests/test_trace.c tests/test_gallery.c tests/test_threads.c tests/test_truth.c tests/test_example_game.c tests/test_crossing.c tests/test_sweep_approach.c tests/test_sweep_grazing.c tests/test_sweep_depth.c tests/test_sweep_recursion.c tests/test_sweep_matrix.c tests/test_sweep_odd.c
 
 LUA_KIT  := lua/limen/kit.lua

@@ -20,6 +20,7 @@
 #include <time.h>
 
 #include "core/lmath.h"
+#include "core/testing.h"
 
 enum { NPLANES = 4096, METHODS = 3, SETS = 5 };
 

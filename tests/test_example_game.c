@@ -644,10 +644,10 @@ static int game_draw(game *g, limen_scene *s, const limen_plan *p, limen_depth_r
 static int game_frame(game *g, limen_scene *s, limen_depth_range range,
                       limen_clip_method clip, unsigned char *rgb)
 {
-    limen_plan_desc pd = { .width = g->w, .height = g->h, .range = range, .clip = clip };
+    limen_plan_desc pd = { .width = g->w, .height = g->h, .range = range, .limits.clip = clip };
     limen_status st = limen_plan_build(g->plan, s, &pd);
     if (st) {
-        fprintf(stderr, "  plan: %s\n", limen_last_error(s));
+        fprintf(stderr, "  plan: %s\n", limen_scene_error(s));
         return -1;
     }
     return game_draw(g, s, g->plan, range, rgb);
@@ -706,7 +706,7 @@ static void compare(const char *name, limen_scene *s, limen_depth_range range,
             return;
         }
     }
-    limen_render_opts o = { .clip = clip };
+    limen_render_opts o = { .limits.clip = clip };
     CHECK_OK(limen_render_frame(*r, s, &o, NULL));
     CHECK_OK(limen_renderer_read_rgb(*r, ref));
     limen_diff d = { 1.0, 0, 0, 255 };

@@ -14,6 +14,7 @@
 
 #include "check.h"
 #include "core/lmath.h"
+#include "core/testing.h"
 #include "limen.h"
 
 #define FEPS 1.1920928955078125e-7

@@ -40,7 +40,7 @@ static limen_plan *plan(limen_scene *s, limen_plan_desc d)
         d.height = H;
     }
     limen_status st = limen_plan_build(p, s, &d);
-    CHECK_MSG(st == LIMEN_OK, "plan_build: %s", limen_last_error(s));
+    CHECK_MSG(st == LIMEN_OK, "plan_build: %s", limen_scene_error(s));
     return p;
 }
 
@@ -79,7 +79,7 @@ static limen_scene *corridor(void)
 static void test_corridor_one_view_per_level(void)
 {
     limen_scene *s = corridor();
-    limen_plan *p = plan(s, (limen_plan_desc){ .limit_depth = 1, .max_depth = 16 });
+    limen_plan *p = plan(s, (limen_plan_desc){ .limits = { .depth_rule = LIMEN_DEPTH_RULE_CAP, .depth = 16 } });
     CHECK(limen_plan_count(p) == 17);
     int per_level[17] = { 0 };
     for (int i = 0; i < limen_plan_count(p); i++) {
@@ -101,7 +101,7 @@ static void test_corridor_one_view_per_level(void)
         CHECK_MSG(per_level[d] == 1, "level %d has %d views", d, per_level[d]);
     /* the first reflection looks through the front mirror; its eye is the mirrored eye */
     const limen_view *v1 = limen_plan_view(p, 1);
-    CHECK(strcmp(limen_node_name(s, v1->through), "front") == 0);
+    CHECK(strcmp(limen_node_get_name(s, v1->through), "front") == 0);
     CHECK(v1->kind == LIMEN_VIEW_MIRROR);
     CHECK_NEAR(v1->eye[0], 0.3, 1e-5);
     CHECK_NEAR(v1->eye[2], -7, 1e-5);
@@ -125,7 +125,7 @@ static void test_corridor_eye_positions(void)
     /* the eye at depth k sits where unfolding the corridor puts it: mirrors at z = -3 and
      * z = 3 reflect z alternately: z_k = -6 - z_{k-1} (front), 6 - z (back) */
     limen_scene *s = corridor();
-    limen_plan *p = plan(s, (limen_plan_desc){ .limit_depth = 1, .max_depth = 32 });
+    limen_plan *p = plan(s, (limen_plan_desc){ .limits = { .depth_rule = LIMEN_DEPTH_RULE_CAP, .depth = 32 } });
     CHECK(limen_plan_count(p) == 33);
     double z = 1;
     for (int d = 1; d <= 32; d++) {
@@ -160,7 +160,7 @@ static void test_surface_limits(void)
     CHECK(limen_plan_truncated(p) == 1);
     limen_plan_destroy(p);
     /* a global depth of 0: no recursion */
-    p = plan(s, (limen_plan_desc){ .limit_depth = 1, .max_depth = 0 });
+    p = plan(s, (limen_plan_desc){ .limits = { .depth_rule = LIMEN_DEPTH_RULE_CAP, .depth = 0 } });
     CHECK(limen_plan_count(p) == 1);
     limen_plan_destroy(p);
     limen_scene_destroy(s);
@@ -183,7 +183,7 @@ static void test_surface_culling(void)
     limen_plan *p = plan(s, (limen_plan_desc){ 0 });
     CHECK(limen_plan_count(p) == 2);
     if (limen_plan_count(p) == 2)
-        CHECK(strcmp(limen_node_name(s, limen_plan_view(p, 1)->through), "seen") == 0);
+        CHECK(strcmp(limen_node_get_name(s, limen_plan_view(p, 1)->through), "seen") == 0);
     limen_plan_destroy(p);
     limen_scene_destroy(s);
 }
@@ -238,12 +238,12 @@ static void test_portal_pairing_rules(void)
     limen_node m = surface(s, LIMEN_NODE_MIRROR, "m", (float[3]){ 3, 1, 0 },
                            (float[3]){ 0, 0, 1 }, 1, 1);
     CHECK(limen_portal_link(s, a, a) == LIMEN_ERR_ARG);
-    CHECK(strstr(limen_last_error(s), "itself") != NULL);
+    CHECK(strstr(limen_scene_error(s), "itself") != NULL);
     CHECK(limen_portal_link(s, a, c) == LIMEN_ERR_ARG);     /* 1x2 against 1x1 */
-    CHECK(strstr(limen_last_error(s), "ratio") != NULL);
+    CHECK(strstr(limen_scene_error(s), "ratio") != NULL);
     CHECK(limen_portal_link(s, a, m) == LIMEN_ERR_ARG);
     CHECK_OK(limen_portal_link(s, a, b));                   /* twice the size is fine */
-    CHECK(limen_portal_partner(s, a).id == b.id && limen_portal_partner(s, b).id == a.id);
+    CHECK(limen_portal_get_partner(s, a).id == b.id && limen_portal_get_partner(s, b).id == a.id);
     /* the matrix scales by 2 and turns 180 degrees about y */
     float x[16], o[3];
     CHECK_OK(limen_surface_matrix(s, a, x));
@@ -278,7 +278,7 @@ static void test_budget_kaleidoscope(void)
 {
     /* branching views, held by the budget, shallow levels first */
     limen_scene *s = kaleidoscope();
-    limen_plan *p = plan(s, (limen_plan_desc){ .limit_depth = 1, .max_depth = 8, .max_views = 40 });
+    limen_plan *p = plan(s, (limen_plan_desc){ .limits = { .depth_rule = LIMEN_DEPTH_RULE_CAP, .depth = 8, .max_views = 40 } });
     CHECK(limen_plan_count(p) == 40);
     CHECK(limen_plan_truncated(p) > 0);
     /* breadth first: no view deeper than a level that is still incomplete... at least all
@@ -301,7 +301,7 @@ static void test_oblique_fallback(void)
     /* the eye 0.01 in front of a mirror, closer than the near plane (0.05): plane clip */
     limen_scene *s = scene_with_camera((float[3]){ 0, 1, 0.01f }, (float[3]){ 1, 1, -0.2f });
     surface(s, LIMEN_NODE_MIRROR, "m", (float[3]){ 0, 1, 0 }, (float[3]){ 0, 0, 1 }, 4, 4);
-    limen_plan *p = plan(s, (limen_plan_desc){ .limit_depth = 1, .max_depth = 1 });
+    limen_plan *p = plan(s, (limen_plan_desc){ .limits = { .depth_rule = LIMEN_DEPTH_RULE_CAP, .depth = 1 } });
     CHECK(limen_plan_count(p) == 2);
     if (limen_plan_count(p) == 2) {
         CHECK(limen_plan_view(p, 1)->clip == LIMEN_CLIP_PLANE);
@@ -312,10 +312,10 @@ static void test_oblique_fallback(void)
     /* a comfortable distance: oblique */
     s = scene_with_camera((float[3]){ 0, 1, 2 }, (float[3]){ 0, 1, 0 });
     surface(s, LIMEN_NODE_MIRROR, "m", (float[3]){ 0, 1, 0 }, (float[3]){ 0, 0, 1 }, 4, 4);
-    p = plan(s, (limen_plan_desc){ .limit_depth = 1, .max_depth = 1 });
+    p = plan(s, (limen_plan_desc){ .limits = { .depth_rule = LIMEN_DEPTH_RULE_CAP, .depth = 1 } });
     CHECK(limen_plan_count(p) == 2 && limen_plan_view(p, 1)->clip == LIMEN_CLIP_OBLIQUE);
     limen_plan_destroy(p);
-    p = plan(s, (limen_plan_desc){ .clip = LIMEN_CLIP_NONE, .limit_depth = 1, .max_depth = 1 });
+    p = plan(s, (limen_plan_desc){ .limits = { .clip = LIMEN_CLIP_NONE, .depth_rule = LIMEN_DEPTH_RULE_CAP, .depth = 1 } });
     CHECK(limen_plan_count(p) == 2 && limen_plan_view(p, 1)->clip == LIMEN_CLIP_NONE);
     limen_plan_destroy(p);
     limen_scene_destroy(s);
@@ -324,7 +324,7 @@ static void test_oblique_fallback(void)
 static void test_json(void)
 {
     limen_scene *s = corridor();
-    limen_plan *p = plan(s, (limen_plan_desc){ .limit_depth = 1, .max_depth = 2 });
+    limen_plan *p = plan(s, (limen_plan_desc){ .limits = { .depth_rule = LIMEN_DEPTH_RULE_CAP, .depth = 2 } });
     char path[] = "/tmp/limen-plan-XXXXXX";
     int fd = mkstemp(path);
     CHECK(fd >= 0);

@@ -193,8 +193,8 @@ static void test_surfaces(void)
         CHECK(depth == 3);
         CHECK_OK(limen_node_get_dims(s, m, dims));
         CHECK(dims[0] == 2 && dims[1] == 1);
-        CHECK(limen_portal_partner(s, a).id == b.id);
-        CHECK(limen_portal_partner(s, b).id == a.id);
+        CHECK(limen_portal_get_partner(s, a).id == b.id);
+        CHECK(limen_portal_get_partner(s, b).id == a.id);
         CHECK_OK(limen_surface_get(s, b, NULL, NULL, fill, NULL));
         CHECK(fill[0] == 0 && fill[2] == 1);
     }
@@ -216,8 +216,8 @@ static void test_labels(void)
         CHECK(limen_node_set_parent(s, b, g) == LIMEN_ERR_CYCLE);
         char want[256];
         snprintf(want, sizeof want, "%s:4: box 'b':", path);
-        CHECK_MSG(strncmp(limen_last_error(s), want, strlen(want)) == 0, "got '%s', expected '%s...'",
-                  limen_last_error(s), want);
+        CHECK_MSG(strncmp(limen_scene_error(s), want, strlen(want)) == 0, "got '%s', expected '%s...'",
+                  limen_scene_error(s), want);
     }
     limen_script_destroy(sc);
 }

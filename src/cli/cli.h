@@ -1,10 +1,18 @@
-/* cli.h - commands of the limen program, one file each where they are long. */
+/* cli.h - commands of the limen program, one file each where they are long, and what they
+ * share (common.c): messages, usage tables, the options of every command that runs a scene. */
 #ifndef LIMEN_CLI_H
 #define LIMEN_CLI_H
+
+#include <stdio.h>
+
+#include "limen.h"
 
 /* `limen trace ...`: argv holds the arguments after the command name. Returns the exit
  * status. */
 int limen_cli_trace(int argc, char **argv);
+
+/* Prints "limen: message" to stderr; returns status (1: the run failed, 2: bad usage). */
+int limen_cli_fail(int status, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
 
 /* Prints "limen: SCENE: message" for a message about the scene, unless the message already
  * names a place in it ("SCENE:12: ..."). */
@@ -14,5 +22,45 @@ void limen_cli_scene_error(const char *scene, const char *msg);
 int limen_cli_parse_long(const char *s, long lo, long hi, long *out);     /* lo..hi */
 int limen_cli_parse_double(const char *s, double *out);                  /* finite */
 int limen_cli_parse_size(const char *s, int *w, int *h);   /* "WxH", 1..16384 each */
+
+/* One line of a command's usage: the option with its value, and what it does ('\n' in
+ * help continues on the next line, aligned). A table ends with { NULL, NULL }. */
+typedef struct limen_cli_option {
+    const char *name, *help;
+} limen_cli_option;
+
+/* Prints "usage: SYNOPSIS" and then each table under its heading (tables and headings
+ * both end with NULL). */
+void limen_cli_usage(FILE *f, const char *synopsis, const char *const *headings,
+                     const limen_cli_option *const *tables);
+
+/* What every command that runs a scene takes (render, trace). */
+typedef struct limen_cli_run {
+    const char *scene, *out;
+    int width, height;          /* 0: 640 x 480 */
+    limen_limits limits;        /* depth_rule and depth from --depth / --depth-override */
+    double time, fps;
+    long frames;
+    int stats, trusted, help;
+} limen_cli_run;
+
+extern const limen_cli_option limen_cli_run_options[];
+
+/* Sets the defaults (1 frame, 30 fps). */
+void limen_cli_run_init(limen_cli_run *o);
+/* Parses argv[*i] if it is one of limen_cli_run_options or the scene path, moving *i past
+ * its value: returns 1 if it took it, 0 if it is not one of them, 2 after printing a usage
+ * error. */
+int limen_cli_run_option(int argc, char **argv, int *i, limen_cli_run *o);
+/* After parsing: the scene and an output whose name says its format; 0, or 2 after a
+ * message. cmd names the command in messages. */
+int limen_cli_run_check(const limen_cli_run *o, const char *cmd);
+/* OUT.png -> OUT_0007.png for frame 7 of a sequence (OUT.png itself for a single frame). */
+void limen_cli_frame_path(const char *out, long frame, long frames, char *buf, size_t size);
+/* Loads the scene script; NULL after printing why. */
+limen_script *limen_cli_load(const limen_cli_run *o);
+/* Runs update(t) for frame f of the run; 0, or 1 after printing the error with the frame
+ * and time it happened at (for a sequence). newline: end a progress line first. */
+int limen_cli_update(limen_script *sc, const limen_cli_run *o, long f, double t, int newline);
 
 #endif

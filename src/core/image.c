@@ -1,4 +1,4 @@
-/* image.c - PNG in and out (stb_image, stb_image_write) and image comparison. */
+/* image.c - PNG in and out, JPEG out (stb_image, stb_image_write) and image comparison. */
 #include <limits.h>
 #include <math.h>
 #include <stdlib.h>
@@ -27,11 +27,36 @@
 
 #include "core/internal.h"
 
+#include <string.h>
+#include <strings.h>
+
+#define LIMEN__JPEG_QUALITY 95
+
 limen_status limen_write_png(const char *path, int width, int height, const unsigned char *rgb)
 {
     if (!path || !rgb || width <= 0 || height <= 0 || width > INT_MAX / 3 / height)
         return LIMEN_ERR_ARG;
     if (!stbi_write_png(path, width, height, 3, rgb, width * 3))
+        return LIMEN_ERR_IO;
+    return LIMEN_OK;
+}
+
+/* Case-insensitive: does path end in ext (".png")? */
+static bool ends_with(const char *path, const char *ext)
+{
+    size_t n = strlen(path), k = strlen(ext);
+    return n > k && strcasecmp(path + n - k, ext) == 0;
+}
+
+limen_status limen_write_image(const char *path, int width, int height, const unsigned char *rgb)
+{
+    if (!path || !rgb || width <= 0 || height <= 0 || width > INT_MAX / 3 / height)
+        return LIMEN_ERR_ARG;
+    if (ends_with(path, ".png"))
+        return limen_write_png(path, width, height, rgb);
+    if (!ends_with(path, ".jpg") && !ends_with(path, ".jpeg"))
+        return LIMEN_ERR_ARG;
+    if (!stbi_write_jpg(path, width, height, 3, rgb, LIMEN__JPEG_QUALITY))
         return LIMEN_ERR_IO;
     return LIMEN_OK;
 }

@@ -54,6 +54,7 @@ struct limen_scene {
     float ambient;
     uint32_t camera;            /* index + 1 */
     uint32_t bad_world;         /* index + 1 of a node whose world matrix overflowed; 0 */
+    unsigned test_faults;       /* LIMEN_FAULT_* bits (core/testing.h); 0 */
     char err[LIMEN__ERR_MAX];
 };
 
@@ -62,6 +63,15 @@ limen_status limen__fail(limen_scene *s, limen_status st, const char *fmt, ...)
     __attribute__((format(printf, 3, 4)));
 /* Writes into a fixed buffer (renderers, scripts). */
 void limen__vformat(char *buf, size_t size, const char *fmt, va_list ap);
+
+/* limits.c: checks in (NULL: all defaults) and fills out with its defaults (max_views
+ * 1024, depth 0 under DEPTH_RULE_OWN); a bad field fails with a message that starts
+ * "who: ". */
+limen_status limen__limits_resolve(limen_scene *s, const char *who, const limen_limits *in,
+                                   limen_limits *out);
+/* The deepest view a surface whose own max_depth is surface_max may have under resolved
+ * limits: a view of depth d through it exists only if d <= this. */
+int limen__limits_depth(const limen_limits *l, int surface_max);
 
 /* Live node for a handle, or NULL. */
 limen__node *limen__node_get(const limen_scene *s, limen_node n);

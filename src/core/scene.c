@@ -389,7 +389,7 @@ limen_status limen_node_find(const limen_scene *s, const char *name, limen_node 
     return limen__fail((limen_scene *)s, LIMEN_ERR_HANDLE, "no node named '%s'", name);
 }
 
-const char *limen_node_name(const limen_scene *s, limen_node n)
+const char *limen_node_get_name(const limen_scene *s, limen_node n)
 {
     limen__node *node = limen__node_get(s, n);
     return node ? node->name : NULL;
@@ -619,7 +619,7 @@ static void mat_out(mat4 m, float out[16])
         out[i] = m[i / 4][i % 4];
 }
 
-limen_status limen_node_local_matrix(limen_scene *s, limen_node n, float m[16])
+limen_status limen_node_get_local_matrix(limen_scene *s, limen_node n, float m[16])
 {
     GET(node, s, n);
     if (!m)

@@ -109,7 +109,7 @@ limen_status limen_portal_link(limen_scene *s, limen_node a, limen_node b)
     return LIMEN_OK;
 }
 
-limen_node limen_portal_partner(const limen_scene *s, limen_node portal)
+limen_node limen_portal_get_partner(const limen_scene *s, limen_node portal)
 {
     limen__node *node = limen__node_get(s, portal);
     if (!node || node->kind != LIMEN_NODE_PORTAL || !node->pair)

@@ -294,7 +294,7 @@ static void push_node(lua_State *L, int scene_idx, limen_node n)
     nd->n = n;
     nd->kind = limen_node_get_kind(ls->s, n);
     nd->seq = ++ls->seq;
-    const char *name = limen_node_name(ls->s, n);
+    const char *name = limen_node_get_name(ls->s, n);
     snprintf(nd->name, sizeof nd->name, "%s", name ? name : "");
     luaL_setmetatable(L, NODE_MT);
     lua_pushvalue(L, scene_idx);
@@ -671,7 +671,7 @@ static limen_status apply_spec(limen_scene *s, limen_node n, const spec *sp)
 static int c_error(lua_State *L, limen_scene *s, const char *ctx, const char *label)
 {
     char msg[512];
-    const char *m = limen_last_error(s);
+    const char *m = limen_scene_error(s);
     size_t n = label ? strlen(label) : 0;
     if (n && strncmp(m, label, n) == 0 && m[n] == ':' && m[n + 1] == ' ')
         m += n + 2;
@@ -683,7 +683,7 @@ static int c_error(lua_State *L, limen_scene *s, const char *ctx, const char *la
 static int spec_error(lua_State *L, limen_scene *s, const char *ctx, const char *label,
                       const spec *sp)
 {
-    const char *m = limen_last_error(s);
+    const char *m = limen_scene_error(s);
     if (HAVE(sp, F_LOOK_AT) && strstr(m, "up: must not be zero or parallel"))
         return luaL_error(L, "%s: up: must not be zero or parallel to the view direction (from "
                              "the position to look_at)", ctx);
@@ -934,7 +934,7 @@ static int l_node_index(lua_State *L)
     unsigned allowed = kind_fields[nd->kind] & ~F_CONSTRUCT_ONLY;
     float v[3] = { 0, 0, 0 };
     if (strcmp(key, "partner") == 0 && nd->kind == LIMEN_NODE_PORTAL) {
-        push_node(L, 3, limen_portal_partner(s, n));
+        push_node(L, 3, limen_portal_get_partner(s, n));
         return 1;
     }
     if (f == F_CHECKER && (allowed & BIT(f)))
@@ -1300,8 +1300,8 @@ static int l_scene_gc(lua_State *L)
 /* ------------------------------------------------------------------ rendering */
 
 static const char *const render_fields[] = { "out", "size", "backend", "time", "msaa",
-                                             "method", "clip", "max_depth", "max_views",
-                                             "depth", "texture_scale" };
+                                             "method", "clip", "max_depth", "depth_override",
+                                             "max_views", "depth", "texture_scale" };
 #define RENDER_FIELD_COUNT ((int)(sizeof render_fields / sizeof render_fields[0]))
 
 /* Looks a string field up in a NULL-ended list of choices; returns its index. */
@@ -1400,17 +1400,26 @@ static int l_scene_render(lua_State *L)
                                               "\"stencil\" or \"texture\"");
     lua_pop(L, 1);
     if (lua_getfield(L, 2, "clip") != LUA_TNIL)
-        ro.clip = (limen_clip_method)read_choice(L, -1, "field 'clip'", clips,
+        ro.limits.clip = (limen_clip_method)read_choice(L, -1, "field 'clip'", clips,
                                                  "\"oblique\", \"plane\" or \"none\"");
     lua_pop(L, 1);
     if (lua_getfield(L, 2, "max_depth") != LUA_TNIL) {
-        ro.limit_depth = 1;
-        ro.max_depth = read_int(L, -1, "render", "field 'max_depth'", 0, 255,
-                                "an integer in [0, 255]");
+        ro.limits.depth_rule = LIMEN_DEPTH_RULE_CAP;
+        ro.limits.depth = read_int(L, -1, "render", "field 'max_depth'", 0, 255,
+                                   "an integer in [0, 255]");
+    }
+    lua_pop(L, 1);
+    if (lua_getfield(L, 2, "depth_override") != LUA_TNIL) {
+        if (ro.limits.depth_rule == LIMEN_DEPTH_RULE_CAP)
+            return luaL_error(L, "render: fields 'max_depth' and 'depth_override' exclude "
+                                 "each other");
+        ro.limits.depth_rule = LIMEN_DEPTH_RULE_OVERRIDE;
+        ro.limits.depth = read_int(L, -1, "render", "field 'depth_override'", 0, 255,
+                                   "an integer in [0, 255]");
     }
     lua_pop(L, 1);
     if (lua_getfield(L, 2, "max_views") != LUA_TNIL)
-        ro.max_views = read_int(L, -1, "render", "field 'max_views'", 1, 1 << 20,
+        ro.limits.max_views = read_int(L, -1, "render", "field 'max_views'", 1, 1 << 20,
                                 "a positive integer");
     lua_pop(L, 1);
     if (lua_getfield(L, 2, "texture_scale") != LUA_TNIL) {
@@ -1472,12 +1481,14 @@ static int l_scene_cast(lua_State *L)
     float o[3], d[3];
     read_vec(L, 2, "cast", "origin", 3, ELEM_FINITE, o);
     read_vec(L, 3, "cast", "direction", 3, ELEM_FINITE, d);
-    int bounces = -1;
-    if (!lua_isnoneornil(L, 4))
-        bounces = read_int(L, 4, "cast", "bounces", 0, 255, "an integer in [0, 255]");
+    limen_limits lim = { 0 };
+    if (!lua_isnoneornil(L, 4)) {
+        lim.depth_rule = LIMEN_DEPTH_RULE_CAP;
+        lim.depth = read_int(L, 4, "cast", "bounces", 0, 255, "an integer in [0, 255]");
+    }
     limen_hit h;
-    if (limen_ray_cast(ls->s, o, d, bounces, &h))
-        return luaL_error(L, "cast: %s", limen_last_error(ls->s));
+    if (limen_ray_cast(ls->s, o, d, &lim, &h))
+        return luaL_error(L, "cast: %s", limen_scene_error(ls->s));
     lua_createtable(L, 0, 9);
     lua_pushboolean(L, h.hit);
     lua_setfield(L, -2, "hit");
