@@ -21,7 +21,7 @@ LIBS       = $(DEP_LIBS) -lm -lpthread
 # ------------------------------------------------------------------ objects
 CORE_SRC := src/core/error.c src/core/limits.c src/core/lmath.c src/core/scene.c src/core/surface.c src/core/move.c src/core/straddle.c src/core/plan.c src/core/trace.c src/core/image.c
 GL_SRC   := src/gl/render.c src/gl/views.c src/gl/mesh.c src/gl/ctx_osmesa.c src/gl/ctx_egl.c
-LUA_SRC  := src/lua/bindings.c src/lua/script.c src/lua/safe.c
+LUA_SRC  := src/lua/l_fields.c src/lua/l_node.c src/lua/l_scene.c src/lua/l_render.c src/lua/script.c src/lua/safe.c
 LIB_SRC  := $(CORE_SRC) $(GL_SRC) $(LUA_SRC)
 CLI_SRC  := src/cli/main.c src/cli/common.c src/cli/trace_cmd.c
 TEST_C   := tests/test_math.c tests/test_scene.c tests/test_plan.c tests/test_render.c tests/test_script.c tests/test_trace.c tests/test_gallery.c tests/test_threads.c tests/test_truth.c tests/test_example_game.c tests/test_crossing.c tests/test_sweep_approach.c tests/test_sweep_grazing.c tests/test_sweep_depth.c tests/test_sweep_recursion.c tests/test_sweep_matrix.c tests/test_sweep_odd.c
@@ -73,7 +73,7 @@ $(B)/obj/%.o: %.c $(B)/config.mk
 	@mkdir -p $(dir $@)
 	$(CC) $(ALL_CFLAGS) -MMD -MP -c $< -o $@
 
-# lua/limen/kit.lua goes into the library as bytes (src/lua/bindings.c preloads it as
+# lua/limen/kit.lua goes into the library as bytes (src/lua/l_scene.c preloads it as
 # "limen.kit"), so that scripts find it in safe mode and wherever the library is installed.
 $(B)/gen/lua_kit.c: $(LUA_KIT)
 	@mkdir -p $(dir $@)

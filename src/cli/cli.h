@@ -59,8 +59,8 @@ int limen_cli_run_check(const limen_cli_run *o, const char *cmd);
 void limen_cli_frame_path(const char *out, long frame, long frames, char *buf, size_t size);
 /* Loads the scene script; NULL after printing why. */
 limen_script *limen_cli_load(const limen_cli_run *o);
-/* Runs update(t) for frame f of the run; 0, or 1 after printing the error with the frame
- * and time it happened at (for a sequence). newline: end a progress line first. */
+/* Runs update(t) for frame f of the run; 0, or 1 after printing the error followed by the
+ * frame and time it happened at. newline: end a progress line first. */
 int limen_cli_update(limen_script *sc, const limen_cli_run *o, long f, double t, int newline);
 
 #endif

@@ -164,8 +164,6 @@ int limen_cli_update(limen_script *sc, const limen_cli_run *o, long f, double t,
         return 0;
     if (newline)
         fputc('\n', stderr);
-    if (o->frames > 1)
-        return limen_cli_fail(1, "frame %ld of %ld (t = %g s): %s", f, o->frames, t,
-                              limen_script_error(sc));
-    return limen_cli_fail(1, "%s", limen_script_error(sc));
+    return limen_cli_fail(1, "%s (in update at frame %ld of %ld, t = %g s)",
+                          limen_script_error(sc), f, o->frames, t);
 }
