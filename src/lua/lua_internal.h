@@ -1,6 +1,6 @@
 /* lua_internal.h - what the script runner (script.c), its safe library (safe.c) and the
- * bindings (l_*.c, with l_api.h) need from each other. Not part of the public API; src/lua is the
- * only place that includes lua.h. */
+ * bindings (l_*.c, which share l_api.h among themselves) need from each other. Not part of
+ * the public API; src/lua is the only place that includes lua.h. */
 #ifndef LIMEN_LUA_INTERNAL_H
 #define LIMEN_LUA_INTERNAL_H
 
