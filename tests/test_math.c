@@ -133,7 +133,6 @@ static void test_plane_from_point_normal(void)
     CHECK(sentinel_intact(pl, 4));
 }
 
-
 static void test_plane_transform(void)
 {
     for (int i = 0; i < 2000; i++) {

@@ -318,11 +318,15 @@ static const bad_script bad[] = {
     { "degenerate_facing", HEAD "s:plane { normal = {0, 1, 0}, up = {0, 2, 0} }\nreturn s\n", 3,
       "plane: up: must not be zero or parallel to the normal", LIMEN_ERR_SCRIPT, 0 },
     { "io_open", HEAD "local f = io.open(\"/etc/passwd\")\nreturn s\n", 3,
-      "attempt to index a nil value (global 'io')", LIMEN_ERR_SCRIPT, 0 },
+      "attempt to index a nil value (global 'io'): not available to a scene script in safe "
+      "mode (--trusted, or limen_script_desc.trusted = 1, gives it the full standard library)",
+      LIMEN_ERR_SCRIPT, 0 },
     { "os_execute", HEAD "os.execute(\"true\")\nreturn s\n", 3,
       "attempt to call a nil value (field 'execute')", LIMEN_ERR_SCRIPT, 0 },
     { "dofile", HEAD "dofile(\"/etc/passwd\")\nreturn s\n", 3,
-      "attempt to call a nil value (global 'dofile')", LIMEN_ERR_SCRIPT, 0 },
+      "attempt to call a nil value (global 'dofile'): not available to a scene script in safe "
+      "mode (--trusted, or limen_script_desc.trusted = 1, gives it the full standard library)",
+      LIMEN_ERR_SCRIPT, 0 },
     { "require_io", HEAD "local io = require \"io\"\nreturn s\n", 3,
       "module 'io' is not available to a safe scene script", LIMEN_ERR_SCRIPT, 0 },
     { "require_c_module", HEAD "package.cpath = \"/usr/lib/x86_64-linux-gnu/lua/5.4/?.so\"\n"

@@ -89,6 +89,13 @@ static inline int limen__node_get_index(limen_node n)
 /* Handle of the node in slot i. */
 limen_node limen__node_handle(const limen_scene *s, int index);
 
+/* How messages name a node: its name, or where it was made ("scenes/x.lua:7") when it has
+ * none, or "unnamed". */
+static inline const char *limen__node_title(const limen__node *n)
+{
+    return n->name[0] ? n->name : n->label[0] ? n->label : "unnamed";
+}
+
 static inline bool limen__is_surface(const limen__node *n)
 {
     return n->kind == LIMEN_NODE_MIRROR || n->kind == LIMEN_NODE_PORTAL;

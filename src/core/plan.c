@@ -308,7 +308,8 @@ static limen_status collect_surfaces(limen_plan *p, limen_scene *s)
                 return limen__fail(s, LIMEN_ERR_ARG,
                                    "%s%sportals '%s' and '%s' differ in shape in the world "
                                    "(%.4gx%.4g against %.4gx%.4g): width/height must match",
-                                   n->label, n->label[0] ? ": " : "", n->name, b->name, wa, ha,
+                                   n->label, n->label[0] ? ": " : "", limen__node_title(n),
+                                   limen__node_title(b), wa, ha,
                                    wb, hb);
             if (!b->visible)
                 sf->has_x = false;

@@ -55,5 +55,9 @@ limen_status limen__script_load_buffer(const char *name, const char *buf, size_t
 
 /* safe.c: opens the safe standard library in L (call it under lua_pcall). */
 int limen__lua_open_safe(lua_State *L);
+/* In a safe state, for an error msg about a nil io, debug, dofile or loadfile: pushes msg
+ * with a note that safe mode lacks it and how to trust the script, and returns it; else
+ * NULL, pushing nothing. */
+const char *limen__lua_safe_hint(lua_State *L, const char *msg);
 
 #endif
