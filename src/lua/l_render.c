@@ -4,6 +4,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <strings.h>
 
 #include "lua/l_api.h"
 
@@ -73,6 +74,13 @@ int limen__lua_scene_render(lua_State *L)
         if (lua_type(L, -1) != LUA_TSTRING)
             limen__lua_bad(L, -1, "render", "field 'out'", "a file name");
         out = lua_tostring(L, -1);   /* stays alive in the table */
+        size_t n = strlen(out);
+        int png = n > 4 && strcasecmp(out + n - 4, ".png") == 0;
+        int jpg = (n > 4 && strcasecmp(out + n - 4, ".jpg") == 0) ||
+                  (n > 5 && strcasecmp(out + n - 5, ".jpeg") == 0);
+        if (!png && !jpg)
+            limen__lua_bad(L, -1, "render", "field 'out'", "a file name ending in .png, .jpg "
+                                                           "or .jpeg");
     }
     lua_pop(L, 1);
     if (lua_getfield(L, 2, "size") != LUA_TNIL) {
@@ -156,8 +164,20 @@ int limen__lua_scene_render(lua_State *L)
     limen_status st = limen_renderer_create(&rd, &r);
     if (!st)
         st = limen_render_frame(r, ls->s, &ro, &stats);
-    if (!st && out)
-        st = limen_renderer_write_png(r, out);
+    unsigned char *rgb = NULL;
+    if (!st && out) {
+        int w, h;
+        limen_renderer_get_size(r, &w, &h);
+        if (!(rgb = malloc((size_t)w * (size_t)h * 3)))
+            st = LIMEN_ERR_NOMEM;
+        else if (!(st = limen_renderer_read_rgb(r, rgb)) && limen_write_image(out, w, h, rgb))
+            st = LIMEN_ERR_IO;
+        free(rgb);
+        if (st == LIMEN_ERR_IO) {
+            limen_renderer_destroy(r);
+            return luaL_error(L, "render: cannot write '%s'", out);
+        }
+    }
     if (st) {
         luaL_where(L, 1);
         lua_pushfstring(L, "render: %s",
