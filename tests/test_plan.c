@@ -166,6 +166,57 @@ static void test_surface_limits(void)
     limen_scene_destroy(s);
 }
 
+static int deepest(const limen_plan *p)
+{
+    int d = 0;
+    for (int i = 0; i < limen_plan_count(p); i++)
+        d = limen_plan_view(p, i)->depth > d ? limen_plan_view(p, i)->depth : d;
+    return d;
+}
+
+/* A cap only lowers a surface's own max_depth; an override replaces it, up or down. */
+static void test_depth_rules(void)
+{
+    limen_scene *s = corridor();
+    limen_node front, back;
+    CHECK_OK(limen_node_find(s, "front", &front));
+    CHECK_OK(limen_node_find(s, "back", &back));
+    CHECK_OK(limen_surface_set_max_depth(s, front, 4));
+    CHECK_OK(limen_surface_set_max_depth(s, back, 4));
+    limen_plan *p = plan(s, (limen_plan_desc){ 0 });
+    CHECK(deepest(p) == 4);
+    limen_plan_destroy(p);
+    p = plan(s, (limen_plan_desc){ .limits = { .depth_rule = LIMEN_DEPTH_RULE_CAP, .depth = 40 } });
+    CHECK_MSG(deepest(p) == 4, "a cap of 40 took the corridor to depth %d", deepest(p));
+    limen_plan_destroy(p);
+    p = plan(s, (limen_plan_desc){ .limits = { .depth_rule = LIMEN_DEPTH_RULE_CAP, .depth = 2 } });
+    CHECK(deepest(p) == 2);
+    limen_plan_destroy(p);
+    p = plan(s, (limen_plan_desc){ .limits = { .depth_rule = LIMEN_DEPTH_RULE_OVERRIDE,
+                                               .depth = 40 } });
+    CHECK_MSG(deepest(p) == 40, "an override of 40 reached depth %d", deepest(p));
+    limen_plan_destroy(p);
+    p = plan(s, (limen_plan_desc){ .limits = { .depth_rule = LIMEN_DEPTH_RULE_OVERRIDE,
+                                               .depth = 1 } });
+    CHECK(deepest(p) == 1);
+    limen_plan_destroy(p);
+    /* the depth is ignored under the default rule; bad rules and depths are refused */
+    p = plan(s, (limen_plan_desc){ .limits = { .depth = 1 } });
+    CHECK(deepest(p) == 4);
+    limen_plan_destroy(p);
+    CHECK_OK(limen_plan_create(&p));
+    CHECK(limen_plan_build(p, s, &(limen_plan_desc){ .limits = { .depth_rule = 3 } }) ==
+          LIMEN_ERR_ARG);
+    CHECK(strstr(limen_scene_error(s), "depth rule") != NULL);
+    CHECK(limen_plan_build(p, s, &(limen_plan_desc){
+              .limits = { .depth_rule = LIMEN_DEPTH_RULE_OVERRIDE, .depth = 256 } }) ==
+          LIMEN_ERR_ARG);
+    CHECK(limen_plan_build(p, s, &(limen_plan_desc){ .limits = { .adaptive = 2 } }) ==
+          LIMEN_ERR_ARG);
+    limen_plan_destroy(p);
+    limen_scene_destroy(s);
+}
+
 static void test_surface_culling(void)
 {
     limen_scene *s = scene_with_camera((float[3]){ 0, 1, 0 }, (float[3]){ 0, 1, -5 });
@@ -342,8 +393,47 @@ static void test_json(void)
     CHECK(strstr(buf, "\"parent\": null") != NULL);
     CHECK(strstr(buf, "\"clip_plane\": null") != NULL);
     CHECK(strstr(buf, "\"kind\": \"mirror\"") != NULL);
+    /* each view's surfaces, as limen_plan_view_surfaces lists them */
+    CHECK(strstr(buf, "\"surfaces\": [{\"node\": \"front\", \"state\": \"recurse\", "
+                      "\"child\": 1, \"rect\": [") != NULL);
+    CHECK(strstr(buf, "\"state\": \"fill\", \"child\": null") != NULL);
+    CHECK(strstr(buf, "\"clones\": []") != NULL);
     CHECK(strstr(buf, "nan") == NULL && strstr(buf, "inf") == NULL);
     CHECK(limen_plan_write_json(p, s, "/nonexistent/dir/plan.json") == LIMEN_ERR_IO);
+    limen_plan_destroy(p);
+    limen_scene_destroy(s);
+}
+
+/* A sphere through a portal is listed among the clones, with the portal it enters; an
+ * unnamed node is named by its label. */
+static void test_json_clones(void)
+{
+    limen_scene *s = scene_with_camera((float[3]){ 0, 0, 6 }, (float[3]){ 0, 0, 0 });
+    limen_node a = surface(s, LIMEN_NODE_PORTAL, "", (float[3]){ 0, 0, 0 },
+                           (float[3]){ 0, 0, 1 }, 2, 2);
+    limen_node b = surface(s, LIMEN_NODE_PORTAL, "exit", (float[3]){ 10, 0, 0 },
+                           (float[3]){ 0, 0, 1 }, 2, 2);
+    CHECK_OK(limen_node_set_label(s, a, "door.lua:3"));
+    CHECK_OK(limen_portal_link(s, a, b));
+    limen_node ball;
+    CHECK_OK(limen_node_create(s, LIMEN_NODE_SPHERE, "ball", &ball));
+    limen_plan *p = plan(s, (limen_plan_desc){ 0 });
+    const limen_clone *c;
+    CHECK(limen_plan_clones(p, &c) == 1);
+    char path[] = "/tmp/limen-plan-XXXXXX";
+    int fd = mkstemp(path);
+    CHECK(fd >= 0);
+    CHECK_OK(limen_plan_write_json(p, s, path));
+    FILE *f = fopen(path, "r");
+    char buf[16384] = "";
+    size_t n = f ? fread(buf, 1, sizeof buf - 1, f) : 0;
+    buf[n] = 0;
+    if (f)
+        fclose(f);
+    remove(path);
+    CHECK_MSG(strstr(buf, "\"clones\": [\n  {\"node\": \"ball\", \"portal\": \"door.lua:3\", "
+                          "\"matrix\": [") != NULL, "%s", buf);
+    CHECK(strstr(buf, "\"copy_keep\": [") != NULL);
     limen_plan_destroy(p);
     limen_scene_destroy(s);
 }
@@ -404,6 +494,8 @@ static const check_case cases[] = {
     { "corridor_one_view_per_level", test_corridor_one_view_per_level },
     { "corridor_eye_positions", test_corridor_eye_positions },
     { "surface_limits", test_surface_limits },
+    { "depth_rules", test_depth_rules },
+    { "json_clones", test_json_clones },
     { "surface_culling", test_surface_culling },
     { "portal_view", test_portal_view },
     { "portal_pairing_rules", test_portal_pairing_rules },

@@ -275,6 +275,14 @@ static void drift_case(int bounces)
     double tol = 1e-4 * 6.0;
     limen_node last = bounces % 2 ? north : south;
     CHECK(h.hit == 1 && h.node.id == last.id);
+    /* an override takes the ray one surface further than the surfaces' own limit */
+    limen_hit h2;
+    CHECK_OK(limen_ray_cast(s, (float[3]){ (float)o[0], (float)o[1], (float)o[2] },
+                            (float[3]){ (float)d[0], (float)d[1], (float)d[2] },
+                            &(limen_limits){ .depth_rule = LIMEN_DEPTH_RULE_OVERRIDE,
+                                             .depth = bounces + 1 },
+                            &h2));
+    CHECK(h2.surface_count == bounces + 1 && h2.node.id == (bounces % 2 ? south : north).id);
     CHECK(h.surface_count == bounces);
     CHECK_VEC(h.point, o[0] + d[0] * zu, o[1] + d[1] * zu, bounces % 2 ? -3 : 3, tol);
     CHECK_NEAR(h.distance, zu * dl, tol);
@@ -379,16 +387,31 @@ static void test_bounce_limit(void)
     unsigned char img[W * H * 3];
     const unsigned char *px = img + ((H / 2) * W + W / 2) * 3;
     CHECK_OK(limen_trace_image(
-        s, &(limen_trace_desc){ .width = W, .height = H, .limits = { .depth_rule = LIMEN_DEPTH_RULE_CAP, .depth = 0 } }, img));
+        s, &(limen_trace_desc){ .width = W, .height = H,
+                                .limits = { .depth_rule = LIMEN_DEPTH_RULE_CAP, .depth = 0 } },
+        img));
     CHECK(px[0] == 51 && px[1] == 102 && px[2] == 204);
     /* one level allowed: the mirror shows the camera's side of the world (background) */
     CHECK_OK(limen_trace_image(
-        s, &(limen_trace_desc){ .width = W, .height = H, .limits = { .depth_rule = LIMEN_DEPTH_RULE_CAP, .depth = 1 } }, img));
+        s, &(limen_trace_desc){ .width = W, .height = H,
+                                .limits = { .depth_rule = LIMEN_DEPTH_RULE_CAP, .depth = 1 } },
+        img));
     CHECK(px[0] == byte(0.05) && px[1] == byte(0.1) && px[2] == byte(0.15));
     /* the surface's own limit does the same */
     limen_surface_set_max_depth(s, mirror, 0);
     CHECK_OK(limen_trace_image(s, &(limen_trace_desc){ .width = W, .height = H }, img));
     CHECK(px[0] == 51 && px[1] == 102 && px[2] == 204);
+    /* a cap does not raise it; an override does */
+    CHECK_OK(limen_trace_image(
+        s, &(limen_trace_desc){ .width = W, .height = H,
+                                .limits = { .depth_rule = LIMEN_DEPTH_RULE_CAP, .depth = 1 } },
+        img));
+    CHECK(px[0] == 51 && px[1] == 102 && px[2] == 204);
+    CHECK_OK(limen_trace_image(
+        s, &(limen_trace_desc){ .width = W, .height = H,
+                                .limits = { .depth_rule = LIMEN_DEPTH_RULE_OVERRIDE, .depth = 1 } },
+        img));
+    CHECK(px[0] == byte(0.05) && px[1] == byte(0.1) && px[2] == byte(0.15));
     limen_scene_destroy(s);
 
     /* nested: the second mirror's fill, times the first mirror's tint */
@@ -432,8 +455,10 @@ static void test_errors(void)
     limen_scene_set_camera(s, cam);
     CHECK(limen_trace_image(s, &(limen_trace_desc){ .width = -4, .height = 4 }, img) ==
           LIMEN_ERR_ARG);
-    CHECK(limen_trace_image(s, &(limen_trace_desc){ .width = 4, .height = 4, .limits = { .depth_rule = LIMEN_DEPTH_RULE_CAP,
-                                                               .depth = 300 } }, img) == LIMEN_ERR_ARG);
+    CHECK(limen_trace_image(s, &(limen_trace_desc){ .width = 4, .height = 4,
+                                                    .limits = { .depth_rule = LIMEN_DEPTH_RULE_CAP,
+                                                                .depth = 300 } },
+                            img) == LIMEN_ERR_ARG);
     CHECK(limen_trace_image(s, &(limen_trace_desc){ .width = 4, .height = 4, .threads = -1 },
                             img) == LIMEN_ERR_ARG);
     CHECK(limen_trace_image(s, NULL, NULL) == LIMEN_ERR_ARG);
