@@ -175,7 +175,8 @@ static limen_renderer *make_renderer(size2 sz, int msaa)
 
 static double trace_once(bscene *b, size2 sz, unsigned char *rgb)
 {
-    limen_trace_desc td = { .width = sz.w, .height = sz.h, .limits = { .depth_rule = LIMEN_DEPTH_RULE_CAP,
+    limen_trace_desc td = { .width = sz.w, .height = sz.h,
+                            .limits = { .depth_rule = LIMEN_DEPTH_RULE_CAP,
                                         .depth = TRUTH_DEPTH } };
     double t0 = now_ms();
     if (limen_trace_image(b->scene, &td, rgb))

@@ -425,7 +425,8 @@ typedef enum limen_method {
     LIMEN_METHOD_TEXTURE,       /* each view into an offscreen target sampled by its parent */
     LIMEN_METHOD_NAIVE          /* the baseline of common engines, for comparison: one
                                  * full-resolution offscreen render per surface per level, no
-                                 * culling of surfaces outside the narrowed frustum, no scissor */
+                                 * culling of surfaces outside the narrowed frustum, no scissor
+                                 * (its plan is LIMEN_CULL_FRUSTUM's) */
 } limen_method;
 
 typedef enum limen_fill {

@@ -92,7 +92,8 @@ static void test_mirror_room_hides_what_is_behind(void)
     float fill[3];
     CHECK_OK(limen_surface_get(s, mirror, NULL, NULL, fill, NULL));
     CHECK_OK(limen_surface_set_fill(s, mirror, (float[3]){ 1, 0, 1 }));
-    unsigned char *mask = r ? frame(r, s, (limen_render_opts){ .limits = { .depth_rule = LIMEN_DEPTH_RULE_CAP } }) : NULL;
+    limen_render_opts no_recursion = { .limits = { .depth_rule = LIMEN_DEPTH_RULE_CAP } };
+    unsigned char *mask = r ? frame(r, s, no_recursion) : NULL;
     CHECK_OK(limen_surface_set_fill(s, mirror, fill));
     for (int c = 0; c < 3 && mask; c++) {
         limen_render_opts o = { .limits.clip = c };
@@ -160,7 +161,8 @@ static void test_corridor_depth_16(void)
     if (!sc)
         return;
     limen_plan *p = plan_scene(limen_script_scene(sc),
-                               (limen_plan_desc){ .limits = { .depth_rule = LIMEN_DEPTH_RULE_CAP, .depth = 16 } });
+                               (limen_plan_desc){ .limits = { .depth_rule = LIMEN_DEPTH_RULE_CAP,
+                                                              .depth = 16 } });
     int per_level[17] = { 0 };
     for (int i = 0; i < limen_plan_count(p); i++) {
         const limen_view *v = limen_plan_view(p, i);
@@ -181,7 +183,9 @@ static void test_kaleidoscope_budget(void)
     if (!sc)
         return;
     limen_scene *s = limen_script_scene(sc);
-    limen_plan *p = plan_scene(s, (limen_plan_desc){ .limits = { .depth_rule = LIMEN_DEPTH_RULE_CAP, .depth = 8 } });
+    limen_plan *p = plan_scene(s,
+                               (limen_plan_desc){ .limits = { .depth_rule = LIMEN_DEPTH_RULE_CAP,
+                                                              .depth = 8 } });
     /* the documented default budget is 1024 views */
     CHECK(limen_plan_count(p) <= 1024);
     int deepest = 0;
@@ -192,7 +196,8 @@ static void test_kaleidoscope_budget(void)
            H, limen_plan_count(p), deepest, limen_plan_truncated(p));
     limen_plan_destroy(p);
     /* a small budget holds, and is spent on the shallow levels first */
-    p = plan_scene(s, (limen_plan_desc){ .limits = { .depth_rule = LIMEN_DEPTH_RULE_CAP, .depth = 8, .max_views = 10 } });
+    p = plan_scene(s, (limen_plan_desc){ .limits = { .depth_rule = LIMEN_DEPTH_RULE_CAP,
+                                                     .depth = 8, .max_views = 10 } });
     CHECK(limen_plan_count(p) == 10);
     int shallow = 0;
     for (int i = 0; i < limen_plan_count(p); i++)
@@ -426,9 +431,11 @@ static void test_fill_previous(void)
         return;
     limen_scene *s = limen_script_scene(sc);
     limen_renderer *r = renderer(W, H);
-    unsigned char *deep = frame(r, s, (limen_render_opts){ .limits = { .depth_rule = LIMEN_DEPTH_RULE_CAP, .depth = 16 } });
+    limen_render_opts depth16 = { .limits = { .depth_rule = LIMEN_DEPTH_RULE_CAP, .depth = 16 } };
+    unsigned char *deep = frame(r, s, depth16);
     for (int m = 0; m < 2 && deep; m++) {
-        limen_render_opts o = { .method = m, .limits = { .depth_rule = LIMEN_DEPTH_RULE_CAP, .depth = 3 } };
+        limen_render_opts o = { .method = m, .limits = { .depth_rule = LIMEN_DEPTH_RULE_CAP,
+                                                         .depth = 3 } };
         unsigned char *plain = frame(r, s, o);
         o.fill = LIMEN_FILL_PREVIOUS;
         unsigned char *prev = NULL;

@@ -2,6 +2,7 @@
  * camera would get wrong. */
 #include <stdbool.h>
 #include <stdlib.h>
+#include <unistd.h>
 
 #include "check.h"
 #include "limen.h"
@@ -79,7 +80,8 @@ static limen_scene *corridor(void)
 static void test_corridor_one_view_per_level(void)
 {
     limen_scene *s = corridor();
-    limen_plan *p = plan(s, (limen_plan_desc){ .limits = { .depth_rule = LIMEN_DEPTH_RULE_CAP, .depth = 16 } });
+    limen_plan *p = plan(s, (limen_plan_desc){ .limits = { .depth_rule = LIMEN_DEPTH_RULE_CAP,
+                                                           .depth = 16 } });
     CHECK(limen_plan_count(p) == 17);
     int per_level[17] = { 0 };
     for (int i = 0; i < limen_plan_count(p); i++) {
@@ -125,7 +127,8 @@ static void test_corridor_eye_positions(void)
     /* the eye at depth k sits where unfolding the corridor puts it: mirrors at z = -3 and
      * z = 3 reflect z alternately: z_k = -6 - z_{k-1} (front), 6 - z (back) */
     limen_scene *s = corridor();
-    limen_plan *p = plan(s, (limen_plan_desc){ .limits = { .depth_rule = LIMEN_DEPTH_RULE_CAP, .depth = 32 } });
+    limen_plan *p = plan(s, (limen_plan_desc){ .limits = { .depth_rule = LIMEN_DEPTH_RULE_CAP,
+                                                           .depth = 32 } });
     CHECK(limen_plan_count(p) == 33);
     double z = 1;
     for (int d = 1; d <= 32; d++) {
@@ -329,7 +332,8 @@ static void test_budget_kaleidoscope(void)
 {
     /* branching views, held by the budget, shallow levels first */
     limen_scene *s = kaleidoscope();
-    limen_plan *p = plan(s, (limen_plan_desc){ .limits = { .depth_rule = LIMEN_DEPTH_RULE_CAP, .depth = 8, .max_views = 40 } });
+    limen_plan *p = plan(s, (limen_plan_desc){ .limits = { .depth_rule = LIMEN_DEPTH_RULE_CAP,
+                                                           .depth = 8, .max_views = 40 } });
     CHECK(limen_plan_count(p) == 40);
     CHECK(limen_plan_truncated(p) > 0);
     /* breadth first: no view deeper than a level that is still incomplete... at least all
@@ -352,7 +356,8 @@ static void test_oblique_fallback(void)
     /* the eye 0.01 in front of a mirror, closer than the near plane (0.05): plane clip */
     limen_scene *s = scene_with_camera((float[3]){ 0, 1, 0.01f }, (float[3]){ 1, 1, -0.2f });
     surface(s, LIMEN_NODE_MIRROR, "m", (float[3]){ 0, 1, 0 }, (float[3]){ 0, 0, 1 }, 4, 4);
-    limen_plan *p = plan(s, (limen_plan_desc){ .limits = { .depth_rule = LIMEN_DEPTH_RULE_CAP, .depth = 1 } });
+    limen_plan *p = plan(s, (limen_plan_desc){ .limits = { .depth_rule = LIMEN_DEPTH_RULE_CAP,
+                                                           .depth = 1 } });
     CHECK(limen_plan_count(p) == 2);
     if (limen_plan_count(p) == 2) {
         CHECK(limen_plan_view(p, 1)->clip == LIMEN_CLIP_PLANE);
@@ -366,27 +371,37 @@ static void test_oblique_fallback(void)
     p = plan(s, (limen_plan_desc){ .limits = { .depth_rule = LIMEN_DEPTH_RULE_CAP, .depth = 1 } });
     CHECK(limen_plan_count(p) == 2 && limen_plan_view(p, 1)->clip == LIMEN_CLIP_OBLIQUE);
     limen_plan_destroy(p);
-    p = plan(s, (limen_plan_desc){ .limits = { .clip = LIMEN_CLIP_NONE, .depth_rule = LIMEN_DEPTH_RULE_CAP, .depth = 1 } });
+    p = plan(s, (limen_plan_desc){ .limits = { .clip = LIMEN_CLIP_NONE,
+                                               .depth_rule = LIMEN_DEPTH_RULE_CAP, .depth = 1 } });
     CHECK(limen_plan_count(p) == 2 && limen_plan_view(p, 1)->clip == LIMEN_CLIP_NONE);
     limen_plan_destroy(p);
     limen_scene_destroy(s);
 }
 
-static void test_json(void)
+/* The plan's JSON, through a temporary file, into buf (cut at size - 1 bytes). */
+static void plan_json(const limen_plan *p, const limen_scene *s, char *buf, size_t size)
 {
-    limen_scene *s = corridor();
-    limen_plan *p = plan(s, (limen_plan_desc){ .limits = { .depth_rule = LIMEN_DEPTH_RULE_CAP, .depth = 2 } });
     char path[] = "/tmp/limen-plan-XXXXXX";
     int fd = mkstemp(path);
     CHECK(fd >= 0);
+    if (fd >= 0)
+        close(fd);
     CHECK_OK(limen_plan_write_json(p, s, path));
     FILE *f = fopen(path, "r");
-    char buf[16384] = "";
-    size_t n = f ? fread(buf, 1, sizeof buf - 1, f) : 0;
+    size_t n = f ? fread(buf, 1, size - 1, f) : 0;
     buf[n] = 0;
     if (f)
         fclose(f);
     remove(path);
+}
+
+static void test_json(void)
+{
+    limen_scene *s = corridor();
+    limen_plan *p = plan(s, (limen_plan_desc){ .limits = { .depth_rule = LIMEN_DEPTH_RULE_CAP,
+                                                           .depth = 2 } });
+    char buf[16384];
+    plan_json(p, s, buf, sizeof buf);
     CHECK(strstr(buf, "\"views\": [") != NULL);
     CHECK(strstr(buf, "\"through\": \"front\"") != NULL);
     CHECK(strstr(buf, "\"front_face\": \"cw\"") != NULL);
@@ -420,17 +435,8 @@ static void test_json_clones(void)
     limen_plan *p = plan(s, (limen_plan_desc){ 0 });
     const limen_clone *c;
     CHECK(limen_plan_clones(p, &c) == 1);
-    char path[] = "/tmp/limen-plan-XXXXXX";
-    int fd = mkstemp(path);
-    CHECK(fd >= 0);
-    CHECK_OK(limen_plan_write_json(p, s, path));
-    FILE *f = fopen(path, "r");
-    char buf[16384] = "";
-    size_t n = f ? fread(buf, 1, sizeof buf - 1, f) : 0;
-    buf[n] = 0;
-    if (f)
-        fclose(f);
-    remove(path);
+    char buf[16384];
+    plan_json(p, s, buf, sizeof buf);
     CHECK_MSG(strstr(buf, "\"clones\": [\n  {\"node\": \"ball\", \"portal\": \"door.lua:3\", "
                           "\"matrix\": [") != NULL, "%s", buf);
     CHECK(strstr(buf, "\"copy_keep\": [") != NULL);

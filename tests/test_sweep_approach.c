@@ -204,7 +204,8 @@ static void test_approach(void)
                               angles[ai], d[k]);
                 }
                 /* clip plane and no clipping */
-                if (!sweep_render(r, s, (limen_render_opts){ .limits.clip = LIMEN_CLIP_PLANE }, rgb))
+                if (!sweep_render(r, s, (limen_render_opts){ .limits.clip = LIMEN_CLIP_PLANE },
+                                  rgb))
                     e_plane = sweep_diff(rgb, truth, w, h, NULL);
                 if (!sweep_render(r, s, (limen_render_opts){ .limits.clip = LIMEN_CLIP_NONE }, rgb))
                     e_none = sweep_diff(rgb, truth, w, h, heat);

@@ -374,6 +374,15 @@ static void test_checker(void)
     limen_scene_destroy(s);
 }
 
+/* Traces s at w x h under a depth rule. */
+static void trace_limited(limen_scene *s, limen_depth_rule rule, int depth, int w, int h,
+                          unsigned char *img)
+{
+    limen_trace_desc d = { .width = w, .height = h,
+                           .limits = { .depth_rule = rule, .depth = depth } };
+    CHECK_OK(limen_trace_image(s, &d, img));
+}
+
 static void test_bounce_limit(void)
 {
     limen_node mirror;
@@ -386,31 +395,19 @@ static void test_bounce_limit(void)
     enum { W = 33, H = 25 };
     unsigned char img[W * H * 3];
     const unsigned char *px = img + ((H / 2) * W + W / 2) * 3;
-    CHECK_OK(limen_trace_image(
-        s, &(limen_trace_desc){ .width = W, .height = H,
-                                .limits = { .depth_rule = LIMEN_DEPTH_RULE_CAP, .depth = 0 } },
-        img));
+    trace_limited(s, LIMEN_DEPTH_RULE_CAP, 0, W, H, img);
     CHECK(px[0] == 51 && px[1] == 102 && px[2] == 204);
     /* one level allowed: the mirror shows the camera's side of the world (background) */
-    CHECK_OK(limen_trace_image(
-        s, &(limen_trace_desc){ .width = W, .height = H,
-                                .limits = { .depth_rule = LIMEN_DEPTH_RULE_CAP, .depth = 1 } },
-        img));
+    trace_limited(s, LIMEN_DEPTH_RULE_CAP, 1, W, H, img);
     CHECK(px[0] == byte(0.05) && px[1] == byte(0.1) && px[2] == byte(0.15));
     /* the surface's own limit does the same */
     limen_surface_set_max_depth(s, mirror, 0);
     CHECK_OK(limen_trace_image(s, &(limen_trace_desc){ .width = W, .height = H }, img));
     CHECK(px[0] == 51 && px[1] == 102 && px[2] == 204);
     /* a cap does not raise it; an override does */
-    CHECK_OK(limen_trace_image(
-        s, &(limen_trace_desc){ .width = W, .height = H,
-                                .limits = { .depth_rule = LIMEN_DEPTH_RULE_CAP, .depth = 1 } },
-        img));
+    trace_limited(s, LIMEN_DEPTH_RULE_CAP, 1, W, H, img);
     CHECK(px[0] == 51 && px[1] == 102 && px[2] == 204);
-    CHECK_OK(limen_trace_image(
-        s, &(limen_trace_desc){ .width = W, .height = H,
-                                .limits = { .depth_rule = LIMEN_DEPTH_RULE_OVERRIDE, .depth = 1 } },
-        img));
+    trace_limited(s, LIMEN_DEPTH_RULE_OVERRIDE, 1, W, H, img);
     CHECK(px[0] == byte(0.05) && px[1] == byte(0.1) && px[2] == byte(0.15));
     limen_scene_destroy(s);
 

@@ -132,7 +132,8 @@ static void test_metric_has_teeth(void)
     limen_script *sc = load("mirror_room");
     if (sc && r) {
         unsigned char *truth = trace(limen_script_scene(sc), w, h, -1, &ms);
-        double d = bad_share(r, limen_script_scene(sc), (limen_render_opts){ .limits.clip = LIMEN_CLIP_NONE },
+        double d = bad_share(r, limen_script_scene(sc),
+                             (limen_render_opts){ .limits.clip = LIMEN_CLIP_NONE },
                              truth, w, h, NULL);
         printf("     mirror_room with --clip none: %.2f%% of pixels off\n", 100 * d);
         CHECK_MSG(d > 10 * BOUND, "clip none is off by only %.3f%%", 100 * d);

@@ -45,6 +45,10 @@ typedef struct limen_cli_run {
 } limen_cli_run;
 
 extern const limen_cli_option limen_cli_run_options[];
+/* The usage of a command that runs a scene: its synopsis, limen_cli_run_options, then its
+ * own options under heading. */
+void limen_cli_run_usage(FILE *f, const char *synopsis, const char *heading,
+                         const limen_cli_option *own);
 
 /* Sets the defaults (1 frame, 30 fps). */
 void limen_cli_run_init(limen_cli_run *o);

@@ -54,6 +54,13 @@ const limen_cli_option limen_cli_run_options[] = {
     { NULL, NULL }
 };
 
+void limen_cli_run_usage(FILE *f, const char *synopsis, const char *heading,
+                         const limen_cli_option *own)
+{
+    limen_cli_usage(f, synopsis, (const char *const[]){ "options", heading, NULL },
+                    (const limen_cli_option *const[]){ limen_cli_run_options, own, NULL });
+}
+
 void limen_cli_run_init(limen_cli_run *o)
 {
     memset(o, 0, sizeof *o);

@@ -52,9 +52,7 @@ static const limen_cli_option diff_options[] = {
 
 static void render_usage(FILE *f)
 {
-    limen_cli_usage(f, render_synopsis, (const char *const[]){ "options", "render options", NULL },
-                    (const limen_cli_option *const[]){ limen_cli_run_options, render_options,
-                                                       NULL });
+    limen_cli_run_usage(f, render_synopsis, "render options", render_options);
 }
 
 static void diff_usage(FILE *f)
@@ -118,54 +116,69 @@ int limen_cli_parse_size(const char *s, int *w, int *h)
     return 0;
 }
 
-/* Looks v up in a NULL-ended list of names; returns its index, or -1. */
-static int choice(const char *v, const char *const *names)
+/* Options whose value is one of a few names, in the order of their enum's values. */
+enum { C_BACKEND, C_DEPTH_MODE, C_METHOD, C_FILL, C_CLIP, C_COUNT };
+static const struct {
+    const char *option;
+    const char *const names[4];
+} choices[C_COUNT] = {
+    [C_BACKEND] = { "--backend", { "osmesa", "egl" } },
+    [C_DEPTH_MODE] = { "--depth-mode", { "no", "zo", "zo-reversed" } },
+    [C_METHOD] = { "--method", { "stencil", "texture", "naive" } },
+    [C_FILL] = { "--fill", { "color", "previous" } },
+    [C_CLIP] = { "--clip", { "oblique", "plane", "none" } },
+};
+
+/* Sets the choice option c to value v; 2 after a usage error ("expected a, b or c"). */
+static int set_choice(int c, const char *v, options *o)
 {
-    for (int i = 0; names[i]; i++)
-        if (!strcmp(v, names[i]))
-            return i;
-    return -1;
+    const char *const *names = choices[c].names;
+    int k = 0;
+    while (k < 4 && names[k] && strcmp(v, names[k]))
+        k++;
+    if (k == 4 || !names[k]) {
+        char list[96] = "";
+        for (int i = 0; i < 4 && names[i]; i++)
+            snprintf(list + strlen(list), sizeof list - strlen(list), "%s%s",
+                     i == 0 ? "" : i + 1 < 4 && names[i + 1] ? ", " : " or ", names[i]);
+        return limen_cli_fail(2, "%s: expected %s, got '%s'", choices[c].option, list, v);
+    }
+    switch (c) {
+    case C_BACKEND: o->rd.backend = (limen_backend)k; break;
+    case C_DEPTH_MODE: o->rd.depth_range = (limen_depth_range)k; break;
+    case C_METHOD: o->ro.method = (limen_method)k; break;
+    case C_FILL: o->ro.fill = (limen_fill)k; break;
+    default: o->ro.limits.clip = (limen_clip_method)k; break;
+    }
+    return 1;
 }
 
 /* Parses one render-only option a with value v (NULL if none follows); returns 1 if it
- * took v, 0 if it took none, 2 after a usage error. */
+ * took v, 2 after a usage error. */
 static int render_option(const char *a, const char *v, options *o)
 {
-    static const char *const backends[] = { "osmesa", "egl", NULL };
-    static const char *const modes[] = { "no", "zo", "zo-reversed", NULL };
-    static const char *const methods[] = { "stencil", "texture", "naive", NULL };
-    static const char *const fills[] = { "color", "previous", NULL };
-    static const char *const clips[] = { "oblique", "plane", "none", NULL };
-    if (!strcmp(a, "--plan") || !strcmp(a, "--backend") || !strcmp(a, "--msaa") ||
-        !strcmp(a, "--depth-mode") || !strcmp(a, "--method") || !strcmp(a, "--adaptive") ||
-        !strcmp(a, "--depth-bits") || !strcmp(a, "--fill") || !strcmp(a, "--texture-scale") ||
-        !strcmp(a, "--clip") || !strcmp(a, "--max-views")) {
-        if (!v)
-            return limen_cli_fail(2, "option %s needs a value", a);
-    } else {
+    static const char *const numeric[] = { "--plan", "--msaa", "--adaptive", "--depth-bits",
+                                           "--texture-scale", "--max-views", NULL };
+    int known = 0;
+    for (int i = 0; numeric[i]; i++)
+        known |= !strcmp(a, numeric[i]);
+    for (int c = 0; c < C_COUNT; c++)
+        known |= !strcmp(a, choices[c].option);
+    if (!known)
         return limen_cli_fail(2, "unknown option '%s'", a);
-    }
+    if (!v)
+        return limen_cli_fail(2, "option %s needs a value", a);
+    for (int c = 0; c < C_COUNT; c++)
+        if (!strcmp(a, choices[c].option))
+            return set_choice(c, v, o);
     long n;
     double x;
-    int k;
     if (!strcmp(a, "--plan")) {
         o->plan = v;
-    } else if (!strcmp(a, "--backend")) {
-        if ((k = choice(v, backends)) < 0)
-            return limen_cli_fail(2, "--backend: expected osmesa or egl, got '%s'", v);
-        o->rd.backend = (limen_backend)k;
     } else if (!strcmp(a, "--msaa")) {
         if (limen_cli_parse_long(v, 0, 64, &n))
             return limen_cli_fail(2, "--msaa: expected 0 to 64, got '%s'", v);
         o->rd.msaa = (int)n;
-    } else if (!strcmp(a, "--depth-mode")) {
-        if ((k = choice(v, modes)) < 0)
-            return limen_cli_fail(2, "--depth-mode: expected no, zo or zo-reversed, got '%s'", v);
-        o->rd.depth_range = (limen_depth_range)k;
-    } else if (!strcmp(a, "--method")) {
-        if ((k = choice(v, methods)) < 0)
-            return limen_cli_fail(2, "--method: expected stencil, texture or naive, got '%s'", v);
-        o->ro.method = (limen_method)k;
     } else if (!strcmp(a, "--adaptive")) {
         if (limen_cli_parse_double(v, &x) || !(x >= 0 && x <= 255))
             return limen_cli_fail(2, "--adaptive: expected a threshold in 8-bit steps (0 to "
@@ -175,18 +188,10 @@ static int render_option(const char *a, const char *v, options *o)
         if (limen_cli_parse_long(v, 24, 32, &n) || (n != 24 && n != 32))
             return limen_cli_fail(2, "--depth-bits: expected 24 or 32, got '%s'", v);
         o->rd.depth_bits = (int)n;
-    } else if (!strcmp(a, "--fill")) {
-        if ((k = choice(v, fills)) < 0)
-            return limen_cli_fail(2, "--fill: expected color or previous, got '%s'", v);
-        o->ro.fill = (limen_fill)k;
     } else if (!strcmp(a, "--texture-scale")) {
         if (limen_cli_parse_double(v, &x) || !(x > 0 && x <= 1))
             return limen_cli_fail(2, "--texture-scale: expected 0 < S <= 1, got '%s'", v);
         o->ro.texture_scale = (float)x;
-    } else if (!strcmp(a, "--clip")) {
-        if ((k = choice(v, clips)) < 0)
-            return limen_cli_fail(2, "--clip: expected oblique, plane or none, got '%s'", v);
-        o->ro.limits.clip = (limen_clip_method)k;
     } else if (!strcmp(a, "--max-views")) {
         if (limen_cli_parse_long(v, 1, 1000000, &n))
             return limen_cli_fail(2, "--max-views: expected 1 to 1000000, got '%s'", v);

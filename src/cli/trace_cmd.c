@@ -17,9 +17,7 @@ static const limen_cli_option trace_options[] = {
 
 static void usage(FILE *f)
 {
-    limen_cli_usage(f, synopsis, (const char *const[]){ "options", "trace options", NULL },
-                    (const limen_cli_option *const[]){ limen_cli_run_options, trace_options,
-                                                       NULL });
+    limen_cli_run_usage(f, synopsis, "trace options", trace_options);
 }
 
 static double now_ms(void)

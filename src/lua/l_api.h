@@ -1,6 +1,14 @@
 /* l_api.h - what the files of the Lua bindings (l_fields.c, l_node.c, l_scene.c,
  * l_render.c) share: the userdata types, the field table, and the functions one file
- * offers the others. Not part of the public API. */
+ * offers the others. Not part of the public API. The module as a script sees it is in
+ * docs/lua.md (tests/sh/docs.sh checks that every name registered here is there).
+ *
+ * Every constructor and every assignment checks all of its fields before it changes
+ * anything, and its errors name the constructor and the field:
+ *
+ *     scenes/x.lua:7: sphere: field 'radius' must be a positive number (got -1)
+ *
+ * Angles are degrees here and radians in the C API. */
 #ifndef LIMEN_L_API_H
 #define LIMEN_L_API_H
 
@@ -96,6 +104,17 @@ int limen__lua_field_index(const char *key);
 /* Raises "ctx: unknown field 'key' (did you mean 'x'?)" among the allowed names. */
 int limen__lua_unknown_field(lua_State *L, const char *ctx, const char *what, const char *key,
                              const char *const *names, int count);
+
+/* The key at idx as a string; for any other key raises "ctx: what <the key>". */
+const char *limen__lua_check_key(lua_State *L, int idx, const char *ctx, const char *what);
+
+/* The argument at idx must be a table or absent (an empty one is put there); the stack is
+ * cut to idx. */
+void limen__lua_table_arg(lua_State *L, int idx);
+
+/* Raises for a key of the table at t that is not a string among names[0..count). */
+void limen__lua_check_keys(lua_State *L, int t, const char *ctx, const char *const *names,
+                           int count);
 
 int limen__lua_unknown_node_field(lua_State *L, const char *ctx, const char *what, const char *key,
                                   unsigned allowed);

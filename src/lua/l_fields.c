@@ -96,6 +96,50 @@ int limen__lua_unknown_field(lua_State *L, const char *ctx, const char *what, co
     return luaL_error(L, "%s: %s '%s'", ctx, what, key);
 }
 
+/* The key at idx as a string; for any other key raises "ctx: what <the key>". */
+const char *limen__lua_check_key(lua_State *L, int idx, const char *ctx, const char *what)
+{
+    if (lua_type(L, idx) != LUA_TSTRING) {
+        const char *g = limen__lua_got(L, idx);
+        luaL_error(L, "%s: %s %s", ctx, what, g);
+    }
+    return lua_tostring(L, idx);
+}
+
+/* The argument at idx must be a table or absent (an empty one is put there); the stack is
+ * cut to idx. */
+void limen__lua_table_arg(lua_State *L, int idx)
+{
+    if (lua_isnoneornil(L, idx)) {
+        lua_settop(L, idx - 1);
+        lua_newtable(L);
+    } else {
+        luaL_checktype(L, idx, LUA_TTABLE);
+    }
+    lua_settop(L, idx);
+}
+
+/* Raises for a key of the table at t that is not a string among names[0..count). */
+void limen__lua_check_keys(lua_State *L, int t, const char *ctx, const char *const *names,
+                           int count)
+{
+    lua_pushnil(L);
+    while (lua_next(L, t)) {
+        lua_pop(L, 1);
+        int known = 0;
+        if (lua_type(L, -1) == LUA_TSTRING)
+            for (int i = 0; i < count; i++)
+                known |= strcmp(lua_tostring(L, -1), names[i]) == 0;
+        if (known)
+            continue;
+        if (lua_type(L, -1) != LUA_TSTRING) {
+            const char *g = limen__lua_got(L, -1);
+            luaL_error(L, "%s: fields must be named (got a key %s)", ctx, g);
+        }
+        limen__lua_unknown_field(L, ctx, "unknown field", lua_tostring(L, -1), names, count);
+    }
+}
+
 int limen__lua_unknown_node_field(lua_State *L, const char *ctx, const char *what, const char *key,
                                   unsigned allowed)
 {

@@ -149,11 +149,7 @@ int limen__lua_node_index(lua_State *L)
     lua_settop(L, 2);
     char ctx[CTX_LEN];
     limen__lua_node_ctx(nd, ctx, sizeof ctx);
-    if (lua_type(L, 2) != LUA_TSTRING) {
-        const char *g = limen__lua_got(L, 2);
-        return luaL_error(L, "%s: no field %s", ctx, g);
-    }
-    const char *key = lua_tostring(L, 2);
+    const char *key = limen__lua_check_key(L, 2, ctx, "no field");
     if (lua_getfield(L, lua_upvalueindex(1), key) != LUA_TNIL)
         return 1;   /* a method */
     lua_pop(L, 1);
@@ -237,11 +233,7 @@ static int l_node_newindex(lua_State *L)
     lua_settop(L, 3);
     char ctx[CTX_LEN];
     limen__lua_node_ctx(nd, ctx, sizeof ctx);
-    if (lua_type(L, 2) != LUA_TSTRING) {
-        const char *g = limen__lua_got(L, 2);
-        return luaL_error(L, "%s: cannot set field %s", ctx, g);
-    }
-    const char *key = lua_tostring(L, 2);
+    const char *key = limen__lua_check_key(L, 2, ctx, "cannot set field");
     limen_scene *s;
     check_node(L, 1, &s);   /* pushes the scene userdata at 4 */
     int f = limen__lua_field_index(key);

@@ -34,32 +34,13 @@ static int read_choice(lua_State *L, int idx, const char *what, const char *cons
 int limen__lua_scene_render(lua_State *L)
 {
     lscene *ls = limen__lua_check_scene(L, 1);
-    if (lua_isnoneornil(L, 2))
-        lua_newtable(L);
-    else
-        luaL_checktype(L, 2, LUA_TTABLE);
-    lua_settop(L, 2);
+    limen__lua_table_arg(L, 2);
     if (lua_getfield(L, LUA_REGISTRYINDEX, LIMEN__LUA_SAFE) == LUA_TBOOLEAN &&
         lua_toboolean(L, -1))
         return luaL_error(L, "render: not available to a scene script run in safe mode "
                              "(the program renders it; --trusted lifts this)");
     lua_pop(L, 1);
-    lua_pushnil(L);
-    while (lua_next(L, 2)) {
-        lua_pop(L, 1);
-        int known = 0;
-        if (lua_type(L, -1) == LUA_TSTRING)
-            for (int i = 0; i < RENDER_FIELD_COUNT; i++)
-                known |= strcmp(lua_tostring(L, -1), render_fields[i]) == 0;
-        if (!known) {
-            if (lua_type(L, -1) != LUA_TSTRING) {
-                const char *g = limen__lua_got(L, -1);
-                return luaL_error(L, "render: fields must be named (got a key %s)", g);
-            }
-            return limen__lua_unknown_field(L, "render", "unknown field", lua_tostring(L, -1),
-                                            render_fields, RENDER_FIELD_COUNT);
-        }
-    }
+    limen__lua_check_keys(L, 2, "render", render_fields, RENDER_FIELD_COUNT);
 
     limen_renderer_desc rd = { 0 };
     limen_render_opts ro = { 0 };

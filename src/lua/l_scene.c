@@ -64,11 +64,7 @@ int limen__lua_push_update(lua_State *L, int idx)
 static int make_node(lua_State *L, limen_node_kind kind)
 {
     lscene *ls = limen__lua_check_scene(L, 1);
-    if (lua_isnoneornil(L, 2))
-        lua_newtable(L);
-    else
-        luaL_checktype(L, 2, LUA_TTABLE);
-    lua_settop(L, 2);
+    limen__lua_table_arg(L, 2);
     spec sp;
     limen__lua_read_ctor(L, 2, 1, kind, limen__lua_kind_fields[kind], limen__lua_kind_names[kind],
                          ls->s, &sp);
@@ -147,11 +143,7 @@ static int l_scene_index(lua_State *L)
 {
     lscene *ls = limen__lua_check_scene(L, 1);
     lua_settop(L, 2);
-    if (lua_type(L, 2) != LUA_TSTRING) {
-        const char *g = limen__lua_got(L, 2);
-        return luaL_error(L, "scene: no field %s", g);
-    }
-    const char *key = lua_tostring(L, 2);
+    const char *key = limen__lua_check_key(L, 2, "scene", "no field");
     if (lua_getfield(L, lua_upvalueindex(1), key) != LUA_TNIL)
         return 1;
     lua_pop(L, 1);
@@ -185,11 +177,7 @@ static int l_scene_newindex(lua_State *L)
 {
     lscene *ls = limen__lua_check_scene(L, 1);
     lua_settop(L, 3);
-    if (lua_type(L, 2) != LUA_TSTRING) {
-        const char *g = limen__lua_got(L, 2);
-        return luaL_error(L, "scene: cannot set field %s", g);
-    }
-    const char *key = lua_tostring(L, 2);
+    const char *key = limen__lua_check_key(L, 2, "scene", "cannot set field");
     if (strcmp(key, "background") == 0) {
         float rgb[3];
         limen__lua_read_vec(L, 3, "scene", "field 'background'", 3, ELEM_UNIT, rgb);
@@ -324,27 +312,8 @@ static const char *const scene_ctor_fields[] = { "background", "ambient", "max_n
 /* limen.scene { background = {r, g, b}, ambient = a, max_nodes = n } */
 static int l_scene_new(lua_State *L)
 {
-    if (lua_isnoneornil(L, 1))
-        lua_newtable(L);
-    else
-        luaL_checktype(L, 1, LUA_TTABLE);
-    lua_settop(L, 1);
-    lua_pushnil(L);
-    while (lua_next(L, 1)) {
-        lua_pop(L, 1);
-        int known = 0;
-        if (lua_type(L, -1) == LUA_TSTRING)
-            for (int i = 0; i < 3; i++)
-                known |= strcmp(lua_tostring(L, -1), scene_ctor_fields[i]) == 0;
-        if (!known) {
-            if (lua_type(L, -1) != LUA_TSTRING) {
-                const char *g = limen__lua_got(L, -1);
-                return luaL_error(L, "scene: fields must be named (got a key %s)", g);
-            }
-            return limen__lua_unknown_field(L, "scene", "unknown field", lua_tostring(L, -1),
-                                            scene_ctor_fields, 3);
-        }
-    }
+    limen__lua_table_arg(L, 1);
+    limen__lua_check_keys(L, 1, "scene", scene_ctor_fields, 3);
     float bg[3] = { 0, 0, 0 }, ambient = 0.2f;
     limen_scene_desc desc = { 0 };
     if (lua_getfield(L, 1, "background") != LUA_TNIL)
