@@ -148,7 +148,7 @@ typedef struct limen_scene_desc {
 
 LIMEN_API limen_status limen_scene_create(const limen_scene_desc *desc, limen_scene **out);
 LIMEN_API void limen_scene_destroy(limen_scene *s);                    /* NULL is fine */
-LIMEN_API const char *limen_scene_error(const limen_scene *s);          /* "" when none */
+LIMEN_API const char *limen_scene_error(const limen_scene *s);         /* "" when none */
 LIMEN_API limen_status limen_scene_set_background(limen_scene *s, const float rgb[3]);
 LIMEN_API limen_status limen_scene_set_ambient(limen_scene *s, float ambient); /* [0, 1] */
 LIMEN_API void limen_scene_get_background(const limen_scene *s, float rgb[3]);

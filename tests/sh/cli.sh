@@ -154,6 +154,25 @@ C
 }
 t_ok "a C program built only with pkg-config --cflags --libs limen renders" pkgconfig_program
 
+deprecated_names() {   # the old names still build and work for one release, with a warning
+    cat > "$TMP/old.c" <<'C'
+#include <limen.h>
+#include <string.h>
+int main(void) {
+    limen_scene *s; limen_node n;
+    if (limen_scene_create(NULL, &s) || limen_node_create(s, LIMEN_NODE_SPHERE, "b", &n)) return 1;
+    int ok = strcmp(limen_node_name(s, n), "b") == 0 && limen_last_error(s)[0] == 0;
+    limen_scene_destroy(s);
+    return !ok;
+}
+C
+    flags=$(PKG_CONFIG_PATH="$B" pkg-config --cflags --libs limen)
+    # shellcheck disable=SC2086
+    cc -o "$TMP/old" "$TMP/old.c" $flags 2> "$TMP/old.err" && "$TMP/old" &&
+    grep -q "use limen_node_get_name" "$TMP/old.err" && grep -q "use limen_scene_error" "$TMP/old.err"
+}
+t_ok "the deprecated names build (warning which name replaces them) and work" deprecated_names
+
 install_prefix() {
     make --no-print-directory -s install PREFIX="$TMP/inst" B="$B" > /dev/null &&
     for f in include/limen.h lib/liblimen.a lib/liblimen.so lib/pkgconfig/limen.pc \
