@@ -56,9 +56,7 @@ limen_status limen_write_image(const char *path, int width, int height, const un
         return limen_write_png(path, width, height, rgb);
     if (!ends_with(path, ".jpg") && !ends_with(path, ".jpeg"))
         return LIMEN_ERR_ARG;
-    if (!stbi_write_jpg(path, width, height, 3, rgb, LIMEN__JPEG_QUALITY))
-        return LIMEN_ERR_IO;
-    return LIMEN_OK;
+    return limen__write_jpeg(path, width, height, rgb, LIMEN__JPEG_QUALITY);
 }
 
 limen_status limen_read_png(const char *path, int *width, int *height, unsigned char **rgb)

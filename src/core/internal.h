@@ -73,6 +73,10 @@ limen_status limen__limits_resolve(limen_scene *s, const char *who, const limen_
  * limits: a view of depth d through it exists only if d <= this. */
 int limen__limits_depth(const limen_limits *l, int surface_max);
 
+/* jpeg.c: writes 8-bit RGB as a JPEG of the given quality (1 to 100); IO if it cannot. */
+limen_status limen__write_jpeg(const char *path, int width, int height,
+                               const unsigned char *rgb, int quality);
+
 /* Live node for a handle, or NULL. */
 limen__node *limen__node_get(const limen_scene *s, limen_node n);
 /* Recomputes world matrices if something moved. */
