@@ -175,7 +175,7 @@ static void load_scene(bscene *b, const char *dir, const char *name)
         limen_node_kind k = limen_node_get_kind(b->scene, nodes[i]);
         if ((k == LIMEN_NODE_MIRROR || k == LIMEN_NODE_PORTAL) &&
             limen_surface_set_max_depth(b->scene, nodes[i], TRUTH_DEPTH))
-            die("%s: %s", name, limen_last_error(b->scene));
+            die("%s: %s", name, limen_scene_error(b->scene));
     }
 }
 
@@ -190,11 +190,12 @@ static limen_renderer *make_renderer(size2 sz, int msaa)
 
 static double trace_once(bscene *b, size2 sz, unsigned char *rgb)
 {
-    limen_trace_desc td = { .width = sz.w, .height = sz.h, .limit_depth = 1,
-                            .max_depth = TRUTH_DEPTH };
+    limen_trace_desc td = { .width = sz.w, .height = sz.h,
+                            .limits = { .depth_rule = LIMEN_DEPTH_RULE_CAP,
+                                        .depth = TRUTH_DEPTH } };
     double t0 = now_ms();
     if (limen_trace_image(b->scene, &td, rgb))
-        die("trace %s: %s", b->name, limen_last_error(b->scene));
+        die("trace %s: %s", b->name, limen_scene_error(b->scene));
     return now_ms() - t0;
 }
 
@@ -217,11 +218,11 @@ static limen_render_opts opts_for(int v, int clip, int depth)
     limen_render_opts o = { 0 };
     o.method = VARIANTS[v].method;
     o.texture_scale = VARIANTS[v].scale;
-    o.clip = (limen_clip_method)clip;
-    o.limit_depth = 1;
-    o.max_depth = depth;
+    o.limits.clip = (limen_clip_method)clip;
+    o.limits.depth_rule = LIMEN_DEPTH_RULE_CAP;
+    o.limits.depth = depth;
     /* the methods as they are, the naive one's full-image views included: no frame budget */
-    o.budget = (limen_frame_budget){ INT64_MAX, INT64_MAX };
+    o.limits.budget = (limen_frame_budget){ INT64_MAX, INT64_MAX };
     return o;
 }
 

@@ -21,6 +21,7 @@
 
 #include "core/internal.h"
 #include "core/lmath.h"
+#include "core/testing.h"
 
 enum { NPLANES = 4096, METHODS = 3, SETS = 5 };
 

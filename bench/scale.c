@@ -25,7 +25,7 @@ enum { PAIRS = 50, TRACE_W = 320, TRACE_H = 240 };
 
 static void fail(const char *what, limen_scene *s)
 {
-    fprintf(stderr, "scale: %s: %s\n", what, s ? limen_last_error(s) : "out of memory");
+    fprintf(stderr, "scale: %s: %s\n", what, s ? limen_scene_error(s) : "out of memory");
     exit(1);
 }
 

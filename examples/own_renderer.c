@@ -436,7 +436,7 @@ static void read_scene(game *g, limen_scene *s)
     int nlights = 0;
     const limen_drawable *d;
     if (limen_drawables_build(g->draw, s))
-        fprintf(stderr, "  drawables: %s\n", limen_last_error(s));
+        fprintf(stderr, "  drawables: %s\n", limen_scene_error(s));
     int n = limen_drawables_items(g->draw, &d);
     g->nitems = n < MAX_ITEMS ? n : MAX_ITEMS;
     for (int i = 0; i < g->nitems; i++) {
@@ -671,10 +671,10 @@ static int game_draw(game *g, limen_scene *s, const limen_plan *p, limen_depth_r
 static int game_frame(game *g, limen_scene *s, limen_depth_range range,
                       limen_clip_method clip, unsigned char *rgb)
 {
-    limen_plan_desc pd = { .width = g->w, .height = g->h, .range = range, .clip = clip };
+    limen_plan_desc pd = { .width = g->w, .height = g->h, .range = range, .limits.clip = clip };
     limen_status st = limen_plan_build(g->plan, s, &pd);
     if (st) {
-        fprintf(stderr, "  plan: %s\n", limen_last_error(s));
+        fprintf(stderr, "  plan: %s\n", limen_scene_error(s));
         return -1;
     }
     return game_draw(g, s, g->plan, range, rgb);

@@ -83,7 +83,7 @@ static int build(world *w)
     limen_node_look_at(s, w->cam, (float[3]){ -1.5f, 1.4f, 0.2f }, (float[3]){ -4, 1.3f, 0 },
                        (float[3]){ 0, 1, 0 });
     limen_scene_set_camera(s, w->cam);
-    return strcmp(limen_last_error(s), "") ? -1 : 0;
+    return strcmp(limen_scene_error(s), "") ? -1 : 0;
 }
 
 /* Turns the camera about the world's up by yaw and about its own right by pitch. */
@@ -111,7 +111,7 @@ static void walk(world *w, float fwd, float side)
     float d[3] = { fwd * f[0] / fl + side * r[0] / rl, 0, fwd * f[2] / fl + side * r[2] / rl };
     limen_move_result res;
     if (!limen_node_move(w->s, w->cam, d, &res) && res.crossed) {
-        printf("crossed portal %s\n", limen_node_name(w->s, res.portal));
+        printf("crossed portal %s\n", limen_node_get_name(w->s, res.portal));
         fflush(stdout);
     }
 }
@@ -161,7 +161,7 @@ int main(int argc, char **argv)
     }
     world w;
     if (build(&w)) {
-        fprintf(stderr, "walk: %s\n", limen_last_error(w.s));
+        fprintf(stderr, "walk: %s\n", limen_scene_error(w.s));
         return 1;
     }
     /* 1. the game's window and context: OpenGL 3.3 core, with depth and stencil */

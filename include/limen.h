@@ -7,7 +7,7 @@
  *          limen_scene *s;
  *          limen_scene_create(&(limen_scene_desc){0}, &s);
  *   2. Add nodes and set their properties; every call returns LIMEN_OK (0) or
- *      an error code, with a readable message in limen_last_error(s):
+ *      an error code, with a readable message in limen_scene_error(s):
  *          limen_node ball;
  *          limen_node_create(s, LIMEN_NODE_SPHERE, "ball", &ball);
  *          limen_node_set_position(s, ball, (float[3]){0, 1, 0});
@@ -38,7 +38,8 @@
  *     local +Y up, extent w x h centred on the origin.
  *
  * The library never prints and never exits. It keeps no global state: each
- * scene and each renderer carries its own error message.
+ * scene, renderer and script carries its own error message (limen_scene_error,
+ * limen_renderer_error, limen_script_error).
  *
  * THREADS
  *   A scene belongs to one thread at a time: a call that takes a (non-const) limen_scene *
@@ -47,6 +48,10 @@
  *   Calls that take a const limen_scene * only read it (they never write, not even the
  *   error message), so any number of threads may make them at once while no other call
  *   runs. Different scenes, renderers and scripts are independent.
+ *
+ * NAMES: limen_<subject>_<verb>. A property that has a setter is read by
+ * limen_<subject>_get_<property>; a derived value by its noun (limen_node_world_matrix).
+ * Old names kept for one release are at the end of this file, marked deprecated.
  */
 #ifndef LIMEN_H
 #define LIMEN_H
@@ -180,7 +185,7 @@ LIMEN_API void limen_scene_destroy(limen_scene *s);                    /* NULL i
 /* The message of the last failed call that takes a (non-const) limen_scene *; "" when none.
  * Calls taking a const limen_scene * only read: a bad handle is their status or return
  * value, and they leave this message as it was. */
-LIMEN_API const char *limen_last_error(const limen_scene *s);
+LIMEN_API const char *limen_scene_error(const limen_scene *s);
 LIMEN_API limen_status limen_scene_set_background(limen_scene *s, const float rgb[3]);
 LIMEN_API limen_status limen_scene_set_ambient(limen_scene *s, float ambient); /* [0, 1] */
 LIMEN_API void limen_scene_get_background(const limen_scene *s, float rgb[3]);
@@ -202,7 +207,7 @@ LIMEN_API limen_status limen_node_create(limen_scene *s, limen_node_kind kind,
 LIMEN_API limen_status limen_node_destroy(limen_scene *s, limen_node n);
 LIMEN_API int limen_node_valid(const limen_scene *s, limen_node n);   /* 1 if live */
 LIMEN_API limen_status limen_node_find(const limen_scene *s, const char *name, limen_node *out);
-LIMEN_API const char *limen_node_name(const limen_scene *s, limen_node n); /* NULL if stale */
+LIMEN_API const char *limen_node_get_name(const limen_scene *s, limen_node n); /* NULL if stale */
 LIMEN_API limen_node_kind limen_node_get_kind(const limen_scene *s, limen_node n);
 /* Where the node was made (for example "scenes/hall.lua:12"); used in later messages. */
 LIMEN_API limen_status limen_node_set_label(limen_scene *s, limen_node n, const char *label);
@@ -228,7 +233,7 @@ LIMEN_API limen_status limen_node_look_at(limen_scene *s, limen_node n, const fl
 LIMEN_API limen_status limen_node_get_position(const limen_scene *s, limen_node n, float p[3]);
 LIMEN_API limen_status limen_node_get_rotation(const limen_scene *s, limen_node n, float xyz[3]);
 LIMEN_API limen_status limen_node_get_scale(const limen_scene *s, limen_node n, float xyz[3]);
-LIMEN_API limen_status limen_node_local_matrix(limen_scene *s, limen_node n, float m[16]);
+LIMEN_API limen_status limen_node_get_local_matrix(limen_scene *s, limen_node n, float m[16]);
 LIMEN_API limen_status limen_node_world_matrix(limen_scene *s, limen_node n, float m[16]);
 
 /* Appearance and shape. */
@@ -261,7 +266,7 @@ LIMEN_API limen_status limen_surface_get(const limen_scene *s, limen_node n, flo
  * ends whose width/height ratios differ by more than 0.1%, are refused: what enters A leaves
  * B scaled by width_B / width_A. An unpaired portal shows its fill colour. */
 LIMEN_API limen_status limen_portal_link(limen_scene *s, limen_node a, limen_node b);
-LIMEN_API limen_node limen_portal_partner(const limen_scene *s, limen_node portal);
+LIMEN_API limen_node limen_portal_get_partner(const limen_scene *s, limen_node portal);
 /* The 4x4 matrix carrying points that enter surface n (at its front) to where they are seen:
  * the reflection for a mirror, W_B * S(k) * R_y(180) * W_A^-1 for a portal. */
 LIMEN_API limen_status limen_surface_matrix(limen_scene *s, limen_node n, float m[16]);
@@ -402,11 +407,18 @@ typedef struct limen_view_surface {
     int rect[4];                /* pixels it may cover in this view: x, y, w, h */
 } limen_view_surface;
 
-/* Deliberately wrong virtual cameras, for tests that show the accuracy metric catches them.
- * Never set in real use. */
-enum {
-    LIMEN_FAULT_PORTAL_NO_TURN = 1   /* portal matrix without its 180-degree turn */
-};
+/* Limits on the view tree, shared by the planner (limen_plan_desc), the renderer
+ * (limen_render_opts), the ray tracer (limen_trace_desc) and ray casts (limen_ray_cast).
+ * Zero in every field means "default" (limen_limits zero = each surface's own max_depth,
+ * oblique clipping, 1024 views, no adaptive stop). The tracer and ray casts read only the
+ * depth fields: they model neither clipping nor a view budget nor the adaptive stop. */
+typedef enum limen_depth_rule {
+    LIMEN_DEPTH_RULE_OWN = 0,   /* each surface's own max_depth (default; `depth` unused) */
+    LIMEN_DEPTH_RULE_CAP,       /* the lesser of a surface's max_depth and `depth`: lowers
+                                 * deep surfaces, never raises shallow ones (CLI --depth) */
+    LIMEN_DEPTH_RULE_OVERRIDE   /* `depth` for every surface, in place of its own: raises
+                                 * and lowers (CLI --depth-override) */
+} limen_depth_rule;
 
 /* What one frame may cost, whoever made the scene (scripts come from modders): a budget that
  * the planner spends breadth first like max_views. A view that would overspend it is not
@@ -427,20 +439,32 @@ enum {                          /* limen_plan_work.budgets_hit */
     LIMEN_BUDGET_SURFACE_TESTS = 4
 };
 
-typedef struct limen_plan_desc {
-    int width, height;          /* image size in pixels (0 -> 640 x 480) */
-    limen_depth_range range;    /* clip-space convention of proj */
+typedef struct limen_limits {
     limen_clip_method clip;     /* default OBLIQUE */
-    int limit_depth;            /* 1: apply max_depth below; 0: only the surfaces' own limits */
-    int max_depth;              /* global limit on the depth of views (0 = no recursion) */
+    limen_depth_rule depth_rule;/* default OWN */
+    int depth;                  /* 0..255, levels of views below the camera, for CAP and
+                                 * OVERRIDE (0: the camera view only, no recursion) */
     int max_views;              /* view budget (0 -> 1024); levels fill breadth first */
     float adaptive;             /* > 0: stop where a view could change no pixel by more than
                                  * this (in [0,1] colour units, e.g. 8/255): where the product
                                  * of the mirror tints on the way falls below it */
-    int no_cull;                /* 1: keep views of surfaces outside the parent's narrowed
-                                 * frustum, with full-image scissors (the naive baseline) */
-    unsigned test_faults;       /* LIMEN_FAULT_* bits; 0 */
-    limen_frame_budget budget;  /* what the frame may cost; zero -> defaults */
+    limen_frame_budget budget;  /* what the frame may cost (planner and renderer); zero ->
+                                 * defaults */
+} limen_limits;
+
+/* Which surfaces a view keeps. */
+typedef enum limen_cull {
+    LIMEN_CULL_SURFACE = 0,     /* default: a surface must cover a pixel of the parent's
+                                 * narrowed frustum; the child's scissor is what it covers */
+    LIMEN_CULL_FRUSTUM          /* the baseline of LIMEN_METHOD_NAIVE, for comparison: only
+                                 * each virtual camera's whole frustum, full-image scissors */
+} limen_cull;
+
+typedef struct limen_plan_desc {
+    int width, height;          /* image size in pixels (0 -> 640 x 480) */
+    limen_depth_range range;    /* clip-space convention of proj */
+    limen_limits limits;        /* zero: the defaults (see limen_limits) */
+    limen_cull cull;            /* default SURFACE */
 } limen_plan_desc;
 
 typedef struct limen_plan limen_plan;
@@ -560,13 +584,14 @@ LIMEN_API limen_status limen_renderer_create(const limen_renderer_desc *desc,
 LIMEN_API void limen_renderer_destroy(limen_renderer *r);              /* NULL is fine */
 LIMEN_API const char *limen_renderer_error(const limen_renderer *r);   /* "" when none */
 LIMEN_API const char *limen_renderer_gl_info(const limen_renderer *r); /* GL_RENDERER, GL_VERSION */
-LIMEN_API void limen_renderer_size(const limen_renderer *r, int *width, int *height);
+LIMEN_API void limen_renderer_get_size(const limen_renderer *r, int *width, int *height);
 typedef enum limen_method {
     LIMEN_METHOD_STENCIL = 0,   /* one framebuffer, stencil-nested recursion */
     LIMEN_METHOD_TEXTURE,       /* each view into an offscreen target sampled by its parent */
     LIMEN_METHOD_NAIVE          /* the baseline of common engines, for comparison: one
                                  * full-resolution offscreen render per surface per level, no
-                                 * culling of surfaces outside the narrowed frustum, no scissor */
+                                 * culling of surfaces outside the narrowed frustum, no scissor
+                                 * (its plan is LIMEN_CULL_FRUSTUM's) */
 } limen_method;
 
 typedef enum limen_fill {
@@ -579,13 +604,8 @@ typedef enum limen_fill {
 typedef struct limen_render_opts {
     limen_method method;        /* default STENCIL */
     limen_fill fill;            /* default COLOR */
-    limen_clip_method clip;     /* default OBLIQUE */
     float texture_scale;        /* texture method: resolution of view targets, (0, 1]; 0 -> 1 */
-    int limit_depth, max_depth; /* as in limen_plan_desc */
-    int max_views;              /* 0 -> 1024 */
-    float adaptive;             /* as in limen_plan_desc */
-    unsigned test_faults;       /* LIMEN_FAULT_* bits (tests only); 0 */
-    limen_frame_budget budget;  /* as in limen_plan_desc: what the frame may cost */
+    limen_limits limits;        /* as in limen_plan_desc; zero: the defaults */
 } limen_render_opts;
 
 /* Plans and draws one frame of the scene from its camera. opts and stats may be NULL. */
@@ -631,15 +651,15 @@ typedef struct limen_hit {
     float seg_dir[3];           /* final segment's unit direction (scaled portals rescale it) */
 } limen_hit;
 
-/* Casts a world-space ray (dir of any length > 0) through mirrors and portals. max_bounces
- * caps the surfaces passed (like `--depth`); negative -> only the surfaces' own max_depth.
- * No near plane: hits at any t > 0 count. NaN/Inf or zero dir, NULL -> ARG. */
+/* Casts a world-space ray (dir of any length > 0) through mirrors and portals. limits may
+ * be NULL (each surface's own max_depth); only its depth fields apply. No near plane: hits
+ * at any t > 0 count. NaN/Inf or zero dir, NULL -> ARG. */
 LIMEN_API limen_status limen_ray_cast(limen_scene *s, const float origin[3], const float dir[3],
-                                      int max_bounces, limen_hit *out);
+                                      const limen_limits *limits, limen_hit *out);
 
 typedef struct limen_trace_desc {
     int width, height;          /* image size in pixels (0 -> 640 x 480) */
-    int limit_depth, max_depth; /* as in limen_plan_desc: 1 applies the global max_depth */
+    limen_limits limits;        /* depth fields only (see limen_limits); zero: the defaults */
     int threads;                /* worker threads; 0 -> the number of online CPUs */
 } limen_trace_desc;
 
@@ -718,6 +738,10 @@ LIMEN_API limen_status limen_script_update(limen_script *sc, double t);
 /* Writes 8-bit RGB (top row first) as PNG. */
 LIMEN_API limen_status limen_write_png(const char *path, int width, int height,
                                        const unsigned char *rgb);
+/* Writes 8-bit RGB (top row first) in the format the file name asks for: ".png", or ".jpg"
+ * / ".jpeg" (JPEG, quality 95), in any case. Any other name -> ARG, writing nothing. */
+LIMEN_API limen_status limen_write_image(const char *path, int width, int height,
+                                         const unsigned char *rgb);
 /* The largest image limen_read_png decodes: 64 million pixels (192 MB as RGB). */
 #define LIMEN_IMAGE_MAX_PIXELS (64LL * 1024 * 1024)
 
@@ -741,6 +765,39 @@ typedef struct limen_diff {
 LIMEN_API limen_status limen_image_diff(const unsigned char *a, const unsigned char *b,
                                         int width, int height, int threshold, limen_diff *out,
                                         unsigned char *heatmap);
+
+/* ---------------------------------------------------------------- deprecated names */
+
+/* Names before the naming rule: errors are read with <subject>_error, and a getter paired
+ * with a setter is <subject>_get_<property> (what has no setter is read by its noun:
+ * limen_node_world_matrix, limen_renderer_plan). These aliases stay for one release. */
+#if defined(__GNUC__)
+#define LIMEN_DEPRECATED(use) __attribute__((deprecated("use " use)))
+#else
+#define LIMEN_DEPRECATED(use)
+#endif
+LIMEN_DEPRECATED("limen_scene_error")
+static inline const char *limen_last_error(const limen_scene *s) { return limen_scene_error(s); }
+LIMEN_DEPRECATED("limen_node_get_name")
+static inline const char *limen_node_name(const limen_scene *s, limen_node n)
+{
+    return limen_node_get_name(s, n);
+}
+LIMEN_DEPRECATED("limen_node_get_local_matrix")
+static inline limen_status limen_node_local_matrix(limen_scene *s, limen_node n, float m[16])
+{
+    return limen_node_get_local_matrix(s, n, m);
+}
+LIMEN_DEPRECATED("limen_portal_get_partner")
+static inline limen_node limen_portal_partner(const limen_scene *s, limen_node portal)
+{
+    return limen_portal_get_partner(s, portal);
+}
+LIMEN_DEPRECATED("limen_renderer_get_size")
+static inline void limen_renderer_size(const limen_renderer *r, int *width, int *height)
+{
+    limen_renderer_get_size(r, width, height);
+}
 
 #ifdef __cplusplus
 }

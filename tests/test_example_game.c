@@ -57,7 +57,7 @@ static void compare(const char *name, limen_scene *s, limen_depth_range range,
             return;
         }
     }
-    limen_render_opts o = { .clip = clip };
+    limen_render_opts o = { .limits.clip = clip };
     CHECK_OK(limen_render_frame(*r, s, &o, NULL));
     CHECK_OK(limen_renderer_read_rgb(*r, ref));
     limen_diff d = { 1.0, 0, 0, 255 };

@@ -29,7 +29,7 @@ static limen_renderer *renderer(int w, int h)
 static unsigned char *frame(limen_renderer *r, limen_scene *s, limen_render_opts o)
 {
     int w, h;
-    limen_renderer_size(r, &w, &h);
+    limen_renderer_get_size(r, &w, &h);
     unsigned char *rgb = malloc((size_t)w * h * 3);
     limen_status st = limen_render_frame(r, s, &o, NULL);
     CHECK_MSG(st == LIMEN_OK, "render: %s", limen_renderer_error(r));
@@ -59,7 +59,7 @@ static void test_methods_and_clips_agree(void)
         unsigned char *img[2][3];
         for (int m = 0; m < 2; m++)
             for (int c = 0; c < 3; c++)
-                img[m][c] = frame(r, s, (limen_render_opts){ .method = m, .clip = c });
+                img[m][c] = frame(r, s, (limen_render_opts){ .method = m, .limits.clip = c });
         /* the two renderers of one tree agree, for every clip method */
         for (int c = 0; c < 3; c++) {
             double d = share(img[0][c], img[1][c], W, H);
@@ -92,10 +92,11 @@ static void test_mirror_room_hides_what_is_behind(void)
     float fill[3];
     CHECK_OK(limen_surface_get(s, mirror, NULL, NULL, fill, NULL));
     CHECK_OK(limen_surface_set_fill(s, mirror, (float[3]){ 1, 0, 1 }));
-    unsigned char *mask = r ? frame(r, s, (limen_render_opts){ .limit_depth = 1 }) : NULL;
+    limen_render_opts no_recursion = { .limits = { .depth_rule = LIMEN_DEPTH_RULE_CAP } };
+    unsigned char *mask = r ? frame(r, s, no_recursion) : NULL;
     CHECK_OK(limen_surface_set_fill(s, mirror, fill));
     for (int c = 0; c < 3 && mask; c++) {
-        limen_render_opts o = { .clip = c };
+        limen_render_opts o = { .limits.clip = c };
         unsigned char *with = frame(r, s, o);
         const limen_plan *p = limen_renderer_plan(r);
         CHECK(limen_plan_count(p) >= 2);
@@ -150,7 +151,7 @@ static limen_plan *plan_scene(limen_scene *s, limen_plan_desc d)
     d.width = W;
     d.height = H;
     limen_status st = limen_plan_build(p, s, &d);
-    CHECK_MSG(st == LIMEN_OK, "plan: %s", limen_last_error(s));
+    CHECK_MSG(st == LIMEN_OK, "plan: %s", limen_scene_error(s));
     return p;
 }
 
@@ -160,7 +161,8 @@ static void test_corridor_depth_16(void)
     if (!sc)
         return;
     limen_plan *p = plan_scene(limen_script_scene(sc),
-                               (limen_plan_desc){ .limit_depth = 1, .max_depth = 16 });
+                               (limen_plan_desc){ .limits = { .depth_rule = LIMEN_DEPTH_RULE_CAP,
+                                                              .depth = 16 } });
     int per_level[17] = { 0 };
     for (int i = 0; i < limen_plan_count(p); i++) {
         const limen_view *v = limen_plan_view(p, i);
@@ -181,7 +183,9 @@ static void test_kaleidoscope_budget(void)
     if (!sc)
         return;
     limen_scene *s = limen_script_scene(sc);
-    limen_plan *p = plan_scene(s, (limen_plan_desc){ .limit_depth = 1, .max_depth = 8 });
+    limen_plan *p = plan_scene(s,
+                               (limen_plan_desc){ .limits = { .depth_rule = LIMEN_DEPTH_RULE_CAP,
+                                                              .depth = 8 } });
     /* the documented default budget is 1024 views */
     CHECK(limen_plan_count(p) <= 1024);
     int deepest = 0;
@@ -192,7 +196,8 @@ static void test_kaleidoscope_budget(void)
            H, limen_plan_count(p), deepest, limen_plan_truncated(p));
     limen_plan_destroy(p);
     /* a small budget holds, and is spent on the shallow levels first */
-    p = plan_scene(s, (limen_plan_desc){ .limit_depth = 1, .max_depth = 8, .max_views = 10 });
+    p = plan_scene(s, (limen_plan_desc){ .limits = { .depth_rule = LIMEN_DEPTH_RULE_CAP,
+                                                     .depth = 8, .max_views = 10 } });
     CHECK(limen_plan_count(p) == 10);
     int shallow = 0;
     for (int i = 0; i < limen_plan_count(p); i++)
@@ -426,9 +431,11 @@ static void test_fill_previous(void)
         return;
     limen_scene *s = limen_script_scene(sc);
     limen_renderer *r = renderer(W, H);
-    unsigned char *deep = frame(r, s, (limen_render_opts){ .limit_depth = 1, .max_depth = 16 });
+    limen_render_opts depth16 = { .limits = { .depth_rule = LIMEN_DEPTH_RULE_CAP, .depth = 16 } };
+    unsigned char *deep = frame(r, s, depth16);
     for (int m = 0; m < 2 && deep; m++) {
-        limen_render_opts o = { .method = m, .limit_depth = 1, .max_depth = 3 };
+        limen_render_opts o = { .method = m, .limits = { .depth_rule = LIMEN_DEPTH_RULE_CAP,
+                                                         .depth = 3 } };
         unsigned char *plain = frame(r, s, o);
         o.fill = LIMEN_FILL_PREVIOUS;
         unsigned char *prev = NULL;

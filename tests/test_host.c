@@ -468,7 +468,7 @@ static void host_resize(void)
     CHECK_OK(limen_render_frame(r, s, &(limen_render_opts){ .fill = LIMEN_FILL_PREVIOUS }, NULL));
     CHECK_OK(limen_renderer_set_viewport(r, 0, 0, 0, W, H));
     int w, h;
-    limen_renderer_size(r, &w, &h);
+    limen_renderer_get_size(r, &w, &h);
     CHECK(w == W && h == H);
     CHECK_OK(limen_render_frame(r, s, NULL, NULL));
     CHECK(off_reference(&g, r, s, LIMEN_METHOD_STENCIL) == 0);

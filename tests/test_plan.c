@@ -2,6 +2,7 @@
  * camera would get wrong. */
 #include <stdbool.h>
 #include <stdlib.h>
+#include <unistd.h>
 
 #include "check.h"
 #include "limen.h"
@@ -40,7 +41,7 @@ static limen_plan *plan(limen_scene *s, limen_plan_desc d)
         d.height = H;
     }
     limen_status st = limen_plan_build(p, s, &d);
-    CHECK_MSG(st == LIMEN_OK, "plan_build: %s", limen_last_error(s));
+    CHECK_MSG(st == LIMEN_OK, "plan_build: %s", limen_scene_error(s));
     return p;
 }
 
@@ -79,7 +80,8 @@ static limen_scene *corridor(void)
 static void test_corridor_one_view_per_level(void)
 {
     limen_scene *s = corridor();
-    limen_plan *p = plan(s, (limen_plan_desc){ .limit_depth = 1, .max_depth = 16 });
+    limen_plan *p = plan(s, (limen_plan_desc){ .limits = { .depth_rule = LIMEN_DEPTH_RULE_CAP,
+                                                           .depth = 16 } });
     CHECK(limen_plan_count(p) == 17);
     int per_level[17] = { 0 };
     for (int i = 0; i < limen_plan_count(p); i++) {
@@ -101,7 +103,7 @@ static void test_corridor_one_view_per_level(void)
         CHECK_MSG(per_level[d] == 1, "level %d has %d views", d, per_level[d]);
     /* the first reflection looks through the front mirror; its eye is the mirrored eye */
     const limen_view *v1 = limen_plan_view(p, 1);
-    CHECK(strcmp(limen_node_name(s, v1->through), "front") == 0);
+    CHECK(strcmp(limen_node_get_name(s, v1->through), "front") == 0);
     CHECK(v1->kind == LIMEN_VIEW_MIRROR);
     CHECK_NEAR(v1->eye[0], 0.3, 1e-5);
     CHECK_NEAR(v1->eye[2], -7, 1e-5);
@@ -125,7 +127,8 @@ static void test_corridor_eye_positions(void)
     /* the eye at depth k sits where unfolding the corridor puts it: mirrors at z = -3 and
      * z = 3 reflect z alternately: z_k = -6 - z_{k-1} (front), 6 - z (back) */
     limen_scene *s = corridor();
-    limen_plan *p = plan(s, (limen_plan_desc){ .limit_depth = 1, .max_depth = 32 });
+    limen_plan *p = plan(s, (limen_plan_desc){ .limits = { .depth_rule = LIMEN_DEPTH_RULE_CAP,
+                                                           .depth = 32 } });
     CHECK(limen_plan_count(p) == 33);
     double z = 1;
     for (int d = 1; d <= 32; d++) {
@@ -160,8 +163,59 @@ static void test_surface_limits(void)
     CHECK(limen_plan_truncated(p) == 1);
     limen_plan_destroy(p);
     /* a global depth of 0: no recursion */
-    p = plan(s, (limen_plan_desc){ .limit_depth = 1, .max_depth = 0 });
+    p = plan(s, (limen_plan_desc){ .limits = { .depth_rule = LIMEN_DEPTH_RULE_CAP, .depth = 0 } });
     CHECK(limen_plan_count(p) == 1);
+    limen_plan_destroy(p);
+    limen_scene_destroy(s);
+}
+
+static int deepest(const limen_plan *p)
+{
+    int d = 0;
+    for (int i = 0; i < limen_plan_count(p); i++)
+        d = limen_plan_view(p, i)->depth > d ? limen_plan_view(p, i)->depth : d;
+    return d;
+}
+
+/* A cap only lowers a surface's own max_depth; an override replaces it, up or down. */
+static void test_depth_rules(void)
+{
+    limen_scene *s = corridor();
+    limen_node front, back;
+    CHECK_OK(limen_node_find(s, "front", &front));
+    CHECK_OK(limen_node_find(s, "back", &back));
+    CHECK_OK(limen_surface_set_max_depth(s, front, 4));
+    CHECK_OK(limen_surface_set_max_depth(s, back, 4));
+    limen_plan *p = plan(s, (limen_plan_desc){ 0 });
+    CHECK(deepest(p) == 4);
+    limen_plan_destroy(p);
+    p = plan(s, (limen_plan_desc){ .limits = { .depth_rule = LIMEN_DEPTH_RULE_CAP, .depth = 40 } });
+    CHECK_MSG(deepest(p) == 4, "a cap of 40 took the corridor to depth %d", deepest(p));
+    limen_plan_destroy(p);
+    p = plan(s, (limen_plan_desc){ .limits = { .depth_rule = LIMEN_DEPTH_RULE_CAP, .depth = 2 } });
+    CHECK(deepest(p) == 2);
+    limen_plan_destroy(p);
+    p = plan(s, (limen_plan_desc){ .limits = { .depth_rule = LIMEN_DEPTH_RULE_OVERRIDE,
+                                               .depth = 40 } });
+    CHECK_MSG(deepest(p) == 40, "an override of 40 reached depth %d", deepest(p));
+    limen_plan_destroy(p);
+    p = plan(s, (limen_plan_desc){ .limits = { .depth_rule = LIMEN_DEPTH_RULE_OVERRIDE,
+                                               .depth = 1 } });
+    CHECK(deepest(p) == 1);
+    limen_plan_destroy(p);
+    /* the depth is ignored under the default rule; bad rules and depths are refused */
+    p = plan(s, (limen_plan_desc){ .limits = { .depth = 1 } });
+    CHECK(deepest(p) == 4);
+    limen_plan_destroy(p);
+    CHECK_OK(limen_plan_create(&p));
+    CHECK(limen_plan_build(p, s, &(limen_plan_desc){ .limits = { .depth_rule = 3 } }) ==
+          LIMEN_ERR_ARG);
+    CHECK(strstr(limen_scene_error(s), "depth rule") != NULL);
+    CHECK(limen_plan_build(p, s, &(limen_plan_desc){
+              .limits = { .depth_rule = LIMEN_DEPTH_RULE_OVERRIDE, .depth = 256 } }) ==
+          LIMEN_ERR_ARG);
+    CHECK(limen_plan_build(p, s, &(limen_plan_desc){ .limits = { .adaptive = 2 } }) ==
+          LIMEN_ERR_ARG);
     limen_plan_destroy(p);
     limen_scene_destroy(s);
 }
@@ -183,7 +237,7 @@ static void test_surface_culling(void)
     limen_plan *p = plan(s, (limen_plan_desc){ 0 });
     CHECK(limen_plan_count(p) == 2);
     if (limen_plan_count(p) == 2)
-        CHECK(strcmp(limen_node_name(s, limen_plan_view(p, 1)->through), "seen") == 0);
+        CHECK(strcmp(limen_node_get_name(s, limen_plan_view(p, 1)->through), "seen") == 0);
     limen_plan_destroy(p);
     limen_scene_destroy(s);
 }
@@ -238,12 +292,12 @@ static void test_portal_pairing_rules(void)
     limen_node m = surface(s, LIMEN_NODE_MIRROR, "m", (float[3]){ 3, 1, 0 },
                            (float[3]){ 0, 0, 1 }, 1, 1);
     CHECK(limen_portal_link(s, a, a) == LIMEN_ERR_ARG);
-    CHECK(strstr(limen_last_error(s), "itself") != NULL);
+    CHECK(strstr(limen_scene_error(s), "itself") != NULL);
     CHECK(limen_portal_link(s, a, c) == LIMEN_ERR_ARG);     /* 1x2 against 1x1 */
-    CHECK(strstr(limen_last_error(s), "ratio") != NULL);
+    CHECK(strstr(limen_scene_error(s), "ratio") != NULL);
     CHECK(limen_portal_link(s, a, m) == LIMEN_ERR_ARG);
     CHECK_OK(limen_portal_link(s, a, b));                   /* twice the size is fine */
-    CHECK(limen_portal_partner(s, a).id == b.id && limen_portal_partner(s, b).id == a.id);
+    CHECK(limen_portal_get_partner(s, a).id == b.id && limen_portal_get_partner(s, b).id == a.id);
     /* the matrix scales by 2 and turns 180 degrees about y */
     float x[16], o[3];
     CHECK_OK(limen_surface_matrix(s, a, x));
@@ -278,7 +332,8 @@ static void test_budget_kaleidoscope(void)
 {
     /* branching views, held by the budget, shallow levels first */
     limen_scene *s = kaleidoscope();
-    limen_plan *p = plan(s, (limen_plan_desc){ .limit_depth = 1, .max_depth = 8, .max_views = 40 });
+    limen_plan *p = plan(s, (limen_plan_desc){ .limits = { .depth_rule = LIMEN_DEPTH_RULE_CAP,
+                                                           .depth = 8, .max_views = 40 } });
     CHECK(limen_plan_count(p) == 40);
     CHECK(limen_plan_truncated(p) > 0);
     /* breadth first: no view deeper than a level that is still incomplete... at least all
@@ -301,7 +356,8 @@ static void test_oblique_fallback(void)
     /* the eye 0.01 in front of a mirror, closer than the near plane (0.05): plane clip */
     limen_scene *s = scene_with_camera((float[3]){ 0, 1, 0.01f }, (float[3]){ 1, 1, -0.2f });
     surface(s, LIMEN_NODE_MIRROR, "m", (float[3]){ 0, 1, 0 }, (float[3]){ 0, 0, 1 }, 4, 4);
-    limen_plan *p = plan(s, (limen_plan_desc){ .limit_depth = 1, .max_depth = 1 });
+    limen_plan *p = plan(s, (limen_plan_desc){ .limits = { .depth_rule = LIMEN_DEPTH_RULE_CAP,
+                                                           .depth = 1 } });
     CHECK(limen_plan_count(p) == 2);
     if (limen_plan_count(p) == 2) {
         CHECK(limen_plan_view(p, 1)->clip == LIMEN_CLIP_PLANE);
@@ -312,36 +368,51 @@ static void test_oblique_fallback(void)
     /* a comfortable distance: oblique */
     s = scene_with_camera((float[3]){ 0, 1, 2 }, (float[3]){ 0, 1, 0 });
     surface(s, LIMEN_NODE_MIRROR, "m", (float[3]){ 0, 1, 0 }, (float[3]){ 0, 0, 1 }, 4, 4);
-    p = plan(s, (limen_plan_desc){ .limit_depth = 1, .max_depth = 1 });
+    p = plan(s, (limen_plan_desc){ .limits = { .depth_rule = LIMEN_DEPTH_RULE_CAP, .depth = 1 } });
     CHECK(limen_plan_count(p) == 2 && limen_plan_view(p, 1)->clip == LIMEN_CLIP_OBLIQUE);
     limen_plan_destroy(p);
-    p = plan(s, (limen_plan_desc){ .clip = LIMEN_CLIP_NONE, .limit_depth = 1, .max_depth = 1 });
+    p = plan(s, (limen_plan_desc){ .limits = { .clip = LIMEN_CLIP_NONE,
+                                               .depth_rule = LIMEN_DEPTH_RULE_CAP, .depth = 1 } });
     CHECK(limen_plan_count(p) == 2 && limen_plan_view(p, 1)->clip == LIMEN_CLIP_NONE);
     limen_plan_destroy(p);
     limen_scene_destroy(s);
 }
 
-static void test_json(void)
+/* The plan's JSON, through a temporary file, into buf (cut at size - 1 bytes). */
+static void plan_json(const limen_plan *p, const limen_scene *s, char *buf, size_t size)
 {
-    limen_scene *s = corridor();
-    limen_plan *p = plan(s, (limen_plan_desc){ .limit_depth = 1, .max_depth = 2 });
     char path[] = "/tmp/limen-plan-XXXXXX";
     int fd = mkstemp(path);
     CHECK(fd >= 0);
+    if (fd >= 0)
+        close(fd);
     CHECK_OK(limen_plan_write_json(p, s, path));
     FILE *f = fopen(path, "r");
-    char buf[16384] = "";
-    size_t n = f ? fread(buf, 1, sizeof buf - 1, f) : 0;
+    size_t n = f ? fread(buf, 1, size - 1, f) : 0;
     buf[n] = 0;
     if (f)
         fclose(f);
     remove(path);
+}
+
+static void test_json(void)
+{
+    limen_scene *s = corridor();
+    limen_plan *p = plan(s, (limen_plan_desc){ .limits = { .depth_rule = LIMEN_DEPTH_RULE_CAP,
+                                                           .depth = 2 } });
+    char buf[16384];
+    plan_json(p, s, buf, sizeof buf);
     CHECK(strstr(buf, "\"views\": [") != NULL);
     CHECK(strstr(buf, "\"through\": \"front\"") != NULL);
     CHECK(strstr(buf, "\"front_face\": \"cw\"") != NULL);
     CHECK(strstr(buf, "\"parent\": null") != NULL);
     CHECK(strstr(buf, "\"clip_plane\": null") != NULL);
     CHECK(strstr(buf, "\"kind\": \"mirror\"") != NULL);
+    /* each view's surfaces, as limen_plan_view_surfaces lists them */
+    CHECK(strstr(buf, "\"surfaces\": [{\"node\": \"front\", \"state\": \"recurse\", "
+                      "\"child\": 1, \"rect\": [") != NULL);
+    CHECK(strstr(buf, "\"state\": \"fill\", \"child\": null") != NULL);
+    CHECK(strstr(buf, "\"clones\": []") != NULL);
     CHECK(strstr(buf, "nan") == NULL && strstr(buf, "inf") == NULL);
     CHECK(limen_plan_write_json(p, s, "/nonexistent/dir/plan.json") == LIMEN_ERR_IO);
     CHECK(limen_plan_write_json(p, s, "/dev/full") == LIMEN_ERR_IO);
@@ -358,6 +429,31 @@ static void test_plan_without_surfaces(void)
     const limen_view_surface *vs = (const limen_view_surface *)p;
     CHECK(limen_plan_count(p) == 1);
     CHECK(limen_plan_view_surfaces(p, 0, &vs) == 0 && vs == NULL);
+    limen_plan_destroy(p);
+    limen_scene_destroy(s);
+}
+
+/* A sphere through a portal is listed among the clones, with the portal it enters; an
+ * unnamed node is named by its label. */
+static void test_json_clones(void)
+{
+    limen_scene *s = scene_with_camera((float[3]){ 0, 0, 6 }, (float[3]){ 0, 0, 0 });
+    limen_node a = surface(s, LIMEN_NODE_PORTAL, "", (float[3]){ 0, 0, 0 },
+                           (float[3]){ 0, 0, 1 }, 2, 2);
+    limen_node b = surface(s, LIMEN_NODE_PORTAL, "exit", (float[3]){ 10, 0, 0 },
+                           (float[3]){ 0, 0, 1 }, 2, 2);
+    CHECK_OK(limen_node_set_label(s, a, "door.lua:3"));
+    CHECK_OK(limen_portal_link(s, a, b));
+    limen_node ball;
+    CHECK_OK(limen_node_create(s, LIMEN_NODE_SPHERE, "ball", &ball));
+    limen_plan *p = plan(s, (limen_plan_desc){ 0 });
+    const limen_clone *c;
+    CHECK(limen_plan_clones(p, &c) == 1);
+    char buf[16384];
+    plan_json(p, s, buf, sizeof buf);
+    CHECK_MSG(strstr(buf, "\"clones\": [\n  {\"node\": \"ball\", \"portal\": \"door.lua:3\", "
+                          "\"matrix\": [") != NULL, "%s", buf);
+    CHECK(strstr(buf, "\"copy_keep\": [") != NULL);
     limen_plan_destroy(p);
     limen_scene_destroy(s);
 }
@@ -424,13 +520,14 @@ static void test_huge_facing_mirrors(void)
     surface(s, LIMEN_NODE_MIRROR, "a", (float[3]){ 0, 0, 0 }, (float[3]){ 0, 0, 1 }, 1e9f, 1e9f);
     surface(s, LIMEN_NODE_MIRROR, "b", (float[3]){ 0, 0, 10 }, (float[3]){ 0, 0, -1 }, 1e9f,
             1e9f);
-    limen_plan *p = plan(s, (limen_plan_desc){ .limit_depth = 1, .max_depth = 6 });
+    limen_plan *p = plan(s, (limen_plan_desc){ .limits = { .depth_rule = LIMEN_DEPTH_RULE_CAP, .depth = 6 } });
     CHECK_MSG(limen_plan_count(p) == 7, "%d views, expected a chain of 7",
               limen_plan_count(p));
     for (int i = 0; i < limen_plan_count(p); i++)
         CHECK(finite_view(limen_plan_view(p, i)));
     limen_hit h;
-    CHECK_OK(limen_ray_cast(s, (float[3]){ 0, 0, 5 }, (float[3]){ 0.01f, 0.02f, -1 }, 6, &h));
+    CHECK_OK(limen_ray_cast(s, (float[3]){ 0, 0, 5 }, (float[3]){ 0.01f, 0.02f, -1 },
+                            &(limen_limits){ .depth_rule = LIMEN_DEPTH_RULE_CAP, .depth = 6 }, &h));
     CHECK(h.surface_count == 6);
     limen_plan_destroy(p);
     limen_scene_destroy(s);
@@ -446,16 +543,16 @@ static void check_refused_by_all(limen_scene *s, const char *name)
     CHECK_OK(limen_plan_create(&p));
     CHECK(limen_plan_build(p, s, &(limen_plan_desc){ .width = W, .height = H }) ==
           LIMEN_ERR_ARG);
-    snprintf(first, sizeof first, "%s", limen_last_error(s));
+    snprintf(first, sizeof first, "%s", limen_scene_error(s));
     CHECK_MSG(strstr(first, name) && strstr(first, "between 1e-9 and 1e9"), "planner: %s", first);
     unsigned char *rgb = malloc(W * H * 3);
     CHECK(limen_trace_image(s, &(limen_trace_desc){ .width = W, .height = H }, rgb) ==
           LIMEN_ERR_ARG);
-    CHECK_MSG(strcmp(limen_last_error(s), first) == 0, "tracer: %s", limen_last_error(s));
+    CHECK_MSG(strcmp(limen_scene_error(s), first) == 0, "tracer: %s", limen_scene_error(s));
     limen_hit h;
-    CHECK(limen_ray_cast(s, (float[3]){ 0, 0, 0 }, (float[3]){ 0, 0, -1 }, -1, &h) ==
+    CHECK(limen_ray_cast(s, (float[3]){ 0, 0, 0 }, (float[3]){ 0, 0, -1 }, NULL, &h) ==
           LIMEN_ERR_ARG);
-    CHECK_MSG(strcmp(limen_last_error(s), first) == 0, "ray cast: %s", limen_last_error(s));
+    CHECK_MSG(strcmp(limen_scene_error(s), first) == 0, "ray cast: %s", limen_scene_error(s));
     free(rgb);
     limen_plan_destroy(p);
 }
@@ -529,13 +626,13 @@ static void test_frame_budget_bounds_stacked_mirrors(void)
     /* a budget the caller sets: one surface test more than the root's allows no child */
     limen_plan_destroy(p);
     p = plan(s, (limen_plan_desc){ .width = FW, .height = FH,
-                                   .budget = { .view_pixels = INT64_MAX,
-                                               .surface_tests = N + 1 } });
+                                   .limits.budget = { .view_pixels = INT64_MAX,
+                                                      .surface_tests = N + 1 } });
     limen_plan_get_work(p, &w);
     CHECK(w.views == 1 && w.surface_tests == N && (w.budgets_hit & LIMEN_BUDGET_SURFACE_TESTS));
     limen_plan_destroy(p);
     limen_plan_create(&p);
-    CHECK(limen_plan_build(p, s, &(limen_plan_desc){ .budget = { .view_pixels = -1 } }) ==
+    CHECK(limen_plan_build(p, s, &(limen_plan_desc){ .limits.budget = { .view_pixels = -1 } }) ==
           LIMEN_ERR_ARG);
     limen_plan_destroy(p);
     limen_scene_destroy(s);
@@ -546,6 +643,8 @@ static const check_case cases[] = {
     { "corridor_one_view_per_level", test_corridor_one_view_per_level },
     { "corridor_eye_positions", test_corridor_eye_positions },
     { "surface_limits", test_surface_limits },
+    { "depth_rules", test_depth_rules },
+    { "json_clones", test_json_clones },
     { "surface_culling", test_surface_culling },
     { "portal_view", test_portal_view },
     { "portal_pairing_rules", test_portal_pairing_rules },

@@ -169,8 +169,8 @@ static void test_gallery_same(void)
             continue;
         limen_scene *s = limen_script_scene(sc);
         check_same_plan(s, NULL, *g);
-        check_same_plan(s, &(limen_plan_desc){ .width = 320, .height = 240, .no_cull = 1 }, *g);
-        check_same_plan(s, &(limen_plan_desc){ .max_views = 7 }, *g);
+        check_same_plan(s, &(limen_plan_desc){ .width = 320, .height = 240, .cull = LIMEN_CULL_FRUSTUM }, *g);
+        check_same_plan(s, &(limen_plan_desc){ .limits.max_views = 7 }, *g);
         check_same_trace(s, 96, 72, *g);
         if (limen_script_animated(sc)) {
             for (int k = 1; k <= 3; k++) {
@@ -191,7 +191,7 @@ static void test_random_same(void)
         snprintf(what, sizeof what, "random scene %llu", seed);
         limen_scene *s = random_scene(seed, 60 + 20 * (int)seed, 6 + (int)seed);
         check_same_plan(s, NULL, what);
-        check_same_plan(s, &(limen_plan_desc){ .limit_depth = 1, .max_depth = 3 }, what);
+        check_same_plan(s, &(limen_plan_desc){ .limits = { .depth_rule = LIMEN_DEPTH_RULE_CAP, .depth = 3 } }, what);
         check_worlds(s, what);
         if (seed <= 4)
             check_same_trace(s, 64, 48, what);

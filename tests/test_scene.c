@@ -32,14 +32,14 @@ static void test_handles(void)
     CHECK_OK(limen_node_create(s, LIMEN_NODE_BOX, "b", &b));
     CHECK(limen_node_valid(s, b) && !limen_node_valid(s, a));
     CHECK(limen_node_set_position(s, a, (float[3]){ 1, 2, 3 }) == LIMEN_ERR_HANDLE);
-    CHECK(strstr(limen_last_error(s), "stale") != NULL);
+    CHECK(strstr(limen_scene_error(s), "stale") != NULL);
     CHECK(limen_node_destroy(s, a) == LIMEN_ERR_HANDLE);
     CHECK(limen_node_set_position(s, (limen_node){ 0 }, (float[3]){ 1, 2, 3 }) ==
           LIMEN_ERR_HANDLE);
     CHECK(limen_node_set_position(s, (limen_node){ 0xFFFFFFFFu }, (float[3]){ 1, 2, 3 }) ==
           LIMEN_ERR_HANDLE);
-    CHECK(limen_node_name(s, a) == NULL);
-    CHECK(strcmp(limen_node_name(s, b), "b") == 0);
+    CHECK(limen_node_get_name(s, a) == NULL);
+    CHECK(strcmp(limen_node_get_name(s, b), "b") == 0);
     limen_node found;
     CHECK_OK(limen_node_find(s, "b", &found));
     CHECK(found.id == b.id);
@@ -158,7 +158,7 @@ static void test_hierarchy(void)
     CHECK_NEAR(o[1], 5, 1e-5);
     /* cycles are refused and leave the tree as it was */
     CHECK(limen_node_set_parent(s, root, hand) == LIMEN_ERR_CYCLE);
-    CHECK(strstr(limen_last_error(s), "cycle") != NULL);
+    CHECK(strstr(limen_scene_error(s), "cycle") != NULL);
     CHECK(limen_node_set_parent(s, arm, arm) == LIMEN_ERR_CYCLE);
     CHECK(limen_node_get_parent(s, root).id == 0);
     /* destroying the middle node re-parents its child to the root */
@@ -242,7 +242,7 @@ static void test_look_at(void)
     CHECK_OK(limen_node_destroy(s, cam));
     CHECK(limen_scene_get_camera(s).id == 0);
     CHECK(limen_camera_matrices(s, 1, LIMEN_DEPTH_NO, view, proj) != LIMEN_OK);
-    CHECK(strstr(limen_last_error(s), "camera") != NULL);
+    CHECK(strstr(limen_scene_error(s), "camera") != NULL);
     limen_scene_destroy(s);
 }
 
@@ -253,7 +253,7 @@ static void test_validation(void)
     CHECK_OK(limen_node_create(s, LIMEN_NODE_SPHERE, "b", &b));
     CHECK_OK(limen_node_create(s, LIMEN_NODE_LIGHT, "l", &l));
     CHECK(limen_node_set_dims(s, b, (float[3]){ -1, 0, 0 }) == LIMEN_ERR_ARG);
-    CHECK(strstr(limen_last_error(s), "positive") != NULL);
+    CHECK(strstr(limen_scene_error(s), "positive") != NULL);
     CHECK(limen_node_set_dims(s, b, (float[3]){ NAN, 0, 0 }) == LIMEN_ERR_ARG);
     CHECK(limen_node_set_dims(s, b, (float[3]){ INFINITY, 0, 0 }) == LIMEN_ERR_ARG);
     CHECK(limen_node_set_dims(s, l, (float[3]){ 1, 1, 1 }) == LIMEN_ERR_ARG);
@@ -289,13 +289,13 @@ static void test_numbers_in_range(void)
     CHECK_OK(limen_node_create(s, LIMEN_NODE_LIGHT, "l", &l));
     CHECK_OK(limen_node_create(s, LIMEN_NODE_BOX, "b", &b));
     CHECK(limen_node_set_scale(s, cam, (float[3]){ -1, 1, 1 }) == LIMEN_ERR_ARG);
-    CHECK(strstr(limen_last_error(s), "scale: must be positive numbers from 1e-9 to 1e9"));
+    CHECK(strstr(limen_scene_error(s), "scale: must be positive numbers from 1e-9 to 1e9"));
     CHECK(limen_node_set_scale(s, b, (float[3]){ 1, 1, 1e-12f }) == LIMEN_ERR_ARG);
     CHECK(limen_node_set_dims(s, m, (float[3]){ 1e38f, 1, 0 }) == LIMEN_ERR_ARG);
-    CHECK(strstr(limen_last_error(s), "dims: ") && strstr(limen_last_error(s), "to 1e9 (got 1e+38)"));
+    CHECK(strstr(limen_scene_error(s), "dims: ") && strstr(limen_scene_error(s), "to 1e9 (got 1e+38)"));
     CHECK_OK(limen_node_set_dims(s, m, (float[3]){ 1e9f, 1e9f, 0 }));
     CHECK(limen_node_set_position(s, b, (float[3]){ 0, 2e9f, 0 }) == LIMEN_ERR_ARG);
-    CHECK(strstr(limen_last_error(s), "position: components must be numbers from -1e9 to 1e9"));
+    CHECK(strstr(limen_scene_error(s), "position: components must be numbers from -1e9 to 1e9"));
     CHECK(limen_node_set_rotation(s, b, (float[3]){ 0, 0, -1e30f }) == LIMEN_ERR_ARG);
     CHECK(limen_node_set_facing(s, b, (float[3]){ 0, 0, 1e30f }, NULL) == LIMEN_ERR_ARG);
     CHECK(limen_node_look_at(s, cam, (float[3]){ 1e10f, 0, 0 }, (float[3]){ 0, 0, 0 }, NULL) ==
@@ -310,7 +310,7 @@ static void test_numbers_in_range(void)
           LIMEN_ERR_ARG);
     float mirror_x[16] = { -1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1 };
     CHECK(limen_node_set_local_matrix(s, cam, mirror_x) == LIMEN_ERR_ARG);
-    CHECK(strstr(limen_last_error(s), "must not mirror"));
+    CHECK(strstr(limen_scene_error(s), "must not mirror"));
     float huge[16] = { 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 1e20f, 0, 0, 1 };
     CHECK(limen_node_set_local_matrix(s, b, huge) == LIMEN_ERR_ARG);
     limen_move_result mr;
@@ -354,9 +354,9 @@ static void test_overflowing_world(void)
     limen_plan *p;
     CHECK_OK(limen_plan_create(&p));
     CHECK(limen_plan_build(p, s, NULL) == LIMEN_ERR_ARG);
-    CHECK(strstr(limen_last_error(s), "group 'deepest': its world transform is not finite"));
+    CHECK(strstr(limen_scene_error(s), "group 'deepest': its world transform is not finite"));
     limen_hit h;
-    CHECK(limen_ray_cast(s, (float[3]){ 0, 0, 0 }, (float[3]){ 0, 0, -1 }, -1, &h) ==
+    CHECK(limen_ray_cast(s, (float[3]){ 0, 0, 0 }, (float[3]){ 0, 0, -1 }, NULL, &h) ==
           LIMEN_ERR_ARG);
     /* back in range: fine again */
     CHECK_OK(limen_node_set_parent(s, ball, (limen_node){ 0 }));
@@ -453,7 +453,7 @@ static void test_drawables(void)
     }
     CHECK_OK(limen_node_set_scale(s, box, (float[3]){ 1e9f, 1e9f, 1e9f }));
     CHECK(limen_drawables_build(d, s) == LIMEN_ERR_ARG);
-    CHECK(strstr(limen_last_error(s), "not finite") != NULL);
+    CHECK(strstr(limen_scene_error(s), "not finite") != NULL);
     CHECK(limen_drawables_items(d, &it) == 0 && limen_drawables_find(d, lamp) == -1);
     CHECK(limen_drawables_build(NULL, s) == LIMEN_ERR_ARG);
     CHECK(limen_drawables_build(d, NULL) == LIMEN_ERR_ARG);

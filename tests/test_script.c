@@ -166,8 +166,8 @@ static void test_surfaces(void)
         CHECK(depth == 3);
         CHECK_OK(limen_node_get_dims(s, m, dims));
         CHECK(dims[0] == 2 && dims[1] == 1);
-        CHECK(limen_portal_partner(s, a).id == b.id);
-        CHECK(limen_portal_partner(s, b).id == a.id);
+        CHECK(limen_portal_get_partner(s, a).id == b.id);
+        CHECK(limen_portal_get_partner(s, b).id == a.id);
         CHECK_OK(limen_surface_get(s, b, NULL, NULL, fill, NULL));
         CHECK(fill[0] == 0 && fill[2] == 1);
     }
@@ -189,8 +189,8 @@ static void test_labels(void)
         CHECK(limen_node_set_parent(s, b, g) == LIMEN_ERR_CYCLE);
         char want[256];
         snprintf(want, sizeof want, "%s:4: box 'b':", path);
-        CHECK_MSG(strncmp(limen_last_error(s), want, strlen(want)) == 0, "got '%s', expected '%s...'",
-                  limen_last_error(s), want);
+        CHECK_MSG(strncmp(limen_scene_error(s), want, strlen(want)) == 0, "got '%s', expected '%s...'",
+                  limen_scene_error(s), want);
     }
     limen_script_destroy(sc);
 }
@@ -291,11 +291,15 @@ static const bad_script bad[] = {
     { "degenerate_facing", HEAD "s:plane { normal = {0, 1, 0}, up = {0, 2, 0} }\nreturn s\n", 3,
       "plane: up: must not be zero or parallel to the normal", LIMEN_ERR_SCRIPT, 0 },
     { "io_open", HEAD "local f = io.open(\"/etc/passwd\")\nreturn s\n", 3,
-      "attempt to index a nil value (global 'io')", LIMEN_ERR_SCRIPT, 0 },
+      "attempt to index a nil value (global 'io'): not available to a scene script in safe "
+      "mode (--trusted, or limen_script_desc.trusted = 1, gives it the full standard library)",
+      LIMEN_ERR_SCRIPT, 0 },
     { "os_execute", HEAD "os.execute(\"true\")\nreturn s\n", 3,
       "attempt to call a nil value (field 'execute')", LIMEN_ERR_SCRIPT, 0 },
     { "dofile", HEAD "dofile(\"/etc/passwd\")\nreturn s\n", 3,
-      "attempt to call a nil value (global 'dofile')", LIMEN_ERR_SCRIPT, 0 },
+      "attempt to call a nil value (global 'dofile'): not available to a scene script in safe "
+      "mode (--trusted, or limen_script_desc.trusted = 1, gives it the full standard library)",
+      LIMEN_ERR_SCRIPT, 0 },
     { "require_io", HEAD "local io = require \"io\"\nreturn s\n", 3,
       "module 'io' is not available to a safe scene script", LIMEN_ERR_SCRIPT, 0 },
     { "require_c_module", HEAD "package.cpath = \"/usr/lib/x86_64-linux-gnu/lua/5.4/?.so\"\n"

@@ -72,9 +72,9 @@ static int plan_all_finite(limen_plan *p, limen_scene *s, int w, int h)
     int bad = 0;
     for (int range = 0; range < 3; range++)
         for (int clip = 0; clip < 3; clip++) {
-            limen_plan_desc pd = { .width = w, .height = h, .range = range, .clip = clip };
+            limen_plan_desc pd = { .width = w, .height = h, .range = range, .limits.clip = clip };
             limen_status st = limen_plan_build(p, s, &pd);
-            CHECK_MSG(st == LIMEN_OK, "plan: %s", limen_last_error(s));
+            CHECK_MSG(st == LIMEN_OK, "plan: %s", limen_scene_error(s));
             int nb = st ? 0 : sweep_plan_nonfinite(p);
             CHECK_MSG(nb == 0, "plan (range %d, clip %d): %d views with NaN or Inf", range, clip, nb);
             bad += nb;
@@ -204,9 +204,10 @@ static void test_approach(void)
                               angles[ai], d[k]);
                 }
                 /* clip plane and no clipping */
-                if (!sweep_render(r, s, (limen_render_opts){ .clip = LIMEN_CLIP_PLANE }, rgb))
+                if (!sweep_render(r, s, (limen_render_opts){ .limits.clip = LIMEN_CLIP_PLANE },
+                                  rgb))
                     e_plane = sweep_diff(rgb, truth, w, h, NULL);
-                if (!sweep_render(r, s, (limen_render_opts){ .clip = LIMEN_CLIP_NONE }, rgb))
+                if (!sweep_render(r, s, (limen_render_opts){ .limits.clip = LIMEN_CLIP_NONE }, rgb))
                     e_none = sweep_diff(rgb, truth, w, h, heat);
                 if (d[k] == 1 && ai == 0) {
                     const unsigned char *pan[3] = { rgb, truth, heat };

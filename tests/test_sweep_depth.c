@@ -149,10 +149,12 @@ static void test_depth(void)
                     if (!r[rg][b])
                         continue;
                     for (int clip = 0; clip < 2; clip++) {
-                        limen_plan_desc pd = { .width = w, .height = h, .range = rg, .clip = clip };
+                        limen_plan_desc pd = { .width = w, .height = h, .range = rg,
+                                               .limits.clip = clip };
                         CHECK_OK(limen_plan_build(p, s, &pd));
                         CHECK_MSG(sweep_plan_nonfinite(p) == 0, "plan with NaN or Inf");
-                        if (sweep_render(r[rg][b], s, (limen_render_opts){ .clip = clip }, rgb))
+                        if (sweep_render(r[rg][b], s, (limen_render_opts){ .limits.clip = clip },
+                                         rgb))
                             continue;
                         const limen_plan *rp = limen_renderer_plan(r[rg][b]);
                         int vclip = limen_plan_count(rp) > 1 ? (int)limen_plan_view(rp, 1)->clip : -1;

@@ -140,7 +140,8 @@ static void test_grazing(void)
             int nonfinite = 0;
             for (int range = 0; range < 3; range++)
                 for (int clip = 0; clip < 3; clip++) {
-                    limen_plan_desc pd = { .width = w, .height = h, .range = range, .clip = clip };
+                    limen_plan_desc pd = { .width = w, .height = h, .range = range,
+                                           .limits.clip = clip };
                     CHECK_OK(limen_plan_build(p, s, &pd));
                     nonfinite += sweep_plan_nonfinite(p);
                 }

@@ -16,6 +16,7 @@
  * node's plane within 4 epsilons of the requested normal. Output: matrix.csv.
  */
 #include "core/lmath.h"
+#include "core/testing.h"
 #include "sweeps/sweep.h"
 
 #define FEPS 1.1920928955078125e-7

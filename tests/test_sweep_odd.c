@@ -60,7 +60,8 @@ static void test_odd(void)
         for (int m = 0; m < 2 && truth; m++)
             for (int clip = 0; clip < 2; clip++) {
                 double e = 1;
-                if (!sweep_render(r, s, (limen_render_opts){ .method = m, .clip = clip }, rgb))
+                if (!sweep_render(r, s, (limen_render_opts){ .method = m, .limits.clip = clip },
+                                  rgb))
                     e = sweep_diff(rgb, truth, w, h, heat);
                 const limen_plan *p = limen_renderer_plan(r);
                 int views = limen_plan_count(p);

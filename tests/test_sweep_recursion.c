@@ -346,7 +346,7 @@ static void test_recursion(void)
         CHECK_OK(limen_plan_create(&p));
         const limen_view *lib[KMAX + 1] = { 0 };
         if (s && p) {
-            limen_plan_desc pd = { .width = 1024, .height = 768, .max_views = 4096 };
+            limen_plan_desc pd = { .width = 1024, .height = 768, .limits.max_views = 4096 };
             CHECK_OK(limen_plan_build(p, s, &pd));
             CHECK_MSG(sweep_plan_nonfinite(p) == 0, "%s: plan with NaN or Inf", c->name);
             for (int i = 0; i < limen_plan_count(p); i++) {

@@ -112,7 +112,7 @@ static void *read_scene(void *arg)
         r->wrong += limen_surface_get(r->s, r->good, NULL, NULL, NULL, NULL) != LIMEN_ERR_HANDLE;
         r->wrong += limen_node_find(r->s, "nobody", &found) != LIMEN_ERR_HANDLE;
         r->wrong += limen_node_find(r->s, "ball", &found) != LIMEN_OK || found.id != r->good.id;
-        r->wrong += limen_node_name(r->s, r->stale) != NULL;
+        r->wrong += limen_node_get_name(r->s, r->stale) != NULL;
         r->wrong += limen_scene_nodes(r->s, NULL, 0) != 2;
     }
     return NULL;
@@ -127,7 +127,7 @@ static void test_readers_share_a_scene(void)
     CHECK(limen_node_create(s, LIMEN_NODE_CAMERA, "cam", &cam) == LIMEN_OK);
     CHECK(limen_node_create(s, LIMEN_NODE_GROUP, "gone", &gone) == LIMEN_OK);
     CHECK(limen_node_destroy(s, gone) == LIMEN_OK);
-    CHECK(limen_last_error(s)[0] == 0);
+    CHECK(limen_scene_error(s)[0] == 0);
     reader rd[4];
     pthread_t t[4];
     for (int i = 0; i < 4; i++) {
@@ -138,7 +138,7 @@ static void test_readers_share_a_scene(void)
         pthread_join(t[i], NULL);
         CHECK_MSG(rd[i].wrong == 0, "reader %d: %d wrong answers", i, rd[i].wrong);
     }
-    CHECK_MSG(limen_last_error(s)[0] == 0, "readers wrote the message: %s", limen_last_error(s));
+    CHECK_MSG(limen_scene_error(s)[0] == 0, "readers wrote the message: %s", limen_scene_error(s));
     limen_scene_destroy(s);
 }
 

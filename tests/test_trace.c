@@ -41,8 +41,10 @@ static limen_hit cast(limen_scene *s, float ox, float oy, float oz, float dx, fl
 {
     limen_hit h;
     memset(&h, 0xAB, sizeof h);
-    CHECK_OK(limen_ray_cast(s, (float[3]){ ox, oy, oz }, (float[3]){ dx, dy, dz }, max_bounces,
-                            &h));
+    limen_limits lim = { 0 };   /* max_bounces < 0: the surfaces' own limits */
+    if (max_bounces >= 0)
+        lim = (limen_limits){ .depth_rule = LIMEN_DEPTH_RULE_CAP, .depth = max_bounces };
+    CHECK_OK(limen_ray_cast(s, (float[3]){ ox, oy, oz }, (float[3]){ dx, dy, dz }, &lim, &h));
     return h;
 }
 
@@ -278,6 +280,14 @@ static void drift_case(int bounces)
     double tol = 1e-4 * 6.0;
     limen_node last = bounces % 2 ? north : south;
     CHECK(h.hit == 1 && h.node.id == last.id);
+    /* an override takes the ray one surface further than the surfaces' own limit */
+    limen_hit h2;
+    CHECK_OK(limen_ray_cast(s, (float[3]){ (float)o[0], (float)o[1], (float)o[2] },
+                            (float[3]){ (float)d[0], (float)d[1], (float)d[2] },
+                            &(limen_limits){ .depth_rule = LIMEN_DEPTH_RULE_OVERRIDE,
+                                             .depth = bounces + 1 },
+                            &h2));
+    CHECK(h2.surface_count == bounces + 1 && h2.node.id == (bounces % 2 ? south : north).id);
     CHECK(h.surface_count == bounces);
     CHECK_VEC(h.point, o[0] + d[0] * zu, o[1] + d[1] * zu, bounces % 2 ? -3 : 3, tol);
     CHECK_NEAR(h.distance, zu * dl, tol);
@@ -369,6 +379,15 @@ static void test_checker(void)
     limen_scene_destroy(s);
 }
 
+/* Traces s at w x h under a depth rule. */
+static void trace_limited(limen_scene *s, limen_depth_rule rule, int depth, int w, int h,
+                          unsigned char *img)
+{
+    limen_trace_desc d = { .width = w, .height = h,
+                           .limits = { .depth_rule = rule, .depth = depth } };
+    CHECK_OK(limen_trace_image(s, &d, img));
+}
+
 static void test_bounce_limit(void)
 {
     limen_node mirror;
@@ -381,17 +400,20 @@ static void test_bounce_limit(void)
     enum { W = 33, H = 25 };
     unsigned char img[W * H * 3];
     const unsigned char *px = img + ((H / 2) * W + W / 2) * 3;
-    CHECK_OK(limen_trace_image(
-        s, &(limen_trace_desc){ .width = W, .height = H, .limit_depth = 1, .max_depth = 0 }, img));
+    trace_limited(s, LIMEN_DEPTH_RULE_CAP, 0, W, H, img);
     CHECK(px[0] == 51 && px[1] == 102 && px[2] == 204);
     /* one level allowed: the mirror shows the camera's side of the world (background) */
-    CHECK_OK(limen_trace_image(
-        s, &(limen_trace_desc){ .width = W, .height = H, .limit_depth = 1, .max_depth = 1 }, img));
+    trace_limited(s, LIMEN_DEPTH_RULE_CAP, 1, W, H, img);
     CHECK(px[0] == byte(0.05) && px[1] == byte(0.1) && px[2] == byte(0.15));
     /* the surface's own limit does the same */
     limen_surface_set_max_depth(s, mirror, 0);
     CHECK_OK(limen_trace_image(s, &(limen_trace_desc){ .width = W, .height = H }, img));
     CHECK(px[0] == 51 && px[1] == 102 && px[2] == 204);
+    /* a cap does not raise it; an override does */
+    trace_limited(s, LIMEN_DEPTH_RULE_CAP, 1, W, H, img);
+    CHECK(px[0] == 51 && px[1] == 102 && px[2] == 204);
+    trace_limited(s, LIMEN_DEPTH_RULE_OVERRIDE, 1, W, H, img);
+    CHECK(px[0] == byte(0.05) && px[1] == byte(0.1) && px[2] == byte(0.15));
     limen_scene_destroy(s);
 
     /* nested: the second mirror's fill, times the first mirror's tint */
@@ -419,24 +441,26 @@ static void test_errors(void)
     limen_scene *s = new_scene();
     limen_hit h;
     float o[3] = { 0, 0, 0 };
-    CHECK(limen_ray_cast(s, o, (float[3]){ NAN, 0, 1 }, -1, &h) == LIMEN_ERR_ARG);
-    CHECK(strstr(limen_last_error(s), "direction") != NULL);
-    CHECK(limen_ray_cast(s, o, (float[3]){ 0, 0, 0 }, -1, &h) == LIMEN_ERR_ARG);
-    CHECK(limen_ray_cast(s, (float[3]){ INFINITY, 0, 0 }, (float[3]){ 0, 0, 1 }, -1, &h) ==
+    CHECK(limen_ray_cast(s, o, (float[3]){ NAN, 0, 1 }, NULL, &h) == LIMEN_ERR_ARG);
+    CHECK(strstr(limen_scene_error(s), "direction") != NULL);
+    CHECK(limen_ray_cast(s, o, (float[3]){ 0, 0, 0 }, NULL, &h) == LIMEN_ERR_ARG);
+    CHECK(limen_ray_cast(s, (float[3]){ INFINITY, 0, 0 }, (float[3]){ 0, 0, 1 }, NULL, &h) ==
           LIMEN_ERR_ARG);
-    CHECK(limen_ray_cast(s, o, (float[3]){ 0, 0, 1 }, -1, NULL) == LIMEN_ERR_ARG);
-    CHECK(limen_ray_cast(NULL, o, (float[3]){ 0, 0, 1 }, -1, &h) == LIMEN_ERR_ARG);
+    CHECK(limen_ray_cast(s, o, (float[3]){ 0, 0, 1 }, NULL, NULL) == LIMEN_ERR_ARG);
+    CHECK(limen_ray_cast(NULL, o, (float[3]){ 0, 0, 1 }, NULL, &h) == LIMEN_ERR_ARG);
 
     unsigned char img[4 * 4 * 3];
     CHECK(limen_trace_image(s, &(limen_trace_desc){ .width = 4, .height = 4 }, img) ==
           LIMEN_ERR_ARG);
-    CHECK(strstr(limen_last_error(s), "camera") != NULL);
+    CHECK(strstr(limen_scene_error(s), "camera") != NULL);
     limen_node cam = add(s, LIMEN_NODE_CAMERA, "cam", 0, 0, 5);
     limen_scene_set_camera(s, cam);
     CHECK(limen_trace_image(s, &(limen_trace_desc){ .width = -4, .height = 4 }, img) ==
           LIMEN_ERR_ARG);
-    CHECK(limen_trace_image(s, &(limen_trace_desc){ .width = 4, .height = 4, .limit_depth = 1,
-                                                    .max_depth = 300 }, img) == LIMEN_ERR_ARG);
+    CHECK(limen_trace_image(s, &(limen_trace_desc){ .width = 4, .height = 4,
+                                                    .limits = { .depth_rule = LIMEN_DEPTH_RULE_CAP,
+                                                                .depth = 300 } },
+                            img) == LIMEN_ERR_ARG);
     CHECK(limen_trace_image(s, &(limen_trace_desc){ .width = 4, .height = 4, .threads = -1 },
                             img) == LIMEN_ERR_ARG);
     CHECK(limen_trace_image(s, NULL, NULL) == LIMEN_ERR_ARG);

@@ -10,6 +10,7 @@
 #include "check.h"
 #include "limen.h"
 #include "load.h"
+#include "core/testing.h"
 
 #define BOUND 0.005
 
@@ -32,16 +33,22 @@ static limen_script *load(const char *name)
     return check_load_script(path);
 }
 
-/* depth < 0: the scene's own limits */
+/* depth < 0: the scene's own limits, else capped at depth */
+static limen_limits depth_limits(int depth)
+{
+    return depth < 0 ? (limen_limits){ 0 }
+                     : (limen_limits){ .depth_rule = LIMEN_DEPTH_RULE_CAP, .depth = depth };
+}
+
 static unsigned char *trace(limen_scene *s, int w, int h, int depth, double *ms)
 {
     unsigned char *rgb = malloc((size_t)w * h * 3);
     double t0 = now_ms();
     limen_status st = limen_trace_image(
-        s, &(limen_trace_desc){ .width = w, .height = h, .limit_depth = depth >= 0, .max_depth = depth < 0 ? 0 : depth },
+        s, &(limen_trace_desc){ .width = w, .height = h, .limits = depth_limits(depth) },
         rgb);
     *ms = now_ms() - t0;
-    CHECK_MSG(st == LIMEN_OK, "trace: %s", limen_last_error(s));
+    CHECK_MSG(st == LIMEN_OK, "trace: %s", limen_scene_error(s));
     return rgb;
 }
 
@@ -82,8 +89,8 @@ static void scenes_at(const char *const *list, int w, int h)
                 trace_ms = tms;
             for (int m = 0; m < 2; m++) {
                 for (int c = 0; c < 2; c++) {
-                    limen_render_opts o = { .method = m, .clip = c, .limit_depth = depths[k] >= 0,
-                                            .max_depth = depths[k] < 0 ? 0 : depths[k] };
+                    limen_render_opts o = { .method = m, .limits = depth_limits(depths[k]) };
+                    o.limits.clip = c;
                     double rms = 0;
                     double d = bad_share(r, s, o, truth, w, h, &rms);
                     if (depths[k] < 0 && c == 0)
@@ -140,7 +147,8 @@ static void test_metric_has_teeth(void)
     limen_script *sc = load("mirror_room");
     if (sc && r) {
         unsigned char *truth = trace(limen_script_scene(sc), w, h, -1, &ms);
-        double d = bad_share(r, limen_script_scene(sc), (limen_render_opts){ .clip = LIMEN_CLIP_NONE },
+        double d = bad_share(r, limen_script_scene(sc),
+                             (limen_render_opts){ .limits.clip = LIMEN_CLIP_NONE },
                              truth, w, h, NULL);
         printf("     mirror_room with --clip none: %.2f%% of pixels off\n", 100 * d);
         CHECK_MSG(d > 10 * BOUND, "clip none is off by only %.3f%%", 100 * d);
@@ -155,10 +163,10 @@ static void test_metric_has_teeth(void)
             continue;
         unsigned char *truth = trace(limen_script_scene(sc), w, h, -1, &ms);
         for (int m = 0; m < 2; m++) {
-            double d = bad_share(r, limen_script_scene(sc),
-                                 (limen_render_opts){ .method = m,
-                                                      .test_faults = LIMEN_FAULT_PORTAL_NO_TURN },
+            limen__scene_set_faults(limen_script_scene(sc), LIMEN_FAULT_PORTAL_NO_TURN);
+            double d = bad_share(r, limen_script_scene(sc), (limen_render_opts){ .method = m },
                                  truth, w, h, NULL);
+            limen__scene_set_faults(limen_script_scene(sc), 0);
             printf("     %s with the portal's turn left out (%s): %.2f%% of pixels off\n",
                    portal_scenes[i], m ? "texture" : "stencil", 100 * d);
             CHECK_MSG(d > 4 * BOUND, "a portal without its turn is off by only %.3f%%", 100 * d);
@@ -185,7 +193,7 @@ static void test_stencil_values(void)
         double ms;
         unsigned char *truth = trace(s, w, h, depths[k], &ms);
         for (int m = 0; m < 2; m++) {
-            limen_render_opts o = { .method = m, .limit_depth = 1, .max_depth = depths[k] };
+            limen_render_opts o = { .method = m, .limits = depth_limits(depths[k]) };
             CHECK_OK(limen_render_frame(r, s, &o, NULL));
             CHECK_OK(limen_renderer_read_rgb(r, rgb[m]));
         }

@@ -10,38 +10,65 @@
 #include "cli/cli.h"
 #include "limen.h"
 
-static const char *usage =
-    "usage: limen render SCENE.lua -o OUT.png [options]\n"
-    "       limen diff A.png B.png [--threshold N] [--heatmap H.png] [--json]\n"
-    "                  [--max-bad SHARE]   exit 1 if more than SHARE (0..1) are over\n"
-    "       limen trace SCENE.lua -o REF.png [--size WxH] [--depth N] [--time T]\n"
-    "       limen view SCENE.lua [options] [--shots DIR]   a window to walk through\n"
-    "options:\n"
-    "  --size WxH            image size (default 640x480)\n"
-    "  --backend osmesa|egl  OpenGL context (default osmesa)\n"
-    "  --msaa N              samples per pixel (default off)\n"
-    "  --depth-mode no|zo|zo-reversed   clip-space depth convention (default no)\n"
-    "  --time T              scene time in seconds passed to update(t) (default 0)\n"
-    "  --frames N --fps F    render N frames from T at F frames per second;\n"
-    "                        files are numbered OUT_0000.png, OUT_0001.png, ...\n"
-    "  --method stencil|texture|naive   how views nest (default stencil; naive: the\n"
-    "                        baseline without culling or scissors, for comparison)\n"
-    "  --adaptive T          stop recursion where no pixel could change by more than T\n"
-    "                        (8-bit steps; mirror tints decide)\n"
-    "  --depth-bits 24|32    depth buffer: 24-bit integer or 32-bit float\n"
-    "  --texture-scale S     texture method: resolution of nested views, 0 < S <= 1\n"
-    "  --clip oblique|plane|none        how a view cuts what is behind its surface\n"
-    "                        (default oblique, with the plane where oblique cannot)\n"
-    "  --depth N             recursion limit for every surface (default: their own)\n"
-    "  --max-views N         view budget (default 1024)\n"
-    "  --fill color|previous where recursion stops: the surface's fill colour\n"
-    "                        (default), or its picture from the previous frame\n"
-    "  --plan PLAN.json      write the view tree of the (last) frame\n"
-    "  --stats               print one JSON line per frame: ms, views, fragments,\n"
-    "                        samples, pixels\n"
-    "  --trusted             run the script with the full Lua standard library\n"
-    "  --eye X,Y,Z --look X,Y,Z [--up X,Y,Z]   place the camera there instead (render,\n"
-    "                        trace and view; what view's screenshots print)\n";
+static const char *const render_synopsis =
+    "limen render SCENE.lua -o OUT.png [options]";
+
+static const limen_cli_option render_options[] = {
+    { "--backend osmesa|egl", "OpenGL context (default osmesa)" },
+    { "--method M", "how views nest: stencil (default), texture, or naive (the baseline\n"
+                    "of common engines, without culling or scissors, for comparison)" },
+    { "--clip oblique|plane|none", "how a view cuts what is behind its surface (default\n"
+                                   "oblique, with the plane where oblique cannot)" },
+    { "--max-views N", "view budget (default 1024)" },
+    { "--adaptive T", "stop recursion where no pixel could change by more than T\n"
+                      "(8-bit steps; mirror tints decide)" },
+    { "--fill color|previous", "where recursion stops: the surface's fill colour\n"
+                               "(default), or its picture from the previous frame" },
+    { "--texture-scale S", "texture method: resolution of nested views, 0 < S <= 1" },
+    { "--msaa N", "samples per pixel (default off)" },
+    { "--depth-bits 24|32", "depth buffer: 24-bit integer or 32-bit float" },
+    { "--depth-mode MODE", "clip-space depth convention: no (default), zo, zo-reversed" },
+    { "--plan PLAN.json", "write the view tree of the (last) frame: views, the surfaces\n"
+                          "each sees, and the shapes cloned through portals" },
+    { "--stats", "one JSON line per frame: frame, time, ms, views, truncated (views\n"
+                 "the limits and the frame budget left out), fragments,\n"
+                 "samples, pixels, and warm_up: true for the run's first frame, whose\n"
+                 "ms includes one-time work (shader compilation, buffers); take ms\n"
+                 "from later frames (--frames) for a steady figure" },
+    { NULL, NULL }
+};
+
+static const char *const diff_synopsis =
+    "limen diff A.png B.png [--threshold N] [--heatmap H.png] [--json] [--max-bad SHARE]";
+
+static const limen_cli_option diff_options[] = {
+    { "--threshold N", "a pixel differs where its largest channel differs by more\n"
+                       "than N (0 to 255, default 8)" },
+    { "--heatmap H.png", "draw where: A in dim grey, pixels over the threshold red to yellow" },
+    { "--json", "one JSON line instead of a sentence" },
+    { "--max-bad SHARE", "exit 1 if more than SHARE (0 to 1) of the pixels differ" },
+    { "-h, --help", "print this and exit" },
+    { NULL, NULL }
+};
+
+static void render_usage(FILE *f)
+{
+    limen_cli_run_usage(f, render_synopsis, "render options", render_options);
+}
+
+static void diff_usage(FILE *f)
+{
+    limen_cli_usage(f, diff_synopsis, (const char *const[]){ "options", NULL },
+                    (const limen_cli_option *const[]){ diff_options, NULL });
+}
+
+static const char *const usage =
+    "usage: limen render SCENE.lua -o OUT.png [options]   draw a scene with OpenGL\n"
+    "       limen trace SCENE.lua -o REF.png [options]    ray trace its reference image\n"
+    "       limen diff A.png B.png [options]              compare two images\n"
+    "       limen view SCENE.lua [options] [--shots DIR]  a window to walk through\n"
+    "       limen --version\n"
+    "`limen COMMAND --help` lists a command's options.\n";
 
 void limen_cli_scene_error(const char *scene, const char *msg)
 {
@@ -52,29 +79,11 @@ void limen_cli_scene_error(const char *scene, const char *msg)
         fprintf(stderr, "limen: %s: %s\n", scene, msg);
 }
 
-/* What a scene script prints goes to stderr, marked as the script's: it cannot pass for the
- * program's own output (stdout), nor for one of its messages. */
-static void script_print(void *scene, const char *line)
-{
-    fprintf(stderr, "limen: %s: print: %s\n", (const char *)scene, line);
-}
-
-static int fail(const char *fmt, const char *a, const char *b)
-{
-    fprintf(stderr, "limen: ");
-    fprintf(stderr, fmt, a, b);
-    fputc('\n', stderr);
-    return 1;
-}
-
 typedef struct options {
-    const char *scene, *out, *plan;
+    limen_cli_run run;
+    const char *plan;
     limen_renderer_desc rd;
     limen_render_opts ro;
-    double time, fps;
-    long frames;
-    int stats, trusted;
-    limen_cli_pose pose;
 } options;
 
 int limen_cli_parse_long(const char *s, long lo, long hi, long *out)
@@ -115,151 +124,119 @@ int limen_cli_parse_size(const char *s, int *w, int *h)
     return 0;
 }
 
-static int parse_render(int argc, char **argv, options *o, int need_out)
+/* Options whose value is one of a few names, in the order of their enum's values. */
+enum { C_BACKEND, C_DEPTH_MODE, C_METHOD, C_FILL, C_CLIP, C_COUNT };
+static const struct {
+    const char *option;
+    const char *const names[4];
+} choices[C_COUNT] = {
+    [C_BACKEND] = { "--backend", { "osmesa", "egl" } },
+    [C_DEPTH_MODE] = { "--depth-mode", { "no", "zo", "zo-reversed" } },
+    [C_METHOD] = { "--method", { "stencil", "texture", "naive" } },
+    [C_FILL] = { "--fill", { "color", "previous" } },
+    [C_CLIP] = { "--clip", { "oblique", "plane", "none" } },
+};
+
+/* Sets the choice option c to value v; 2 after a usage error ("expected a, b or c"). */
+static int set_choice(int c, const char *v, options *o)
+{
+    const char *const *names = choices[c].names;
+    int k = 0;
+    while (k < 4 && names[k] && strcmp(v, names[k]))
+        k++;
+    if (k == 4 || !names[k]) {
+        char list[96] = "";
+        for (int i = 0; i < 4 && names[i]; i++)
+            snprintf(list + strlen(list), sizeof list - strlen(list), "%s%s",
+                     i == 0 ? "" : i + 1 < 4 && names[i + 1] ? ", " : " or ", names[i]);
+        return limen_cli_fail(2, "%s: expected %s, got '%s'", choices[c].option, list, v);
+    }
+    switch (c) {
+    case C_BACKEND: o->rd.backend = (limen_backend)k; break;
+    case C_DEPTH_MODE: o->rd.depth_range = (limen_depth_range)k; break;
+    case C_METHOD: o->ro.method = (limen_method)k; break;
+    case C_FILL: o->ro.fill = (limen_fill)k; break;
+    default: o->ro.limits.clip = (limen_clip_method)k; break;
+    }
+    return 1;
+}
+
+/* Parses one render-only option a with value v (NULL if none follows); returns 1 if it
+ * took v, 2 after a usage error. */
+static int render_option(const char *a, const char *v, options *o)
+{
+    static const char *const numeric[] = { "--plan", "--msaa", "--adaptive", "--depth-bits",
+                                           "--texture-scale", "--max-views", NULL };
+    int known = 0;
+    for (int i = 0; numeric[i]; i++)
+        known |= !strcmp(a, numeric[i]);
+    for (int c = 0; c < C_COUNT; c++)
+        known |= !strcmp(a, choices[c].option);
+    if (!known)
+        return limen_cli_fail(2, "unknown option '%s'", a);
+    if (!v)
+        return limen_cli_fail(2, "option %s needs a value", a);
+    for (int c = 0; c < C_COUNT; c++)
+        if (!strcmp(a, choices[c].option))
+            return set_choice(c, v, o);
+    long n;
+    double x;
+    if (!strcmp(a, "--plan")) {
+        o->plan = v;
+    } else if (!strcmp(a, "--msaa")) {
+        if (limen_cli_parse_long(v, 0, 64, &n))
+            return limen_cli_fail(2, "--msaa: expected 0 to 64, got '%s'", v);
+        o->rd.msaa = (int)n;
+    } else if (!strcmp(a, "--adaptive")) {
+        if (limen_cli_parse_double(v, &x) || !(x >= 0 && x <= 255))
+            return limen_cli_fail(2, "--adaptive: expected a threshold in 8-bit steps (0 to "
+                                     "255), got '%s'", v);
+        o->ro.limits.adaptive = (float)(x / 255.0);
+    } else if (!strcmp(a, "--depth-bits")) {
+        if (limen_cli_parse_long(v, 24, 32, &n) || (n != 24 && n != 32))
+            return limen_cli_fail(2, "--depth-bits: expected 24 or 32, got '%s'", v);
+        o->rd.depth_bits = (int)n;
+    } else if (!strcmp(a, "--texture-scale")) {
+        if (limen_cli_parse_double(v, &x) || !(x > 0 && x <= 1))
+            return limen_cli_fail(2, "--texture-scale: expected 0 < S <= 1, got '%s'", v);
+        o->ro.texture_scale = (float)x;
+    } else if (!strcmp(a, "--max-views")) {
+        if (limen_cli_parse_long(v, 1, 1000000, &n))
+            return limen_cli_fail(2, "--max-views: expected 1 to 1000000, got '%s'", v);
+        o->ro.limits.max_views = (int)n;
+    }
+    return 1;
+}
+
+/* Returns 0 to go on, or the exit status (0 after --help). need_out: render's -o. */
+static int parse_render(int argc, char **argv, options *o, int *done, int need_out)
 {
     memset(o, 0, sizeof *o);
-    o->frames = 1;
-    o->fps = 30;
+    limen_cli_run_init(&o->run);
     for (int i = 0; i < argc; i++) {
-        const char *a = argv[i];
-        const char *v = i + 1 < argc ? argv[i + 1] : NULL;
-        int pose = limen_cli_pose_option(a, v, &o->pose);
-        if (pose) {
-            if (pose < 0)
-                return 1;
-            i++;
-            continue;
+        int r = limen_cli_run_option(argc, argv, &i, &o->run);
+        if (r == 0) {
+            r = render_option(argv[i], i + 1 < argc ? argv[i + 1] : NULL, o);
+            i += r == 1;
         }
-#define NEED_VALUE()                                                                     \
-    do {                                                                                 \
-        if (!v)                                                                          \
-            return fail("option %s needs a value%s", a, "");                             \
-        i++;                                                                             \
-    } while (0)
-        if (!strcmp(a, "-o") || !strcmp(a, "--output")) {
-            NEED_VALUE();
-            o->out = v;
-        } else if (!strcmp(a, "--size")) {
-            NEED_VALUE();
-            if (limen_cli_parse_size(v, &o->rd.width, &o->rd.height))
-                return fail("--size: expected WxH with 1 <= W, H <= 16384, got '%s'%s", v, "");
-        } else if (!strcmp(a, "--backend")) {
-            NEED_VALUE();
-            if (!strcmp(v, "osmesa"))
-                o->rd.backend = LIMEN_BACKEND_OSMESA;
-            else if (!strcmp(v, "egl"))
-                o->rd.backend = LIMEN_BACKEND_EGL;
-            else
-                return fail("--backend: expected osmesa or egl, got '%s'%s", v, "");
-        } else if (!strcmp(a, "--msaa")) {
-            NEED_VALUE();
-            long n;
-            if (limen_cli_parse_long(v, 0, 64, &n))
-                return fail("--msaa: expected 0 to 64, got '%s'%s", v, "");
-            o->rd.msaa = (int)n;
-        } else if (!strcmp(a, "--depth-mode")) {
-            NEED_VALUE();
-            if (!strcmp(v, "no"))
-                o->rd.depth_range = LIMEN_DEPTH_NO;
-            else if (!strcmp(v, "zo"))
-                o->rd.depth_range = LIMEN_DEPTH_ZO;
-            else if (!strcmp(v, "zo-reversed"))
-                o->rd.depth_range = LIMEN_DEPTH_ZO_REVERSED;
-            else
-                return fail("--depth-mode: expected no, zo or zo-reversed, got '%s'%s", v, "");
-        } else if (!strcmp(a, "--time")) {
-            NEED_VALUE();
-            if (limen_cli_parse_double(v, &o->time))
-                return fail("--time: expected a number, got '%s'%s", v, "");
-        } else if (!strcmp(a, "--frames")) {
-            NEED_VALUE();
-            if (limen_cli_parse_long(v, 1, 1000000, &o->frames))
-                return fail("--frames: expected 1 to 1000000, got '%s'%s", v, "");
-        } else if (!strcmp(a, "--fps")) {
-            NEED_VALUE();
-            if (limen_cli_parse_double(v, &o->fps) || !(o->fps > 0))
-                return fail("--fps: expected a positive number, got '%s'%s", v, "");
-        } else if (!strcmp(a, "--method")) {
-            NEED_VALUE();
-            if (!strcmp(v, "stencil"))
-                o->ro.method = LIMEN_METHOD_STENCIL;
-            else if (!strcmp(v, "texture"))
-                o->ro.method = LIMEN_METHOD_TEXTURE;
-            else if (!strcmp(v, "naive"))
-                o->ro.method = LIMEN_METHOD_NAIVE;
-            else
-                return fail("--method: expected stencil, texture or naive, got '%s'%s", v, "");
-        } else if (!strcmp(a, "--adaptive")) {
-            NEED_VALUE();
-            double t;
-            if (limen_cli_parse_double(v, &t) || !(t >= 0 && t <= 255))
-                return fail("--adaptive: expected a threshold in 8-bit steps (0 to 255), got "
-                            "'%s'%s", v, "");
-            o->ro.adaptive = (float)(t / 255.0);
-        } else if (!strcmp(a, "--depth-bits")) {
-            NEED_VALUE();
-            long n;
-            if (limen_cli_parse_long(v, 24, 32, &n) || (n != 24 && n != 32))
-                return fail("--depth-bits: expected 24 or 32, got '%s'%s", v, "");
-            o->rd.depth_bits = (int)n;
-        } else if (!strcmp(a, "--fill")) {
-            NEED_VALUE();
-            if (!strcmp(v, "color"))
-                o->ro.fill = LIMEN_FILL_COLOR;
-            else if (!strcmp(v, "previous"))
-                o->ro.fill = LIMEN_FILL_PREVIOUS;
-            else
-                return fail("--fill: expected color or previous, got '%s'%s", v, "");
-        } else if (!strcmp(a, "--texture-scale")) {
-            NEED_VALUE();
-            double sc;
-            if (limen_cli_parse_double(v, &sc) || !(sc > 0 && sc <= 1))
-                return fail("--texture-scale: expected 0 < S <= 1, got '%s'%s", v, "");
-            o->ro.texture_scale = (float)sc;
-        } else if (!strcmp(a, "--clip")) {
-            NEED_VALUE();
-            if (!strcmp(v, "oblique"))
-                o->ro.clip = LIMEN_CLIP_OBLIQUE;
-            else if (!strcmp(v, "plane"))
-                o->ro.clip = LIMEN_CLIP_PLANE;
-            else if (!strcmp(v, "none"))
-                o->ro.clip = LIMEN_CLIP_NONE;
-            else
-                return fail("--clip: expected oblique, plane or none, got '%s'%s", v, "");
-        } else if (!strcmp(a, "--depth")) {
-            NEED_VALUE();
-            long n;
-            if (limen_cli_parse_long(v, 0, 255, &n))
-                return fail("--depth: expected 0 to 255, got '%s'%s", v, "");
-            o->ro.limit_depth = 1;
-            o->ro.max_depth = (int)n;
-        } else if (!strcmp(a, "--max-views")) {
-            NEED_VALUE();
-            long n;
-            if (limen_cli_parse_long(v, 1, 1000000, &n))
-                return fail("--max-views: expected 1 to 1000000, got '%s'%s", v, "");
-            o->ro.max_views = (int)n;
-        } else if (!strcmp(a, "--plan")) {
-            NEED_VALUE();
-            o->plan = v;
-        } else if (!strcmp(a, "--stats")) {
-            o->stats = 1;
-        } else if (!strcmp(a, "--trusted")) {
-            o->trusted = 1;
-        } else if (a[0] == '-' && a[1]) {
-            return fail("unknown option '%s'%s", a, "");
-        } else if (!o->scene) {
-            o->scene = a;
-        } else {
-            return fail("unexpected argument '%s'%s", a, "");
-        }
-#undef NEED_VALUE
+        if (r == 2)
+            return 2;
     }
-    if (!o->scene)
-        return fail("render: no scene script given%s%s", "", "");
-    if (!o->out && need_out)
-        return fail("render: no output given (-o OUT.png)%s%s", "", "");
-    return limen_cli_pose_check(&o->pose) ? 1 : 0;
+    if (o->run.help) {
+        render_usage(stdout);
+        *done = 1;
+        return 0;
+    }
+    o->rd.width = o->run.width;
+    o->rd.height = o->run.height;
+    o->ro.limits.depth_rule = o->run.limits.depth_rule;
+    o->ro.limits.depth = o->run.limits.depth;
+    if (!need_out) {
+        if (limen_cli_pose_check(&o->run.pose))
+            return 2;
+        return o->run.scene ? 0 : limen_cli_fail(2, "view: no scene script given");
+    }
+    return limen_cli_run_check(&o->run, "render");
 }
 
 int limen_cli_render_options(int argc, char **argv, const char **scene,
@@ -267,73 +244,50 @@ int limen_cli_render_options(int argc, char **argv, const char **scene,
                              limen_cli_pose *pose)
 {
     options o;
-    if (parse_render(argc, argv, &o, 0))
-        return 2;
-    if (o.out || o.plan || o.stats || o.frames != 1)
-        return fail("view: -o, --frames, --plan and --stats are render's options%s%s", "", ""),
-               2;
-    *scene = o.scene;
+    int done = 0, rc = parse_render(argc, argv, &o, &done, 0);
+    if (rc || done)
+        return done ? 1 : rc;
+    if (o.run.out || o.plan || o.run.stats || o.run.frames != 1)
+        return limen_cli_fail(2, "view: -o, --frames, --plan and --stats are render's options");
+    *scene = o.run.scene;
     *rd = o.rd;
     *ro = o.ro;
-    *trusted = o.trusted;
-    *pose = o.pose;
+    *trusted = o.run.trusted;
+    *pose = o.run.pose;
     return 0;
-}
-
-/* OUT.png -> OUT_0007.png for frame 7 of a sequence. */
-/* The file of frame `frame`; -1 if its name does not fit in buf (never a truncated name,
- * which would write every frame to one file). */
-static int frame_path(const char *out, long frame, long frames, char *buf, size_t size)
-{
-    int n;
-    if (frames == 1) {
-        n = snprintf(buf, size, "%s", out);
-    } else {
-        const char *dot = strrchr(out, '.');
-        const char *slash = strrchr(out, '/');
-        size_t len = strlen(out);
-        size_t stem = dot && (!slash || dot > slash) ? (size_t)(dot - out) : len;
-        if (stem > (size_t)INT_MAX)
-            return -1;
-        n = snprintf(buf, size, "%.*s_%04ld%s", (int)stem, out, frame,
-                     dot && stem < len ? dot : ".png");
-    }
-    return n < 0 || (size_t)n >= size ? -1 : 0;
 }
 
 static int cmd_render(int argc, char **argv)
 {
     options o;
-    if (parse_render(argc, argv, &o, 1))
-        return 2;
-    limen_script *sc = NULL;
-    limen_status st = limen_script_load(o.scene, &(limen_script_desc){
-        .trusted = o.trusted, .print = script_print, .print_user = (void *)o.scene }, &sc);
-    if (st) {
-        fprintf(stderr, "limen: %s\n", sc ? limen_script_error(sc) : limen_status_string(st));
-        limen_script_destroy(sc);
+    int done = 0, rc = parse_render(argc, argv, &o, &done, 1);
+    if (rc || done)
+        return rc;
+    limen_script *sc = limen_cli_load(&o.run);
+    if (!sc)
         return 1;
-    }
     limen_renderer *r = NULL;
-    st = limen_renderer_create(&o.rd, &r);
+    limen_status st = limen_renderer_create(&o.rd, &r);
     if (st) {
-        fprintf(stderr, "limen: %s\n", r ? limen_renderer_error(r) : limen_status_string(st));
+        limen_cli_fail(1, "%s", r ? limen_renderer_error(r) : limen_status_string(st));
         limen_renderer_destroy(r);
         limen_script_destroy(sc);
         return 1;
     }
+    int w, h;
+    limen_renderer_get_size(r, &w, &h);
+    unsigned char *rgb = malloc((size_t)w * (size_t)h * 3);
+    if (!rgb)
+        rc = limen_cli_fail(1, "out of memory for a %dx%d image", w, h);
     int tty = isatty(2);
-    int rc = 0;
+    long frames = o.run.frames;
     char path[PATH_MAX];
-    for (long f = 0; f < o.frames && !rc; f++) {
-        double t = o.time + (double)f / o.fps;
+    for (long f = 0; f < frames && !rc; f++) {
+        double t = o.run.time + (double)f / o.run.fps;
         limen_frame_stats stats;
-        if (limen_script_animated(sc) && limen_script_update(sc, t)) {
-            fprintf(stderr, "%slimen: %s\n", tty && f ? "\n" : "", limen_script_error(sc));
-            rc = 1;
+        if ((rc = limen_cli_update(sc, &o.run, f, t, tty && f)))
             break;
-        }
-        if (limen_cli_pose_apply(limen_script_scene(sc), &o.pose)) {
+        if (limen_cli_pose_apply(limen_script_scene(sc), &o.run.pose)) {
             rc = 1;
             break;
         }
@@ -341,41 +295,38 @@ static int cmd_render(int argc, char **argv)
         if (st) {
             if (tty && f)
                 fputc('\n', stderr);
-            limen_cli_scene_error(o.scene, limen_renderer_error(r));
+            limen_cli_scene_error(o.run.scene, limen_renderer_error(r));
             rc = 1;
             break;
         }
-        if (frame_path(o.out, f, o.frames, path, sizeof path)) {
-            fprintf(stderr, "%slimen: -o: the path is too long\n", tty && f ? "\n" : "");
-            rc = 1;
+        if (limen_cli_frame_path(o.run.out, f, frames, path, sizeof path)) {
+            rc = limen_cli_fail(1, "%s-o: the path is too long", tty && f ? "\n" : "");
             break;
         }
-        st = limen_renderer_write_png(r, path);
-        if (st) {
-            fprintf(stderr, "%slimen: %s\n", tty && f ? "\n" : "", limen_renderer_error(r));
-            rc = 1;
+        st = limen_renderer_read_rgb(r, rgb);
+        if (st || limen_write_image(path, w, h, rgb)) {
+            rc = limen_cli_fail(1, "%scannot write '%s'", tty && f ? "\n" : "", path);
             break;
         }
-        if (o.stats)
-            printf("{\"frame\": %ld, \"time\": %.6g, \"ms\": %.3f, \"views\": %d, "
-                   "\"truncated\": %d, \"fragments\": %llu, \"samples\": %llu, "
+        if (o.run.stats)
+            printf("{\"frame\": %ld, \"time\": %.6g, \"ms\": %.3f, \"warm_up\": %s, "
+                   "\"views\": %d, \"truncated\": %d, \"fragments\": %llu, \"samples\": %llu, "
                    "\"pixels\": %llu}\n",
-                   f, t, stats.ms, stats.views, stats.truncated,
+                   f, t, stats.ms, f ? "false" : "true", stats.views, stats.truncated,
                    (unsigned long long)stats.fragments, (unsigned long long)stats.samples,
                    (unsigned long long)stats.pixels);
-        if (o.frames > 1 && tty)
-            fprintf(stderr, "\rlimen: frame %ld/%ld", f + 1, o.frames);
+        if (frames > 1 && tty)
+            fprintf(stderr, "\rlimen: frame %ld/%ld", f + 1, frames);
     }
-    if (o.frames > 1 && tty)
+    if (frames > 1 && tty)
         fputc('\n', stderr);
     if (!rc && o.plan &&
-        limen_plan_write_json(limen_renderer_plan(r), limen_script_scene(sc), o.plan)) {
-        fprintf(stderr, "limen: cannot write '%s'\n", o.plan);
-        rc = 1;
+        limen_plan_write_json(limen_renderer_plan(r), limen_script_scene(sc), o.plan))
+        rc = limen_cli_fail(1, "cannot write '%s'", o.plan);
+    if (!rc && frames > 1 && !limen_cli_frame_path(o.run.out, 0, frames, path, sizeof path)) {
+        fprintf(stderr, "limen: wrote %ld frames to %s\n", frames, path);
     }
-    if (!rc && o.frames > 1)
-        fprintf(stderr, "limen: wrote %ld frames to %s\n", o.frames,
-                (frame_path(o.out, 0, o.frames, path, sizeof path), path));
+    free(rgb);
     limen_renderer_destroy(r);
     limen_script_destroy(sc);
     return rc;
@@ -389,56 +340,56 @@ static int cmd_diff(int argc, char **argv)
     double max_bad = -1;
     for (int i = 0; i < argc; i++) {
         const char *v = i + 1 < argc ? argv[i + 1] : NULL;
-        if (!strcmp(argv[i], "--heatmap") && v) {
+        if (!strcmp(argv[i], "-h") || !strcmp(argv[i], "--help")) {
+            diff_usage(stdout);
+            return 0;
+        } else if (!strcmp(argv[i], "--heatmap") && v) {
             heat = v;
             i++;
         } else if (!strcmp(argv[i], "--threshold") && v) {
             if (limen_cli_parse_long(v, 0, 255, &threshold))
-                return fail("--threshold: expected 0 to 255, got '%s'%s", v, ""), 2;
+                return limen_cli_fail(2, "--threshold: expected 0 to 255, got '%s'", v);
             i++;
         } else if (!strcmp(argv[i], "--max-bad") && v) {
             if (limen_cli_parse_double(v, &max_bad) || max_bad < 0 || max_bad > 1)
-                return fail("--max-bad: expected 0 to 1, got '%s'%s", v, ""), 2;
+                return limen_cli_fail(2, "--max-bad: expected 0 to 1, got '%s'", v);
             i++;
         } else if (!strcmp(argv[i], "--json")) {
             json = 1;
         } else if (argv[i][0] == '-' && argv[i][1]) {
-            return fail("diff: unknown option or missing value '%s'%s", argv[i], ""), 2;
+            return limen_cli_fail(2, "diff: unknown option or missing value '%s'", argv[i]);
         } else if (!a) {
             a = argv[i];
         } else if (!b) {
             b = argv[i];
         } else {
-            return fail("diff: unexpected argument '%s'%s", argv[i], ""), 2;
+            return limen_cli_fail(2, "diff: unexpected argument '%s'", argv[i]);
         }
     }
     if (!a || !b)
-        return fail("diff: needs two images%s%s", "", ""), 2;
+        return limen_cli_fail(2, "diff: needs two images");
     int wa, ha, wb, hb;
     unsigned char *pa = NULL, *pb = NULL, *ph = NULL;
     static const char too_big[] = ": more pixels than limen reads (LIMEN_IMAGE_MAX_PIXELS)";
     limen_status ra = limen_read_png(a, &wa, &ha, &pa);
     if (ra)
-        return fail("cannot read '%s'%s", a, ra == LIMEN_ERR_ARG ? too_big : "");
+        return limen_cli_fail(1, "cannot read '%s'%s", a, ra == LIMEN_ERR_ARG ? too_big : "");
     limen_status rb = limen_read_png(b, &wb, &hb, &pb);
     if (rb) {
         limen_free(pa);
-        return fail("cannot read '%s'%s", b, rb == LIMEN_ERR_ARG ? too_big : "");
+        return limen_cli_fail(1, "cannot read '%s'%s", b, rb == LIMEN_ERR_ARG ? too_big : "");
     }
     int rc = 0;
     limen_diff d;
     if (wa != wb || ha != hb) {
-        char sa[32], sb[32];
-        snprintf(sa, sizeof sa, "%dx%d", wa, ha);
-        snprintf(sb, sizeof sb, "%dx%d", wb, hb);
-        rc = fail("diff: sizes differ (%s against %s)", sa, sb);
+        rc = limen_cli_fail(1, "diff: sizes differ (%dx%d against %dx%d)", wa, ha, wb, hb);
     } else {
         if (heat && !(ph = malloc((size_t)wa * (size_t)ha * 3)))
-            rc = fail("out of memory%s%s", "", "");
+            rc = limen_cli_fail(1, "out of memory");
         if (!rc)
             limen_image_diff(pa, pb, wa, ha, (int)threshold, &d, ph);
         if (!rc && heat && limen_write_png(heat, wa, ha, ph))
-            rc = fail("cannot write '%s'%s", heat, "");
+            rc = limen_cli_fail(1, "cannot write '%s'", heat);
         if (!rc) {
             if (json)
                 printf("{\"bad_share\": %.6f, \"bad_pixels\": %ld, \"pixels\": %ld, "
@@ -466,8 +417,13 @@ int main(int argc, char **argv)
         fputs(usage, argc < 2 ? stderr : stdout);
         return argc < 2 ? 2 : 0;
     }
-    if (!strcmp(argv[1], "render"))
+    if (!strcmp(argv[1], "render")) {
+        if (argc == 2) {
+            render_usage(stderr);
+            return 2;
+        }
         return cmd_render(argc - 2, argv + 2);
+    }
     if (!strcmp(argv[1], "diff"))
         return cmd_diff(argc - 2, argv + 2);
     if (!strcmp(argv[1], "trace"))

@@ -66,7 +66,7 @@ int limen_cli_pose_apply(limen_scene *s, const limen_cli_pose *p)
     /* the pose is in world space: the camera leaves any parent */
     if (limen_node_set_parent(s, cam, (limen_node){ 0 }) ||
         limen_node_look_at(s, cam, p->eye, p->look, (p->given & 4) ? p->up : y_up)) {
-        fprintf(stderr, "limen: cannot place the camera: %s\n", limen_last_error(s));
+        fprintf(stderr, "limen: cannot place the camera: %s\n", limen_scene_error(s));
         return -1;
     }
     return 0;

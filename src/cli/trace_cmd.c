@@ -1,24 +1,23 @@
 /* trace_cmd.c - `limen trace`: the ray-traced reference image of a scene. */
-#include <stdbool.h>
+#include <limits.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
 
 #include "cli/cli.h"
-#include "limen.h"
 
-static const char *usage =
-    "usage: limen trace SCENE.lua -o REF.png [--size WxH] [--depth N] [--time T]\n"
-    "                   [--threads N] [--stats] [--trusted]\n"
-    "                   [--eye X,Y,Z --look X,Y,Z [--up X,Y,Z]]\n";
+static const char *const synopsis = "limen trace SCENE.lua -o REF.png [options]";
 
-static int usage_error(const char *fmt, const char *arg)
+static const limen_cli_option trace_options[] = {
+    { "--threads N", "worker threads (default: one per online CPU)" },
+    { "--stats", "one JSON line per frame: frame, time, ms, pixels" },
+    { NULL, NULL }
+};
+
+static void usage(FILE *f)
 {
-    fprintf(stderr, "limen: ");
-    fprintf(stderr, fmt, arg);
-    fputc('\n', stderr);
-    return 2;
+    limen_cli_run_usage(f, synopsis, "trace options", trace_options);
 }
 
 static double now_ms(void)
@@ -28,112 +27,83 @@ static double now_ms(void)
     return (double)ts.tv_sec * 1e3 + (double)ts.tv_nsec * 1e-6;
 }
 
+static int parse(int argc, char **argv, limen_cli_run *o, limen_trace_desc *d)
+{
+    limen_cli_run_init(o);
+    for (int i = 0; i < argc; i++) {
+        int r = limen_cli_run_option(argc, argv, &i, o);
+        if (r == 2)
+            return 2;
+        if (r == 1)
+            continue;
+        long n;
+        if (strcmp(argv[i], "--threads"))
+            return limen_cli_fail(2, "unknown option '%s'", argv[i]);
+        if (i + 1 >= argc)
+            return limen_cli_fail(2, "option --threads needs a value");
+        if (limen_cli_parse_long(argv[++i], 1, 256, &n))
+            return limen_cli_fail(2, "--threads: expected 1 to 256, got '%s'", argv[i]);
+        d->threads = (int)n;
+    }
+    return 0;
+}
+
 int limen_cli_trace(int argc, char **argv)
 {
-    const char *scene = NULL, *out = NULL;
+    limen_cli_run o;
     limen_trace_desc d = { 0 };
-    double time = 0;
-    int stats = 0, trusted = 0;
-    limen_cli_pose pose = { 0 };
     if (argc == 0) {
-        fputs(usage, stderr);
+        usage(stderr);
         return 2;
     }
-    for (int i = 0; i < argc; i++) {
-        const char *a = argv[i];
-        const char *v = i + 1 < argc ? argv[i + 1] : NULL;
-        int pose_arg = limen_cli_pose_option(a, v, &pose);
-        if (pose_arg < 0)
-            return 2;
-        if (pose_arg) {
-            i++;
-            continue;
-        }
-        bool takes_value = !strcmp(a, "-o") || !strcmp(a, "--output") ||
-                           !strcmp(a, "--size") || !strcmp(a, "--depth") ||
-                           !strcmp(a, "--time") || !strcmp(a, "--threads");
-        if (takes_value && !v)
-            return usage_error("option %s needs a value", a);
-        if (takes_value)
-            i++;
-        if (!strcmp(a, "-o") || !strcmp(a, "--output")) {
-            out = v;
-        } else if (!strcmp(a, "--size")) {
-            if (limen_cli_parse_size(v, &d.width, &d.height))
-                return usage_error("--size: expected WxH with 1 <= W, H <= 16384, got '%s'", v);
-        } else if (!strcmp(a, "--depth")) {
-            long n;
-            if (limen_cli_parse_long(v, 0, 255, &n))
-                return usage_error("--depth: expected 0 to 255, got '%s'", v);
-            d.limit_depth = 1;
-            d.max_depth = (int)n;
-        } else if (!strcmp(a, "--threads")) {
-            long n;
-            if (limen_cli_parse_long(v, 1, 256, &n))
-                return usage_error("--threads: expected 1 to 256, got '%s'", v);
-            d.threads = (int)n;
-        } else if (!strcmp(a, "--time")) {
-            if (limen_cli_parse_double(v, &time))
-                return usage_error("--time: expected a number, got '%s'", v);
-        } else if (!strcmp(a, "--stats")) {
-            stats = 1;
-        } else if (!strcmp(a, "--trusted")) {
-            trusted = 1;
-        } else if (a[0] == '-' && a[1]) {
-            return usage_error("unknown option '%s'", a);
-        } else if (!scene) {
-            scene = a;
-        } else {
-            return usage_error("unexpected argument '%s'", a);
-        }
+    int rc = parse(argc, argv, &o, &d);
+    if (rc)
+        return rc;
+    if (o.help) {
+        usage(stdout);
+        return 0;
     }
-    if (!scene)
-        return usage_error("trace: no scene script given%s", "");
-    if (!out)
-        return usage_error("trace: no output given (-o OUT.png)%s", "");
-    if (limen_cli_pose_check(&pose))
-        return 2;
-    if (!d.width) {
-        d.width = 640;
-        d.height = 480;
-    }
+    if ((rc = limen_cli_run_check(&o, "trace")))
+        return rc;
+    d.width = o.width ? o.width : 640;
+    d.height = o.height ? o.height : 480;
+    d.limits = o.limits;
 
-    limen_script *sc = NULL;
-    limen_status st = limen_script_load(scene, &(limen_script_desc){ .trusted = trusted }, &sc);
-    if (st) {
-        fprintf(stderr, "limen: %s\n", sc ? limen_script_error(sc) : limen_status_string(st));
-        limen_script_destroy(sc);
+    limen_script *sc = limen_cli_load(&o);
+    if (!sc)
         return 1;
-    }
-    if (limen_script_animated(sc) && limen_script_update(sc, time)) {
-        fprintf(stderr, "limen: %s\n", limen_script_error(sc));
-        limen_script_destroy(sc);
-        return 1;
-    }
     limen_scene *s = limen_script_scene(sc);
-    if (limen_cli_pose_apply(s, &pose)) {
-        limen_script_destroy(sc);
-        return 1;
-    }
     unsigned char *rgb = malloc((size_t)d.width * (size_t)d.height * 3);
-    int rc = 0;
-    if (!rgb) {
-        fprintf(stderr, "limen: out of memory for a %dx%d image\n", d.width, d.height);
-        rc = 1;
+    if (!rgb)
+        rc = limen_cli_fail(1, "out of memory for a %dx%d image", d.width, d.height);
+    char path[PATH_MAX];
+    for (long f = 0; f < o.frames && !rc; f++) {
+        double t = o.time + (double)f / o.fps;
+        if ((rc = limen_cli_update(sc, &o, f, t, 0)))
+            break;
+        if (limen_cli_pose_apply(s, &o.pose)) {
+            rc = 1;
+            break;
+        }
+        double t0 = now_ms();
+        limen_status st = limen_trace_image(s, &d, rgb);
+        if (st) {
+            limen_cli_scene_error(o.scene, limen_scene_error(s)[0] ? limen_scene_error(s)
+                                                                   : limen_status_string(st));
+            rc = 1;
+            break;
+        }
+        double ms = now_ms() - t0;
+        if (limen_cli_frame_path(o.out, f, o.frames, path, sizeof path)) {
+            rc = limen_cli_fail(1, "-o: the path is too long");
+            break;
+        }
+        if (limen_write_image(path, d.width, d.height, rgb))
+            rc = limen_cli_fail(1, "cannot write '%s'", path);
+        else if (o.stats)
+            printf("{\"frame\": %ld, \"time\": %.6g, \"ms\": %.3f, \"pixels\": %ld}\n", f, t, ms,
+                   (long)d.width * d.height);
     }
-    double t0 = now_ms();
-    if (!rc && (st = limen_trace_image(s, &d, rgb))) {
-        limen_cli_scene_error(scene, limen_last_error(s)[0] ? limen_last_error(s)
-                                                            : limen_status_string(st));
-        rc = 1;
-    }
-    double ms = now_ms() - t0;
-    if (!rc && limen_write_png(out, d.width, d.height, rgb)) {
-        fprintf(stderr, "limen: cannot write '%s'\n", out);
-        rc = 1;
-    }
-    if (!rc && stats)
-        printf("{\"ms\": %.3f, \"pixels\": %ld}\n", ms, (long)d.width * d.height);
     free(rgb);
     limen_script_destroy(sc);
     return rc;

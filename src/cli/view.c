@@ -137,12 +137,12 @@ static void walk(viewer *v, const float d[3])
     limen_move_result res;
     apply_pose(v);
     if (limen_node_move(s, cam, d, &res)) {
-        say_error(v, limen_last_error(s));
+        say_error(v, limen_scene_error(s));
         return;
     }
     if (res.crossed) {
-        const char *name = limen_node_name(s, res.portal);
-        const char *to = limen_node_name(s, limen_portal_partner(s, res.portal));
+        const char *name = limen_node_get_name(s, res.portal);
+        const char *to = limen_node_get_name(s, limen_portal_get_partner(s, res.portal));
         printf("crossed portal %s -> %s\n", name ? name : "?", to ? to : "?");
         fflush(stdout);
     }
@@ -260,7 +260,7 @@ static void screenshot(viewer *v)
         snprintf(path, sizeof path, "%s/%s-%04d.png", dir, v->name, ++v->shot);
     while (access(path, F_OK) == 0 && v->shot < 9999);
     int w, h;
-    limen_renderer_size(v->r, &w, &h);
+    limen_renderer_get_size(v->r, &w, &h);
     unsigned char *rgb = malloc((size_t)w * (size_t)h * 3);
     snprintf(tmp, sizeof tmp, "%s.%ld.tmp", path, (long)getpid());
     limen_status st = rgb ? limen_renderer_read_rgb(v->r, rgb) : LIMEN_ERR_NOMEM;

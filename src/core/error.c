@@ -38,7 +38,7 @@ limen_status limen__fail(limen_scene *s, limen_status st, const char *fmt, ...)
     return st;
 }
 
-const char *limen_last_error(const limen_scene *s)
+const char *limen_scene_error(const limen_scene *s)
 {
     return s ? s->err : "no scene";
 }

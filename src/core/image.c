@@ -1,4 +1,4 @@
-/* image.c - PNG in and out (stb_image, stb_image_write) and image comparison. */
+/* image.c - PNG in and out, JPEG out (stb_image, stb_image_write) and image comparison. */
 #include <limits.h>
 #include <math.h>
 #include <stdlib.h>
@@ -32,6 +32,10 @@ static void write_to_file(void *ctx, void *data, int size)
 {
     fwrite(data, 1, (size_t)size, ctx);     /* errors stay in the stream's error flag */
 }
+#include <string.h>
+#include <strings.h>
+
+#define LIMEN__JPEG_QUALITY 95
 
 limen_status limen_write_png(const char *path, int width, int height, const unsigned char *rgb)
 {
@@ -93,6 +97,24 @@ limen_status limen__png_decode(unsigned char *buf, size_t len, int *width, int *
     *height = h;
     *rgb = data;
     return LIMEN_OK;
+}
+
+/* Case-insensitive: does path end in ext (".png")? */
+static bool ends_with(const char *path, const char *ext)
+{
+    size_t n = strlen(path), k = strlen(ext);
+    return n > k && strcasecmp(path + n - k, ext) == 0;
+}
+
+limen_status limen_write_image(const char *path, int width, int height, const unsigned char *rgb)
+{
+    if (!path || !rgb || width <= 0 || height <= 0 || width > INT_MAX / 3 / height)
+        return LIMEN_ERR_ARG;
+    if (ends_with(path, ".png"))
+        return limen_write_png(path, width, height, rgb);
+    if (!ends_with(path, ".jpg") && !ends_with(path, ".jpeg"))
+        return LIMEN_ERR_ARG;
+    return limen__write_jpeg(path, width, height, rgb, LIMEN__JPEG_QUALITY);
 }
 
 limen_status limen_read_png(const char *path, int *width, int *height, unsigned char **rgb)

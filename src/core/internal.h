@@ -76,6 +76,7 @@ struct limen_scene {
     vec3 background;
     float ambient;
     uint32_t camera;            /* index + 1 */
+    unsigned test_faults;       /* LIMEN_FAULT_* bits (core/testing.h); 0 */
     char err[LIMEN__ERR_MAX];
 };
 
@@ -84,6 +85,19 @@ limen_status limen__fail(limen_scene *s, limen_status st, const char *fmt, ...)
     __attribute__((format(printf, 3, 4)));
 /* Writes into a fixed buffer (renderers, scripts). */
 void limen__vformat(char *buf, size_t size, const char *fmt, va_list ap);
+
+/* limits.c: checks in (NULL: all defaults) and fills out with its defaults (max_views
+ * 1024, depth 0 under DEPTH_RULE_OWN); a bad field fails with a message that starts
+ * "who: ". */
+limen_status limen__limits_resolve(limen_scene *s, const char *who, const limen_limits *in,
+                                   limen_limits *out);
+/* The deepest view a surface whose own max_depth is surface_max may have under resolved
+ * limits: a view of depth d through it exists only if d <= this. */
+int limen__limits_depth(const limen_limits *l, int surface_max);
+
+/* jpeg.c: writes 8-bit RGB as a JPEG of the given quality (1 to 100); IO if it cannot. */
+limen_status limen__write_jpeg(const char *path, int width, int height,
+                               const unsigned char *rgb, int quality);
 
 /* Live node for a handle, or NULL. */
 limen__node *limen__node_get(const limen_scene *s, limen_node n);
@@ -110,6 +124,13 @@ static inline int limen__node_get_index(limen_node n)
 }
 /* Handle of the node in slot i. */
 limen_node limen__node_handle(const limen_scene *s, int index);
+
+/* How messages name a node: its name, or where it was made ("scenes/x.lua:7") when it has
+ * none, or "unnamed". */
+static inline const char *limen__node_title(const limen__node *n)
+{
+    return n->name[0] ? n->name : n->label[0] ? n->label : "unnamed";
+}
 
 static inline bool limen__is_surface(const limen__node *n)
 {

@@ -5,6 +5,7 @@
  * rounded to float once, so that nothing depends on the alignment of the caller's arrays.
  */
 #include "core/lmath.h"
+#include "core/testing.h"
 
 #include "core/dmath.h"
 

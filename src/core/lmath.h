@@ -11,7 +11,7 @@
  * input. Functions that return a limen_status leave their output untouched on failure.
  * Internally the work is done in double and rounded to float once at the end. Nothing here
  * relies on the 16-byte alignment of vec4/mat4 (all scalar code), except the seed method
- * limen__mirror_mat4_axis_angle, which calls cglm on its own aligned locals.
+ * limen__mirror_mat4_axis_angle (core/testing.h), which calls cglm on its own aligned locals.
  */
 #ifndef LIMEN_LMATH_H
 #define LIMEN_LMATH_H
@@ -64,13 +64,7 @@ float limen__plane_distance(const vec4 plane, const vec3 p);
  * The plane is renormalised first; it must have a finite non-zero normal (a zero normal
  * gives the identity). det = -1. */
 void limen__mirror_mat4(const vec4 plane, mat4 out);
-/* Seed 000's construction, kept only as a compared method: M = A^-1 F A, A = R T, T moves
- * the plane's closest point to the origin, R rotates n onto +Y about axis n x Y by
- * acos(n.Y), F = diag(1,-1,1). Done in float with the seed's steps, weaknesses included:
- * the axis n x Y vanishes at n = (0,-1,0) (and at (0,1,0)), where it is normalised as the
- * seed does (v / |v|, as glm::normalize) and the result is NaN; near those normals acos
- * loses precision. Never use it as the default. */
-void limen__mirror_mat4_axis_angle(const vec4 plane, mat4 out);
+/* (Seed 000's axis-angle construction, a compared method only: core/testing.h.) */
 /* Reflection in the node-transform form: W * diag(1,1,-1,1) * W^-1, for a node whose local
  * z = 0 is the mirror and +Z its normal. Singular W -> DEGENERATE. */
 limen_status limen__mirror_mat4_node(const mat4 world, mat4 out);

@@ -55,7 +55,7 @@ static limen_status set_world(limen_scene *s, limen__node *node, const double wo
         limen__d_from_f(&s->nodes[node->parent - 1].world[0][0], pw);
         if (!limen__d_inv(pw, pinv))
             return limen__fail(s, LIMEN_ERR_DEGENERATE, "move: parent of '%s' is singular",
-                               node->name);
+                               limen__node_title(node));
         limen__d_mul(pinv, world, local);
     }
     double sc[3];
@@ -64,7 +64,7 @@ static limen_status set_world(limen_scene *s, limen__node *node, const double wo
                      local[c * 4 + 2] * local[c * 4 + 2]);
         if (!(sc[c] > 1e-12))
             return limen__fail(s, LIMEN_ERR_DEGENERATE, "move: '%s' would collapse",
-                               node->name);
+                               limen__node_title(node));
     }
     double det = local[0] * (local[5] * local[10] - local[9] * local[6]) -
                  local[4] * (local[1] * local[10] - local[9] * local[2]) +
@@ -117,7 +117,7 @@ limen_status limen_node_move(limen_scene *s, limen_node n, const float d[3],
         double x[16];
         if (!limen__surface_matrix_d(s, &s->nodes[portal], x))
             return limen__fail(s, LIMEN_ERR_DEGENERATE, "move: portal '%s' is degenerate",
-                               s->nodes[portal].name);
+                               limen__node_title(&s->nodes[portal]));
         for (int k = 0; k < 3; k++)
             world[12 + k] = p0[k] + t * step[k];
         limen__d_mul(x, world, world);

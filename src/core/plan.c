@@ -14,8 +14,8 @@
 #include "core/internal.h"
 #include "core/plan.h"
 #include "core/reserve.h"
+#include "core/testing.h"
 
-#define DEFAULT_MAX_VIEWS 1024
 #define DEFAULT_VIEW_SCREENS 64         /* view_pixels: 64 full screens */
 #define DEFAULT_SURFACE_TESTS 131072
 #define MAX_POLY 12
@@ -176,7 +176,7 @@ static bool surface_rect(const limen_plan *p, const limen__pview *v, const limen
         y0 = fmin(y0, sy[i]);
         y1 = fmax(y1, sy[i]);
     }
-    if (p->no_cull) {
+    if (p->cull == LIMEN_CULL_FRUSTUM) {
         memcpy(rect, (int[4]){ 0, 0, p->width, p->height }, sizeof(int) * 4);
         return true;
     }
@@ -242,8 +242,8 @@ static void fill_public(limen__pview *v, limen_scene *s, const limen_plan *p)
         pub->clip = LIMEN_CLIP_NONE;
         return;
     }
-    pub->clip = p->clip;
-    if (p->clip != LIMEN_CLIP_OBLIQUE)
+    pub->clip = p->limits.clip;
+    if (p->limits.clip != LIMEN_CLIP_OBLIQUE)
         return;
     /* The clip plane in this view's eye space; the eye must be clearly behind it. Closer than
      * the camera's near distance the oblique near plane would squeeze depth precision below
@@ -266,12 +266,12 @@ static void fill_public(limen__pview *v, limen_scene *s, const limen_plan *p)
  * the threshold cannot change a pixel by more than it. */
 static bool too_faint(const limen_plan *p, const limen__pview *v, const limen__node *n)
 {
-    if (p->adaptive <= 0 || n->kind != LIMEN_NODE_MIRROR)
+    if (p->limits.adaptive <= 0 || n->kind != LIMEN_NODE_MIRROR)
         return false;
     float m = 0;
     for (int k = 0; k < 3; k++)
         m = fmaxf(m, v->pub.tint[k] * n->tint[k]);
-    return m < p->adaptive;
+    return m < p->limits.adaptive;
 }
 
 static limen__pview *push_view(limen_plan *p)
@@ -338,7 +338,7 @@ static limen_status collect_surfaces(limen_plan *p, limen_scene *s)
         limen__surface_corners(n, sf->corners);
         sf->has_x = limen__surface_matrix_d(s, n, sf->x);
         if (sf->has_x && n->kind == LIMEN_NODE_PORTAL &&
-            (p->test_faults & LIMEN_FAULT_PORTAL_NO_TURN)) {
+            (s->test_faults & LIMEN_FAULT_PORTAL_NO_TURN)) {
             /* X * (W_A R_y(180) W_A^-1) = W_B S(k) W_A^-1: the turn taken out again */
             double wa[16], wainv[16], turn[16];
             limen__d_from_f(&n->world[0][0], wa);
@@ -362,7 +362,8 @@ static limen_status collect_surfaces(limen_plan *p, limen_scene *s)
                 return limen__fail(s, LIMEN_ERR_ARG,
                                    "%s%sportals '%s' and '%s' differ in shape in the world "
                                    "(%.4gx%.4g against %.4gx%.4g): width/height must match",
-                                   n->label, n->label[0] ? ": " : "", n->name, b->name, wa, ha,
+                                   n->label, n->label[0] ? ": " : "", limen__node_title(n),
+                                   limen__node_title(b), wa, ha,
                                    wb, hb);
             if (!b->visible)
                 sf->has_x = false;
@@ -424,28 +425,18 @@ limen_status limen_plan_build(limen_plan *p, limen_scene *s, const limen_plan_de
     limen_plan_desc d = desc ? *desc : (limen_plan_desc){ 0 };
     p->width = d.width > 0 ? d.width : 640;
     p->height = d.height > 0 ? d.height : 480;
-    if ((unsigned)d.clip > LIMEN_CLIP_NONE || (unsigned)d.range > LIMEN_DEPTH_ZO_REVERSED)
-        return limen__fail(s, LIMEN_ERR_ARG, "plan: unknown clip method or depth range");
-    if (d.limit_depth && (d.max_depth < 0 || d.max_depth > 255))
-        return limen__fail(s, LIMEN_ERR_ARG, "plan: depth must be in [0, 255] (got %d)",
-                           d.max_depth);
-    if (d.max_views < 0)
-        return limen__fail(s, LIMEN_ERR_ARG, "plan: view budget must be positive");
-    if (d.budget.view_pixels < 0 || d.budget.surface_tests < 0)
-        return limen__fail(s, LIMEN_ERR_ARG, "plan: frame budget must not be negative");
-    p->budget.view_pixels = d.budget.view_pixels ? d.budget.view_pixels
-                                                 : (int64_t)DEFAULT_VIEW_SCREENS * p->width * p->height;
-    p->budget.surface_tests = d.budget.surface_tests ? d.budget.surface_tests
-                                                     : DEFAULT_SURFACE_TESTS;
-    p->clip = d.clip;
+    if ((unsigned)d.range > LIMEN_DEPTH_ZO_REVERSED || (unsigned)d.cull > LIMEN_CULL_FRUSTUM)
+        return limen__fail(s, LIMEN_ERR_ARG, "plan: unknown depth range or cull rule");
+    limen_status lst = limen__limits_resolve(s, "plan", &d.limits, &p->limits);
+    if (lst)
+        return lst;
+    p->budget.view_pixels = p->limits.budget.view_pixels
+                                ? p->limits.budget.view_pixels
+                                : (int64_t)DEFAULT_VIEW_SCREENS * p->width * p->height;
+    p->budget.surface_tests = p->limits.budget.surface_tests ? p->limits.budget.surface_tests
+                                                             : DEFAULT_SURFACE_TESTS;
     p->range = d.range;
-    p->test_faults = d.test_faults;
-    p->no_cull = d.no_cull != 0;
-    if (!(d.adaptive >= 0 && d.adaptive <= 1))
-        return limen__fail(s, LIMEN_ERR_ARG, "plan: adaptive threshold must be in [0, 1]");
-    p->adaptive = d.adaptive;
-    int max_views = d.max_views > 0 ? d.max_views : DEFAULT_MAX_VIEWS;
-    int global_depth = d.limit_depth ? d.max_depth : 255;
+    p->cull = d.cull;
     p->nviews = p->nvsurf = p->count = p->truncated = 0;
     p->view_pixels = p->surface_tests = 0;
     p->budgets_hit = 0;
@@ -510,8 +501,9 @@ limen_status limen_plan_build(limen_plan *p, limen_scene *s, const limen_plan_de
             unsigned over = 0;
             if (!sf->has_x) {
                 /* unpaired portal: fill */
-            } else if (depth > n->max_depth || depth > global_depth || too_faint(p, v, n) ||
-                       (p->nviews >= max_views && (over = LIMEN_BUDGET_VIEWS))) {
+            } else if (depth > limen__limits_depth(&p->limits, n->max_depth) ||
+                       too_faint(p, v, n) ||
+                       (p->nviews >= p->limits.max_views && (over = LIMEN_BUDGET_VIEWS))) {
                 p->truncated++;
                 p->budgets_hit |= over;
             } else {
@@ -669,6 +661,60 @@ static void json_string(FILE *f, const char *str)
     fputc('"', f);
 }
 
+/* A node by its name, or where it was made ("scenes/x.lua:7") when it has none; null for
+ * no node. */
+static void json_node(FILE *f, const limen_scene *s, limen_node n)
+{
+    const limen__node *node = limen__node_get(s, n);
+    if (!node)
+        fprintf(f, "null");
+    else
+        json_string(f, node->name[0] || !node->label[0] ? node->name : node->label);
+}
+
+/* The surfaces view i sees, in the order it draws them (limen_plan_view_surfaces). */
+static void json_view_surfaces(FILE *f, const limen_plan *p, const limen_scene *s, int i)
+{
+    static const char *states[] = { "recurse", "fill", "back" };
+    const limen_view_surface *vs;
+    int n = limen_plan_view_surfaces(p, i, &vs);
+    fprintf(f, ", \"surfaces\": [");
+    for (int k = 0; k < n; k++) {
+        fprintf(f, "%s{\"node\": ", k ? ", " : "");
+        json_node(f, s, vs[k].node);
+        fprintf(f, ", \"state\": \"%s\", \"child\": ", states[vs[k].state]);
+        if (vs[k].child < 0)
+            fprintf(f, "null");
+        else
+            fprintf(f, "%d", vs[k].child);
+        fprintf(f, ", \"rect\": [%d, %d, %d, %d]}", vs[k].rect[0], vs[k].rect[1], vs[k].rect[2],
+                vs[k].rect[3]);
+    }
+    fputc(']', f);
+}
+
+/* Shapes passing through portals (limen_plan_clones). */
+static void json_clones(FILE *f, const limen_plan *p, const limen_scene *s)
+{
+    const limen_clone *c;
+    int n = limen_plan_clones(p, &c);
+    fprintf(f, "\"clones\": [");
+    for (int k = 0; k < n; k++) {
+        fprintf(f, "%s\n  {\"node\": ", k ? "," : "");
+        json_node(f, s, c[k].node);
+        fprintf(f, ", \"portal\": ");
+        json_node(f, s, c[k].portal);
+        fprintf(f, ", \"matrix\": ");
+        json_floats(f, c[k].matrix, 16);
+        fprintf(f, ", \"keep\": ");
+        json_floats(f, c[k].keep, 4);
+        fprintf(f, ", \"copy_keep\": ");
+        json_floats(f, c[k].copy_keep, 4);
+        fputc('}', f);
+    }
+    fprintf(f, "%s]", n ? "\n" : "");
+}
+
 limen_status limen_plan_write_json(const limen_plan *p, const limen_scene *s, const char *path)
 {
     if (!p || !s || !path)
@@ -694,7 +740,7 @@ limen_status limen_plan_write_json(const limen_plan *p, const limen_scene *s, co
         else
             fprintf(f, "%d", v->parent);
         fprintf(f, ", \"depth\": %d, \"through\": ", v->depth);
-        const char *name = v->depth ? limen_node_name(s, v->through) : NULL;
+        const char *name = v->depth ? limen_node_get_name(s, v->through) : NULL;
         if (name)
             json_string(f, name);
         else
@@ -715,8 +761,11 @@ limen_status limen_plan_write_json(const limen_plan *p, const limen_scene *s, co
         json_floats(f, v->eye, 3);
         fprintf(f, ", \"tint\": ");
         json_floats(f, v->tint, 3);
+        json_view_surfaces(f, p, s, i);
         fputc('}', f);
     }
-    fprintf(f, "\n]}\n");
+    fprintf(f, "\n], ");
+    json_clones(f, p, s);
+    fprintf(f, "}\n");
     return limen__out_close(&out);
 }

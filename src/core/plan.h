@@ -45,10 +45,8 @@ typedef struct limen__pview {
 struct limen_plan {
     int width, height;
     limen_depth_range range;
-    limen_clip_method clip;
-    unsigned test_faults;
-    bool no_cull;
-    float adaptive;
+    limen_limits limits;    /* resolved: defaults filled in */
+    limen_cull cull;
     float znear;
     float proj_f[16];
     double proj_d[16];

@@ -63,11 +63,12 @@ static limen__node *get_or_fail(limen_scene *s, limen_node n, const char *fn)
     if (!node)                                                                           \
     return (s) ? LIMEN_ERR_HANDLE : LIMEN_ERR_ARG
 
-/* Message prefix for a node: "label: kind 'name'". */
+/* Message prefix for a node: "label: kind 'name'" ("label: kind" if it has no name). */
 static void node_desc(const limen__node *node, char *buf, size_t size)
 {
-    snprintf(buf, size, "%s%s%s '%s'", node->label, node->label[0] ? ": " : "",
-             kind_name(node->kind), node->name);
+    snprintf(buf, size, "%s%s%s%s%s%s", node->label, node->label[0] ? ": " : "",
+             kind_name(node->kind), node->name[0] ? " '" : "", node->name,
+             node->name[0] ? "'" : "");
 }
 
 /* ------------------------------------------------------------------ scene */
@@ -138,7 +139,7 @@ limen_status limen_scene_set_camera(limen_scene *s, limen_node camera)
     GET(node, s, camera);
     if (node->kind != LIMEN_NODE_CAMERA)
         return limen__fail(s, LIMEN_ERR_HANDLE, "set_camera: node '%s' is a %s, not a camera",
-                           node->name, kind_name(node->kind));
+                           limen__node_title(node), kind_name(node->kind));
     s->camera = (uint32_t)(node - s->nodes) + 1u;
     return LIMEN_OK;
 }
@@ -447,10 +448,10 @@ limen_status limen_node_find(const limen_scene *s, const char *name, limen_node 
             return LIMEN_OK;
         }
     }
-    return LIMEN_ERR_HANDLE;   /* a const reader: no message (see limen_last_error) */
+    return LIMEN_ERR_HANDLE;   /* a const reader: no message (see limen_scene_error) */
 }
 
-const char *limen_node_name(const limen_scene *s, limen_node n)
+const char *limen_node_get_name(const limen_scene *s, limen_node n)
 {
     limen__node *node = limen__node_get(s, n);
     return node ? node->name : NULL;
@@ -501,7 +502,7 @@ limen_status limen_node_set_parent(limen_scene *s, limen_node n, limen_node pare
             node_desc(node, d, sizeof d);
             return limen__fail(s, LIMEN_ERR_CYCLE,
                                "%s: parent '%s' would make a cycle in the parent chain", d,
-                               p->name);
+                               limen__node_title(p));
         }
     }
     set_parent_slot(s, node, pi);
@@ -716,7 +717,7 @@ static void mat_out(mat4 m, float out[16])
         out[i] = m[i / 4][i % 4];
 }
 
-limen_status limen_node_local_matrix(limen_scene *s, limen_node n, float m[16])
+limen_status limen_node_get_local_matrix(limen_scene *s, limen_node n, float m[16])
 {
     GET(node, s, n);
     if (!m)
@@ -858,7 +859,8 @@ limen_status limen_camera_set_lens(limen_scene *s, limen_node cam, float fovy, f
 {
     GET(node, s, cam);
     if (node->kind != LIMEN_NODE_CAMERA)
-        return limen__fail(s, LIMEN_ERR_HANDLE, "camera lens: '%s' is not a camera", node->name);
+        return limen__fail(s, LIMEN_ERR_HANDLE, "camera lens: '%s' is not a camera",
+                           limen__node_title(node));
     if (!(fovy > 0 && fovy < GLM_PIf))
         return limen__fail(s, LIMEN_ERR_ARG, "fov: must be in (0, 180) degrees (got %g)",
                            glm_deg(fovy));

@@ -15,7 +15,8 @@ static limen__node *surface_or_fail(limen_scene *s, limen_node n, const char *fn
         return NULL;
     }
     if (!limen__is_surface(node)) {
-        limen__fail(s, LIMEN_ERR_HANDLE, "%s: '%s' is not a mirror or a portal", fn, node->name);
+        limen__fail(s, LIMEN_ERR_HANDLE, "%s: '%s' is not a mirror or a portal", fn,
+                    limen__node_title(node));
         return NULL;
     }
     return node;
@@ -89,17 +90,17 @@ limen_status limen_portal_link(limen_scene *s, limen_node a, limen_node b)
         return s ? LIMEN_ERR_HANDLE : LIMEN_ERR_ARG;
     if (na->kind != LIMEN_NODE_PORTAL || nb->kind != LIMEN_NODE_PORTAL)
         return limen__fail(s, LIMEN_ERR_ARG, "portal_link: '%s' is a mirror, not a portal",
-                           na->kind != LIMEN_NODE_PORTAL ? na->name : nb->name);
+                           limen__node_title(na->kind != LIMEN_NODE_PORTAL ? na : nb));
     if (na == nb)
         return limen__fail(s, LIMEN_ERR_ARG, "%s%sportal '%s' cannot be paired with itself",
-                           na->label, na->label[0] ? ": " : "", na->name);
+                           na->label, na->label[0] ? ": " : "", limen__node_title(na));
     double ra = (double)na->dims[0] / na->dims[1], rb = (double)nb->dims[0] / nb->dims[1];
     if (fabs(ra / rb - 1.0) > 1e-3)
         return limen__fail(s, LIMEN_ERR_ARG,
                            "%s%sportals '%s' (%gx%g) and '%s' (%gx%g) differ in shape: their "
                            "width/height ratios must match",
-                           na->label, na->label[0] ? ": " : "", na->name, na->dims[0],
-                           na->dims[1], nb->name, nb->dims[0], nb->dims[1]);
+                           na->label, na->label[0] ? ": " : "", limen__node_title(na), na->dims[0],
+                           na->dims[1], limen__node_title(nb), nb->dims[0], nb->dims[1]);
     if (na->pair)
         s->nodes[na->pair - 1].pair = 0;
     if (nb->pair)
@@ -109,7 +110,7 @@ limen_status limen_portal_link(limen_scene *s, limen_node a, limen_node b)
     return LIMEN_OK;
 }
 
-limen_node limen_portal_partner(const limen_scene *s, limen_node portal)
+limen_node limen_portal_get_partner(const limen_scene *s, limen_node portal)
 {
     limen__node *node = limen__node_get(s, portal);
     if (!node || node->kind != LIMEN_NODE_PORTAL || !node->pair)
@@ -187,7 +188,7 @@ limen_status limen_surface_matrix(limen_scene *s, limen_node n, float m[16])
     double x[16];
     if (!limen__surface_matrix_d(s, node, x))
         return limen__fail(s, LIMEN_ERR_DEGENERATE, "surface_matrix: portal '%s' is %s",
-                           node->name, node->pair ? "degenerate" : "not paired");
+                           limen__node_title(node), node->pair ? "degenerate" : "not paired");
     limen__d_to_f(x, m);
     return LIMEN_OK;
 }

@@ -45,8 +45,9 @@
  * QUAD). A portal seen from behind is not there. An unpaired portal, or one whose partner
  * is hidden, shows its fill colour from the front (flat, unlit).
  *
- * Limits. A ray that has passed b surfaces and enters S goes on only if b+1 <= S.max_depth
- * and, with a global limit (limit_depth, `--depth N`), b+1 <= that limit; otherwise it ends
+ * Limits. A ray that has passed b surfaces and enters S goes on only if b+1 is within S's
+ * depth under the limits (limen__limits_depth: its own max_depth, capped or overridden as
+ * the planner does, `--depth N` / `--depth-override N`); otherwise it ends
  * on S's fill colour, which the tints of the mirrors already passed still multiply (as in
  * the renderer). Where nothing is hit: the background, times those tints.
  *
@@ -72,7 +73,6 @@
 #include "core/internal.h"
 
 #define MAX_THREADS 256
-#define GLOBAL_NONE 255     /* no global limit: the surfaces' own (max_depth <= 255) */
 
 enum shape { SHAPE_BOX, SHAPE_SPHERE, SHAPE_CYLINDER, SHAPE_FLAT };
 
@@ -633,10 +633,11 @@ static void shade(const tracer *tr, const prim *p, const double albedo_a[3], con
 /* ------------------------------------------------------------------ paths */
 
 /* Follows one path from o along d (any length) with hits before tmin (in units of |d|)
- * skipped on the first segment. global: limit on surfaces passed. rgb gets the colour;
+ * skipped on the first segment. lim: resolved limits (their depth fields). rgb gets the colour;
  * rec, if not NULL, where it ended. */
 static void follow(const tracer *tr, const double o_in[3], const double d_in[3], double tmin0,
-                   double tmin_surface0, int global, double rgb[3], record *rec)
+                   double tmin_surface0, const limen_limits *lim, double rgb[3],
+                   record *rec)
 {
     double o[3], d[3], tint[3] = { 1, 1, 1 };
     memcpy(o, o_in, sizeof o);
@@ -667,7 +668,7 @@ static void follow(const tracer *tr, const double o_in[3], const double d_in[3],
         bool surface = p->kind == LIMEN_NODE_MIRROR || p->kind == LIMEN_NODE_PORTAL;
         bool front = surface && dot3(p->plane, d) < 0;
         bool matte = !surface || (p->kind == LIMEN_NODE_MIRROR && !front);
-        bool stop = !p->has_x || passed + 1 > p->max_depth || passed + 1 > global;
+        bool stop = !p->has_x || passed + 1 > limen__limits_depth(lim, p->max_depth);
         if (matte || stop) {
             double n[3];
             world_normal(p, nu, d, n);
@@ -713,7 +714,7 @@ static void follow(const tracer *tr, const double o_in[3], const double d_in[3],
 /* ------------------------------------------------------------------ public: rays */
 
 limen_status limen_ray_cast(limen_scene *s, const float origin[3], const float dir[3],
-                            int max_bounces, limen_hit *out)
+                            const limen_limits *limits, limen_hit *out)
 {
     if (!s)
         return LIMEN_ERR_ARG;
@@ -729,16 +730,19 @@ limen_status limen_ray_cast(limen_scene *s, const float origin[3], const float d
         return limen__fail(s, LIMEN_ERR_ARG,
                            "ray_cast: direction must be finite and non-zero (got %g %g %g)",
                            dir[0], dir[1], dir[2]);
-    tracer tr;
-    limen_status st = limen__scene_check(s);
+    limen_limits lim;
+    limen_status st = limen__limits_resolve(s, "ray_cast", limits, &lim);
     if (st)
+        return st;
+    tracer tr;
+    if ((st = limen__scene_check(s)))
         return st;
     st = tracer_init(&tr, s, "ray_cast");
     if (st)
         return st;
     record rec;
     double rgb[3];
-    follow(&tr, o, d, 0.0, 0.0, max_bounces < 0 ? GLOBAL_NONE : max_bounces, rgb, &rec);
+    follow(&tr, o, d, 0.0, 0.0, &lim, rgb, &rec);
     memset(out, 0, sizeof *out);
     out->hit = rec.hit;
     out->distance = (float)rec.distance;
@@ -766,7 +770,8 @@ typedef struct job {
     double tx, ty;              /* tan(fovy / 2) * aspect, tan(fovy / 2) */
     double znear;
     double eye[3];
-    int width, height, global;
+    int width, height;
+    limen_limits limits;        /* resolved */
     int first, step;            /* rows first, first + step, ... (PNG order) */
     unsigned char *rgb;
 } job;
@@ -794,7 +799,7 @@ static void *trace_rows(void *arg)
             /* from the eye: shapes count from the near plane on (the rasterizer's near clip),
              * mirrors and portals from the eye on (the renderer draws them depth-clamped);
              * eye-space z = -near is t = near in units of d */
-            follow(j->tr, j->eye, d, j->znear, 1e-12, j->global, rgb, NULL);
+            follow(j->tr, j->eye, d, j->znear, 1e-12, &j->limits, rgb, NULL);
             for (int k = 0; k < 3; k++)
                 dst[3 * x + k] = to_byte(rgb[k]);
         }
@@ -818,9 +823,10 @@ limen_status limen_trace_image(limen_scene *s, const limen_trace_desc *desc, uns
     if (d.width < 0 || d.height < 0 || d.width > 16384 || d.height > 16384)
         return limen__fail(s, LIMEN_ERR_ARG, "trace: image size %dx%d out of range (1 to 16384)",
                            d.width, d.height);
-    if (d.limit_depth && (d.max_depth < 0 || d.max_depth > 255))
-        return limen__fail(s, LIMEN_ERR_ARG, "trace: depth must be in [0, 255] (got %d)",
-                           d.max_depth);
+    limen_limits lim;
+    limen_status lst = limen__limits_resolve(s, "trace", &d.limits, &lim);
+    if (lst)
+        return lst;
     if (d.threads < 0)
         return limen__fail(s, LIMEN_ERR_ARG, "trace: thread count must be >= 0 (got %d)",
                            d.threads);
@@ -835,8 +841,7 @@ limen_status limen_trace_image(limen_scene *s, const limen_trace_desc *desc, uns
     float aspect = (float)width / (float)height;
     double ty = tan(0.5 * (double)cam->fovy);
     job base = { .width = width, .height = height, .rgb = rgb, .tx = ty * (double)aspect,
-                 .ty = ty, .znear = cam->znear,
-                 .global = d.limit_depth ? d.max_depth : GLOBAL_NONE };
+                 .ty = ty, .znear = cam->znear, .limits = lim };
     limen__d_from_f(&cam->world[0][0], base.cam);
     for (int k = 0; k < 3; k++)
         base.eye[k] = base.cam[12 + k];

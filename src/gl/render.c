@@ -446,7 +446,7 @@ const char *limen_renderer_gl_info(const limen_renderer *r)
     return r ? r->info : "";
 }
 
-void limen_renderer_size(const limen_renderer *r, int *width, int *height)
+void limen_renderer_get_size(const limen_renderer *r, int *width, int *height)
 {
     if (width)
         *width = r ? r->width : 0;
@@ -604,8 +604,6 @@ static limen_status check_opts(limen_renderer *r, const limen_render_opts *o)
         return limen__rfail(r, LIMEN_ERR_ARG, "unknown method %d", (int)o->method);
     if ((unsigned)o->fill > LIMEN_FILL_PREVIOUS)
         return limen__rfail(r, LIMEN_ERR_ARG, "unknown fill %d", (int)o->fill);
-    if ((unsigned)o->clip > LIMEN_CLIP_NONE)
-        return limen__rfail(r, LIMEN_ERR_ARG, "unknown clip method %d", (int)o->clip);
     if (!(o->texture_scale > 0 && o->texture_scale <= 1))
         return limen__rfail(r, LIMEN_ERR_ARG, "texture scale must be in (0, 1] (got %g)",
                             o->texture_scale);
@@ -639,16 +637,14 @@ static limen_status frame(limen_renderer *r, limen_scene *s, limen_frame_stats *
     double t0 = now_ms();
 
     limen_plan_desc pd = { .width = r->width, .height = r->height, .range = r->range,
-                           .clip = r->opts.clip, .limit_depth = r->opts.limit_depth,
-                           .max_depth = r->opts.max_depth, .max_views = r->opts.max_views,
-                           .adaptive = r->opts.adaptive,
-                           .no_cull = r->opts.method == LIMEN_METHOD_NAIVE,
-                           .test_faults = r->opts.test_faults, .budget = r->opts.budget };
+                           .limits = r->opts.limits,
+                           .cull = r->opts.method == LIMEN_METHOD_NAIVE ? LIMEN_CULL_FRUSTUM
+                                                                        : LIMEN_CULL_SURFACE };
     limen_status st = limen_plan_build(r->plan, s, &pd);
     if (!st)
         st = limen_drawables_build(r->draw, s);
     if (st)
-        return limen__rfail(r, st, "%s", limen_last_error(s));
+        return limen__rfail(r, st, "%s", limen_scene_error(s));
     if (find_clones(r))
         return limen__rfail(r, LIMEN_ERR_NOMEM, "out of memory");
     limen_drawables_environment(r->draw, r->background, &r->ambient);

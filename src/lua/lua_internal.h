@@ -1,6 +1,6 @@
 /* lua_internal.h - what the script runner (script.c), its safe library (safe.c) and the
- * bindings (bindings.c) need from each other. Not part of the public API; src/lua is the
- * only place that includes lua.h. */
+ * bindings (l_*.c, which share l_api.h among themselves) need from each other. Not part of
+ * the public API; src/lua is the only place that includes lua.h. */
 #ifndef LIMEN_LUA_INTERNAL_H
 #define LIMEN_LUA_INTERNAL_H
 
@@ -72,6 +72,10 @@ limen_status limen__script_load_buffer(const char *name, const char *buf, size_t
 
 /* safe.c: opens the safe standard library in L (call it under lua_pcall). */
 int limen__lua_open_safe(lua_State *L);
+/* In a safe state, for an error msg about a nil io, debug, dofile or loadfile: pushes msg
+ * with a note that safe mode lacks it and how to trust the script, and returns it; else
+ * NULL, pushing nothing. */
+const char *limen__lua_safe_hint(lua_State *L, const char *msg);
 
 /* guards.c: replaces, in either mode, what must hold the limits: pcall, xpcall, load, the coroutine
  * functions; and print if `print` (the host gave a callback). `safe`: load takes text only,

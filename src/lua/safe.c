@@ -108,6 +108,27 @@ static int l_safe_require(lua_State *L)
     return lua_gettop(L);
 }
 
+/* What a script run in safe mode lacks, when its error is about one of these being nil:
+ * says so, and how to trust the script, instead of leaving "attempt to index a nil value". */
+const char *limen__lua_safe_hint(lua_State *L, const char *msg)
+{
+    static const char *const missing[] = { "io", "debug", "dofile", "loadfile", NULL };
+    int safe = lua_getfield(L, LUA_REGISTRYINDEX, LIMEN__LUA_SAFE) == LUA_TBOOLEAN &&
+               lua_toboolean(L, -1);
+    lua_pop(L, 1);
+    if (!safe || !strstr(msg, "a nil value (global '"))
+        return NULL;
+    for (const char *const *k = missing; *k; k++) {
+        char pat[32];
+        snprintf(pat, sizeof pat, "(global '%s')", *k);
+        if (strstr(msg, pat))
+            return lua_pushfstring(L, "%s: not available to a scene script in safe mode "
+                                      "(--trusted, or limen_script_desc.trusted = 1, gives "
+                                      "it the full standard library)", msg);
+    }
+    return NULL;
+}
+
 /* ------------------------------------------------------------------ table */
 
 static int l_table_insert(lua_State *L)

@@ -215,6 +215,7 @@ static int msghandler(lua_State *L)
         if (where[0])
             msg = lua_pushfstring(L, "%s: %s", where, msg);
     }
+    limen__lua_safe_hint(L, msg);
     return 1;
 }
 

@@ -116,10 +116,11 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 
     limen_plan *p = NULL;
     if (!limen_plan_create(&p)) {
-        limen_plan_desc d = { .width = 32, .height = 24, .max_views = 64,
-                              .clip = (limen_clip_method)(size % 3),
+        limen_plan_desc d = { .width = 32, .height = 24,
                               .range = (limen_depth_range)(size / 3 % 3),
-                              .budget = { .view_pixels = 32 * 24 * 16, .surface_tests = 4096 } };
+                              .limits = { .max_views = 64, .clip = (limen_clip_method)(size % 3),
+                                          .budget = { .view_pixels = 32 * 24 * 16,
+                                                      .surface_tests = 4096 } } };
         if (!limen_plan_build(p, s, &d)) {
             for (int i = 0; i < limen_plan_count(p); i++) {
                 const limen_view_surface *vs;
@@ -138,13 +139,17 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     }
     unsigned char rgb[8 * 6 * 3];
     limen_trace_image(s, &(limen_trace_desc){ .width = 8, .height = 6, .threads = 1,
-                                              .limit_depth = 1, .max_depth = 6 },
+                                              .limits = { .depth_rule = LIMEN_DEPTH_RULE_CAP,
+                                                          .depth = 6 } },
                       rgb);
     for (int i = 0; i < 4 && r.n; i++) {
         limen_hit h;
         vec(&r, v);
         vec(&r, w);
-        limen_ray_cast(s, v, w, (int)(byte(&r) % 10) - 1, &h);
+        int depth = (int)(byte(&r) % 10) - 1;     /* -1: the surfaces' own limits */
+        limen_limits lim = { .depth_rule = depth < 0 ? LIMEN_DEPTH_RULE_OWN : LIMEN_DEPTH_RULE_CAP,
+                             .depth = depth < 0 ? 0 : depth };
+        limen_ray_cast(s, v, w, &lim, &h);
     }
     for (int i = 0; i < count && r.n; i++) {
         limen_move_result mr;

@@ -25,7 +25,8 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         limen_scene_update(s);
         limen_plan *p = NULL;
         if (limen_plan_create(&p) == LIMEN_OK) {
-            limen_plan_build(p, s, &(limen_plan_desc){ .width = 64, .height = 48, .max_views = 64 });
+            limen_plan_build(p, s, &(limen_plan_desc){ .width = 64, .height = 48,
+                                                       .limits.max_views = 64 });
             limen_plan_destroy(p);
         }
     }

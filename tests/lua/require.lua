@@ -95,7 +95,7 @@ check(p1.partner == p2 and p2.partner == p1, "portal_pair links")
 check(p1.max_depth == 2 and p2.max_depth == 5, "own fields override shared ones")
 check(p1.fill[3] == 1 and p2.fill[3] == 1 and p2.pos[1] == 3, "portal_pair shared fields")
 local count = #s
-check_error(function() s:portal_pair({ size = {1, 1} }, { size = {1, 2} }) end, "portal_pair: portals '' (1x1) and '' (1x2) differ in shape: their width/height ratios must match")
+check_error(function() s:portal_pair({ size = {1, 1} }, { size = {1, 2} }) end, "portal_pair: portals 'tests/lua/require.lua:98' (1x1) and 'tests/lua/require.lua:98' (1x2) differ in shape: their width/height ratios must match")
 check_error(function() s:portal_pair({}, {}, { name = "x" }) end, "portal_pair: shared fields: field 'name' cannot be used here")
 check_error(function() s:portal_pair({ link = pa }, {}) end, "portal_pair: first portal: field 'link' cannot be used here")
 check_error(function() s:portal_pair({}, { size = {1, -1} }) end, "portal_pair: second portal: field 'size'[2] must be a positive number (got -1)")
@@ -129,7 +129,7 @@ check_error(function() s:camera { near = 2, far = 1 } end, "camera: field 'far' 
 check_error(function() s:camera { pos = {1, 1, 1}, look_at = {1, 1, 1} } end, "camera: look_at: eye and target coincide")
 check_error(function() s:light { color = {-1, 0, 0} } end, "light: field 'color'[1] must be a number >= 0 (got -1)")
 check_error(function() s:mirror { max_depth = 1.5 } end, "mirror: field 'max_depth' must be an integer in [0, 255] (got 1.5)")
-check_error(function() s:portal { size = {1, 1}, link = pa } end, "portal: portals '' (1x1) and 'a' (1x2) differ in shape: their width/height ratios must match")
+check_error(function() s:portal { size = {1, 1}, link = pa } end, "portal: portals 'tests/lua/require.lua:132' (1x1) and 'a' (1x2) differ in shape: their width/height ratios must match")
 check_error(function() s:portal { link = ball } end, "portal: field 'link' must be a portal (got sphere 'ball')")
 check_error(function() limen.scene { ambient = 2 } end, "scene: field 'ambient' must be a number in [0, 1] (got 2)")
 check_error(function() limen.scene { backgroud = {0, 0, 0} } end, "scene: unknown field 'backgroud' (did you mean 'background'?)")
@@ -164,7 +164,9 @@ tmp:destroy()
 check(#s == n and tostring(tmp) == "limen.box (destroyed)", "destroy")
 
 -- ------------------------------------------------------------------ rendering
-local out = os.tmpname()
+local tmp_name = os.tmpname()
+os.remove(tmp_name)
+local out = tmp_name .. ".png"
 local stats = s:render { out = out, size = {32, 24}, time = 0.5 }
 check(near(ball.pos[1], math.sin(0.5)), "render{time} calls update")
 check(stats.pixels == 32 * 24 and stats.views >= 1, "render stats")
@@ -172,6 +174,14 @@ local f = io.open(out, "rb")
 check(f and f:read(4) == "\137PNG", "render wrote a PNG")
 if f then f:close() end
 os.remove(out)
+s:render { out = tmp_name .. ".jpg", size = {32, 24} }
+f = io.open(tmp_name .. ".jpg", "rb")
+check(f and f:read(3) == "\255\216\255", "render wrote a JPEG for .jpg")
+if f then f:close() end
+os.remove(tmp_name .. ".jpg")
+check_error(function() s:render { out = tmp_name .. ".bmp" } end,
+            "render: field 'out' must be a file name ending in .png, .jpg or .jpeg (got \"" ..
+            (tmp_name .. ".bmp"):sub(1, 32) .. (#tmp_name + 4 > 32 and "..." or "") .. "\")")
 
 if failures > 0 then
   io.stderr:write(string.format("require.lua: %d of %d checks failed\n", failures, checks))

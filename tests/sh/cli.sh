@@ -67,6 +67,62 @@ tiny_camera() {     # scales multiplied past the bounds: render, --plan and trac
 }
 t_ok "a camera scaled 1e-27 by its parents: render and trace refuse alike" tiny_camera
 
+help_exits_0() {   # help_exits_0 COMMAND OPTION...: --help prints usage naming each option
+    cmd=$1; shift
+    "$LIMEN" "$cmd" --help > "$TMP/help" 2> "$TMP/help_err" &&
+    [ ! -s "$TMP/help_err" ] && grep -q "^usage: limen $cmd" "$TMP/help" &&
+    for opt in "$@"; do grep -q -- "$opt" "$TMP/help" || { echo "no $opt in:"; cat "$TMP/help"; return 1; }; done
+}
+t_ok "render --help prints its usage and exits 0" help_exits_0 render --depth-override --depth --plan --stats warm_up
+t_ok "trace --help prints its usage and exits 0" help_exits_0 trace --frames --fps --threads --depth-override
+t_ok "diff --help prints its usage and exits 0" help_exits_0 diff --threshold --heatmap --max-bad
+
+deepest() { grep -o '"depth": [0-9]*' "$1" | sed 's/.* //' | sort -n | tail -1; }
+depth_rules() {   # the corridor's mirrors say max_depth = 16
+    "$LIMEN" render scenes/corridor.lua -o "$TMP/c.png" --size 64x48 --depth 40 --plan "$TMP/cap.json" &&
+    "$LIMEN" render scenes/corridor.lua -o "$TMP/c.png" --size 64x48 --depth 3 --plan "$TMP/low.json" &&
+    "$LIMEN" render scenes/corridor.lua -o "$TMP/c.png" --size 64x48 --depth-override 24 --plan "$TMP/over.json" &&
+    [ "$(deepest "$TMP/cap.json")" = 16 ] && [ "$(deepest "$TMP/low.json")" = 3 ] &&
+    [ "$(deepest "$TMP/over.json")" = 24 ] || { echo "deepest: $(deepest "$TMP/cap.json") $(deepest "$TMP/low.json") $(deepest "$TMP/over.json")"; return 1; }
+}
+t_ok "--depth caps a surface's own limit, --depth-override raises it" depth_rules
+t_ok "--depth and --depth-override together -> exit 2" expect_fail 2 "exclude each other" "$LIMEN" render scenes/plain.lua -o "$TMP/x.png" --depth 2 --depth-override 3
+
+trace_depth_override() {
+    "$LIMEN" trace scenes/corridor.lua -o "$TMP/t16.png" --size 64x48 --depth 40 &&
+    "$LIMEN" trace scenes/corridor.lua -o "$TMP/t24.png" --size 64x48 --depth-override 24 &&
+    "$LIMEN" render scenes/corridor.lua -o "$TMP/r24.png" --size 64x48 --depth-override 24 &&
+    ! "$LIMEN" diff "$TMP/t16.png" "$TMP/t24.png" --threshold 0 --max-bad 0 > /dev/null &&
+    "$LIMEN" diff "$TMP/r24.png" "$TMP/t24.png" --max-bad 0.005
+}
+t_ok "trace --depth-override goes deeper, and render agrees with it there" trace_depth_override
+
+jpeg_out() {
+    "$LIMEN" render scenes/plain.lua -o "$TMP/j.jpg" --size 32x24 &&
+    "$LIMEN" trace scenes/plain.lua -o "$TMP/t.JPEG" --size 32x24 &&
+    [ "$(od -An -tx1 -N3 "$TMP/j.jpg" | tr -d ' ')" = ffd8ff ] &&
+    [ "$(od -An -tx1 -N3 "$TMP/t.JPEG" | tr -d ' ')" = ffd8ff ]
+}
+t_ok "-o x.jpg writes JPEG (render and trace)" jpeg_out
+t_ok "-o with an unknown extension -> exit 2, nothing written" expect_fail 2 "cannot tell an image format from" "$LIMEN" render scenes/plain.lua -o "$TMP/x.bmp"
+
+trace_frames() {
+    "$LIMEN" trace scenes/moving_portal.lua -o "$TMP/tf.png" --size 32x24 --frames 2 --fps 2 --stats > "$TMP/tstats" &&
+    [ -s "$TMP/tf_0000.png" ] && [ -s "$TMP/tf_0001.png" ] && [ ! -e "$TMP/tf_0002.png" ] &&
+    [ "$(wc -l < "$TMP/tstats")" -eq 2 ] && grep -q '"frame": 1, "time": 0.5,' "$TMP/tstats"
+}
+t_ok "trace --frames 2 --fps 2 writes two numbered frames" trace_frames
+
+warm_up() {
+    "$LIMEN" render scenes/plain.lua -o "$TMP/w.png" --size 32x24 --frames 2 --stats > "$TMP/wstats" &&
+    [ "$(sed -n 1p "$TMP/wstats" | grep -c '"warm_up": true')" = 1 ] &&
+    [ "$(sed -n 2p "$TMP/wstats" | grep -c '"warm_up": false')" = 1 ]
+}
+t_ok "--stats marks the first frame as including warm-up" warm_up
+
+printf 'local limen = require "limen"\nlocal s = limen.scene {}\ns:camera { pos = {0, 0, 5} }\nfunction s.update(t)\n  if t > 0.3 then error("late") end\nend\nreturn s\n' > "$TMP/late.lua"
+t_ok "an update error during --frames names the frame and time" expect_fail 1 "late.lua:5: late (in update at frame 2 of 4, t = 0.4 s)" "$LIMEN" render "$TMP/late.lua" -o "$TMP/l.png" --size 32x24 --frames 4 --fps 5
+
 lua_require() {
     LUA_CPATH="$B/?.so" LUA_PATH="lua/?.lua;;" lua5.4 -e '
         local limen = require "limen"
@@ -120,6 +176,25 @@ C
     "$TMP/prog" "$TMP/prog.png" && [ -s "$TMP/prog.png" ]
 }
 t_ok "a C program built only with pkg-config --cflags --libs limen renders" pkgconfig_program
+
+deprecated_names() {   # the old names still build and work for one release, with a warning
+    cat > "$TMP/old.c" <<'C'
+#include <limen.h>
+#include <string.h>
+int main(void) {
+    limen_scene *s; limen_node n;
+    if (limen_scene_create(NULL, &s) || limen_node_create(s, LIMEN_NODE_SPHERE, "b", &n)) return 1;
+    int ok = strcmp(limen_node_name(s, n), "b") == 0 && limen_last_error(s)[0] == 0;
+    limen_scene_destroy(s);
+    return !ok;
+}
+C
+    flags=$(PKG_CONFIG_PATH="$B" pkg-config --cflags --libs limen)
+    # shellcheck disable=SC2086
+    cc -o "$TMP/old" "$TMP/old.c" $flags 2> "$TMP/old.err" && "$TMP/old" &&
+    grep -q "use limen_node_get_name" "$TMP/old.err" && grep -q "use limen_scene_error" "$TMP/old.err"
+}
+t_ok "the deprecated names build (warning which name replaces them) and work" deprecated_names
 
 install_prefix() {
     make --no-print-directory -s install PREFIX="$TMP/inst" B="$B" > /dev/null &&

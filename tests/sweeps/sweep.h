@@ -94,7 +94,7 @@ static SWEEP_UNUSED unsigned char *sweep_trace(limen_scene *s, int w, int h)
 {
     unsigned char *rgb = malloc((size_t)w * h * 3);
     limen_status st = limen_trace_image(s, &(limen_trace_desc){ .width = w, .height = h }, rgb);
-    CHECK_MSG(st == LIMEN_OK, "trace: %s", limen_last_error(s));
+    CHECK_MSG(st == LIMEN_OK, "trace: %s", limen_scene_error(s));
     if (st) {
         free(rgb);
         return NULL;
