@@ -163,8 +163,10 @@ clean:
 # stability sweeps in full (`make sweeps`, below).
 BENCH      ?= quick
 BENCH_DEBS := gnuplot-nox
-BENCH_C    := bench/bench.c bench/matrices.c
+BENCH_C    := bench/bench.c bench/matrices.c bench/speed.c
 BENCH_BIN  := $(BENCH_C:bench/%.c=$(B)/bench/%)
+# the floor and the classic stencil recursion that bench/speed measures limen against
+BENCH_BASE := bench/baseline.c
 
 .PHONY: bench bench-deps bench-charts
 bench: all $(BENCH_BIN) bench-deps
@@ -178,12 +180,13 @@ bench-charts:
 	@mkdir -p bench/charts
 	cp $(B)/bench/*.png bench/charts/
 
+$(B)/bench/speed: $(BENCH_BASE:%.c=$(B)/obj/%.o)
 $(B)/bench/%: $(B)/obj/bench/%.o $(B)/liblimen.a
 	@mkdir -p $(dir $@)
-	$(CC) -o $@ $< $(B)/liblimen.a $(LIBS)
+	$(CC) -o $@ $(filter %.o,$^) $(B)/liblimen.a $(LIBS)
 
--include $(BENCH_C:%.c=$(B)/obj/%.d)
-.SECONDARY: $(BENCH_C:%.c=$(B)/obj/%.o)
+-include $(BENCH_C:%.c=$(B)/obj/%.d) $(BENCH_BASE:%.c=$(B)/obj/%.d)
+.SECONDARY: $(BENCH_C:%.c=$(B)/obj/%.o) $(BENCH_BASE:%.c=$(B)/obj/%.o)
 
 # ---- stability sweeps ---------------------------------------------------------------------
 # `make sweeps`: every stability sweep (tests/test_sweep_*.c) in FULL mode (SWEEP_FULL=1;
