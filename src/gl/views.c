@@ -7,7 +7,7 @@
 #include "core/dmath.h"
 #include "gl/gl_internal.h"
 
-enum { MODE_LIT = 0, MODE_FLAT = 1, MODE_TEXTURE = 2 };
+enum { MODE_LIT = LIMEN__MODE_LIT, MODE_FLAT = LIMEN__MODE_FLAT, MODE_TEXTURE = LIMEN__MODE_TEXTURE };
 
 /* One view as the renderer draws it. */
 typedef struct rview {
@@ -107,29 +107,36 @@ static void make_rview(limen_renderer *r, int index, mat4 proj_pre, rview *v)
     v->img_map[2] = v->img_map[3] = 0.0f;
 }
 
-static void apply_view(limen_renderer *r, limen_scene *s, const rview *v)
+static const float keep_all[4] = { 0, 0, 0, 1 };
+
+/* The view's clip plane where it has one (and clip distance 0 on), else none. */
+static void set_view_clip(limen_renderer *r, const rview *v)
 {
-    GL(UseProgram)(r->prog);
-    GL(BindVertexArray)(r->vao);
-    set_mat4(r, r->u.view_proj, (vec4 *)v->view_proj);
-    GL(Uniform3fv)(r->u.eye, 1, v->pub->eye);
     bool plane = v->pub->clip == LIMEN_CLIP_PLANE;
-    vec4 noclip = { 0, 0, 0, 1 };
-    GL(Uniform4fv)(r->u.clip_plane, 1, plane ? v->pub->clip_plane : noclip);
+    memcpy(r->shared.clip_plane, plane ? v->pub->clip_plane : keep_all, sizeof(float) * 4);
+    r->clip0_on = plane;
     if (plane)
         GL(Enable)(GL_CLIP_DISTANCE0);
     else
         GL(Disable)(GL_CLIP_DISTANCE0);
+    r->shared_stamp++;
+}
+
+static void apply_view(limen_renderer *r, limen_scene *s, const rview *v)
+{
+    GL(BindVertexArray)(r->vao);
+    memcpy(r->shared.view_proj, v->view_proj, sizeof r->shared.view_proj);
+    memcpy(r->shared.eye, v->pub->eye, sizeof r->shared.eye);
+    set_view_clip(r, v);
     GL(FrontFace)(v->pub->front_face_cw ? GL_CW : GL_CCW);
-    GL(Uniform1f)(r->u.ambient, s->ambient);
-    GL(Uniform1i)(r->u.mode, MODE_LIT);
+    r->shared.ambient = s->ambient;
     /* the product of the mirror tints on the way here, applied once to every colour */
-    GL(Uniform3fv)(r->u.tint, 1, v->pub->tint);
+    memcpy(r->shared.tint, v->pub->tint, sizeof r->shared.tint);
 }
 
 static void set_lights(limen_renderer *r, limen_scene *s)
 {
-    float pos[LIMEN__MAX_LIGHTS][3], col[LIMEN__MAX_LIGHTS][3];
+    float (*pos)[3] = r->shared.light_pos, (*col)[3] = r->shared.light_col;
     int n = 0;
     for (int i = 0; i < s->cap && n < LIMEN__MAX_LIGHTS; i++) {
         limen__node *node = &s->nodes[i];
@@ -139,12 +146,8 @@ static void set_lights(limen_renderer *r, limen_scene *s)
         memcpy(col[n], node->color, sizeof(float) * 3);
         n++;
     }
-    GL(UseProgram)(r->prog);
-    GL(Uniform1i)(r->u.nlights, n);
-    if (n) {
-        GL(Uniform3fv)(r->u.light_pos, n, &pos[0][0]);
-        GL(Uniform3fv)(r->u.light_col, n, &col[0][0]);
-    }
+    r->shared.nlights = n;
+    r->shared_stamp++;
 }
 
 /* ------------------------------------------------------------------ meshes */
@@ -207,6 +210,11 @@ static void draw_node_at(limen_renderer *r, const rview *v, const limen__node *n
     int shape;
     if (!node_mesh(r, v, node, world, &range, scale, &shape))
         return;
+    int checker = mode != MODE_LIT || !(node->checker_cell > 0) ? 0
+                  : node->kind == LIMEN_NODE_QUAD                ? 1
+                                                                 : 2;
+    if (!limen__variant_use(r, mode, shape, checker))
+        return;
     mat4 model;
     mat3 nm;
     glm_mat4_copy(world, model);
@@ -217,12 +225,11 @@ static void draw_node_at(limen_renderer *r, const rview *v, const limen__node *n
     set_mat4(r, r->u.model, model);
     GL(UniformMatrix3fv)(r->u.normal_mat, 1, GL_FALSE, (const GLfloat *)nm);
     GL(Uniform3fv)(r->u.albedo, 1, albedo);
-    GL(Uniform3fv)(r->u.albedo_b, 1, node->checker_b);
-    GL(Uniform1f)(r->u.cell, mode == MODE_LIT ? node->checker_cell : 0.0f);
-    GL(Uniform3fv)(r->u.scale, 1, scale);
-    GL(Uniform1i)(r->u.shape, shape);
-    GL(Uniform1i)(r->u.quad, node->kind == LIMEN_NODE_QUAD);
-    GL(Uniform1i)(r->u.mode, mode);
+    if (checker) {
+        GL(Uniform3fv)(r->u.albedo_b, 1, node->checker_b);
+        GL(Uniform1f)(r->u.cell, node->checker_cell);
+        GL(Uniform3fv)(r->u.scale, 1, scale);
+    }
     /* Mirrors and portals are not cut by the near plane: a camera closer to one than its
      * near distance still sees through it (and the ray tracer agrees). */
     /* In a view cut by a user clip plane (the eye too near its exit surface for an oblique
@@ -379,11 +386,11 @@ static void draw_flat_parts(limen_renderer *r, const rview *v, const limen__spol
     const float *t = v->pub->tint;
     float c[3] = { rgb[0] * t[0], rgb[1] * t[1], rgb[2] * t[2] };
     GL(UseProgram)(r->fill_prog);
+    r->bound_prog = r->fill_prog;
     GL(Uniform3fv)(r->u_fill_color, 1, c);
     GL(Enable)(GL_DEPTH_CLAMP);
     GL(Disable)(GL_CULL_FACE);
     draw_parts(r, sp, fixed, z);
-    GL(UseProgram)(r->prog);
 }
 
 /* A surface's flat pass (mark, seal, fill: flat colour; or the previous frame's picture)
@@ -400,21 +407,21 @@ static void draw_surface_flat(limen_renderer *r, const rview *v, const limen__no
         draw_flat_parts(r, v, sp, albedo, false, 0);
         return;
     }
+    /* the parts are in NDC already: identity matrices, planes that keep everything */
     static const float ident[16] = { 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1 };
-    static const float keep_all[4] = { 0, 0, 0, 1 };
-    GL(UniformMatrix4fv)(r->u.model, 1, GL_FALSE, ident);
-    GL(UniformMatrix4fv)(r->u.view_proj, 1, GL_FALSE, ident);
-    GL(Uniform3fv)(r->u.albedo, 1, albedo);
-    GL(Uniform1f)(r->u.cell, 0.0f);
-    GL(Uniform1i)(r->u.mode, mode);
-    GL(Uniform4fv)(r->u.clip_plane, 1, keep_all);
-    GL(Uniform4fv)(r->u.clip_plane2, 1, keep_all);
-    GL(Enable)(GL_DEPTH_CLAMP);
-    GL(Disable)(GL_CULL_FACE);
-    draw_parts(r, sp, false, 0);
-    set_mat4(r, r->u.view_proj, (vec4 *)v->view_proj);
-    bool plane = v->pub->clip == LIMEN_CLIP_PLANE;
-    GL(Uniform4fv)(r->u.clip_plane, 1, plane ? v->pub->clip_plane : keep_all);
+    memcpy(r->shared.view_proj, ident, sizeof ident);
+    memcpy(r->shared.clip_plane, keep_all, sizeof keep_all);
+    memcpy(r->shared.cut_plane, keep_all, sizeof keep_all);
+    r->shared_stamp++;
+    if (limen__variant_use(r, mode, 0, 0)) {
+        GL(UniformMatrix4fv)(r->u.model, 1, GL_FALSE, ident);
+        GL(Uniform3fv)(r->u.albedo, 1, albedo);
+        GL(Enable)(GL_DEPTH_CLAMP);
+        GL(Disable)(GL_CULL_FACE);
+        draw_parts(r, sp, false, 0);
+    }
+    memcpy(r->shared.view_proj, v->view_proj, sizeof r->shared.view_proj);
+    set_view_clip(r, v);
 }
 
 static void draw_node(limen_renderer *r, const rview *v, const limen__node *node, int mode,
@@ -430,8 +437,9 @@ static void draw_node(limen_renderer *r, const rview *v, const limen__node *node
 /* Clip distance 1: the cut of a shape passing through a portal (NULL: none). */
 static void set_cut(limen_renderer *r, const float *plane)
 {
-    static const float keep_all[4] = { 0, 0, 0, 1 };
-    GL(Uniform4fv)(r->u.clip_plane2, 1, plane ? plane : keep_all);
+    memcpy(r->shared.cut_plane, plane ? plane : keep_all, sizeof keep_all);
+    r->clip1_on = plane != NULL;
+    r->shared_stamp++;
     if (plane)
         GL(Enable)(GL_CLIP_DISTANCE1);
     else
@@ -554,8 +562,8 @@ static bool draw_previous(limen_renderer *r, const rview *v, const limen__vsurf 
     };
     GL(ActiveTexture)(GL_TEXTURE0);
     GL(BindTexture)(GL_TEXTURE_2D, r->prev_tex);
-    GL(Uniform1i)(r->u.tex, 0);
-    GL(Uniform4fv)(r->u.tex_map, 1, map);
+    memcpy(r->shared.tex_map, map, sizeof map);
+    r->shared_stamp++;
     draw_node(r, v, n, MODE_TEXTURE, v->pub->tint);
     return true;
 }
@@ -871,7 +879,6 @@ static bool texture_view(limen_renderer *r, limen_scene *s, int index, const pla
         const limen__node *node = &s->nodes[vs[k].node];
         GL(ActiveTexture)(GL_TEXTURE0);
         GL(BindTexture)(GL_TEXTURE_2D, t->tex);
-        GL(Uniform1i)(r->u.tex, 0);
         /* fragment (this target) -> image pixel -> child texel -> uv */
         float map[4] = {
             cp.sx / (pl->sx * (float)t->w),
@@ -879,7 +886,8 @@ static bool texture_view(limen_renderer *r, limen_scene *s, int index, const pla
             (float)(pl->rect[0] - cp.rect[0]) * cp.sx / (float)t->w,
             (float)(pl->rect[1] - cp.rect[1]) * cp.sy / (float)t->h,
         };
-        GL(Uniform4fv)(r->u.tex_map, 1, map);
+        memcpy(r->shared.tex_map, map, sizeof map);
+        r->shared_stamp++;
         vec3 white = { 1, 1, 1 };
         GL(DepthFunc)(depth_lequal(r));      /* its own depth is there already */
         limen__samples_begin(r);
