@@ -1,6 +1,7 @@
 #!/bin/sh
 # run.sh BUILD [quick|full] - the benchmark behind `make bench`: the matrix constructions,
-# the speed-against-accuracy sweep and its targets, then the charts. Everything goes to
+# the speed-against-accuracy sweep and its targets, speed per pixel and per view against the
+# floor and the classic stencil recursion (bench/speed), then the charts. Everything goes to
 # BUILD/bench/; the targets are printed last.
 set -e
 B=${1:-build}
@@ -14,6 +15,8 @@ echo "bench ($MODE): matrix constructions"
 "$B/bench/matrices" --"$MODE" --out "$OUT/matrices.csv" | tee "$OUT/matrices.txt"
 echo "bench ($MODE): speed against accuracy (progress on stderr)"
 "$B/bench/bench" --"$MODE" --out "$OUT" > "$OUT/bench.log"
+echo "bench ($MODE): speed per pixel and per view against the floor and the classic recursion"
+"$B/bench/speed" --"$MODE" --out "$OUT" > /dev/null
 echo "bench ($MODE): charts"
 # gnuplot warns about series the quick run leaves empty: keep its words in a log
 if ! gnuplot -e "dir='$OUT'" bench/plots.gp 2> "$OUT/gnuplot.log"; then
@@ -25,4 +28,4 @@ end=$(date +%s)
 echo "runtime: $((end - start)) s" >> "$OUT/meta.txt"
 echo
 echo "bench ($MODE) done in $((end - start)) s: $OUT/points.csv, $OUT/matrices.csv, charts $OUT/*.png"
-cat "$OUT/targets.txt"
+cat "$OUT/targets.txt" "$OUT/speed.txt"
