@@ -50,7 +50,7 @@ static const char *fs_body =
     "out vec4 o_color;\n"
     "void main() {\n"
     "#if MODE == 1\n"
-    "    o_color = vec4(u_albedo * u_tint, 1.0);\n"
+    "    o_color = vec4(u_albedo TINTED, 1.0);\n"
     "#elif MODE == 2\n"
     "    vec2 uv = gl_FragCoord.xy * u_tex_map.xy + u_tex_map.zw;\n"
     "    o_color = vec4(texture(u_tex, uv).rgb * u_albedo, 1.0);\n"
@@ -82,7 +82,7 @@ static const char *fs_body =
     "        light += u_light_col[i] * max(0.0, dot(n, normalize(u_light_pos[i] - v_world)));\n"
     "#endif\n"
     "    vec3 c3 = clamp(albedo * (u_ambient + (1.0 - u_ambient) * light), 0.0, 1.0);\n"
-    "    o_color = vec4(c3 * u_tint, 1.0);\n"
+    "    o_color = vec4(c3 TINTED, 1.0);\n"
     "#endif\n"
     "}\n";
 
@@ -131,13 +131,16 @@ GLuint limen__gl_link(limen_renderer *r, const char *head, const char *vsrc, con
     return prog;
 }
 
-/* key: mode (2 bits), shape (2), checker (2), lights (4), clip distances 0 and 1 (1 each) */
-static unsigned variant_key(int mode, int shape, int checker, int nlights, bool clip0, bool clip1)
+/* key: mode (2 bits), shape (2), checker (2), lights (4), clip distances 0 and 1 (1 each),
+ * tint (1: the view's tint is not white; multiplying by 1 changes no colour) */
+static unsigned variant_key(int mode, int shape, int checker, int nlights, bool clip0, bool clip1,
+                            bool tint)
 {
     if (mode != LIMEN__MODE_LIT)
         shape = checker = nlights = 0;
     return (unsigned)mode | (unsigned)shape << 2 | (unsigned)checker << 4 |
-           (unsigned)nlights << 6 | (unsigned)clip0 << 10 | (unsigned)clip1 << 11;
+           (unsigned)nlights << 6 | (unsigned)clip0 << 10 | (unsigned)clip1 << 11 |
+           (unsigned)tint << 12;
 }
 
 static limen__variant *variant_build(limen_renderer *r, unsigned key)
@@ -149,8 +152,9 @@ static limen__variant *variant_build(limen_renderer *r, unsigned key)
     char head[256];
     snprintf(head, sizeof head,
              "#version 330 core\n#define MODE %u\n#define SHAPE %u\n#define CHECKER %u\n"
-             "#define NLIGHTS %u\n#define CLIP0 %u\n#define CLIP1 %u\n",
-             key & 3, key >> 2 & 3, key >> 4 & 3, key >> 6 & 15, key >> 10 & 1, key >> 11 & 1);
+             "#define NLIGHTS %u\n#define CLIP0 %u\n#define CLIP1 %u\n#define TINTED %s\n",
+             key & 3, key >> 2 & 3, key >> 4 & 3, key >> 6 & 15, key >> 10 & 1, key >> 11 & 1,
+             key >> 12 & 1 ? "* u_tint" : "");
     GLuint prog = limen__gl_link(r, head, vs_body, fs_body);
     if (!prog)
         return NULL;
@@ -201,8 +205,10 @@ static void upload_shared(limen_renderer *r, limen__variant *v)
 
 bool limen__variant_use(limen_renderer *r, int mode, int shape, int checker)
 {
+    const float *t = r->shared.tint;
+    bool tint = mode != LIMEN__MODE_TEXTURE && (t[0] != 1 || t[1] != 1 || t[2] != 1);
     unsigned key = variant_key(mode, shape, checker, r->shared.nlights, r->clip0_on,
-                               r->clip1_on);
+                               r->clip1_on, tint);
     limen__variant *v = NULL;
     for (int i = 0; i < r->nvariants && !v; i++)
         if (r->variants[i].key == key)

@@ -501,7 +501,10 @@ static void draw_thing(limen_renderer *r, limen_scene *s, const rview *v, int i)
         set_cut(r, NULL);
 }
 
-static void draw_geometry(limen_renderer *r, limen_scene *s, const rview *v)
+/* fresh: nothing is in the view's depth yet (it sees no surface). Then the nearest thing,
+ * drawn first, passes the depth test wherever it lands (every shape is convex, closed ones
+ * without their back faces): it only writes depth, which llvmpipe does without reading it. */
+static void draw_geometry(limen_renderer *r, limen_scene *s, const rview *v, bool fresh)
 {
     const limen_plan *p = r->plan;
     int n = view_order(r, s, v);
@@ -510,8 +513,13 @@ static void draw_geometry(limen_renderer *r, limen_scene *s, const rview *v)
             if (shows(v, &s->nodes[i]))
                 draw_thing(r, s, v, i);
     }
-    for (int k = 0; k < n; k++)
+    for (int k = 0; k < n; k++) {
+        if (k == 0 && fresh)
+            GL(DepthFunc)(GL_ALWAYS);
         draw_thing(r, s, v, r->order[k].node);
+        if (k == 0 && fresh)
+            GL(DepthFunc)(r->range == LIMEN_DEPTH_ZO_REVERSED ? GL_GREATER : GL_LESS);
+    }
     /* what has gone into a portal, coming out of its partner */
     for (int c = 0; c < p->nclones; c++) {
         const limen_clone *cl = &p->clones[c];
@@ -606,7 +614,7 @@ static void draw_opaque(limen_renderer *r, limen_scene *s, const rview *v,
     for (int k = 0; k < n; k++)
         if (vs[k].state != LIMEN__SURF_CHILD)
             draw_terminal_surface(r, s, v, &vs[k]);
-    draw_geometry(r, s, v);
+    draw_geometry(r, s, v, n == 0);
 }
 
 /* How the stencil method tells views apart. Where the tree has at most 255 views each gets
@@ -626,6 +634,7 @@ typedef struct stencil_ids {
 static void mark_surface(limen_renderer *r, const rview *v, const limen__node *node,
                          const limen__spoly *sp, int sv, int cv)
 {
+    GL(Enable)(GL_STENCIL_TEST);
     GL(ColorMask)(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
     GL(DepthMask)(GL_FALSE);
     GL(DepthFunc)(depth_lequal(r));
@@ -670,6 +679,12 @@ static void stencil_view(limen_renderer *r, limen_scene *s, int index, const lim
     const limen__vsurf *vs;
     int n = limen__plan_view_surfaces(r->plan, index, &vs);
     set_scissor(r, v.pub->scissor);
+    /* the camera's view draws before any mark, where every pixel holds 0: its passes need
+     * no stencil test (the first mark turns it on) */
+    if (reg)
+        GL(Enable)(GL_STENCIL_TEST);
+    else
+        GL(Disable)(GL_STENCIL_TEST);
     GL(StencilFunc)(GL_EQUAL, sv, 0xFF);
     GL(StencilOp)(GL_KEEP, GL_KEEP, GL_KEEP);
 
@@ -747,7 +762,6 @@ static void stencil_view(limen_renderer *r, limen_scene *s, int index, const lim
 limen_status limen__draw_stencil(limen_renderer *r, limen_scene *s)
 {
     set_lights(r, s);
-    GL(Enable)(GL_STENCIL_TEST);
     stencil_ids ids = { .unique = limen_plan_count(r->plan) <= 255, .next = 1 };
     stencil_view(r, s, 0, NULL, 0, &ids);
     GL(Disable)(GL_STENCIL_TEST);
