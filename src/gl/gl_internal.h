@@ -3,8 +3,11 @@
 #ifndef LIMEN_GL_INTERNAL_H
 #define LIMEN_GL_INTERNAL_H
 
-#include "core/internal.h"
-#include "core/plan.h"
+#include <stdbool.h>
+
+#include <cglm/cglm.h>
+
+#include "limen.h"
 #include "gl/glapi.h"
 #include "gl/mesh.h"
 
@@ -32,7 +35,7 @@ typedef struct limen__variant {
 typedef struct limen__shared {
     float view_proj[16], eye[3], clip_plane[4], cut_plane[4], tint[3], ambient, tex_map[4];
     int nlights;
-    float light_pos[LIMEN__MAX_LIGHTS][3], light_col[LIMEN__MAX_LIGHTS][3];
+    float light_pos[LIMEN_MAX_LIGHTS][3], light_col[LIMEN_MAX_LIGHTS][3];
 } limen__shared;
 
 /* An offscreen target for the texture method: one per recursion level. */
@@ -49,7 +52,7 @@ struct limen_renderer {
     limen_depth_range range;
     int depth_bits;                         /* 24: DEPTH24_STENCIL8, 32: DEPTH32F_STENCIL8 */
     bool has_fragment_stats;
-    char err[LIMEN__ERR_MAX];
+    char err[512];
     char info[256];
 
     GLuint vao, vbo, ibo;
@@ -81,7 +84,10 @@ struct limen_renderer {
     struct limen__draw_key *order;          /* a view's things, nearest first */
     int order_cap;
 
-    limen_plan *plan;
+    limen_plan *plan;                       /* what to draw: the view tree of the frame ... */
+    limen_drawables *draw;                  /* ... and the nodes, read once per frame */
+    int *clone_of, clone_of_cap;            /* per drawable: its limen_clone, or -1 */
+    float background[3], ambient;           /* the scene's, as the drawables read them */
     limen_render_opts opts;
     unsigned char *rgba;                    /* read-back buffer */
     bool have_frame;
@@ -109,9 +115,10 @@ GLuint limen__gl_link(limen_renderer *r, const char *head, const char *vsrc, con
 bool limen__variant_use(limen_renderer *r, int mode, int shape, int checker);
 void limen__variants_free(limen_renderer *r);
 
-/* Draws the planned tree into the frame buffer (bound by the caller, cleared). */
-limen_status limen__draw_stencil(limen_renderer *r, limen_scene *s);
-limen_status limen__draw_texture(limen_renderer *r, limen_scene *s);
+/* Draws the planned tree of r->plan and r->draw into the frame buffer (bound by the caller,
+ * cleared). */
+limen_status limen__draw_stencil(limen_renderer *r);
+limen_status limen__draw_texture(limen_renderer *r);
 void limen__targets_free(limen_renderer *r);
 
 #endif

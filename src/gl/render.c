@@ -1,19 +1,19 @@
 /* render.c - the OpenGL renderer: context, shaders, meshes, framebuffers, and drawing the
  * scene for a view. Shading follows DESIGN.md exactly so that the ray tracer can match it
  * pixel for pixel. */
+#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
 
-#include "core/internal.h"
 #include "gl/gl_internal.h"
 
 limen_status limen__rfail(limen_renderer *r, limen_status st, const char *fmt, ...)
 {
     va_list ap;
     va_start(ap, fmt);
-    limen__vformat(r->err, sizeof r->err, fmt, ap);
+    vsnprintf(r->err, sizeof r->err, fmt, ap);
     va_end(ap);
     return st;
 }
@@ -191,7 +191,7 @@ static limen_status setup(limen_renderer *r, const limen_renderer_desc *d)
         st = build_targets(r);
     if (st)
         return st;
-    if (limen_plan_create(&r->plan))
+    if (limen_plan_create(&r->plan) || limen_drawables_create(&r->draw))
         return limen__rfail(r, LIMEN_ERR_NOMEM, "out of memory");
     GL(GenQueries)(1, &r->q_fragments);
     r->rgba = malloc((size_t)r->width * (size_t)r->height * 4);
@@ -248,6 +248,8 @@ void limen_renderer_destroy(limen_renderer *r)
         }
     }
     limen_plan_destroy(r->plan);
+    limen_drawables_destroy(r->draw);
+    free(r->clone_of);
     free(r->q_pool);
     free(r->order);
     if (r->ctx)
@@ -282,7 +284,7 @@ static double now_ms(void)
     return (double)ts.tv_sec * 1e3 + (double)ts.tv_nsec * 1e-6;
 }
 
-static void begin_frame(limen_renderer *r, limen_scene *s)
+static void begin_frame(limen_renderer *r)
 {
     GL(BindFramebuffer)(GL_FRAMEBUFFER, r->fbo);
     GL(Viewport)(0, 0, r->width, r->height);
@@ -295,7 +297,7 @@ static void begin_frame(limen_renderer *r, limen_scene *s)
     GL(ColorMask)(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
     GL(DepthMask)(GL_TRUE);
     GL(StencilMask)(0xFF);
-    GL(ClearColor)(s->background[0], s->background[1], s->background[2], 1.0f);
+    GL(ClearColor)(r->background[0], r->background[1], r->background[2], 1.0f);
     GL(ClearDepth)(reversed ? 0.0 : 1.0);
     GL(ClearStencil)(0);
     GL(Clear)(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT | GL_STENCIL_BUFFER_BIT);
@@ -354,6 +356,29 @@ static void keep_previous(limen_renderer *r)
     r->have_prev = true;
 }
 
+/* For each drawable, the shape passing through a portal that it is (r->clone_of). */
+static limen_status find_clones(limen_renderer *r)
+{
+    const limen_clone *clones;
+    int nclones = limen_plan_clones(r->plan, &clones);
+    int n = limen_drawables_items(r->draw, NULL);
+    if (n > r->clone_of_cap) {
+        int *map = realloc(r->clone_of, sizeof *map * (size_t)n);
+        if (!map)
+            return LIMEN_ERR_NOMEM;
+        r->clone_of = map;
+        r->clone_of_cap = n;
+    }
+    for (int i = 0; i < n; i++)
+        r->clone_of[i] = -1;
+    for (int c = 0; c < nclones; c++) {
+        int i = limen_drawables_find(r->draw, clones[c].node);
+        if (i >= 0)
+            r->clone_of[i] = c;
+    }
+    return LIMEN_OK;
+}
+
 static limen_status check_opts(limen_renderer *r, const limen_render_opts *o)
 {
     if ((unsigned)o->method > LIMEN_METHOD_NAIVE)
@@ -392,17 +417,22 @@ limen_status limen_render_frame(limen_renderer *r, limen_scene *s, const limen_r
                            .no_cull = r->opts.method == LIMEN_METHOD_NAIVE,
                            .test_faults = r->opts.test_faults };
     st = limen_plan_build(r->plan, s, &pd);
+    if (!st)
+        st = limen_drawables_build(r->draw, s);
     if (st)
         return limen__rfail(r, st, "%s", limen_last_error(s));
+    if (find_clones(r))
+        return limen__rfail(r, LIMEN_ERR_NOMEM, "out of memory");
+    limen_drawables_environment(r->draw, r->background, &r->ambient);
 
-    begin_frame(r, s);
+    begin_frame(r);
     r->q_used = 0;
     r->bound_prog = 0;
     r->draw_failed = false;
     if (r->has_fragment_stats)
         GL(BeginQuery)(GL_FRAGMENT_SHADER_INVOCATIONS_ARB, r->q_fragments);
-    st = r->opts.method == LIMEN_METHOD_STENCIL ? limen__draw_stencil(r, s)
-                                                : limen__draw_texture(r, s);
+    st = r->opts.method == LIMEN_METHOD_STENCIL ? limen__draw_stencil(r)
+                                                : limen__draw_texture(r);
     if (r->has_fragment_stats)
         GL(EndQuery)(GL_FRAGMENT_SHADER_INVOCATIONS_ARB);
     if (!st && r->draw_failed)
