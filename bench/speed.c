@@ -19,6 +19,7 @@
 
 #include "baseline.h"
 #include "limen.h"
+#include "scene_load.h"
 
 enum { W = 1280, H = 720, MAXF = 64, BAD_THRESHOLD = 8, ROOM_DEPTHS = 17 };
 /* A baseline's picture may differ from the tracer's on this share of pixels at most (edges
@@ -63,21 +64,12 @@ typedef struct bscene {
 
 static void load(bscene *b, const char *dir, const char *name)
 {
-    char path[512];
-    snprintf(path, sizeof path, "%s/%s.lua", dir, name);
+    char msg[600];
     b->name = name;
-    if (limen_script_load(path, NULL, &b->script))
-        die("%s", limen_script_error(b->script));
-    b->scene = limen_script_scene(b->script);
     /* every surface may go as deep as the depth setting asks */
-    limen_node nodes[4096];
-    int n = limen_scene_nodes(b->scene, nodes, 4096);
-    for (int i = 0; i < n && i < 4096; i++) {
-        limen_node_kind k = limen_node_get_kind(b->scene, nodes[i]);
-        if ((k == LIMEN_NODE_MIRROR || k == LIMEN_NODE_PORTAL) &&
-            limen_surface_set_max_depth(b->scene, nodes[i], 64))
-            die("%s: %s", name, limen_last_error(b->scene));
-    }
+    b->scene = bench_scene_load(dir, name, 64, &b->script, msg, sizeof msg);
+    if (!b->scene)
+        die("%s", msg);
     limen_renderer_desc d = { .width = W, .height = H };
     if (limen_renderer_create(&d, &b->r))
         die("renderer: %s", limen_renderer_error(b->r));

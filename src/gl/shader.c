@@ -86,22 +86,35 @@ static const char *fs_body =
     "#endif\n"
     "}\n";
 
+/* Whether a shader compiled (or a program linked); if not, its log goes into the message. */
+static bool built(limen_renderer *r, GLuint obj, bool program)
+{
+    GLint ok = 0;
+    char log[400] = "";
+    if (program)
+        GL(GetProgramiv)(obj, GL_LINK_STATUS, &ok);
+    else
+        GL(GetShaderiv)(obj, GL_COMPILE_STATUS, &ok);
+    if (ok)
+        return true;
+    if (program)
+        GL(GetProgramInfoLog)(obj, sizeof log, NULL, log);
+    else
+        GL(GetShaderInfoLog)(obj, sizeof log, NULL, log);
+    limen__rfail(r, LIMEN_ERR_GL, "shader %s failed: %s", program ? "link" : "compile", log);
+    return false;
+}
+
 static GLuint compile(limen_renderer *r, GLenum type, const char *head, const char *body)
 {
     GLuint sh = GL(CreateShader)(type);
     const char *src[2] = { head, body };
     GL(ShaderSource)(sh, 2, src, NULL);
     GL(CompileShader)(sh);
-    GLint ok = 0;
-    GL(GetShaderiv)(sh, GL_COMPILE_STATUS, &ok);
-    if (!ok) {
-        char log[400] = "";
-        GL(GetShaderInfoLog)(sh, sizeof log, NULL, log);
-        limen__rfail(r, LIMEN_ERR_GL, "shader compile failed: %s", log);
-        GL(DeleteShader)(sh);
-        return 0;
-    }
-    return sh;
+    if (built(r, sh, false))
+        return sh;
+    GL(DeleteShader)(sh);
+    return 0;
 }
 
 GLuint limen__gl_link(limen_renderer *r, const char *head, const char *vsrc, const char *fsrc)
@@ -119,16 +132,10 @@ GLuint limen__gl_link(limen_renderer *r, const char *head, const char *vsrc, con
     GL(LinkProgram)(prog);
     GL(DeleteShader)(vs);
     GL(DeleteShader)(fs);
-    GLint ok = 0;
-    GL(GetProgramiv)(prog, GL_LINK_STATUS, &ok);
-    if (!ok) {
-        char log[400] = "";
-        GL(GetProgramInfoLog)(prog, sizeof log, NULL, log);
-        limen__rfail(r, LIMEN_ERR_GL, "shader link failed: %s", log);
-        GL(DeleteProgram)(prog);
-        return 0;
-    }
-    return prog;
+    if (built(r, prog, true))
+        return prog;
+    GL(DeleteProgram)(prog);
+    return 0;
 }
 
 /* key: mode (2 bits), shape (2), checker (2), lights (4), clip distances 0 and 1 (1 each),
