@@ -9,7 +9,7 @@
  * --scenes holds wall.lua and box_room.lua (bench/scenes), --gallery corridor.lua and
  * kaleidoscope.lua (scenes). Writes DIR/speed.csv (every configuration: scene, renderer,
  * depth, median and quartiles, views, bad pixels against the tracer) and DIR/speed.txt (the
- * targets, also printed); the checked pictures go to DIR/speed/. */
+ * targets, also printed); the checked pictures go to DIR/speed_pictures/. */
 #include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
@@ -157,7 +157,7 @@ static void check(contender *c, int nc, const char *out, unsigned char *rgb, uns
             die("diff failed");
         c[i].bad = d.bad_share;
         char path[700];
-        snprintf(path, sizeof path, "%s/speed/%s_%s_d%02d.png", out, c[i].s->name,
+        snprintf(path, sizeof path, "%s/speed_pictures/%s_%s_d%02d.png", out, c[i].s->name,
                  KIND_NAMES[c[i].k], c[i].depth);
         limen_write_png(path, W, H, rgb);
         if (c[i].k != LIMEN && d.bad_share > BASELINE_BAD)
@@ -236,7 +236,7 @@ int main(int argc, char **argv)
     const int rounds = full ? 21 : 9, gallery_rounds = full ? 9 : 5, kaleido_depth = 8;
     const int wall_rounds = full ? MAXF : 41;   /* short frames: many rounds are cheap */
     char path[700];
-    snprintf(path, sizeof path, "%s/speed", out);
+    snprintf(path, sizeof path, "%s/speed_pictures", out);
     char cmd[800];
     snprintf(cmd, sizeof cmd, "mkdir -p '%s'", path);
     if (system(cmd))

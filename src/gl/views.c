@@ -717,14 +717,17 @@ static void stencil_view(limen_renderer *r, int index, const limen__spoly *reg, 
     GL(StencilFunc)(GL_EQUAL, sv, 0xFF);
     GL(StencilOp)(GL_KEEP, GL_KEEP, GL_KEEP);
 
-    /* depth: reset inside the view, then the surfaces it recurses into */
+    /* depth: reset inside the view, then the surfaces it recurses into. With a value per
+     * view the reset also paints the view's background (its things land on it later), so
+     * that no pass after the marks has to find the pixels where nothing landed. */
     GL(ColorMask)(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
-    if (reg && ids->unique) {
-        GL(Clear)(GL_DEPTH_BUFFER_BIT);
-    } else if (reg) {
+    if (reg) {
+        if (ids->unique)
+            GL(ColorMask)(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
         GL(DepthFunc)(GL_ALWAYS);
         draw_region_fill(r, &v, reg, r->background);
         GL(DepthFunc)(depth_less(r));
+        GL(ColorMask)(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
     }
     apply_view(r, &v);
     /* (the parts are recomputed where needed: the same floats come out each time) */
@@ -751,8 +754,6 @@ static void stencil_view(limen_renderer *r, int index, const limen__spoly *reg, 
             surface_parts(r, &v, node, &sp);
             mark_surface(r, &v, node, &sp, sv, ids->next++);
         }
-        if (reg)
-            view_background(r, &v, reg, sv);
         int cv = first;
         for (int k = 0; k < n; k++) {
             if (!(node = recursed(r, &vs[k])))
