@@ -718,11 +718,16 @@ static void stencil_view(limen_renderer *r, int index, const limen__spoly *reg, 
     GL(StencilOp)(GL_KEEP, GL_KEEP, GL_KEEP);
 
     /* depth: reset inside the view, then the surfaces it recurses into. With a value per
-     * view the reset also paints the view's background (its things land on it later), so
-     * that no pass after the marks has to find the pixels where nothing landed. */
+     * view (and one sample per pixel) the reset also paints the view's background (its
+     * things land on it later), so that no pass after the marks has to find the pixels where
+     * nothing landed. With MSAA the scissored clear and that later pass stay: the region's
+     * polygon alone was seen to change a few edge pixels there. */
+    bool paint = ids->unique && !r->msaa;
     GL(ColorMask)(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
-    if (reg) {
-        if (ids->unique)
+    if (reg && ids->unique && r->msaa) {
+        GL(Clear)(GL_DEPTH_BUFFER_BIT);
+    } else if (reg) {
+        if (paint)
             GL(ColorMask)(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
         GL(DepthFunc)(GL_ALWAYS);
         draw_region_fill(r, &v, reg, r->background);
@@ -754,6 +759,8 @@ static void stencil_view(limen_renderer *r, int index, const limen__spoly *reg, 
             surface_parts(r, &v, node, &sp);
             mark_surface(r, &v, node, &sp, sv, ids->next++);
         }
+        if (reg && !paint)
+            view_background(r, &v, reg, sv);
         int cv = first;
         for (int k = 0; k < n; k++) {
             if (!(node = recursed(r, &vs[k])))
