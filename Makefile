@@ -23,8 +23,8 @@ LIBS       = $(DEP_LIBS) -lembree3 -lm -lpthread
 
 # ------------------------------------------------------------------ objects
 CORE_SRC := src/core/error.c src/core/limits.c src/core/lmath.c src/core/scene.c src/core/surface.c src/core/move.c src/core/straddle.c src/core/bvh.c src/core/index.c src/core/rtc.c src/core/cull.c src/core/plan.c src/core/drawables.c src/core/trace.c src/core/image.c src/core/jpeg.c src/core/file.c
-GL_SRC   := src/gl/render.c src/gl/views.c src/gl/mesh.c src/gl/ctx_osmesa.c src/gl/ctx_egl.c \
-            src/gl/ctx_host.c
+GL_SRC   := src/gl/render.c src/gl/views.c src/gl/shader.c src/gl/mesh.c src/gl/ctx_osmesa.c \
+            src/gl/ctx_egl.c src/gl/ctx_host.c
 LUA_SRC  := src/lua/l_fields.c src/lua/l_node.c src/lua/l_scene.c src/lua/l_render.c src/lua/script.c src/lua/safe.c src/lua/guards.c
 LIB_SRC  := $(CORE_SRC) $(GL_SRC) $(LUA_SRC)
 CLI_SRC  := src/cli/main.c src/cli/common.c src/cli/trace_cmd.c src/cli/pose.c src/cli/view.c
@@ -197,8 +197,10 @@ clean:
 BENCH      ?= quick
 # libembree-dev: bench/embree.c measures Embree 3 against core/bvh.c for the tracer's job
 BENCH_DEBS := gnuplot-nox libembree-dev
-BENCH_C    := bench/bench.c bench/matrices.c bench/scale.c bench/embree.c
+BENCH_C    := bench/bench.c bench/matrices.c bench/scale.c bench/embree.c bench/speed.c
 BENCH_BIN  := $(BENCH_C:bench/%.c=$(B)/bench/%)
+# the floor and the classic stencil recursion that bench/speed measures limen against
+BENCH_BASE := bench/baseline.c
 
 .PHONY: bench bench-deps bench-charts
 bench: all bench-deps $(BENCH_BIN)
@@ -212,17 +214,15 @@ bench-charts:
 	@mkdir -p bench/charts
 	cp $(B)/bench/*.png bench/charts/
 
+$(B)/bench/speed: $(BENCH_BASE:%.c=$(B)/obj/%.o)
 $(B)/bench/%: $(B)/obj/bench/%.o $(B)/liblimen.a
 	@mkdir -p $(dir $@)
-	$(CC) -o $@ $< $(B)/liblimen.a $(LIBS)
+	$(CC) -o $@ $(filter %.o,$^) $(B)/liblimen.a $(LIBS)
 
 $(B)/obj/bench/embree.o: | bench-deps
-$(B)/bench/embree: $(B)/obj/bench/embree.o $(B)/liblimen.a
-	@mkdir -p $(dir $@)
-	$(CC) -o $@ $< $(B)/liblimen.a $(LIBS)
 
--include $(BENCH_C:%.c=$(B)/obj/%.d)
-.SECONDARY: $(BENCH_C:%.c=$(B)/obj/%.o)
+-include $(BENCH_C:%.c=$(B)/obj/%.d) $(BENCH_BASE:%.c=$(B)/obj/%.d)
+.SECONDARY: $(BENCH_C:%.c=$(B)/obj/%.o) $(BENCH_BASE:%.c=$(B)/obj/%.o)
 
 # ---- stability sweeps ---------------------------------------------------------------------
 # `make sweeps`: every stability sweep (tests/test_sweep_*.c) in FULL mode (SWEEP_FULL=1;

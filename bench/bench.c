@@ -20,6 +20,7 @@
 
 #include "core/internal.h"
 #include "limen.h"
+#include "scene_load.h"
 
 /* ------------------------------------------------------------------ the space */
 
@@ -157,26 +158,15 @@ typedef struct bscene {
     limen_scene *scene;
 } bscene;
 
+/* Every surface's own recursion limit is lifted to the truth's, so that the depth setting
+ * alone decides how deep a render goes, and the truth is the deep picture. */
 static void load_scene(bscene *b, const char *dir, const char *name)
 {
-    char path[512];
-    snprintf(path, sizeof path, "%s/%s.lua", dir, name);
+    char msg[600];
     b->name = name;
-    if (limen_script_load(path, NULL, &b->script))
-        die("%s", limen_script_error(b->script));
-    b->scene = limen_script_scene(b->script);
-    if (limen_script_animated(b->script) && limen_script_update(b->script, 0.0))
-        die("%s", limen_script_error(b->script));
-    /* Lift every surface's own recursion limit to the truth's, so that the depth setting
-     * alone decides how deep a render goes, and the truth is the deep picture. */
-    limen_node nodes[4096];
-    int n = limen_scene_nodes(b->scene, nodes, 4096);
-    for (int i = 0; i < n && i < 4096; i++) {
-        limen_node_kind k = limen_node_get_kind(b->scene, nodes[i]);
-        if ((k == LIMEN_NODE_MIRROR || k == LIMEN_NODE_PORTAL) &&
-            limen_surface_set_max_depth(b->scene, nodes[i], TRUTH_DEPTH))
-            die("%s: %s", name, limen_scene_error(b->scene));
-    }
+    b->scene = bench_scene_load(dir, name, TRUTH_DEPTH, &b->script, msg, sizeof msg);
+    if (!b->scene)
+        die("%s", msg);
 }
 
 static limen_renderer *make_renderer(size2 sz, int msaa)

@@ -146,3 +146,38 @@ set title "distance from the exact reflection: max |M - M_{exact}|" font ",11" e
 plot for [m=1:3] for [p=1:5] mat skip 1 using (strcol(1) eq MK[m] && strcol(2) eq SK[p] ? ex(column(8)) : NaN):3 \
          with points pt SP[p] ps 1.6 lc rgb MC[m] notitle
 unset multiplot
+
+# ---------------------------------------------------------------- 5: speed against the baselines
+spd = dir.'/speed.csv'
+set output dir.'/5_speed.png'
+set terminal pngcairo size 1200,520 font "sans,10" linewidth 1.2
+set multiplot layout 1,2 title "Processor time per frame at 1280x720 (medians of interleaved rounds; bars: quartiles)" font ",12"
+unset logscale
+set format x "%g"
+set format y "%g"
+set xrange [-0.5:16.5]
+set yrange [0:*]
+set xtics 0,2,16
+set xlabel "recursion depth"
+set ylabel "ms of processor time per frame"
+set key top left font ",9"
+set title "box room: two small facing portals, looking down the recursion" font ",11"
+plot spd skip 1 using (strcol(1) eq "box_room" && strcol(2) eq "limen" ? column(3) : NaN):5:6:7 \
+         with yerrorlines pt 7 lc rgb "#1f77b4" title "limen (stencil method)", \
+     spd skip 1 using (strcol(1) eq "box_room" && strcol(2) eq "classic" ? column(3) : NaN):5:6:7 \
+         with yerrorlines pt 5 lc rgb "#d62728" title "classic stencil recursion"
+set title "one wall, the corridor (depth 12), the kaleidoscope" font ",11"
+set xrange [-0.5:3.5]
+set xtics ("wall" 0, "corridor" 1.5, "kaleidoscope" 3)
+unset xlabel
+set style fill solid 0.8
+set boxwidth 0.4
+xpos(s) = (s eq "wall" ? 0 : s eq "corridor" ? 1.5 : s eq "kaleidoscope" ? 3 : NaN)
+off(r) = (r eq "limen" ? -0.2 : 0.2)
+plot spd skip 1 using (strcol(2) eq "limen" ? xpos(strcol(1)) + off("limen") : NaN):5 \
+         with boxes lc rgb "#1f77b4" title "limen", \
+     spd skip 1 using (strcol(2) eq "floor" ? xpos(strcol(1)) + off("floor") : NaN):5 \
+         with boxes lc rgb "#7f7f7f" title "floor (minimal program)", \
+     spd skip 1 using (strcol(2) eq "classic" ? xpos(strcol(1)) + off("classic") : NaN):5 \
+         with boxes lc rgb "#d62728" title "classic stencil recursion"
+unset multiplot

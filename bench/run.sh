@@ -1,6 +1,7 @@
 #!/bin/sh
 # run.sh BUILD [quick|full] - the benchmark behind `make bench`: the matrix constructions,
-# the speed-against-accuracy sweep and its targets, then the charts. Everything goes to
+# the speed-against-accuracy sweep and its targets, speed per pixel and per view against the
+# floor and the classic stencil recursion (bench/speed), then the charts. Everything goes to
 # BUILD/bench/; the targets are printed last.
 set -e
 B=${1:-build}
@@ -17,6 +18,8 @@ echo "bench ($MODE): speed against accuracy (progress on stderr)"
 echo "bench ($MODE): cost against object count (progress on stderr)"
 "$B/bench/scale" --out "$OUT" 2> "$OUT/scale.log"
 "$B/bench/embree" --out "$OUT/embree.csv" > "$OUT/embree.txt"
+echo "bench ($MODE): speed per pixel and per view against the floor and the classic recursion"
+"$B/bench/speed" --"$MODE" --out "$OUT" > /dev/null
 echo "bench ($MODE): charts"
 # gnuplot warns about series the quick run leaves empty: keep its words in a log
 if ! gnuplot -e "dir='$OUT'" bench/plots.gp 2> "$OUT/gnuplot.log" ||
@@ -29,4 +32,4 @@ end=$(date +%s)
 echo "runtime: $((end - start)) s" >> "$OUT/meta.txt"
 echo
 echo "bench ($MODE) done in $((end - start)) s: $OUT/points.csv, $OUT/matrices.csv, charts $OUT/*.png"
-cat "$OUT/targets.txt" "$OUT/scale_targets.txt" "$OUT/embree.txt"
+cat "$OUT/targets.txt" "$OUT/speed.txt" "$OUT/scale_targets.txt" "$OUT/embree.txt"

@@ -16,9 +16,27 @@
 #define LIMEN__MAX_LEVELS 256
 
 typedef struct uniforms {
-    GLint model, normal_mat, view_proj, eye, clip_plane, clip_plane2, albedo, albedo_b, cell, scale, shape,
-        quad, mode, tint, tex, tex_map, ambient, nlights, light_pos, light_col;
+    GLint model, normal_mat, view_proj, eye, clip_plane, clip_plane2, albedo, albedo_b, cell,
+        scale, tint, tex, tex_map, ambient, light_pos, light_col;
 } uniforms;
+
+/* Shader variants (shader.c): what a draw shades. */
+enum { LIMEN__MODE_LIT = 0, LIMEN__MODE_FLAT = 1, LIMEN__MODE_TEXTURE = 2 };
+#define LIMEN__MAX_VARIANTS 128
+
+typedef struct limen__variant {
+    unsigned key;
+    GLuint prog;
+    uniforms u;
+    unsigned stamp;                         /* the shared values it holds */
+} limen__variant;
+
+/* The values every variant reads; a change bumps shared_stamp. */
+typedef struct limen__shared {
+    float view_proj[16], eye[3], clip_plane[4], cut_plane[4], tint[3], ambient, tex_map[4];
+    int nlights;
+    float light_pos[LIMEN_MAX_LIGHTS][3], light_col[LIMEN_MAX_LIGHTS][3];
+} limen__shared;
 
 /* An offscreen target for the texture method: one per recursion level. */
 typedef struct limen__target {
@@ -40,11 +58,18 @@ struct limen_renderer {
     char err[512];
     char info[256];
 
-    GLuint prog, vao, vbo, ibo;
+    GLuint vao, vbo, ibo;
+    limen__variant variants[LIMEN__MAX_VARIANTS];
+    int nvariants;
+    GLuint bound_prog;                      /* the program last bound (0: unknown) */
+    limen__shared shared;
+    unsigned shared_stamp;
+    bool clip0_on, clip1_on;                /* GL_CLIP_DISTANCE0 and 1 as enabled */
+    bool draw_failed;                       /* a variant failed to build (message in err) */
     GLuint poly_vao, poly_vbo;              /* surfaces near the eye: CPU-clipped polygons */
     GLuint fill_prog;                       /* flat polygons in NDC */
     GLint u_fill_color;
-    uniforms u;
+    uniforms u;                             /* the bound variant's */
     limen__meshes meshes;
 
     GLuint fbo, color_rb, depth_rb;         /* the frame (multisampled if msaa); host: the
@@ -86,6 +111,13 @@ limen_status limen__rfail(limen_renderer *r, limen_status st, const char *fmt, .
  * masks, depth resets and seals are not counted. */
 void limen__samples_begin(limen_renderer *r);
 void limen__samples_end(limen_renderer *r);
+
+/* Shader variants (shader.c). limen__variant_use binds the variant for a draw (the lights
+ * and clip distances as they are now set), uploads the shared values it lacks and points r->u
+ * at its uniforms; false (message in err) where it cannot be built. */
+GLuint limen__gl_link(limen_renderer *r, const char *head, const char *vsrc, const char *fsrc);
+bool limen__variant_use(limen_renderer *r, int mode, int shape, int checker);
+void limen__variants_free(limen_renderer *r);
 
 /* Draws the planned tree of r->plan and r->draw into the frame buffer (bound by the caller,
  * cleared). */

@@ -38,103 +38,6 @@ const char *limen__gl_load(limen__gl *gl, limen__glproc (*getproc)(struct limen_
 
 /* ------------------------------------------------------------------ shaders */
 
-static const char *vs_src =
-    "#version 330 core\n"
-    "layout(location = 0) in vec3 a_pos;\n"
-    "layout(location = 1) in vec3 a_nrm;\n"
-    "uniform mat4 u_model, u_view_proj;\n"
-    "uniform vec4 u_clip_plane, u_clip_plane2;\n"
-    "out vec3 v_world, v_local, v_nrm;\n"
-    "void main() {\n"
-    "    vec4 w = u_model * vec4(a_pos, 1.0);\n"
-    "    v_world = w.xyz; v_local = a_pos; v_nrm = a_nrm;\n"
-    "    gl_ClipDistance[0] = dot(u_clip_plane, w);\n"
-    "    gl_ClipDistance[1] = dot(u_clip_plane2, w);\n"
-    "    gl_Position = u_view_proj * w;\n"
-    "}\n";
-
-/* The normal comes from the true shape where it is curved (sphere, cylinder side), so
- * shading does not depend on the tessellation. */
-static const char *fs_src =
-    "#version 330 core\n"
-    "in vec3 v_world, v_local, v_nrm;\n"
-    "uniform mat3 u_normal_mat;\n"
-    "uniform vec3 u_eye, u_albedo, u_albedo_b, u_scale, u_tint;\n"
-    "uniform float u_cell, u_ambient;\n"
-    "uniform int u_shape, u_quad, u_nlights, u_mode;\n"
-    "uniform vec3 u_light_pos[8], u_light_col[8];\n"
-    "uniform sampler2D u_tex;\n"
-    "uniform vec4 u_tex_map;\n"
-    "out vec4 o_color;\n"
-    "void main() {\n"
-    "    if (u_mode == 1) { o_color = vec4(u_albedo * u_tint, 1.0); return; }\n"
-    "    if (u_mode == 2) {\n"
-    "        vec2 uv = gl_FragCoord.xy * u_tex_map.xy + u_tex_map.zw;\n"
-    "        o_color = vec4(texture(u_tex, uv).rgb * u_albedo, 1.0);\n"
-    "        return;\n"
-    "    }\n"
-    "    vec3 nl = v_nrm;\n"
-    "    if (u_shape == 1) nl = v_local;\n"
-    "    else if (u_shape == 2 && abs(v_nrm.y) < 0.5) nl = vec3(v_local.x, 0.0, v_local.z);\n"
-    "    vec3 n = normalize(u_normal_mat * nl);\n"
-    "    if (dot(n, u_eye - v_world) < 0.0) n = -n;\n"
-    "    vec3 albedo = u_albedo;\n"
-    "    if (u_cell > 0.0) {\n"
-    "        vec3 c = floor(v_local * u_scale / u_cell);\n"
-    "        float k = c.x + c.y + (u_quad != 0 ? 0.0 : c.z);\n"
-    "        if (k - 2.0 * floor(k * 0.5) > 0.5) albedo = u_albedo_b;\n"
-    "    }\n"
-    "    vec3 light = vec3(0.0);\n"
-    "    for (int i = 0; i < u_nlights; i++)\n"
-    "        light += u_light_col[i] * max(0.0, dot(n, normalize(u_light_pos[i] - v_world)));\n"
-    "    vec3 c = clamp(albedo * (u_ambient + (1.0 - u_ambient) * light), 0.0, 1.0);\n"
-    "    o_color = vec4(c * u_tint, 1.0);\n"
-    "}\n";
-
-static GLuint compile(limen_renderer *r, GLenum type, const char *src)
-{
-    GLuint sh = GL(CreateShader)(type);
-    GL(ShaderSource)(sh, 1, &src, NULL);
-    GL(CompileShader)(sh);
-    GLint ok = 0;
-    GL(GetShaderiv)(sh, GL_COMPILE_STATUS, &ok);
-    if (!ok) {
-        char log[400] = "";
-        GL(GetShaderInfoLog)(sh, sizeof log, NULL, log);
-        limen__rfail(r, LIMEN_ERR_GL, "shader compile failed: %s", log);
-        GL(DeleteShader)(sh);
-        return 0;
-    }
-    return sh;
-}
-
-static GLuint link(limen_renderer *r, const char *vsrc, const char *fsrc)
-{
-    GLuint vs = compile(r, GL_VERTEX_SHADER, vsrc);
-    GLuint fs = vs ? compile(r, GL_FRAGMENT_SHADER, fsrc) : 0;
-    if (!vs || !fs) {
-        if (vs)
-            GL(DeleteShader)(vs);
-        return 0;
-    }
-    GLuint prog = GL(CreateProgram)();
-    GL(AttachShader)(prog, vs);
-    GL(AttachShader)(prog, fs);
-    GL(LinkProgram)(prog);
-    GL(DeleteShader)(vs);
-    GL(DeleteShader)(fs);
-    GLint ok = 0;
-    GL(GetProgramiv)(prog, GL_LINK_STATUS, &ok);
-    if (!ok) {
-        char log[400] = "";
-        GL(GetProgramInfoLog)(prog, sizeof log, NULL, log);
-        limen__rfail(r, LIMEN_ERR_GL, "shader link failed: %s", log);
-        GL(DeleteProgram)(prog);
-        return 0;
-    }
-    return prog;
-}
-
 /* Flat polygons given in NDC (x, y, z), in one colour: the surfaces' marks, seals and fills
  * and the depth resets and backgrounds of nested views. It is its own program because these
  * passes are most of the stencil method's fragments and the main program's shader costs
@@ -143,7 +46,6 @@ static GLuint link(limen_renderer *r, const char *vsrc, const char *fsrc)
  * main program by the last view's gl_ClipDistance plane after glDisable(GL_CLIP_DISTANCE0)
  * and a new plane). */
 static const char *fill_vs_src =
-    "#version 330 core\n"
     "layout(location = 0) in vec3 a_pos;\n"
     "out float gl_ClipDistance[8];\n"
     "void main() {\n"
@@ -151,42 +53,16 @@ static const char *fill_vs_src =
     "    for (int i = 0; i < 8; i++) gl_ClipDistance[i] = 1.0;\n"
     "}\n";
 static const char *fill_fs_src =
-    "#version 330 core\n"
     "uniform vec3 u_color;\n"
     "out vec4 o_color;\n"
     "void main() { o_color = vec4(u_color, 1.0); }\n";
 
 static limen_status build_program(limen_renderer *r)
 {
-    r->fill_prog = link(r, fill_vs_src, fill_fs_src);
+    r->fill_prog = limen__gl_link(r, "#version 330 core\n", fill_vs_src, fill_fs_src);
     if (!r->fill_prog)
         return LIMEN_ERR_GL;
     r->u_fill_color = GL(GetUniformLocation)(r->fill_prog, "u_color");
-    r->prog = link(r, vs_src, fs_src);
-    if (!r->prog)
-        return LIMEN_ERR_GL;
-#define U(field, name) r->u.field = GL(GetUniformLocation)(r->prog, name)
-    U(model, "u_model");
-    U(normal_mat, "u_normal_mat");
-    U(view_proj, "u_view_proj");
-    U(eye, "u_eye");
-    U(clip_plane, "u_clip_plane");
-    U(clip_plane2, "u_clip_plane2");
-    U(albedo, "u_albedo");
-    U(albedo_b, "u_albedo_b");
-    U(cell, "u_cell");
-    U(scale, "u_scale");
-    U(shape, "u_shape");
-    U(quad, "u_quad");
-    U(mode, "u_mode");
-    U(tint, "u_tint");
-    U(tex, "u_tex");
-    U(tex_map, "u_tex_map");
-    U(ambient, "u_ambient");
-    U(nlights, "u_nlights");
-    U(light_pos, "u_light_pos");
-    U(light_col, "u_light_col");
-#undef U
     return LIMEN_OK;
 }
 
@@ -395,8 +271,8 @@ void limen_renderer_destroy(limen_renderer *r)
 {
     if (!r)
         return;
-    if (r->ctx && r->prog && !enter(r)) {
-        GL(DeleteProgram)(r->prog);
+    if (r->ctx && r->fill_prog && !enter(r)) {
+        limen__variants_free(r);
         GL(DeleteProgram)(r->fill_prog);
         GL(DeleteBuffers)(1, &r->vbo);
         GL(DeleteBuffers)(1, &r->ibo);
@@ -651,12 +527,16 @@ static limen_status frame(limen_renderer *r, limen_scene *s, limen_frame_stats *
     if ((st = begin_frame(r)))
         return st;
     r->q_used = 0;
+    r->bound_prog = 0;
+    r->draw_failed = false;
     if (r->has_fragment_stats)
         GL(BeginQuery)(GL_FRAGMENT_SHADER_INVOCATIONS_ARB, r->q_fragments);
     st = r->opts.method == LIMEN_METHOD_STENCIL ? limen__draw_stencil(r)
                                                 : limen__draw_texture(r);
     if (r->has_fragment_stats)
         GL(EndQuery)(GL_FRAGMENT_SHADER_INVOCATIONS_ARB);
+    if (!st && r->draw_failed)
+        st = LIMEN_ERR_GL;      /* a shader variant could not be built: the message is set */
     if (st)
         return st;
     if (r->msaa) {

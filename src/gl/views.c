@@ -6,7 +6,7 @@
 
 #include "gl/gl_internal.h"
 
-enum { MODE_LIT = 0, MODE_FLAT = 1, MODE_TEXTURE = 2 };
+enum { MODE_LIT = LIMEN__MODE_LIT, MODE_FLAT = LIMEN__MODE_FLAT, MODE_TEXTURE = LIMEN__MODE_TEXTURE };
 
 static bool is_surface(const limen_drawable *d)
 {
@@ -127,29 +127,36 @@ static void make_rview(limen_renderer *r, int index, mat4 proj_pre, rview *v)
     v->img_map[3] = -(float)r->origin[1];
 }
 
-static void apply_view(limen_renderer *r, const rview *v)
+static const float keep_all[4] = { 0, 0, 0, 1 };
+
+/* The view's clip plane where it has one (and clip distance 0 on), else none. */
+static void set_view_clip(limen_renderer *r, const rview *v)
 {
-    GL(UseProgram)(r->prog);
-    GL(BindVertexArray)(r->vao);
-    set_mat4(r, r->u.view_proj, (vec4 *)v->view_proj);
-    GL(Uniform3fv)(r->u.eye, 1, v->pub->eye);
     bool plane = v->pub->clip == LIMEN_CLIP_PLANE;
-    vec4 noclip = { 0, 0, 0, 1 };
-    GL(Uniform4fv)(r->u.clip_plane, 1, plane ? v->pub->clip_plane : noclip);
+    memcpy(r->shared.clip_plane, plane ? v->pub->clip_plane : keep_all, sizeof(float) * 4);
+    r->clip0_on = plane;
     if (plane)
         GL(Enable)(GL_CLIP_DISTANCE0);
     else
         GL(Disable)(GL_CLIP_DISTANCE0);
+    r->shared_stamp++;
+}
+
+static void apply_view(limen_renderer *r, const rview *v)
+{
+    GL(BindVertexArray)(r->vao);
+    memcpy(r->shared.view_proj, v->view_proj, sizeof r->shared.view_proj);
+    memcpy(r->shared.eye, v->pub->eye, sizeof r->shared.eye);
+    set_view_clip(r, v);
     GL(FrontFace)(v->pub->front_face_cw ? GL_CW : GL_CCW);
-    GL(Uniform1f)(r->u.ambient, r->ambient);
-    GL(Uniform1i)(r->u.mode, MODE_LIT);
+    r->shared.ambient = r->ambient;
     /* the product of the mirror tints on the way here, applied once to every colour */
-    GL(Uniform3fv)(r->u.tint, 1, v->pub->tint);
+    memcpy(r->shared.tint, v->pub->tint, sizeof r->shared.tint);
 }
 
 static void set_lights(limen_renderer *r)
 {
-    float pos[LIMEN_MAX_LIGHTS][3], col[LIMEN_MAX_LIGHTS][3];
+    float (*pos)[3] = r->shared.light_pos, (*col)[3] = r->shared.light_col;
     const limen_drawable *items;
     int count = limen_drawables_items(r->draw, &items), n = 0;
     for (int i = 0; i < count && n < LIMEN_MAX_LIGHTS; i++) {
@@ -160,12 +167,8 @@ static void set_lights(limen_renderer *r)
         memcpy(col[n], d->color, sizeof(float) * 3);
         n++;
     }
-    GL(UseProgram)(r->prog);
-    GL(Uniform1i)(r->u.nlights, n);
-    if (n) {
-        GL(Uniform3fv)(r->u.light_pos, n, &pos[0][0]);
-        GL(Uniform3fv)(r->u.light_col, n, &col[0][0]);
-    }
+    r->shared.nlights = n;
+    r->shared_stamp++;
 }
 
 /* ------------------------------------------------------------------ meshes */
@@ -228,6 +231,25 @@ static void draw_node_at(limen_renderer *r, const rview *v, const limen_drawable
     int shape;
     if (!node_mesh(r, v, node, world, &range, scale, &shape))
         return;
+    int checker = mode != MODE_LIT || !(node->cell > 0) ? 0
+                  : node->kind == LIMEN_NODE_QUAD                ? 1
+                                                                 : 2;
+    /* In an oblique view the near plane is the exit plane, and clamping (below) would keep
+     * what of a surface lies beyond it (a neighbour poking through a mirror shows its back
+     * there): the view's clip plane cuts it instead, as in a plane view, through a variant
+     * that writes the clip distance. */
+    bool cut = is_surface(node) && exit_cuts(v) && v->pub->clip == LIMEN_CLIP_OBLIQUE;
+    if (cut) {
+        memcpy(r->shared.clip_plane, v->pub->clip_plane, sizeof(float) * 4);
+        r->clip0_on = true;
+        GL(Enable)(GL_CLIP_DISTANCE0);
+        r->shared_stamp++;
+    }
+    if (!limen__variant_use(r, mode, shape, checker)) {
+        if (cut)
+            set_view_clip(r, v);
+        return;
+    }
     mat4 model;
     mat3 nm;
     glm_mat4_copy(world, model);
@@ -238,12 +260,11 @@ static void draw_node_at(limen_renderer *r, const rview *v, const limen_drawable
     set_mat4(r, r->u.model, model);
     GL(UniformMatrix3fv)(r->u.normal_mat, 1, GL_FALSE, (const GLfloat *)nm);
     GL(Uniform3fv)(r->u.albedo, 1, albedo);
-    GL(Uniform3fv)(r->u.albedo_b, 1, node->checker);
-    GL(Uniform1f)(r->u.cell, mode == MODE_LIT ? node->cell : 0.0f);
-    GL(Uniform3fv)(r->u.scale, 1, scale);
-    GL(Uniform1i)(r->u.shape, shape);
-    GL(Uniform1i)(r->u.quad, node->kind == LIMEN_NODE_QUAD);
-    GL(Uniform1i)(r->u.mode, mode);
+    if (checker) {
+        GL(Uniform3fv)(r->u.albedo_b, 1, node->checker);
+        GL(Uniform1f)(r->u.cell, node->cell);
+        GL(Uniform3fv)(r->u.scale, 1, scale);
+    }
     /* Mirrors and portals are not cut by the near plane: a camera closer to one than its
      * near distance still sees through it (and the ray tracer agrees). */
     /* In a view cut by a user clip plane (the eye too near its exit surface for an oblique
@@ -258,21 +279,10 @@ static void draw_node_at(limen_renderer *r, const rview *v, const limen_drawable
         GL(Enable)(GL_CULL_FACE);
     else
         GL(Disable)(GL_CULL_FACE);
-    /* In an oblique view the near plane is the exit plane, and clamping would keep what of a
-     * surface lies beyond it (a neighbour poking through a mirror shows its back there): the
-     * clip plane cuts it instead, as in a plane view. */
-    bool cut = is_surface(node) && exit_cuts(v) && v->pub->clip == LIMEN_CLIP_OBLIQUE;
-    if (cut) {
-        GL(Uniform4fv)(r->u.clip_plane, 1, v->pub->clip_plane);
-        GL(Enable)(GL_CLIP_DISTANCE0);
-    }
     GL(DrawElements)(GL_TRIANGLES, (GLsizei)range.count, GL_UNSIGNED_INT,
                      (void *)(sizeof(uint32_t) * range.first));
-    if (cut) {
-        static const float keep_all[4] = { 0, 0, 0, 1 };
-        GL(Uniform4fv)(r->u.clip_plane, 1, keep_all);
-        GL(Disable)(GL_CLIP_DISTANCE0);
-    }
+    if (cut)
+        set_view_clip(r, v);
 }
 
 
@@ -415,11 +425,11 @@ static void draw_flat_parts(limen_renderer *r, const rview *v, const limen__spol
     const float *t = v->pub->tint;
     float c[3] = { rgb[0] * t[0], rgb[1] * t[1], rgb[2] * t[2] };
     GL(UseProgram)(r->fill_prog);
+    r->bound_prog = r->fill_prog;
     GL(Uniform3fv)(r->u_fill_color, 1, c);
     GL(Enable)(GL_DEPTH_CLAMP);
     GL(Disable)(GL_CULL_FACE);
     draw_parts(r, sp, fixed, z);
-    GL(UseProgram)(r->prog);
 }
 
 /* A surface's flat pass (mark, seal, fill: flat colour; or the previous frame's picture)
@@ -436,21 +446,21 @@ static void draw_surface_flat(limen_renderer *r, const rview *v, const limen_dra
         draw_flat_parts(r, v, sp, albedo, false, 0);
         return;
     }
+    /* the parts are in NDC already: identity matrices, planes that keep everything */
     static const float ident[16] = { 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1 };
-    static const float keep_all[4] = { 0, 0, 0, 1 };
-    GL(UniformMatrix4fv)(r->u.model, 1, GL_FALSE, ident);
-    GL(UniformMatrix4fv)(r->u.view_proj, 1, GL_FALSE, ident);
-    GL(Uniform3fv)(r->u.albedo, 1, albedo);
-    GL(Uniform1f)(r->u.cell, 0.0f);
-    GL(Uniform1i)(r->u.mode, mode);
-    GL(Uniform4fv)(r->u.clip_plane, 1, keep_all);
-    GL(Uniform4fv)(r->u.clip_plane2, 1, keep_all);
-    GL(Enable)(GL_DEPTH_CLAMP);
-    GL(Disable)(GL_CULL_FACE);
-    draw_parts(r, sp, false, 0);
-    set_mat4(r, r->u.view_proj, (vec4 *)v->view_proj);
-    bool plane = v->pub->clip == LIMEN_CLIP_PLANE;
-    GL(Uniform4fv)(r->u.clip_plane, 1, plane ? v->pub->clip_plane : keep_all);
+    memcpy(r->shared.view_proj, ident, sizeof ident);
+    memcpy(r->shared.clip_plane, keep_all, sizeof keep_all);
+    memcpy(r->shared.cut_plane, keep_all, sizeof keep_all);
+    r->shared_stamp++;
+    if (limen__variant_use(r, mode, 0, 0)) {
+        GL(UniformMatrix4fv)(r->u.model, 1, GL_FALSE, ident);
+        GL(Uniform3fv)(r->u.albedo, 1, albedo);
+        GL(Enable)(GL_DEPTH_CLAMP);
+        GL(Disable)(GL_CULL_FACE);
+        draw_parts(r, sp, false, 0);
+    }
+    memcpy(r->shared.view_proj, v->view_proj, sizeof r->shared.view_proj);
+    set_view_clip(r, v);
 }
 
 static void draw_node(limen_renderer *r, const rview *v, const limen_drawable *node, int mode,
@@ -468,8 +478,9 @@ static void draw_node(limen_renderer *r, const rview *v, const limen_drawable *n
 /* Clip distance 1: the cut of a shape passing through a portal (NULL: none). */
 static void set_cut(limen_renderer *r, const float *plane)
 {
-    static const float keep_all[4] = { 0, 0, 0, 1 };
-    GL(Uniform4fv)(r->u.clip_plane2, 1, plane ? plane : keep_all);
+    memcpy(r->shared.cut_plane, plane ? plane : keep_all, sizeof keep_all);
+    r->clip1_on = plane != NULL;
+    r->shared_stamp++;
     if (plane)
         GL(Enable)(GL_CLIP_DISTANCE1);
     else
@@ -534,7 +545,10 @@ static void draw_thing(limen_renderer *r, const rview *v, const limen_drawable *
         set_cut(r, NULL);
 }
 
-static void draw_geometry(limen_renderer *r, const rview *v)
+/* fresh: nothing is in the view's depth yet (it sees no surface). Then the nearest thing,
+ * drawn first, passes the depth test wherever it lands (every shape is convex, closed ones
+ * without their back faces): it only writes depth, which llvmpipe does without reading it. */
+static void draw_geometry(limen_renderer *r, const rview *v, bool fresh)
 {
     const limen_drawable *items;
     int count = limen_drawables_items(r->draw, &items);
@@ -544,8 +558,13 @@ static void draw_geometry(limen_renderer *r, const rview *v)
             if (shows(v, &items[i]))
                 draw_thing(r, v, items, i);
     }
-    for (int k = 0; k < n; k++)
+    for (int k = 0; k < n; k++) {
+        if (k == 0 && fresh)
+            GL(DepthFunc)(GL_ALWAYS);
         draw_thing(r, v, items, r->order[k].node);
+        if (k == 0 && fresh)
+            GL(DepthFunc)(r->range == LIMEN_DEPTH_ZO_REVERSED ? GL_GREATER : GL_LESS);
+    }
     /* what has gone into a portal, coming out of its partner */
     const limen_clone *clones;
     int nclones = limen_plan_clones(r->plan, &clones);
@@ -599,8 +618,8 @@ static bool draw_previous(limen_renderer *r, const rview *v, const limen_view_su
     };
     GL(ActiveTexture)(GL_TEXTURE0);
     GL(BindTexture)(GL_TEXTURE_2D, r->prev_tex);
-    GL(Uniform1i)(r->u.tex, 0);
-    GL(Uniform4fv)(r->u.tex_map, 1, map);
+    memcpy(r->shared.tex_map, map, sizeof map);
+    r->shared_stamp++;
     draw_node(r, v, n, MODE_TEXTURE, v->pub->tint);
     return true;
 }
@@ -644,7 +663,7 @@ static void draw_opaque(limen_renderer *r, const rview *v, const limen_view_surf
     for (int k = 0; k < n; k++)
         if (vs[k].state != LIMEN_SURFACE_RECURSE)
             draw_terminal_surface(r, v, &vs[k]);
-    draw_geometry(r, v);
+    draw_geometry(r, v, n == 0);
 }
 
 /* How the stencil method tells views apart. Where the tree has at most 255 views each gets
@@ -664,6 +683,7 @@ typedef struct stencil_ids {
 static void mark_surface(limen_renderer *r, const rview *v, const limen_drawable *node,
                          const limen__spoly *sp, int sv, int cv)
 {
+    GL(Enable)(GL_STENCIL_TEST);
     GL(ColorMask)(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
     GL(DepthMask)(GL_FALSE);
     GL(DepthFunc)(depth_lequal(r));
@@ -713,17 +733,31 @@ static void stencil_view(limen_renderer *r, int index, const limen__spoly *reg, 
     const limen_view_surface *vs;
     int n = limen_plan_view_surfaces(r->plan, index, &vs);
     set_scissor(r, v.pub->scissor);
+    /* the camera's view draws before any mark, where every pixel holds 0: its passes need
+     * no stencil test (the first mark turns it on) */
+    if (reg)
+        GL(Enable)(GL_STENCIL_TEST);
+    else
+        GL(Disable)(GL_STENCIL_TEST);
     GL(StencilFunc)(GL_EQUAL, sv, 0xFF);
     GL(StencilOp)(GL_KEEP, GL_KEEP, GL_KEEP);
 
-    /* depth: reset inside the view, then the surfaces it recurses into */
+    /* depth: reset inside the view, then the surfaces it recurses into. With a value per
+     * view (and one sample per pixel) the reset also paints the view's background (its
+     * things land on it later), so that no pass after the marks has to find the pixels where
+     * nothing landed. With MSAA the scissored clear and that later pass stay: the region's
+     * polygon alone was seen to change a few edge pixels there. */
+    bool paint = ids->unique && !r->msaa;
     GL(ColorMask)(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
-    if (reg && ids->unique) {
+    if (reg && ids->unique && r->msaa) {
         GL(Clear)(GL_DEPTH_BUFFER_BIT);
     } else if (reg) {
+        if (paint)
+            GL(ColorMask)(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
         GL(DepthFunc)(GL_ALWAYS);
         draw_region_fill(r, &v, reg, r->background);
         GL(DepthFunc)(depth_less(r));
+        GL(ColorMask)(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
     }
     apply_view(r, &v);
     /* (the parts are recomputed where needed: the same floats come out each time) */
@@ -750,7 +784,7 @@ static void stencil_view(limen_renderer *r, int index, const limen__spoly *reg, 
             surface_parts(r, &v, node, &sp);
             mark_surface(r, &v, node, &sp, sv, ids->next++);
         }
-        if (reg)
+        if (reg && !paint)
             view_background(r, &v, reg, sv);
         int cv = first;
         for (int k = 0; k < n; k++) {
@@ -790,7 +824,6 @@ static void stencil_view(limen_renderer *r, int index, const limen__spoly *reg, 
 limen_status limen__draw_stencil(limen_renderer *r)
 {
     set_lights(r);
-    GL(Enable)(GL_STENCIL_TEST);
     stencil_ids ids = { .unique = limen_plan_count(r->plan) <= 255, .next = 1 };
     stencil_view(r, 0, NULL, 0, &ids);
     GL(Disable)(GL_STENCIL_TEST);
@@ -927,7 +960,6 @@ static bool texture_view(limen_renderer *r, int index, const placement *pl)
         apply_view(r, &v);
         GL(ActiveTexture)(GL_TEXTURE0);
         GL(BindTexture)(GL_TEXTURE_2D, t->tex);
-        GL(Uniform1i)(r->u.tex, 0);
         /* fragment (this target) -> image pixel -> child texel -> uv */
         float map[4] = {
             cp.sx / (pl->sx * (float)t->w),
@@ -935,7 +967,8 @@ static bool texture_view(limen_renderer *r, int index, const placement *pl)
             (px0 - (float)cp.rect[0]) * cp.sx / (float)t->w,
             (py0 - (float)cp.rect[1]) * cp.sy / (float)t->h,
         };
-        GL(Uniform4fv)(r->u.tex_map, 1, map);
+        memcpy(r->shared.tex_map, map, sizeof map);
+        r->shared_stamp++;
         vec3 white = { 1, 1, 1 };
         GL(DepthFunc)(depth_lequal(r));      /* its own depth is there already */
         limen__samples_begin(r);

@@ -1,0 +1,243 @@
+/* shader.c - the programs that shade things: one source, compiled into variants that each
+ * hold only what a draw needs (lit, flat or textured; the mesh's normals or the true
+ * sphere's or cylinder's; checker or not; how many lights; which clip distances). llvmpipe
+ * runs every branch of a shader under a mask, so an all-purpose program pays for the paths
+ * a draw does not take; a variant pays for its own. Variants are compiled on first use. The
+ * values every variant reads (the view's matrix, eye, planes and tint, the lights) are kept
+ * here and uploaded to a variant when it is bound after they changed. */
+#include <stdio.h>
+#include <string.h>
+
+#include "gl/gl_internal.h"
+
+static const char *vs_body =
+    "layout(location = 0) in vec3 a_pos;\n"
+    "layout(location = 1) in vec3 a_nrm;\n"
+    "uniform mat4 u_model, u_view_proj;\n"
+    "uniform vec4 u_clip_plane, u_clip_plane2;\n"
+    "uniform mat3 u_normal_mat;\n"
+    "out vec3 v_world, v_local, v_nrm;\n"
+    "flat out vec3 v_face;\n"
+    "void main() {\n"
+    "    vec4 w = u_model * vec4(a_pos, 1.0);\n"
+    "    v_world = w.xyz; v_local = a_pos; v_nrm = a_nrm;\n"
+    "#if MODE == 0 && SHAPE == 0\n"
+    "    v_face = normalize(u_normal_mat * a_nrm);\n"
+    "#endif\n"
+    "#if CLIP0\n"
+    "    gl_ClipDistance[0] = dot(u_clip_plane, w);\n"
+    "#endif\n"
+    "#if CLIP1\n"
+    "    gl_ClipDistance[1] = dot(u_clip_plane2, w);\n"
+    "#endif\n"
+    "    gl_Position = u_view_proj * w;\n"
+    "}\n";
+
+/* MODE 0 lit, 1 flat, 2 textured. The normal comes from the true shape where it is curved
+ * (SHAPE 1 sphere, 2 cylinder side), so that shading does not depend on the tessellation.
+ * CHECKER 1: cells in x + y (quads), 2: in x + y + z. */
+static const char *fs_body =
+    "in vec3 v_world, v_local, v_nrm;\n"
+    "flat in vec3 v_face;\n"
+    "uniform mat3 u_normal_mat;\n"
+    "uniform vec3 u_eye, u_albedo, u_albedo_b, u_scale, u_tint;\n"
+    "uniform float u_cell, u_ambient;\n"
+    "#if NLIGHTS > 0\n"
+    "uniform vec3 u_light_pos[NLIGHTS], u_light_col[NLIGHTS];\n"
+    "#endif\n"
+    "uniform sampler2D u_tex;\n"
+    "uniform vec4 u_tex_map;\n"
+    "out vec4 o_color;\n"
+    "void main() {\n"
+    "#if MODE == 1\n"
+    "    o_color = vec4(u_albedo TINTED, 1.0);\n"
+    "#elif MODE == 2\n"
+    "    vec2 uv = gl_FragCoord.xy * u_tex_map.xy + u_tex_map.zw;\n"
+    "    o_color = vec4(texture(u_tex, uv).rgb * u_albedo, 1.0);\n"
+    "#else\n"
+    "#if SHAPE == 1\n"
+    "    vec3 nl = v_local;\n"
+    "#elif SHAPE == 2\n"
+    "    vec3 nl = abs(v_nrm.y) < 0.5 ? vec3(v_local.x, 0.0, v_local.z) : v_nrm;\n"
+    "#endif\n"
+    "#if SHAPE == 0\n"
+    "    vec3 n = v_face;\n"
+    "#else\n"
+    "    vec3 n = normalize(u_normal_mat * nl);\n"
+    "#endif\n"
+    "    if (dot(n, u_eye - v_world) < 0.0) n = -n;\n"
+    "    vec3 albedo = u_albedo;\n"
+    "#if CHECKER\n"
+    "    vec3 c = floor(v_local * u_scale / u_cell);\n"
+    "#if CHECKER == 1\n"
+    "    float k = c.x + c.y;\n"
+    "#else\n"
+    "    float k = c.x + c.y + c.z;\n"
+    "#endif\n"
+    "    if (k - 2.0 * floor(k * 0.5) > 0.5) albedo = u_albedo_b;\n"
+    "#endif\n"
+    "    vec3 light = vec3(0.0);\n"
+    "#if NLIGHTS > 0\n"
+    "    for (int i = 0; i < NLIGHTS; i++)\n"
+    "        light += u_light_col[i] * max(0.0, dot(n, normalize(u_light_pos[i] - v_world)));\n"
+    "#endif\n"
+    "    vec3 c3 = clamp(albedo * (u_ambient + (1.0 - u_ambient) * light), 0.0, 1.0);\n"
+    "    o_color = vec4(c3 TINTED, 1.0);\n"
+    "#endif\n"
+    "}\n";
+
+/* Whether a shader compiled (or a program linked); if not, its log goes into the message. */
+static bool built(limen_renderer *r, GLuint obj, bool program)
+{
+    GLint ok = 0;
+    char log[400] = "";
+    if (program)
+        GL(GetProgramiv)(obj, GL_LINK_STATUS, &ok);
+    else
+        GL(GetShaderiv)(obj, GL_COMPILE_STATUS, &ok);
+    if (ok)
+        return true;
+    if (program)
+        GL(GetProgramInfoLog)(obj, sizeof log, NULL, log);
+    else
+        GL(GetShaderInfoLog)(obj, sizeof log, NULL, log);
+    limen__rfail(r, LIMEN_ERR_GL, "shader %s failed: %s", program ? "link" : "compile", log);
+    return false;
+}
+
+static GLuint compile(limen_renderer *r, GLenum type, const char *head, const char *body)
+{
+    GLuint sh = GL(CreateShader)(type);
+    const char *src[2] = { head, body };
+    GL(ShaderSource)(sh, 2, src, NULL);
+    GL(CompileShader)(sh);
+    if (built(r, sh, false))
+        return sh;
+    GL(DeleteShader)(sh);
+    return 0;
+}
+
+GLuint limen__gl_link(limen_renderer *r, const char *head, const char *vsrc, const char *fsrc)
+{
+    GLuint vs = compile(r, GL_VERTEX_SHADER, head, vsrc);
+    GLuint fs = vs ? compile(r, GL_FRAGMENT_SHADER, head, fsrc) : 0;
+    if (!vs || !fs) {
+        if (vs)
+            GL(DeleteShader)(vs);
+        return 0;
+    }
+    GLuint prog = GL(CreateProgram)();
+    GL(AttachShader)(prog, vs);
+    GL(AttachShader)(prog, fs);
+    GL(LinkProgram)(prog);
+    GL(DeleteShader)(vs);
+    GL(DeleteShader)(fs);
+    if (built(r, prog, true))
+        return prog;
+    GL(DeleteProgram)(prog);
+    return 0;
+}
+
+/* key: mode (2 bits), shape (2), checker (2), lights (4), clip distances 0 and 1 (1 each),
+ * tint (1: the view's tint is not white; multiplying by 1 changes no colour) */
+static unsigned variant_key(int mode, int shape, int checker, int nlights, bool clip0, bool clip1,
+                            bool tint)
+{
+    if (mode != LIMEN__MODE_LIT)
+        shape = checker = nlights = 0;
+    return (unsigned)mode | (unsigned)shape << 2 | (unsigned)checker << 4 |
+           (unsigned)nlights << 6 | (unsigned)clip0 << 10 | (unsigned)clip1 << 11 |
+           (unsigned)tint << 12;
+}
+
+static limen__variant *variant_build(limen_renderer *r, unsigned key)
+{
+    if (r->nvariants == LIMEN__MAX_VARIANTS) {
+        limen__rfail(r, LIMEN_ERR_GL, "more than %d shader variants", LIMEN__MAX_VARIANTS);
+        return NULL;
+    }
+    char head[256];
+    snprintf(head, sizeof head,
+             "#version 330 core\n#define MODE %u\n#define SHAPE %u\n#define CHECKER %u\n"
+             "#define NLIGHTS %u\n#define CLIP0 %u\n#define CLIP1 %u\n#define TINTED %s\n",
+             key & 3, key >> 2 & 3, key >> 4 & 3, key >> 6 & 15, key >> 10 & 1, key >> 11 & 1,
+             key >> 12 & 1 ? "* u_tint" : "");
+    GLuint prog = limen__gl_link(r, head, vs_body, fs_body);
+    if (!prog)
+        return NULL;
+    limen__variant *v = &r->variants[r->nvariants++];
+    v->key = key;
+    v->prog = prog;
+    v->stamp = r->shared_stamp - 1;
+#define U(field, name) v->u.field = GL(GetUniformLocation)(prog, name)
+    U(model, "u_model");
+    U(normal_mat, "u_normal_mat");
+    U(view_proj, "u_view_proj");
+    U(eye, "u_eye");
+    U(clip_plane, "u_clip_plane");
+    U(clip_plane2, "u_clip_plane2");
+    U(albedo, "u_albedo");
+    U(albedo_b, "u_albedo_b");
+    U(cell, "u_cell");
+    U(scale, "u_scale");
+    U(tint, "u_tint");
+    U(tex, "u_tex");
+    U(tex_map, "u_tex_map");
+    U(ambient, "u_ambient");
+    U(light_pos, "u_light_pos");
+    U(light_col, "u_light_col");
+#undef U
+    GL(UseProgram)(prog);
+    GL(Uniform1i)(v->u.tex, 0);
+    r->bound_prog = prog;
+    return v;
+}
+
+static void upload_shared(limen_renderer *r, limen__variant *v)
+{
+    const limen__shared *sh = &r->shared;
+    GL(UniformMatrix4fv)(v->u.view_proj, 1, GL_FALSE, sh->view_proj);
+    GL(Uniform3fv)(v->u.eye, 1, sh->eye);
+    GL(Uniform4fv)(v->u.clip_plane, 1, sh->clip_plane);
+    GL(Uniform4fv)(v->u.clip_plane2, 1, sh->cut_plane);
+    GL(Uniform3fv)(v->u.tint, 1, sh->tint);
+    GL(Uniform1f)(v->u.ambient, sh->ambient);
+    GL(Uniform4fv)(v->u.tex_map, 1, sh->tex_map);
+    if (sh->nlights && (v->key >> 6 & 15)) {
+        GL(Uniform3fv)(v->u.light_pos, sh->nlights, &sh->light_pos[0][0]);
+        GL(Uniform3fv)(v->u.light_col, sh->nlights, &sh->light_col[0][0]);
+    }
+    v->stamp = r->shared_stamp;
+}
+
+bool limen__variant_use(limen_renderer *r, int mode, int shape, int checker)
+{
+    const float *t = r->shared.tint;
+    bool tint = mode != LIMEN__MODE_TEXTURE && (t[0] != 1 || t[1] != 1 || t[2] != 1);
+    unsigned key = variant_key(mode, shape, checker, r->shared.nlights, r->clip0_on,
+                               r->clip1_on, tint);
+    limen__variant *v = NULL;
+    for (int i = 0; i < r->nvariants && !v; i++)
+        if (r->variants[i].key == key)
+            v = &r->variants[i];
+    if (!v && !(v = variant_build(r, key))) {
+        r->draw_failed = true;
+        return false;
+    }
+    if (r->bound_prog != v->prog) {
+        GL(UseProgram)(v->prog);
+        r->bound_prog = v->prog;
+    }
+    if (v->stamp != r->shared_stamp)
+        upload_shared(r, v);
+    r->u = v->u;
+    return true;
+}
+
+void limen__variants_free(limen_renderer *r)
+{
+    for (int i = 0; i < r->nvariants; i++)
+        GL(DeleteProgram)(r->variants[i].prog);
+    r->nvariants = 0;
+    r->bound_prog = 0;
+}
