@@ -8,10 +8,10 @@ CFLAGS   ?= $(OPT)
 WARN     := -Wall -Wextra -Wshadow -Wmissing-prototypes -Wstrict-prototypes -Wno-unused-parameter
 PREFIX   ?= /usr/local
 B        ?= build
-PKGS     := osmesa egl lua5.4 cglm
+PKGS     := osmesa egl lua5.4 cglm assimp
 # Debian packages the build, the tests and the benchmarks need.
 DEBS     := pkg-config libosmesa6-dev libegl-dev libegl1-mesa-dev libgl-dev liblua5.4-dev \
-            lua5.4 libcglm-dev libstb-dev
+            lua5.4 libcglm-dev libstb-dev libassimp-dev
 
 ALL_CFLAGS = -std=c11 -D_GNU_SOURCE -fPIC -fvisibility=hidden $(WARN) -Iinclude -Isrc \
              $(DEP_CFLAGS) $(CFLAGS)
@@ -19,12 +19,12 @@ LIBS_NOLUA = $(DEP_LIBS_NOLUA) -lm -lpthread
 LIBS       = $(DEP_LIBS) -lm -lpthread
 
 # ------------------------------------------------------------------ objects
-CORE_SRC := src/core/error.c src/core/lmath.c src/core/scene.c src/core/surface.c src/core/move.c src/core/straddle.c src/core/plan.c src/core/trace.c src/core/image.c
+CORE_SRC := src/core/error.c src/core/lmath.c src/core/scene.c src/core/surface.c src/core/move.c src/core/straddle.c src/core/plan.c src/core/trace.c src/core/image.c src/core/mesh.c
 GL_SRC   := src/gl/render.c src/gl/views.c src/gl/mesh.c src/gl/ctx_osmesa.c src/gl/ctx_egl.c
 LUA_SRC  := src/lua/bindings.c src/lua/script.c src/lua/safe.c
 LIB_SRC  := $(CORE_SRC) $(GL_SRC) $(LUA_SRC)
 CLI_SRC  := src/cli/main.c src/cli/trace_cmd.c
-TEST_C   := tests/test_math.c tests/test_scene.c tests/test_plan.c tests/test_render.c tests/test_script.c tests/test_trace.c tests/test_gallery.c tests/test_threads.c tests/test_truth.c tests/test_example_game.c tests/test_crossing.c tests/test_sweep_approach.c tests/test_sweep_grazing.c tests/test_sweep_depth.c tests/test_sweep_recursion.c tests/test_sweep_matrix.c tests/test_sweep_odd.c
+TEST_C   := tests/test_math.c tests/test_mesh.c tests/test_scene.c tests/test_plan.c tests/test_render.c tests/test_script.c tests/test_trace.c tests/test_gallery.c tests/test_threads.c tests/test_truth.c tests/test_example_game.c tests/test_crossing.c tests/test_sweep_approach.c tests/test_sweep_grazing.c tests/test_sweep_depth.c tests/test_sweep_recursion.c tests/test_sweep_matrix.c tests/test_sweep_odd.c
 
 LUA_KIT  := lua/limen/kit.lua
 LIB_OBJ  := $(LIB_SRC:%.c=$(B)/obj/%.o) $(B)/obj/lua_kit.o
@@ -66,7 +66,7 @@ $(B)/config.mk: Makefile
 	@pkg-config --exists $(PKGS) || { echo "limen: pkg-config cannot find: $(PKGS)"; exit 1; }
 	@{ echo "DEP_CFLAGS := $$(pkg-config --cflags $(PKGS) stb)"; \
 	   echo "DEP_LIBS := $$(pkg-config --libs $(PKGS))"; \
-	   echo "DEP_LIBS_NOLUA := $$(pkg-config --libs osmesa egl cglm)"; } > $@
+	   echo "DEP_LIBS_NOLUA := $$(pkg-config --libs osmesa egl cglm assimp)"; } > $@
 
 # ------------------------------------------------------------------ build
 $(B)/obj/%.o: %.c $(B)/config.mk

@@ -134,6 +134,7 @@ typedef enum limen_node_kind {
     LIMEN_NODE_PORTAL,      /* dims = (w, h, -) like a quad; paired with another portal */
     LIMEN_NODE_LIGHT,       /* point light at the node's origin; colour = intensity per channel */
     LIMEN_NODE_CAMERA,      /* eye at the origin, looking down local -Z */
+    LIMEN_NODE_MESH,        /* triangles in the node's local frame (limen_mesh_load, below) */
     LIMEN_NODE_KIND_COUNT
 } limen_node_kind;
 
@@ -208,6 +209,43 @@ LIMEN_API limen_status limen_node_get_checker(const limen_scene *s, limen_node n
                                               float b[3], float *cell);
 LIMEN_API limen_status limen_node_set_visible(limen_scene *s, limen_node n, int visible);
 LIMEN_API int limen_node_get_visible(const limen_scene *s, limen_node n);
+
+/* Meshes: triangles in the node's local frame, drawn with the node's transform and colour
+ * (checker too: cells of the local point, x+y+z). A mesh node shows nothing until it has
+ * triangles. Both sides are lit (the normal turned toward the eye, as for quads). Normals:
+ * where the data has them they are interpolated across each triangle; without them each
+ * triangle shows its face normal ((p1-p0) x (p2-p0), i.e. counter-clockwise from the front),
+ * unless smooth is set, which interpolates area-weighted vertex normals. Nodes that load the
+ * same file share one copy of it (per scene); each node keeps its own transform and colour.
+ * Bad data (no triangles, a vertex that is not finite, an index out of range, points or lines,
+ * a file that cannot be read) is refused with a message naming the file. */
+typedef struct limen_mesh_data {
+    const float *positions;     /* vertex_count * 3 */
+    const float *normals;       /* vertex_count * 3, or NULL (face normals, or smooth) */
+    const float *uvs;           /* vertex_count * 2, or NULL: texture coordinates */
+    int vertex_count;
+    const uint32_t *indices;    /* triangle_count * 3, each < vertex_count */
+    int triangle_count;
+} limen_mesh_data;
+
+typedef struct limen_mesh_info {
+    int vertex_count, triangle_count;
+    int has_normals, has_uvs;   /* what the data came with */
+    int smooth;                 /* the node's flag */
+    float lo[3], hi[3];         /* local bounding box */
+    int shared_by;              /* nodes that show this geometry */
+    size_t bytes;               /* memory it holds */
+} limen_mesh_info;
+
+/* Loads a file through assimp (OBJ, glTF 2.0 .gltf/.glb, PLY, FBX, STL, ...): polygons are
+ * triangulated, the file's node transforms applied, all its meshes merged. */
+LIMEN_API limen_status limen_mesh_load(limen_scene *s, limen_node mesh, const char *path);
+/* Copies triangles from arrays (the caller keeps its own). */
+LIMEN_API limen_status limen_mesh_set_triangles(limen_scene *s, limen_node mesh,
+                                                const limen_mesh_data *data);
+LIMEN_API limen_status limen_mesh_set_smooth(limen_scene *s, limen_node mesh, int smooth);
+LIMEN_API limen_status limen_mesh_get(const limen_scene *s, limen_node mesh,
+                                      limen_mesh_info *out);   /* zeros before any triangles */
 
 /* Mirrors and portals ("surfaces"). Defaults: tint white, back mid-grey (0.5), fill black,
  * max_depth 8. A mirror seen from behind is a matte quad of its back colour; a portal seen

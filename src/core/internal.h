@@ -40,6 +40,9 @@ typedef struct limen__node {
     vec3 tint, back, fill;      /* mirrors and portals */
     int max_depth;
     uint32_t pair;              /* portals: partner's index + 1; 0 = unpaired */
+
+    struct limen__mesh *mesh;   /* meshes: shared geometry (core/mesh.h), or NULL */
+    bool smooth;                /* meshes: interpolate vertex normals */
 } limen__node;
 
 struct limen_scene {
@@ -54,6 +57,9 @@ struct limen_scene {
     float ambient;
     uint32_t camera;            /* index + 1 */
     uint32_t bad_world;         /* index + 1 of a node whose world matrix overflowed; 0 */
+    struct limen__mesh **meshes;  /* mesh assets, each shared by the nodes that load it */
+    int nmeshes, mesh_cap;
+    uint64_t mesh_serial;
     char err[LIMEN__ERR_MAX];
 };
 

@@ -4,6 +4,7 @@
 #include <string.h>
 
 #include "core/internal.h"
+#include "core/mesh.h"
 
 #define INDEX_BITS 20u
 #define INDEX_MASK ((1u << INDEX_BITS) - 1u)
@@ -38,7 +39,7 @@ limen__node *limen__node_get(const limen_scene *s, limen_node n)
 static const char *kind_name(limen_node_kind k)
 {
     static const char *names[] = { "group", "box", "sphere", "cylinder", "quad",
-                                   "mirror", "portal", "light", "camera" };
+                                   "mirror", "portal", "light", "camera", "mesh" };
     return (unsigned)k < LIMEN_NODE_KIND_COUNT ? names[k] : "node";
 }
 
@@ -87,6 +88,7 @@ void limen_scene_destroy(limen_scene *s)
 {
     if (!s)
         return;
+    limen__meshes_destroy(s);
     free(s->nodes);
     free(s->free_list);
     free(s);
@@ -363,6 +365,8 @@ limen_status limen_node_destroy(limen_scene *s, limen_node n)
         s->camera = 0;
     if (node->pair)
         s->nodes[node->pair - 1].pair = 0;
+    limen__mesh_release(s, node->mesh);
+    node->mesh = NULL;
     node->gen++;    /* even: dead; the next create makes it odd again with a new value */
     s->free_list[s->free_count++] = self - 1u;
     s->count--;

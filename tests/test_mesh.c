@@ -1,0 +1,246 @@
+/* test_mesh.c - mesh nodes: triangles from arrays and from files (OBJ, PLY, glTF written
+ * here, and the bunny in scenes/data), sharing, bad input, and the ray caster on them.
+ * No GL. */
+#include <stdlib.h>
+#include <unistd.h>
+
+#include "check.h"
+#include "limen.h"
+
+static char dir[64];
+
+static limen_scene *new_scene(void)
+{
+    limen_scene *s = NULL;
+    CHECK_OK(limen_scene_create(&(limen_scene_desc){ 0 }, &s));
+    return s;
+}
+
+/* Writes text into dir/name; returns the path (static buffer, one at a time). */
+static const char *write_file(const char *name, const char *text, size_t len)
+{
+    static char path[128];
+    snprintf(path, sizeof path, "%s/%s", dir, name);
+    FILE *f = fopen(path, "wb");
+    CHECK(f != NULL);
+    if (f) {
+        fwrite(text, 1, len, f);
+        fclose(f);
+    }
+    return path;
+}
+
+static const char *write_text(const char *name, const char *text)
+{
+    return write_file(name, text, strlen(text));
+}
+
+static limen_node new_mesh(limen_scene *s, const char *name)
+{
+    limen_node m = { 0 };
+    CHECK_OK(limen_node_create(s, LIMEN_NODE_MESH, name, &m));
+    return m;
+}
+
+/* A unit square on z = 0 from (0,0) to (1,1), two triangles, facing +Z. */
+static const float square_pos[] = { 0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0 };
+static const uint32_t square_idx[] = { 0, 1, 2, 0, 2, 3 };
+
+static void test_arrays(void)
+{
+    limen_scene *s = new_scene();
+    limen_node m = new_mesh(s, "sq");
+    limen_mesh_info info;
+    CHECK_OK(limen_mesh_get(s, m, &info));
+    CHECK(info.triangle_count == 0);
+    CHECK_OK(limen_mesh_set_triangles(s, m, &(limen_mesh_data){
+        .positions = square_pos, .vertex_count = 4, .indices = square_idx,
+        .triangle_count = 2 }));
+    CHECK_OK(limen_mesh_get(s, m, &info));
+    CHECK(info.triangle_count == 2 && info.vertex_count == 4);
+    CHECK(!info.has_normals && !info.has_uvs && !info.smooth);
+    CHECK(info.lo[0] == 0 && info.hi[0] == 1 && info.hi[1] == 1 && info.hi[2] == 0);
+    CHECK(info.bytes > 0 && info.shared_by == 1);
+    CHECK_OK(limen_mesh_set_smooth(s, m, 1));
+    CHECK_OK(limen_mesh_get(s, m, &info));
+    CHECK(info.smooth == 1);
+    /* a box is not a mesh */
+    limen_node b;
+    CHECK_OK(limen_node_create(s, LIMEN_NODE_BOX, "b", &b));
+    CHECK(limen_mesh_set_smooth(s, b, 1) == LIMEN_ERR_HANDLE);
+    CHECK(strstr(limen_last_error(s), "not a mesh") != NULL);
+    limen_scene_destroy(s);
+}
+
+static void test_array_errors(void)
+{
+    limen_scene *s = new_scene();
+    limen_node m = new_mesh(s, "bad");
+    float nan_pos[12];
+    memcpy(nan_pos, square_pos, sizeof nan_pos);
+    nan_pos[7] = NAN;
+    CHECK(limen_mesh_set_triangles(s, m, &(limen_mesh_data){
+        .positions = nan_pos, .vertex_count = 4, .indices = square_idx,
+        .triangle_count = 2 }) == LIMEN_ERR_ARG);
+    CHECK(strstr(limen_last_error(s), "vertex 2 has a position that is not finite") != NULL);
+    const uint32_t far_idx[] = { 0, 1, 2, 0, 2, 4 };
+    CHECK(limen_mesh_set_triangles(s, m, &(limen_mesh_data){
+        .positions = square_pos, .vertex_count = 4, .indices = far_idx,
+        .triangle_count = 2 }) == LIMEN_ERR_ARG);
+    CHECK(strstr(limen_last_error(s), "triangle 1 uses vertex 4, out of range") != NULL);
+    CHECK(limen_mesh_set_triangles(s, m, &(limen_mesh_data){
+        .positions = square_pos, .vertex_count = 4, .indices = square_idx,
+        .triangle_count = 0 }) == LIMEN_ERR_ARG);
+    CHECK(limen_mesh_set_triangles(s, m, NULL) == LIMEN_ERR_ARG);
+    limen_mesh_info info;
+    CHECK_OK(limen_mesh_get(s, m, &info));
+    CHECK(info.triangle_count == 0);   /* nothing half-set */
+    limen_scene_destroy(s);
+}
+
+static const char *obj_square =
+    "# a square\n"
+    "v 0 0 0\nv 2 0 0\nv 2 2 0\nv 0 2 0\n"
+    "vt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\n"
+    "f 1/1 2/2 3/3 4/4\n";
+
+static const char *ply_tetra =
+    "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\n"
+    "property float z\nelement face 4\nproperty list uchar int vertex_indices\nend_header\n"
+    "0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n";
+
+/* One triangle with normals, its buffer inline (base64 of 3 positions, 3 normals, 3 u16). */
+static const char *gltf_tri =
+    "{\"asset\":{\"version\":\"2.0\"},\"scene\":0,\"scenes\":[{\"nodes\":[0]}],"
+    "\"nodes\":[{\"mesh\":0,\"translation\":[0,0,5]}],"
+    "\"meshes\":[{\"primitives\":[{\"attributes\":{\"POSITION\":0,\"NORMAL\":1},"
+    "\"indices\":2}]}],"
+    "\"accessors\":["
+    "{\"bufferView\":0,\"componentType\":5126,\"count\":3,\"type\":\"VEC3\","
+    "\"min\":[0,0,0],\"max\":[1,1,0]},"
+    "{\"bufferView\":1,\"componentType\":5126,\"count\":3,\"type\":\"VEC3\"},"
+    "{\"bufferView\":2,\"componentType\":5123,\"count\":3,\"type\":\"SCALAR\"}],"
+    "\"bufferViews\":[{\"buffer\":0,\"byteOffset\":0,\"byteLength\":36},"
+    "{\"buffer\":0,\"byteOffset\":36,\"byteLength\":36},"
+    "{\"buffer\":0,\"byteOffset\":72,\"byteLength\":6}],"
+    "\"buffers\":[{\"byteLength\":78,\"uri\":\"data:application/octet-stream;base64,"
+    "AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAAAAAAAAgD8AAAAAAAAAAAAAAAAAAIA/AAAAAAAAAAAAAIA/"
+    "AAAAAAAAAAAAAIA/AAABAAIA\"}]}";
+
+static void test_files(void)
+{
+    limen_scene *s = new_scene();
+    limen_mesh_info info;
+    limen_node a = new_mesh(s, "obj");
+    CHECK_OK(limen_mesh_load(s, a, write_text("square.obj", obj_square)));
+    CHECK_OK(limen_mesh_get(s, a, &info));
+    CHECK(info.triangle_count == 2 && info.has_uvs && !info.has_normals);
+    CHECK(info.hi[0] == 2 && info.hi[1] == 2);
+    limen_node b = new_mesh(s, "ply");
+    CHECK_OK(limen_mesh_load(s, b, write_text("tetra.ply", ply_tetra)));
+    CHECK_OK(limen_mesh_get(s, b, &info));
+    CHECK(info.triangle_count == 4 && info.vertex_count == 4);
+    limen_node c = new_mesh(s, "gltf");
+    CHECK_OK(limen_mesh_load(s, c, write_text("tri.gltf", gltf_tri)));
+    CHECK_OK(limen_mesh_get(s, c, &info));
+    CHECK(info.triangle_count == 1 && info.has_normals);
+    CHECK(info.lo[2] == 5 && info.hi[2] == 5);    /* the file's node transform applied */
+    CHECK(info.hi[0] == 1 && info.hi[1] == 1);
+    limen_scene_destroy(s);
+}
+
+static void test_bunny(void)
+{
+    limen_scene *s = new_scene();
+    limen_mesh_info a, b;
+    limen_node obj = new_mesh(s, "obj"), glb = new_mesh(s, "glb");
+    CHECK_OK(limen_mesh_load(s, obj, "scenes/data/bunny.obj"));
+    CHECK_OK(limen_mesh_load(s, glb, "scenes/data/bunny.glb"));
+    CHECK_OK(limen_mesh_get(s, obj, &a));
+    CHECK_OK(limen_mesh_get(s, glb, &b));
+    CHECK(a.triangle_count == 3674 && b.triangle_count == 3674);
+    CHECK(a.hi[0] - a.lo[0] > 8 && a.hi[0] - a.lo[0] < 12);
+    for (int k = 0; k < 3; k++) {
+        CHECK_NEAR(a.lo[k], b.lo[k], 1e-3);
+        CHECK_NEAR(a.hi[k], b.hi[k], 1e-3);
+    }
+    /* shared: a hundred nodes hold one copy */
+    for (int i = 0; i < 100; i++) {
+        limen_node m = new_mesh(s, NULL);
+        CHECK_OK(limen_mesh_load(s, m, "scenes/data/bunny.obj"));
+    }
+    CHECK_OK(limen_mesh_get(s, obj, &a));
+    CHECK(a.shared_by == 101);
+    CHECK_OK(limen_node_destroy(s, obj));
+    CHECK_OK(limen_mesh_get(s, glb, &b));
+    CHECK(b.shared_by == 1);
+    limen_scene_destroy(s);
+}
+
+/* Each bad file: refused, the message names the file, the node keeps what it had. */
+static void expect_refused(limen_scene *s, limen_node m, const char *path, const char *why)
+{
+    limen_status st = limen_mesh_load(s, m, path);
+    CHECK_MSG(st != LIMEN_OK, "%s: loaded", path);
+    const char *msg = limen_last_error(s);
+    CHECK_MSG(strncmp(msg, path, strlen(path)) == 0 && strstr(msg, why) && !strchr(msg, '\n'),
+              "%s: message '%s' (wanted '%s')", path, msg, why);
+}
+
+static void test_bad_files(void)
+{
+    limen_scene *s = new_scene();
+    limen_node m = new_mesh(s, "m");
+    char missing[96];
+    snprintf(missing, sizeof missing, "%s/missing.obj", dir);
+    expect_refused(s, m, missing, "cannot open");
+    expect_refused(s, m, write_text("empty.obj", ""), "empty file");
+    expect_refused(s, m, dir, "not a regular file");
+    expect_refused(s, m, write_text("junk.glb", "glTF\x02\0\0\0 this is not a glb"),
+                   "cannot read it as a mesh");
+    expect_refused(s, m, write_text("junk.ply", "ply\nformat ascii 1.0\nelement vertex 9\n"),
+                   "no end_header");
+    expect_refused(s, m, write_text("lines.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nl 1 2 3\n"),
+                   "has points or lines");
+    expect_refused(s, m, write_text("far.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nf 1 2 9\n"),
+                   "vertex index out of range");
+    expect_refused(s, m, write_text("inf.obj", "v 0 0 0\nv 1e999 0 0\nv 1 1 0\nf 1 2 3\n"),
+                   "vertex 1 has a position that is not finite");
+    expect_refused(s, m, write_text("nan.ply",
+        "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+        "property float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n"
+        "0 0 0\nnan 0 0\n0 1 0\n3 0 1 2\n"), "fewer than a triangle needs");
+    /* a header that promises ten million triangles and holds none */
+    expect_refused(s, m, write_text("huge.ply",
+        "ply\nformat binary_little_endian 1.0\nelement vertex 30000000\nproperty float x\n"
+        "property float y\nproperty float z\nelement face 10000000\n"
+        "property list uchar int vertex_indices\nend_header\n"), "File corrupted");
+    limen_mesh_info info;
+    CHECK_OK(limen_mesh_get(s, m, &info));
+    CHECK(info.triangle_count == 0);
+    limen_scene_destroy(s);
+}
+
+static const check_case cases[] = {
+    { "arrays", test_arrays },
+    { "array_errors", test_array_errors },
+    { "files", test_files },
+    { "bunny", test_bunny },
+    { "bad_files", test_bad_files },
+    { 0 }
+};
+
+int main(int argc, char **argv)
+{
+    snprintf(dir, sizeof dir, "/tmp/limen_mesh_XXXXXX");
+    if (!mkdtemp(dir)) {
+        perror("mkdtemp");
+        return 1;
+    }
+    int rc = check_run(argc, argv, cases);
+    char cmd[96];
+    snprintf(cmd, sizeof cmd, "rm -rf '%s'", dir);
+    if (system(cmd) != 0)
+        fprintf(stderr, "could not remove %s\n", dir);
+    return rc;
+}
