@@ -221,12 +221,138 @@ static void test_bad_files(void)
     limen_scene_destroy(s);
 }
 
+
+/* A box of 12 triangles, [-0.5, 0.5]^3, counter-clockwise from outside. */
+static void box_mesh(limen_scene *s, limen_node m)
+{
+    static const float p[] = { -0.5f, -0.5f, -0.5f, 0.5f, -0.5f, -0.5f, 0.5f, 0.5f, -0.5f,
+                               -0.5f, 0.5f, -0.5f, -0.5f, -0.5f, 0.5f, 0.5f, -0.5f, 0.5f,
+                               0.5f, 0.5f, 0.5f, -0.5f, 0.5f, 0.5f };
+    static const uint32_t ix[] = { 0, 2, 1, 0, 3, 2, 4, 5, 6, 4, 6, 7, 0, 1, 5, 0, 5, 4,
+                                   3, 7, 6, 3, 6, 2, 0, 4, 7, 0, 7, 3, 1, 2, 6, 1, 6, 5 };
+    CHECK_OK(limen_mesh_set_triangles(s, m, &(limen_mesh_data){
+        .positions = p, .vertex_count = 8, .indices = ix, .triangle_count = 12 }));
+}
+
+static void test_ray_cast(void)
+{
+    limen_scene *s = new_scene();
+    limen_node m = new_mesh(s, "sq");
+    CHECK_OK(limen_mesh_set_triangles(s, m, &(limen_mesh_data){
+        .positions = square_pos, .vertex_count = 4, .indices = square_idx,
+        .triangle_count = 2 }));
+    CHECK_OK(limen_node_set_position(s, m, (float[3]){ 0, 0, -3 }));
+    CHECK_OK(limen_node_set_scale(s, m, (float[3]){ 2, 2, 2 }));
+    limen_hit h;
+    CHECK_OK(limen_ray_cast(s, (float[3]){ 1, 1, 0 }, (float[3]){ 0, 0, -1 }, -1, &h));
+    CHECK(h.hit && h.node.id == m.id);
+    CHECK_NEAR(h.distance, 3, 1e-5);
+    CHECK_NEAR(h.normal[2], 1, 1e-6);
+    /* from behind: both sides are there, the normal turned toward the ray */
+    CHECK_OK(limen_ray_cast(s, (float[3]){ 1, 1, -5 }, (float[3]){ 0, 0, 1 }, -1, &h));
+    CHECK(h.hit && h.node.id == m.id);
+    CHECK_NEAR(h.point[2], -3, 1e-5);
+    CHECK_NEAR(h.normal[2], -1, 1e-6);
+    /* beside it (the square spans 0..2 after scaling) */
+    CHECK_OK(limen_ray_cast(s, (float[3]){ 2.1f, 1, 0 }, (float[3]){ 0, 0, -1 }, -1, &h));
+    CHECK(!h.hit);
+    /* hidden: not there */
+    CHECK_OK(limen_node_set_visible(s, m, 0));
+    CHECK_OK(limen_ray_cast(s, (float[3]){ 1, 1, 0 }, (float[3]){ 0, 0, -1 }, -1, &h));
+    CHECK(!h.hit);
+    limen_scene_destroy(s);
+}
+
+/* Normals from the file are interpolated; smooth = 1 interpolates computed ones. */
+static void test_normals(void)
+{
+    limen_scene *s = new_scene();
+    limen_node m = new_mesh(s, "tent");
+    /* two triangles folded along x = 0 like a roof, seen from above */
+    static const float p[] = { -1, 0, -1, 0, 1, -1, 0, 1, 1, -1, 0, 1, 1, 0, -1, 1, 0, 1 };
+    static const uint32_t ix[] = { 0, 3, 2, 0, 2, 1, 4, 1, 2, 4, 2, 5 };
+    CHECK_OK(limen_mesh_set_triangles(s, m, &(limen_mesh_data){
+        .positions = p, .vertex_count = 6, .indices = ix, .triangle_count = 4 }));
+    limen_hit h;
+    /* flat: the left slope's normal (-1, 1, 0)/sqrt 2 just left of the ridge */
+    CHECK_OK(limen_ray_cast(s, (float[3]){ -0.01f, 5, 0.2f }, (float[3]){ 0, -1, 0 }, -1, &h));
+    CHECK(h.hit);
+    CHECK_NEAR(h.normal[0], -sqrt(0.5), 1e-5);
+    CHECK_NEAR(h.normal[1], sqrt(0.5), 1e-5);
+    /* smooth: at the ridge the vertex normal is straight up, and near it almost so */
+    CHECK_OK(limen_mesh_set_smooth(s, m, 1));
+    CHECK_OK(limen_ray_cast(s, (float[3]){ -0.01f, 5, 0.2f }, (float[3]){ 0, -1, 0 }, -1, &h));
+    CHECK(h.hit && h.normal[1] > 0.999f);
+    limen_scene_destroy(s);
+}
+
+/* The tracer's picture of a box made of triangles is the picture of the box shape. */
+static void test_trace_box(void)
+{
+    unsigned char *img[2];
+    for (int k = 0; k < 2; k++) {
+        limen_scene *s = new_scene();
+        limen_node b, cam, light;
+        CHECK_OK(limen_node_create(s, k ? LIMEN_NODE_MESH : LIMEN_NODE_BOX, "b", &b));
+        if (k)
+            box_mesh(s, b);
+        CHECK_OK(limen_node_set_rotation(s, b, (float[3]){ 0.4f, 0.7f, 0.1f }));
+        CHECK_OK(limen_node_set_scale(s, b, (float[3]){ 1.5f, 1, 2 }));
+        CHECK_OK(limen_node_set_color(s, b, (float[3]){ 0.9f, 0.5f, 0.2f }));
+        CHECK_OK(limen_node_create(s, LIMEN_NODE_LIGHT, "l", &light));
+        CHECK_OK(limen_node_set_position(s, light, (float[3]){ 2, 3, 4 }));
+        CHECK_OK(limen_node_create(s, LIMEN_NODE_CAMERA, "c", &cam));
+        CHECK_OK(limen_node_look_at(s, cam, (float[3]){ 1, 1.5f, 4 }, (float[3]){ 0, 0, 0 },
+                                    NULL));
+        CHECK_OK(limen_scene_set_camera(s, cam));
+        img[k] = malloc(160 * 120 * 3);
+        CHECK_OK(limen_trace_image(s, &(limen_trace_desc){ .width = 160, .height = 120 },
+                                   img[k]));
+        limen_scene_destroy(s);
+    }
+    limen_diff d;
+    CHECK_OK(limen_image_diff(img[0], img[1], 160, 120, 8, &d, NULL));
+    CHECK_MSG(d.bad_pixels <= 2, "%ld pixels differ", d.bad_pixels);
+    long lit = 0;
+    for (int i = 0; i < 160 * 120 * 3; i++)
+        lit += img[1][i] > 0;
+    CHECK(lit > 160 * 120 / 10);
+    free(img[0]);
+    free(img[1]);
+}
+
+/* The bunny, traced through its hierarchy, and hit where it stands. */
+static void test_bunny_cast(void)
+{
+    limen_scene *s = new_scene();
+    limen_node m = new_mesh(s, "bunny");
+    CHECK_OK(limen_mesh_load(s, m, "scenes/data/bunny.glb"));
+    limen_mesh_info info;
+    CHECK_OK(limen_mesh_get(s, m, &info));
+    float c[3];
+    for (int k = 0; k < 3; k++)
+        c[k] = 0.5f * (info.lo[k] + info.hi[k]);
+    CHECK_OK(limen_node_set_position(s, m, (float[3]){ 10, 0, 0 }));
+    limen_hit h;
+    CHECK_OK(limen_ray_cast(s, (float[3]){ 10 + c[0], c[1], 50 }, (float[3]){ 0, 0, -1 }, -1,
+                            &h));
+    CHECK(h.hit && h.node.id == m.id);
+    CHECK(h.point[2] < info.hi[2] + 1e-4f && h.point[2] > c[2]);
+    CHECK_OK(limen_ray_cast(s, (float[3]){ c[0], c[1], 50 }, (float[3]){ 0, 0, -1 }, -1, &h));
+    CHECK(!h.hit);
+    limen_scene_destroy(s);
+}
+
 static const check_case cases[] = {
     { "arrays", test_arrays },
     { "array_errors", test_array_errors },
     { "files", test_files },
     { "bunny", test_bunny },
     { "bad_files", test_bad_files },
+    { "ray_cast", test_ray_cast },
+    { "normals", test_normals },
+    { "trace_box", test_trace_box },
+    { "bunny_cast", test_bunny_cast },
     { 0 }
 };
 

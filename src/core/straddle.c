@@ -4,6 +4,7 @@
  * the ray tracer all take the list from here. */
 #include "core/dmath.h"
 #include "core/internal.h"
+#include "core/mesh.h"
 
 void limen__node_bounds(const limen__node *n, double centre[3], double *radius)
 {
@@ -18,6 +19,15 @@ void limen__node_bounds(const limen__node *n, double centre[3], double *radius)
         local[1] = 0.5 * n->dims[1];
         r = sqrt((double)n->dims[0] * n->dims[0] + local[1] * local[1]);
         break;
+    case LIMEN_NODE_MESH: {
+        double h2 = 0;
+        for (int a = 0; n->mesh && a < 3; a++) {
+            local[a] = 0.5 * (n->mesh->lo[a] + n->mesh->hi[a]);
+            h2 += 0.25 * (n->mesh->hi[a] - n->mesh->lo[a]) * (n->mesh->hi[a] - n->mesh->lo[a]);
+        }
+        r = sqrt(h2);
+        break;
+    }
     default: r = 0.5 * sqrt((double)n->dims[0] * n->dims[0] + (double)n->dims[1] * n->dims[1]);
     }
     double w[16];
@@ -58,7 +68,7 @@ int limen__find_straddlers(limen_scene *s, int *portal_of)
         const limen__node *n = &s->nodes[i];
         if (!limen__alive(n) || !n->visible ||
             (n->kind != LIMEN_NODE_BOX && n->kind != LIMEN_NODE_SPHERE &&
-             n->kind != LIMEN_NODE_CYLINDER))
+             n->kind != LIMEN_NODE_CYLINDER && !(n->kind == LIMEN_NODE_MESH && n->mesh)))
             continue;
         for (int j = 0; j < s->cap; j++) {
             const limen__node *a = &s->nodes[j];

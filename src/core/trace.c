@@ -17,18 +17,21 @@
  *
  * Shapes, exact, in each node's unit space M = world * diag(scale): box [-0.5, 0.5]^3
  * (scale = dims), sphere of radius 1 (r, r, r), cylinder of radius 1 with y in [0, 1] and
- * caps (r, h, r), quad, mirror and portal on [-0.5, 0.5]^2 at z = 0 (w, h, 1). Only live,
+ * caps (r, h, r), quad, mirror and portal on [-0.5, 0.5]^2 at z = 0 (w, h, 1), a mesh's
+ * triangles in its own frame (scale 1; Moller-Trumbore in double over the asset's BVH). Only live,
  * visible nodes; groups, lights and cameras are never hit. Closed shapes (box, sphere,
  * cylinder) are hit only where the ray enters them: the renderer culls their back faces, so
  * a ray that starts inside one (or whose entry was near-clipped) passes out unseen. Flat
- * shapes are hit from both sides.
+ * shapes and meshes are hit from both sides (the renderer draws meshes without culling, as
+ * their files need not be closed); a mesh cut at a portal shows what lies behind the cut.
  *
  * Shading, as the fragment shader: colour = albedo * (ambient + (1 - ambient) *
  * sum_i light_i * max(0, n . normalize(light_pos_i - p))), clamped to [0, 1], no shadows.
  * Lights: the first 8 live, visible LIGHT nodes in index order (world translation, colour).
  * n = normalize(N * n_unit), N the inverse transpose of M's 3x3, n_unit the unit-space
  * point (sphere), (x, 0, z) of it (cylinder side), or the face normal (caps, box faces,
- * quads), turned to face the incoming ray (the shader turns it towards the view's eye, which
+ * quads; a mesh's face normal, or its vertex normals interpolated where it is smooth),
+ * turned to face the incoming ray (the shader turns it towards the view's eye, which
  * lies on the ray's line behind its origin). Checker: c = floor(unit point * scale / cell),
  * k = c.x + c.y (+ c.z except for QUAD nodes), odd k -> checker_b, even -> colour.
  *
@@ -64,11 +67,12 @@
 
 #include "core/dmath.h"
 #include "core/internal.h"
+#include "core/mesh.h"
 
 #define MAX_THREADS 256
 #define GLOBAL_NONE 255     /* no global limit: the surfaces' own (max_depth <= 255) */
 
-enum shape { SHAPE_BOX, SHAPE_SPHERE, SHAPE_CYLINDER, SHAPE_FLAT };
+enum shape { SHAPE_BOX, SHAPE_SPHERE, SHAPE_CYLINDER, SHAPE_FLAT, SHAPE_MESH };
 
 /* One hittable node, in double precision. */
 typedef struct prim {
@@ -79,6 +83,8 @@ typedef struct prim {
     double nmat[9];             /* inverse transpose of m's 3x3, column-major */
     double scale[3];
     double bc[3], br;           /* world bounding sphere */
+    const limen__mesh *mesh;    /* meshes: the triangles, in unit space (scale 1) */
+    bool smooth;                /* meshes: interpolated vertex normals */
     double color[3], checker_b[3], cell;
     /* mirrors and portals */
     double plane[4];            /* world, front = +Z side */
@@ -152,6 +158,8 @@ static bool hittable(const limen__node *n)
     case LIMEN_NODE_MIRROR:
     case LIMEN_NODE_PORTAL:
         return true;
+    case LIMEN_NODE_MESH:
+        return n->mesh != NULL;
     default:
         return false;
     }
@@ -209,6 +217,20 @@ static void setup_prim(limen_scene *s, const limen__node *n, prim *p)
         unit_c[1] = 0.5;
         unit_r = sqrt(1.25);
         break;
+    case LIMEN_NODE_MESH: {
+        const limen__mesh *m = n->mesh;
+        p->shape = SHAPE_MESH;
+        p->mesh = m;
+        p->smooth = n->smooth || m->file_normals;
+        p->scale[0] = p->scale[1] = p->scale[2] = 1.0;
+        double half[3];
+        for (int a = 0; a < 3; a++) {
+            unit_c[a] = 0.5 * (m->lo[a] + m->hi[a]);
+            half[a] = 0.5 * (m->hi[a] - m->lo[a]);
+        }
+        unit_r = sqrt(dot3(half, half));
+        break;
+    }
     default:
         p->shape = SHAPE_FLAT;
         p->scale[0] = n->dims[0];
@@ -217,7 +239,7 @@ static void setup_prim(limen_scene *s, const limen__node *n, prim *p)
         unit_r = sqrt(0.5);
         break;
     }
-    p->unit_c[1] = unit_c[1];
+    memcpy(p->unit_c, unit_c, sizeof unit_c);
     p->unit_r = unit_r;
     double w[16];
     limen__d_from_f(&n->world[0][0], w);
@@ -437,6 +459,43 @@ static bool hit_flat(const double o[3], const double d[3], double tmin, double t
 /* The nearest hit along o + t d (d a unit vector) with tmin < t, leaving out prim `skip`
  * and portals seen from behind. Returns the prim index or -1; *t, the unit-space point and
  * the unit-space normal of the hit. */
+/* The nearest triangle of a mesh prim (both sides; with a cut, hits behind it do not count,
+ * as the renderer clips them without culling) and its unit-space normal: the face's, or the
+ * vertex normals interpolated where the mesh is smooth. */
+static bool hit_mesh(const prim *p, const double o[3], const double d[3], double tmin,
+                     double tmax, double *t, double nu[3])
+{
+    const limen__mesh *m = p->mesh;
+    double cut[4], *cutp = NULL;
+    if (p->has_cut) {   /* a world plane into unit space: M^T plane */
+        for (int c = 0; c < 4; c++)
+            cut[c] = p->m[c * 4] * p->cut[0] + p->m[c * 4 + 1] * p->cut[1] +
+                     p->m[c * 4 + 2] * p->cut[2] + p->m[c * 4 + 3] * p->cut[3];
+        cutp = cut;
+    }
+    double u, v;
+    int tri = limen__mesh_intersect(m, o, d, tmin, tmax, cutp, t, &u, &v);
+    if (tri < 0)
+        return false;
+    const uint32_t *ix = &m->idx[tri * 3];
+    if (p->smooth) {
+        double w[3] = { 1.0 - u - v, u, v };
+        for (int a = 0; a < 3; a++)
+            nu[a] = w[0] * m->nrm[ix[0] * 3 + a] + w[1] * m->nrm[ix[1] * 3 + a] +
+                    w[2] * m->nrm[ix[2] * 3 + a];
+    } else {
+        double e1[3], e2[3];
+        for (int a = 0; a < 3; a++) {
+            e1[a] = (double)m->pos[ix[1] * 3 + a] - m->pos[ix[0] * 3 + a];
+            e2[a] = (double)m->pos[ix[2] * 3 + a] - m->pos[ix[0] * 3 + a];
+        }
+        nu[0] = e1[1] * e2[2] - e1[2] * e2[1];
+        nu[1] = e1[2] * e2[0] - e1[0] * e2[2];
+        nu[2] = e1[0] * e2[1] - e1[1] * e2[0];
+    }
+    return true;
+}
+
 static int nearest(const tracer *tr, const double o[3], const double d[3], double tmin_shape,
                    double tmin_surface, int skip, double *t_out, double pu[3], double nu[3])
 {
@@ -470,6 +529,9 @@ static int nearest(const tracer *tr, const double o[3], const double d[3], doubl
             break;
         case SHAPE_CYLINDER:
             hit = hit_cylinder(ou, du, tmin, tbest, &t, n);
+            break;
+        case SHAPE_MESH:
+            hit = hit_mesh(p, ou, du, tmin, tbest, &t, n);
             break;
         default:
             hit = hit_flat(ou, du, tmin, tbest, &t, n);
