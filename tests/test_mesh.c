@@ -343,6 +343,125 @@ static void test_bunny_cast(void)
     limen_scene_destroy(s);
 }
 
+
+/* Writes a script into dir and loads it; returns the status, the message in msg. */
+static limen_status run_script(const char *name, const char *text, int trusted, int64_t cap,
+                               char *msg, size_t size, int *nodes)
+{
+    char path[128];
+    snprintf(path, sizeof path, "%s", write_text(name, text));
+    limen_script *sc = NULL;
+    limen_status st = limen_script_load(path, &(limen_script_desc){ .trusted = trusted,
+                                                                     .memory_cap = cap }, &sc);
+    snprintf(msg, size, "%s", sc ? limen_script_error(sc) : "");
+    if (nodes)
+        *nodes = st ? 0 : limen_scene_node_count(limen_script_scene(sc));
+    limen_script_destroy(sc);
+    return st;
+}
+
+static void test_script(void)
+{
+    char msg[512], want[256];
+    int nodes;
+    write_text("square.obj", obj_square);
+    CHECK_OK(run_script("ok.lua",
+        "local limen = require 'limen' local s = limen.scene{}\n"
+        "local a = s:mesh{ file = 'square.obj', pos = {1, 0, 0}, color = {1, 0, 0} }\n"
+        "local b = s:mesh{ file = 'square.obj', smooth = true }\n"
+        "assert(a.kind == 'mesh' and b.smooth == true and a.smooth == false)\n"
+        "b.smooth = false\n"
+        "assert(not b.smooth)\n"
+        "return s\n", 0, 0, msg, sizeof msg, &nodes));
+    CHECK_MSG(nodes == 2, "%d nodes: %s", nodes, msg);
+    /* errors name the script line and the mesh file */
+    CHECK(run_script("missing.lua", "local limen = require 'limen' local s = limen.scene{}\n\ns:mesh{ file = 'nope.obj' }\n"
+                     "return s\n", 0, 0, msg, sizeof msg, NULL) == LIMEN_ERR_SCRIPT);
+    snprintf(want, sizeof want, "%s/missing.lua:3: mesh: %s/nope.obj: cannot open", dir, dir);
+    CHECK_MSG(strncmp(msg, want, strlen(want)) == 0, "%s", msg);
+    CHECK(run_script("nofile.lua", "local limen = require 'limen' local s = limen.scene{}\ns:mesh{ pos = {0, 0, 0} }\n",
+                     0, 0, msg, sizeof msg, NULL) == LIMEN_ERR_SCRIPT);
+    CHECK_MSG(strstr(msg, "nofile.lua:2: mesh: field 'file' is required"), "%s", msg);
+    CHECK(run_script("typo.lua", "local limen = require 'limen' local s = limen.scene{}\ns:mesh{ file = 'square.obj', "
+                     "smoth = true }\n", 0, 0, msg, sizeof msg, NULL) == LIMEN_ERR_SCRIPT);
+    CHECK_MSG(strstr(msg, "typo.lua:2: mesh: unknown field 'smoth'"), "%s", msg);
+    CHECK(run_script("bad.lua", "local limen = require 'limen' local s = limen.scene{}\ns:mesh{ file = 'junk.ply' }\n",
+                     0, 0, msg, sizeof msg, NULL) == LIMEN_ERR_SCRIPT);
+    CHECK_MSG(strstr(msg, "bad.lua:2: mesh: ") && strstr(msg, "/junk.ply: "), "%s", msg);
+}
+
+static void test_script_safety(void)
+{
+    char msg[512];
+    write_text("square.obj", obj_square);
+    char link[160], target[160], up[96];
+    snprintf(link, sizeof link, "%s/out.obj", dir);
+    snprintf(target, sizeof target, "%s.obj", dir);     /* beside the folder */
+    snprintf(up, sizeof up, "..%s", strrchr(target, '/'));
+    const char *escapes[] = { "/etc/passwd", up, "sub/../../x.obj", "out.obj" };
+    FILE *f = fopen(target, "w");
+    CHECK(f != NULL);
+    if (f) {
+        fputs(obj_square, f);
+        fclose(f);
+    }
+    CHECK(symlink(target, link) == 0);
+    for (int i = 0; i < 4; i++) {
+        char text[256];
+        snprintf(text, sizeof text, "local limen = require 'limen' local s = limen.scene{}\ns:mesh{ file = '%s' }\nreturn s\n",
+                 escapes[i]);
+        CHECK(run_script("escape.lua", text, 0, 0, msg, sizeof msg, NULL) == LIMEN_ERR_SCRIPT);
+        CHECK_MSG(strstr(msg, "escape.lua:2: mesh: ") &&
+                  strstr(msg, "a safe script reads files only under its own folder"),
+                  "%s: %s", escapes[i], msg);
+        /* a trusted script may */
+        limen_status st = run_script("escape.lua", text, 1, 0, msg, sizeof msg, NULL);
+        CHECK_MSG(i == 0 || i == 2 ? st != LIMEN_OK && !strstr(msg, "safe script")
+                                   : st == LIMEN_OK, "%s: %s", escapes[i], msg);
+    }
+    remove(target);
+}
+
+/* Mesh memory counts against the script's cap: a mesh too big for it is refused before it
+ * is read, and the same file loaded twice counts once. */
+static void test_script_memory(void)
+{
+    /* a binary PLY of 200,000 triangles: 2.4 MB of vertices, 2.6 MB of faces */
+    int nt = 200000, nv = nt + 2;
+    char path[128];
+    snprintf(path, sizeof path, "%s/big.ply", dir);
+    FILE *f = fopen(path, "wb");
+    CHECK(f != NULL);
+    if (!f)
+        return;
+    fprintf(f, "ply\nformat binary_little_endian 1.0\nelement vertex %d\nproperty float x\n"
+            "property float y\nproperty float z\nelement face %d\n"
+            "property list uchar int vertex_indices\nend_header\n", nv, nt);
+    for (int i = 0; i < nv; i++) {
+        float v[3] = { (float)(i / 2), (float)(i % 2), 0 };
+        fwrite(v, sizeof v, 1, f);
+    }
+    for (int i = 0; i < nt; i++) {
+        unsigned char three = 3;
+        int ix[3] = { i, i + 1, i + 2 };
+        fwrite(&three, 1, 1, f);
+        fwrite(ix, sizeof ix, 1, f);
+    }
+    fclose(f);
+    char msg[512];
+    const char *text = "local limen = require 'limen' local s = limen.scene{}\nfor i = 1, 3 do s:mesh{ file = 'big.ply' } end\n"
+                       "return s\n";
+    CHECK(run_script("big.lua", text, 0, 12 << 20, msg, sizeof msg, NULL) == LIMEN_ERR_SCRIPT);
+    CHECK_MSG(strstr(msg, "big.lua:2: mesh: ") && strstr(msg, "big.ply: 200000 triangles need"),
+              "%s", msg);
+    /* a small cap refuses the file before it is read */
+    CHECK(run_script("big.lua", text, 0, 3 << 20, msg, sizeof msg, NULL) == LIMEN_ERR_SCRIPT);
+    CHECK_MSG(strstr(msg, "big.ply: a file of 4.8 MiB"), "%s", msg);
+    int nodes;
+    CHECK_OK(run_script("big.lua", text, 0, 64 << 20, msg, sizeof msg, &nodes));
+    CHECK_MSG(nodes == 3, "%s", msg);
+}
+
 static const check_case cases[] = {
     { "arrays", test_arrays },
     { "array_errors", test_array_errors },
@@ -353,6 +472,9 @@ static const check_case cases[] = {
     { "normals", test_normals },
     { "trace_box", test_trace_box },
     { "bunny_cast", test_bunny_cast },
+    { "script", test_script },
+    { "script_safety", test_script_safety },
+    { "script_memory", test_script_memory },
     { 0 }
 };
 

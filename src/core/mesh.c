@@ -121,6 +121,10 @@ static bool bvh_build(limen__mesh *m)
     m->nbvh = 1;
     build_node(&bd, 0, 0, m->ntris);
     free(centre);
+    limen__bvh_node *fit = realloc(m->bvh, sizeof *m->bvh * m->nbvh);
+    if (fit)
+        m->bvh = fit;
+    m->bytes -= sizeof *m->bvh * (size_t)(2 * m->ntris - m->nbvh);
     return true;
 }
 

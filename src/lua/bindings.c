@@ -12,6 +12,7 @@
  *       shapes: color checker; box size{x,y,z}; sphere radius; cylinder radius height;
  *       plane size{w,h}; mirror, portal: size tint back fill max_depth; portal: link;
  *       light: color (intensity, >= 0); camera: look_at fov near far (becomes the scene's)
+ *   s:mesh { file, smooth, color, checker, ... }: a mesh file relative to the script
  *   s:portal_pair({A}, {B} [, {shared}]) -> a, b       s:find(name)   s:nodes()   #s
  *   s:render { out, size, backend, time, msaa, method, clip, max_depth, max_views, depth,
  *              texture_scale } -> stats
@@ -24,6 +25,10 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include <limits.h>
+#include <stdbool.h>
+
+#include "core/mesh.h"
 #include "lua/lua_internal.h"
 
 #define SCENE_MT "limen.scene"
@@ -66,7 +71,7 @@ typedef struct lnode {
 } lnode;
 
 static const char *const kind_names[LIMEN_NODE_KIND_COUNT] = {
-    "group", "box", "sphere", "cylinder", "plane", "mirror", "portal", "light", "camera"
+    "group", "box", "sphere", "cylinder", "plane", "mirror", "portal", "light", "camera", "mesh"
 };
 
 /* ------------------------------------------------------------------ fields */
@@ -74,13 +79,13 @@ static const char *const kind_names[LIMEN_NODE_KIND_COUNT] = {
 enum field {
     F_NAME, F_PARENT, F_POS, F_ROTATE, F_SCALE, F_NORMAL, F_UP, F_VISIBLE, F_COLOR,
     F_SIZE, F_RADIUS, F_HEIGHT, F_CHECKER, F_LOOK_AT, F_FOV, F_NEAR, F_FAR,
-    F_TINT, F_BACK, F_FILL, F_MAX_DEPTH, F_LINK, F_COUNT
+    F_TINT, F_BACK, F_FILL, F_MAX_DEPTH, F_LINK, F_FILE, F_SMOOTH, F_COUNT
 };
 
 static const char *const field_names[F_COUNT] = {
     "name", "parent", "pos", "rotate", "scale", "normal", "up", "visible", "color",
     "size", "radius", "height", "checker", "look_at", "fov", "near", "far",
-    "tint", "back", "fill", "max_depth", "link"
+    "tint", "back", "fill", "max_depth", "link", "file", "smooth"
 };
 
 #define BIT(f) (1u << (f))
@@ -101,11 +106,12 @@ static const unsigned kind_fields[LIMEN_NODE_KIND_COUNT] = {
     [LIMEN_NODE_PORTAL] = F_SURFACE | BIT(F_LINK),
     [LIMEN_NODE_LIGHT] = F_TRANSFORM | BIT(F_COLOR),
     [LIMEN_NODE_CAMERA] = F_TRANSFORM | BIT(F_LOOK_AT) | BIT(F_FOV) | BIT(F_NEAR) | BIT(F_FAR),
+    [LIMEN_NODE_MESH] = F_SHAPE | BIT(F_FILE) | BIT(F_SMOOTH),
 };
 
 /* Fields that only a constructor takes: after it, normal/up/look_at go through
  * node:face() and node:look_at(), and link through node:link(). */
-#define F_CONSTRUCT_ONLY (BIT(F_NORMAL) | BIT(F_UP) | BIT(F_LOOK_AT) | BIT(F_LINK))
+#define F_CONSTRUCT_ONLY (BIT(F_NORMAL) | BIT(F_UP) | BIT(F_LOOK_AT) | BIT(F_LINK) | BIT(F_FILE))
 
 /* A parsed set of fields; `have` says which are present. */
 typedef struct spec {
@@ -117,7 +123,8 @@ typedef struct spec {
     float checker_a[3], checker_b[3], cell;
     float fov, znear, zfar;
     float tint[3], back[3], fill[3];
-    int max_depth, visible;
+    int max_depth, visible, smooth;
+    const char *file;
 } spec;
 
 #define HAVE(sp, f) (((sp)->have & BIT(f)) != 0)
@@ -540,10 +547,20 @@ static void parse_field(lua_State *L, int v, int f, limen_node_kind kind, int sc
     case F_UP: read_vec(L, v, ctx, what, 3, ELEM_FINITE, sp->up); break;
     case F_LOOK_AT: read_vec(L, v, ctx, what, 3, ELEM_FINITE, sp->look_at); break;
     case F_VISIBLE:
+    case F_SMOOTH:
         if (!lua_isboolean(L, v))
             bad(L, v, ctx, what, "a boolean");
-        sp->visible = lua_toboolean(L, v);
+        *(f == F_VISIBLE ? &sp->visible : &sp->smooth) = lua_toboolean(L, v);
         break;
+    case F_FILE: {
+        size_t len;
+        if (lua_type(L, v) != LUA_TSTRING)
+            bad(L, v, ctx, what, "a string");
+        sp->file = lua_tolstring(L, v, &len);
+        if (len == 0 || strlen(sp->file) != len || len > 1000)
+            luaL_error(L, "%s: %s must be a file name (1 to 1000 bytes, no zeros)", ctx, what);
+        break;
+    }
     case F_COLOR:
         read_vec(L, v, ctx, what, 3, kind == LIMEN_NODE_LIGHT ? ELEM_NONNEG : ELEM_UNIT, sp->color);
         break;
@@ -662,6 +679,8 @@ static limen_status apply_spec(limen_scene *s, limen_node n, const spec *sp)
         TRY(limen_surface_set_max_depth(s, n, sp->max_depth));
     if (HAVE(sp, F_LINK))
         TRY(limen_portal_link(s, n, sp->link));
+    if (HAVE(sp, F_SMOOTH))
+        TRY(limen_mesh_set_smooth(s, n, sp->smooth));
 #undef TRY
     return LIMEN_OK;
 }
@@ -851,6 +870,80 @@ static int l_scene_portal(lua_State *L) { return make_node(L, LIMEN_NODE_PORTAL)
 static int l_scene_light(lua_State *L) { return make_node(L, LIMEN_NODE_LIGHT); }
 static int l_scene_camera(lua_State *L) { return make_node(L, LIMEN_NODE_CAMERA); }
 
+/* ------------------------------------------------------------------ meshes */
+
+/* The mesh file named in the calling script: relative to the script's folder. A safe
+ * script may read only files under that folder: no absolute path, no "..", and no link
+ * that leads out of it (checked on the resolved path). Writes the path to open into out,
+ * or raises. */
+static void mesh_path(lua_State *L, const char *ctx, const char *file, char *out, size_t size)
+{
+    lua_Debug ar;
+    char folder[1024] = ".";
+    if (lua_getstack(L, 1, &ar) && lua_getinfo(L, "S", &ar) && ar.source[0] == '@') {
+        const char *src = ar.source + 1, *slash = strrchr(src, '/');
+        if (slash)
+            snprintf(folder, sizeof folder, "%.*s", (int)(slash - src), src);
+        if (slash == src)
+            snprintf(folder, sizeof folder, "/");
+    }
+    bool safe = lua_getfield(L, LUA_REGISTRYINDEX, LIMEN__LUA_SAFE) == LUA_TBOOLEAN &&
+                lua_toboolean(L, -1);
+    lua_pop(L, 1);
+    if (file[0] == '/') {
+        if (safe)
+            luaL_error(L, "%s: %s: a safe script reads files only under its own folder (no "
+                          "absolute paths)", ctx, file);
+        snprintf(out, size, "%s", file);
+        return;
+    }
+    if ((size_t)snprintf(out, size, "%s/%s", folder, file) >= size)
+        luaL_error(L, "%s: %s: path too long", ctx, file);
+    if (!safe)
+        return;
+    for (const char *p = file; *p;) {
+        size_t n = strcspn(p, "/");
+        if (n == 2 && p[0] == '.' && p[1] == '.')
+            luaL_error(L, "%s: %s: a safe script reads files only under its own folder (no "
+                          "'..')", ctx, file);
+        p += n + (p[n] == '/');
+    }
+    char root[PATH_MAX], real[PATH_MAX];
+    if (!realpath(folder, root) || !realpath(out, real))
+        return;     /* the load names what is missing */
+    size_t rl = strlen(root);
+    if (strncmp(real, root, rl) != 0 || (real[rl] != '/' && rl > 1))
+        luaL_error(L, "%s: %s: a safe script reads files only under its own folder (it leads "
+                      "out of it)", ctx, file);
+}
+
+/* s:mesh { file = "bunny.glb", smooth, color, checker, pos, rotate, scale, ... }: the file's
+ * triangles (shared with every node of the scene that loads it), its memory counted against
+ * the script's cap. */
+static int l_scene_mesh(lua_State *L)
+{
+    lscene *ls = check_scene(L, 1);
+    luaL_checktype(L, 2, LUA_TTABLE);
+    lua_settop(L, 2);
+    spec sp;
+    read_ctor(L, 2, 1, LIMEN_NODE_MESH, kind_fields[LIMEN_NODE_MESH], "mesh", ls->s, &sp);
+    if (!sp.file)
+        return luaL_error(L, "mesh: field 'file' is required");
+    char path[1200], label[LABEL_LEN];
+    mesh_path(L, "mesh", sp.file, path, sizeof path);
+    where(L, label);
+    limen_node n = create_node(L, 1, LIMEN_NODE_MESH, &sp, "mesh", label, (limen_node){ 0 });
+    size_t charged;
+    limen_status st = limen__mesh_load(ls->s, n, path, limen__lua_mem_left(L), &charged);
+    if (st) {
+        forget_node(L, 1, n);
+        return c_error(L, ls->s, "mesh", label);
+    }
+    limen__lua_hold(L, (ptrdiff_t)charged);   /* within what was left: never refused */
+    ls->held += charged;
+    return 1;
+}
+
 /* ------------------------------------------------------------------ node fields */
 
 /* The shortest decimal that reads back as f, so that a script that set radius = 0.05
@@ -975,6 +1068,12 @@ static int l_node_index(lua_State *L)
         int md = 0;
         limen_surface_get(s, n, NULL, NULL, NULL, &md);
         lua_pushinteger(L, md);
+        return 1;
+    }
+    case F_SMOOTH: {
+        limen_mesh_info mi;
+        limen_mesh_get(s, n, &mi);
+        lua_pushboolean(L, mi.smooth);
         return 1;
     }
     default:
@@ -1521,6 +1620,7 @@ static const luaL_Reg scene_methods[] = {
     { "portal_pair", l_scene_portal_pair },
     { "light", l_scene_light },
     { "camera", l_scene_camera },
+    { "mesh", l_scene_mesh },
     { "find", l_scene_find },
     { "nodes", l_scene_nodes },
     { "render", l_scene_render },
