@@ -31,8 +31,11 @@
  *   - Angles are radians in this API (degrees only in Lua scene scripts).
  *   - Colours are linear RGB in [0, 1]; no gamma anywhere.
  *   - Shading of every surface (renderer and ray tracer alike):
- *        colour = albedo * (ambient + (1 - ambient) * sum_i light_i * max(0, n.l_i))
- *     with point lights, no shadows and no attenuation, clamped to [0, 1].
+ *        colour = albedo * (ambient + (1 - ambient) * sum_i light_i * w_i * max(0, n.l_i))
+ *     with point lights and no shadows, clamped to [0, 1]. w_i = 1 for a light without a
+ *     range (the default: no attenuation); for one of range R at distance d,
+ *        w_i = clamp(1 - (d/R)^4, 0, 1)^2
+ *     which starts at 1, falls smoothly and reaches 0 (with zero slope) at d = R.
  *   - Mirrors, portals and quads lie on their local z = 0, face local +Z,
  *     local +Y up, extent w x h centred on the origin.
  *
@@ -208,6 +211,9 @@ LIMEN_API limen_status limen_node_set_checker(limen_scene *s, limen_node n, cons
 LIMEN_API limen_status limen_node_get_checker(const limen_scene *s, limen_node n, float a[3],
                                               float b[3], float *cell);
 LIMEN_API limen_status limen_node_set_visible(limen_scene *s, limen_node n, int visible);
+/* A light's range R (see CONVENTIONS): beyond it the light adds nothing. 0 = no range. */
+LIMEN_API limen_status limen_light_set_range(limen_scene *s, limen_node light, float range);
+LIMEN_API float limen_light_get_range(const limen_scene *s, limen_node light); /* 0 if none */
 LIMEN_API int limen_node_get_visible(const limen_scene *s, limen_node n);
 
 /* Meshes: triangles in the node's local frame, drawn with the node's transform and colour

@@ -462,6 +462,34 @@ static void test_script_memory(void)
     CHECK_MSG(nodes == 3, "%s", msg);
 }
 
+
+/* A light's range: full at its source, (1 - (d/R)^4)^2 between, nothing from R on; the
+ * same in the tracer and (test_truth's mesh scenes) the renderer. */
+static void test_light_range(void)
+{
+    limen_scene *s = new_scene();
+    CHECK_OK(limen_scene_set_ambient(s, 0));
+    limen_node q, l;
+    CHECK_OK(limen_node_create(s, LIMEN_NODE_QUAD, "floor", &q));
+    CHECK_OK(limen_node_set_dims(s, q, (float[3]){ 100, 100, 0 }));
+    CHECK_OK(limen_node_create(s, LIMEN_NODE_LIGHT, "lamp", &l));
+    CHECK_OK(limen_node_set_position(s, l, (float[3]){ 0, 0, 1 }));
+    CHECK(limen_light_set_range(s, q, 3) == LIMEN_ERR_HANDLE);
+    CHECK(limen_light_set_range(s, l, -1) == LIMEN_ERR_ARG);
+    CHECK(limen_light_set_range(s, l, NAN) == LIMEN_ERR_ARG);
+    CHECK_OK(limen_light_set_range(s, l, 2));
+    CHECK(limen_light_get_range(s, l) == 2);
+    for (int i = 0; i < 4; i++) {
+        float x = (float[]){ 0, 1, 1.5f, 2 }[i];   /* d = sqrt(1 + x^2) */
+        limen_hit h;
+        CHECK_OK(limen_ray_cast(s, (float[3]){ x, 0, 5 }, (float[3]){ 0, 0, -1 }, -1, &h));
+        double d2 = 1.0 + x * x, q4 = d2 * d2 / 16.0, w = q4 < 1 ? (1 - q4) * (1 - q4) : 0;
+        double want = w / sqrt(d2);     /* times n.l */
+        CHECK_NEAR(h.color[0], want, 1e-5);
+    }
+    limen_scene_destroy(s);
+}
+
 static const check_case cases[] = {
     { "arrays", test_arrays },
     { "array_errors", test_array_errors },
@@ -472,6 +500,7 @@ static const check_case cases[] = {
     { "normals", test_normals },
     { "trace_box", test_trace_box },
     { "bunny_cast", test_bunny_cast },
+    { "light_range", test_light_range },
     { "script", test_script },
     { "script_safety", test_script_safety },
     { "script_memory", test_script_memory },

@@ -30,6 +30,7 @@ typedef struct limen__node {
     mat4 world;                 /* valid after limen__scene_refresh */
 
     vec3 color;                 /* albedo; light intensity */
+    float range;                /* lights: where the contribution reaches 0; 0 = none */
     vec3 checker_b;
     float checker_cell;         /* 0 = plain colour (color only) */
     vec3 dims;

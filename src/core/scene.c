@@ -756,6 +756,24 @@ int limen_node_get_visible(const limen_scene *s, limen_node n)
     return node ? node->visible : 0;
 }
 
+limen_status limen_light_set_range(limen_scene *s, limen_node n, float range)
+{
+    GET(node, s, n);
+    if (node->kind != LIMEN_NODE_LIGHT)
+        return limen__fail(s, LIMEN_ERR_HANDLE, "range: '%s' is a %s, not a light", node->name,
+                           kind_name(node->kind));
+    if (!(range >= 0) || !isfinite(range))
+        return limen__fail(s, LIMEN_ERR_ARG, "range: must be >= 0 (0: none; got %g)", range);
+    node->range = range;
+    return LIMEN_OK;
+}
+
+float limen_light_get_range(const limen_scene *s, limen_node n)
+{
+    limen__node *node = limen__node_get(s, n);
+    return node && node->kind == LIMEN_NODE_LIGHT ? node->range : 0.0f;
+}
+
 /* ------------------------------------------------------------------ cameras */
 
 limen_status limen_camera_set_lens(limen_scene *s, limen_node cam, float fovy, float znear,

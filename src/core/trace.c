@@ -26,7 +26,8 @@
  * their files need not be closed); a mesh cut at a portal shows what lies behind the cut.
  *
  * Shading, as the fragment shader: colour = albedo * (ambient + (1 - ambient) *
- * sum_i light_i * max(0, n . normalize(light_pos_i - p))), clamped to [0, 1], no shadows.
+ * sum_i light_i * w_i * max(0, n . normalize(light_pos_i - p))), clamped to [0, 1], no
+ * shadows; w_i = clamp(1 - (d/R)^4, 0, 1)^2 for a light of range R > 0 at distance d, else 1.
  * Lights: the first 8 live, visible LIGHT nodes in index order (world translation, colour).
  * n = normalize(N * n_unit), N the inverse transpose of M's 3x3, n_unit the unit-space
  * point (sphere), (x, 0, z) of it (cylinder side), or the face normal (caps, box faces,
@@ -104,7 +105,7 @@ typedef struct tracer {
     const limen_scene *s;
     prim *prims;
     int n;
-    double lpos[LIMEN__MAX_LIGHTS][3], lcol[LIMEN__MAX_LIGHTS][3];
+    double lpos[LIMEN__MAX_LIGHTS][3], lcol[LIMEN__MAX_LIGHTS][3], lrange[LIMEN__MAX_LIGHTS];
     int nlights;
     double ambient, background[3];
 } tracer;
@@ -302,6 +303,7 @@ static limen_status tracer_init(tracer *t, limen_scene *s, const char *fn)
         if (n->kind == LIMEN_NODE_LIGHT && n->visible && t->nlights < LIMEN__MAX_LIGHTS) {
             copy3f(n->world[3], t->lpos[t->nlights]);
             copy3f(n->color, t->lcol[t->nlights]);
+            t->lrange[t->nlights] = n->range;
             t->nlights++;
         }
         if (n->visible && hittable(n)) {
@@ -590,9 +592,15 @@ static void shade(const tracer *tr, const prim *p, const double albedo_a[3], con
     double light[3] = { 0, 0, 0 };
     for (int i = 0; i < tr->nlights; i++) {
         double l[3] = { tr->lpos[i][0] - pw[0], tr->lpos[i][1] - pw[1], tr->lpos[i][2] - pw[2] };
+        double w = 1.0;
+        if (tr->lrange[i] > 0) {    /* the windowed falloff of limen.h's CONVENTIONS */
+            double q = dot3(l, l) / (tr->lrange[i] * tr->lrange[i]);
+            w = fmax(0.0, 1.0 - q * q);
+            w *= w;
+        }
         if (!normalize3(l))
             continue;
-        double c = fmax(0.0, dot3(n, l));
+        double c = w * fmax(0.0, dot3(n, l));
         for (int k = 0; k < 3; k++)
             light[k] += tr->lcol[i][k] * c;
     }

@@ -14,7 +14,8 @@
 
 typedef struct uniforms {
     GLint model, normal_mat, view_proj, eye, clip_plane, clip_plane2, albedo, albedo_b, cell, scale, shape,
-        quad, mode, tint, tex, tex_map, ambient, nlights, light_pos, light_col;
+        quad, mode, tint, tex, tex_map, ambient, nlights, light_pos, light_col,
+        light_range;
 } uniforms;
 
 /* An offscreen target for the texture method: one per recursion level. */

@@ -61,6 +61,7 @@ static const char *fs_src =
     "uniform float u_cell, u_ambient;\n"
     "uniform int u_shape, u_quad, u_nlights, u_mode;\n"
     "uniform vec3 u_light_pos[8], u_light_col[8];\n"
+    "uniform float u_light_range[8];\n"
     "uniform sampler2D u_tex;\n"
     "uniform vec4 u_tex_map;\n"
     "out vec4 o_color;\n"
@@ -83,8 +84,16 @@ static const char *fs_src =
     "        if (k - 2.0 * floor(k * 0.5) > 0.5) albedo = u_albedo_b;\n"
     "    }\n"
     "    vec3 light = vec3(0.0);\n"
-    "    for (int i = 0; i < u_nlights; i++)\n"
-    "        light += u_light_col[i] * max(0.0, dot(n, normalize(u_light_pos[i] - v_world)));\n"
+    "    for (int i = 0; i < u_nlights; i++) {\n"
+    "        vec3 l = u_light_pos[i] - v_world;\n"
+    "        float w = 1.0;\n"
+    "        if (u_light_range[i] > 0.0) {\n"
+    "            float q = dot(l, l) / (u_light_range[i] * u_light_range[i]);\n"
+    "            w = max(0.0, 1.0 - q * q);\n"
+    "            w *= w;\n"
+    "        }\n"
+    "        light += u_light_col[i] * w * max(0.0, dot(n, normalize(l)));\n"
+    "    }\n"
     "    vec3 c = clamp(albedo * (u_ambient + (1.0 - u_ambient) * light), 0.0, 1.0);\n"
     "    o_color = vec4(c * u_tint, 1.0);\n"
     "}\n";
@@ -184,6 +193,7 @@ static limen_status build_program(limen_renderer *r)
     U(nlights, "u_nlights");
     U(light_pos, "u_light_pos");
     U(light_col, "u_light_col");
+    U(light_range, "u_light_range");
 #undef U
     return LIMEN_OK;
 }

@@ -129,7 +129,7 @@ static void apply_view(limen_renderer *r, limen_scene *s, const rview *v)
 
 static void set_lights(limen_renderer *r, limen_scene *s)
 {
-    float pos[LIMEN__MAX_LIGHTS][3], col[LIMEN__MAX_LIGHTS][3];
+    float pos[LIMEN__MAX_LIGHTS][3], col[LIMEN__MAX_LIGHTS][3], range[LIMEN__MAX_LIGHTS];
     int n = 0;
     for (int i = 0; i < s->cap && n < LIMEN__MAX_LIGHTS; i++) {
         limen__node *node = &s->nodes[i];
@@ -137,6 +137,7 @@ static void set_lights(limen_renderer *r, limen_scene *s)
             continue;
         memcpy(pos[n], node->world[3], sizeof(float) * 3);
         memcpy(col[n], node->color, sizeof(float) * 3);
+        range[n] = node->range;
         n++;
     }
     GL(UseProgram)(r->prog);
@@ -144,6 +145,7 @@ static void set_lights(limen_renderer *r, limen_scene *s)
     if (n) {
         GL(Uniform3fv)(r->u.light_pos, n, &pos[0][0]);
         GL(Uniform3fv)(r->u.light_col, n, &col[0][0]);
+        GL(Uniform1fv)(r->u.light_range, n, range);
     }
 }
 

@@ -11,7 +11,7 @@
  *       every node: name parent pos rotate scale normal up visible
  *       shapes: color checker; box size{x,y,z}; sphere radius; cylinder radius height;
  *       plane size{w,h}; mirror, portal: size tint back fill max_depth; portal: link;
- *       light: color (intensity, >= 0); camera: look_at fov near far (becomes the scene's)
+ *       light: color (intensity, >= 0) range; camera: look_at fov near far (becomes the scene's)
  *   s:mesh { file, smooth, color, checker, ... }: a mesh file relative to the script
  *   s:portal_pair({A}, {B} [, {shared}]) -> a, b       s:find(name)   s:nodes()   #s
  *   s:render { out, size, backend, time, msaa, method, clip, max_depth, max_views, depth,
@@ -79,13 +79,13 @@ static const char *const kind_names[LIMEN_NODE_KIND_COUNT] = {
 enum field {
     F_NAME, F_PARENT, F_POS, F_ROTATE, F_SCALE, F_NORMAL, F_UP, F_VISIBLE, F_COLOR,
     F_SIZE, F_RADIUS, F_HEIGHT, F_CHECKER, F_LOOK_AT, F_FOV, F_NEAR, F_FAR,
-    F_TINT, F_BACK, F_FILL, F_MAX_DEPTH, F_LINK, F_FILE, F_SMOOTH, F_COUNT
+    F_TINT, F_BACK, F_FILL, F_MAX_DEPTH, F_LINK, F_FILE, F_SMOOTH, F_RANGE, F_COUNT
 };
 
 static const char *const field_names[F_COUNT] = {
     "name", "parent", "pos", "rotate", "scale", "normal", "up", "visible", "color",
     "size", "radius", "height", "checker", "look_at", "fov", "near", "far",
-    "tint", "back", "fill", "max_depth", "link", "file", "smooth"
+    "tint", "back", "fill", "max_depth", "link", "file", "smooth", "range"
 };
 
 #define BIT(f) (1u << (f))
@@ -104,7 +104,7 @@ static const unsigned kind_fields[LIMEN_NODE_KIND_COUNT] = {
     [LIMEN_NODE_QUAD] = F_SHAPE | BIT(F_SIZE),
     [LIMEN_NODE_MIRROR] = F_SURFACE,
     [LIMEN_NODE_PORTAL] = F_SURFACE | BIT(F_LINK),
-    [LIMEN_NODE_LIGHT] = F_TRANSFORM | BIT(F_COLOR),
+    [LIMEN_NODE_LIGHT] = F_TRANSFORM | BIT(F_COLOR) | BIT(F_RANGE),
     [LIMEN_NODE_CAMERA] = F_TRANSFORM | BIT(F_LOOK_AT) | BIT(F_FOV) | BIT(F_NEAR) | BIT(F_FAR),
     [LIMEN_NODE_MESH] = F_SHAPE | BIT(F_FILE) | BIT(F_SMOOTH),
 };
@@ -121,7 +121,7 @@ typedef struct spec {
     float pos[3], rotate[3], scale[3], normal[3], up[3], look_at[3];
     float color[3], size[3], radius, height;
     float checker_a[3], checker_b[3], cell;
-    float fov, znear, zfar;
+    float fov, znear, zfar, range;
     float tint[3], back[3], fill[3];
     int max_depth, visible, smooth;
     const char *file;
@@ -568,6 +568,11 @@ static void parse_field(lua_State *L, int v, int f, limen_node_kind kind, int sc
         read_vec(L, v, ctx, what, kind == LIMEN_NODE_BOX ? 3 : 2, ELEM_POSITIVE, sp->size);
         break;
     case F_RADIUS: sp->radius = read_positive(L, v, ctx, what); break;
+    case F_RANGE:
+        sp->range = read_number(L, v, ctx, what);
+        if (!(sp->range >= 0))
+            bad(L, v, ctx, what, "a number >= 0 (0: no range)");
+        break;
     case F_HEIGHT: sp->height = read_positive(L, v, ctx, what); break;
     case F_CHECKER: read_checker(L, v, ctx, what, sp); break;
     case F_FOV: {
@@ -681,6 +686,8 @@ static limen_status apply_spec(limen_scene *s, limen_node n, const spec *sp)
         TRY(limen_portal_link(s, n, sp->link));
     if (HAVE(sp, F_SMOOTH))
         TRY(limen_mesh_set_smooth(s, n, sp->smooth));
+    if (HAVE(sp, F_RANGE))
+        TRY(limen_light_set_range(s, n, sp->range));
 #undef TRY
     return LIMEN_OK;
 }
@@ -1070,6 +1077,7 @@ static int l_node_index(lua_State *L)
         lua_pushinteger(L, md);
         return 1;
     }
+    case F_RANGE: push_float(L, limen_light_get_range(s, n)); return 1;
     case F_SMOOTH: {
         limen_mesh_info mi;
         limen_mesh_get(s, n, &mi);
