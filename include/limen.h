@@ -243,6 +243,19 @@ typedef struct limen_mesh_info {
     size_t bytes;               /* memory it holds */
 } limen_mesh_info;
 
+/* Textures on planes (QUAD), boxes and meshes: albedo = texel * colour (the checker's
+ * colours where it has one). A PNG or JPEG file, its bytes taken as linear RGB (no gamma,
+ * like every colour here); one copy per scene however many nodes use the file. Sampling,
+ * the same in the renderer and the ray tracer: bilinear between the four nearest texels,
+ * repeating (u and v wrap), no mipmaps; texel (i, j) has its centre at ((i + 0.5) / width,
+ * (j + 0.5) / height), j counting rows from the image's bottom (v = 0) up (v = 1). Texture
+ * coordinates: a plane's (x/w + 0.5, y/h + 0.5) over its extent; a box face's two other
+ * axes in order (face x: (y, z), face y: (z, x), face z: (x, y)), each mapped from
+ * [-size/2, size/2] to [0, 1]; a mesh's own (with none, (0, 0)). A mesh file's base-colour
+ * texture (glTF, or map_Kd in an OBJ's MTL; embedded or beside the file) is used unless the
+ * node has one of its own. path NULL removes the node's texture. */
+LIMEN_API limen_status limen_node_set_texture(limen_scene *s, limen_node n, const char *path);
+
 /* Loads a file through assimp (OBJ, glTF 2.0 .gltf/.glb, PLY, FBX, STL, ...): polygons are
  * triangulated, the file's node transforms applied, all its meshes merged. */
 LIMEN_API limen_status limen_mesh_load(limen_scene *s, limen_node mesh, const char *path);

@@ -35,6 +35,16 @@ static const char *write_text(const char *name, const char *text)
     return write_file(name, text, strlen(text));
 }
 
+/* A 2x2 image: top row red, green; bottom row blue, white. */
+static const char *write_tex(const char *name)
+{
+    static const unsigned char px[12] = { 255, 0, 0, 0, 255, 0, 0, 0, 255, 255, 255, 255 };
+    static char path[128];
+    snprintf(path, sizeof path, "%s/%s", dir, name);
+    CHECK_OK(limen_write_png(path, 2, 2, px));
+    return path;
+}
+
 static limen_node new_mesh(limen_scene *s, const char *name)
 {
     limen_node m = { 0 };
@@ -385,6 +395,22 @@ static void test_script(void)
     CHECK(run_script("typo.lua", "local limen = require 'limen' local s = limen.scene{}\ns:mesh{ file = 'square.obj', "
                      "smoth = true }\n", 0, 0, msg, sizeof msg, NULL) == LIMEN_ERR_SCRIPT);
     CHECK_MSG(strstr(msg, "typo.lua:2: mesh: unknown field 'smoth'"), "%s", msg);
+    write_tex("t.png");
+    CHECK_OK(run_script("tex.lua", "local limen = require 'limen' local s = limen.scene{}\n"
+                        "s:plane{ texture = 't.png' } s:box{ texture = 't.png' }\n"
+                        "s:mesh{ file = 'square.obj', texture = 't.png' }\nreturn s\n",
+                        0, 0, msg, sizeof msg, &nodes));
+    CHECK_MSG(nodes == 3, "%s", msg);
+    CHECK(run_script("notex.lua", "local limen = require 'limen' local s = limen.scene{}\n"
+                     "s:plane{ texture = 'none.png' }\n", 0, 0, msg, sizeof msg, NULL) ==
+          LIMEN_ERR_SCRIPT);
+    CHECK_MSG(strstr(msg, "notex.lua:2: plane: ") && strstr(msg, "/none.png: cannot open"),
+              "%s", msg);
+    CHECK(run_script("sphtex.lua", "local limen = require 'limen' local s = limen.scene{}\n"
+                     "s:sphere{ texture = 't.png' }\n", 0, 0, msg, sizeof msg, NULL) ==
+          LIMEN_ERR_SCRIPT);
+    CHECK_MSG(strstr(msg, "sphtex.lua:2: sphere: field 'texture' does not apply to a sphere"),
+              "%s", msg);
     CHECK(run_script("bad.lua", "local limen = require 'limen' local s = limen.scene{}\ns:mesh{ file = 'junk.ply' }\n",
                      0, 0, msg, sizeof msg, NULL) == LIMEN_ERR_SCRIPT);
     CHECK_MSG(strstr(msg, "bad.lua:2: mesh: ") && strstr(msg, "/junk.ply: "), "%s", msg);
@@ -490,6 +516,83 @@ static void test_light_range(void)
     limen_scene_destroy(s);
 }
 
+
+/* Colour seen straight down -Z at (x, y) with ambient 1: the albedo itself. */
+static void albedo_at(limen_scene *s, float x, float y, float out[3])
+{
+    limen_hit h;
+    CHECK_OK(limen_ray_cast(s, (float[3]){ x, y, 5 }, (float[3]){ 0, 0, -1 }, -1, &h));
+    CHECK(h.hit);
+    memcpy(out, h.color, sizeof h.color);
+}
+
+/* Bilinear, repeating, texel centres at (i + 0.5) / w, v up from the bottom row. */
+static void test_texture_sampling(void)
+{
+    limen_scene *s = new_scene();
+    CHECK_OK(limen_scene_set_ambient(s, 1));
+    limen_node q;
+    CHECK_OK(limen_node_create(s, LIMEN_NODE_QUAD, "q", &q));
+    CHECK_OK(limen_node_set_dims(s, q, (float[3]){ 2, 2, 0 }));   /* u = x/2 + 0.5 */
+    CHECK_OK(limen_node_set_color(s, q, (float[3]){ 1, 1, 0.5f }));
+    CHECK_OK(limen_node_set_texture(s, q, write_tex("t.png")));
+    float c[3];
+    albedo_at(s, -0.5f, -0.5f, c);      /* (0.25, 0.25): the bottom-left texel's centre */
+    CHECK_NEAR(c[0], 0, 1e-6);
+    CHECK_NEAR(c[2], 0.5, 1e-6);        /* blue times the colour's 0.5 */
+    albedo_at(s, 0.0f, 0.5f, c);        /* (0.5, 0.75): half red, half green */
+    CHECK_NEAR(c[0], 0.5, 1e-6);
+    CHECK_NEAR(c[1], 0.5, 1e-6);
+    CHECK_NEAR(c[2], 0, 1e-6);
+    albedo_at(s, -0.999f, 0.5f, c);     /* u near 0 wraps: mostly green, some red */
+    CHECK(c[1] > 0.45f && c[1] < 0.55f && c[0] > 0.45f);
+    albedo_at(s, 0.5f, 0.0f, c);        /* (0.75, 0.5): between green and white */
+    CHECK_NEAR(c[0], 0.5, 1e-6);
+    CHECK_NEAR(c[1], 1, 1e-6);
+    CHECK_NEAR(c[2], 0.25, 1e-6);
+    /* a mirror takes no texture; a missing file is named */
+    limen_node m;
+    CHECK_OK(limen_node_create(s, LIMEN_NODE_MIRROR, "m", &m));
+    CHECK(limen_node_set_texture(s, m, write_tex("t.png")) == LIMEN_ERR_HANDLE);
+    CHECK(limen_node_set_texture(s, q, "/nonexistent/x.png") == LIMEN_ERR_IO);
+    CHECK(strstr(limen_last_error(s), "/nonexistent/x.png: cannot open") != NULL);
+    CHECK(limen_node_set_texture(s, q, write_text("bad.png", "not a png")) == LIMEN_ERR_IO);
+    CHECK(strstr(limen_last_error(s), "bad.png: cannot read it as an image") != NULL);
+    CHECK_OK(limen_node_set_texture(s, q, NULL));
+    albedo_at(s, -0.5f, -0.5f, c);
+    CHECK_NEAR(c[2], 0.5, 1e-6);
+    CHECK_NEAR(c[0], 1, 1e-6);
+    limen_scene_destroy(s);
+}
+
+/* An OBJ's map_Kd is used with the file's texture coordinates. */
+static void test_mesh_texture(void)
+{
+    write_tex("t.png");
+    write_text("sq.mtl", "newmtl paint\nKd 1 1 1\nmap_Kd t.png\n");
+    const char *path = write_text("tsq.obj",
+        "mtllib sq.mtl\nv -1 -1 0\nv 1 -1 0\nv 1 1 0\nv -1 1 0\n"
+        "vt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\nusemtl paint\nf 1/1 2/2 3/3 4/4\n");
+    limen_scene *s = new_scene();
+    CHECK_OK(limen_scene_set_ambient(s, 1));
+    limen_node m = new_mesh(s, "m");
+    CHECK_OK(limen_mesh_load(s, m, path));
+    float c[3];
+    albedo_at(s, 0.5f, 0.5f, c);        /* (0.75, 0.75): the top-right texel, green */
+    CHECK_NEAR(c[0], 0, 1e-6);
+    CHECK_NEAR(c[1], 1, 1e-6);
+    albedo_at(s, 0.0f, -0.5f, c);       /* (0.5, 0.25): blue and white */
+    CHECK_NEAR(c[0], 0.5, 1e-6);
+    CHECK_NEAR(c[2], 1, 1e-6);
+    /* a missing texture is named with the mesh */
+    write_text("gone.mtl", "newmtl paint\nmap_Kd nothere.png\n");
+    const char *p2 = write_text("gone.obj", "mtllib gone.mtl\nv -1 -1 0\nv 1 -1 0\nv 1 1 0\n"
+                                "vt 0 0\nvt 1 0\nvt 1 1\nusemtl paint\nf 1/1 2/2 3/3\n");
+    CHECK(limen_mesh_load(s, m, p2) == LIMEN_ERR_IO);
+    CHECK_MSG(strstr(limen_last_error(s), "nothere.png: cannot open"), "%s", limen_last_error(s));
+    limen_scene_destroy(s);
+}
+
 static const check_case cases[] = {
     { "arrays", test_arrays },
     { "array_errors", test_array_errors },
@@ -501,6 +604,8 @@ static const check_case cases[] = {
     { "trace_box", test_trace_box },
     { "bunny_cast", test_bunny_cast },
     { "light_range", test_light_range },
+    { "texture_sampling", test_texture_sampling },
+    { "mesh_texture", test_mesh_texture },
     { "script", test_script },
     { "script_safety", test_script_safety },
     { "script_memory", test_script_memory },

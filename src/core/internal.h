@@ -44,6 +44,7 @@ typedef struct limen__node {
 
     struct limen__mesh *mesh;   /* meshes: shared geometry (core/mesh.h), or NULL */
     bool smooth;                /* meshes: interpolate vertex normals */
+    struct limen__texture *texture;  /* quads, boxes, meshes: albedo = texel * colour */
 } limen__node;
 
 struct limen_scene {
@@ -60,7 +61,8 @@ struct limen_scene {
     uint32_t bad_world;         /* index + 1 of a node whose world matrix overflowed; 0 */
     struct limen__mesh **meshes;  /* mesh assets, each shared by the nodes that load it */
     int nmeshes, mesh_cap;
-    uint64_t mesh_serial;
+    struct limen__texture **textures;  /* image files, each shared by the nodes that use it */
+    int ntextures, texture_cap;
     char err[LIMEN__ERR_MAX];
 };
 

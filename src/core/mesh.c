@@ -18,6 +18,7 @@
 
 #include "core/internal.h"
 #include "core/mesh.h"
+#include "core/texture.h"
 
 #define LEAF_TRIS 4
 #define MAX_TRIS (UINT32_MAX / 3u - 1u)
@@ -225,10 +226,11 @@ int limen__mesh_intersect(const limen__mesh *m, const double o[3], const double 
 
 /* ------------------------------------------------------------------ assets */
 
-static void mesh_free(limen__mesh *m)
+static void mesh_free(limen_scene *s, limen__mesh *m)
 {
     if (!m)
         return;
+    limen__texture_release(s, m->tex);
     free(m->pos);
     free(m->nrm);
     free(m->uv);
@@ -302,7 +304,7 @@ static limen_status mesh_from_arrays(limen_scene *s, const limen_mesh_data *d, c
     m->uv = d->uvs ? malloc(sizeof(float) * 2 * nv) : NULL;
     m->idx = malloc(sizeof(uint32_t) * 3 * nt);
     if (!m->pos || !m->nrm || (d->uvs && !m->uv) || !m->idx) {
-        mesh_free(m);
+        mesh_free(s, m);
         return limen__fail(s, LIMEN_ERR_NOMEM, "%s: out of memory", what);
     }
     memcpy(m->pos, d->positions, sizeof(float) * 3 * nv);
@@ -325,10 +327,10 @@ static limen_status mesh_from_arrays(limen_scene *s, const limen_mesh_data *d, c
             m->hi[a] = fmax(m->hi[a], m->pos[v * 3 + a]);
         }
     if (!bvh_build(m)) {
-        mesh_free(m);
+        mesh_free(s, m);
         return limen__fail(s, LIMEN_ERR_NOMEM, "%s: out of memory", what);
     }
-    m->serial = ++s->mesh_serial;
+    m->serial = limen__next_serial();
     snprintf(m->name, sizeof m->name, "%s", what);
     *out = m;
     return LIMEN_OK;
@@ -340,7 +342,7 @@ static limen_status keep(limen_scene *s, limen__mesh *m, const char *what)
         int cap = s->mesh_cap ? s->mesh_cap * 2 : 8;
         limen__mesh **list = realloc(s->meshes, sizeof *list * (size_t)cap);
         if (!list) {
-            mesh_free(m);
+            mesh_free(s, m);
             return limen__fail(s, LIMEN_ERR_NOMEM, "%s: out of memory", what);
         }
         s->meshes = list;
@@ -360,13 +362,13 @@ void limen__mesh_release(limen_scene *s, limen__mesh *m)
             break;
         }
     }
-    mesh_free(m);
+    mesh_free(s, m);
 }
 
 void limen__meshes_destroy(limen_scene *s)
 {
     for (int i = 0; i < s->nmeshes; i++)
-        mesh_free(s->meshes[i]);
+        mesh_free(s, s->meshes[i]);
     free(s->meshes);
     s->meshes = NULL;
     s->nmeshes = s->mesh_cap = 0;
@@ -461,7 +463,7 @@ done:
     return st;
 }
 
-/* The file name of the first material's base-colour (or diffuse) texture, or "". */
+/* The name of the first material's base-colour (or diffuse) texture, or "". */
 static void base_texture(const struct aiScene *sc, char *out, size_t size)
 {
     out[0] = '\0';
@@ -478,6 +480,48 @@ static void base_texture(const struct aiScene *sc, char *out, size_t size)
             return;
         }
     }
+}
+
+/* The file's base-colour texture onto m (which must have texture coordinates): embedded
+ * ("*N", a PNG or JPEG inside a .glb), or a file beside the mesh file, never above it (no
+ * absolute path, no ".."). */
+static limen_status file_texture(limen_scene *s, const struct aiScene *sc, const char *path,
+                                 size_t max_bytes, size_t *charged, limen__mesh *m)
+{
+    char name[512];
+    *charged = 0;
+    base_texture(sc, name, sizeof name);
+    if (!name[0] || !m->uv)
+        return LIMEN_OK;
+    if (name[0] == '*') {
+        unsigned k = (unsigned)atoi(name + 1);
+        const struct aiTexture *at = k < sc->mNumTextures ? sc->mTextures[k] : NULL;
+        if (!at || at->mHeight != 0)
+            return limen__fail(s, LIMEN_ERR_IO, "%s: embedded texture %s is missing or not "
+                               "PNG/JPEG", path, name);
+        char what[600];
+        snprintf(what, sizeof what, "%.500s: texture %s", path, name);
+        limen_status st = limen__texture_decode(s, (const unsigned char *)at->pcData,
+                                                at->mWidth, what, &m->tex);
+        if (!st && m->tex->bytes > max_bytes) {
+            limen__texture_release(s, m->tex);
+            m->tex = NULL;
+            return limen__fail(s, LIMEN_ERR_NOMEM, "%s: its texture needs more memory than "
+                               "allowed", path);
+        }
+        if (!st)
+            *charged = m->tex->bytes;
+        return st;
+    }
+    for (char *c = name; *c; c++)
+        if (*c == '\\')
+            *c = '/';
+    if (name[0] == '/' || strstr(name, ".."))
+        return limen__fail(s, LIMEN_ERR_IO, "%s: its texture '%s' is not beside it", path, name);
+    const char *slash = strrchr(path, '/');
+    char full[1200];
+    snprintf(full, sizeof full, "%.*s%s", slash ? (int)(slash - path + 1) : 0, path, name);
+    return limen__texture_load(s, full, max_bytes, charged, &m->tex);
 }
 
 /* assimp 5.2's PLY reader loops forever on a header that never ends: refuse such a file
@@ -528,8 +572,13 @@ static limen_status load_file(limen_scene *s, const char *path, size_t max_bytes
         st = limen__fail(s, LIMEN_ERR_IO, "%s: incomplete (no meshes in it)", path);
     else
         st = from_scene(s, sc, path, max_bytes, out);
+    size_t tex_bytes = 0;
+    if (!st && (st = file_texture(s, sc, path, max_bytes - (*out)->bytes, &tex_bytes, *out))) {
+        mesh_free(s, *out);
+        *out = NULL;
+    }
     if (!st)
-        base_texture(sc, (*out)->texture, sizeof (*out)->texture);
+        (*out)->bytes += tex_bytes;
     aiReleaseImport(sc);
     return st;
 }

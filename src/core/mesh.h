@@ -18,7 +18,7 @@ typedef struct limen__bvh_node {
     uint32_t index, count;
 } limen__bvh_node;
 
-typedef struct limen__texture limen__texture;
+struct limen__texture;
 
 typedef struct limen__mesh {
     int refs;                   /* nodes using it */
@@ -35,7 +35,7 @@ typedef struct limen__mesh {
     uint32_t *tri_order;
     uint32_t nbvh;
     size_t bytes;               /* what it holds, counted against a script's memory cap */
-    char texture[LIMEN__MESH_PATH_MAX];  /* base-colour texture named by the file, or "" */
+    struct limen__texture *tex; /* the file's base-colour texture (with uvs), or NULL */
     uint64_t serial;            /* unique per asset: the renderer keys its buffers on it */
 } limen__mesh;
 

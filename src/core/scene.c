@@ -5,6 +5,7 @@
 
 #include "core/internal.h"
 #include "core/mesh.h"
+#include "core/texture.h"
 
 #define INDEX_BITS 20u
 #define INDEX_MASK ((1u << INDEX_BITS) - 1u)
@@ -89,6 +90,7 @@ void limen_scene_destroy(limen_scene *s)
     if (!s)
         return;
     limen__meshes_destroy(s);
+    limen__textures_destroy(s);
     free(s->nodes);
     free(s->free_list);
     free(s);
@@ -367,6 +369,8 @@ limen_status limen_node_destroy(limen_scene *s, limen_node n)
         s->nodes[node->pair - 1].pair = 0;
     limen__mesh_release(s, node->mesh);
     node->mesh = NULL;
+    limen__texture_release(s, node->texture);
+    node->texture = NULL;
     node->gen++;    /* even: dead; the next create makes it odd again with a new value */
     s->free_list[s->free_count++] = self - 1u;
     s->count--;

@@ -69,6 +69,7 @@
 #include "core/dmath.h"
 #include "core/internal.h"
 #include "core/mesh.h"
+#include "core/texture.h"
 
 #define MAX_THREADS 256
 #define GLOBAL_NONE 255     /* no global limit: the surfaces' own (max_depth <= 255) */
@@ -86,6 +87,7 @@ typedef struct prim {
     double bc[3], br;           /* world bounding sphere */
     const limen__mesh *mesh;    /* meshes: the triangles, in unit space (scale 1) */
     bool smooth;                /* meshes: interpolated vertex normals */
+    const limen__texture *tex;  /* albedo = texel * colour, or NULL */
     double color[3], checker_b[3], cell;
     /* mirrors and portals */
     double plane[4];            /* world, front = +Z side */
@@ -252,6 +254,8 @@ static void setup_prim(limen_scene *s, const limen__node *n, prim *p)
         return;
     copy3f(n->color, p->color);
     copy3f(n->checker_b, p->checker_b);
+    if (n->kind == LIMEN_NODE_QUAD || n->kind == LIMEN_NODE_BOX || n->kind == LIMEN_NODE_MESH)
+        p->tex = n->texture ? n->texture : n->kind == LIMEN_NODE_MESH ? n->mesh->tex : NULL;
     p->cell = n->checker_cell;
     if (limen__is_surface(n)) {
         limen__surface_plane_d(n, p->plane);
@@ -465,7 +469,7 @@ static bool hit_flat(const double o[3], const double d[3], double tmin, double t
  * as the renderer clips them without culling) and its unit-space normal: the face's, or the
  * vertex normals interpolated where the mesh is smooth. */
 static bool hit_mesh(const prim *p, const double o[3], const double d[3], double tmin,
-                     double tmax, double *t, double nu[3])
+                     double tmax, double *t, double nu[3], double uv[2])
 {
     const limen__mesh *m = p->mesh;
     double cut[4], *cutp = NULL;
@@ -480,6 +484,10 @@ static bool hit_mesh(const prim *p, const double o[3], const double d[3], double
     if (tri < 0)
         return false;
     const uint32_t *ix = &m->idx[tri * 3];
+    uv[0] = uv[1] = 0;
+    for (int k = 0; m->uv && k < 2; k++)
+        uv[k] = (1.0 - u - v) * m->uv[ix[0] * 2 + k] + u * m->uv[ix[1] * 2 + k] +
+                v * m->uv[ix[2] * 2 + k];
     if (p->smooth) {
         double w[3] = { 1.0 - u - v, u, v };
         for (int a = 0; a < 3; a++)
@@ -499,7 +507,8 @@ static bool hit_mesh(const prim *p, const double o[3], const double d[3], double
 }
 
 static int nearest(const tracer *tr, const double o[3], const double d[3], double tmin_shape,
-                   double tmin_surface, int skip, double *t_out, double pu[3], double nu[3])
+                   double tmin_surface, int skip, double *t_out, double pu[3], double nu[3],
+                   double uv_out[2])
 {
     int best = -1;
     double tbest = INFINITY;
@@ -518,7 +527,7 @@ static int nearest(const tracer *tr, const double o[3], const double d[3], doubl
         double perp2 = dot3(oc, oc) - tc * tc;
         if (perp2 > r2 || tc + p->br <= tmin || tc - p->br >= tbest)
             continue;
-        double ou[3], du[3], t, n[3];
+        double ou[3], du[3], t, n[3], uv[2] = { 0, 0 };
         limen__d_point(p->minv, o, ou);
         d_dir(p->minv, d, du);
         bool hit;
@@ -533,7 +542,7 @@ static int nearest(const tracer *tr, const double o[3], const double d[3], doubl
             hit = hit_cylinder(ou, du, tmin, tbest, &t, n);
             break;
         case SHAPE_MESH:
-            hit = hit_mesh(p, ou, du, tmin, tbest, &t, n);
+            hit = hit_mesh(p, ou, du, tmin, tbest, &t, n, uv);
             break;
         default:
             hit = hit_flat(ou, du, tmin, tbest, &t, n);
@@ -551,6 +560,7 @@ static int nearest(const tracer *tr, const double o[3], const double d[3], doubl
         best = i;
         tbest = t;
         memcpy(nu, n, sizeof n);
+        memcpy(uv_out, uv, sizeof uv);
         for (int k = 0; k < 3; k++)
             pu[k] = ou[k] + t * du[k];
     }
@@ -577,10 +587,23 @@ static void world_normal(const prim *p, const double nu[3], const double d[3], d
     }
 }
 
+/* Texture coordinates of a plane or box hit (limen.h): the unit point shifted by a half,
+ * a box face taking its two other axes in order. */
+static void flat_uv(const prim *p, const double pu[3], const double nu[3], double uv[2])
+{
+    int a = 2;
+    if (p->kind == LIMEN_NODE_BOX)
+        a = fabs(nu[0]) > 0.5 ? 0 : fabs(nu[1]) > 0.5 ? 1 : 2;
+    uv[0] = pu[(a + 1) % 3] + 0.5;
+    uv[1] = pu[(a + 2) % 3] + 0.5;
+}
+
 static void shade(const tracer *tr, const prim *p, const double albedo_a[3], const double pu[3],
-                  const double pw[3], const double n[3], double out[3])
+                  const double nu[3], const double uv_in[2], const double pw[3],
+                  const double n[3], double out[3])
 {
     const double *albedo = albedo_a;
+    double texel[3];
     if (p->cell > 0) {
         double k = 0;
         int axes = p->kind == LIMEN_NODE_QUAD ? 2 : 3;
@@ -588,6 +611,15 @@ static void shade(const tracer *tr, const prim *p, const double albedo_a[3], con
             k += floor(pu[i] * p->scale[i] / p->cell);
         if (k - 2.0 * floor(k * 0.5) > 0.5)
             albedo = p->checker_b;
+    }
+    if (p->tex) {
+        double uv[2] = { uv_in[0], uv_in[1] };
+        if (p->shape != SHAPE_MESH)
+            flat_uv(p, pu, nu, uv);
+        limen__texture_sample(p->tex, uv[0], uv[1], texel);
+        for (int k = 0; k < 3; k++)
+            texel[k] *= albedo[k];
+        albedo = texel;
     }
     double light[3] = { 0, 0, 0 };
     for (int i = 0; i < tr->nlights; i++) {
@@ -633,8 +665,8 @@ static void follow(const tracer *tr, const double o_in[3], const double d_in[3],
         rec->prim = -1;
     }
     for (;;) {
-        double t, pu[3], nu[3];
-        int hi = nearest(tr, o, d, tmin, tmin_surface, skip, &t, pu, nu);
+        double t, pu[3] = { 0, 0, 0 }, nu[3] = { 0, 0, 0 }, uv[2] = { 0, 0 };
+        int hi = nearest(tr, o, d, tmin, tmin_surface, skip, &t, pu, nu, uv);
         if (rec) {
             memcpy(rec->seg_o, o, sizeof o);
             memcpy(rec->seg_d, d, sizeof d);
@@ -652,7 +684,7 @@ static void follow(const tracer *tr, const double o_in[3], const double d_in[3],
             double n[3];
             world_normal(p, nu, d, n);
             if (matte) {
-                shade(tr, p, surface ? p->back : p->color, pu, pw, n, shaded);
+                shade(tr, p, surface ? p->back : p->color, pu, nu, uv, pw, n, shaded);
                 result = shaded;
             } else {
                 result = p->fill;

@@ -12,7 +12,8 @@
  *       shapes: color checker; box size{x,y,z}; sphere radius; cylinder radius height;
  *       plane size{w,h}; mirror, portal: size tint back fill max_depth; portal: link;
  *       light: color (intensity, >= 0) range; camera: look_at fov near far (becomes the scene's)
- *   s:mesh { file, smooth, color, checker, ... }: a mesh file relative to the script
+ *   s:mesh { file, smooth, color, checker, ... }: a mesh file relative to the script;
+ *       plane, box, mesh: texture (an image file relative to the script)
  *   s:portal_pair({A}, {B} [, {shared}]) -> a, b       s:find(name)   s:nodes()   #s
  *   s:render { out, size, backend, time, msaa, method, clip, max_depth, max_views, depth,
  *              texture_scale } -> stats
@@ -29,6 +30,7 @@
 #include <stdbool.h>
 
 #include "core/mesh.h"
+#include "core/texture.h"
 #include "lua/lua_internal.h"
 
 #define SCENE_MT "limen.scene"
@@ -79,13 +81,13 @@ static const char *const kind_names[LIMEN_NODE_KIND_COUNT] = {
 enum field {
     F_NAME, F_PARENT, F_POS, F_ROTATE, F_SCALE, F_NORMAL, F_UP, F_VISIBLE, F_COLOR,
     F_SIZE, F_RADIUS, F_HEIGHT, F_CHECKER, F_LOOK_AT, F_FOV, F_NEAR, F_FAR,
-    F_TINT, F_BACK, F_FILL, F_MAX_DEPTH, F_LINK, F_FILE, F_SMOOTH, F_RANGE, F_COUNT
+    F_TINT, F_BACK, F_FILL, F_MAX_DEPTH, F_LINK, F_FILE, F_SMOOTH, F_RANGE, F_TEXTURE, F_COUNT
 };
 
 static const char *const field_names[F_COUNT] = {
     "name", "parent", "pos", "rotate", "scale", "normal", "up", "visible", "color",
     "size", "radius", "height", "checker", "look_at", "fov", "near", "far",
-    "tint", "back", "fill", "max_depth", "link", "file", "smooth", "range"
+    "tint", "back", "fill", "max_depth", "link", "file", "smooth", "range", "texture"
 };
 
 #define BIT(f) (1u << (f))
@@ -98,20 +100,21 @@ static const char *const field_names[F_COUNT] = {
 /* Which constructor fields each kind takes. */
 static const unsigned kind_fields[LIMEN_NODE_KIND_COUNT] = {
     [LIMEN_NODE_GROUP] = F_TRANSFORM,
-    [LIMEN_NODE_BOX] = F_SHAPE | BIT(F_SIZE),
+    [LIMEN_NODE_BOX] = F_SHAPE | BIT(F_SIZE) | BIT(F_TEXTURE),
     [LIMEN_NODE_SPHERE] = F_SHAPE | BIT(F_RADIUS),
     [LIMEN_NODE_CYLINDER] = F_SHAPE | BIT(F_RADIUS) | BIT(F_HEIGHT),
-    [LIMEN_NODE_QUAD] = F_SHAPE | BIT(F_SIZE),
+    [LIMEN_NODE_QUAD] = F_SHAPE | BIT(F_SIZE) | BIT(F_TEXTURE),
     [LIMEN_NODE_MIRROR] = F_SURFACE,
     [LIMEN_NODE_PORTAL] = F_SURFACE | BIT(F_LINK),
     [LIMEN_NODE_LIGHT] = F_TRANSFORM | BIT(F_COLOR) | BIT(F_RANGE),
     [LIMEN_NODE_CAMERA] = F_TRANSFORM | BIT(F_LOOK_AT) | BIT(F_FOV) | BIT(F_NEAR) | BIT(F_FAR),
-    [LIMEN_NODE_MESH] = F_SHAPE | BIT(F_FILE) | BIT(F_SMOOTH),
+    [LIMEN_NODE_MESH] = F_SHAPE | BIT(F_FILE) | BIT(F_SMOOTH) | BIT(F_TEXTURE),
 };
 
 /* Fields that only a constructor takes: after it, normal/up/look_at go through
  * node:face() and node:look_at(), and link through node:link(). */
-#define F_CONSTRUCT_ONLY (BIT(F_NORMAL) | BIT(F_UP) | BIT(F_LOOK_AT) | BIT(F_LINK) | BIT(F_FILE))
+#define F_CONSTRUCT_ONLY (BIT(F_NORMAL) | BIT(F_UP) | BIT(F_LOOK_AT) | BIT(F_LINK) | BIT(F_FILE) | \
+                          BIT(F_TEXTURE))
 
 /* A parsed set of fields; `have` says which are present. */
 typedef struct spec {
@@ -125,6 +128,7 @@ typedef struct spec {
     float tint[3], back[3], fill[3];
     int max_depth, visible, smooth;
     const char *file;
+    char texture[1200];         /* the image file to open (relative to the script's folder) */
 } spec;
 
 #define HAVE(sp, f) (((sp)->have & BIT(f)) != 0)
@@ -512,6 +516,8 @@ static limen_node read_node(lua_State *L, int idx, int scene_idx, const char *ct
     return nd->n;
 }
 
+static void script_path(lua_State *L, const char *ctx, const char *file, char *out, size_t size);
+
 /* Parses the value at v as field f of a node of `kind` into sp. */
 static void parse_field(lua_State *L, int v, int f, limen_node_kind kind, int scene_idx,
                         const char *ctx, spec *sp)
@@ -552,13 +558,18 @@ static void parse_field(lua_State *L, int v, int f, limen_node_kind kind, int sc
             bad(L, v, ctx, what, "a boolean");
         *(f == F_VISIBLE ? &sp->visible : &sp->smooth) = lua_toboolean(L, v);
         break;
-    case F_FILE: {
+    case F_FILE:
+    case F_TEXTURE: {
         size_t len;
         if (lua_type(L, v) != LUA_TSTRING)
             bad(L, v, ctx, what, "a string");
-        sp->file = lua_tolstring(L, v, &len);
-        if (len == 0 || strlen(sp->file) != len || len > 1000)
+        const char *file = lua_tolstring(L, v, &len);
+        if (len == 0 || strlen(file) != len || len > 1000)
             luaL_error(L, "%s: %s must be a file name (1 to 1000 bytes, no zeros)", ctx, what);
+        if (f == F_FILE)
+            sp->file = file;
+        else
+            script_path(L, ctx, file, sp->texture, sizeof sp->texture);
         break;
     }
     case F_COLOR:
@@ -788,6 +799,12 @@ static limen_node create_node(lua_State *L, int scene_idx, limen_node_kind kind,
             st = apply_spec(ls->s, n, sp);
         if (!st && kind == LIMEN_NODE_CAMERA)
             st = limen_scene_set_camera(ls->s, n);
+        size_t charged = 0;     /* an image, counted against the script's memory cap */
+        if (!st && sp->texture[0] &&
+            !(st = limen__node_texture(ls->s, n, sp->texture, limen__lua_mem_left(L), &charged))) {
+            limen__lua_hold(L, (ptrdiff_t)charged);
+            ls->held += charged;
+        }
         if (st)
             limen_node_destroy(ls->s, n);   /* leaves the message alone */
     }
@@ -879,11 +896,11 @@ static int l_scene_camera(lua_State *L) { return make_node(L, LIMEN_NODE_CAMERA)
 
 /* ------------------------------------------------------------------ meshes */
 
-/* The mesh file named in the calling script: relative to the script's folder. A safe
+/* A mesh or image file named in the calling script: relative to the script's folder. A safe
  * script may read only files under that folder: no absolute path, no "..", and no link
  * that leads out of it (checked on the resolved path). Writes the path to open into out,
  * or raises. */
-static void mesh_path(lua_State *L, const char *ctx, const char *file, char *out, size_t size)
+static void script_path(lua_State *L, const char *ctx, const char *file, char *out, size_t size)
 {
     lua_Debug ar;
     char folder[1024] = ".";
@@ -937,7 +954,7 @@ static int l_scene_mesh(lua_State *L)
     if (!sp.file)
         return luaL_error(L, "mesh: field 'file' is required");
     char path[1200], label[LABEL_LEN];
-    mesh_path(L, "mesh", sp.file, path, sizeof path);
+    script_path(L, "mesh", sp.file, path, sizeof path);
     where(L, label);
     limen_node n = create_node(L, 1, LIMEN_NODE_MESH, &sp, "mesh", label, (limen_node){ 0 });
     size_t charged;
