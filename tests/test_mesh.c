@@ -593,6 +593,47 @@ static void test_mesh_texture(void)
     limen_scene_destroy(s);
 }
 
+
+/* A mesh passing through a portal is cut and cloned like a box; culling and moving use its
+ * bounds. */
+static void test_portal_clone(void)
+{
+    limen_scene *s = new_scene();
+    limen_node a, b, m, cam;
+    CHECK_OK(limen_node_create(s, LIMEN_NODE_PORTAL, "a", &a));
+    CHECK_OK(limen_node_create(s, LIMEN_NODE_PORTAL, "b", &b));
+    CHECK_OK(limen_node_set_dims(s, a, (float[3]){ 2, 2, 0 }));
+    CHECK_OK(limen_node_set_dims(s, b, (float[3]){ 2, 2, 0 }));
+    CHECK_OK(limen_node_set_position(s, b, (float[3]){ 10, 0, 0 }));
+    CHECK_OK(limen_portal_link(s, a, b));
+    m = new_mesh(s, "cube");
+    box_mesh(s, m);
+    CHECK_OK(limen_node_set_scale(s, m, (float[3]){ 0.5f, 0.5f, 0.5f }));
+    CHECK_OK(limen_node_set_position(s, m, (float[3]){ 0, 0, 0.1f }));
+    CHECK_OK(limen_node_create(s, LIMEN_NODE_CAMERA, "c", &cam));
+    CHECK_OK(limen_node_set_position(s, cam, (float[3]){ 0, 0, 5 }));
+    CHECK_OK(limen_scene_set_camera(s, cam));
+    limen_plan *p = NULL;
+    CHECK_OK(limen_plan_create(&p));
+    CHECK_OK(limen_plan_build(p, s, &(limen_plan_desc){ .width = 64, .height = 48 }));
+    const limen_clone *cl;
+    CHECK(limen_plan_clones(p, &cl) == 1 && cl[0].node.id == m.id && cl[0].portal.id == a.id);
+    /* moved away from the portal: no clone */
+    limen_move_result mv;
+    CHECK_OK(limen_node_move(s, m, (float[3]){ 0, 0, 2 }, &mv));
+    CHECK(mv.crossed == 0);
+    CHECK_OK(limen_plan_build(p, s, &(limen_plan_desc){ .width = 64, .height = 48 }));
+    CHECK(limen_plan_clones(p, &cl) == 0);
+    /* and through it: out of the partner */
+    CHECK_OK(limen_node_move(s, m, (float[3]){ 0, 0, -4 }, &mv));
+    CHECK(mv.crossed == 1);
+    float w[16];
+    CHECK_OK(limen_node_world_matrix(s, m, w));
+    CHECK_NEAR(w[12], 10, 1e-4);
+    limen_plan_destroy(p);
+    limen_scene_destroy(s);
+}
+
 static const check_case cases[] = {
     { "arrays", test_arrays },
     { "array_errors", test_array_errors },
@@ -603,6 +644,7 @@ static const check_case cases[] = {
     { "normals", test_normals },
     { "trace_box", test_trace_box },
     { "bunny_cast", test_bunny_cast },
+    { "portal_clone", test_portal_clone },
     { "light_range", test_light_range },
     { "texture_sampling", test_texture_sampling },
     { "mesh_texture", test_mesh_texture },
