@@ -5,6 +5,7 @@
 
 #include <stdarg.h>
 #include <stdbool.h>
+#include <stdlib.h>
 
 #include <cglm/cglm.h>
 
@@ -59,9 +60,9 @@ struct limen_scene {
     float ambient;
     uint32_t camera;            /* index + 1 */
     uint32_t bad_world;         /* index + 1 of a node whose world matrix overflowed; 0 */
-    struct limen__mesh **meshes;  /* mesh assets, each shared by the nodes that load it */
+    void **meshes;              /* limen__mesh *: each shared by the nodes that load it */
     int nmeshes, mesh_cap;
-    struct limen__texture **textures;  /* image files, each shared by the nodes that use it */
+    void **textures;            /* limen__texture *: each shared by the nodes that use it */
     int ntextures, texture_cap;
     char err[LIMEN__ERR_MAX];
 };
@@ -117,6 +118,32 @@ void limen__node_bounds(const limen__node *n, double centre[3], double *radius);
 /* For each node slot: the portal (slot index) a closed shape passes through, or -1;
  * portal_of has s->cap entries. Returns how many shapes pass through one. */
 int limen__find_straddlers(limen_scene *s, int *portal_of);
+
+/* A scene's list of shared assets (meshes, textures): adds one (false: out of memory), or
+ * takes one out (order not kept). */
+static inline bool limen__assets_add(void ***list, int *n, int *cap, void *item)
+{
+    if (*n == *cap) {
+        int c = *cap ? *cap * 2 : 8;
+        void **l = realloc(*list, sizeof *l * (size_t)c);
+        if (!l)
+            return false;
+        *list = l;
+        *cap = c;
+    }
+    (*list)[(*n)++] = item;
+    return true;
+}
+
+static inline void limen__assets_remove(void **list, int *n, const void *item)
+{
+    for (int i = 0; i < *n; i++) {
+        if (list[i] == item) {
+            list[i] = list[--*n];
+            return;
+        }
+    }
+}
 
 static inline bool limen__finite3(const float v[3])
 {

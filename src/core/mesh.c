@@ -338,30 +338,17 @@ static limen_status mesh_from_arrays(limen_scene *s, const limen_mesh_data *d, c
 
 static limen_status keep(limen_scene *s, limen__mesh *m, const char *what)
 {
-    if (s->nmeshes == s->mesh_cap) {
-        int cap = s->mesh_cap ? s->mesh_cap * 2 : 8;
-        limen__mesh **list = realloc(s->meshes, sizeof *list * (size_t)cap);
-        if (!list) {
-            mesh_free(s, m);
-            return limen__fail(s, LIMEN_ERR_NOMEM, "%s: out of memory", what);
-        }
-        s->meshes = list;
-        s->mesh_cap = cap;
-    }
-    s->meshes[s->nmeshes++] = m;
-    return LIMEN_OK;
+    if (limen__assets_add(&s->meshes, &s->nmeshes, &s->mesh_cap, m))
+        return LIMEN_OK;
+    mesh_free(s, m);
+    return limen__fail(s, LIMEN_ERR_NOMEM, "%s: out of memory", what);
 }
 
 void limen__mesh_release(limen_scene *s, limen__mesh *m)
 {
     if (!m || --m->refs > 0)
         return;
-    for (int i = 0; i < s->nmeshes; i++) {
-        if (s->meshes[i] == m) {
-            s->meshes[i] = s->meshes[--s->nmeshes];
-            break;
-        }
-    }
+    limen__assets_remove(s->meshes, &s->nmeshes, m);
     mesh_free(s, m);
 }
 
@@ -611,23 +598,20 @@ limen_status limen__mesh_load(limen_scene *s, limen_node n, const char *path, si
         return LIMEN_ERR_HANDLE;
     if (!path || !path[0])
         return limen__fail(s, LIMEN_ERR_ARG, "mesh_load: no file name");
-    char key[PATH_MAX];
-    if (!realpath(path, key))
-        return limen__fail(s, LIMEN_ERR_IO, "%s: cannot open: %s", path, strerror(errno));
+    char key[LIMEN__FILE_KEY];
     struct stat st_key;
-    if (stat(key, &st_key) == 0) {   /* a file changed since its load is loaded again */
-        size_t len = strlen(key);
-        snprintf(key + len, sizeof key - len, "@%lld.%ld", (long long)st_key.st_mtim.tv_sec,
-                 (long)st_key.st_mtim.tv_nsec);
-    }
+    limen_status st = limen__file_key(s, path, key, &st_key);
+    if (st)
+        return st;
     for (int i = 0; i < s->nmeshes; i++) {
-        if (strcmp(s->meshes[i]->key, key) == 0) {
-            attach(s, node, s->meshes[i]);
+        limen__mesh *m = s->meshes[i];
+        if (strcmp(m->key, key) == 0) {
+            attach(s, node, m);
             return LIMEN_OK;
         }
     }
     limen__mesh *m;
-    limen_status st = load_file(s, path, max_bytes, &m);
+    st = load_file(s, path, max_bytes, &m);
     if (st)
         return st;
     snprintf(m->key, sizeof m->key, "%s", key);

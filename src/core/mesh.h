@@ -22,7 +22,7 @@ struct limen__texture;
 
 typedef struct limen__mesh {
     int refs;                   /* nodes using it */
-    char key[4160];             /* file identity for sharing (PATH_MAX and its time; "" for arrays) */
+    char key[4160];             /* limen__file_key (core/texture.h: 4160), or "" for arrays */
     char name[LIMEN__MESH_PATH_MAX];     /* the path as given, for messages */
     uint32_t nverts, ntris;
     float *pos;                 /* nverts * 3 */

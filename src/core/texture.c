@@ -22,6 +22,19 @@ uint64_t limen__next_serial(void)
     return atomic_fetch_add(&next, 1);
 }
 
+limen_status limen__file_key(limen_scene *s, const char *path, char key[LIMEN__FILE_KEY],
+                             struct stat *st)
+{
+    char real[PATH_MAX];
+    if (!realpath(path, real) || stat(real, st) != 0)
+        return limen__fail(s, LIMEN_ERR_IO, "%s: cannot open: %s", path, strerror(errno));
+    if (!S_ISREG(st->st_mode))
+        return limen__fail(s, LIMEN_ERR_IO, "%s: not a regular file", path);
+    snprintf(key, LIMEN__FILE_KEY, "%s@%lld.%ld", real, (long long)st->st_mtim.tv_sec,
+             (long)st->st_mtim.tv_nsec);
+    return LIMEN_OK;
+}
+
 static void texture_free(limen__texture *t)
 {
     if (!t)
@@ -62,18 +75,10 @@ limen_status limen__texture_decode(limen_scene *s, const unsigned char *buf, siz
 
 static limen_status keep(limen_scene *s, limen__texture *t)
 {
-    if (s->ntextures == s->texture_cap) {
-        int cap = s->texture_cap ? s->texture_cap * 2 : 8;
-        limen__texture **list = realloc(s->textures, sizeof *list * (size_t)cap);
-        if (!list) {
-            texture_free(t);
-            return limen__fail(s, LIMEN_ERR_NOMEM, "texture: out of memory");
-        }
-        s->textures = list;
-        s->texture_cap = cap;
-    }
-    s->textures[s->ntextures++] = t;
-    return LIMEN_OK;
+    if (limen__assets_add(&s->textures, &s->ntextures, &s->texture_cap, t))
+        return LIMEN_OK;
+    texture_free(t);
+    return limen__fail(s, LIMEN_ERR_NOMEM, "texture: out of memory");
 }
 
 limen_status limen__texture_load(limen_scene *s, const char *path, size_t max_bytes,
@@ -81,19 +86,16 @@ limen_status limen__texture_load(limen_scene *s, const char *path, size_t max_by
 {
     *out = NULL;
     *charged = 0;
-    char key[PATH_MAX + 64];
+    char key[LIMEN__FILE_KEY];
     struct stat st;
-    if (!realpath(path, key) || stat(key, &st) != 0)
-        return limen__fail(s, LIMEN_ERR_IO, "%s: cannot open: %s", path, strerror(errno));
-    if (!S_ISREG(st.st_mode))
-        return limen__fail(s, LIMEN_ERR_IO, "%s: not a regular file", path);
-    size_t len = strlen(key);
-    snprintf(key + len, sizeof key - len, "@%lld.%ld", (long long)st.st_mtim.tv_sec,
-             (long)st.st_mtim.tv_nsec);
+    limen_status rc = limen__file_key(s, path, key, &st);
+    if (rc)
+        return rc;
     for (int i = 0; i < s->ntextures; i++) {
-        if (strcmp(s->textures[i]->key, key) == 0) {
-            s->textures[i]->refs++;
-            *out = s->textures[i];
+        limen__texture *t = s->textures[i];
+        if (strcmp(t->key, key) == 0) {
+            t->refs++;
+            *out = t;
             return LIMEN_OK;
         }
     }
@@ -121,7 +123,7 @@ limen_status limen__texture_load(limen_scene *s, const char *path, size_t max_by
                            max_bytes / 1048576.0);
     }
     limen__texture *t;
-    limen_status rc = limen__texture_decode(s, buf, got, path, &t);
+    rc = limen__texture_decode(s, buf, got, path, &t);
     free(buf);
     if (rc)
         return rc;
@@ -137,12 +139,7 @@ void limen__texture_release(limen_scene *s, limen__texture *t)
 {
     if (!t || --t->refs > 0)
         return;
-    for (int i = 0; i < s->ntextures; i++) {
-        if (s->textures[i] == t) {
-            s->textures[i] = s->textures[--s->ntextures];
-            break;
-        }
-    }
+    limen__assets_remove(s->textures, &s->ntextures, t);
     texture_free(t);
 }
 

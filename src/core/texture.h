@@ -10,9 +10,11 @@
 
 #include "limen.h"
 
+#define LIMEN__FILE_KEY_SIZE 4160
+
 typedef struct limen__texture {
     int refs;                   /* nodes and meshes using it */
-    char key[4160];             /* file identity (resolved path and time), or "" */
+    char key[LIMEN__FILE_KEY_SIZE];  /* limen__file_key, or "" */
     char name[512];             /* the path as given, for messages */
     int w, h;
     unsigned char *rgb;         /* w * h * 3, top row first (as the file) */
@@ -39,6 +41,12 @@ const char *limen__image_why(void);
 /* Size from the header alone; false if it is not an image stb reads. */
 bool limen__image_info(const unsigned char *buf, size_t len, int *w, int *h);
 
+/* A file's identity for sharing: its resolved path and modification time (a file changed
+ * since it was read is read again). Fails, naming the path, if it is not a regular file. */
+#define LIMEN__FILE_KEY LIMEN__FILE_KEY_SIZE
+struct stat;
+limen_status limen__file_key(limen_scene *s, const char *path, char key[LIMEN__FILE_KEY],
+                             struct stat *st);
 /* A serial number unique in the process (textures and meshes). */
 uint64_t limen__next_serial(void);
 /* Sets (path) or clears (NULL) a node's texture; as limen__texture_load. */
