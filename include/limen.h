@@ -36,6 +36,8 @@
  *     range (the default: no attenuation); for one of range R at distance d,
  *        w_i = clamp(1 - (d/R)^4, 0, 1)^2
  *     which starts at 1, falls smoothly and reaches 0 (with zero slope) at d = R.
+ *     albedo is the node's colour (or checker colour), times its texture's texel where it
+ *     has one (see limen_node_set_texture).
  *   - Mirrors, portals and quads lie on their local z = 0, face local +Z,
  *     local +Y up, extent w x h centred on the origin.
  *
@@ -401,7 +403,7 @@ LIMEN_API const limen_view *limen_plan_view(const limen_plan *p, int i); /* NULL
 /* The surfaces view i sees (a portal seen from behind and the view's own exit surface are
  * not listed: they draw nothing); returns their count. */
 LIMEN_API int limen_plan_view_surfaces(const limen_plan *p, int i, const limen_view_surface **out);
-/* A closed shape (box, sphere, cylinder) passing through a portal, its centre over the
+/* A closed shape (box, sphere, cylinder, mesh) passing through a portal, its centre over the
  * rectangle: it is drawn twice in every view, itself cut at the portal's plane and a copy
  * carried by the portal matrix, cut at the partner's plane. */
 typedef struct limen_clone {

@@ -1,7 +1,7 @@
 -- portal_rooms.lua: two rooms far apart joined by a pair of portals in their brick walls.
 -- Each room has its own lamp with a range short of the other room, so neither lights the
 -- other through the walls; a textured crate and a bunny (from an OBJ) stand in the second
--- room, seen through the doorway from the first.
+-- room, seen through the doorway from the first, and a third bunny is halfway through it.
 local limen = require "limen"
 local s = limen.scene { background = {0.02, 0.02, 0.03}, ambient = 0.15 }
 local function room(cx, name, wall_colour)
@@ -32,5 +32,8 @@ s:mesh { name = "bunny", file = "data/bunny.obj", pos = {20.6, 0, 0.2}, scale = 
          rotate = {0, -30, 0}, color = {0.85, 0.8, 0.7}, smooth = true }
 s:mesh { name = "small bunny", file = "data/bunny.obj", pos = {-1.8, 0, 1.5}, scale = 0.06,
          rotate = {0, 120, 0}, color = {0.4, 0.6, 0.85} }
+-- halfway through the doorway: cut at the portal, the rest comes out in the far room
+s:mesh { name = "passing bunny", file = "data/bunny.obj", pos = {-0.3, 0, -3.05}, scale = 0.06,
+         rotate = {0, 200, 0}, color = {0.9, 0.5, 0.3}, smooth = true }
 s:camera { pos = {1.2, 1.6, 2.4}, look_at = {0, 1.1, -3}, fov = 62 }
 return s
