@@ -224,7 +224,8 @@ static void test_bad_files(void)
     expect_refused(s, m, write_text("huge.ply",
         "ply\nformat binary_little_endian 1.0\nelement vertex 30000000\nproperty float x\n"
         "property float y\nproperty float z\nelement face 10000000\n"
-        "property list uchar int vertex_indices\nend_header\n"), "File corrupted");
+        "property list uchar int vertex_indices\nend_header\n"),
+                   "declares more elements than the file has bytes");
     limen_mesh_info info;
     CHECK_OK(limen_mesh_get(s, m, &info));
     CHECK(info.triangle_count == 0);

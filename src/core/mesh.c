@@ -511,16 +511,37 @@ static limen_status file_texture(limen_scene *s, const struct aiScene *sc, const
     return limen__texture_load(s, full, max_bytes, charged, &m->tex);
 }
 
-/* assimp 5.2's PLY reader loops forever on a header that never ends: refuse such a file
- * before it gets there. */
-static bool header_ends(FILE *f)
+/* A PLY header, checked before assimp reads it: assimp 5.2 loops forever on one that never
+ * ends, and allocates what the header declares before it finds the data missing (a few
+ * bytes declaring ten million faces would take gigabytes outside any cap). Every element
+ * takes at least a byte of the file, so no more may be declared than it has bytes. Writes
+ * why into why and returns false if the file is refused; true for other formats. */
+static bool ply_header_ok(FILE *f, uint64_t size, char *why, size_t why_size)
 {
     char head[4096 + 1];
     size_t n = fread(head, 1, sizeof head - 1, f);
     head[n] = '\0';
     if (n < 3 || memcmp(head, "ply", 3) != 0)
         return true;
-    return memmem(head, n, "end_header", 10) != NULL;
+    char *end = memmem(head, n, "end_header", 10);
+    if (!end) {
+        snprintf(why, why_size, "a PLY header with no end_header in its first 4 KiB");
+        return false;
+    }
+    *end = '\0';
+    uint64_t declared = 0;
+    for (char *p = strstr(head, "element "); p; p = strstr(p + 8, "element ")) {
+        char name[32];
+        unsigned long long count = 0;
+        if (sscanf(p + 8, "%31s %llu", name, &count) == 2)
+            declared += count > size ? size + 1 : count;
+    }
+    if (declared > size) {
+        snprintf(why, why_size, "its PLY header declares more elements than the file has "
+                 "bytes (%llu)", (unsigned long long)size);
+        return false;
+    }
+    return true;
 }
 
 static limen_status load_file(limen_scene *s, const char *path, size_t max_bytes,
@@ -531,16 +552,17 @@ static limen_status load_file(limen_scene *s, const char *path, size_t max_bytes
     FILE *f = fopen(path, "rb");
     if (!f)
         return limen__fail(s, LIMEN_ERR_IO, "%s: cannot open: %s", path, strerror(errno));
+    char why[128] = "";
     int fst = fstat(fileno(f), &stt);
-    bool ends = fst == 0 && S_ISREG(stt.st_mode) && header_ends(f);
+    bool ok = fst == 0 && S_ISREG(stt.st_mode) &&
+              ply_header_ok(f, (uint64_t)stt.st_size, why, sizeof why);
     fclose(f);
     if (fst != 0 || !S_ISREG(stt.st_mode))
         return limen__fail(s, LIMEN_ERR_IO, "%s: not a regular file", path);
     if (stt.st_size == 0)
         return limen__fail(s, LIMEN_ERR_IO, "%s: empty file", path);
-    if (!ends)
-        return limen__fail(s, LIMEN_ERR_IO, "%s: a PLY header with no end_header in its first "
-                           "4 KiB", path);
+    if (!ok)
+        return limen__fail(s, LIMEN_ERR_IO, "%s: %s", path, why);
     /* the importer holds at least the file's bytes while it reads */
     if ((uint64_t)stt.st_size > max_bytes)
         return limen__fail(s, LIMEN_ERR_NOMEM, "%s: a file of %.1f MiB, more than the %.1f MiB "
@@ -550,9 +572,9 @@ static limen_status load_file(limen_scene *s, const char *path, size_t max_bytes
                                aiProcess_PreTransformVertices | aiProcess_SortByPType |
                                aiProcess_ValidateDataStructure);
     if (!sc) {
-        const char *why = aiGetErrorString();
+        const char *err = aiGetErrorString();
         return limen__fail(s, LIMEN_ERR_IO, "%s: cannot read it as a mesh: %.300s", path,
-                           why && why[0] ? why : "unknown format");
+                           err && err[0] ? err : "unknown format");
     }
     limen_status st = LIMEN_OK;
     if (sc->mFlags & AI_SCENE_FLAGS_INCOMPLETE)
