@@ -19,8 +19,8 @@ LIBS_NOLUA = $(DEP_LIBS_NOLUA) -lm -lpthread
 LIBS       = $(DEP_LIBS) -lm -lpthread
 
 # ------------------------------------------------------------------ objects
-CORE_SRC := src/core/error.c src/core/lmath.c src/core/scene.c src/core/surface.c src/core/move.c src/core/straddle.c src/core/plan.c src/core/trace.c src/core/image.c src/core/mesh.c src/core/texture.c
-GL_SRC   := src/gl/render.c src/gl/views.c src/gl/mesh.c src/gl/ctx_osmesa.c src/gl/ctx_egl.c
+CORE_SRC := src/core/error.c src/core/lmath.c src/core/scene.c src/core/surface.c src/core/move.c src/core/straddle.c src/core/plan.c src/core/drawables.c src/core/trace.c src/core/image.c src/core/mesh.c src/core/texture.c
+GL_SRC   := src/gl/render.c src/gl/views.c src/gl/mesh.c src/gl/assets.c src/gl/ctx_osmesa.c src/gl/ctx_egl.c
 LUA_SRC  := src/lua/bindings.c src/lua/script.c src/lua/safe.c
 LIB_SRC  := $(CORE_SRC) $(GL_SRC) $(LUA_SRC)
 CLI_SRC  := src/cli/main.c src/cli/trace_cmd.c

@@ -121,6 +121,14 @@ LIMEN_API limen_status limen_oblique_projection(const float proj[16], const floa
 LIMEN_API limen_status limen_projection_planes(const float proj[16], limen_depth_range range,
                                                float near_plane[4], float far_plane[4]);
 
+/* Keeps the part of a convex polygon where plane . p >= 0 (Sutherland-Hodgman, in double):
+ * in and out hold n and cap homogeneous points (x, y, z, w), 4 doubles each, and must not
+ * overlap; plane is any 4-vector (a world plane for world points, a clip-space one such as
+ * (-1, 0, 0, 1) for clip-space points). Returns the points written, at most cap (n + 1 are
+ * enough): fewer than 3 means nothing is left. n < 3, cap < 1 or NULL -> 0. */
+LIMEN_API int limen_clip_polygon(const double *in, int n, const double plane[4], double *out,
+                                 int cap);
+
 /* ---------------------------------------------------------------- scene */
 
 typedef struct limen_scene limen_scene;
@@ -313,6 +321,78 @@ LIMEN_API limen_status limen_camera_get_lens(const limen_scene *s, limen_node ca
 LIMEN_API limen_status limen_camera_matrices(limen_scene *s, float aspect, limen_depth_range range,
                                              float view[16], float proj[16]);
 
+/* ---------------------------------------------------------------- what to draw */
+
+/* A renderer draws a frame from two public lists, the same for limen's own renderer and a
+ * game's: the plan of the view tree (below) and the drawables, a snapshot of the nodes that
+ * draw or light, read in one call per frame instead of a getter per field. Shapes are the
+ * unit meshes of limen_node_kind scaled by dims; mirrors and portals are quads whose colours
+ * follow limen_surface_get (the tints are already folded into limen_view.tint); lights shade
+ * as CONVENTIONS says, the first LIMEN_MAX_LIGHTS visible ones in list order. The list grows
+ * with the library (meshes and textures will join as kinds and fields): read items through
+ * the pointer it gives, never allocate a limen_drawable. */
+#define LIMEN_MAX_LIGHTS 8      /* lights that shade: the first visible LIGHT items */
+
+/* A mesh's triangles as a renderer reads them (limen_drawable.mesh): shared by every node
+ * that shows the same file, valid while one does. */
+typedef struct limen_mesh_geometry {
+    uint64_t id;                /* unique in the process: key a GPU copy on it */
+    int vertex_count, triangle_count;
+    const float *positions;     /* vertex_count * 3, in the node's local frame */
+    const float *normals;       /* vertex_count * 3: the data's own, else area-weighted */
+    const float *uvs;           /* vertex_count * 2, or NULL */
+    const uint32_t *indices;    /* triangle_count * 3 */
+} limen_mesh_geometry;
+
+/* An image for a texture (limen_drawable.texture): 8-bit RGB, top row first, sampled as
+ * limen_node_set_texture says; valid while a node uses it. */
+typedef struct limen_image {
+    uint64_t id;                /* unique in the process: key a GPU copy on it */
+    int width, height;
+    const unsigned char *rgb;
+} limen_image;
+
+typedef struct limen_drawable {
+    limen_node node;            /* the node */
+    limen_node_kind kind;       /* BOX, SPHERE, CYLINDER, QUAD, MIRROR, PORTAL, LIGHT, MESH */
+    int visible;                /* 0: hidden, draws and lights nothing (limen_node_get_visible) */
+    float world[16];            /* world matrix; the unit mesh's scale (dims) is not in it */
+    float dims[3];              /* as limen_node_set_dims */
+    float color[3];             /* albedo (the checker's colour a); a light's intensity */
+    float checker[3];           /* the checker's colour b */
+    float cell;                 /* checker cell size; 0: plain colour */
+    float centre[3];            /* world bounding sphere (its centre and radius): what a view */
+    float radius;               /* culls against its frustum and sorts nearest first by */
+    float tint[3];              /* mirrors and portals (else 0): tint, */
+    float back[3];              /* the matte colour of a mirror's back, */
+    float fill[3];              /* and the colour where recursion stops */
+    const char *name;           /* the node's name, "" if none; points into the scene: */
+    const char *label;          /* ... as does where it was made ("" if not known) */
+    float range;                /* lights: limen_light_set_range (0: none) */
+    const limen_mesh_geometry *mesh;  /* meshes: the triangles (NULL: none yet) */
+    int smooth;                 /* meshes: 1 interpolates the vertex normals, 0 takes each
+                                 * triangle's face normal (p1-p0) x (p2-p0) */
+    const limen_image *texture; /* planes, boxes, meshes: albedo texture (a mesh file's own
+                                 * where the node names none), or NULL */
+} limen_drawable;
+
+typedef struct limen_drawables limen_drawables;
+
+LIMEN_API limen_status limen_drawables_create(limen_drawables **out);
+LIMEN_API void limen_drawables_destroy(limen_drawables *d);            /* NULL is fine */
+/* Reads the scene (refreshing its world matrices): every live node of a kind above, hidden
+ * ones included, in pool order. On failure the message is the scene's and the list is
+ * empty. name and label stay valid while their node lives; the rest is a copy. */
+LIMEN_API limen_status limen_drawables_build(limen_drawables *d, limen_scene *s);
+/* The items; returns their count (0 and NULL for an empty or NULL list). */
+LIMEN_API int limen_drawables_items(const limen_drawables *d, const limen_drawable **out);
+/* Index of node n's item (for limen_view_surface.node, limen_clone.node), or -1 when it has
+ * none (not a drawing kind, or stale). Constant time. */
+LIMEN_API int limen_drawables_find(const limen_drawables *d, limen_node n);
+/* The scene's background colour and ambient term when the list was built. */
+LIMEN_API void limen_drawables_environment(const limen_drawables *d, float background[3],
+                                           float *ambient);
+
 /* ---------------------------------------------------------------- view planning */
 
 /* How a virtual view cuts away what lies behind its exit surface. */
@@ -332,9 +412,9 @@ typedef enum limen_view_kind {
  * children, children in the order their surfaces should be processed. A nested view first
  * resets depth inside its pixels (stencil == its stencil value, within its scissor), draws,
  * and shows the scene background times its tint where nothing lands. limen's shading, which
- * the ray tracer reproduces: at most 8 lights (LIGHT nodes in pool order); sphere normals
- * and cylinder side normals (x, 0, z) from the true shape; checker cells in the node's local
- * units before its own scale, x+y for quads, x+y+z for other shapes. */
+ * the ray tracer reproduces: at most LIMEN_MAX_LIGHTS lights (LIGHT nodes in pool order);
+ * sphere normals and cylinder side normals (x, 0, z) from the true shape; checker cells in
+ * the node's local units before its own scale, x+y for quads, x+y+z for other shapes. */
 typedef struct limen_view {
     int id;                     /* index in the plan */
     int parent;                 /* -1 for the camera view */

@@ -24,8 +24,10 @@
  *      b. limen_plan_build(plan, scene, {width, height, range}) with the game's
  *         clip-space convention (LIMEN_DEPTH_NO for OpenGL's default, LIMEN_DEPTH_ZO with
  *         glClipControl or for Direct3D/Vulkan);
- *      c. read the scene (section 4): limen_scene_nodes enumerates the nodes; their kind,
- *         dims, colour, checker, world matrix and surface colours come from getters;
+ *      c. read what to draw (section 4): limen_drawables_build lists, in one call, the
+ *         nodes that draw or light, each with its kind, world matrix, dims, colours,
+ *         checker and surface colours, and limen_drawables_find gives the item of a node
+ *         the plan names;
  *      d. draw view 0, the camera, which recurses through the tree (section 5).
  *
  * DRAWING ONE VIEW v (the stencil method; v's pixels hold stencil == v->stencil)
@@ -44,6 +46,9 @@
  *       FILL:    recursion stopped there: the surface's fill colour, unlit;
  *       BACK:    a mirror seen from behind: a lit matte quad of its back colour.
  *     Mirrors and portals are drawn with depth clamping: the near plane does not cut them.
+ *     So in a nested view with an oblique projection, whose near plane is the exit plane,
+ *     they are cut by v->clip_plane as gl_ClipDistance[0]: else what of one lies behind the
+ *     exit surface (a neighbour poking through a mirror) would show.
  *
  * The tests (section 7) render scenes/mirror_room.lua, portals.lua and corridor.lua with
  * this code and with limen's renderer and compare; frames go to build/example_*.png.
@@ -60,7 +65,6 @@
 
 #define SEGMENTS 96             /* fixed tessellation of spheres and cylinders */
 #define MAX_ITEMS 1024          /* nodes the game draws per frame */
-#define MAX_LIGHTS 8
 
 /* ============================================================ 0. small maths */
 
@@ -88,6 +92,7 @@ typedef struct item {
     float scale[3];                     /* unit mesh -> node-local units (for the checker) */
     float color[3], color_b[3], cell;   /* albedo, or checker colours a and b */
     float back[3], fill[3];             /* mirrors and portals */
+    int drawn;                          /* 0: hidden, or nothing to draw (a light) */
 } item;
 
 typedef struct game {
@@ -101,9 +106,10 @@ typedef struct game {
             ambient, shape, flat, nlights, light_pos, light_col;
     } u;
     mesh meshes[MESH_COUNT];
-    limen_plan *plan;                   /* the game's plan, rebuilt every frame */
+    limen_plan *plan;                   /* the game's plan, rebuilt every frame ... */
+    limen_drawables *draw;              /* ... and its list of what to draw */
     const limen_plan *drawing;          /* the plan being drawn */
-    item items[MAX_ITEMS];              /* this frame's scene, read through the public API */
+    item items[MAX_ITEMS];              /* this frame's drawables, as the game draws them */
     int nitems;
     float background[3];
     /* Hooks for tests/sweeps/plan_gl.h, which draws through this game with some views'
@@ -113,6 +119,7 @@ typedef struct game {
     const limen_clip_method *clip;
     void (*flat_surface)(struct game *g, const limen_view *v, const item *it, const float rgb[3]);
     void *hook_data;
+    const float *cut;                   /* world plane that cuts surfaces (see use_view) */
 } game;
 
 static int make_current(game *g)
@@ -360,6 +367,7 @@ static void game_destroy(game *g)
     if (g->ctx)
         OSMesaDestroyContext(g->ctx);
     limen_plan_destroy(g->plan);
+    limen_drawables_destroy(g->draw);
     free(g);
 }
 
@@ -369,7 +377,8 @@ static game *game_create(int w, int h)
     if (!g)
         return NULL;
     g->w = w, g->h = h;
-    if (context_create(g) || program_create(g) || meshes_create(g) || limen_plan_create(&g->plan)) {
+    if (context_create(g) || program_create(g) || meshes_create(g) || limen_plan_create(&g->plan) ||
+        limen_drawables_create(&g->draw)) {
         game_destroy(g);
         return NULL;
     }
@@ -378,61 +387,60 @@ static game *game_create(int w, int h)
 
 /* ============================================================ 4. reading the scene */
 
-/* The game's picture of one node, from limen's public getters; 0 if it draws nothing. */
-static int read_node(limen_scene *s, limen_node n, item *it)
+/* The game's picture of one drawable; 0 if it draws nothing (a light). */
+static int read_item(const limen_drawable *d, item *it)
 {
     memset(it, 0, sizeof *it);
-    it->node = n;
-    it->kind = limen_node_get_kind(s, n);
-    float d[3], world[16];
-    limen_node_get_dims(s, n, d);
+    it->node = d->node;
+    it->kind = d->kind;
+    const float *dims = d->dims;
     switch (it->kind) {
-    case LIMEN_NODE_BOX:      it->mesh = MESH_BOX;      memcpy(it->scale, d, sizeof d); break;
+    case LIMEN_NODE_BOX:      it->mesh = MESH_BOX;      memcpy(it->scale, dims, 3 * sizeof *dims);
+                              break;
     case LIMEN_NODE_SPHERE:   it->mesh = MESH_SPHERE;   it->shape = SHAPE_SPHERE;
-                              it->scale[0] = it->scale[1] = it->scale[2] = d[0]; break;
+                              it->scale[0] = it->scale[1] = it->scale[2] = dims[0]; break;
     case LIMEN_NODE_CYLINDER: it->mesh = MESH_CYLINDER; it->shape = SHAPE_CYLINDER;
-                              it->scale[0] = it->scale[2] = d[0], it->scale[1] = d[1]; break;
+                              it->scale[0] = it->scale[2] = dims[0], it->scale[1] = dims[1]; break;
     case LIMEN_NODE_QUAD: case LIMEN_NODE_MIRROR: case LIMEN_NODE_PORTAL:
-        it->mesh = MESH_QUAD, it->scale[0] = d[0], it->scale[1] = d[1], it->scale[2] = 1;
+        it->mesh = MESH_QUAD, it->scale[0] = dims[0], it->scale[1] = dims[1], it->scale[2] = 1;
         break;
     default:
-        return 0;                               /* groups, lights, cameras */
+        return 0;                               /* lights */
     }
-    limen_node_world_matrix(s, n, world);
-    memcpy(it->model, world, sizeof world);
+    memcpy(it->model, d->world, sizeof it->model);
     for (int c = 0; c < 3; c++)
         for (int r = 0; r < 3; r++)
             it->model[c * 4 + r] *= it->scale[c];
-    limen_node_get_checker(s, n, it->color, it->color_b, &it->cell);
-    float tint[3];      /* the planner folds mirror tints into limen_view.tint */
-    int max_depth;
-    if (it->kind == LIMEN_NODE_MIRROR || it->kind == LIMEN_NODE_PORTAL)
-        limen_surface_get(s, n, tint, it->back, it->fill, &max_depth);
+    memcpy(it->color, d->color, sizeof it->color);
+    memcpy(it->color_b, d->checker, sizeof it->color_b);
+    it->cell = d->cell;
+    /* (the planner folds mirror tints into limen_view.tint) */
+    memcpy(it->back, d->back, sizeof it->back);
+    memcpy(it->fill, d->fill, sizeof it->fill);
     return 1;
 }
 
-/* Reads what this frame draws: shapes and surfaces, lights, ambient and background. */
+/* Reads what this frame draws, in one call: shapes and surfaces, lights, ambient and
+ * background. items[i] is the drawable i's picture (or not drawn). */
 static void read_scene(game *g, limen_scene *s)
 {
-    limen_node nodes[MAX_ITEMS];
-    int n = limen_scene_nodes(s, nodes, MAX_ITEMS);
-    float light_pos[MAX_LIGHTS][3], light_col[MAX_LIGHTS][3];
+    float light_pos[LIMEN_MAX_LIGHTS][3], light_col[LIMEN_MAX_LIGHTS][3], ambient;
     int nlights = 0;
-    g->nitems = 0;
-    for (int i = 0; i < n && i < MAX_ITEMS; i++) {
-        if (!limen_node_get_visible(s, nodes[i]))
-            continue;
-        if (limen_node_get_kind(s, nodes[i]) == LIMEN_NODE_LIGHT && nlights < MAX_LIGHTS) {
-            float m[16];
-            limen_node_world_matrix(s, nodes[i], m);
-            memcpy(light_pos[nlights], m + 12, sizeof light_pos[0]);
-            limen_node_get_color(s, nodes[i], light_col[nlights++]);
-        } else if (read_node(s, nodes[i], &g->items[g->nitems])) {
-            g->nitems++;
+    const limen_drawable *d;
+    if (limen_drawables_build(g->draw, s))
+        fprintf(stderr, "  drawables: %s\n", limen_last_error(s));
+    int n = limen_drawables_items(g->draw, &d);
+    g->nitems = n < MAX_ITEMS ? n : MAX_ITEMS;
+    for (int i = 0; i < g->nitems; i++) {
+        item *it = &g->items[i];
+        it->drawn = d[i].visible && read_item(&d[i], it);
+        if (d[i].visible && d[i].kind == LIMEN_NODE_LIGHT && nlights < LIMEN_MAX_LIGHTS) {
+            memcpy(light_pos[nlights], d[i].world + 12, sizeof light_pos[0]);
+            memcpy(light_col[nlights++], d[i].color, sizeof light_col[0]);
         }
     }
-    limen_scene_get_background(s, g->background);
-    glUniform1f(g->u.ambient, limen_scene_get_ambient(s));
+    limen_drawables_environment(g->draw, g->background, &ambient);
+    glUniform1f(g->u.ambient, ambient);
     glUniform1i(g->u.nlights, nlights);
     if (nlights) {
         glUniform3fv(g->u.light_pos, nlights, &light_pos[0][0]);
@@ -440,12 +448,11 @@ static void read_scene(game *g, limen_scene *s)
     }
 }
 
+/* The picture of a node the plan names, or NULL. */
 static const item *find_item(const game *g, limen_node n)
 {
-    for (int i = 0; i < g->nitems; i++)
-        if (g->items[i].node.id == n.id)
-            return &g->items[i];
-    return NULL;
+    int i = limen_drawables_find(g->draw, n);
+    return i >= 0 && i < g->nitems && g->items[i].drawn ? &g->items[i] : NULL;
 }
 
 static int is_surface(const item *it)
@@ -477,6 +484,8 @@ static void use_view(game *g, const limen_view *v)
     glUniform4fv(g->u.clip_plane, 1, plane ? v->clip_plane : no_clip);
     glFrontFace(v->front_face_cw ? GL_CW : GL_CCW);
     glUniform3fv(g->u.tint, 1, v->tint);
+    /* depth clamping keeps surfaces from the near plane, the exit plane of an oblique view */
+    g->cut = v->depth > 0 && clip == LIMEN_CLIP_OBLIQUE ? v->clip_plane : NULL;
 }
 
 /* One node; flat: unlit colour `albedo` (masks, seals, fills). */
@@ -492,9 +501,18 @@ static void draw_item(game *g, const item *it, int flat, const float albedo[3])
     /* mirrors and portals are not cut by the near plane; closed shapes cull back faces */
     gl_set(GL_DEPTH_CLAMP, is_surface(it));
     gl_set(GL_CULL_FACE, it->mesh != MESH_QUAD);
+    int cut = is_surface(it) && g->cut;
+    if (cut) {
+        glUniform4fv(g->u.clip_plane, 1, g->cut);
+        glEnable(GL_CLIP_DISTANCE0);
+    }
     const mesh *m = &g->meshes[it->mesh];
     glDrawElements(GL_TRIANGLES, m->count, GL_UNSIGNED_INT,
                    (void *)(sizeof(GLuint) * (size_t)m->first));
+    if (cut) {
+        glUniform4f(g->u.clip_plane, 0, 0, 0, 1);
+        glDisable(GL_CLIP_DISTANCE0);
+    }
 }
 
 /* A screen-filling quad on the far plane (NDC z = +1 in both NO and ZO), colour times the
@@ -510,6 +528,7 @@ static void draw_far_plane(game *g, const limen_view *v, const float rgb[3])
      * to go on clipping by the last plane after glDisable(GL_CLIP_DISTANCE0) */
     glUniform4f(g->u.clip_plane, 0, 0, 0, 1);
     glDisable(GL_CLIP_DISTANCE0);
+    g->cut = NULL;                              /* (use_view sets it again) */
     draw_item(g, &far, 1, rgb);                 /* a "surface": depth clamped at far */
 }
 
@@ -539,7 +558,7 @@ static void draw_view(game *g, int index)
     }
     use_view(g, v);
     for (int i = 0; i < g->nitems; i++)
-        if (!is_surface(&g->items[i]))
+        if (g->items[i].drawn && !is_surface(&g->items[i]))
             draw_item(g, &g->items[i], 0, g->items[i].color);
     if (v->depth > 0) {
         /* the background (tinted) where no shape landed: depth is still at the far plane */
@@ -745,6 +764,14 @@ static void test_portals(void)
     compare_script("scenes/portals.lua", "portals", LIMEN_DEPTH_NO, LIMEN_CLIP_OBLIQUE, 2);
 }
 
+/* Mirror walls wider than their room poke through each other: in the reflected corners
+ * what lies beyond the exit plane must be cut, surfaces included. */
+static void test_crossing_walls(void)
+{
+    compare_script("tests/scenes/mirror_box_crossing.lua", "crossing_walls", LIMEN_DEPTH_NO,
+                   LIMEN_CLIP_OBLIQUE, 20);
+}
+
 static void test_corridor(void)
 {
     compare_script("scenes/corridor.lua", "corridor", LIMEN_DEPTH_NO, LIMEN_CLIP_OBLIQUE, 8);
@@ -807,6 +834,7 @@ static const check_case cases[] = {
     { "mirror_room", test_mirror_room }, { "portals", test_portals },
     { "corridor", test_corridor },       { "depth_zo", test_depth_zo },
     { "clip_plane", test_clip_plane },   { "game_loop", test_game_loop },
+    { "crossing_walls", test_crossing_walls },
     { 0 },
 };
 

@@ -1174,6 +1174,48 @@ static void test_internal_aliasing(void)
     }
 }
 
+/* Clipping a convex polygon by a plane (homogeneous points): what is kept, where the cut
+ * falls, and the cap on what is written. */
+static void test_clip_polygon(void)
+{
+    /* the unit square at z = 0, w = 1; keep x <= 0.25 */
+    const double sq[4][4] = { { 0, 0, 0, 1 }, { 1, 0, 0, 1 }, { 1, 1, 0, 1 }, { 0, 1, 0, 1 } };
+    const double cut[4] = { -1, 0, 0, 0.25 };
+    double out[8][4];
+    int n = limen_clip_polygon(&sq[0][0], 4, cut, &out[0][0], 8);
+    CHECK(n == 4);
+    double area = 0;
+    for (int i = 0; i < n; i++) {
+        CHECK(out[i][0] <= 0.25 + 1e-12 && out[i][3] == 1);
+        const double *a = out[i], *b = out[(i + 1) % n];
+        area += a[0] * b[1] - b[0] * a[1];
+    }
+    CHECK_NEAR(0.5 * area, 0.25, 1e-12);    /* the same winding, a quarter of the square */
+    /* a corner cut off leaves a pentagon; a plane missing it keeps all; one beyond it, none */
+    const double corner[4] = { -1, -1, 0, 1.5 }, all[4] = { 0, 0, 0, 1 }, none[4] = { 1, 0, 0, -2 };
+    CHECK(limen_clip_polygon(&sq[0][0], 4, corner, &out[0][0], 8) == 5);
+    CHECK(limen_clip_polygon(&sq[0][0], 4, all, &out[0][0], 8) == 4);
+    CHECK(memcmp(out, sq, sizeof sq) == 0);
+    CHECK(limen_clip_polygon(&sq[0][0], 4, none, &out[0][0], 8) < 3);
+    /* clip space: w scales the test (x <= w), as the frustum's sides need */
+    const double far_pt[3][4] = { { 0, 0, 0, 1 }, { 4, 0, 0, 2 }, { 0, 4, 0, 2 } };
+    const double right[4] = { -1, 0, 0, 1 };
+    n = limen_clip_polygon(&far_pt[0][0], 3, right, &out[0][0], 8);
+    CHECK(n == 4);
+    for (int i = 0; i < n; i++)
+        CHECK(out[i][0] <= out[i][3] + 1e-12);
+    /* at most cap points are written */
+    double small[4][4];
+    memset(small, 0x7f, sizeof small);
+    CHECK(limen_clip_polygon(&sq[0][0], 4, corner, &small[0][0], 3) == 3);
+    CHECK(limen_clip_polygon(&sq[0][0], 4, corner, &small[0][0], 0) == 0);
+    CHECK(limen_clip_polygon(NULL, 4, corner, &small[0][0], 3) == 0);
+    CHECK(limen_clip_polygon(&sq[0][0], 2, corner, &small[0][0], 3) == 0);
+    unsigned char tail[sizeof small[3]];
+    memset(tail, 0x7f, sizeof tail);
+    CHECK(memcmp(small[3], tail, sizeof tail) == 0);
+}
+
 static const check_case cases[] = {
     {"plane_from_points", test_plane_from_points},
     {"plane_degenerate", test_plane_degenerate},
@@ -1191,6 +1233,7 @@ static const check_case cases[] = {
     {"oblique_refused", test_oblique_refused},
     {"oblique_mirror_view", test_oblique_mirror_view},
     {"internal_aliasing", test_internal_aliasing},
+    {"clip_polygon", test_clip_polygon},
     {0, 0},
 };
 

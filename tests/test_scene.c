@@ -260,6 +260,91 @@ static void test_overflowing_world(void)
     limen_scene_destroy(s);
 }
 
+/* What a renderer draws, in one list: every live node that draws or lights, hidden ones
+ * marked, in pool order, with what the getters give; a node the plan names is found in
+ * constant time, a stale handle or a group not at all. */
+static void test_drawables(void)
+{
+    limen_scene *s = new_scene();
+    limen_node grp, box, lamp, cam, ball, mir, gone;
+    CHECK_OK(limen_node_create(s, LIMEN_NODE_GROUP, "grp", &grp));
+    CHECK_OK(limen_node_create(s, LIMEN_NODE_BOX, "gone", &gone));
+    CHECK_OK(limen_node_create(s, LIMEN_NODE_BOX, "box", &box));
+    CHECK_OK(limen_node_create(s, LIMEN_NODE_LIGHT, "lamp", &lamp));
+    CHECK_OK(limen_node_create(s, LIMEN_NODE_CAMERA, "cam", &cam));
+    CHECK_OK(limen_node_create(s, LIMEN_NODE_SPHERE, "ball", &ball));
+    CHECK_OK(limen_node_create(s, LIMEN_NODE_MIRROR, "mir", &mir));
+    CHECK_OK(limen_node_destroy(s, gone));
+    CHECK_OK(limen_node_set_parent(s, box, grp));
+    CHECK_OK(limen_node_set_position(s, grp, (float[3]){ 1, 2, 3 }));
+    CHECK_OK(limen_node_set_scale(s, box, (float[3]){ 2, 2, 2 }));
+    CHECK_OK(limen_node_set_dims(s, box, (float[3]){ 1, 2, 2 }));
+    CHECK_OK(limen_node_set_checker(s, box, (float[3]){ 1, 0, 0 }, (float[3]){ 0, 0, 1 }, 0.25f));
+    CHECK_OK(limen_node_set_label(s, box, "room.lua:7"));
+    CHECK_OK(limen_node_set_color(s, lamp, (float[3]){ 0.5f, 0.6f, 0.7f }));
+    CHECK_OK(limen_node_set_visible(s, ball, 0));
+    CHECK_OK(limen_surface_set_tint(s, mir, (float[3]){ 0.9f, 0.8f, 0.7f }));
+    CHECK_OK(limen_surface_set_fill(s, mir, (float[3]){ 0, 1, 0 }));
+    CHECK_OK(limen_scene_set_background(s, (float[3]){ 0.1f, 0.2f, 0.3f }));
+    CHECK_OK(limen_scene_set_ambient(s, 0.25f));
+
+    limen_drawables *d = NULL;
+    CHECK_OK(limen_drawables_create(&d));
+    const limen_drawable *it = (const limen_drawable *)1;
+    CHECK(limen_drawables_items(d, &it) == 0 && it == NULL);
+    CHECK_OK(limen_drawables_build(d, s));
+    int n = limen_drawables_items(d, &it);
+    CHECK(n == 4);
+    const limen_node want[4] = { box, lamp, ball, mir };
+    for (int i = 0; i < 4 && i < n; i++) {
+        CHECK(it[i].node.id == want[i].id);
+        CHECK(limen_drawables_find(d, want[i]) == i);
+        CHECK(it[i].kind == limen_node_get_kind(s, want[i]));
+        CHECK(it[i].visible == limen_node_get_visible(s, want[i]));
+        float m[16];
+        CHECK_OK(limen_node_world_matrix(s, want[i], m));
+        CHECK(memcmp(m, it[i].world, sizeof m) == 0);
+    }
+    CHECK(limen_drawables_find(d, grp) == -1 && limen_drawables_find(d, cam) == -1);
+    CHECK(limen_drawables_find(d, gone) == -1 && limen_drawables_find(d, (limen_node){ 0 }) == -1);
+    CHECK(limen_drawables_find(d, (limen_node){ 0xFFFFFFFFu }) == -1);
+    if (n == 4) {
+        /* the box: under a group, scaled; its bounding sphere is in world units */
+        CHECK(it[0].dims[1] == 2 && it[0].cell == 0.25f && it[0].color[0] == 1 &&
+              it[0].checker[2] == 1);
+        CHECK_NEAR(it[0].centre[0], 1, 1e-6);
+        CHECK_NEAR(it[0].centre[2], 3, 1e-6);
+        CHECK_NEAR(it[0].radius, 3.0, 1e-6);   /* 2 * 0.5 * |(1, 2, 2)| */
+        CHECK(strcmp(it[0].name, "box") == 0 && strcmp(it[0].label, "room.lua:7") == 0);
+        CHECK(it[1].color[2] == 0.7f && it[1].tint[0] == 0);
+        CHECK(it[2].visible == 0);
+        CHECK(it[3].tint[0] == 0.9f && it[3].fill[1] == 1 && it[3].back[0] == 0.5f);
+    }
+    float bg[3], amb;
+    limen_drawables_environment(d, bg, &amb);
+    CHECK(bg[0] == 0.1f && bg[2] == 0.3f && amb == 0.25f);
+
+    /* a list is a snapshot: a node made later is not in it until the next build, and then
+     * it takes the destroyed box's slot, so its place in pool order */
+    limen_node late;
+    CHECK_OK(limen_node_create(s, LIMEN_NODE_QUAD, "late", &late));
+    CHECK(limen_drawables_find(d, late) == -1);
+    CHECK_OK(limen_drawables_build(d, s));
+    CHECK(limen_drawables_items(d, NULL) == 5 && limen_drawables_find(d, late) == 0);
+
+    /* a world matrix that overflows is refused, as by the planner, and the list is empty */
+    CHECK_OK(limen_node_set_scale(s, grp, (float[3]){ 1e30f, 1e30f, 1e30f }));
+    CHECK_OK(limen_node_set_scale(s, box, (float[3]){ 1e30f, 1e30f, 1e30f }));
+    CHECK(limen_drawables_build(d, s) == LIMEN_ERR_ARG);
+    CHECK(strstr(limen_last_error(s), "not finite") != NULL);
+    CHECK(limen_drawables_items(d, &it) == 0 && limen_drawables_find(d, lamp) == -1);
+    CHECK(limen_drawables_build(NULL, s) == LIMEN_ERR_ARG);
+    CHECK(limen_drawables_build(d, NULL) == LIMEN_ERR_ARG);
+    limen_drawables_destroy(d);
+    limen_drawables_destroy(NULL);
+    limen_scene_destroy(s);
+}
+
 static const check_case cases[] = {
     { "overflowing_world", test_overflowing_world },
     { "handles", test_handles },
@@ -270,6 +355,7 @@ static const check_case cases[] = {
     { "look_at", test_look_at },
     { "validation", test_validation },
     { "local_matrix", test_local_matrix },
+    { "drawables", test_drawables },
     { 0 },
 };
 

@@ -1,6 +1,6 @@
 /* test_truth.c - the rasterizer against the ray-traced truth: every gallery scene, both
  * methods, oblique and plane clipping, depths 0, 1, 2 and the scene's own, at 320x240 and
- * 640x480. At most 0.5% of pixels may differ by more than 8/255 in any channel. And the
+ * 640x480, and scenes whose surfaces cross each other. At most 0.5% of pixels may differ by more than 8/255 in any channel. And the
  * metric has teeth: clipping switched off, or a portal without its half turn, fails it by a
  * wide margin. Prints one line per scene and size with the worst share and the times. */
 #include <stdlib.h>
@@ -15,7 +15,8 @@
 
 static const char *const scenes[] = {
     "plain", "mirror_room", "corridor", "kaleidoscope", "periscope", "water", "portals",
-    "tunnel", "portal_mirror", "portal_sizes", "moving_portal", "flythrough", NULL,
+    "tunnel", "portal_mirror", "portal_sizes", "moving_portal", "flythrough",
+    "hall_of_mirrors", "portal_rooms", NULL,
 };
 
 static double now_ms(void)
@@ -61,14 +62,16 @@ static double bad_share(limen_renderer *r, limen_scene *s, limen_render_opts o,
     return d.bad_share;
 }
 
-static void gallery_at(int w, int h)
+/* Every scene of the list, both methods, both clip methods, depths 0, 1, 2 and the
+ * scene's own, against the truth. */
+static void scenes_at(const char *const *list, int w, int h)
 {
     limen_renderer *r = NULL;
     limen_status st = limen_renderer_create(&(limen_renderer_desc){ .width = w, .height = h }, &r);
     CHECK_MSG(st == LIMEN_OK, "renderer: %s", limen_renderer_error(r));
     const int depths[] = { 0, 1, 2, -1 };
-    for (int i = 0; scenes[i] && !st; i++) {
-        limen_script *sc = load(scenes[i]);
+    for (int i = 0; list[i] && !st; i++) {
+        limen_script *sc = load(list[i]);
         if (!sc)
             continue;
         limen_scene *s = limen_script_scene(sc);
@@ -88,7 +91,7 @@ static void gallery_at(int w, int h)
                         render_ms[m] = rms;
                     worst[m] = d > worst[m] ? d : worst[m];
                     CHECK_MSG(d <= BOUND, "%s %dx%d %s clip %s depth %d: %.3f%% of pixels off",
-                              scenes[i], w, h, m ? "texture" : "stencil", c ? "plane" : "oblique",
+                              list[i], w, h, m ? "texture" : "stencil", c ? "plane" : "oblique",
                               depths[k], 100 * d);
                 }
             }
@@ -97,7 +100,7 @@ static void gallery_at(int w, int h)
         /* worst over depths and clip methods; times at the scene's own depth, oblique */
         printf("     %-14s %dx%d  worst: stencil %.3f%%, texture %.3f%%  trace %.0f ms, "
                "render: stencil %.1f ms, texture %.1f ms\n",
-               scenes[i], w, h, 100 * worst[0], 100 * worst[1], trace_ms, render_ms[0],
+               list[i], w, h, 100 * worst[0], 100 * worst[1], trace_ms, render_ms[0],
                render_ms[1]);
         limen_script_destroy(sc);
     }
@@ -106,12 +109,25 @@ static void gallery_at(int w, int h)
 
 static void test_gallery_320x240(void)
 {
-    gallery_at(320, 240);
+    scenes_at(scenes, 320, 240);
 }
 
 static void test_gallery_640x480(void)
 {
-    gallery_at(640, 480);
+    scenes_at(scenes, 640, 480);
+}
+
+/* Surfaces that cross the exit plane of a nested view: mirror walls wider than their room,
+ * poking through their neighbours; leaning walls and an X of mirrors crossing each other;
+ * mirror fins reaching through a portal's wall and opening. What lies beyond the exit plane
+ * must be cut there in every view, the surfaces (drawn with depth clamping) included. */
+static void test_crossing_surfaces(void)
+{
+    static const char *const crossing[] = {
+        "tests/scenes/mirror_box_crossing.lua", "tests/scenes/mirror_cross.lua",
+        "tests/scenes/portal_crossing.lua", NULL,
+    };
+    scenes_at(crossing, 320, 240);
 }
 
 /* The metric must catch a wrong picture, by a wide margin. */
@@ -195,6 +211,7 @@ static void test_stencil_values(void)
 static const check_case cases[] = {
     { "gallery_320x240", test_gallery_320x240 },
     { "stencil_values", test_stencil_values },
+    { "crossing_surfaces", test_crossing_surfaces },
     { "gallery_640x480", test_gallery_640x480 },
     { "metric_has_teeth", test_metric_has_teeth },
     { 0 },

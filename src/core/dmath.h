@@ -121,8 +121,8 @@ static inline double limen__d_plane_dist(const double plane[4], const double p[3
 /* Keeps the part of polygon in (n homogeneous vertices) where plane . v >= 0, writing it to
  * out; stops taking vertices once cap are written, so out must hold cap + 1. Returns the
  * count. */
-static inline int limen__d_clip4(double in[][4], int n, const double plane[4], double out[][4],
-                                 int cap)
+static inline int limen__d_clip4(const double in[][4], int n, const double plane[4],
+                                 double out[][4], int cap)
 {
     int m = 0;
     for (int i = 0; i < n && m < cap; i++) {

@@ -14,7 +14,7 @@
 #define LIMEN__NAME_MAX 64
 #define LIMEN__LABEL_MAX 96
 #define LIMEN__ERR_MAX 512
-#define LIMEN__MAX_LIGHTS 8
+#define LIMEN__MAX_LIGHTS LIMEN_MAX_LIGHTS
 
 typedef struct limen__node {
     uint32_t gen;               /* generation; odd while alive */

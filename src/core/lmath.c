@@ -596,3 +596,11 @@ LIMEN_API limen_status limen_projection_planes(const float proj[16], limen_depth
     }
     return st;
 }
+
+LIMEN_API int limen_clip_polygon(const double *in, int n, const double plane[4], double *out,
+                                 int cap)
+{
+    if (!in || !plane || !out || n < 3 || cap < 1)
+        return 0;
+    return limen__d_clip4((const double(*)[4])in, n, plane, (double(*)[4])out, cap - 1);
+}

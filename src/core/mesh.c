@@ -331,6 +331,9 @@ static limen_status mesh_from_arrays(limen_scene *s, const limen_mesh_data *d, c
         return limen__fail(s, LIMEN_ERR_NOMEM, "%s: out of memory", what);
     }
     m->serial = limen__next_serial();
+    m->pub = (limen_mesh_geometry){ .id = m->serial, .vertex_count = (int)nv,
+                                    .triangle_count = (int)nt, .positions = m->pos,
+                                    .normals = m->nrm, .uvs = m->uv, .indices = m->idx };
     snprintf(m->name, sizeof m->name, "%s", what);
     *out = m;
     return LIMEN_OK;

@@ -37,6 +37,7 @@ typedef struct limen__mesh {
     size_t bytes;               /* what it holds, counted against a script's memory cap */
     struct limen__texture *tex; /* the file's base-colour texture (with uvs), or NULL */
     uint64_t serial;            /* unique per asset: the renderer keys its buffers on it */
+    limen_mesh_geometry pub;    /* what limen_drawable.mesh shows of it */
 } limen__mesh;
 
 /* Bytes a mesh of this size holds (geometry, hierarchy and bookkeeping). */

@@ -67,6 +67,7 @@ limen_status limen__texture_decode(limen_scene *s, const unsigned char *buf, siz
     t->rgb = rgb;
     t->bytes = sizeof *t + (size_t)w * (size_t)h * 3;
     t->serial = limen__next_serial();
+    t->pub = (limen_image){ .id = t->serial, .width = w, .height = h, .rgb = rgb };
     t->refs = 1;
     snprintf(t->name, sizeof t->name, "%s", name);
     *out = t;

@@ -20,6 +20,7 @@ typedef struct limen__texture {
     unsigned char *rgb;         /* w * h * 3, top row first (as the file) */
     size_t bytes;
     uint64_t serial;            /* unique in the process: the renderer keys its copy on it */
+    limen_image pub;            /* what limen_drawable.texture shows of it */
 } limen__texture;
 
 /* Loads an image file (PNG or JPEG), or finds it already loaded in the scene, with a new

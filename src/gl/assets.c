@@ -8,8 +8,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "core/mesh.h"
-#include "core/texture.h"
 #include "gl/gl_internal.h"
 
 #ifndef GL_REPEAT
@@ -53,12 +51,12 @@ static struct limen__gpu_asset *find(limen_renderer *r, uint64_t serial)
     return a;
 }
 
-static void face_normal(const limen__mesh *m, const uint32_t *ix, float n[3])
+static void face_normal(const limen_mesh_geometry *m, const uint32_t *ix, float n[3])
 {
     double e1[3], e2[3];
     for (int k = 0; k < 3; k++) {
-        e1[k] = (double)m->pos[ix[1] * 3 + k] - m->pos[ix[0] * 3 + k];
-        e2[k] = (double)m->pos[ix[2] * 3 + k] - m->pos[ix[0] * 3 + k];
+        e1[k] = (double)m->positions[ix[1] * 3 + k] - m->positions[ix[0] * 3 + k];
+        e2[k] = (double)m->positions[ix[2] * 3 + k] - m->positions[ix[0] * 3 + k];
     }
     double c[3] = { e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2],
                     e1[0] * e2[1] - e1[1] * e2[0] };
@@ -67,23 +65,23 @@ static void face_normal(const limen__mesh *m, const uint32_t *ix, float n[3])
         n[k] = len > 0 ? (float)(c[k] / len) : 0.0f;
 }
 
-static bool upload_mesh(limen_renderer *r, const limen__mesh *m, struct limen__gpu_asset *a)
+static bool upload_mesh(limen_renderer *r, const limen_mesh_geometry *m, struct limen__gpu_asset *a)
 {
-    size_t corners = (size_t)m->ntris * 3;
+    size_t corners = (size_t)m->triangle_count * 3;
     float *buf = malloc(sizeof(float) * CORNER_FLOATS * corners);
     if (!buf)
         return false;
-    for (uint32_t t = 0; t < m->ntris; t++) {
-        const uint32_t *ix = &m->idx[t * 3];
+    for (int t = 0; t < m->triangle_count; t++) {
+        const uint32_t *ix = &m->indices[(size_t)t * 3];
         float fn[3];
         face_normal(m, ix, fn);
         for (int k = 0; k < 3; k++) {
             float *c = buf + ((size_t)t * 3 + k) * CORNER_FLOATS;
-            memcpy(c, &m->pos[ix[k] * 3], sizeof(float) * 3);
+            memcpy(c, &m->positions[ix[k] * 3], sizeof(float) * 3);
             memcpy(c + AT_FLAT, fn, sizeof fn);
-            memcpy(c + AT_SMOOTH, &m->nrm[ix[k] * 3], sizeof(float) * 3);
-            c[AT_UV] = m->uv ? m->uv[ix[k] * 2] : 0.0f;
-            c[AT_UV + 1] = m->uv ? m->uv[ix[k] * 2 + 1] : 0.0f;
+            memcpy(c + AT_SMOOTH, &m->normals[ix[k] * 3], sizeof(float) * 3);
+            c[AT_UV] = m->uvs ? m->uvs[ix[k] * 2] : 0.0f;
+            c[AT_UV + 1] = m->uvs ? m->uvs[ix[k] * 2 + 1] : 0.0f;
         }
     }
     GL(GenVertexArrays)(1, &a->vao);
@@ -103,9 +101,9 @@ static bool upload_mesh(limen_renderer *r, const limen__mesh *m, struct limen__g
     return true;
 }
 
-GLsizei limen__gpu_mesh_bind(limen_renderer *r, const limen__mesh *m, bool smooth)
+GLsizei limen__gpu_mesh_bind(limen_renderer *r, const limen_mesh_geometry *m, bool smooth)
 {
-    struct limen__gpu_asset *a = find(r, m->serial);
+    struct limen__gpu_asset *a = find(r, m->id);
     if (!a || (!a->vao && !upload_mesh(r, m, a)))
         return 0;
     GL(BindVertexArray)(a->vao);
@@ -115,23 +113,23 @@ GLsizei limen__gpu_mesh_bind(limen_renderer *r, const limen__mesh *m, bool smoot
     return a->count;
 }
 
-GLuint limen__gpu_texture(limen_renderer *r, const limen__texture *t)
+GLuint limen__gpu_texture(limen_renderer *r, const limen_image *t)
 {
-    struct limen__gpu_asset *a = find(r, t->serial);
+    struct limen__gpu_asset *a = find(r, t->id);
     if (!a)
         return 0;
     if (!a->tex) {
         /* rows bottom first: GL's t = 0 is the image's bottom row, as v = 0 is */
-        unsigned char *flip = malloc((size_t)t->w * (size_t)t->h * 3);
+        unsigned char *flip = malloc((size_t)t->width * (size_t)t->height * 3);
         if (!flip)
             return 0;
-        size_t row = (size_t)t->w * 3;
-        for (int j = 0; j < t->h; j++)
-            memcpy(flip + (size_t)j * row, t->rgb + (size_t)(t->h - 1 - j) * row, row);
+        size_t row = (size_t)t->width * 3;
+        for (int j = 0; j < t->height; j++)
+            memcpy(flip + (size_t)j * row, t->rgb + (size_t)(t->height - 1 - j) * row, row);
         GL(GenTextures)(1, &a->tex);
         GL(BindTexture)(GL_TEXTURE_2D, a->tex);
         GL(PixelStorei)(GL_UNPACK_ALIGNMENT, 1);
-        GL(TexImage2D)(GL_TEXTURE_2D, 0, GL_RGB8, t->w, t->h, 0, GL_RGB, GL_UNSIGNED_BYTE, flip);
+        GL(TexImage2D)(GL_TEXTURE_2D, 0, GL_RGB8, t->width, t->height, 0, GL_RGB, GL_UNSIGNED_BYTE, flip);
         GL(PixelStorei)(GL_UNPACK_ALIGNMENT, 4);
         free(flip);
         GL(TexParameteri)(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);

@@ -3,8 +3,11 @@
 #ifndef LIMEN_GL_INTERNAL_H
 #define LIMEN_GL_INTERNAL_H
 
-#include "core/internal.h"
-#include "core/plan.h"
+#include <stdbool.h>
+
+#include <cglm/cglm.h>
+
+#include "limen.h"
 #include "gl/glapi.h"
 #include "gl/mesh.h"
 
@@ -15,7 +18,7 @@
 typedef struct uniforms {
     GLint model, normal_mat, view_proj, eye, clip_plane, clip_plane2, albedo, albedo_b, cell, scale, shape,
         quad, mode, tint, tex, tex_map, ambient, nlights, light_pos, light_col,
-        light_range;
+        light_range, textured;
 } uniforms;
 
 /* An offscreen target for the texture method: one per recursion level. */
@@ -32,7 +35,7 @@ struct limen_renderer {
     limen_depth_range range;
     int depth_bits;                         /* 24: DEPTH24_STENCIL8, 32: DEPTH32F_STENCIL8 */
     bool has_fragment_stats;
-    char err[LIMEN__ERR_MAX];
+    char err[512];
     char info[256];
 
     GLuint prog, vao, vbo, ibo;
@@ -57,7 +60,13 @@ struct limen_renderer {
     struct limen__draw_key *order;          /* a view's things, nearest first */
     int order_cap;
 
-    limen_plan *plan;
+    struct limen__gpu_asset *assets;        /* mesh buffers and textures (gl/assets.c) */
+    int nassets, assets_cap;
+
+    limen_plan *plan;                       /* what to draw: the view tree of the frame ... */
+    limen_drawables *draw;                  /* ... and the nodes, read once per frame */
+    int *clone_of, clone_of_cap;            /* per drawable: its limen_clone, or -1 */
+    float background[3], ambient;           /* the scene's, as the drawables read them */
     limen_render_opts opts;
     unsigned char *rgba;                    /* read-back buffer */
     bool have_frame;
@@ -78,9 +87,18 @@ limen_status limen__rfail(limen_renderer *r, limen_status st, const char *fmt, .
 void limen__samples_begin(limen_renderer *r);
 void limen__samples_end(limen_renderer *r);
 
-/* Draws the planned tree into the frame buffer (bound by the caller, cleared). */
-limen_status limen__draw_stencil(limen_renderer *r, limen_scene *s);
-limen_status limen__draw_texture(limen_renderer *r, limen_scene *s);
+/* Draws the planned tree of r->plan and r->draw into the frame buffer (bound by the caller,
+ * cleared). */
+limen_status limen__draw_stencil(limen_renderer *r);
+limen_status limen__draw_texture(limen_renderer *r);
 void limen__targets_free(limen_renderer *r);
+
+/* gl/assets.c: a mesh's vertex arrays, bound with the flat or smooth normals (returns the
+ * corners to draw, 0 if it cannot); an image's texture (0 if it cannot); after a frame,
+ * dropping what it did not use; everything, at the end. */
+GLsizei limen__gpu_mesh_bind(limen_renderer *r, const limen_mesh_geometry *m, bool smooth);
+GLuint limen__gpu_texture(limen_renderer *r, const limen_image *t);
+void limen__gpu_assets_sweep(limen_renderer *r);
+void limen__gpu_assets_free(limen_renderer *r);
 
 #endif

@@ -1,19 +1,19 @@
 /* render.c - the OpenGL renderer: context, shaders, meshes, framebuffers, and drawing the
  * scene for a view. Shading follows DESIGN.md exactly so that the ray tracer can match it
  * pixel for pixel. */
+#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
 
-#include "core/internal.h"
 #include "gl/gl_internal.h"
 
 limen_status limen__rfail(limen_renderer *r, limen_status st, const char *fmt, ...)
 {
     va_list ap;
     va_start(ap, fmt);
-    limen__vformat(r->err, sizeof r->err, fmt, ap);
+    vsnprintf(r->err, sizeof r->err, fmt, ap);
     va_end(ap);
     return st;
 }
@@ -40,12 +40,14 @@ static const char *vs_src =
     "#version 330 core\n"
     "layout(location = 0) in vec3 a_pos;\n"
     "layout(location = 1) in vec3 a_nrm;\n"
+    "layout(location = 2) in vec2 a_uv;\n"
     "uniform mat4 u_model, u_view_proj;\n"
     "uniform vec4 u_clip_plane, u_clip_plane2;\n"
     "out vec3 v_world, v_local, v_nrm;\n"
+    "out vec2 v_uv;\n"
     "void main() {\n"
     "    vec4 w = u_model * vec4(a_pos, 1.0);\n"
-    "    v_world = w.xyz; v_local = a_pos; v_nrm = a_nrm;\n"
+    "    v_world = w.xyz; v_local = a_pos; v_nrm = a_nrm; v_uv = a_uv;\n"
     "    gl_ClipDistance[0] = dot(u_clip_plane, w);\n"
     "    gl_ClipDistance[1] = dot(u_clip_plane2, w);\n"
     "    gl_Position = u_view_proj * w;\n"
@@ -56,6 +58,9 @@ static const char *vs_src =
 static const char *fs_src =
     "#version 330 core\n"
     "in vec3 v_world, v_local, v_nrm;\n"
+    "in vec2 v_uv;\n"
+    "uniform sampler2D u_albedo_tex;\n"
+    "uniform int u_textured;\n"
     "uniform mat3 u_normal_mat;\n"
     "uniform vec3 u_eye, u_albedo, u_albedo_b, u_scale, u_tint;\n"
     "uniform float u_cell, u_ambient;\n"
@@ -82,6 +87,16 @@ static const char *fs_src =
     "        vec3 c = floor(v_local * u_scale / u_cell);\n"
     "        float k = c.x + c.y + (u_quad != 0 ? 0.0 : c.z);\n"
     "        if (k - 2.0 * floor(k * 0.5) > 0.5) albedo = u_albedo_b;\n"
+    "    }\n"
+    /* texture coordinates as limen.h says: a plane's unit point, a box face's two other
+     * axes in order, a mesh's own */
+    "    if (u_textured != 0) {\n"
+    "        vec2 uv = v_uv;\n"
+    "        vec3 a = abs(v_nrm);\n"
+    "        if (u_textured == 1) uv = v_local.xy + 0.5;\n"
+    "        else if (u_textured == 2)\n"
+    "            uv = (a.x > 0.5 ? v_local.yz : a.y > 0.5 ? v_local.zx : v_local.xy) + 0.5;\n"
+    "        albedo *= texture(u_albedo_tex, uv).rgb;\n"
     "    }\n"
     "    vec3 light = vec3(0.0);\n"
     "    for (int i = 0; i < u_nlights; i++) {\n"
@@ -194,6 +209,9 @@ static limen_status build_program(limen_renderer *r)
     U(light_pos, "u_light_pos");
     U(light_col, "u_light_col");
     U(light_range, "u_light_range");
+    U(textured, "u_textured");
+    GL(UseProgram)(r->prog);
+    GL(Uniform1i)(GL(GetUniformLocation)(r->prog, "u_albedo_tex"), 1);  /* unit 1: albedo */
 #undef U
     return LIMEN_OK;
 }
@@ -325,7 +343,7 @@ static limen_status setup(limen_renderer *r, const limen_renderer_desc *d)
         st = build_targets(r);
     if (st)
         return st;
-    if (limen_plan_create(&r->plan))
+    if (limen_plan_create(&r->plan) || limen_drawables_create(&r->draw))
         return limen__rfail(r, LIMEN_ERR_NOMEM, "out of memory");
     GL(GenQueries)(1, &r->q_fragments);
     r->rgba = malloc((size_t)r->width * (size_t)r->height * 4);
@@ -376,17 +394,21 @@ void limen_renderer_destroy(limen_renderer *r)
             GL(DeleteQueries)(r->q_cap, r->q_pool);
         GL(DeleteQueries)(1, &r->q_fragments);
         limen__targets_free(r);
+        limen__gpu_assets_free(r);
         if (r->prev_fbo) {
             GL(DeleteFramebuffers)(1, &r->prev_fbo);
             GL(DeleteTextures)(1, &r->prev_tex);
         }
     }
     limen_plan_destroy(r->plan);
+    limen_drawables_destroy(r->draw);
+    free(r->clone_of);
     free(r->q_pool);
     free(r->order);
     if (r->ctx)
         r->ops->destroy(r->ctx);
     limen__meshes_free(&r->meshes);
+    free(r->assets);
     free(r->rgba);
     free(r);
 }
@@ -416,7 +438,7 @@ static double now_ms(void)
     return (double)ts.tv_sec * 1e3 + (double)ts.tv_nsec * 1e-6;
 }
 
-static void begin_frame(limen_renderer *r, limen_scene *s)
+static void begin_frame(limen_renderer *r)
 {
     GL(BindFramebuffer)(GL_FRAMEBUFFER, r->fbo);
     GL(Viewport)(0, 0, r->width, r->height);
@@ -429,7 +451,7 @@ static void begin_frame(limen_renderer *r, limen_scene *s)
     GL(ColorMask)(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
     GL(DepthMask)(GL_TRUE);
     GL(StencilMask)(0xFF);
-    GL(ClearColor)(s->background[0], s->background[1], s->background[2], 1.0f);
+    GL(ClearColor)(r->background[0], r->background[1], r->background[2], 1.0f);
     GL(ClearDepth)(reversed ? 0.0 : 1.0);
     GL(ClearStencil)(0);
     GL(Clear)(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT | GL_STENCIL_BUFFER_BIT);
@@ -488,6 +510,29 @@ static void keep_previous(limen_renderer *r)
     r->have_prev = true;
 }
 
+/* For each drawable, the shape passing through a portal that it is (r->clone_of). */
+static limen_status find_clones(limen_renderer *r)
+{
+    const limen_clone *clones;
+    int nclones = limen_plan_clones(r->plan, &clones);
+    int n = limen_drawables_items(r->draw, NULL);
+    if (n > r->clone_of_cap) {
+        int *map = realloc(r->clone_of, sizeof *map * (size_t)n);
+        if (!map)
+            return LIMEN_ERR_NOMEM;
+        r->clone_of = map;
+        r->clone_of_cap = n;
+    }
+    for (int i = 0; i < n; i++)
+        r->clone_of[i] = -1;
+    for (int c = 0; c < nclones; c++) {
+        int i = limen_drawables_find(r->draw, clones[c].node);
+        if (i >= 0)
+            r->clone_of[i] = c;
+    }
+    return LIMEN_OK;
+}
+
 static limen_status check_opts(limen_renderer *r, const limen_render_opts *o)
 {
     if ((unsigned)o->method > LIMEN_METHOD_NAIVE)
@@ -526,15 +571,20 @@ limen_status limen_render_frame(limen_renderer *r, limen_scene *s, const limen_r
                            .no_cull = r->opts.method == LIMEN_METHOD_NAIVE,
                            .test_faults = r->opts.test_faults };
     st = limen_plan_build(r->plan, s, &pd);
+    if (!st)
+        st = limen_drawables_build(r->draw, s);
     if (st)
         return limen__rfail(r, st, "%s", limen_last_error(s));
+    if (find_clones(r))
+        return limen__rfail(r, LIMEN_ERR_NOMEM, "out of memory");
+    limen_drawables_environment(r->draw, r->background, &r->ambient);
 
-    begin_frame(r, s);
+    begin_frame(r);
     r->q_used = 0;
     if (r->has_fragment_stats)
         GL(BeginQuery)(GL_FRAGMENT_SHADER_INVOCATIONS_ARB, r->q_fragments);
-    st = r->opts.method == LIMEN_METHOD_STENCIL ? limen__draw_stencil(r, s)
-                                                : limen__draw_texture(r, s);
+    st = r->opts.method == LIMEN_METHOD_STENCIL ? limen__draw_stencil(r)
+                                                : limen__draw_texture(r);
     if (r->has_fragment_stats)
         GL(EndQuery)(GL_FRAGMENT_SHADER_INVOCATIONS_ARB);
     if (st)
@@ -549,6 +599,7 @@ limen_status limen_render_frame(limen_renderer *r, limen_scene *s, const limen_r
         keep_previous(r);
     GL(Finish)();
     double t1 = now_ms();
+    limen__gpu_assets_sweep(r);
 
     GLenum e = GL(GetError)();
     if (e != GL_NO_ERROR)

@@ -4,10 +4,23 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "core/dmath.h"
 #include "gl/gl_internal.h"
 
 enum { MODE_LIT = 0, MODE_FLAT = 1, MODE_TEXTURE = 2 };
+
+static bool is_surface(const limen_drawable *d)
+{
+    return d->kind == LIMEN_NODE_MIRROR || d->kind == LIMEN_NODE_PORTAL;
+}
+
+/* The drawable of a node the plan names (a surface, a clone); NULL if it has none. */
+static const limen_drawable *item_of(const limen_renderer *r, limen_node n)
+{
+    const limen_drawable *items;
+    limen_drawables_items(r->draw, &items);
+    int i = limen_drawables_find(r->draw, n);
+    return i >= 0 ? &items[i] : NULL;
+}
 
 /* One view as the renderer draws it. */
 typedef struct rview {
@@ -68,11 +81,10 @@ static void cull_planes(limen_renderer *r, rview *v, const int *rect)
 }
 
 /* carry: an extra world transform (a clone's portal matrix), or NULL. */
-static bool outside(const rview *v, const limen__node *n, const float *carry)
+static bool outside(const rview *v, const limen_drawable *n, const float *carry)
 {
-    double c[3], rad;
-    limen__node_bounds(n, c, &rad);
-    vec3 cf = { (float)c[0], (float)c[1], (float)c[2] };
+    double rad = n->radius;
+    vec3 cf = { n->centre[0], n->centre[1], n->centre[2] };
     if (carry) {
         mat4 m;
         memcpy(m, carry, sizeof m);
@@ -83,6 +95,13 @@ static bool outside(const rview *v, const limen__node *n, const float *carry)
         if (glm_vec3_dot((float *)v->cull[i], cf) + v->cull[i][3] < -(float)rad)
             return true;
     return false;
+}
+
+/* Whether the view must cut what lies behind its exit surface: every nested view but those
+ * of the CLIP_NONE baseline. */
+static bool exit_cuts(const rview *v)
+{
+    return v->pub->depth > 0 && v->pub->clip != LIMEN_CLIP_NONE;
 }
 
 static void set_mat4(limen_renderer *r, GLint loc, mat4 m)
@@ -107,7 +126,7 @@ static void make_rview(limen_renderer *r, int index, mat4 proj_pre, rview *v)
     v->img_map[2] = v->img_map[3] = 0.0f;
 }
 
-static void apply_view(limen_renderer *r, limen_scene *s, const rview *v)
+static void apply_view(limen_renderer *r, const rview *v)
 {
     GL(UseProgram)(r->prog);
     GL(BindVertexArray)(r->vao);
@@ -121,23 +140,24 @@ static void apply_view(limen_renderer *r, limen_scene *s, const rview *v)
     else
         GL(Disable)(GL_CLIP_DISTANCE0);
     GL(FrontFace)(v->pub->front_face_cw ? GL_CW : GL_CCW);
-    GL(Uniform1f)(r->u.ambient, s->ambient);
+    GL(Uniform1f)(r->u.ambient, r->ambient);
     GL(Uniform1i)(r->u.mode, MODE_LIT);
     /* the product of the mirror tints on the way here, applied once to every colour */
     GL(Uniform3fv)(r->u.tint, 1, v->pub->tint);
 }
 
-static void set_lights(limen_renderer *r, limen_scene *s)
+static void set_lights(limen_renderer *r)
 {
-    float pos[LIMEN__MAX_LIGHTS][3], col[LIMEN__MAX_LIGHTS][3], range[LIMEN__MAX_LIGHTS];
-    int n = 0;
-    for (int i = 0; i < s->cap && n < LIMEN__MAX_LIGHTS; i++) {
-        limen__node *node = &s->nodes[i];
-        if (!limen__alive(node) || node->kind != LIMEN_NODE_LIGHT || !node->visible)
+    float pos[LIMEN_MAX_LIGHTS][3], col[LIMEN_MAX_LIGHTS][3], range[LIMEN_MAX_LIGHTS];
+    const limen_drawable *items;
+    int count = limen_drawables_items(r->draw, &items), n = 0;
+    for (int i = 0; i < count && n < LIMEN_MAX_LIGHTS; i++) {
+        const limen_drawable *d = &items[i];
+        if (d->kind != LIMEN_NODE_LIGHT || !d->visible)
             continue;
-        memcpy(pos[n], node->world[3], sizeof(float) * 3);
-        memcpy(col[n], node->color, sizeof(float) * 3);
-        range[n] = node->range;
+        memcpy(pos[n], d->world + 12, sizeof(float) * 3);
+        memcpy(col[n], d->color, sizeof(float) * 3);
+        range[n] = d->range;
         n++;
     }
     GL(UseProgram)(r->prog);
@@ -152,7 +172,7 @@ static void set_lights(limen_renderer *r, limen_scene *s)
 /* ------------------------------------------------------------------ meshes */
 
 /* Which mesh, and how the unit mesh is scaled, for a node; false if it draws nothing. */
-static bool node_mesh(limen_renderer *r, const rview *v, const limen__node *node,
+static bool node_mesh(limen_renderer *r, const rview *v, const limen_drawable *node,
                       mat4 world, limen__range *range, vec3 scale, int *shape)
 {
     float radius = 0;
@@ -160,7 +180,7 @@ static bool node_mesh(limen_renderer *r, const rview *v, const limen__node *node
     switch (node->kind) {
     case LIMEN_NODE_BOX:
         *range = r->meshes.box;
-        glm_vec3_copy((float *)node->dims, scale);
+        memcpy(scale, node->dims, sizeof(vec3));
         return true;
     case LIMEN_NODE_QUAD:
     case LIMEN_NODE_MIRROR:
@@ -201,14 +221,27 @@ static bool node_mesh(limen_renderer *r, const rview *v, const limen__node *node
 }
 
 /* Draws one node's mesh; `mode` lit, flat or textured with colour `albedo`. */
-static void draw_node_at(limen_renderer *r, const rview *v, const limen__node *node,
+static void draw_node_at(limen_renderer *r, const rview *v, const limen_drawable *node,
                          mat4 world, int mode, const float *albedo)
 {
-    limen__range range;
-    vec3 scale;
-    int shape;
-    if (!node_mesh(r, v, node, world, &range, scale, &shape))
+    limen__range range = { 0, 0 };
+    vec3 scale = { 1, 1, 1 };
+    int shape = 0;
+    GLsizei corners = 0;    /* a mesh node's: drawn from its geometry's own arrays */
+    if (node->kind == LIMEN_NODE_MESH) {
+        if (!node->mesh || !(corners = limen__gpu_mesh_bind(r, node->mesh, node->smooth)))
+            return;
+    } else if (!node_mesh(r, v, node, world, &range, scale, &shape)) {
         return;
+    }
+    GLuint tex = node->texture && mode == MODE_LIT ? limen__gpu_texture(r, node->texture) : 0;
+    if (tex) {
+        GL(ActiveTexture)(GL_TEXTURE1);
+        GL(BindTexture)(GL_TEXTURE_2D, tex);
+        GL(ActiveTexture)(GL_TEXTURE0);
+    }
+    GL(Uniform1i)(r->u.textured, !tex ? 0 : node->kind == LIMEN_NODE_QUAD ? 1
+                                 : node->kind == LIMEN_NODE_BOX ? 2 : 3);
     mat4 model;
     mat3 nm;
     glm_mat4_copy(world, model);
@@ -219,8 +252,8 @@ static void draw_node_at(limen_renderer *r, const rview *v, const limen__node *n
     set_mat4(r, r->u.model, model);
     GL(UniformMatrix3fv)(r->u.normal_mat, 1, GL_FALSE, (const GLfloat *)nm);
     GL(Uniform3fv)(r->u.albedo, 1, albedo);
-    GL(Uniform3fv)(r->u.albedo_b, 1, node->checker_b);
-    GL(Uniform1f)(r->u.cell, mode == MODE_LIT ? node->checker_cell : 0.0f);
+    GL(Uniform3fv)(r->u.albedo_b, 1, node->checker);
+    GL(Uniform1f)(r->u.cell, mode == MODE_LIT ? node->cell : 0.0f);
     GL(Uniform3fv)(r->u.scale, 1, scale);
     GL(Uniform1i)(r->u.shape, shape);
     GL(Uniform1i)(r->u.quad, node->kind == LIMEN_NODE_QUAD);
@@ -230,7 +263,7 @@ static void draw_node_at(limen_renderer *r, const rview *v, const limen__node *n
     /* In a view cut by a user clip plane (the eye too near its exit surface for an oblique
      * near plane) the clip plane alone cuts: its own near plane would also drop what lies
      * just in front of the exit. */
-    if (limen__is_surface(node) || (v->pub->clip == LIMEN_CLIP_PLANE && v->pub->depth > 0))
+    if (is_surface(node) || (v->pub->clip == LIMEN_CLIP_PLANE && v->pub->depth > 0))
         GL(Enable)(GL_DEPTH_CLAMP);
     else
         GL(Disable)(GL_DEPTH_CLAMP);
@@ -239,8 +272,27 @@ static void draw_node_at(limen_renderer *r, const rview *v, const limen__node *n
         GL(Enable)(GL_CULL_FACE);
     else
         GL(Disable)(GL_CULL_FACE);
-    GL(DrawElements)(GL_TRIANGLES, (GLsizei)range.count, GL_UNSIGNED_INT,
-                     (void *)(sizeof(uint32_t) * range.first));
+    /* In an oblique view the near plane is the exit plane, and clamping would keep what of a
+     * surface lies beyond it (a neighbour poking through a mirror shows its back there): the
+     * clip plane cuts it instead, as in a plane view. */
+    bool cut = is_surface(node) && exit_cuts(v) && v->pub->clip == LIMEN_CLIP_OBLIQUE;
+    if (cut) {
+        GL(Uniform4fv)(r->u.clip_plane, 1, v->pub->clip_plane);
+        GL(Enable)(GL_CLIP_DISTANCE0);
+    }
+    if (corners) {
+        GL(DrawArrays)(GL_TRIANGLES, 0, corners);
+        GL(BindVertexArray)(r->vao);
+        GL(BindBuffer)(GL_ARRAY_BUFFER, r->vbo);
+    } else {
+        GL(DrawElements)(GL_TRIANGLES, (GLsizei)range.count, GL_UNSIGNED_INT,
+                         (void *)(sizeof(uint32_t) * range.first));
+    }
+    if (cut) {
+        static const float keep_all[4] = { 0, 0, 0, 1 };
+        GL(Uniform4fv)(r->u.clip_plane, 1, keep_all);
+        GL(Disable)(GL_CLIP_DISTANCE0);
+    }
 }
 
 
@@ -256,7 +308,7 @@ static void draw_node_at(limen_renderer *r, const rview *v, const limen__node *n
 /* polygons of up to 31 vertices in arrays of 32 */
 static int clip4(double in[][4], int n, const double pl[4], double out[][4])
 {
-    return limen__d_clip4(in, n, pl, out, 30);
+    return limen_clip_polygon(&in[0][0], n, pl, &out[0][0], 31);
 }
 
 /* A surface as the screen sees it: its polygon clipped in double and split into the parts
@@ -277,22 +329,24 @@ static void to_ndc(double p[][4], int n, float out[][3], int *count)
             out[i][k] = (float)(p[i][k] / p[i][3]);
 }
 
-/* The surface polygon clipped to the view's user clip plane, to the frustum's four sides
- * (so that the GPU clips nothing: its float clipping fails when the surface nearly touches
- * the eye, w a few float steps of x), then split at the near and far planes. */
-static void surface_parts(const limen_renderer *r, const rview *v, const limen__node *node,
+/* The surface polygon clipped to the view's exit plane (in every nested view: with depth
+ * clamping an oblique near plane would not cut it), to the frustum's four sides (so that the
+ * GPU clips nothing: its float clipping fails when the surface nearly touches the eye, w a
+ * few float steps of x), then split at the near and far planes. */
+static void surface_parts(const limen_renderer *r, const rview *v, const limen_drawable *node,
                           limen__spoly *sp)
 {
     double a[32][4], b[32][4], c[32][4];
     const double lx[4] = { -0.5, 0.5, 0.5, -0.5 }, ly[4] = { -0.5, -0.5, 0.5, 0.5 };
+    const float *w = node->world;
     for (int i = 0; i < 4; i++) {
         for (int k = 0; k < 3; k++)
-            a[i][k] = (double)node->world[0][k] * lx[i] * node->dims[0] +
-                      (double)node->world[1][k] * ly[i] * node->dims[1] + node->world[3][k];
+            a[i][k] = (double)w[k] * lx[i] * node->dims[0] +
+                      (double)w[4 + k] * ly[i] * node->dims[1] + w[12 + k];
         a[i][3] = 1;
     }
     int n = 4;
-    if (v->pub->clip == LIMEN_CLIP_PLANE && v->pub->depth > 0) {
+    if (exit_cuts(v)) {
         const double cp[4] = { v->pub->clip_plane[0], v->pub->clip_plane[1],
                                v->pub->clip_plane[2], v->pub->clip_plane[3] };
         n = clip4(a, n, cp, b);
@@ -390,7 +444,7 @@ static void draw_flat_parts(limen_renderer *r, const rview *v, const limen__spol
 
 /* A surface's flat pass (mark, seal, fill: flat colour; or the previous frame's picture)
  * from its parts (computed here where sp is NULL). */
-static void draw_surface_flat(limen_renderer *r, const rview *v, const limen__node *node,
+static void draw_surface_flat(limen_renderer *r, const rview *v, const limen_drawable *node,
                               int mode, const float *albedo, const limen__spoly *sp)
 {
     limen__spoly own;
@@ -419,14 +473,16 @@ static void draw_surface_flat(limen_renderer *r, const rview *v, const limen__no
     GL(Uniform4fv)(r->u.clip_plane, 1, plane ? v->pub->clip_plane : keep_all);
 }
 
-static void draw_node(limen_renderer *r, const rview *v, const limen__node *node, int mode,
+static void draw_node(limen_renderer *r, const rview *v, const limen_drawable *node, int mode,
                       const float *albedo)
 {
-    if ((mode == MODE_FLAT || mode == MODE_TEXTURE) && limen__is_surface(node)) {
+    if ((mode == MODE_FLAT || mode == MODE_TEXTURE) && is_surface(node)) {
         draw_surface_flat(r, v, node, mode, albedo, NULL);
         return;
     }
-    draw_node_at(r, v, node, (vec4 *)node->world, mode, albedo);
+    mat4 world;
+    memcpy(world, node->world, sizeof world);
+    draw_node_at(r, v, node, world, mode, albedo);
 }
 
 /* Clip distance 1: the cut of a shape passing through a portal (NULL: none). */
@@ -451,70 +507,78 @@ static int by_distance(const void *a, const void *b)
     return (x->dist > y->dist) - (x->dist < y->dist);
 }
 
-/* A thing (not a surface) that view v may show. */
-static bool shows(const rview *v, const limen__node *node)
+/* A shape (not a surface, not a light) that view v may show. */
+static bool shows(const rview *v, const limen_drawable *d)
 {
-    return limen__alive(node) && node->visible && !limen__is_surface(node) &&
-           !outside(v, node, NULL);
+    return d->visible && (d->kind == LIMEN_NODE_BOX || d->kind == LIMEN_NODE_SPHERE ||
+                          d->kind == LIMEN_NODE_CYLINDER || d->kind == LIMEN_NODE_QUAD ||
+                          d->kind == LIMEN_NODE_MESH) &&
+           !outside(v, d, NULL);
 }
 
-/* The things view v can show, nearest first (so that, without a depth-only pass, what lies
+/* The shapes view v can show, nearest first (so that, without a depth-only pass, what lies
  * behind fails the depth test before it is shaded), in r->order. Returns the count, or -1
- * where the list cannot grow (then draw them in scene order). */
-static int view_order(limen_renderer *r, limen_scene *s, const rview *v)
+ * where the list cannot grow (then draw them in list order). */
+static int view_order(limen_renderer *r, const rview *v)
 {
-    if (r->order_cap < s->cap) {
-        struct limen__draw_key *o = realloc(r->order, sizeof *o * (size_t)s->cap);
+    const limen_drawable *items;
+    int count = limen_drawables_items(r->draw, &items);
+    if (r->order_cap < count) {
+        struct limen__draw_key *o = realloc(r->order, sizeof *o * (size_t)count);
         if (!o)
             return -1;
         r->order = o;
-        r->order_cap = s->cap;
+        r->order_cap = count;
     }
     int n = 0;
-    for (int i = 0; i < s->cap; i++) {
-        if (!shows(v, &s->nodes[i]))
+    for (int i = 0; i < count; i++) {
+        if (!shows(v, &items[i]))
             continue;
-        double c[3], rad;
-        limen__node_bounds(&s->nodes[i], c, &rad);
-        double dx = c[0] - v->pub->eye[0], dy = c[1] - v->pub->eye[1], dz = c[2] - v->pub->eye[2];
+        const float *c = items[i].centre, *eye = v->pub->eye;
+        double dx = (double)c[0] - eye[0], dy = (double)c[1] - eye[1], dz = (double)c[2] - eye[2];
         r->order[n++] = (struct limen__draw_key){ (float)(dx * dx + dy * dy + dz * dz), i };
     }
     qsort(r->order, (size_t)n, sizeof *r->order, by_distance);
     return n;
 }
 
-/* Node i, cut at its portal where it passes through one. */
-static void draw_thing(limen_renderer *r, limen_scene *s, const rview *v, int i)
+/* Drawable i, cut at its portal where it passes through one. */
+static void draw_thing(limen_renderer *r, const rview *v, const limen_drawable *items, int i)
 {
-    const limen_plan *p = r->plan;
-    int c = p->nclones ? p->clone_of[i] : -1;
+    const limen_clone *clones;
+    limen_plan_clones(r->plan, &clones);
+    int c = r->clone_of[i];
     if (c >= 0)
-        set_cut(r, p->clones[c].keep);
-    draw_node(r, v, &s->nodes[i], MODE_LIT, s->nodes[i].color);
+        set_cut(r, clones[c].keep);
+    draw_node(r, v, &items[i], MODE_LIT, items[i].color);
     if (c >= 0)
         set_cut(r, NULL);
 }
 
-static void draw_geometry(limen_renderer *r, limen_scene *s, const rview *v)
+static void draw_geometry(limen_renderer *r, const rview *v)
 {
-    const limen_plan *p = r->plan;
-    int n = view_order(r, s, v);
+    const limen_drawable *items;
+    int count = limen_drawables_items(r->draw, &items);
+    int n = view_order(r, v);
     if (n < 0) {
-        for (int i = 0; i < s->cap; i++)
-            if (shows(v, &s->nodes[i]))
-                draw_thing(r, s, v, i);
+        for (int i = 0; i < count; i++)
+            if (shows(v, &items[i]))
+                draw_thing(r, v, items, i);
     }
     for (int k = 0; k < n; k++)
-        draw_thing(r, s, v, r->order[k].node);
+        draw_thing(r, v, items, r->order[k].node);
     /* what has gone into a portal, coming out of its partner */
-    for (int c = 0; c < p->nclones; c++) {
-        const limen_clone *cl = &p->clones[c];
-        const limen__node *node = limen__node_get(s, cl->node);
+    const limen_clone *clones;
+    int nclones = limen_plan_clones(r->plan, &clones);
+    for (int c = 0; c < nclones; c++) {
+        const limen_clone *cl = &clones[c];
+        const limen_drawable *node = item_of(r, cl->node);
         if (!node || outside(v, node, cl->matrix))
             continue;
-        mat4 carry, world;
+        mat4 carry, own, world;
         memcpy(carry, cl->matrix, sizeof carry);
-        glm_mat4_mul(carry, (vec4 *)node->world, world);
+        memcpy(own, node->world, sizeof own);
+        glm_mat4_mul(carry, own, world);
         set_cut(r, cl->copy_keep);
         draw_node_at(r, v, node, world, MODE_LIT, node->color);
         set_cut(r, NULL);
@@ -532,15 +596,15 @@ static void draw_region_fill(limen_renderer *r, const rview *v, const limen__spo
 /* The previous frame's picture of a surface where recursion stops: the rectangle of the
  * shallowest view through it, stretched onto the surface's rectangle here. False where there
  * is no such picture. */
-static bool draw_previous(limen_renderer *r, const rview *v, const limen__vsurf *vs,
-                          const limen__node *n)
+static bool draw_previous(limen_renderer *r, const rview *v, const limen_view_surface *vs,
+                          const limen_drawable *n)
 {
     if (r->opts.fill != LIMEN_FILL_PREVIOUS || !r->have_prev)
         return false;
     const limen_view *best = NULL;
     for (int i = 1; i < limen_plan_count(r->plan); i++) {
         const limen_view *u = limen_plan_view(r->plan, i);
-        if (limen__node_get_index(u->through) == vs->node && (!best || u->depth < best->depth))
+        if (u->through.id == vs->node.id && (!best || u->depth < best->depth))
             best = u;
     }
     if (!best)
@@ -564,13 +628,15 @@ static bool draw_previous(limen_renderer *r, const rview *v, const limen__vsurf 
 
 /* The surfaces a view sees that end there: a mirror's back, or a fill where recursion
  * stopped. */
-static void draw_terminal_surface(limen_renderer *r, limen_scene *s, const rview *v,
-                                  const limen__vsurf *vs)
+static void draw_terminal_surface(limen_renderer *r, const rview *v,
+                                  const limen_view_surface *vs)
 {
-    const limen__node *n = &s->nodes[vs->node];
-    if (vs->state == LIMEN__SURF_BACK)
+    const limen_drawable *n = item_of(r, vs->node);
+    if (!n)
+        return;
+    if (vs->state == LIMEN_SURFACE_BACK)
         draw_node(r, v, n, MODE_LIT, n->back);
-    else if (vs->state == LIMEN__SURF_FILL && !draw_previous(r, v, vs, n))
+    else if (vs->state == LIMEN_SURFACE_FILL && !draw_previous(r, v, vs, n))
         draw_node(r, v, n, MODE_FLAT, n->fill);
 }
 
@@ -594,13 +660,12 @@ static GLenum depth_lequal(const limen_renderer *r)
 
 /* The view's opaque things: the surfaces that end here (flat, cheap to shade twice), then
  * the geometry. */
-static void draw_opaque(limen_renderer *r, limen_scene *s, const rview *v,
-                        const limen__vsurf *vs, int n)
+static void draw_opaque(limen_renderer *r, const rview *v, const limen_view_surface *vs, int n)
 {
     for (int k = 0; k < n; k++)
-        if (vs[k].state != LIMEN__SURF_CHILD)
-            draw_terminal_surface(r, s, v, &vs[k]);
-    draw_geometry(r, s, v);
+        if (vs[k].state != LIMEN_SURFACE_RECURSE)
+            draw_terminal_surface(r, v, &vs[k]);
+    draw_geometry(r, v);
 }
 
 /* How the stencil method tells views apart. Where the tree has at most 255 views each gets
@@ -617,7 +682,7 @@ typedef struct stencil_ids {
 } stencil_ids;
 
 /* Marks the visible pixels of the surface of sp (its depth still there) with value cv. */
-static void mark_surface(limen_renderer *r, const rview *v, const limen__node *node,
+static void mark_surface(limen_renderer *r, const rview *v, const limen_drawable *node,
                          const limen__spoly *sp, int sv, int cv)
 {
     GL(ColorMask)(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
@@ -634,16 +699,21 @@ static void mark_surface(limen_renderer *r, const rview *v, const limen__node *n
 }
 
 /* The background of a nested view where nothing landed (depth still at the far plane). */
-static void view_background(limen_renderer *r, limen_scene *s, const rview *v,
-                            const limen__spoly *reg, int sv)
+static void view_background(limen_renderer *r, const rview *v, const limen__spoly *reg, int sv)
 {
     GL(ColorMask)(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
     GL(StencilFunc)(GL_EQUAL, sv, 0xFF);
     GL(DepthFunc)(GL_EQUAL);
     limen__samples_begin(r);
-    draw_region_fill(r, v, reg, s->background);
+    draw_region_fill(r, v, reg, r->background);
     limen__samples_end(r);
     GL(DepthFunc)(depth_less(r));
+}
+
+/* The drawable of a surface that a view recurses into; NULL for the others. */
+static const limen_drawable *recursed(const limen_renderer *r, const limen_view_surface *vs)
+{
+    return vs->state == LIMEN_SURFACE_RECURSE ? item_of(r, vs->node) : NULL;
 }
 
 /* Pixels of view `index` hold stencil == sv when this is called, reg the parts of the surface
@@ -653,16 +723,16 @@ static void view_background(limen_renderer *r, limen_scene *s, const rview *v,
  * recurses into are laid into depth first (flat polygons, cheap), so that the view's things
  * are shaded only where nothing nearer, surface or thing, covers them; then each surface is
  * marked where its depth survived (its visible pixels) and its view drawn there. */
-static void stencil_view(limen_renderer *r, limen_scene *s, int index, const limen__spoly *reg,
-                         int sv, stencil_ids *ids)
+static void stencil_view(limen_renderer *r, int index, const limen__spoly *reg, int sv,
+                         stencil_ids *ids)
 {
     mat4 id;
     glm_mat4_identity(id);
     rview v;
     make_rview(r, index, id, &v);
     cull_planes(r, &v, v.pub->scissor);
-    const limen__vsurf *vs;
-    int n = limen__plan_view_surfaces(r->plan, index, &vs);
+    const limen_view_surface *vs;
+    int n = limen_plan_view_surfaces(r->plan, index, &vs);
     set_scissor(r, v.pub->scissor);
     GL(StencilFunc)(GL_EQUAL, sv, 0xFF);
     GL(StencilOp)(GL_KEEP, GL_KEEP, GL_KEEP);
@@ -673,57 +743,57 @@ static void stencil_view(limen_renderer *r, limen_scene *s, int index, const lim
         GL(Clear)(GL_DEPTH_BUFFER_BIT);
     } else if (reg) {
         GL(DepthFunc)(GL_ALWAYS);
-        draw_region_fill(r, &v, reg, s->background);
+        draw_region_fill(r, &v, reg, r->background);
         GL(DepthFunc)(depth_less(r));
     }
-    apply_view(r, s, &v);
+    apply_view(r, &v);
     /* (the parts are recomputed where needed: the same floats come out each time) */
     limen__spoly sp;
+    const limen_drawable *node;
     for (int k = 0; k < n; k++) {
-        if (vs[k].state != LIMEN__SURF_CHILD)
+        if (!(node = recursed(r, &vs[k])))
             continue;
-        surface_parts(r, &v, &s->nodes[vs[k].node], &sp);
-        draw_surface_flat(r, &v, &s->nodes[vs[k].node], MODE_FLAT, s->background, &sp);
+        surface_parts(r, &v, node, &sp);
+        draw_surface_flat(r, &v, node, MODE_FLAT, r->background, &sp);
     }
 
     /* shade this view's things where they are nearest */
     GL(ColorMask)(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
     limen__samples_begin(r);
-    draw_opaque(r, s, &v, vs, n);
+    draw_opaque(r, &v, vs, n);
     limen__samples_end(r);
 
     if (ids->unique) {
         const int first = ids->next;
         for (int k = 0; k < n; k++) {
-            if (vs[k].state != LIMEN__SURF_CHILD)
+            if (!(node = recursed(r, &vs[k])))
                 continue;
-            surface_parts(r, &v, &s->nodes[vs[k].node], &sp);
-            mark_surface(r, &v, &s->nodes[vs[k].node], &sp, sv, ids->next++);
+            surface_parts(r, &v, node, &sp);
+            mark_surface(r, &v, node, &sp, sv, ids->next++);
         }
         if (reg)
-            view_background(r, s, &v, reg, sv);
+            view_background(r, &v, reg, sv);
         int cv = first;
         for (int k = 0; k < n; k++) {
-            if (vs[k].state != LIMEN__SURF_CHILD)
+            if (!(node = recursed(r, &vs[k])))
                 continue;
-            surface_parts(r, &v, &s->nodes[vs[k].node], &sp);
-            stencil_view(r, s, limen__plan_child_view(r->plan, vs[k].child), &sp, cv++, ids);
+            surface_parts(r, &v, node, &sp);
+            stencil_view(r, vs[k].child, &sp, cv++, ids);
         }
         GL(ColorMask)(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
         return;
     }
 
     for (int k = 0; k < n; k++) {
-        if (vs[k].state != LIMEN__SURF_CHILD)
+        if (!(node = recursed(r, &vs[k])))
             continue;
-        const limen__node *node = &s->nodes[vs[k].node];
         surface_parts(r, &v, node, &sp);
         mark_surface(r, &v, node, &sp, sv, sv + 1);
-        stencil_view(r, s, limen__plan_child_view(r->plan, vs[k].child), &sp, sv + 1, ids);
+        stencil_view(r, vs[k].child, &sp, sv + 1, ids);
 
         /* seal: back to this view's value, with the surface's depth over the child's */
         set_scissor(r, v.pub->scissor);
-        apply_view(r, s, &v);
+        apply_view(r, &v);
         GL(ColorMask)(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
         GL(StencilFunc)(GL_EQUAL, sv + 1, 0xFF);
         GL(StencilOp)(GL_KEEP, GL_KEEP, GL_DECR);
@@ -734,16 +804,16 @@ static void stencil_view(limen_renderer *r, limen_scene *s, int index, const lim
         GL(StencilOp)(GL_KEEP, GL_KEEP, GL_KEEP);
     }
     if (reg)
-        view_background(r, s, &v, reg, sv);
+        view_background(r, &v, reg, sv);
     GL(ColorMask)(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
 }
 
-limen_status limen__draw_stencil(limen_renderer *r, limen_scene *s)
+limen_status limen__draw_stencil(limen_renderer *r)
 {
-    set_lights(r, s);
+    set_lights(r);
     GL(Enable)(GL_STENCIL_TEST);
     stencil_ids ids = { .unique = limen_plan_count(r->plan) <= 255, .next = 1 };
-    stencil_view(r, s, 0, NULL, 0, &ids);
+    stencil_view(r, 0, NULL, 0, &ids);
     GL(Disable)(GL_STENCIL_TEST);
     GL(Disable)(GL_SCISSOR_TEST);
     GL(FrontFace)(GL_CCW);
@@ -815,7 +885,7 @@ static void bind_placement(limen_renderer *r, const placement *pl)
 }
 
 /* Renders view `index` into the placement; returns false if a target could not be made. */
-static bool texture_view(limen_renderer *r, limen_scene *s, int index, const placement *pl)
+static bool texture_view(limen_renderer *r, int index, const placement *pl)
 {
     /* narrow the projection from the whole image to this view's rectangle */
     mat4 narrow;
@@ -830,28 +900,29 @@ static bool texture_view(limen_renderer *r, limen_scene *s, int index, const pla
 
     bind_placement(r, pl);
     const float *tint = v.pub->tint;
-    GL(ClearColor)(s->background[0] * tint[0], s->background[1] * tint[1],
-                   s->background[2] * tint[2], 1.0f);
+    GL(ClearColor)(r->background[0] * tint[0], r->background[1] * tint[1],
+                   r->background[2] * tint[2], 1.0f);
     GL(ClearDepth)(r->range == LIMEN_DEPTH_ZO_REVERSED ? 0.0 : 1.0);
     GL(Clear)(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
-    apply_view(r, s, &v);
-    const limen__vsurf *vs;
-    int n = limen__plan_view_surfaces(r->plan, index, &vs);
+    apply_view(r, &v);
+    const limen_view_surface *vs;
+    int n = limen_plan_view_surfaces(r->plan, index, &vs);
+    const limen_drawable *node;
     /* the surfaces that show a child's image go into depth first, so that nothing behind
      * them is shaded; then the view's own things, nearest first */
     GL(ColorMask)(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
     for (int k = 0; k < n; k++)
-        if (vs[k].state == LIMEN__SURF_CHILD)
-            draw_surface_flat(r, &v, &s->nodes[vs[k].node], MODE_FLAT, s->background, NULL);
+        if ((node = recursed(r, &vs[k])))
+            draw_surface_flat(r, &v, node, MODE_FLAT, r->background, NULL);
     GL(ColorMask)(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
     limen__samples_begin(r);
-    draw_opaque(r, s, &v, vs, n);
+    draw_opaque(r, &v, vs, n);
     limen__samples_end(r);
 
     for (int k = 0; k < n; k++) {
-        if (vs[k].state != LIMEN__SURF_CHILD)
+        if (!(node = recursed(r, &vs[k])))
             continue;
-        int ci = limen__plan_child_view(r->plan, vs[k].child);
+        int ci = vs[k].child;
         const limen_view *c = limen_plan_view(r->plan, ci);
         limen__target *t = level_target(r, c->depth, r->opts.texture_scale);
         if (!t)
@@ -863,14 +934,13 @@ static bool texture_view(limen_renderer *r, limen_scene *s, int index, const pla
         cp.sx = (float)cp.vw / (float)c->scissor[2];
         cp.sy = (float)cp.vh / (float)c->scissor[3];
         memcpy(cp.rect, c->scissor, sizeof cp.rect);
-        if (!texture_view(r, s, ci, &cp))
+        if (!texture_view(r, ci, &cp))
             return false;
 
         /* back in this view: the surface samples the child's image where it appears on
          * screen (the child applied the tints already) */
         bind_placement(r, pl);
-        apply_view(r, s, &v);
-        const limen__node *node = &s->nodes[vs[k].node];
+        apply_view(r, &v);
         GL(ActiveTexture)(GL_TEXTURE0);
         GL(BindTexture)(GL_TEXTURE_2D, t->tex);
         GL(Uniform1i)(r->u.tex, 0);
@@ -892,11 +962,11 @@ static bool texture_view(limen_renderer *r, limen_scene *s, int index, const pla
     return true;
 }
 
-limen_status limen__draw_texture(limen_renderer *r, limen_scene *s)
+limen_status limen__draw_texture(limen_renderer *r)
 {
-    set_lights(r, s);
+    set_lights(r);
     placement root = { r->fbo, r->width, r->height, 1.0f, 1.0f, { 0, 0, r->width, r->height } };
-    bool ok = texture_view(r, s, 0, &root);
+    bool ok = texture_view(r, 0, &root);
     GL(BindFramebuffer)(GL_FRAMEBUFFER, r->fbo);
     GL(Viewport)(0, 0, r->width, r->height);
     GL(Disable)(GL_SCISSOR_TEST);
