@@ -32,8 +32,13 @@
  *   - Angles are radians in this API (degrees only in Lua scene scripts).
  *   - Colours are linear RGB in [0, 1]; no gamma anywhere.
  *   - Shading of every surface (renderer and ray tracer alike):
- *        colour = albedo * (ambient + (1 - ambient) * sum_i light_i * max(0, n.l_i))
- *     with point lights, no shadows and no attenuation, clamped to [0, 1].
+ *        colour = albedo * (ambient + (1 - ambient) * sum_i light_i * w_i * max(0, n.l_i))
+ *     with point lights and no shadows, clamped to [0, 1]. w_i = 1 for a light without a
+ *     range (the default: no attenuation); for one of range R at distance d,
+ *        w_i = clamp(1 - (d/R)^4, 0, 1)^2
+ *     which starts at 1, falls smoothly and reaches 0 (with zero slope) at d = R.
+ *     albedo is the node's colour (or checker colour), times its texture's texel where it
+ *     has one (see limen_node_set_texture).
  *   - Mirrors, portals and quads lie on their local z = 0, face local +Z,
  *     local +Y up, extent w x h centred on the origin.
  *
@@ -173,6 +178,7 @@ typedef enum limen_node_kind {
     LIMEN_NODE_PORTAL,      /* dims = (w, h, -) like a quad; paired with another portal */
     LIMEN_NODE_LIGHT,       /* point light at the node's origin; colour = intensity per channel */
     LIMEN_NODE_CAMERA,      /* eye at the origin, looking down local -Z */
+    LIMEN_NODE_MESH,        /* triangles in the node's local frame (limen_mesh_load, below) */
     LIMEN_NODE_KIND_COUNT
 } limen_node_kind;
 
@@ -250,7 +256,60 @@ LIMEN_API limen_status limen_node_set_checker(limen_scene *s, limen_node n, cons
 LIMEN_API limen_status limen_node_get_checker(const limen_scene *s, limen_node n, float a[3],
                                               float b[3], float *cell);
 LIMEN_API limen_status limen_node_set_visible(limen_scene *s, limen_node n, int visible);
+/* A light's range R (see CONVENTIONS): beyond it the light adds nothing. 0 = no range. */
+LIMEN_API limen_status limen_light_set_range(limen_scene *s, limen_node light, float range);
+LIMEN_API float limen_light_get_range(const limen_scene *s, limen_node light); /* 0 if none */
 LIMEN_API int limen_node_get_visible(const limen_scene *s, limen_node n);
+
+/* Meshes: triangles in the node's local frame, drawn with the node's transform and colour
+ * (checker too: cells of the local point, x+y+z). A mesh node shows nothing until it has
+ * triangles. Both sides are lit (the normal turned toward the eye, as for quads). Normals:
+ * where the data has them they are interpolated across each triangle; without them each
+ * triangle shows its face normal ((p1-p0) x (p2-p0), i.e. counter-clockwise from the front),
+ * unless smooth is set, which interpolates area-weighted vertex normals. Nodes that load the
+ * same file share one copy of it (per scene); each node keeps its own transform and colour.
+ * Bad data (no triangles, a vertex that is not finite, an index out of range, points or lines,
+ * a file that cannot be read) is refused with a message naming the file. */
+typedef struct limen_mesh_data {
+    const float *positions;     /* vertex_count * 3 */
+    const float *normals;       /* vertex_count * 3, or NULL (face normals, or smooth) */
+    const float *uvs;           /* vertex_count * 2, or NULL: texture coordinates */
+    int vertex_count;
+    const uint32_t *indices;    /* triangle_count * 3, each < vertex_count */
+    int triangle_count;
+} limen_mesh_data;
+
+typedef struct limen_mesh_info {
+    int vertex_count, triangle_count;
+    int has_normals, has_uvs;   /* what the data came with */
+    int smooth;                 /* the node's flag */
+    float lo[3], hi[3];         /* local bounding box */
+    int shared_by;              /* nodes that show this geometry */
+    size_t bytes;               /* memory it holds */
+} limen_mesh_info;
+
+/* Textures on planes (QUAD), boxes and meshes: albedo = texel * colour (the checker's
+ * colours where it has one). A PNG or JPEG file, its bytes taken as linear RGB (no gamma,
+ * like every colour here); one copy per scene however many nodes use the file. Sampling,
+ * the same in the renderer and the ray tracer: bilinear between the four nearest texels,
+ * repeating (u and v wrap), no mipmaps; texel (i, j) has its centre at ((i + 0.5) / width,
+ * (j + 0.5) / height), j counting rows from the image's bottom (v = 0) up (v = 1). Texture
+ * coordinates: a plane's (x/w + 0.5, y/h + 0.5) over its extent; a box face's two other
+ * axes in order (face x: (y, z), face y: (z, x), face z: (x, y)), each mapped from
+ * [-size/2, size/2] to [0, 1]; a mesh's own (with none, (0, 0)). A mesh file's base-colour
+ * texture (glTF, or map_Kd in an OBJ's MTL; embedded or beside the file) is used unless the
+ * node has one of its own. path NULL removes the node's texture. */
+LIMEN_API limen_status limen_node_set_texture(limen_scene *s, limen_node n, const char *path);
+
+/* Loads a file through assimp (OBJ, glTF 2.0 .gltf/.glb, PLY, FBX, STL, ...): polygons are
+ * triangulated, the file's node transforms applied, all its meshes merged. */
+LIMEN_API limen_status limen_mesh_load(limen_scene *s, limen_node mesh, const char *path);
+/* Copies triangles from arrays (the caller keeps its own). */
+LIMEN_API limen_status limen_mesh_set_triangles(limen_scene *s, limen_node mesh,
+                                                const limen_mesh_data *data);
+LIMEN_API limen_status limen_mesh_set_smooth(limen_scene *s, limen_node mesh, int smooth);
+LIMEN_API limen_status limen_mesh_get(const limen_scene *s, limen_node mesh,
+                                      limen_mesh_info *out);   /* zeros before any triangles */
 
 /* Mirrors and portals ("surfaces"). Defaults: tint white, back mid-grey (0.5), fill black,
  * max_depth 8. A mirror seen from behind is a matte quad of its back colour; a portal seen
@@ -310,9 +369,28 @@ LIMEN_API limen_status limen_camera_matrices(limen_scene *s, float aspect, limen
  * the pointer it gives, never allocate a limen_drawable. */
 #define LIMEN_MAX_LIGHTS 8      /* lights that shade: the first visible LIGHT items */
 
+/* A mesh's triangles as a renderer reads them (limen_drawable.mesh): shared by every node
+ * that shows the same file, valid while one does. */
+typedef struct limen_mesh_geometry {
+    uint64_t id;                /* unique in the process: key a GPU copy on it */
+    int vertex_count, triangle_count;
+    const float *positions;     /* vertex_count * 3, in the node's local frame */
+    const float *normals;       /* vertex_count * 3: the data's own, else area-weighted */
+    const float *uvs;           /* vertex_count * 2, or NULL */
+    const uint32_t *indices;    /* triangle_count * 3 */
+} limen_mesh_geometry;
+
+/* An image for a texture (limen_drawable.texture): 8-bit RGB, top row first, sampled as
+ * limen_node_set_texture says; valid while a node uses it. */
+typedef struct limen_image {
+    uint64_t id;                /* unique in the process: key a GPU copy on it */
+    int width, height;
+    const unsigned char *rgb;
+} limen_image;
+
 typedef struct limen_drawable {
     limen_node node;            /* the node */
-    limen_node_kind kind;       /* BOX, SPHERE, CYLINDER, QUAD, MIRROR, PORTAL or LIGHT */
+    limen_node_kind kind;       /* BOX, SPHERE, CYLINDER, QUAD, MIRROR, PORTAL, LIGHT, MESH */
     int visible;                /* 0: hidden, draws and lights nothing (limen_node_get_visible) */
     float world[16];            /* world matrix; the unit mesh's scale (dims) is not in it */
     float dims[3];              /* as limen_node_set_dims */
@@ -326,6 +404,12 @@ typedef struct limen_drawable {
     float fill[3];              /* and the colour where recursion stops */
     const char *name;           /* the node's name, "" if none; points into the scene: */
     const char *label;          /* ... as does where it was made ("" if not known) */
+    float range;                /* lights: limen_light_set_range (0: none) */
+    const limen_mesh_geometry *mesh;  /* meshes: the triangles (NULL: none yet) */
+    int smooth;                 /* meshes: 1 interpolates the vertex normals, 0 takes each
+                                 * triangle's face normal (p1-p0) x (p2-p0) */
+    const limen_image *texture; /* planes, boxes, meshes: albedo texture (a mesh file's own
+                                 * where the node names none), or NULL */
 } limen_drawable;
 
 typedef struct limen_drawables limen_drawables;
@@ -478,7 +562,7 @@ LIMEN_API const limen_view *limen_plan_view(const limen_plan *p, int i); /* NULL
 /* The surfaces view i sees (a portal seen from behind and the view's own exit surface are
  * not listed: they draw nothing); returns their count (*out is NULL when it is 0). */
 LIMEN_API int limen_plan_view_surfaces(const limen_plan *p, int i, const limen_view_surface **out);
-/* The shapes (boxes, spheres, cylinders, quads; visible ones) that view i may show: those
+/* The shapes (boxes, spheres, cylinders, quads, meshes; visible ones) that view i may show: those
  * whose world bounds meet the view's pyramid from its eye through its scissor rectangle and,
  * below the camera, lie partly in front of its clip plane. Found through the scene's spatial
  * index, in time that follows what the view holds, not what the scene holds, so a renderer
@@ -488,7 +572,7 @@ LIMEN_API int limen_plan_view_surfaces(const limen_plan *p, int i, const limen_v
  * (limen_last_error). Call it before the scene changes again. */
 LIMEN_API int limen_plan_view_things(const limen_plan *p, limen_scene *s, int i, limen_node *out,
                                      int max);
-/* A closed shape (box, sphere, cylinder) passing through a portal, its centre over the
+/* A closed shape (box, sphere, cylinder, mesh) passing through a portal, its centre over the
  * rectangle: it is drawn twice in every view, itself cut at the portal's plane and a copy
  * carried by the portal matrix, cut at the partner's plane. */
 typedef struct limen_clone {

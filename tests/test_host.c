@@ -119,7 +119,7 @@ static void game_destroy(game *g)
 
 /* Everything limen.h promises to give back, read the game's own way. */
 typedef struct snapshot {
-    GLint ints[40];
+    GLint ints[48];
     GLboolean bools[40];
     GLfloat floats[8];
 } snapshot;
@@ -130,7 +130,8 @@ static void take(snapshot *s)
         GL_CURRENT_PROGRAM, GL_VERTEX_ARRAY_BINDING, GL_ELEMENT_ARRAY_BUFFER_BINDING,
         GL_ARRAY_BUFFER_BINDING, GL_DRAW_FRAMEBUFFER_BINDING, GL_READ_FRAMEBUFFER_BINDING,
         GL_RENDERBUFFER_BINDING, GL_ACTIVE_TEXTURE, GL_PIXEL_PACK_BUFFER_BINDING,
-        GL_PIXEL_UNPACK_BUFFER_BINDING, GL_PACK_ALIGNMENT, GL_PACK_ROW_LENGTH, GL_DEPTH_FUNC,
+        GL_PIXEL_UNPACK_BUFFER_BINDING, GL_PACK_ALIGNMENT, GL_PACK_ROW_LENGTH,
+        GL_UNPACK_ALIGNMENT, GL_UNPACK_ROW_LENGTH, GL_DEPTH_FUNC,
         GL_CULL_FACE_MODE, GL_FRONT_FACE, GL_STENCIL_FUNC, GL_STENCIL_REF,
         GL_STENCIL_VALUE_MASK, GL_STENCIL_FAIL, GL_STENCIL_PASS_DEPTH_FAIL,
         GL_STENCIL_PASS_DEPTH_PASS, GL_STENCIL_WRITEMASK, GL_STENCIL_BACK_FUNC,
@@ -150,9 +151,11 @@ static void take(snapshot *s)
     glGetIntegerv(GL_SCISSOR_BOX, &s->ints[k]), k += 4;
     GLint unit;
     glGetIntegerv(GL_ACTIVE_TEXTURE, &unit);
-    glActiveTexture(GL_TEXTURE0);
-    glGetIntegerv(GL_TEXTURE_BINDING_2D, &s->ints[k++]);
-    glGetIntegerv(GL_SAMPLER_BINDING, &s->ints[k++]);
+    for (int u = 0; u < 2; u++) {   /* the units limen samples from */
+        glActiveTexture(GL_TEXTURE0 + (GLenum)u);
+        glGetIntegerv(GL_TEXTURE_BINDING_2D, &s->ints[k++]);
+        glGetIntegerv(GL_SAMPLER_BINDING, &s->ints[k++]);
+    }
     glActiveTexture((GLenum)unit);
     k = 0;
     for (size_t i = 0; i < sizeof caps / sizeof caps[0]; i++)
@@ -173,6 +176,9 @@ static void odd_state(game *g, GLuint fbo)
     glBindFramebuffer(GL_FRAMEBUFFER, fbo);
     glActiveTexture(GL_TEXTURE3);
     glBindTexture(GL_TEXTURE_2D, g->tex);
+    glActiveTexture(GL_TEXTURE1);
+    glBindTexture(GL_TEXTURE_2D, g->tex);
+    glBindSampler(1, g->sampler);
     glActiveTexture(GL_TEXTURE0);
     glBindTexture(GL_TEXTURE_2D, g->tex);
     glBindSampler(0, g->sampler);
@@ -180,6 +186,8 @@ static void odd_state(game *g, GLuint fbo)
     glActiveTexture(GL_TEXTURE3);
     glPixelStorei(GL_PACK_ALIGNMENT, 8);
     glPixelStorei(GL_PACK_ROW_LENGTH, 7);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 8);      /* limen uploads textures: not with these */
+    glPixelStorei(GL_UNPACK_ROW_LENGTH, 5);
     glViewport(3, 2, W / 2, H / 2);
     glEnable(GL_SCISSOR_TEST);
     glScissor(0, 0, W / 4, H / 4);
@@ -303,8 +311,10 @@ static double off_reference(game *g, limen_renderer *r, limen_scene *s, limen_me
  * as it was, and the game's own draw afterwards lands where and how the game meant. */
 static void host_frames(void)
 {
-    static const char *scenes[] = { "scenes/portals.lua", "scenes/mirror_room.lua" };
-    for (int sc_i = 0; sc_i < 2; sc_i++) {
+    /* portal_rooms: meshes and textures, which bind arrays and a texture unit of their own */
+    static const char *scenes[] = { "scenes/portals.lua", "scenes/mirror_room.lua",
+                                    "scenes/portal_rooms.lua" };
+    for (int sc_i = 0; sc_i < 3; sc_i++) {
         limen_script *sc = check_load_script(scenes[sc_i]);
         if (!sc)
             return;

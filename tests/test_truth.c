@@ -16,7 +16,8 @@
 
 static const char *const scenes[] = {
     "plain", "mirror_room", "corridor", "kaleidoscope", "periscope", "water", "portals",
-    "tunnel", "portal_mirror", "portal_sizes", "moving_portal", "flythrough", NULL,
+    "tunnel", "portal_mirror", "portal_sizes", "moving_portal", "flythrough",
+    "hall_of_mirrors", "portal_rooms", NULL,
 };
 
 static double now_ms(void)

@@ -5,6 +5,8 @@
 #include <string.h>
 
 #include "core/internal.h"
+#include "core/mesh.h"
+#include "core/texture.h"
 
 struct limen_drawables {
     limen_drawable *items;
@@ -62,6 +64,18 @@ static void read_item(const limen_scene *s, int slot, limen_drawable *it)
     }
     it->name = n->name;
     it->label = n->label;
+    if (n->kind == LIMEN_NODE_LIGHT)
+        it->range = n->range;
+    if (n->kind == LIMEN_NODE_MESH && n->mesh) {
+        it->mesh = &n->mesh->pub;
+        it->smooth = n->smooth || n->mesh->file_normals;
+    }
+    const limen__texture *tex = n->texture;
+    if (!tex && n->kind == LIMEN_NODE_MESH && n->mesh)
+        tex = n->mesh->tex;
+    if (tex && (n->kind == LIMEN_NODE_QUAD || n->kind == LIMEN_NODE_BOX ||
+                n->kind == LIMEN_NODE_MESH))
+        it->texture = &tex->pub;
 }
 
 /* Room for the scene's slots and its live nodes (the list's size is bounded by both). */

@@ -9,6 +9,7 @@
 #define STB_IMAGE_IMPLEMENTATION
 #define STB_IMAGE_STATIC
 #define STBI_ONLY_PNG
+#define STBI_ONLY_JPEG
 #if defined(__GNUC__)
 /* stb declares static functions it does not define in every configuration; the check runs
  * at the end of the file, so this one stays off for the whole file */
@@ -27,6 +28,7 @@
 #endif
 
 #include "core/internal.h"
+#include "core/texture.h"
 
 static void write_to_file(void *ctx, void *data, int size)
 {
@@ -157,6 +159,26 @@ limen_status limen_read_png(const char *path, int *width, int *height, unsigned 
         st = limen__png_decode(buf, len, width, height, rgb);
     free(buf);
     return st;
+}
+
+unsigned char *limen__image_decode(const unsigned char *buf, size_t len, int *w, int *h)
+{
+    int n = 0;
+    if (len > INT_MAX)
+        return NULL;
+    return stbi_load_from_memory(buf, (int)len, w, h, &n, 3);
+}
+
+bool limen__image_info(const unsigned char *buf, size_t len, int *w, int *h)
+{
+    int n;
+    return len <= INT_MAX && stbi_info_from_memory(buf, (int)len, w, h, &n) != 0;
+}
+
+const char *limen__image_why(void)
+{
+    const char *why = stbi_failure_reason();
+    return why ? why : "unknown";
 }
 
 void limen_free(void *p)

@@ -15,6 +15,7 @@
 #include "core/dmath.h"
 #include "core/index.h"
 #include "core/internal.h"
+#include "core/mesh.h"
 #include "core/reserve.h"
 #include "core/rtc.h"
 
@@ -203,7 +204,8 @@ int limen__scene_bad_world(const limen_scene *s)
 static bool is_shape(const limen__node *n)
 {
     return n->kind == LIMEN_NODE_BOX || n->kind == LIMEN_NODE_SPHERE ||
-           n->kind == LIMEN_NODE_CYLINDER || n->kind == LIMEN_NODE_QUAD;
+           n->kind == LIMEN_NODE_CYLINDER || n->kind == LIMEN_NODE_QUAD ||
+           n->kind == LIMEN_NODE_MESH;
 }
 
 void limen__node_box(const limen__node *n, limen__box *b)
@@ -225,6 +227,12 @@ void limen__node_box(const limen__node *n, limen__box *b)
         hi[1] = n->dims[1];
         break;
     case LIMEN_NODE_BOX: break;
+    case LIMEN_NODE_MESH:   /* its triangles' box (a point until it has some) */
+        for (int k = 0; k < 3; k++) {
+            lo[k] = n->mesh ? n->mesh->lo[k] : 0;
+            hi[k] = n->mesh ? n->mesh->hi[k] : 0;
+        }
+        break;
     default: lo[2] = hi[2] = 0; break;     /* flat */
     }
     /* ... carried to the world exactly: centre by M, half-extents by |M| */

@@ -6,6 +6,7 @@
 #include <stdarg.h>
 #include <stdbool.h>
 #include <stdio.h>
+#include <stdlib.h>
 
 #include <cglm/cglm.h>
 
@@ -37,6 +38,7 @@ typedef struct limen__node {
     int nchildren;              /* live nodes whose parent this is */
 
     vec3 color;                 /* albedo; light intensity */
+    float range;                /* lights: where the contribution reaches 0; 0 = none */
     vec3 checker_b;
     float checker_cell;         /* 0 = plain colour (color only) */
     vec3 dims;
@@ -47,6 +49,10 @@ typedef struct limen__node {
     vec3 tint, back, fill;      /* mirrors and portals */
     int max_depth;
     uint32_t pair;              /* portals: partner's index + 1; 0 = unpaired */
+
+    struct limen__mesh *mesh;   /* meshes: shared geometry (core/mesh.h), or NULL */
+    bool smooth;                /* meshes: interpolate vertex normals */
+    struct limen__texture *texture;  /* quads, boxes, meshes: albedo = texel * colour */
 } limen__node;
 
 struct limen_scene {
@@ -77,6 +83,10 @@ struct limen_scene {
     float ambient;
     uint32_t camera;            /* index + 1 */
     unsigned test_faults;       /* LIMEN_FAULT_* bits (core/testing.h); 0 */
+    void **meshes;              /* limen__mesh *: each shared by the nodes that load it */
+    int nmeshes, mesh_cap;
+    void **textures;            /* limen__texture *: each shared by the nodes that use it */
+    int ntextures, texture_cap;
     char err[LIMEN__ERR_MAX];
 };
 
@@ -178,6 +188,32 @@ void limen__out_abort(limen__out *o);
 /* limen_read_png on bytes in memory (which it may rearrange). */
 limen_status limen__png_decode(unsigned char *buf, size_t len, int *width, int *height,
                                unsigned char **rgb);
+
+/* A scene's list of shared assets (meshes, textures): adds one (false: out of memory), or
+ * takes one out (order not kept). */
+static inline bool limen__assets_add(void ***list, int *n, int *cap, void *item)
+{
+    if (*n == *cap) {
+        int c = *cap ? *cap * 2 : 8;
+        void **l = realloc(*list, sizeof *l * (size_t)c);
+        if (!l)
+            return false;
+        *list = l;
+        *cap = c;
+    }
+    (*list)[(*n)++] = item;
+    return true;
+}
+
+static inline void limen__assets_remove(void **list, int *n, const void *item)
+{
+    for (int i = 0; i < *n; i++) {
+        if (list[i] == item) {
+            list[i] = list[--*n];
+            return;
+        }
+    }
+}
 
 static inline bool limen__finite3(const float v[3])
 {

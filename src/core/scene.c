@@ -4,6 +4,8 @@
 #include <string.h>
 
 #include "core/internal.h"
+#include "core/mesh.h"
+#include "core/texture.h"
 
 /* The pool grows by doubling up to this many slots (an index must fit a handle's low 32
  * bits and an int). */
@@ -37,7 +39,7 @@ limen__node *limen__node_get(const limen_scene *s, limen_node n)
 static const char *kind_name(limen_node_kind k)
 {
     static const char *names[] = { "group", "box", "sphere", "cylinder", "quad",
-                                   "mirror", "portal", "light", "camera" };
+                                   "mirror", "portal", "light", "camera", "mesh" };
     return (unsigned)k < LIMEN_NODE_KIND_COUNT ? names[k] : "node";
 }
 
@@ -94,6 +96,8 @@ void limen_scene_destroy(limen_scene *s)
 {
     if (!s)
         return;
+    limen__meshes_destroy(s);
+    limen__textures_destroy(s);
     limen__index_free(s);
     free(s->nodes);
     free(s->free_ring);
@@ -413,6 +417,10 @@ limen_status limen_node_destroy(limen_scene *s, limen_node n)
         s->camera = 0;
     if (node->pair)
         s->nodes[node->pair - 1].pair = 0;
+    limen__mesh_release(s, node->mesh);
+    node->mesh = NULL;
+    limen__texture_release(s, node->texture);
+    node->texture = NULL;
     s->live[node->live_at] = -1;
     if (++s->live_holes > s->count)
         compact_live(s);
@@ -850,6 +858,25 @@ int limen_node_get_visible(const limen_scene *s, limen_node n)
 {
     limen__node *node = limen__node_get(s, n);
     return node ? node->visible : 0;
+}
+
+limen_status limen_light_set_range(limen_scene *s, limen_node n, float range)
+{
+    GET(node, s, n);
+    if (node->kind != LIMEN_NODE_LIGHT)
+        return limen__fail(s, LIMEN_ERR_HANDLE, "range: '%s' is a %s, not a light",
+                           limen__node_title(node), kind_name(node->kind));
+    if (!(range == 0 || (range >= LIMEN_MIN_SIZE && range <= LIMEN_MAX_MAGNITUDE)))
+        return limen__fail(s, LIMEN_ERR_ARG, "range: must be 0 (none) or a positive number "
+                           "from 1e-9 to 1e9 (got %g)", range);
+    node->range = range;
+    return LIMEN_OK;
+}
+
+float limen_light_get_range(const limen_scene *s, limen_node n)
+{
+    limen__node *node = limen__node_get(s, n);
+    return node && node->kind == LIMEN_NODE_LIGHT ? node->range : 0.0f;
 }
 
 /* ------------------------------------------------------------------ cameras */

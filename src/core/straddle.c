@@ -7,6 +7,7 @@
 #include "core/dmath.h"
 #include "core/index.h"
 #include "core/internal.h"
+#include "core/mesh.h"
 
 void limen__node_bounds(const limen__node *n, double centre[3], double *radius)
 {
@@ -21,6 +22,15 @@ void limen__node_bounds(const limen__node *n, double centre[3], double *radius)
         local[1] = 0.5 * n->dims[1];
         r = sqrt((double)n->dims[0] * n->dims[0] + local[1] * local[1]);
         break;
+    case LIMEN_NODE_MESH: {
+        double h2 = 0;
+        for (int a = 0; n->mesh && a < 3; a++) {
+            local[a] = 0.5 * (n->mesh->lo[a] + n->mesh->hi[a]);
+            h2 += 0.25 * (n->mesh->hi[a] - n->mesh->lo[a]) * (n->mesh->hi[a] - n->mesh->lo[a]);
+        }
+        r = sqrt(h2);
+        break;
+    }
     default: r = 0.5 * sqrt((double)n->dims[0] * n->dims[0] + (double)n->dims[1] * n->dims[1]);
     }
     double w[16];
@@ -56,7 +66,7 @@ static bool closed_shape(const limen__node *n)
 {
     return limen__alive(n) && n->visible &&
            (n->kind == LIMEN_NODE_BOX || n->kind == LIMEN_NODE_SPHERE ||
-            n->kind == LIMEN_NODE_CYLINDER);
+            n->kind == LIMEN_NODE_CYLINDER || (n->kind == LIMEN_NODE_MESH && n->mesh));
 }
 
 static bool open_portal(const limen_scene *s, const limen__node *a)

@@ -19,18 +19,22 @@
  *
  * Shapes, exact, in each node's unit space M = world * diag(scale): box [-0.5, 0.5]^3
  * (scale = dims), sphere of radius 1 (r, r, r), cylinder of radius 1 with y in [0, 1] and
- * caps (r, h, r), quad, mirror and portal on [-0.5, 0.5]^2 at z = 0 (w, h, 1). Only live,
+ * caps (r, h, r), quad, mirror and portal on [-0.5, 0.5]^2 at z = 0 (w, h, 1), a mesh's
+ * triangles in its own frame (scale 1; Moller-Trumbore in double over the asset's BVH). Only live,
  * visible nodes; groups, lights and cameras are never hit. Closed shapes (box, sphere,
  * cylinder) are hit only where the ray enters them: the renderer culls their back faces, so
  * a ray that starts inside one (or whose entry was near-clipped) passes out unseen. Flat
- * shapes are hit from both sides.
+ * shapes and meshes are hit from both sides (the renderer draws meshes without culling, as
+ * their files need not be closed); a mesh cut at a portal shows what lies behind the cut.
  *
  * Shading, as the fragment shader: colour = albedo * (ambient + (1 - ambient) *
- * sum_i light_i * max(0, n . normalize(light_pos_i - p))), clamped to [0, 1], no shadows.
+ * sum_i light_i * w_i * max(0, n . normalize(light_pos_i - p))), clamped to [0, 1], no
+ * shadows; w_i = clamp(1 - (d/R)^4, 0, 1)^2 for a light of range R > 0 at distance d, else 1.
  * Lights: the first 8 live, visible LIGHT nodes in creation order (world translation, colour).
  * n = normalize(N * n_unit), N the inverse transpose of M's 3x3, n_unit the unit-space
  * point (sphere), (x, 0, z) of it (cylinder side), or the face normal (caps, box faces,
- * quads), turned to face the incoming ray (the shader turns it towards the view's eye, which
+ * quads; a mesh's face normal, or its vertex normals interpolated where it is smooth),
+ * turned to face the incoming ray (the shader turns it towards the view's eye, which
  * lies on the ray's line behind its origin). Checker: c = floor(unit point * scale / cell),
  * k = c.x + c.y (+ c.z except for QUAD nodes), odd k -> checker_b, even -> colour.
  *
@@ -71,10 +75,12 @@
 #include "core/dmath.h"
 #include "core/index.h"
 #include "core/internal.h"
+#include "core/mesh.h"
+#include "core/texture.h"
 
 #define MAX_THREADS 256
 
-enum shape { SHAPE_BOX, SHAPE_SPHERE, SHAPE_CYLINDER, SHAPE_FLAT };
+enum shape { SHAPE_BOX, SHAPE_SPHERE, SHAPE_CYLINDER, SHAPE_FLAT, SHAPE_MESH };
 
 /* One hittable node, in double precision. */
 typedef struct prim {
@@ -85,6 +91,9 @@ typedef struct prim {
     double nmat[9];             /* inverse transpose of m's 3x3, column-major */
     double scale[3];
     double bc[3], br;           /* world bounding sphere */
+    const limen__mesh *mesh;    /* meshes: the triangles, in unit space (scale 1) */
+    bool smooth;                /* meshes: interpolated vertex normals */
+    const limen__texture *tex;  /* albedo = texel * colour, or NULL */
     double color[3], checker_b[3], cell;
     /* mirrors and portals */
     double plane[4];            /* world, front = +Z side */
@@ -104,7 +113,7 @@ typedef struct tracer {
     const limen_scene *s;
     prim *prims;
     int n;
-    double lpos[LIMEN__MAX_LIGHTS][3], lcol[LIMEN__MAX_LIGHTS][3];
+    double lpos[LIMEN__MAX_LIGHTS][3], lcol[LIMEN__MAX_LIGHTS][3], lrange[LIMEN__MAX_LIGHTS];
     int nlights;
     double ambient, background[3];
     /* images: the scene's spatial index finds the prims near a ray (core/index.c) */
@@ -165,6 +174,8 @@ static bool hittable(const limen__node *n)
     case LIMEN_NODE_MIRROR:
     case LIMEN_NODE_PORTAL:
         return true;
+    case LIMEN_NODE_MESH:
+        return n->mesh != NULL;
     default:
         return false;
     }
@@ -222,6 +233,20 @@ static void setup_prim(limen_scene *s, const limen__node *n, prim *p)
         unit_c[1] = 0.5;
         unit_r = sqrt(1.25);
         break;
+    case LIMEN_NODE_MESH: {
+        const limen__mesh *m = n->mesh;
+        p->shape = SHAPE_MESH;
+        p->mesh = m;
+        p->smooth = n->smooth || m->file_normals;
+        p->scale[0] = p->scale[1] = p->scale[2] = 1.0;
+        double half[3];
+        for (int a = 0; a < 3; a++) {
+            unit_c[a] = 0.5 * (m->lo[a] + m->hi[a]);
+            half[a] = 0.5 * (m->hi[a] - m->lo[a]);
+        }
+        unit_r = sqrt(dot3(half, half));
+        break;
+    }
     default:
         p->shape = SHAPE_FLAT;
         p->scale[0] = n->dims[0];
@@ -230,7 +255,7 @@ static void setup_prim(limen_scene *s, const limen__node *n, prim *p)
         unit_r = sqrt(0.5);
         break;
     }
-    p->unit_c[1] = unit_c[1];
+    memcpy(p->unit_c, unit_c, sizeof unit_c);
     p->unit_r = unit_r;
     double w[16];
     limen__d_from_f(&n->world[0][0], w);
@@ -242,6 +267,8 @@ static void setup_prim(limen_scene *s, const limen__node *n, prim *p)
         return;
     copy3f(n->color, p->color);
     copy3f(n->checker_b, p->checker_b);
+    if (n->kind == LIMEN_NODE_QUAD || n->kind == LIMEN_NODE_BOX || n->kind == LIMEN_NODE_MESH)
+        p->tex = n->texture ? n->texture : n->kind == LIMEN_NODE_MESH ? n->mesh->tex : NULL;
     p->cell = n->checker_cell;
     if (limen__is_surface(n)) {
         limen__surface_plane_d(n, p->plane);
@@ -313,6 +340,7 @@ static limen_status tracer_init(tracer *t, limen_scene *s, const char *fn)
         if (n->kind == LIMEN_NODE_LIGHT && n->visible && t->nlights < LIMEN__MAX_LIGHTS) {
             copy3f(n->world[3], t->lpos[t->nlights]);
             copy3f(n->color, t->lcol[t->nlights]);
+            t->lrange[t->nlights] = n->range;
             t->nlights++;
         }
         if (n->visible && hittable(n)) {
@@ -478,6 +506,47 @@ static bool hit_flat(const double o[3], const double d[3], double tmin, double t
     return true;
 }
 
+/* The nearest triangle of a mesh prim (both sides; with a cut, hits behind it do not count,
+ * as the renderer clips them without culling) and its unit-space normal: the face's, or the
+ * vertex normals interpolated where the mesh is smooth. */
+static bool hit_mesh(const prim *p, const double o[3], const double d[3], double tmin,
+                     double tmax, double *t, double nu[3], double uv[2])
+{
+    const limen__mesh *m = p->mesh;
+    double cut[4], *cutp = NULL;
+    if (p->has_cut) {   /* a world plane into unit space: M^T plane */
+        for (int c = 0; c < 4; c++)
+            cut[c] = p->m[c * 4] * p->cut[0] + p->m[c * 4 + 1] * p->cut[1] +
+                     p->m[c * 4 + 2] * p->cut[2] + p->m[c * 4 + 3] * p->cut[3];
+        cutp = cut;
+    }
+    double u, v;
+    int tri = limen__mesh_intersect(m, o, d, tmin, tmax, cutp, t, &u, &v);
+    if (tri < 0)
+        return false;
+    const uint32_t *ix = &m->idx[tri * 3];
+    uv[0] = uv[1] = 0;
+    for (int k = 0; m->uv && k < 2; k++)
+        uv[k] = (1.0 - u - v) * m->uv[ix[0] * 2 + k] + u * m->uv[ix[1] * 2 + k] +
+                v * m->uv[ix[2] * 2 + k];
+    if (p->smooth) {
+        double w[3] = { 1.0 - u - v, u, v };
+        for (int a = 0; a < 3; a++)
+            nu[a] = w[0] * m->nrm[ix[0] * 3 + a] + w[1] * m->nrm[ix[1] * 3 + a] +
+                    w[2] * m->nrm[ix[2] * 3 + a];
+    } else {
+        double e1[3], e2[3];
+        for (int a = 0; a < 3; a++) {
+            e1[a] = (double)m->pos[ix[1] * 3 + a] - m->pos[ix[0] * 3 + a];
+            e2[a] = (double)m->pos[ix[2] * 3 + a] - m->pos[ix[0] * 3 + a];
+        }
+        nu[0] = e1[1] * e2[2] - e1[2] * e2[1];
+        nu[1] = e1[2] * e2[0] - e1[0] * e2[2];
+        nu[2] = e1[0] * e2[1] - e1[1] * e2[0];
+    }
+    return true;
+}
+
 /* The search for the nearest hit of one segment. */
 typedef struct search {
     const tracer *tr;
@@ -485,7 +554,7 @@ typedef struct search {
     double tmin_shape, tmin_surface;
     int skip;
     int best;
-    double tbest, pu[3], nu[3];
+    double tbest, pu[3], nu[3], uv[2];
 } search;
 
 /* Tests prim i against the search's segment, keeping the nearest hit; between hits at the
@@ -513,7 +582,7 @@ static void test_prim(search *q, int i)
                                                                                 : q->tmin_shape;
     if (tc + p->br <= tmin)
         return;
-    double ou[3], du[3], t, n[3];
+    double ou[3], du[3], t, n[3], uv[2] = { 0, 0 };
     limen__d_point(p->minv, o, ou);
     d_dir(p->minv, d, du);
     bool hit;
@@ -526,6 +595,9 @@ static void test_prim(search *q, int i)
         break;
     case SHAPE_CYLINDER:
         hit = hit_cylinder(ou, du, tmin, tbest, &t, n);
+        break;
+    case SHAPE_MESH:
+        hit = hit_mesh(p, ou, du, tmin, tbest, &t, n, uv);
         break;
     default:
         hit = hit_flat(ou, du, tmin, tbest, &t, n);
@@ -543,6 +615,7 @@ static void test_prim(search *q, int i)
     q->best = i;
     q->tbest = t;
     memcpy(q->nu, n, sizeof n);
+    memcpy(q->uv, uv, sizeof uv);
     for (int k = 0; k < 3; k++)
         q->pu[k] = ou[k] + t * du[k];
 }
@@ -561,7 +634,8 @@ static void test_prim_bvh(void *ctx, int item, double *tmax)
  * and portals seen from behind. Returns the prim index or -1; *t, the unit-space point and
  * the unit-space normal of the hit. */
 static int nearest(const tracer *tr, const double o[3], const double d[3], double tmin_shape,
-                   double tmin_surface, int skip, double *t_out, double pu[3], double nu[3])
+                   double tmin_surface, int skip, double *t_out, double pu[3], double nu[3],
+                   double uv_out[2])
 {
     search q = { .tr = tr, .o = o, .d = d, .tmin_shape = tmin_shape,
                  .tmin_surface = tmin_surface, .skip = skip, .best = -1, .tbest = INFINITY };
@@ -581,6 +655,7 @@ static int nearest(const tracer *tr, const double o[3], const double d[3], doubl
     *t_out = q.tbest;
     memcpy(pu, q.pu, sizeof q.pu);
     memcpy(nu, q.nu, sizeof q.nu);
+    memcpy(uv_out, q.uv, sizeof q.uv);
     return q.best;
 }
 
@@ -603,10 +678,23 @@ static void world_normal(const prim *p, const double nu[3], const double d[3], d
     }
 }
 
+/* Texture coordinates of a plane or box hit (limen.h): the unit point shifted by a half,
+ * a box face taking its two other axes in order. */
+static void flat_uv(const prim *p, const double pu[3], const double nu[3], double uv[2])
+{
+    int a = 2;
+    if (p->kind == LIMEN_NODE_BOX)
+        a = fabs(nu[0]) > 0.5 ? 0 : fabs(nu[1]) > 0.5 ? 1 : 2;
+    uv[0] = pu[(a + 1) % 3] + 0.5;
+    uv[1] = pu[(a + 2) % 3] + 0.5;
+}
+
 static void shade(const tracer *tr, const prim *p, const double albedo_a[3], const double pu[3],
-                  const double pw[3], const double n[3], double out[3])
+                  const double nu[3], const double uv_in[2], const double pw[3],
+                  const double n[3], double out[3])
 {
     const double *albedo = albedo_a;
+    double texel[3];
     if (p->cell > 0) {
         double k = 0;
         int axes = p->kind == LIMEN_NODE_QUAD ? 2 : 3;
@@ -615,12 +703,27 @@ static void shade(const tracer *tr, const prim *p, const double albedo_a[3], con
         if (k - 2.0 * floor(k * 0.5) > 0.5)
             albedo = p->checker_b;
     }
+    if (p->tex) {
+        double uv[2] = { uv_in[0], uv_in[1] };
+        if (p->shape != SHAPE_MESH)
+            flat_uv(p, pu, nu, uv);
+        limen__texture_sample(p->tex, uv[0], uv[1], texel);
+        for (int k = 0; k < 3; k++)
+            texel[k] *= albedo[k];
+        albedo = texel;
+    }
     double light[3] = { 0, 0, 0 };
     for (int i = 0; i < tr->nlights; i++) {
         double l[3] = { tr->lpos[i][0] - pw[0], tr->lpos[i][1] - pw[1], tr->lpos[i][2] - pw[2] };
+        double w = 1.0;
+        if (tr->lrange[i] > 0) {    /* the windowed falloff of limen.h's CONVENTIONS */
+            double q = dot3(l, l) / (tr->lrange[i] * tr->lrange[i]);
+            w = fmax(0.0, 1.0 - q * q);
+            w *= w;
+        }
         if (!normalize3(l))
             continue;
-        double c = fmax(0.0, dot3(n, l));
+        double c = w * fmax(0.0, dot3(n, l));
         for (int k = 0; k < 3; k++)
             light[k] += tr->lcol[i][k] * c;
     }
@@ -654,8 +757,8 @@ static void follow(const tracer *tr, const double o_in[3], const double d_in[3],
         rec->prim = -1;
     }
     for (;;) {
-        double t, pu[3], nu[3];
-        int hi = nearest(tr, o, d, tmin, tmin_surface, skip, &t, pu, nu);
+        double t, pu[3] = { 0, 0, 0 }, nu[3] = { 0, 0, 0 }, uv[2] = { 0, 0 };
+        int hi = nearest(tr, o, d, tmin, tmin_surface, skip, &t, pu, nu, uv);
         if (rec) {
             memcpy(rec->seg_o, o, sizeof o);
             memcpy(rec->seg_d, d, sizeof d);
@@ -673,7 +776,7 @@ static void follow(const tracer *tr, const double o_in[3], const double d_in[3],
             double n[3];
             world_normal(p, nu, d, n);
             if (matte) {
-                shade(tr, p, surface ? p->back : p->color, pu, pw, n, shaded);
+                shade(tr, p, surface ? p->back : p->color, pu, nu, uv, pw, n, shaded);
                 result = shaded;
             } else {
                 result = p->fill;

@@ -25,8 +25,10 @@ static const GLenum caps[] = {
 /* Integer state: read with glGetIntegerv, put back by restore(). */
 enum {
     I_PROGRAM, I_VAO, I_ARRAY_BUFFER, I_DRAW_FB, I_READ_FB, I_RENDERBUFFER, I_ACTIVE_TEXTURE,
-    I_TEXTURE0, I_SAMPLER0, I_PACK_BUFFER, I_UNPACK_BUFFER, I_PACK_ALIGNMENT,
-    I_PACK_ROW_LENGTH, I_PACK_SKIP_ROWS, I_PACK_SKIP_PIXELS, I_DEPTH_FUNC, I_CULL_MODE,
+    I_TEXTURE0, I_SAMPLER0, I_TEXTURE1, I_SAMPLER1, I_PACK_BUFFER, I_UNPACK_BUFFER,
+    I_PACK_ALIGNMENT, I_PACK_ROW_LENGTH, I_PACK_SKIP_ROWS, I_PACK_SKIP_PIXELS,
+    I_UNPACK_ALIGNMENT, I_UNPACK_ROW_LENGTH, I_UNPACK_SKIP_ROWS, I_UNPACK_SKIP_PIXELS,
+    I_UNPACK_IMAGE_HEIGHT, I_DEPTH_FUNC, I_CULL_MODE,
     I_FRONT_FACE, I_STENCIL_CLEAR, I_CLIP_ORIGIN, I_CLIP_DEPTH, I_COUNT
 };
 
@@ -105,6 +107,10 @@ static void save(const limen__gl *gl, saved *sv)
         [I_UNPACK_BUFFER] = GL_PIXEL_UNPACK_BUFFER_BINDING,
         [I_PACK_ALIGNMENT] = GL_PACK_ALIGNMENT, [I_PACK_ROW_LENGTH] = GL_PACK_ROW_LENGTH,
         [I_PACK_SKIP_ROWS] = GL_PACK_SKIP_ROWS, [I_PACK_SKIP_PIXELS] = GL_PACK_SKIP_PIXELS,
+        [I_UNPACK_ALIGNMENT] = GL_UNPACK_ALIGNMENT, [I_UNPACK_ROW_LENGTH] = GL_UNPACK_ROW_LENGTH,
+        [I_UNPACK_SKIP_ROWS] = GL_UNPACK_SKIP_ROWS,
+        [I_UNPACK_SKIP_PIXELS] = GL_UNPACK_SKIP_PIXELS,
+        [I_UNPACK_IMAGE_HEIGHT] = GL_UNPACK_IMAGE_HEIGHT,
         [I_DEPTH_FUNC] = GL_DEPTH_FUNC, [I_CULL_MODE] = GL_CULL_FACE_MODE,
         [I_FRONT_FACE] = GL_FRONT_FACE, [I_STENCIL_CLEAR] = GL_STENCIL_CLEAR_VALUE,
     };
@@ -115,7 +121,10 @@ static void save(const limen__gl *gl, saved *sv)
         gl->GetIntegerv(GL_CLIP_ORIGIN, &sv->i[I_CLIP_ORIGIN]);
         gl->GetIntegerv(GL_CLIP_DEPTH_MODE, &sv->i[I_CLIP_DEPTH]);
     }
-    /* unit 0 is the one limen samples from */
+    /* units 0 (views' images) and 1 (albedo textures) are the ones limen samples from */
+    gl->ActiveTexture(GL_TEXTURE1);
+    gl->GetIntegerv(GL_TEXTURE_BINDING_2D, &sv->i[I_TEXTURE1]);
+    gl->GetIntegerv(GL_SAMPLER_BINDING, &sv->i[I_SAMPLER1]);
     gl->ActiveTexture(GL_TEXTURE0);
     gl->GetIntegerv(GL_TEXTURE_BINDING_2D, &sv->i[I_TEXTURE0]);
     gl->GetIntegerv(GL_SAMPLER_BINDING, &sv->i[I_SAMPLER0]);
@@ -146,8 +155,15 @@ static void neutral(const limen__gl *gl)
     gl->PolygonMode(GL_FRONT_AND_BACK, GL_FILL);
     gl->DepthRange(0.0, 1.0);
     gl->BindSampler(0, 0);
+    gl->BindSampler(1, 0);
     gl->BindBuffer(GL_PIXEL_PACK_BUFFER, 0);
     gl->BindBuffer(GL_PIXEL_UNPACK_BUFFER, 0);
+    /* textures are uploaded as tightly packed rows */
+    gl->PixelStorei(GL_UNPACK_ALIGNMENT, 1);
+    gl->PixelStorei(GL_UNPACK_ROW_LENGTH, 0);
+    gl->PixelStorei(GL_UNPACK_SKIP_ROWS, 0);
+    gl->PixelStorei(GL_UNPACK_SKIP_PIXELS, 0);
+    gl->PixelStorei(GL_UNPACK_IMAGE_HEIGHT, 0);
 }
 
 static void enable(const limen__gl *gl, GLenum cap, GLboolean on)
@@ -166,6 +182,9 @@ static void restore(const limen__gl *gl, const saved *sv)
     gl->BindFramebuffer(GL_DRAW_FRAMEBUFFER, (GLuint)sv->i[I_DRAW_FB]);
     gl->BindFramebuffer(GL_READ_FRAMEBUFFER, (GLuint)sv->i[I_READ_FB]);
     gl->BindRenderbuffer(GL_RENDERBUFFER, (GLuint)sv->i[I_RENDERBUFFER]);
+    gl->ActiveTexture(GL_TEXTURE1);
+    gl->BindTexture(GL_TEXTURE_2D, (GLuint)sv->i[I_TEXTURE1]);
+    gl->BindSampler(1, (GLuint)sv->i[I_SAMPLER1]);
     gl->ActiveTexture(GL_TEXTURE0);
     gl->BindTexture(GL_TEXTURE_2D, (GLuint)sv->i[I_TEXTURE0]);
     gl->BindSampler(0, (GLuint)sv->i[I_SAMPLER0]);
@@ -176,6 +195,11 @@ static void restore(const limen__gl *gl, const saved *sv)
     gl->PixelStorei(GL_PACK_ROW_LENGTH, sv->i[I_PACK_ROW_LENGTH]);
     gl->PixelStorei(GL_PACK_SKIP_ROWS, sv->i[I_PACK_SKIP_ROWS]);
     gl->PixelStorei(GL_PACK_SKIP_PIXELS, sv->i[I_PACK_SKIP_PIXELS]);
+    gl->PixelStorei(GL_UNPACK_ALIGNMENT, sv->i[I_UNPACK_ALIGNMENT]);
+    gl->PixelStorei(GL_UNPACK_ROW_LENGTH, sv->i[I_UNPACK_ROW_LENGTH]);
+    gl->PixelStorei(GL_UNPACK_SKIP_ROWS, sv->i[I_UNPACK_SKIP_ROWS]);
+    gl->PixelStorei(GL_UNPACK_SKIP_PIXELS, sv->i[I_UNPACK_SKIP_PIXELS]);
+    gl->PixelStorei(GL_UNPACK_IMAGE_HEIGHT, sv->i[I_UNPACK_IMAGE_HEIGHT]);
     gl->Viewport(sv->viewport[0], sv->viewport[1], sv->viewport[2], sv->viewport[3]);
     gl->Scissor(sv->scissor[0], sv->scissor[1], sv->scissor[2], sv->scissor[3]);
     for (size_t k = 0; k < NCAPS; k++)

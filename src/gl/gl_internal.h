@@ -17,12 +17,19 @@
 
 typedef struct uniforms {
     GLint model, normal_mat, view_proj, eye, clip_plane, clip_plane2, albedo, albedo_b, cell,
-        scale, tint, tex, tex_map, ambient, light_pos, light_col;
+        scale, tint, tex, tex_map, ambient, light_pos, light_col, light_inv_r2;
 } uniforms;
 
 /* Shader variants (shader.c): what a draw shades. */
 enum { LIMEN__MODE_LIT = 0, LIMEN__MODE_FLAT = 1, LIMEN__MODE_TEXTURE = 2 };
-#define LIMEN__MAX_VARIANTS 128
+/* ... the normals of a lit draw: the vertices' (flat per face), the true sphere's or
+ * cylinder's, or a mesh's vertex normals interpolated (smooth) ... */
+enum { LIMEN__SHAPE_FACE = 0, LIMEN__SHAPE_SPHERE = 1, LIMEN__SHAPE_CYLINDER = 2,
+       LIMEN__SHAPE_SMOOTH = 3 };
+/* ... and where an albedo texture's coordinates come from (limen.h): none, a plane's unit
+ * point, a box face's two other axes, a mesh's own. */
+enum { LIMEN__UV_NONE = 0, LIMEN__UV_PLANE = 1, LIMEN__UV_BOX = 2, LIMEN__UV_MESH = 3 };
+#define LIMEN__MAX_VARIANTS 256
 
 typedef struct limen__variant {
     unsigned key;
@@ -36,6 +43,8 @@ typedef struct limen__shared {
     float view_proj[16], eye[3], clip_plane[4], cut_plane[4], tint[3], ambient, tex_map[4];
     int nlights;
     float light_pos[LIMEN_MAX_LIGHTS][3], light_col[LIMEN_MAX_LIGHTS][3];
+    float light_inv_r2[LIMEN_MAX_LIGHTS];   /* 1 / range^2, 0 for a light without one */
+    bool ranged;                /* some light has a range: variants with RANGE */
 } limen__shared;
 
 /* An offscreen target for the texture method: one per recursion level. */
@@ -88,6 +97,9 @@ struct limen_renderer {
     struct limen__draw_key *order;          /* a view's things, nearest first */
     int order_cap;
 
+    struct limen__gpu_asset *assets;        /* mesh buffers and textures (gl/assets.c) */
+    int nassets, assets_cap;
+
     limen_plan *plan;                       /* what to draw: the view tree of the frame ... */
     limen_drawables *draw;                  /* ... and the nodes, read once per frame */
     int *clone_of, clone_of_cap;            /* per drawable: its limen_clone, or -1 */
@@ -116,7 +128,7 @@ void limen__samples_end(limen_renderer *r);
  * and clip distances as they are now set), uploads the shared values it lacks and points r->u
  * at its uniforms; false (message in err) where it cannot be built. */
 GLuint limen__gl_link(limen_renderer *r, const char *head, const char *vsrc, const char *fsrc);
-bool limen__variant_use(limen_renderer *r, int mode, int shape, int checker);
+bool limen__variant_use(limen_renderer *r, int mode, int shape, int checker, int textured);
 void limen__variants_free(limen_renderer *r);
 
 /* Draws the planned tree of r->plan and r->draw into the frame buffer (bound by the caller,
@@ -124,5 +136,19 @@ void limen__variants_free(limen_renderer *r);
 limen_status limen__draw_stencil(limen_renderer *r);
 limen_status limen__draw_texture(limen_renderer *r);
 void limen__targets_free(limen_renderer *r);
+
+/* gl/mesh.c: which unit mesh, and how it is scaled, for a node seen through a view (its
+ * view matrix and pixels per unit at distance 1, for the level of detail); shape: the
+ * normals it needs (LIMEN__SHAPE_*). False if the node is not drawn with one. */
+bool limen__unit_mesh(limen_renderer *r, const vec4 *view, float px_scale, const limen_drawable *node,
+                      mat4 world, limen__range *range, vec3 scale, int *shape);
+
+/* gl/assets.c: a mesh's vertex arrays, bound with the flat or smooth normals (returns the
+ * corners to draw, 0 if it cannot); an image's texture (0 if it cannot); after a frame,
+ * dropping what it did not use; everything, at the end. */
+GLsizei limen__gpu_mesh_bind(limen_renderer *r, const limen_mesh_geometry *m, bool smooth);
+GLuint limen__gpu_texture(limen_renderer *r, const limen_image *t);
+void limen__gpu_assets_sweep(limen_renderer *r);
+void limen__gpu_assets_free(limen_renderer *r);
 
 #endif

@@ -5,6 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "gl/gl_internal.h"
 #include "gl/mesh.h"
 
 const int limen__lod_segments[LIMEN__LODS] = { 8, 12, 16, 24, 32, 48, 64, 96, 128, 192, 256 };
@@ -213,4 +214,53 @@ int limen__lod_for(float radius_px, float tol_px)
             return l;
     }
     return LIMEN__LODS - 1;
+}
+
+/* Which mesh, and how the unit mesh is scaled, for a node (gl_internal.h). */
+bool limen__unit_mesh(limen_renderer *r, const vec4 *view, float px_scale, const limen_drawable *node,
+                      mat4 world, limen__range *range, vec3 scale, int *shape)
+{
+    float radius = 0;
+    *shape = 0;
+    switch (node->kind) {
+    case LIMEN_NODE_BOX:
+        *range = r->meshes.box;
+        memcpy(scale, node->dims, sizeof(vec3));
+        return true;
+    case LIMEN_NODE_QUAD:
+    case LIMEN_NODE_MIRROR:
+    case LIMEN_NODE_PORTAL:
+        *range = r->meshes.quad;
+        glm_vec3_copy((vec3){ node->dims[0], node->dims[1], 1.0f }, scale);
+        return true;
+    case LIMEN_NODE_SPHERE:
+        radius = node->dims[0];
+        glm_vec3_broadcast(radius, scale);
+        *shape = LIMEN__SHAPE_SPHERE;
+        break;
+    case LIMEN_NODE_CYLINDER:
+        glm_vec3_copy((vec3){ node->dims[0], node->dims[1], node->dims[0] }, scale);
+        radius = fmaxf(node->dims[0], 0.5f * node->dims[1]);
+        *shape = LIMEN__SHAPE_CYLINDER;
+        break;
+    default:
+        return false;
+    }
+    /* Level of detail from the projected size: the largest world-space stretch of the
+     * node's axes times the radius, over the view distance of its centre. */
+    float stretch = fmaxf(glm_vec3_norm(world[0]),
+                          fmaxf(glm_vec3_norm(world[1]), glm_vec3_norm(world[2])));
+    float world_r = radius * stretch;
+    vec4 centre = { world[3][0], world[3][1], world[3][2], 1.0f };
+    vec4 vc;
+    glm_mat4_mulv((vec4 *)view, centre, vc);
+    /* a view matrix through scaled portals scales distances: measure in its own units */
+    float view_scale = glm_vec3_norm((float *)view[0]);
+    float dist = -vc[2];
+    world_r *= view_scale;
+    int lod = LIMEN__LODS - 1;
+    if (dist > world_r * 1.01f)
+        lod = limen__lod_for(world_r * px_scale / (dist - world_r), LOD_TOLERANCE_PX);
+    *range = node->kind == LIMEN_NODE_SPHERE ? r->meshes.sphere[lod] : r->meshes.cylinder[lod];
+    return true;
 }

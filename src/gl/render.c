@@ -294,6 +294,7 @@ void limen_renderer_destroy(limen_renderer *r)
             GL(DeleteQueries)(r->q_cap, r->q_pool);
         GL(DeleteQueries)(1, &r->q_fragments);
         limen__targets_free(r);
+        limen__gpu_assets_free(r);
         if (r->prev_fbo) {
             GL(DeleteFramebuffers)(1, &r->prev_fbo);
             GL(DeleteTextures)(1, &r->prev_tex);
@@ -308,6 +309,7 @@ void limen_renderer_destroy(limen_renderer *r)
     if (r->ctx)
         r->ops->destroy(r->ctx);
     limen__meshes_free(&r->meshes);
+    free(r->assets);
     free(r->rgba);
     free(r);
 }
@@ -549,6 +551,7 @@ static limen_status frame(limen_renderer *r, limen_scene *s, limen_frame_stats *
         keep_previous(r);
     GL(Finish)();
     double t1 = now_ms();
+    limen__gpu_assets_sweep(r);
 
     GLenum e = GL(GetError)();
     if (e != GL_NO_ERROR)

@@ -1,6 +1,7 @@
 /* shader.c - the programs that shade things: one source, compiled into variants that each
  * hold only what a draw needs (lit, flat or textured; the mesh's normals or the true
- * sphere's or cylinder's; checker or not; how many lights; which clip distances). llvmpipe
+ * sphere's or cylinder's or a smooth mesh's; checker or not; an albedo texture or not; how
+ * many lights, and whether they have ranges; which clip distances). llvmpipe
  * runs every branch of a shader under a mask, so an all-purpose program pays for the paths
  * a draw does not take; a variant pays for its own. Variants are compiled on first use. The
  * values every variant reads (the view's matrix, eye, planes and tint, the lights) are kept
@@ -13,6 +14,10 @@
 static const char *vs_body =
     "layout(location = 0) in vec3 a_pos;\n"
     "layout(location = 1) in vec3 a_nrm;\n"
+    "#if TEXTURED == 3\n"
+    "layout(location = 2) in vec2 a_uv;\n"
+    "out vec2 v_uv;\n"
+    "#endif\n"
     "uniform mat4 u_model, u_view_proj;\n"
     "uniform vec4 u_clip_plane, u_clip_plane2;\n"
     "uniform mat3 u_normal_mat;\n"
@@ -21,6 +26,9 @@ static const char *vs_body =
     "void main() {\n"
     "    vec4 w = u_model * vec4(a_pos, 1.0);\n"
     "    v_world = w.xyz; v_local = a_pos; v_nrm = a_nrm;\n"
+    "#if TEXTURED == 3\n"
+    "    v_uv = a_uv;\n"
+    "#endif\n"
     "#if MODE == 0 && SHAPE == 0\n"
     "    v_face = normalize(u_normal_mat * a_nrm);\n"
     "#endif\n"
@@ -34,8 +42,11 @@ static const char *vs_body =
     "}\n";
 
 /* MODE 0 lit, 1 flat, 2 textured. The normal comes from the true shape where it is curved
- * (SHAPE 1 sphere, 2 cylinder side), so that shading does not depend on the tessellation.
- * CHECKER 1: cells in x + y (quads), 2: in x + y + z. */
+ * (SHAPE 1 sphere, 2 cylinder side), so that shading does not depend on the tessellation,
+ * or from a smooth mesh's vertex normals (SHAPE 3). CHECKER 1: cells in x + y (quads), 2: in
+ * x + y + z. TEXTURED: albedo times the texel at a plane's unit point (1), a box face's two
+ * other axes (2) or the mesh's coordinates (3). RANGE: each light weighted by
+ * clamp(1 - (d/R)^4, 0, 1)^2, from 1/R^2 (0 for a light without a range: weight 1). */
 static const char *fs_body =
     "in vec3 v_world, v_local, v_nrm;\n"
     "flat in vec3 v_face;\n"
@@ -44,6 +55,15 @@ static const char *fs_body =
     "uniform float u_cell, u_ambient;\n"
     "#if NLIGHTS > 0\n"
     "uniform vec3 u_light_pos[NLIGHTS], u_light_col[NLIGHTS];\n"
+    "#if RANGE\n"
+    "uniform float u_light_inv_r2[NLIGHTS];\n"
+    "#endif\n"
+    "#endif\n"
+    "#if TEXTURED\n"
+    "uniform sampler2D u_albedo_tex;\n"
+    "#endif\n"
+    "#if TEXTURED == 3\n"
+    "in vec2 v_uv;\n"
     "#endif\n"
     "uniform sampler2D u_tex;\n"
     "uniform vec4 u_tex_map;\n"
@@ -62,6 +82,8 @@ static const char *fs_body =
     "#endif\n"
     "#if SHAPE == 0\n"
     "    vec3 n = v_face;\n"
+    "#elif SHAPE == 3\n"
+    "    vec3 n = normalize(u_normal_mat * v_nrm);\n"
     "#else\n"
     "    vec3 n = normalize(u_normal_mat * nl);\n"
     "#endif\n"
@@ -76,10 +98,27 @@ static const char *fs_body =
     "#endif\n"
     "    if (k - 2.0 * floor(k * 0.5) > 0.5) albedo = u_albedo_b;\n"
     "#endif\n"
+    "#if TEXTURED == 1\n"
+    "    albedo *= texture(u_albedo_tex, v_local.xy + 0.5).rgb;\n"
+    "#elif TEXTURED == 2\n"
+    "    vec3 ax = abs(v_nrm);\n"
+    "    vec2 uv = (ax.x > 0.5 ? v_local.yz : ax.y > 0.5 ? v_local.zx : v_local.xy) + 0.5;\n"
+    "    albedo *= texture(u_albedo_tex, uv).rgb;\n"
+    "#elif TEXTURED == 3\n"
+    "    albedo *= texture(u_albedo_tex, v_uv).rgb;\n"
+    "#endif\n"
     "    vec3 light = vec3(0.0);\n"
     "#if NLIGHTS > 0\n"
-    "    for (int i = 0; i < NLIGHTS; i++)\n"
-    "        light += u_light_col[i] * max(0.0, dot(n, normalize(u_light_pos[i] - v_world)));\n"
+    "    for (int i = 0; i < NLIGHTS; i++) {\n"
+    "        vec3 l = u_light_pos[i] - v_world;\n"
+    "#if RANGE\n"
+    "        float q = dot(l, l) * u_light_inv_r2[i];\n"
+    "        float w = max(0.0, 1.0 - q * q);\n"
+    "        light += u_light_col[i] * (w * w) * max(0.0, dot(n, normalize(l)));\n"
+    "#else\n"
+    "        light += u_light_col[i] * max(0.0, dot(n, normalize(l)));\n"
+    "#endif\n"
+    "    }\n"
     "#endif\n"
     "    vec3 c3 = clamp(albedo * (u_ambient + (1.0 - u_ambient) * light), 0.0, 1.0);\n"
     "    o_color = vec4(c3 TINTED, 1.0);\n"
@@ -139,15 +178,18 @@ GLuint limen__gl_link(limen_renderer *r, const char *head, const char *vsrc, con
 }
 
 /* key: mode (2 bits), shape (2), checker (2), lights (4), clip distances 0 and 1 (1 each),
- * tint (1: the view's tint is not white; multiplying by 1 changes no colour) */
+ * tint (1: the view's tint is not white; multiplying by 1 changes no colour), texture
+ * coordinates (2), light ranges (1) */
 static unsigned variant_key(int mode, int shape, int checker, int nlights, bool clip0, bool clip1,
-                            bool tint)
+                            bool tint, int textured, bool ranged)
 {
     if (mode != LIMEN__MODE_LIT)
-        shape = checker = nlights = 0;
+        shape = checker = nlights = textured = 0;
+    if (!nlights)
+        ranged = false;
     return (unsigned)mode | (unsigned)shape << 2 | (unsigned)checker << 4 |
            (unsigned)nlights << 6 | (unsigned)clip0 << 10 | (unsigned)clip1 << 11 |
-           (unsigned)tint << 12;
+           (unsigned)tint << 12 | (unsigned)textured << 13 | (unsigned)ranged << 15;
 }
 
 static limen__variant *variant_build(limen_renderer *r, unsigned key)
@@ -156,12 +198,13 @@ static limen__variant *variant_build(limen_renderer *r, unsigned key)
         limen__rfail(r, LIMEN_ERR_GL, "more than %d shader variants", LIMEN__MAX_VARIANTS);
         return NULL;
     }
-    char head[256];
+    char head[320];
     snprintf(head, sizeof head,
              "#version 330 core\n#define MODE %u\n#define SHAPE %u\n#define CHECKER %u\n"
-             "#define NLIGHTS %u\n#define CLIP0 %u\n#define CLIP1 %u\n#define TINTED %s\n",
+             "#define NLIGHTS %u\n#define CLIP0 %u\n#define CLIP1 %u\n#define TINTED %s\n"
+             "#define TEXTURED %u\n#define RANGE %u\n",
              key & 3, key >> 2 & 3, key >> 4 & 3, key >> 6 & 15, key >> 10 & 1, key >> 11 & 1,
-             key >> 12 & 1 ? "* u_tint" : "");
+             key >> 12 & 1 ? "* u_tint" : "", key >> 13 & 3, key >> 15 & 1);
     GLuint prog = limen__gl_link(r, head, vs_body, fs_body);
     if (!prog)
         return NULL;
@@ -186,9 +229,11 @@ static limen__variant *variant_build(limen_renderer *r, unsigned key)
     U(ambient, "u_ambient");
     U(light_pos, "u_light_pos");
     U(light_col, "u_light_col");
+    U(light_inv_r2, "u_light_inv_r2");
 #undef U
     GL(UseProgram)(prog);
     GL(Uniform1i)(v->u.tex, 0);
+    GL(Uniform1i)(GL(GetUniformLocation)(prog, "u_albedo_tex"), 1);    /* unit 1: albedo */
     r->bound_prog = prog;
     return v;
 }
@@ -206,16 +251,18 @@ static void upload_shared(limen_renderer *r, limen__variant *v)
     if (sh->nlights && (v->key >> 6 & 15)) {
         GL(Uniform3fv)(v->u.light_pos, sh->nlights, &sh->light_pos[0][0]);
         GL(Uniform3fv)(v->u.light_col, sh->nlights, &sh->light_col[0][0]);
+        if (v->key >> 15 & 1)
+            GL(Uniform1fv)(v->u.light_inv_r2, sh->nlights, sh->light_inv_r2);
     }
     v->stamp = r->shared_stamp;
 }
 
-bool limen__variant_use(limen_renderer *r, int mode, int shape, int checker)
+bool limen__variant_use(limen_renderer *r, int mode, int shape, int checker, int textured)
 {
     const float *t = r->shared.tint;
     bool tint = mode != LIMEN__MODE_TEXTURE && (t[0] != 1 || t[1] != 1 || t[2] != 1);
     unsigned key = variant_key(mode, shape, checker, r->shared.nlights, r->clip0_on,
-                               r->clip1_on, tint);
+                               r->clip1_on, tint, textured, r->shared.ranged);
     limen__variant *v = NULL;
     for (int i = 0; i < r->nvariants && !v; i++)
         if (r->variants[i].key == key)

@@ -157,6 +157,8 @@ static void apply_view(limen_renderer *r, const rview *v)
 static void set_lights(limen_renderer *r)
 {
     float (*pos)[3] = r->shared.light_pos, (*col)[3] = r->shared.light_col;
+    float *inv_r2 = r->shared.light_inv_r2;
+    bool ranged = false;
     const limen_drawable *items;
     int count = limen_drawables_items(r->draw, &items), n = 0;
     for (int i = 0; i < count && n < LIMEN_MAX_LIGHTS; i++) {
@@ -165,75 +167,50 @@ static void set_lights(limen_renderer *r)
             continue;
         memcpy(pos[n], d->world + 12, sizeof(float) * 3);
         memcpy(col[n], d->color, sizeof(float) * 3);
+        /* 1/R^2: the shader's falloff takes (d/R)^2 as d^2 times it; 0 weighs 1 */
+        inv_r2[n] = d->range > 0 ? 1.0f / (d->range * d->range) : 0.0f;
+        ranged |= d->range > 0;
         n++;
     }
     r->shared.nlights = n;
+    r->shared.ranged = ranged;
     r->shared_stamp++;
 }
 
 /* ------------------------------------------------------------------ meshes */
 
-/* Which mesh, and how the unit mesh is scaled, for a node; false if it draws nothing. */
-static bool node_mesh(limen_renderer *r, const rview *v, const limen_drawable *node,
-                      mat4 world, limen__range *range, vec3 scale, int *shape)
+/* After a mesh node's own arrays: the unit meshes' again. */
+static void rebind_unit_mesh(limen_renderer *r)
 {
-    float radius = 0;
-    *shape = 0;
-    switch (node->kind) {
-    case LIMEN_NODE_BOX:
-        *range = r->meshes.box;
-        memcpy(scale, node->dims, sizeof(vec3));
-        return true;
-    case LIMEN_NODE_QUAD:
-    case LIMEN_NODE_MIRROR:
-    case LIMEN_NODE_PORTAL:
-        *range = r->meshes.quad;
-        glm_vec3_copy((vec3){ node->dims[0], node->dims[1], 1.0f }, scale);
-        return true;
-    case LIMEN_NODE_SPHERE:
-        radius = node->dims[0];
-        glm_vec3_broadcast(radius, scale);
-        *shape = 1;
-        break;
-    case LIMEN_NODE_CYLINDER:
-        glm_vec3_copy((vec3){ node->dims[0], node->dims[1], node->dims[0] }, scale);
-        radius = fmaxf(node->dims[0], 0.5f * node->dims[1]);
-        *shape = 2;
-        break;
-    default:
-        return false;
-    }
-    /* Level of detail from the projected size: the largest world-space stretch of the
-     * node's axes times the radius, over the view distance of its centre. */
-    float stretch = fmaxf(glm_vec3_norm(world[0]),
-                          fmaxf(glm_vec3_norm(world[1]), glm_vec3_norm(world[2])));
-    float world_r = radius * stretch;
-    vec4 centre = { world[3][0], world[3][1], world[3][2], 1.0f };
-    vec4 vc;
-    glm_mat4_mulv((vec4 *)v->view, centre, vc);
-    /* a view matrix through scaled portals scales distances: measure in its own units */
-    float view_scale = glm_vec3_norm((float *)v->view[0]);
-    float dist = -vc[2];
-    world_r *= view_scale;
-    int lod = LIMEN__LODS - 1;
-    if (dist > world_r * 1.01f)
-        lod = limen__lod_for(world_r * v->px_scale / (dist - world_r), LOD_TOLERANCE_PX);
-    *range = node->kind == LIMEN_NODE_SPHERE ? r->meshes.sphere[lod] : r->meshes.cylinder[lod];
-    return true;
+    GL(BindVertexArray)(r->vao);
+    GL(BindBuffer)(GL_ARRAY_BUFFER, r->vbo);
 }
 
 /* Draws one node's mesh; `mode` lit, flat or textured with colour `albedo`. */
 static void draw_node_at(limen_renderer *r, const rview *v, const limen_drawable *node,
                          mat4 world, int mode, const float *albedo)
 {
-    limen__range range;
-    vec3 scale;
-    int shape;
-    if (!node_mesh(r, v, node, world, &range, scale, &shape))
+    limen__range range = { 0, 0 };
+    vec3 scale = { 1, 1, 1 };
+    int shape = 0;
+    GLsizei corners = 0;    /* a mesh node's: drawn from its geometry's own arrays */
+    if (node->kind == LIMEN_NODE_MESH) {
+        if (!node->mesh || !(corners = limen__gpu_mesh_bind(r, node->mesh, node->smooth)))
+            return;
+    } else if (!limen__unit_mesh(r, v->view, v->px_scale, node, world, &range, scale, &shape)) {
         return;
+    }
     int checker = mode != MODE_LIT || !(node->cell > 0) ? 0
                   : node->kind == LIMEN_NODE_QUAD                ? 1
                                                                  : 2;
+    if (corners && node->smooth)
+        shape = LIMEN__SHAPE_SMOOTH;
+    /* an albedo texture, bound on unit 1, its coordinates as limen.h says */
+    int textured = LIMEN__UV_NONE;
+    if (node->texture && mode == MODE_LIT && limen__gpu_texture(r, node->texture))
+        textured = node->kind == LIMEN_NODE_QUAD ? LIMEN__UV_PLANE
+                   : node->kind == LIMEN_NODE_BOX ? LIMEN__UV_BOX
+                                                  : LIMEN__UV_MESH;
     /* In an oblique view the near plane is the exit plane, and clamping (below) would keep
      * what of a surface lies beyond it (a neighbour poking through a mirror shows its back
      * there): the view's clip plane cuts it instead, as in a plane view, through a variant
@@ -245,9 +222,11 @@ static void draw_node_at(limen_renderer *r, const rview *v, const limen_drawable
         GL(Enable)(GL_CLIP_DISTANCE0);
         r->shared_stamp++;
     }
-    if (!limen__variant_use(r, mode, shape, checker)) {
+    if (!limen__variant_use(r, mode, shape, checker, textured)) {
         if (cut)
             set_view_clip(r, v);
+        if (corners)
+            rebind_unit_mesh(r);
         return;
     }
     mat4 model;
@@ -274,13 +253,19 @@ static void draw_node_at(limen_renderer *r, const rview *v, const limen_drawable
         GL(Enable)(GL_DEPTH_CLAMP);
     else
         GL(Disable)(GL_DEPTH_CLAMP);
-    /* Closed shapes hide their back faces; flat shapes are seen from both sides. */
-    if (shape || node->kind == LIMEN_NODE_BOX)
+    /* Closed shapes hide their back faces; flat shapes and meshes (whose files need not be
+     * closed) are seen from both sides. */
+    if ((shape && !corners) || node->kind == LIMEN_NODE_BOX)
         GL(Enable)(GL_CULL_FACE);
     else
         GL(Disable)(GL_CULL_FACE);
-    GL(DrawElements)(GL_TRIANGLES, (GLsizei)range.count, GL_UNSIGNED_INT,
-                     (void *)(sizeof(uint32_t) * range.first));
+    if (corners) {
+        GL(DrawArrays)(GL_TRIANGLES, 0, corners);
+        rebind_unit_mesh(r);
+    } else {
+        GL(DrawElements)(GL_TRIANGLES, (GLsizei)range.count, GL_UNSIGNED_INT,
+                         (void *)(sizeof(uint32_t) * range.first));
+    }
     if (cut)
         set_view_clip(r, v);
 }
@@ -452,7 +437,7 @@ static void draw_surface_flat(limen_renderer *r, const rview *v, const limen_dra
     memcpy(r->shared.clip_plane, keep_all, sizeof keep_all);
     memcpy(r->shared.cut_plane, keep_all, sizeof keep_all);
     r->shared_stamp++;
-    if (limen__variant_use(r, mode, 0, 0)) {
+    if (limen__variant_use(r, mode, 0, 0, LIMEN__UV_NONE)) {
         GL(UniformMatrix4fv)(r->u.model, 1, GL_FALSE, ident);
         GL(Uniform3fv)(r->u.albedo, 1, albedo);
         GL(Enable)(GL_DEPTH_CLAMP);
@@ -502,7 +487,8 @@ static int by_distance(const void *a, const void *b)
 static bool shows(const rview *v, const limen_drawable *d)
 {
     return d->visible && (d->kind == LIMEN_NODE_BOX || d->kind == LIMEN_NODE_SPHERE ||
-                          d->kind == LIMEN_NODE_CYLINDER || d->kind == LIMEN_NODE_QUAD) &&
+                          d->kind == LIMEN_NODE_CYLINDER || d->kind == LIMEN_NODE_QUAD ||
+                          d->kind == LIMEN_NODE_MESH) &&
            !outside(v, d, NULL);
 }
 

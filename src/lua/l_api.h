@@ -35,6 +35,7 @@ typedef struct lscene {
     lua_Integer seq;            /* creation counter, orders s:nodes() */
     int max_nodes;
     size_t held;                /* C-side bytes counted against the script's memory cap */
+    size_t assets;              /* ... and those of its meshes and images */
 } lscene;
 
 /* What the core keeps in C for a scene: the scene, and node slots (a node and its free-list
@@ -58,7 +59,7 @@ typedef struct lnode {
 enum field {
     F_NAME, F_PARENT, F_POS, F_ROTATE, F_SCALE, F_NORMAL, F_UP, F_VISIBLE, F_COLOR,
     F_SIZE, F_RADIUS, F_HEIGHT, F_CHECKER, F_LOOK_AT, F_FOV, F_NEAR, F_FAR,
-    F_TINT, F_BACK, F_FILL, F_MAX_DEPTH, F_LINK, F_COUNT
+    F_TINT, F_BACK, F_FILL, F_MAX_DEPTH, F_LINK, F_FILE, F_SMOOTH, F_RANGE, F_TEXTURE, F_COUNT
 };
 
 #define BIT(f) (1u << (f))
@@ -70,7 +71,8 @@ enum field {
 
 /* Fields that only a constructor takes: after it, normal/up/look_at go through
  * node:face() and node:look_at(), and link through node:link(). */
-#define F_CONSTRUCT_ONLY (BIT(F_NORMAL) | BIT(F_UP) | BIT(F_LOOK_AT) | BIT(F_LINK))
+#define F_CONSTRUCT_ONLY (BIT(F_NORMAL) | BIT(F_UP) | BIT(F_LOOK_AT) | BIT(F_LINK) | BIT(F_FILE) | \
+                          BIT(F_TEXTURE))
 
 /* A parsed set of fields; `have` says which are present. */
 typedef struct spec {
@@ -80,9 +82,11 @@ typedef struct spec {
     float pos[3], rotate[3], scale[3], normal[3], up[3], look_at[3];
     float color[3], size[3], radius, height;
     float checker_a[3], checker_b[3], cell;
-    float fov, znear, zfar;
+    float fov, znear, zfar, range;
     float tint[3], back[3], fill[3];
-    int max_depth, visible;
+    int max_depth, visible, smooth;
+    const char *file;
+    char texture[1200];         /* the image file to open (relative to the script's folder) */
 } spec;
 
 #define HAVE(sp, f) (((sp)->have & BIT(f)) != 0)
@@ -136,6 +140,13 @@ void limen__lua_read_vec(lua_State *L, int idx, const char *ctx, const char *wha
 /* A live node of the scene at scene_idx (of the given kind unless kind < 0). */
 limen_node limen__lua_read_node(lua_State *L, int idx, int scene_idx, const char *ctx,
                                 const char *what, int kind);
+
+/* A mesh or image file named in the calling script: relative to the script's folder. A safe
+ * script may read only files under that folder: no absolute path, no "..", and no link
+ * that leads out of it (checked on the resolved path). Writes the path to open into out,
+ * or raises. */
+void limen__lua_script_path(lua_State *L, const char *ctx, const char *file, char *out,
+                            size_t size);
 
 /* Parses the value at v as field f of a node of `kind` into sp. */
 void limen__lua_parse_field(lua_State *L, int v, int f, limen_node_kind kind, int scene_idx,

@@ -1,7 +1,9 @@
 /* l_fields.c - the field table of the Lua bindings: which fields each node kind takes,
  * reading and checking them (with "did you mean"), applying them to a node, and the errors
  * that name the constructor and the field. */
+#include <limits.h>
 #include <math.h>
+#include <stdbool.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -9,26 +11,27 @@
 #include "lua/l_api.h"
 
 const char *const limen__lua_kind_names[LIMEN_NODE_KIND_COUNT] = {
-    "group", "box", "sphere", "cylinder", "plane", "mirror", "portal", "light", "camera"
+    "group", "box", "sphere", "cylinder", "plane", "mirror", "portal", "light", "camera", "mesh"
 };
 
 static const char *const field_names[F_COUNT] = {
     "name", "parent", "pos", "rotate", "scale", "normal", "up", "visible", "color",
     "size", "radius", "height", "checker", "look_at", "fov", "near", "far",
-    "tint", "back", "fill", "max_depth", "link"
+    "tint", "back", "fill", "max_depth", "link", "file", "smooth", "range", "texture"
 };
 
 /* Which constructor fields each kind takes. */
 const unsigned limen__lua_kind_fields[LIMEN_NODE_KIND_COUNT] = {
     [LIMEN_NODE_GROUP] = F_TRANSFORM,
-    [LIMEN_NODE_BOX] = F_SHAPE | BIT(F_SIZE),
+    [LIMEN_NODE_BOX] = F_SHAPE | BIT(F_SIZE) | BIT(F_TEXTURE),
     [LIMEN_NODE_SPHERE] = F_SHAPE | BIT(F_RADIUS),
     [LIMEN_NODE_CYLINDER] = F_SHAPE | BIT(F_RADIUS) | BIT(F_HEIGHT),
-    [LIMEN_NODE_QUAD] = F_SHAPE | BIT(F_SIZE),
+    [LIMEN_NODE_QUAD] = F_SHAPE | BIT(F_SIZE) | BIT(F_TEXTURE),
     [LIMEN_NODE_MIRROR] = F_SURFACE,
     [LIMEN_NODE_PORTAL] = F_SURFACE | BIT(F_LINK),
-    [LIMEN_NODE_LIGHT] = F_TRANSFORM | BIT(F_COLOR),
+    [LIMEN_NODE_LIGHT] = F_TRANSFORM | BIT(F_COLOR) | BIT(F_RANGE),
     [LIMEN_NODE_CAMERA] = F_TRANSFORM | BIT(F_LOOK_AT) | BIT(F_FOV) | BIT(F_NEAR) | BIT(F_FAR),
+    [LIMEN_NODE_MESH] = F_SHAPE | BIT(F_FILE) | BIT(F_SMOOTH) | BIT(F_TEXTURE),
 };
 
 int limen__lua_field_index(const char *key)
@@ -374,9 +377,29 @@ void limen__lua_parse_field(lua_State *L, int v, int f, limen_node_kind kind, in
     case F_UP: limen__lua_read_vec(L, v, ctx, what, 3, ELEM_FINITE, sp->up); break;
     case F_LOOK_AT: limen__lua_read_vec(L, v, ctx, what, 3, ELEM_FINITE, sp->look_at); break;
     case F_VISIBLE:
+    case F_SMOOTH:
         if (!lua_isboolean(L, v))
             limen__lua_bad(L, v, ctx, what, "a boolean");
-        sp->visible = lua_toboolean(L, v);
+        *(f == F_VISIBLE ? &sp->visible : &sp->smooth) = lua_toboolean(L, v);
+        break;
+    case F_FILE:
+    case F_TEXTURE: {
+        size_t len;
+        if (lua_type(L, v) != LUA_TSTRING)
+            limen__lua_bad(L, v, ctx, what, "a string");
+        const char *file = lua_tolstring(L, v, &len);
+        if (len == 0 || strlen(file) != len || len > 1000)
+            luaL_error(L, "%s: %s must be a file name (1 to 1000 bytes, no zeros)", ctx, what);
+        if (f == F_FILE)
+            sp->file = file;
+        else
+            limen__lua_script_path(L, ctx, file, sp->texture, sizeof sp->texture);
+        break;
+    }
+    case F_RANGE:
+        sp->range = read_number(L, v, ctx, what);
+        if (!(sp->range == 0 || (sp->range >= MIN_SIZE && sp->range <= MAX_MAGNITUDE)))
+            limen__lua_bad(L, v, ctx, what, "0 (no range) or " RANGE_POSITIVE);
         break;
     case F_COLOR:
         limen__lua_read_vec(L, v, ctx, what, 3,
@@ -500,6 +523,10 @@ limen_status limen__lua_apply_spec(limen_scene *s, limen_node n, const spec *sp)
         TRY(limen_surface_set_max_depth(s, n, sp->max_depth));
     if (HAVE(sp, F_LINK))
         TRY(limen_portal_link(s, n, sp->link));
+    if (HAVE(sp, F_SMOOTH))
+        TRY(limen_mesh_set_smooth(s, n, sp->smooth));
+    if (HAVE(sp, F_RANGE))
+        TRY(limen_light_set_range(s, n, sp->range));
 #undef TRY
     return LIMEN_OK;
 }
@@ -599,4 +626,46 @@ void limen__lua_push_vec(lua_State *L, const float *v, int n, double k)
         limen__lua_push_float(L, (float)(v[i] * k));
         lua_rawseti(L, -2, i + 1);
     }
+}
+
+void limen__lua_script_path(lua_State *L, const char *ctx, const char *file, char *out,
+                            size_t size)
+{
+    lua_Debug ar;
+    char folder[1024] = ".";
+    if (lua_getstack(L, 1, &ar) && lua_getinfo(L, "S", &ar) && ar.source[0] == '@') {
+        const char *src = ar.source + 1, *slash = strrchr(src, '/');
+        if (slash)
+            snprintf(folder, sizeof folder, "%.*s", (int)(slash - src), src);
+        if (slash == src)
+            snprintf(folder, sizeof folder, "/");
+    }
+    bool safe = lua_getfield(L, LUA_REGISTRYINDEX, LIMEN__LUA_SAFE) == LUA_TBOOLEAN &&
+                lua_toboolean(L, -1);
+    lua_pop(L, 1);
+    if (file[0] == '/') {
+        if (safe)
+            luaL_error(L, "%s: %s: a safe script reads files only under its own folder (no "
+                          "absolute paths)", ctx, file);
+        snprintf(out, size, "%s", file);
+        return;
+    }
+    if ((size_t)snprintf(out, size, "%s/%s", folder, file) >= size)
+        luaL_error(L, "%s: %s: path too long", ctx, file);
+    if (!safe)
+        return;
+    for (const char *p = file; *p;) {
+        size_t n = strcspn(p, "/");
+        if (n == 2 && p[0] == '.' && p[1] == '.')
+            luaL_error(L, "%s: %s: a safe script reads files only under its own folder (no "
+                          "'..')", ctx, file);
+        p += n + (p[n] == '/');
+    }
+    char root[PATH_MAX], real[PATH_MAX];
+    if (!realpath(folder, root) || !realpath(out, real))
+        return;     /* the load names what is missing */
+    size_t rl = strlen(root);
+    if (strncmp(real, root, rl) != 0 || (real[rl] != '/' && rl > 1))
+        luaL_error(L, "%s: %s: a safe script reads files only under its own folder (it leads "
+                      "out of it)", ctx, file);
 }

@@ -5,6 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "core/texture.h"
 #include "lua/l_api.h"
 
 /* "sphere 'ball'" or "sphere" for an unnamed node. */
@@ -112,6 +113,12 @@ limen_node limen__lua_create_node(lua_State *L, int scene_idx, limen_node_kind k
             st = limen__lua_apply_spec(ls->s, n, sp);
         if (!st && kind == LIMEN_NODE_CAMERA)
             st = limen_scene_set_camera(ls->s, n);
+        size_t charged = 0;     /* an image, counted against the script's memory cap */
+        if (!st && sp->texture[0] &&
+            !(st = limen__node_texture(ls->s, n, sp->texture, limen__lua_mem_left(L), &charged))) {
+            limen__lua_hold(L, (ptrdiff_t)charged);
+            ls->assets += charged;
+        }
         if (st)
             limen_node_destroy(ls->s, n);   /* leaves the message alone */
     }
@@ -133,6 +140,8 @@ static int field_access_error(lua_State *L, const lnode *nd, const char *ctx, co
                               int f, const char *unknown)
 {
     unsigned allowed = limen__lua_kind_fields[nd->kind] & ~F_CONSTRUCT_ONLY;
+    if (f == F_FILE || (f == F_TEXTURE && (limen__lua_kind_fields[nd->kind] & BIT(f))))
+        return luaL_error(L, "%s: field '%s' is only taken by the constructor", ctx, key);
     if (f >= 0 && (limen__lua_kind_fields[nd->kind] & BIT(f)))
         return luaL_error(L, "%s: field '%s' is only taken by the constructor (see %s)", ctx, key,
                           f == F_LINK ? "node:link(other)" :
@@ -220,6 +229,13 @@ int limen__lua_node_index(lua_State *L)
         int md = 0;
         limen_surface_get(s, n, NULL, NULL, NULL, &md);
         lua_pushinteger(L, md);
+        return 1;
+    }
+    case F_RANGE: limen__lua_push_float(L, limen_light_get_range(s, n)); return 1;
+    case F_SMOOTH: {
+        limen_mesh_info mi;
+        limen_mesh_get(s, n, &mi);
+        lua_pushboolean(L, mi.smooth);
         return 1;
     }
     default:

@@ -6,6 +6,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "core/mesh.h"
 #include "lua/l_api.h"
 
 /* ------------------------------------------------------------------ C-side memory */
@@ -72,6 +73,35 @@ static int make_node(lua_State *L, limen_node_kind kind)
     char label[LABEL_LEN];
     limen__lua_where(L, label);
     limen__lua_create_node(L, 1, kind, &sp, limen__lua_kind_names[kind], label, (limen_node){ 0 });
+    return 1;
+}
+
+/* s:mesh { file = "bunny.glb", smooth, color, checker, pos, rotate, scale, ... }: the file's
+ * triangles (shared with every node of the scene that loads it), its memory counted against
+ * the script's cap. */
+static int l_scene_mesh(lua_State *L)
+{
+    lscene *ls = limen__lua_check_scene(L, 1);
+    luaL_checktype(L, 2, LUA_TTABLE);
+    lua_settop(L, 2);
+    spec sp;
+    limen__lua_read_ctor(L, 2, 1, LIMEN_NODE_MESH, limen__lua_kind_fields[LIMEN_NODE_MESH],
+                         "mesh", ls->s, &sp);
+    if (!sp.file)
+        return luaL_error(L, "mesh: field 'file' is required");
+    char path[1200], label[LABEL_LEN];
+    limen__lua_script_path(L, "mesh", sp.file, path, sizeof path);
+    limen__lua_where(L, label);
+    limen_node n = limen__lua_create_node(L, 1, LIMEN_NODE_MESH, &sp, "mesh", label,
+                                          (limen_node){ 0 });
+    size_t charged;
+    limen_status st = limen__mesh_load(ls->s, n, path, limen__lua_mem_left(L), &charged);
+    if (st) {
+        limen__lua_forget_node(L, 1, n);
+        return limen__lua_c_error(L, ls->s, "mesh", label);
+    }
+    limen__lua_hold(L, (ptrdiff_t)charged);   /* within what was left: never refused */
+    ls->assets += charged;
     return 1;
 }
 
@@ -286,13 +316,14 @@ static int l_scene_gc(lua_State *L)
     lscene *ls = luaL_checkudata(L, 1, SCENE_MT);
     limen_scene_destroy(ls->s);
     ls->s = NULL;
-    limen__lua_hold(L, -(ptrdiff_t)ls->held);
-    ls->held = 0;
+    limen__lua_hold(L, -(ptrdiff_t)(ls->held + ls->assets));
+    ls->held = ls->assets = 0;
     return 0;
 }
 
 static const luaL_Reg scene_methods[] = {
     { "cast", limen__lua_scene_cast },
+    { "mesh", l_scene_mesh },
     { "group", l_scene_group },
     { "box", l_scene_box },
     { "sphere", l_scene_sphere },
@@ -343,7 +374,7 @@ static int l_scene_new(lua_State *L)
     ls->s = NULL;
     ls->seq = 0;
     ls->max_nodes = desc.max_nodes ? desc.max_nodes : INT_MAX;   /* the pool grows */
-    ls->held = 0;
+    ls->held = ls->assets = 0;
     luaL_setmetatable(L, SCENE_MT);   /* from here __gc frees whatever is made */
     limen__lua_hold_scene(L, ls, 0);
     lua_newtable(L);

@@ -58,6 +58,8 @@ int limen__lua_print(lua_State *L, const char *text, size_t len);
  * of the script running in L, or gives them back if negative. Returns 0, counting nothing,
  * if that would pass the cap. Always 1 in a state that is not a limen_script's. */
 int limen__lua_hold(lua_State *L, ptrdiff_t bytes);
+/* Bytes the cap of the script running in L leaves (SIZE_MAX without a cap or a script). */
+size_t limen__lua_mem_left(lua_State *L);
 /* Notes the calling script line as the place of a memory error that may follow (Lua gives
  * memory errors no place, and no message handler runs for them). */
 void limen__lua_note_line(lua_State *L);

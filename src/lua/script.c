@@ -586,6 +586,14 @@ int limen__lua_hold(lua_State *L, ptrdiff_t bytes)
     return 1;
 }
 
+size_t limen__lua_mem_left(lua_State *L)
+{
+    limen_script *sc = script_of(L);
+    if (!sc || !sc->mem_cap)
+        return SIZE_MAX;
+    return sc->mem_used >= sc->mem_cap ? 0 : sc->mem_cap - sc->mem_used;
+}
+
 void limen__lua_note_line(lua_State *L)
 {
     limen_script *sc = script_of(L);

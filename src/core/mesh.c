@@ -1,0 +1,706 @@
+/* mesh.c - triangle mesh nodes: geometry from arrays or from a file (through assimp), checked,
+ * shared between the nodes of a scene that load the same file, with a bounding-volume
+ * hierarchy for the ray tracer.
+ *
+ * Shading follows the file: where it has normals they are interpolated across each triangle;
+ * where it has none, each triangle shows its face normal, unless the node asks for smooth
+ * shading, which interpolates area-weighted vertex normals (computed here once per asset). */
+#include <errno.h>
+#include <limits.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+
+#include <assimp/cimport.h>
+#include <assimp/material.h>
+#include <assimp/postprocess.h>
+#include <assimp/scene.h>
+
+#include "core/internal.h"
+#include "core/mesh.h"
+#include "core/texture.h"
+
+#define LEAF_TRIS 4
+#define MAX_TRIS (UINT32_MAX / 3u - 1u)
+#define STACK_MAX 64
+
+size_t limen__mesh_bytes(uint64_t nverts, uint64_t ntris, bool uvs)
+{
+    uint64_t b = sizeof(limen__mesh) + nverts * (uvs ? 8u : 6u) * sizeof(float) +
+                 ntris * 4u * sizeof(uint32_t) + ntris * 2u * sizeof(limen__tri_node);
+    return b > SIZE_MAX ? SIZE_MAX : (size_t)b;
+}
+
+/* ------------------------------------------------------------------ the hierarchy */
+
+typedef struct build {
+    limen__mesh *m;
+    double *centre;             /* per triangle */
+    int axis;
+} build;
+
+static int by_centre(const void *a, const void *b, void *ctx)
+{
+    const build *bd = ctx;
+    double ca = bd->centre[*(const uint32_t *)a * 3 + bd->axis];
+    double cb = bd->centre[*(const uint32_t *)b * 3 + bd->axis];
+    return ca < cb ? -1 : ca > cb;
+}
+
+static void tri_box(const limen__mesh *m, uint32_t t, double lo[3], double hi[3])
+{
+    for (int k = 0; k < 3; k++) {
+        const float *p = &m->pos[m->idx[t * 3 + k] * 3];
+        for (int a = 0; a < 3; a++) {
+            lo[a] = fmin(lo[a], p[a]);
+            hi[a] = fmax(hi[a], p[a]);
+        }
+    }
+}
+
+/* Builds the node at m->bvh[at] over tri_order[first, first + count): median split on the
+ * widest axis of the triangles' centres. Depth is log2 of the count. */
+static void build_node(build *bd, uint32_t at, uint32_t first, uint32_t count)
+{
+    limen__mesh *m = bd->m;
+    limen__tri_node *n = &m->bvh[at];
+    double clo[3] = { INFINITY, INFINITY, INFINITY }, chi[3] = { -INFINITY, -INFINITY, -INFINITY };
+    for (int a = 0; a < 3; a++) {
+        n->lo[a] = INFINITY;
+        n->hi[a] = -INFINITY;
+    }
+    for (uint32_t i = first; i < first + count; i++) {
+        uint32_t t = m->tri_order[i];
+        tri_box(m, t, n->lo, n->hi);
+        for (int a = 0; a < 3; a++) {
+            clo[a] = fmin(clo[a], bd->centre[t * 3 + a]);
+            chi[a] = fmax(chi[a], bd->centre[t * 3 + a]);
+        }
+    }
+    if (count <= LEAF_TRIS) {
+        n->index = first;
+        n->count = count;
+        return;
+    }
+    int axis = 0;
+    for (int a = 1; a < 3; a++)
+        if (chi[a] - clo[a] > chi[axis] - clo[axis])
+            axis = a;
+    bd->axis = axis;
+    qsort_r(&m->tri_order[first], count, sizeof(uint32_t), by_centre, bd);
+    uint32_t half = count / 2;
+    uint32_t left = m->nbvh++;  /* == at + 1: the caller has just claimed `at` */
+    build_node(bd, left, first, half);
+    uint32_t right = m->nbvh++;
+    n = &m->bvh[at];
+    n->index = right;
+    n->count = 0;
+    build_node(bd, right, first + half, count - half);
+}
+
+/* Nodes are claimed as they are made (at most 2 * triangles - 1), a left child in the slot
+ * after its parent. */
+static bool bvh_build(limen__mesh *m)
+{
+    m->bvh = malloc(sizeof *m->bvh * (size_t)(2 * m->ntris));
+    m->tri_order = malloc(sizeof *m->tri_order * (size_t)m->ntris);
+    double *centre = malloc(sizeof *centre * 3 * (size_t)m->ntris);
+    if (!m->bvh || !m->tri_order || !centre) {
+        free(centre);
+        return false;
+    }
+    for (uint32_t t = 0; t < m->ntris; t++) {
+        m->tri_order[t] = t;
+        for (int a = 0; a < 3; a++) {
+            double c = 0;
+            for (int k = 0; k < 3; k++)
+                c += m->pos[m->idx[t * 3 + k] * 3 + a];
+            centre[t * 3 + a] = c / 3.0;
+        }
+    }
+    build bd = { .m = m, .centre = centre };
+    m->nbvh = 1;
+    build_node(&bd, 0, 0, m->ntris);
+    free(centre);
+    limen__tri_node *fit = realloc(m->bvh, sizeof *m->bvh * m->nbvh);
+    if (fit)
+        m->bvh = fit;
+    m->bytes -= sizeof *m->bvh * (size_t)(2 * m->ntris - m->nbvh);
+    return true;
+}
+
+/* ------------------------------------------------------------------ intersection */
+
+static bool slab(const limen__tri_node *n, const double o[3], const double inv[3], double tmin,
+                 double tmax)
+{
+    for (int a = 0; a < 3; a++) {
+        double t0 = (n->lo[a] - o[a]) * inv[a], t1 = (n->hi[a] - o[a]) * inv[a];
+        if (t0 > t1) {
+            double tmp = t0;
+            t0 = t1;
+            t1 = tmp;
+        }
+        if (isnan(t0) || isnan(t1))
+            continue;   /* 0 * inf: the ray lies in the slab's boundary plane */
+        tmin = fmax(tmin, t0);
+        tmax = fmin(tmax, t1 * (1.0 + 4e-16));
+        if (tmin > tmax)
+            return false;
+    }
+    return true;
+}
+
+/* Möller-Trumbore in double, both sides. */
+static bool hit_tri(const limen__mesh *m, uint32_t t, const double o[3], const double d[3],
+                    double *tt, double *bu, double *bv)
+{
+    const float *p0 = &m->pos[m->idx[t * 3] * 3], *p1 = &m->pos[m->idx[t * 3 + 1] * 3],
+                *p2 = &m->pos[m->idx[t * 3 + 2] * 3];
+    double e1[3], e2[3], s[3];
+    for (int a = 0; a < 3; a++) {
+        e1[a] = (double)p1[a] - p0[a];
+        e2[a] = (double)p2[a] - p0[a];
+        s[a] = o[a] - p0[a];
+    }
+    double p[3] = { d[1] * e2[2] - d[2] * e2[1], d[2] * e2[0] - d[0] * e2[2],
+                    d[0] * e2[1] - d[1] * e2[0] };
+    double det = e1[0] * p[0] + e1[1] * p[1] + e1[2] * p[2];
+    if (det == 0 || !isfinite(det))
+        return false;
+    double inv = 1.0 / det;
+    double u = (s[0] * p[0] + s[1] * p[1] + s[2] * p[2]) * inv;
+    if (u < 0 || u > 1)
+        return false;
+    double q[3] = { s[1] * e1[2] - s[2] * e1[1], s[2] * e1[0] - s[0] * e1[2],
+                    s[0] * e1[1] - s[1] * e1[0] };
+    double v = (d[0] * q[0] + d[1] * q[1] + d[2] * q[2]) * inv;
+    if (v < 0 || u + v > 1)
+        return false;
+    *tt = (e2[0] * q[0] + e2[1] * q[1] + e2[2] * q[2]) * inv;
+    *bu = u;
+    *bv = v;
+    return true;
+}
+
+int limen__mesh_intersect(const limen__mesh *m, const double o[3], const double d[3],
+                          double tmin, double tmax, const double *cut, double *t_out,
+                          double *bu_out, double *bv_out)
+{
+    if (!m || !m->ntris)
+        return -1;
+    double inv[3] = { 1.0 / d[0], 1.0 / d[1], 1.0 / d[2] };
+    uint32_t stack[STACK_MAX];
+    int top = 0, best = -1;
+    stack[top++] = 0;
+    while (top > 0) {
+        const limen__tri_node *n = &m->bvh[stack[--top]];
+        if (!slab(n, o, inv, tmin, tmax))
+            continue;
+        if (n->count == 0) {
+            if (top + 2 > STACK_MAX)
+                continue;   /* depth is log2(triangles) <= 32: never */
+            stack[top++] = n->index;
+            stack[top++] = (uint32_t)(n - m->bvh) + 1u;
+            continue;
+        }
+        for (uint32_t i = n->index; i < n->index + n->count; i++) {
+            uint32_t tri = m->tri_order[i];
+            double t, u, v;
+            if (!hit_tri(m, tri, o, d, &t, &u, &v) || !(t > tmin) || !(t < tmax))
+                continue;
+            if (cut) {
+                double w[3] = { o[0] + t * d[0], o[1] + t * d[1], o[2] + t * d[2] };
+                if (cut[0] * w[0] + cut[1] * w[1] + cut[2] * w[2] + cut[3] < 0)
+                    continue;
+            }
+            best = (int)tri;
+            tmax = t;
+            *t_out = t;
+            *bu_out = u;
+            *bv_out = v;
+        }
+    }
+    return best;
+}
+
+/* ------------------------------------------------------------------ assets */
+
+static void mesh_free(limen_scene *s, limen__mesh *m)
+{
+    if (!m)
+        return;
+    limen__texture_release(s, m->tex);
+    free(m->pos);
+    free(m->nrm);
+    free(m->uv);
+    free(m->idx);
+    free(m->bvh);
+    free(m->tri_order);
+    free(m);
+}
+
+/* Area-weighted vertex normals (the cross products' lengths are twice the areas). */
+static void vertex_normals(limen__mesh *m)
+{
+    memset(m->nrm, 0, sizeof(float) * 3 * m->nverts);
+    for (uint32_t t = 0; t < m->ntris; t++) {
+        const uint32_t *ix = &m->idx[t * 3];
+        const float *a = &m->pos[ix[0] * 3], *b = &m->pos[ix[1] * 3], *c = &m->pos[ix[2] * 3];
+        vec3 e1, e2, n;
+        glm_vec3_sub((float *)b, (float *)a, e1);
+        glm_vec3_sub((float *)c, (float *)a, e2);
+        glm_vec3_cross(e1, e2, n);
+        for (int k = 0; k < 3; k++)
+            glm_vec3_add(&m->nrm[ix[k] * 3], n, &m->nrm[ix[k] * 3]);
+    }
+    for (uint32_t v = 0; v < m->nverts; v++)
+        glm_vec3_normalize(&m->nrm[v * 3]);
+}
+
+/* Checks and copies arrays into a new asset. what names the source in messages. */
+static limen_status mesh_from_arrays(limen_scene *s, const limen_mesh_data *d, const char *what,
+                                     size_t max_bytes, limen__mesh **out)
+{
+    *out = NULL;
+    if (!d || !d->positions || !d->indices)
+        return limen__fail(s, LIMEN_ERR_ARG, "%s: needs positions and indices", what);
+    if (d->triangle_count < 1)
+        return limen__fail(s, LIMEN_ERR_ARG, "%s: no triangles", what);
+    if (d->vertex_count < 3)
+        return limen__fail(s, LIMEN_ERR_ARG, "%s: %d vertices, fewer than a triangle needs "
+                           "(a vertex that is not a number is dropped)", what, d->vertex_count);
+    if ((uint64_t)d->triangle_count > MAX_TRIS)
+        return limen__fail(s, LIMEN_ERR_ARG, "%s: %d triangles, more than a mesh holds", what,
+                           d->triangle_count);
+    size_t bytes = limen__mesh_bytes((uint64_t)d->vertex_count, (uint64_t)d->triangle_count,
+                                     d->uvs != NULL);
+    if (bytes > max_bytes)
+        return limen__fail(s, LIMEN_ERR_NOMEM,
+                           "%s: %d triangles need %.1f MiB, more than the %.1f MiB allowed", what,
+                           d->triangle_count, bytes / 1048576.0, max_bytes / 1048576.0);
+    uint32_t nv = (uint32_t)d->vertex_count, nt = (uint32_t)d->triangle_count;
+    for (uint32_t i = 0; i < nv * 3; i++)
+        if (!isfinite(d->positions[i]) || (d->normals && !isfinite(d->normals[i])))
+            return limen__fail(s, LIMEN_ERR_ARG, "%s: vertex %u has a %s that is not finite",
+                               what, i / 3, isfinite(d->positions[i]) ? "normal" : "position");
+    for (uint32_t i = 0; d->uvs && i < nv * 2; i++)
+        if (!isfinite(d->uvs[i]))
+            return limen__fail(s, LIMEN_ERR_ARG, "%s: vertex %u has a texture coordinate that "
+                               "is not finite", what, i / 2);
+    for (uint32_t i = 0; i < nt * 3; i++)
+        if (d->indices[i] >= nv)
+            return limen__fail(s, LIMEN_ERR_ARG,
+                               "%s: triangle %u uses vertex %u, out of range (%u vertices)",
+                               what, i / 3, d->indices[i], nv);
+    limen__mesh *m = calloc(1, sizeof *m);
+    if (!m)
+        return limen__fail(s, LIMEN_ERR_NOMEM, "%s: out of memory", what);
+    m->nverts = nv;
+    m->ntris = nt;
+    m->bytes = bytes;
+    m->pos = malloc(sizeof(float) * 3 * nv);
+    m->nrm = malloc(sizeof(float) * 3 * nv);
+    m->uv = d->uvs ? malloc(sizeof(float) * 2 * nv) : NULL;
+    m->idx = malloc(sizeof(uint32_t) * 3 * nt);
+    if (!m->pos || !m->nrm || (d->uvs && !m->uv) || !m->idx) {
+        mesh_free(s, m);
+        return limen__fail(s, LIMEN_ERR_NOMEM, "%s: out of memory", what);
+    }
+    memcpy(m->pos, d->positions, sizeof(float) * 3 * nv);
+    memcpy(m->idx, d->indices, sizeof(uint32_t) * 3 * nt);
+    if (d->uvs)
+        memcpy(m->uv, d->uvs, sizeof(float) * 2 * nv);
+    if (d->normals) {
+        memcpy(m->nrm, d->normals, sizeof(float) * 3 * nv);
+        m->file_normals = true;
+    } else {
+        vertex_normals(m);
+    }
+    for (int a = 0; a < 3; a++) {
+        m->lo[a] = INFINITY;
+        m->hi[a] = -INFINITY;
+    }
+    for (uint32_t v = 0; v < nv; v++)
+        for (int a = 0; a < 3; a++) {
+            m->lo[a] = fmin(m->lo[a], m->pos[v * 3 + a]);
+            m->hi[a] = fmax(m->hi[a], m->pos[v * 3 + a]);
+        }
+    if (!bvh_build(m)) {
+        mesh_free(s, m);
+        return limen__fail(s, LIMEN_ERR_NOMEM, "%s: out of memory", what);
+    }
+    m->serial = limen__next_serial();
+    m->pub = (limen_mesh_geometry){ .id = m->serial, .vertex_count = (int)nv,
+                                    .triangle_count = (int)nt, .positions = m->pos,
+                                    .normals = m->nrm, .uvs = m->uv, .indices = m->idx };
+    snprintf(m->name, sizeof m->name, "%s", what);
+    *out = m;
+    return LIMEN_OK;
+}
+
+static limen_status keep(limen_scene *s, limen__mesh *m, const char *what)
+{
+    if (limen__assets_add(&s->meshes, &s->nmeshes, &s->mesh_cap, m))
+        return LIMEN_OK;
+    mesh_free(s, m);
+    return limen__fail(s, LIMEN_ERR_NOMEM, "%s: out of memory", what);
+}
+
+void limen__mesh_release(limen_scene *s, limen__mesh *m)
+{
+    if (!m || --m->refs > 0)
+        return;
+    limen__assets_remove(s->meshes, &s->nmeshes, m);
+    mesh_free(s, m);
+}
+
+void limen__meshes_destroy(limen_scene *s)
+{
+    for (int i = 0; i < s->nmeshes; i++)
+        mesh_free(s, s->meshes[i]);
+    free(s->meshes);
+    s->meshes = NULL;
+    s->nmeshes = s->mesh_cap = 0;
+}
+
+static void attach(limen_scene *s, limen__node *node, limen__mesh *m)
+{
+    m->refs++;
+    limen__mesh_release(s, node->mesh);
+    node->mesh = m;
+    s->dirty = true;
+    limen__node_touch(s, node);     /* its bounds changed */
+}
+
+/* ------------------------------------------------------------------ files */
+
+/* The scene's triangles merged into one list, node transforms applied (assimp's
+ * PreTransformVertices). */
+static limen_status from_scene(limen_scene *s, const struct aiScene *sc, const char *path,
+                               size_t max_bytes, limen__mesh **out)
+{
+    uint64_t nv = 0, nt = 0;
+    bool normals = true, uvs = true;
+    for (unsigned i = 0; i < sc->mNumMeshes; i++) {
+        const struct aiMesh *am = sc->mMeshes[i];
+        if (am->mPrimitiveTypes & (aiPrimitiveType_POINT | aiPrimitiveType_LINE))
+            return limen__fail(s, LIMEN_ERR_ARG, "%s: has points or lines (a mesh is made of "
+                               "triangles)", path);
+        nv += am->mNumVertices;
+        nt += am->mNumFaces;
+        normals = normals && am->mNormals;
+        uvs = uvs && am->mTextureCoords[0];
+    }
+    if (nt == 0)
+        return limen__fail(s, LIMEN_ERR_ARG, "%s: no triangles in it", path);
+    if (nt > MAX_TRIS || nv > MAX_TRIS)
+        return limen__fail(s, LIMEN_ERR_ARG, "%s: %llu triangles, more than a mesh holds", path,
+                           (unsigned long long)nt);
+    size_t bytes = limen__mesh_bytes(nv, nt, uvs);
+    if (bytes > max_bytes)
+        return limen__fail(s, LIMEN_ERR_NOMEM,
+                           "%s: %llu triangles need %.1f MiB, more than the %.1f MiB allowed",
+                           path, (unsigned long long)nt, bytes / 1048576.0,
+                           max_bytes / 1048576.0);
+    float *pos = malloc(sizeof(float) * 3 * nv), *nrm = normals ? malloc(sizeof(float) * 3 * nv)
+                                                                : NULL;
+    float *uv = uvs ? malloc(sizeof(float) * 2 * nv) : NULL;
+    uint32_t *idx = malloc(sizeof(uint32_t) * 3 * nt);
+    limen_status st = LIMEN_OK;
+    if (!pos || (normals && !nrm) || (uvs && !uv) || !idx) {
+        st = limen__fail(s, LIMEN_ERR_NOMEM, "%s: out of memory", path);
+        goto done;
+    }
+    uint32_t v0 = 0, t0 = 0;
+    for (unsigned i = 0; i < sc->mNumMeshes; i++) {
+        const struct aiMesh *am = sc->mMeshes[i];
+        for (unsigned v = 0; v < am->mNumVertices; v++) {
+            uint32_t at = v0 + v;
+            pos[at * 3] = am->mVertices[v].x;
+            pos[at * 3 + 1] = am->mVertices[v].y;
+            pos[at * 3 + 2] = am->mVertices[v].z;
+            if (nrm) {
+                nrm[at * 3] = am->mNormals[v].x;
+                nrm[at * 3 + 1] = am->mNormals[v].y;
+                nrm[at * 3 + 2] = am->mNormals[v].z;
+            }
+            if (uv) {
+                uv[at * 2] = am->mTextureCoords[0][v].x;
+                uv[at * 2 + 1] = am->mTextureCoords[0][v].y;
+            }
+        }
+        for (unsigned f = 0; f < am->mNumFaces; f++) {
+            const struct aiFace *face = &am->mFaces[f];
+            if (face->mNumIndices != 3) {
+                st = limen__fail(s, LIMEN_ERR_ARG, "%s: face %u has %u corners (a mesh is made "
+                                 "of triangles)", path, t0 + f, face->mNumIndices);
+                goto done;
+            }
+            for (int k = 0; k < 3; k++)
+                idx[(t0 + f) * 3 + k] = v0 + face->mIndices[k];
+        }
+        v0 += am->mNumVertices;
+        t0 += am->mNumFaces;
+    }
+    limen_mesh_data d = { .positions = pos, .normals = nrm, .uvs = uv, .vertex_count = (int)nv,
+                          .indices = idx, .triangle_count = (int)nt };
+    st = mesh_from_arrays(s, &d, path, max_bytes, out);
+done:
+    free(pos);
+    free(nrm);
+    free(uv);
+    free(idx);
+    return st;
+}
+
+/* The name of the first material's base-colour (or diffuse) texture, or "". */
+static void base_texture(const struct aiScene *sc, char *out, size_t size)
+{
+    out[0] = '\0';
+    for (unsigned i = 0; i < sc->mNumMaterials; i++) {
+        struct aiString str;
+        const struct aiMaterial *mat = sc->mMaterials[i];
+        if (aiGetMaterialTexture(mat, aiTextureType_BASE_COLOR, 0, &str, NULL, NULL, NULL, NULL,
+                                 NULL, NULL) == aiReturn_SUCCESS ||
+            aiGetMaterialTexture(mat, aiTextureType_DIFFUSE, 0, &str, NULL, NULL, NULL, NULL,
+                                 NULL, NULL) == aiReturn_SUCCESS) {
+            size_t len = strnlen(str.data, size - 1);
+            memcpy(out, str.data, len);
+            out[len] = '\0';
+            return;
+        }
+    }
+}
+
+/* The file's base-colour texture onto m (which must have texture coordinates): embedded
+ * ("*N", a PNG or JPEG inside a .glb), or a file beside the mesh file, never above it (no
+ * absolute path, no ".."). */
+static limen_status file_texture(limen_scene *s, const struct aiScene *sc, const char *path,
+                                 size_t max_bytes, size_t *charged, limen__mesh *m)
+{
+    char name[512];
+    *charged = 0;
+    base_texture(sc, name, sizeof name);
+    if (!name[0] || !m->uv)
+        return LIMEN_OK;
+    if (name[0] == '*') {
+        unsigned k = (unsigned)atoi(name + 1);
+        const struct aiTexture *at = k < sc->mNumTextures ? sc->mTextures[k] : NULL;
+        if (!at || at->mHeight != 0)
+            return limen__fail(s, LIMEN_ERR_IO, "%s: embedded texture %s is missing or not "
+                               "PNG/JPEG", path, name);
+        char what[600];
+        snprintf(what, sizeof what, "%.500s: texture %s", path, name);
+        limen_status st = limen__texture_decode(s, (const unsigned char *)at->pcData,
+                                                at->mWidth, what, &m->tex);
+        if (!st && m->tex->bytes > max_bytes) {
+            limen__texture_release(s, m->tex);
+            m->tex = NULL;
+            return limen__fail(s, LIMEN_ERR_NOMEM, "%s: its texture needs more memory than "
+                               "allowed", path);
+        }
+        if (!st)
+            *charged = m->tex->bytes;
+        return st;
+    }
+    for (char *c = name; *c; c++)
+        if (*c == '\\')
+            *c = '/';
+    if (name[0] == '/' || strstr(name, ".."))
+        return limen__fail(s, LIMEN_ERR_IO, "%s: its texture '%s' is not beside it", path, name);
+    const char *slash = strrchr(path, '/');
+    char full[1200];
+    snprintf(full, sizeof full, "%.*s%s", slash ? (int)(slash - path + 1) : 0, path, name);
+    return limen__texture_load(s, full, max_bytes, charged, &m->tex);
+}
+
+/* A PLY header, checked before assimp reads it: assimp 5.2 loops forever on one that never
+ * ends, and allocates what the header declares before it finds the data missing (a few
+ * bytes declaring ten million faces would take gigabytes outside any cap). Every element
+ * takes at least a byte of the file, so no more may be declared than it has bytes. Writes
+ * why into why and returns false if the file is refused; true for other formats. */
+static bool ply_header_ok(FILE *f, uint64_t size, char *why, size_t why_size)
+{
+    char head[4096 + 1];
+    size_t n = fread(head, 1, sizeof head - 1, f);
+    head[n] = '\0';
+    if (n < 3 || memcmp(head, "ply", 3) != 0)
+        return true;
+    char *end = memmem(head, n, "end_header", 10);
+    if (!end) {
+        snprintf(why, why_size, "a PLY header with no end_header in its first 4 KiB");
+        return false;
+    }
+    *end = '\0';
+    uint64_t declared = 0;
+    for (char *p = strstr(head, "element "); p; p = strstr(p + 8, "element ")) {
+        char name[32];
+        unsigned long long count = 0;
+        if (sscanf(p + 8, "%31s %llu", name, &count) == 2)
+            declared += count > size ? size + 1 : count;
+    }
+    if (declared > size) {
+        snprintf(why, why_size, "its PLY header declares more elements than the file has "
+                 "bytes (%llu)", (unsigned long long)size);
+        return false;
+    }
+    return true;
+}
+
+static limen_status load_file(limen_scene *s, const char *path, size_t max_bytes,
+                              limen__mesh **out)
+{
+    *out = NULL;
+    struct stat stt;
+    FILE *f = fopen(path, "rb");
+    if (!f)
+        return limen__fail(s, LIMEN_ERR_IO, "%s: cannot open: %s", path, strerror(errno));
+    char why[128] = "";
+    int fst = fstat(fileno(f), &stt);
+    bool ok = fst == 0 && S_ISREG(stt.st_mode) &&
+              ply_header_ok(f, (uint64_t)stt.st_size, why, sizeof why);
+    fclose(f);
+    if (fst != 0 || !S_ISREG(stt.st_mode))
+        return limen__fail(s, LIMEN_ERR_IO, "%s: not a regular file", path);
+    if (stt.st_size == 0)
+        return limen__fail(s, LIMEN_ERR_IO, "%s: empty file", path);
+    if (!ok)
+        return limen__fail(s, LIMEN_ERR_IO, "%s: %s", path, why);
+    /* the importer holds at least the file's bytes while it reads */
+    if ((uint64_t)stt.st_size > max_bytes)
+        return limen__fail(s, LIMEN_ERR_NOMEM, "%s: a file of %.1f MiB, more than the %.1f MiB "
+                           "allowed", path, stt.st_size / 1048576.0, max_bytes / 1048576.0);
+    const struct aiScene *sc =
+        aiImportFile(path, aiProcess_Triangulate | aiProcess_JoinIdenticalVertices |
+                               aiProcess_PreTransformVertices | aiProcess_SortByPType |
+                               aiProcess_ValidateDataStructure);
+    if (!sc) {
+        const char *err = aiGetErrorString();
+        return limen__fail(s, LIMEN_ERR_IO, "%s: cannot read it as a mesh: %.300s", path,
+                           err && err[0] ? err : "unknown format");
+    }
+    limen_status st = LIMEN_OK;
+    if (sc->mFlags & AI_SCENE_FLAGS_INCOMPLETE)
+        st = limen__fail(s, LIMEN_ERR_IO, "%s: incomplete (no meshes in it)", path);
+    else
+        st = from_scene(s, sc, path, max_bytes, out);
+    size_t tex_bytes = 0;
+    if (!st && (st = file_texture(s, sc, path, max_bytes - (*out)->bytes, &tex_bytes, *out))) {
+        mesh_free(s, *out);
+        *out = NULL;
+    }
+    if (!st)
+        (*out)->bytes += tex_bytes;
+    aiReleaseImport(sc);
+    return st;
+}
+
+/* ------------------------------------------------------------------ API */
+
+static limen__node *mesh_node(limen_scene *s, limen_node n, const char *fn)
+{
+    limen__node *node = limen__node_get(s, n);
+    if (!node) {
+        limen__fail(s, LIMEN_ERR_HANDLE, "%s: %s node handle", fn,
+                    n.id ? "stale or foreign" : "null");
+        return NULL;
+    }
+    if (node->kind != LIMEN_NODE_MESH) {
+        limen__fail(s, LIMEN_ERR_HANDLE, "%s: '%s' is not a mesh", fn, limen__node_title(node));
+        return NULL;
+    }
+    return node;
+}
+
+limen_status limen__mesh_load(limen_scene *s, limen_node n, const char *path, size_t max_bytes,
+                              size_t *charged)
+{
+    *charged = 0;
+    if (!s)
+        return LIMEN_ERR_ARG;
+    limen__node *node = mesh_node(s, n, "mesh_load");
+    if (!node)
+        return LIMEN_ERR_HANDLE;
+    if (!path || !path[0])
+        return limen__fail(s, LIMEN_ERR_ARG, "mesh_load: no file name");
+    char key[LIMEN__FILE_KEY];
+    struct stat st_key;
+    limen_status st = limen__file_key(s, path, key, &st_key);
+    if (st)
+        return st;
+    for (int i = 0; i < s->nmeshes; i++) {
+        limen__mesh *m = s->meshes[i];
+        if (strcmp(m->key, key) == 0) {
+            attach(s, node, m);
+            return LIMEN_OK;
+        }
+    }
+    limen__mesh *m;
+    st = load_file(s, path, max_bytes, &m);
+    if (st)
+        return st;
+    snprintf(m->key, sizeof m->key, "%s", key);
+    if ((st = keep(s, m, path)))
+        return st;
+    attach(s, node, m);
+    *charged = m->bytes;
+    return LIMEN_OK;
+}
+
+limen_status limen_mesh_load(limen_scene *s, limen_node n, const char *path)
+{
+    size_t charged;
+    return limen__mesh_load(s, n, path, SIZE_MAX, &charged);
+}
+
+limen_status limen_mesh_set_triangles(limen_scene *s, limen_node n, const limen_mesh_data *data)
+{
+    if (!s)
+        return LIMEN_ERR_ARG;
+    limen__node *node = mesh_node(s, n, "mesh_set_triangles");
+    if (!node)
+        return LIMEN_ERR_HANDLE;
+    limen__mesh *m;
+    limen_status st = mesh_from_arrays(s, data, "mesh_set_triangles", SIZE_MAX, &m);
+    if (!st)
+        st = keep(s, m, "mesh_set_triangles");
+    if (st)
+        return st;
+    attach(s, node, m);
+    return LIMEN_OK;
+}
+
+limen_status limen_mesh_set_smooth(limen_scene *s, limen_node n, int smooth)
+{
+    limen__node *node = mesh_node(s, n, "mesh_set_smooth");
+    if (!node)
+        return s ? LIMEN_ERR_HANDLE : LIMEN_ERR_ARG;
+    node->smooth = smooth != 0;
+    return LIMEN_OK;
+}
+
+limen_status limen_mesh_get(const limen_scene *s, limen_node n, limen_mesh_info *out)
+{
+    limen__node *node = mesh_node((limen_scene *)s, n, "mesh_get");
+    if (!node)
+        return s ? LIMEN_ERR_HANDLE : LIMEN_ERR_ARG;
+    if (!out)
+        return limen__fail((limen_scene *)s, LIMEN_ERR_ARG, "mesh_get: NULL output");
+    memset(out, 0, sizeof *out);
+    out->smooth = node->smooth;
+    const limen__mesh *m = node->mesh;
+    if (!m)
+        return LIMEN_OK;
+    out->vertex_count = (int)m->nverts;
+    out->triangle_count = (int)m->ntris;
+    out->has_normals = m->file_normals;
+    out->has_uvs = m->uv != NULL;
+    for (int a = 0; a < 3; a++) {
+        out->lo[a] = (float)m->lo[a];
+        out->hi[a] = (float)m->hi[a];
+    }
+    out->shared_by = m->refs;
+    out->bytes = m->bytes;
+    return LIMEN_OK;
+}

@@ -1,0 +1,212 @@
+/* texture.c - image files on quads, boxes and meshes: albedo = texel * colour. One copy per
+ * scene of each file, however many nodes show it. Sampling (limen__texture_sample) is the
+ * ray tracer's half of the contract; the renderer's is GL_LINEAR with GL_REPEAT and no
+ * mipmaps over the same texels. */
+#include <errno.h>
+#include <limits.h>
+#include <stdatomic.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+
+#include "core/internal.h"
+#include "core/texture.h"
+
+#define MAX_SIDE 16384
+
+/* Asset serials are unique in the process, so that a renderer drawing several scenes never
+ * takes one scene's texture or mesh for another's. */
+uint64_t limen__next_serial(void)
+{
+    static _Atomic uint64_t next = 1;
+    return atomic_fetch_add(&next, 1);
+}
+
+limen_status limen__file_key(limen_scene *s, const char *path, char key[LIMEN__FILE_KEY],
+                             struct stat *st)
+{
+    char real[PATH_MAX];
+    if (!realpath(path, real) || stat(real, st) != 0)
+        return limen__fail(s, LIMEN_ERR_IO, "%s: cannot open: %s", path, strerror(errno));
+    if (!S_ISREG(st->st_mode))
+        return limen__fail(s, LIMEN_ERR_IO, "%s: not a regular file", path);
+    snprintf(key, LIMEN__FILE_KEY, "%s@%lld.%ld", real, (long long)st->st_mtim.tv_sec,
+             (long)st->st_mtim.tv_nsec);
+    return LIMEN_OK;
+}
+
+static void texture_free(limen__texture *t)
+{
+    if (!t)
+        return;
+    free(t->rgb);
+    free(t);
+}
+
+limen_status limen__texture_decode(limen_scene *s, const unsigned char *buf, size_t len,
+                                   const char *name, limen__texture **out)
+{
+    *out = NULL;
+    int w = 0, h = 0;
+    unsigned char *rgb = limen__image_decode(buf, len, &w, &h);
+    if (!rgb)
+        return limen__fail(s, LIMEN_ERR_IO, "%s: cannot read it as an image (PNG or JPEG): %s",
+                           name, limen__image_why());
+    if (w < 1 || h < 1 || w > MAX_SIDE || h > MAX_SIDE) {
+        free(rgb);
+        return limen__fail(s, LIMEN_ERR_ARG, "%s: %dx%d pixels (1 to %d a side)", name, w, h,
+                           MAX_SIDE);
+    }
+    limen__texture *t = calloc(1, sizeof *t);
+    if (!t) {
+        free(rgb);
+        return limen__fail(s, LIMEN_ERR_NOMEM, "%s: out of memory", name);
+    }
+    t->w = w;
+    t->h = h;
+    t->rgb = rgb;
+    t->bytes = sizeof *t + (size_t)w * (size_t)h * 3;
+    t->serial = limen__next_serial();
+    t->pub = (limen_image){ .id = t->serial, .width = w, .height = h, .rgb = rgb };
+    t->refs = 1;
+    snprintf(t->name, sizeof t->name, "%s", name);
+    *out = t;
+    return LIMEN_OK;
+}
+
+static limen_status keep(limen_scene *s, limen__texture *t)
+{
+    if (limen__assets_add(&s->textures, &s->ntextures, &s->texture_cap, t))
+        return LIMEN_OK;
+    texture_free(t);
+    return limen__fail(s, LIMEN_ERR_NOMEM, "texture: out of memory");
+}
+
+limen_status limen__texture_load(limen_scene *s, const char *path, size_t max_bytes,
+                                 size_t *charged, limen__texture **out)
+{
+    *out = NULL;
+    *charged = 0;
+    char key[LIMEN__FILE_KEY];
+    struct stat st;
+    limen_status rc = limen__file_key(s, path, key, &st);
+    if (rc)
+        return rc;
+    for (int i = 0; i < s->ntextures; i++) {
+        limen__texture *t = s->textures[i];
+        if (strcmp(t->key, key) == 0) {
+            t->refs++;
+            *out = t;
+            return LIMEN_OK;
+        }
+    }
+    if (st.st_size == 0)
+        return limen__fail(s, LIMEN_ERR_IO, "%s: empty file", path);
+    if ((uint64_t)st.st_size > max_bytes)
+        return limen__fail(s, LIMEN_ERR_NOMEM, "%s: a file of %.1f MiB, more than the %.1f MiB "
+                           "allowed", path, st.st_size / 1048576.0, max_bytes / 1048576.0);
+    FILE *f = fopen(path, "rb");
+    unsigned char *buf = f ? malloc((size_t)st.st_size) : NULL;
+    size_t got = buf ? fread(buf, 1, (size_t)st.st_size, f) : 0;
+    if (f)
+        fclose(f);
+    if (!buf || got != (size_t)st.st_size) {
+        free(buf);
+        return limen__fail(s, LIMEN_ERR_IO, "%s: cannot read: %s", path,
+                           f ? "short read" : strerror(errno));
+    }
+    /* the decoded size, from the header, before decoding */
+    int w, h;
+    if (limen__image_info(buf, got, &w, &h) && (uint64_t)w * (uint64_t)h * 3 > max_bytes) {
+        free(buf);
+        return limen__fail(s, LIMEN_ERR_NOMEM, "%s: %dx%d pixels need %.1f MiB, more than the "
+                           "%.1f MiB allowed", path, w, h, (double)w * h * 3 / 1048576.0,
+                           max_bytes / 1048576.0);
+    }
+    limen__texture *t;
+    rc = limen__texture_decode(s, buf, got, path, &t);
+    free(buf);
+    if (rc)
+        return rc;
+    snprintf(t->key, sizeof t->key, "%s", key);
+    if ((rc = keep(s, t)))
+        return rc;
+    *charged = t->bytes;
+    *out = t;
+    return LIMEN_OK;
+}
+
+void limen__texture_release(limen_scene *s, limen__texture *t)
+{
+    if (!t || --t->refs > 0)
+        return;
+    limen__assets_remove(s->textures, &s->ntextures, t);
+    texture_free(t);
+}
+
+void limen__textures_destroy(limen_scene *s)
+{
+    for (int i = 0; i < s->ntextures; i++)
+        texture_free(s->textures[i]);
+    free(s->textures);
+    s->textures = NULL;
+    s->ntextures = s->texture_cap = 0;
+}
+
+static int wrap(long i, int n)
+{
+    long m = i % n;
+    return (int)(m < 0 ? m + n : m);
+}
+
+void limen__texture_sample(const limen__texture *t, double u, double v, double out[3])
+{
+    double x = u * t->w - 0.5, y = v * t->h - 0.5;
+    if (!isfinite(x) || !isfinite(y) || fabs(x) > 1e15 || fabs(y) > 1e15)
+        x = y = 0;
+    double fx0 = floor(x), fy0 = floor(y);
+    double fx = x - fx0, fy = y - fy0;
+    int i0 = wrap((long)fx0, t->w), i1 = wrap((long)fx0 + 1, t->w);
+    int j0 = wrap((long)fy0, t->h), j1 = wrap((long)fy0 + 1, t->h);
+    /* j counts rows from the bottom; the image is stored top row first */
+    const unsigned char *r0 = t->rgb + (size_t)(t->h - 1 - j0) * (size_t)t->w * 3;
+    const unsigned char *r1 = t->rgb + (size_t)(t->h - 1 - j1) * (size_t)t->w * 3;
+    for (int k = 0; k < 3; k++) {
+        double a = r0[i0 * 3 + k] + fx * (r0[i1 * 3 + k] - r0[i0 * 3 + k]);
+        double b = r1[i0 * 3 + k] + fx * (r1[i1 * 3 + k] - r1[i0 * 3 + k]);
+        out[k] = (a + fy * (b - a)) / 255.0;
+    }
+}
+
+/* ------------------------------------------------------------------ API */
+
+limen_status limen__node_texture(limen_scene *s, limen_node n, const char *path,
+                                 size_t max_bytes, size_t *charged)
+{
+    *charged = 0;
+    limen__node *node = limen__node_get(s, n);
+    if (!node)
+        return limen__fail(s, LIMEN_ERR_HANDLE, "texture: %s node handle",
+                           n.id ? "stale or foreign" : "null");
+    if (node->kind != LIMEN_NODE_QUAD && node->kind != LIMEN_NODE_BOX &&
+        node->kind != LIMEN_NODE_MESH)
+        return limen__fail(s, LIMEN_ERR_HANDLE, "texture: '%s' is not a plane, box or mesh",
+                           limen__node_title(node));
+    limen__texture *t = NULL;
+    if (path) {
+        limen_status st = limen__texture_load(s, path, max_bytes, charged, &t);
+        if (st)
+            return st;
+    }
+    limen__texture_release(s, node->texture);
+    node->texture = t;
+    return LIMEN_OK;
+}
+
+limen_status limen_node_set_texture(limen_scene *s, limen_node n, const char *path)
+{
+    if (!s)
+        return LIMEN_ERR_ARG;
+    size_t charged;
+    return limen__node_texture(s, n, path, SIZE_MAX, &charged);
+}

@@ -1,0 +1,57 @@
+/* texture.h - images on surfaces: decoded once per scene (shared by the nodes and meshes that
+ * use the same file) and sampled the same way by the ray tracer and by OpenGL. Not part of
+ * the public API. */
+#ifndef LIMEN_CORE_TEXTURE_H
+#define LIMEN_CORE_TEXTURE_H
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include "limen.h"
+
+#define LIMEN__FILE_KEY_SIZE 4160
+
+typedef struct limen__texture {
+    int refs;                   /* nodes and meshes using it */
+    char key[LIMEN__FILE_KEY_SIZE];  /* limen__file_key, or "" */
+    char name[512];             /* the path as given, for messages */
+    int w, h;
+    unsigned char *rgb;         /* w * h * 3, top row first (as the file) */
+    size_t bytes;
+    uint64_t serial;            /* unique in the process: the renderer keys its copy on it */
+    limen_image pub;            /* what limen_drawable.texture shows of it */
+} limen__texture;
+
+/* Loads an image file (PNG or JPEG), or finds it already loaded in the scene, with a new
+ * reference; refuses one that would hold more than max_bytes. *charged: bytes newly held. */
+limen_status limen__texture_load(limen_scene *s, const char *path, size_t max_bytes,
+                                 size_t *charged, limen__texture **out);
+/* An image held in memory (a mesh file's embedded texture), not shared. */
+limen_status limen__texture_decode(limen_scene *s, const unsigned char *buf, size_t len,
+                                   const char *name, limen__texture **out);
+void limen__texture_release(limen_scene *s, limen__texture *t);
+void limen__textures_destroy(limen_scene *s);
+/* Bilinear, repeating, no mipmaps, texel centres at ((i + 0.5) / w, (j + 0.5) / h) with v
+ * from the bottom row up: what GL_LINEAR with GL_REPEAT does. In [0, 1]. */
+void limen__texture_sample(const limen__texture *t, double u, double v, double out[3]);
+
+/* image.c: stb_image on a buffer (RGB), and why it failed. */
+unsigned char *limen__image_decode(const unsigned char *buf, size_t len, int *w, int *h);
+const char *limen__image_why(void);
+/* Size from the header alone; false if it is not an image stb reads. */
+bool limen__image_info(const unsigned char *buf, size_t len, int *w, int *h);
+
+/* A file's identity for sharing: its resolved path and modification time (a file changed
+ * since it was read is read again). Fails, naming the path, if it is not a regular file. */
+#define LIMEN__FILE_KEY LIMEN__FILE_KEY_SIZE
+struct stat;
+limen_status limen__file_key(limen_scene *s, const char *path, char key[LIMEN__FILE_KEY],
+                             struct stat *st);
+/* A serial number unique in the process (textures and meshes). */
+uint64_t limen__next_serial(void);
+/* Sets (path) or clears (NULL) a node's texture; as limen__texture_load. */
+limen_status limen__node_texture(limen_scene *s, limen_node n, const char *path,
+                                 size_t max_bytes, size_t *charged);
+
+#endif

@@ -1,0 +1,181 @@
+/* assets.c - what the renderer keeps on the GPU for mesh and texture assets: one vertex
+ * buffer per mesh asset and one texture per image, shared by every node that shows it, kept
+ * while a frame uses them and dropped after the first frame that does not.
+ *
+ * A mesh is drawn unindexed, three corners per triangle, each with its position, its
+ * triangle's face normal (computed as the ray tracer does), its vertex normal and its
+ * texture coordinates; a node's flat or smooth shading picks which normal feeds the shader. */
+#include <stdlib.h>
+#include <string.h>
+
+#include "gl/gl_internal.h"
+
+#ifndef GL_REPEAT
+#define GL_REPEAT 0x2901
+#endif
+#ifndef GL_RGB8
+#define GL_RGB8 0x8051
+#endif
+#ifndef GL_UNPACK_ALIGNMENT
+#define GL_UNPACK_ALIGNMENT 0x0CF5
+#endif
+
+enum { CORNER_FLOATS = 11, AT_FLAT = 3, AT_SMOOTH = 6, AT_UV = 9 };
+
+struct limen__gpu_asset {
+    uint64_t serial;
+    GLuint vao, vbo, tex;       /* a mesh's arrays, or an image's texture */
+    GLsizei count;              /* corners */
+    bool used;                  /* by the frame being drawn */
+};
+
+static struct limen__gpu_asset *find(limen_renderer *r, uint64_t serial)
+{
+    for (int i = 0; i < r->nassets; i++)
+        if (r->assets[i].serial == serial) {
+            r->assets[i].used = true;
+            return &r->assets[i];
+        }
+    if (r->nassets == r->assets_cap) {
+        int cap = r->assets_cap ? r->assets_cap * 2 : 16;
+        struct limen__gpu_asset *a = realloc(r->assets, sizeof *a * (size_t)cap);
+        if (!a)
+            return NULL;
+        r->assets = a;
+        r->assets_cap = cap;
+    }
+    struct limen__gpu_asset *a = &r->assets[r->nassets++];
+    memset(a, 0, sizeof *a);
+    a->serial = serial;
+    a->used = true;
+    return a;
+}
+
+static void face_normal(const limen_mesh_geometry *m, const uint32_t *ix, float n[3])
+{
+    double e1[3], e2[3];
+    for (int k = 0; k < 3; k++) {
+        e1[k] = (double)m->positions[ix[1] * 3 + k] - m->positions[ix[0] * 3 + k];
+        e2[k] = (double)m->positions[ix[2] * 3 + k] - m->positions[ix[0] * 3 + k];
+    }
+    double c[3] = { e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2],
+                    e1[0] * e2[1] - e1[1] * e2[0] };
+    double len = sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]);
+    for (int k = 0; k < 3; k++)
+        n[k] = len > 0 ? (float)(c[k] / len) : 0.0f;
+}
+
+static bool upload_mesh(limen_renderer *r, const limen_mesh_geometry *m, struct limen__gpu_asset *a)
+{
+    size_t corners = (size_t)m->triangle_count * 3;
+    float *buf = malloc(sizeof(float) * CORNER_FLOATS * corners);
+    if (!buf)
+        return false;
+    for (int t = 0; t < m->triangle_count; t++) {
+        const uint32_t *ix = &m->indices[(size_t)t * 3];
+        float fn[3];
+        face_normal(m, ix, fn);
+        for (int k = 0; k < 3; k++) {
+            float *c = buf + ((size_t)t * 3 + k) * CORNER_FLOATS;
+            memcpy(c, &m->positions[ix[k] * 3], sizeof(float) * 3);
+            memcpy(c + AT_FLAT, fn, sizeof fn);
+            memcpy(c + AT_SMOOTH, &m->normals[ix[k] * 3], sizeof(float) * 3);
+            c[AT_UV] = m->uvs ? m->uvs[ix[k] * 2] : 0.0f;
+            c[AT_UV + 1] = m->uvs ? m->uvs[ix[k] * 2 + 1] : 0.0f;
+        }
+    }
+    GL(GenVertexArrays)(1, &a->vao);
+    GL(BindVertexArray)(a->vao);
+    GL(GenBuffers)(1, &a->vbo);
+    GL(BindBuffer)(GL_ARRAY_BUFFER, a->vbo);
+    GL(BufferData)(GL_ARRAY_BUFFER, (GLsizeiptr)(sizeof(float) * CORNER_FLOATS * corners), buf,
+                   GL_STATIC_DRAW);
+    free(buf);
+    GL(EnableVertexAttribArray)(0);
+    GL(VertexAttribPointer)(0, 3, GL_FLOAT, GL_FALSE, sizeof(float) * CORNER_FLOATS, (void *)0);
+    GL(EnableVertexAttribArray)(1);
+    GL(EnableVertexAttribArray)(2);
+    GL(VertexAttribPointer)(2, 2, GL_FLOAT, GL_FALSE, sizeof(float) * CORNER_FLOATS,
+                            (void *)(sizeof(float) * AT_UV));
+    a->count = (GLsizei)corners;
+    return true;
+}
+
+GLsizei limen__gpu_mesh_bind(limen_renderer *r, const limen_mesh_geometry *m, bool smooth)
+{
+    struct limen__gpu_asset *a = find(r, m->id);
+    if (!a || (!a->vao && !upload_mesh(r, m, a)))
+        return 0;
+    GL(BindVertexArray)(a->vao);
+    GL(BindBuffer)(GL_ARRAY_BUFFER, a->vbo);
+    GL(VertexAttribPointer)(1, 3, GL_FLOAT, GL_FALSE, sizeof(float) * CORNER_FLOATS,
+                            (void *)(sizeof(float) * (smooth ? AT_SMOOTH : AT_FLAT)));
+    return a->count;
+}
+
+GLuint limen__gpu_texture(limen_renderer *r, const limen_image *t)
+{
+    struct limen__gpu_asset *a = find(r, t->id);
+    if (!a)
+        return 0;
+    /* albedo textures live on unit 1 (unit 0 holds the texture method's view images) */
+    GL(ActiveTexture)(GL_TEXTURE1);
+    if (a->tex)
+        GL(BindTexture)(GL_TEXTURE_2D, a->tex);
+    if (!a->tex) {
+        /* rows bottom first: GL's t = 0 is the image's bottom row, as v = 0 is */
+        unsigned char *flip = malloc((size_t)t->width * (size_t)t->height * 3);
+        if (!flip) {
+            GL(ActiveTexture)(GL_TEXTURE0);
+            return 0;
+        }
+        size_t row = (size_t)t->width * 3;
+        for (int j = 0; j < t->height; j++)
+            memcpy(flip + (size_t)j * row, t->rgb + (size_t)(t->height - 1 - j) * row, row);
+        GL(GenTextures)(1, &a->tex);
+        GL(BindTexture)(GL_TEXTURE_2D, a->tex);
+        GL(PixelStorei)(GL_UNPACK_ALIGNMENT, 1);
+        GL(TexImage2D)(GL_TEXTURE_2D, 0, GL_RGB8, t->width, t->height, 0, GL_RGB, GL_UNSIGNED_BYTE, flip);
+        GL(PixelStorei)(GL_UNPACK_ALIGNMENT, 4);
+        free(flip);
+        GL(TexParameteri)(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+        GL(TexParameteri)(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+        GL(TexParameteri)(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_REPEAT);
+        GL(TexParameteri)(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_REPEAT);
+    }
+    GL(ActiveTexture)(GL_TEXTURE0);
+    return a->tex;
+}
+
+static void drop(limen_renderer *r, struct limen__gpu_asset *a)
+{
+    if (a->vbo)
+        GL(DeleteBuffers)(1, &a->vbo);
+    if (a->vao)
+        GL(DeleteVertexArrays)(1, &a->vao);
+    if (a->tex)
+        GL(DeleteTextures)(1, &a->tex);
+}
+
+void limen__gpu_assets_sweep(limen_renderer *r)
+{
+    int kept = 0;
+    for (int i = 0; i < r->nassets; i++) {
+        if (!r->assets[i].used) {
+            drop(r, &r->assets[i]);
+            continue;
+        }
+        r->assets[i].used = false;
+        r->assets[kept++] = r->assets[i];
+    }
+    r->nassets = kept;
+}
+
+void limen__gpu_assets_free(limen_renderer *r)
+{
+    for (int i = 0; i < r->nassets; i++)
+        drop(r, &r->assets[i]);
+    free(r->assets);
+    r->assets = NULL;
+    r->nassets = r->assets_cap = 0;
+}
