@@ -43,9 +43,11 @@ t_ok "script error -> file:line: message naming the field" expect_fail 1 "bad.lu
 printf 'local limen = require "limen"\nlocal s = limen.scene {}\nreturn s\n' > "$TMP/nocam.lua"
 t_ok "scene without camera -> clear error" expect_fail 1 "camera" "$LIMEN" render "$TMP/nocam.lua" -o "$TMP/x.png"
 t_ok "unwritable output -> exit 1" expect_fail 1 "cannot write" "$LIMEN" render scenes/plain.lua -o "$TMP/no/such/dir/x.png"
-t_ok "output to a full device -> exit 1" expect_fail 1 "cannot write" "$LIMEN" render scenes/plain.lua -o /dev/full --size 32x24
+# a full device under an image's name (-o takes .png, .jpg or .jpeg only)
+ln -s /dev/full "$TMP/full.png"
+t_ok "output to a full device -> exit 1" expect_fail 1 "cannot write" "$LIMEN" render scenes/plain.lua -o "$TMP/full.png" --size 32x24
 t_ok "plan to a full device -> exit 1" expect_fail 1 "cannot write" "$LIMEN" render scenes/plain.lua -o "$TMP/x.png" --size 32x24 --plan /dev/full
-t_ok "trace to a full device -> exit 1" expect_fail 1 "" "$LIMEN" trace scenes/plain.lua -o /dev/full --size 32x24
+t_ok "trace to a full device -> exit 1" expect_fail 1 "" "$LIMEN" trace scenes/plain.lua -o "$TMP/full.png" --size 32x24
 t_ok "--size whose width overflows an int -> exit 2" expect_fail 2 "limen: --size" "$LIMEN" render scenes/plain.lua -o "$TMP/x.png" --size 4294967297x1
 t_ok "trace --size that overflows -> exit 2" expect_fail 2 "limen: --size" "$LIMEN" trace scenes/plain.lua -o "$TMP/x.png" --size 1x4294967297
 long_path() {   # a frame-numbered name that does not fit is refused, never truncated
