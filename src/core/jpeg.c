@@ -22,10 +22,22 @@
 
 #include "core/internal.h"
 
+static void write_to_file(void *ctx, void *data, int size)
+{
+    fwrite(data, 1, (size_t)size, ctx);     /* errors stay in the stream's error flag */
+}
+
+/* Whole or not at all, as PNGs are (core/file.c). */
 limen_status limen__write_jpeg(const char *path, int width, int height,
                                const unsigned char *rgb, int quality)
 {
-    if (!stbi_write_jpg(path, width, height, 3, rgb, quality))
+    limen__out o;
+    limen_status st = limen__out_open(&o, path);
+    if (st)
+        return st;
+    if (!stbi_write_jpg_to_func(write_to_file, o.f, width, height, 3, rgb, quality)) {
+        limen__out_abort(&o);
         return LIMEN_ERR_IO;
-    return LIMEN_OK;
+    }
+    return limen__out_close(&o);
 }
