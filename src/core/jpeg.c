@@ -5,27 +5,8 @@
  * included, keeps it. */
 #include <limits.h>
 
-#define STB_IMAGE_WRITE_IMPLEMENTATION
-#define STB_IMAGE_WRITE_STATIC
-#if defined(__GNUC__)
-#pragma GCC diagnostic ignored "-Wunused-function"
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wmissing-prototypes"
-#pragma GCC diagnostic ignored "-Wsign-compare"
-#pragma GCC diagnostic ignored "-Wshadow"
-#pragma GCC diagnostic ignored "-Wunused-but-set-variable"
-#endif
-#include <stb_image_write.h>
-#if defined(__GNUC__)
-#pragma GCC diagnostic pop
-#endif
-
 #include "core/internal.h"
-
-static void write_to_file(void *ctx, void *data, int size)
-{
-    fwrite(data, 1, (size_t)size, ctx);     /* errors stay in the stream's error flag */
-}
+#include "core/stb_write.h"
 
 /* Whole or not at all, as PNGs are (core/file.c). */
 limen_status limen__write_jpeg(const char *path, int width, int height,
@@ -35,7 +16,7 @@ limen_status limen__write_jpeg(const char *path, int width, int height,
     limen_status st = limen__out_open(&o, path);
     if (st)
         return st;
-    if (!stbi_write_jpg_to_func(write_to_file, o.f, width, height, 3, rgb, quality)) {
+    if (!stbi_write_jpg_to_func(limen__stb_to_file, o.f, width, height, 3, rgb, quality)) {
         limen__out_abort(&o);
         return LIMEN_ERR_IO;
     }
