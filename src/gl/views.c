@@ -528,7 +528,8 @@ static int view_order(limen_renderer *r, const rview *v)
         double dx = (double)c[0] - eye[0], dy = (double)c[1] - eye[1], dz = (double)c[2] - eye[2];
         r->order[n++] = (struct limen__draw_key){ (float)(dx * dx + dy * dy + dz * dz), i };
     }
-    qsort(r->order, (size_t)n, sizeof *r->order, by_distance);
+    if (n > 1)      /* (order is NULL while no scene has had a drawable) */
+        qsort(r->order, (size_t)n, sizeof *r->order, by_distance);
     return n;
 }
 
