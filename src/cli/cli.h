@@ -80,6 +80,9 @@ int limen_cli_run_check(const limen_cli_run *o, const char *cmd);
  * -1 if the name does not fit in buf (never a truncated name, which would write every
  * frame to one file). */
 int limen_cli_frame_path(const char *out, long frame, long frames, char *buf, size_t size);
+/* Writes the image in the format its name asks for (limen_write_image); a device or a pipe
+ * (/dev/stdout) gets PNG, written in place. */
+limen_status limen_cli_write_image(const char *path, int w, int h, const unsigned char *rgb);
 /* Loads the scene script; NULL after printing why. */
 limen_script *limen_cli_load(const limen_cli_run *o);
 /* Runs update(t) for frame f of the run; 0, or 1 after printing the error followed by the

@@ -5,6 +5,7 @@
 #include <stdbool.h>
 #include <string.h>
 #include <strings.h>
+#include <sys/stat.h>
 
 #include "cli/cli.h"
 
@@ -141,6 +142,18 @@ static int ends_with(const char *path, const char *ext)
     return n > k && strcasecmp(path + n - k, ext) == 0;
 }
 
+/* A device or a pipe (/dev/stdout, /dev/full, a FIFO): written in place, as PNG. */
+static int is_device(const char *path)
+{
+    struct stat st;
+    return stat(path, &st) == 0 && (S_ISCHR(st.st_mode) || S_ISFIFO(st.st_mode));
+}
+
+limen_status limen_cli_write_image(const char *path, int w, int h, const unsigned char *rgb)
+{
+    return is_device(path) ? limen_write_png(path, w, h, rgb) : limen_write_image(path, w, h, rgb);
+}
+
 int limen_cli_run_check(const limen_cli_run *o, const char *cmd)
 {
     if (limen_cli_pose_check(&o->pose))
@@ -149,7 +162,8 @@ int limen_cli_run_check(const limen_cli_run *o, const char *cmd)
         return limen_cli_fail(2, "%s: no scene script given", cmd);
     if (!o->out)
         return limen_cli_fail(2, "%s: no output given (-o OUT.png)", cmd);
-    if (!ends_with(o->out, ".png") && !ends_with(o->out, ".jpg") && !ends_with(o->out, ".jpeg"))
+    if (!ends_with(o->out, ".png") && !ends_with(o->out, ".jpg") && !ends_with(o->out, ".jpeg") &&
+        !(o->frames == 1 && is_device(o->out)))
         return limen_cli_fail(2, "-o: cannot tell an image format from '%s' (expected a name "
                                  "ending in .png, .jpg or .jpeg)", o->out);
     return 0;

@@ -304,7 +304,7 @@ static int cmd_render(int argc, char **argv)
             break;
         }
         st = limen_renderer_read_rgb(r, rgb);
-        if (st || limen_write_image(path, w, h, rgb)) {
+        if (st || limen_cli_write_image(path, w, h, rgb)) {
             rc = limen_cli_fail(1, "%scannot write '%s'", tty && f ? "\n" : "", path);
             break;
         }

@@ -98,7 +98,7 @@ int limen_cli_trace(int argc, char **argv)
             rc = limen_cli_fail(1, "-o: the path is too long");
             break;
         }
-        if (limen_write_image(path, d.width, d.height, rgb))
+        if (limen_cli_write_image(path, d.width, d.height, rgb))
             rc = limen_cli_fail(1, "cannot write '%s'", path);
         else if (o.stats)
             printf("{\"frame\": %ld, \"time\": %.6g, \"ms\": %.3f, \"pixels\": %ld}\n", f, t, ms,

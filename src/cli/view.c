@@ -8,6 +8,7 @@
 #include <errno.h>
 #include <limits.h>
 #include <math.h>
+#include <stdbool.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -254,7 +255,7 @@ static void animate(viewer *v, double dt)
  * pose that renders it again. */
 static void screenshot(viewer *v)
 {
-    char path[PATH_MAX], tmp[PATH_MAX + 32];
+    char path[PATH_MAX];
     const char *dir = v->shots ? v->shots : ".";
     do
         snprintf(path, sizeof path, "%s/%s-%04d.png", dir, v->name, ++v->shot);
@@ -262,17 +263,13 @@ static void screenshot(viewer *v)
     int w, h;
     limen_renderer_get_size(v->r, &w, &h);
     unsigned char *rgb = malloc((size_t)w * (size_t)h * 3);
-    snprintf(tmp, sizeof tmp, "%s.%ld.tmp", path, (long)getpid());
+    /* limen_write_png writes whole or not at all (a temporary beside it, then a rename) */
     limen_status st = rgb ? limen_renderer_read_rgb(v->r, rgb) : LIMEN_ERR_NOMEM;
-    if (!st && limen_write_png(tmp, w, h, rgb))
-        st = LIMEN_ERR_IO;
-    if (!st && rename(tmp, path))
-        st = LIMEN_ERR_IO;
+    bool io = !st && limen_write_png(path, w, h, rgb);
     free(rgb);
-    if (st) {
-        remove(tmp);
+    if (st || io) {
         fprintf(stderr, "limen: screenshot %s: %s\n", path,
-                st == LIMEN_ERR_IO ? strerror(errno) : limen_renderer_error(v->r));
+                io ? "cannot write it" : limen_renderer_error(v->r));
         return;
     }
     limen_cli_pose pose;

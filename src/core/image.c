@@ -4,16 +4,11 @@
 #include <stdlib.h>
 #include <string.h>
 
-#define STB_IMAGE_WRITE_IMPLEMENTATION
-#define STB_IMAGE_WRITE_STATIC
 #define STB_IMAGE_IMPLEMENTATION
 #define STB_IMAGE_STATIC
 #define STBI_ONLY_PNG
 #define STBI_ONLY_JPEG
 #if defined(__GNUC__)
-/* stb declares static functions it does not define in every configuration; the check runs
- * at the end of the file, so this one stays off for the whole file */
-#pragma GCC diagnostic ignored "-Wunused-function"
 #pragma GCC diagnostic push
 #pragma GCC diagnostic ignored "-Wmissing-prototypes"
 #pragma GCC diagnostic ignored "-Wunused-function"
@@ -22,18 +17,13 @@
 #pragma GCC diagnostic ignored "-Wunused-but-set-variable"
 #endif
 #include <stb_image.h>
-#include <stb_image_write.h>
 #if defined(__GNUC__)
 #pragma GCC diagnostic pop
 #endif
 
 #include "core/internal.h"
 #include "core/texture.h"
-
-static void write_to_file(void *ctx, void *data, int size)
-{
-    fwrite(data, 1, (size_t)size, ctx);     /* errors stay in the stream's error flag */
-}
+#include "core/stb_write.h"
 #include <string.h>
 #include <strings.h>
 
@@ -47,7 +37,7 @@ limen_status limen_write_png(const char *path, int width, int height, const unsi
     limen_status st = limen__out_open(&o, path);
     if (st)
         return st;
-    if (!stbi_write_png_to_func(write_to_file, o.f, width, height, 3, rgb, width * 3)) {
+    if (!stbi_write_png_to_func(limen__stb_to_file, o.f, width, height, 3, rgb, width * 3)) {
         limen__out_abort(&o);
         return LIMEN_ERR_IO;
     }

@@ -5,27 +5,20 @@
  * included, keeps it. */
 #include <limits.h>
 
-#define STB_IMAGE_WRITE_IMPLEMENTATION
-#define STB_IMAGE_WRITE_STATIC
-#if defined(__GNUC__)
-#pragma GCC diagnostic ignored "-Wunused-function"
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wmissing-prototypes"
-#pragma GCC diagnostic ignored "-Wsign-compare"
-#pragma GCC diagnostic ignored "-Wshadow"
-#pragma GCC diagnostic ignored "-Wunused-but-set-variable"
-#endif
-#include <stb_image_write.h>
-#if defined(__GNUC__)
-#pragma GCC diagnostic pop
-#endif
-
 #include "core/internal.h"
+#include "core/stb_write.h"
 
+/* Whole or not at all, as PNGs are (core/file.c). */
 limen_status limen__write_jpeg(const char *path, int width, int height,
                                const unsigned char *rgb, int quality)
 {
-    if (!stbi_write_jpg(path, width, height, 3, rgb, quality))
+    limen__out o;
+    limen_status st = limen__out_open(&o, path);
+    if (st)
+        return st;
+    if (!stbi_write_jpg_to_func(limen__stb_to_file, o.f, width, height, 3, rgb, quality)) {
+        limen__out_abort(&o);
         return LIMEN_ERR_IO;
-    return LIMEN_OK;
+    }
+    return limen__out_close(&o);
 }
