@@ -203,6 +203,12 @@ LIMEN_API int limen_scene_node_count(const limen_scene *s);            /* live n
  * drawn in); returns how many there are (which may exceed max). Costs the live count, not
  * the pool's size. */
 LIMEN_API int limen_scene_nodes(const limen_scene *s, limen_node *out, int max);
+/* The files the scene's meshes and textures were read from (resolved paths), for a host
+ * that watches them: `limen view` reloads the script when one changes. Copies the
+ * i-th (from 0) into path and returns LIMEN_OK; LIMEN_ERR_ARG past the last, or where it does
+ * not fit in size bytes. Only reads the scene. */
+LIMEN_API limen_status limen_scene_get_file(const limen_scene *s, int i, char *path,
+                                            size_t size);
 /* Recompute world matrices now (done implicitly by every call that needs them). */
 LIMEN_API limen_status limen_scene_update(limen_scene *s);
 
@@ -365,8 +371,8 @@ LIMEN_API limen_status limen_camera_matrices(limen_scene *s, float aspect, limen
  * unit meshes of limen_node_kind scaled by dims; mirrors and portals are quads whose colours
  * follow limen_surface_get (the tints are already folded into limen_view.tint); lights shade
  * as CONVENTIONS says, the first LIMEN_MAX_LIGHTS visible ones in list order. The list grows
- * with the library (meshes and textures will join as kinds and fields): read items through
- * the pointer it gives, never allocate a limen_drawable. */
+ * with the library (meshes and textures joined as a kind and fields; more may come): read
+ * items through the pointer it gives, never allocate a limen_drawable. */
 #define LIMEN_MAX_LIGHTS 8      /* lights that shade: the first visible LIGHT items */
 
 /* A mesh's triangles as a renderer reads them (limen_drawable.mesh): shared by every node

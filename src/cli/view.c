@@ -37,7 +37,16 @@ static const char *keys_help =
     "                       DIR, and the pose that renders or traces it again\n"
     "  F1                   these keys\n"
     "  Escape               quit\n"
-    "The script reloads when its file changes; a broken script leaves the last good scene.\n";
+    "The script reloads when its file, or a mesh or texture file it read, changes; a broken\n"
+    "script leaves the last good scene.\n";
+
+#define MAX_WATCHED 64
+
+/* A file the scene was read from, as it was then. */
+typedef struct watched {
+    char path[PATH_MAX];
+    struct stat st;
+} watched;
 
 typedef struct viewer {
     const char *path, *shots;
@@ -50,6 +59,8 @@ typedef struct viewer {
     SDL_GLContext gl;
     int fb_w, fb_h;
     struct stat seen;                   /* the script file as last loaded or tried */
+    watched files[MAX_WATCHED];         /* the meshes and textures the last good scene read */
+    int nfiles;
     int held;                           /* the person moves the camera: pose wins */
     float pose[16];                     /* the camera's world matrix while held */
     double t, speed;
@@ -200,16 +211,41 @@ static void controls(viewer *v, double dt)
 
 /* ------------------------------------------------------------------ the script */
 
+static int stat_differs(const struct stat *a, const struct stat *b)
+{
+    return a->st_mtim.tv_sec != b->st_mtim.tv_sec || a->st_mtim.tv_nsec != b->st_mtim.tv_nsec ||
+           a->st_size != b->st_size || a->st_ino != b->st_ino;
+}
+
+/* Whether the script or a mesh or texture file its scene read changed since last looked. */
 static int file_changed(viewer *v)
 {
     struct stat st;
-    if (stat(v->path, &st))
-        return 0;               /* being replaced: look again next frame */
-    int changed = st.st_mtim.tv_sec != v->seen.st_mtim.tv_sec ||
-                  st.st_mtim.tv_nsec != v->seen.st_mtim.tv_nsec ||
-                  st.st_size != v->seen.st_size || st.st_ino != v->seen.st_ino;
-    v->seen = st;
+    int changed = 0;
+    if (!stat(v->path, &st)) {  /* (else being replaced: look again next frame) */
+        changed = stat_differs(&st, &v->seen);
+        v->seen = st;
+    }
+    for (int i = 0; i < v->nfiles; i++) {
+        if (stat(v->files[i].path, &st) || !stat_differs(&st, &v->files[i].st))
+            continue;
+        v->files[i].st = st;
+        changed = 1;
+    }
     return changed;
+}
+
+/* The files the scene read (limen_scene_get_file), to be watched from now on. */
+static void watch_assets(viewer *v)
+{
+    v->nfiles = 0;
+    for (int i = 0; v->nfiles < MAX_WATCHED; i++) {
+        watched *w = &v->files[v->nfiles];
+        if (limen_scene_get_file(scene(v), i, w->path, sizeof w->path))
+            break;
+        if (!stat(w->path, &w->st))
+            v->nfiles++;
+    }
 }
 
 /* Loads the script again; on failure says where and keeps the scene there is. keep: the
@@ -233,6 +269,7 @@ static void reload(viewer *v, int keep)
         v->held = 0;
     limen_script_destroy(v->sc);
     v->sc = next;
+    watch_assets(v);
     apply_pose(v);
     v->said[0] = '\0';
     printf("reloaded %s\n", v->path);
@@ -481,6 +518,7 @@ int limen_cli_view(int argc, char **argv)
         limen_script_destroy(v.sc);
         return 1;
     }
+    watch_assets(&v);
     if (pose.given) {
         if (limen_cli_pose_apply(scene(&v), &pose)) {
             limen_script_destroy(v.sc);

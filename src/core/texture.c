@@ -10,6 +10,7 @@
 #include <sys/stat.h>
 
 #include "core/internal.h"
+#include "core/mesh.h"
 #include "core/texture.h"
 
 #define MAX_SIDE 16384
@@ -209,4 +210,37 @@ limen_status limen_node_set_texture(limen_scene *s, limen_node n, const char *pa
         return LIMEN_ERR_ARG;
     size_t charged;
     return limen__node_texture(s, n, path, SIZE_MAX, &charged);
+}
+
+/* ------------------------------------------------------------------ the files behind assets */
+
+/* The path part of a file key ("path@seconds.nanoseconds"), or NULL for an asset that came
+ * from no file of its own; *len its length. */
+static const char *key_path(const char *key, size_t *len)
+{
+    const char *at = strrchr(key, '@');
+    if (!key[0] || !at)
+        return NULL;
+    *len = (size_t)(at - key);
+    return key;
+}
+
+limen_status limen_scene_get_file(const limen_scene *s, int i, char *path, size_t size)
+{
+    if (!s || !path || i < 0)
+        return LIMEN_ERR_ARG;
+    int n = 0;
+    for (int k = 0; k < s->nmeshes + s->ntextures; k++) {
+        const char *key = k < s->nmeshes ? ((const limen__mesh *)s->meshes[k])->key
+                                         : ((const limen__texture *)s->textures[k - s->nmeshes])->key;
+        size_t len;
+        if (!key_path(key, &len) || n++ != i)
+            continue;
+        if (len >= size)
+            return LIMEN_ERR_ARG;
+        memcpy(path, key, len);
+        path[len] = '\0';
+        return LIMEN_OK;
+    }
+    return LIMEN_ERR_ARG;
 }

@@ -120,6 +120,20 @@ mended() {
 }
 t_ok "the next good save brings the scene back" mended
 
+# a texture the scene read is replaced on disk (as an image editor saves): the scene reloads
+textures() {
+    cp scenes/data/bricks.png "$TMP/wall.png" || return 1
+    n=$(lines '^reloaded ')
+    sed 's/\(size = {8, 3}, color = {[^}]*}\) }/\1, texture = "wall.png" }/' scenes/portals.lua |
+        save && wait_for 60 more_lines '^reloaded ' "$n" && shot &&
+        matches "$TMP/scene.lua" || return 1
+    n=$(lines '^reloaded ') old=$SHOT
+    cp scenes/data/tiles.png "$TMP/new.png" && mv "$TMP/new.png" "$TMP/wall.png" &&
+    wait_for 60 more_lines '^reloaded ' "$n" && shot && matches "$TMP/scene.lua" &&
+    ! cmp -s "$SHOT" "$old"
+}
+t_ok "a texture the scene read changes on disk: the scene reloads with it" textures
+
 quits() {
     xdotool key Escape && wait_for 30 sh -c "! kill -0 $VPID" || return 1
     wait "$VPID"; rc=$?
