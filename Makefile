@@ -286,9 +286,10 @@ FUZZ_TIME  ?= 60
 FUZZ_TARGETS := scene api png
 FUZZ_B     := $(B)/fuzz
 FUZZ_CC    ?= clang
+FUZZ_DEBS  := clang libclang-rt-14-dev
 FUZZ_SAN   := -fsanitize=address,undefined -fno-sanitize-recover=all
 
-.PHONY: test-sanitize fuzz
+.PHONY: test-sanitize fuzz fuzz-deps
 test-sanitize:
 	@$(MAKE) --no-print-directory B=$(SAN_B) CC="$(SAN_CC)" CFLAGS="$(SAN_CFLAGS)" \
 	  all examples $(TEST_C:tests/%.c=$(SAN_B)/tests/%)
@@ -299,7 +300,10 @@ test-sanitize:
 	@echo "== sanitizers: the suite again, built with $(SAN_CC)"
 	@$(SAN_ENV) sh tests/run.sh $(SAN_B)
 
-fuzz: $(B)/config.mk
+fuzz-deps:
+	@$(call install_debs,$(FUZZ_DEBS))
+
+fuzz: fuzz-deps $(B)/config.mk
 	@$(MAKE) --no-print-directory B=$(FUZZ_B) CC="$(FUZZ_CC) $(FUZZ_SAN) -fsanitize=fuzzer-no-link" \
 	  CFLAGS="-O1 -g" $(FUZZ_B)/liblimen.a
 	@for t in $(FUZZ_TARGETS); do \
