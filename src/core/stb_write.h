@@ -8,20 +8,15 @@
 
 #define STB_IMAGE_WRITE_IMPLEMENTATION
 #define STB_IMAGE_WRITE_STATIC
+#include "core/stb_quiet.h"
 #if defined(__GNUC__)
 /* stb declares static functions it does not define in every configuration; the check runs
  * at the end of the file, so this one stays off for the whole file */
 #pragma GCC diagnostic ignored "-Wunused-function"
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wmissing-prototypes"
-#pragma GCC diagnostic ignored "-Wsign-compare"
-#pragma GCC diagnostic ignored "-Wshadow"
-#pragma GCC diagnostic ignored "-Wunused-but-set-variable"
 #endif
+LIMEN__STB_BEGIN
 #include <stb_image_write.h>
-#if defined(__GNUC__)
-#pragma GCC diagnostic pop
-#endif
+LIMEN__STB_END
 
 static void limen__stb_to_file(void *ctx, void *data, int size)
 {
