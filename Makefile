@@ -11,18 +11,20 @@ B        ?= build
 PKGS     := osmesa egl lua5.4 cglm assimp
 # Debian packages the build, the tests and the benchmarks need.
 DEBS     := pkg-config libosmesa6-dev libegl-dev libegl1-mesa-dev libgl-dev liblua5.4-dev \
-            lua5.4 libcglm-dev libstb-dev libsdl2-dev libembree-dev libassimp-dev
+            lua5.4 libcglm-dev libstb-dev libsdl2-dev libembree-dev libassimp-dev \
+            libmeshoptimizer-dev
 # ... and what the viewer's test needs: an X server, key presses, Mesa's GLX.
 TEST_DEBS := xvfb xdotool libgl1-mesa-dri libglx-mesa0
 
 ALL_CFLAGS = -std=c11 -D_GNU_SOURCE -fPIC -fvisibility=hidden $(WARN) -Iinclude -Isrc \
              $(DEP_CFLAGS) $(CFLAGS)
-# Embree 3 (the tracer's traversal, core/rtc.c) has no pkg-config file in Debian
-LIBS_NOLUA = $(DEP_LIBS_NOLUA) -lembree3 -lm -lpthread
-LIBS       = $(DEP_LIBS) -lembree3 -lm -lpthread
+# Embree 3 (the tracer's traversal, core/rtc.c) and meshoptimizer (levels of detail,
+# core/lod.c) have no pkg-config file in Debian
+LIBS_NOLUA = $(DEP_LIBS_NOLUA) -lembree3 -lmeshoptimizer -lm -lpthread
+LIBS       = $(DEP_LIBS) -lembree3 -lmeshoptimizer -lm -lpthread
 
 # ------------------------------------------------------------------ objects
-CORE_SRC := src/core/error.c src/core/limits.c src/core/lmath.c src/core/scene.c src/core/surface.c src/core/move.c src/core/straddle.c src/core/bvh.c src/core/index.c src/core/rtc.c src/core/cull.c src/core/plan.c src/core/drawables.c src/core/trace.c src/core/image.c src/core/jpeg.c src/core/file.c src/core/mesh.c src/core/texture.c
+CORE_SRC := src/core/error.c src/core/limits.c src/core/lmath.c src/core/scene.c src/core/surface.c src/core/move.c src/core/straddle.c src/core/bvh.c src/core/index.c src/core/rtc.c src/core/cull.c src/core/plan.c src/core/drawables.c src/core/trace.c src/core/image.c src/core/jpeg.c src/core/file.c src/core/mesh.c src/core/lod.c src/core/texture.c
 GL_SRC   := src/gl/render.c src/gl/views.c src/gl/shader.c src/gl/mesh.c src/gl/assets.c src/gl/ctx_osmesa.c \
             src/gl/ctx_egl.c src/gl/ctx_host.c
 LUA_SRC  := src/lua/l_fields.c src/lua/l_node.c src/lua/l_scene.c src/lua/l_render.c src/lua/script.c src/lua/safe.c src/lua/guards.c
@@ -127,7 +129,7 @@ $(B)/limen.pc: Makefile
 	   echo "Version: 0.1.0"; echo "Requires.private: $(PKGS)"; \
 	   echo "Cflags: -I\$${includedir}"; \
 	   echo "Libs: -L\$${libdir} -Wl,-rpath,\$${libdir} -llimen"; \
-	   echo "Libs.private: -lembree3 -lm -lpthread"; } > $@
+	   echo "Libs.private: -lembree3 -lmeshoptimizer -lm -lpthread"; } > $@
 
 $(B)/tests/%: $(B)/obj/tests/%.o $(B)/liblimen.a
 	@mkdir -p $(dir $@)

@@ -291,6 +291,7 @@ typedef struct limen_mesh_info {
     int smooth;                 /* the node's flag */
     float lo[3], hi[3];         /* local bounding box */
     int shared_by;              /* nodes that show this geometry */
+    int lod_count;              /* levels of detail (limen_mesh_geometry.lods), >= 1 */
     size_t bytes;               /* memory it holds */
 } limen_mesh_info;
 
@@ -377,6 +378,17 @@ LIMEN_API limen_status limen_camera_matrices(limen_scene *s, float aspect, limen
 
 /* A mesh's triangles as a renderer reads them (limen_drawable.mesh): shared by every node
  * that shows the same file, valid while one does. */
+/* A level of detail of a mesh: a simplified triangle list over the same vertices (so the
+ * same normals and texture coordinates), made once when the mesh is created (meshoptimizer),
+ * each level about half the triangles of the one before. */
+typedef struct limen_mesh_lod {
+    const uint32_t *indices;    /* triangle_count * 3, into the mesh's vertices */
+    int triangle_count;
+    float error;                /* the largest distance between this level's surface and the
+                                 * full mesh's, measured (not the simplifier's estimate), in the
+                                 * mesh's local units; 0 for level 0 */
+} limen_mesh_lod;
+
 typedef struct limen_mesh_geometry {
     uint64_t id;                /* unique in the process: key a GPU copy on it */
     int vertex_count, triangle_count;
@@ -384,6 +396,8 @@ typedef struct limen_mesh_geometry {
     const float *normals;       /* vertex_count * 3: the data's own, else area-weighted */
     const float *uvs;           /* vertex_count * 2, or NULL */
     const uint32_t *indices;    /* triangle_count * 3 */
+    int lod_count;              /* levels of detail, >= 1; lods[0] is the full mesh (indices) */
+    const limen_mesh_lod *lods; /* coarser as k grows, errors growing */
 } limen_mesh_geometry;
 
 /* An image for a texture (limen_drawable.texture): 8-bit RGB, top row first, sampled as
@@ -540,7 +554,13 @@ typedef struct limen_limits {
                                  * of the mirror tints on the way falls below it */
     limen_frame_budget budget;  /* what the frame may cost (planner and renderer); zero ->
                                  * defaults */
+    float lod_pixels;           /* meshes: each view draws the coarsest level of detail whose
+                                 * error projects to at most this many pixels
+                                 * (limen_view_mesh_lod); 0 -> 1; LIMEN_LOD_FULL: always the
+                                 * full mesh. The tracer always uses the full mesh. */
 } limen_limits;
+
+#define LIMEN_LOD_FULL (-1.0f)  /* limen_limits.lod_pixels: no levels of detail */
 
 /* Which surfaces a view keeps. */
 typedef enum limen_cull {
@@ -568,6 +588,13 @@ LIMEN_API const limen_view *limen_plan_view(const limen_plan *p, int i); /* NULL
 /* The surfaces view i sees (a portal seen from behind and the view's own exit surface are
  * not listed: they draw nothing); returns their count (*out is NULL when it is 0). */
 LIMEN_API int limen_plan_view_surfaces(const limen_plan *p, int i, const limen_view_surface **out);
+/* The level of detail (an index into d->mesh->lods) that view v draws mesh drawable d at, in
+ * an image `height` pixels tall: the coarsest level whose error, scaled by the node's world
+ * matrix and seen from the view's eye at the nearest point of d's bounding sphere, projects
+ * to at most `pixels` (limen_limits.lod_pixels: 0 -> 1, LIMEN_LOD_FULL -> level 0). Level 0
+ * where the eye is inside the sphere, and for anything but a mesh with levels. */
+LIMEN_API int limen_view_mesh_lod(const limen_view *v, int height, const limen_drawable *d,
+                                  float pixels);
 /* The shapes (boxes, spheres, cylinders, quads, meshes; visible ones) that view i may show: those
  * whose world bounds meet the view's pyramid from its eye through its scissor rectangle and,
  * below the camera, lie partly in front of its clip plane. Found through the scene's spatial

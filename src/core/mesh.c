@@ -237,6 +237,7 @@ static void mesh_free(limen_scene *s, limen__mesh *m)
     free(m->idx);
     free(m->bvh);
     free(m->tri_order);
+    free(m->lods);
     free(m);
 }
 
@@ -330,10 +331,18 @@ static limen_status mesh_from_arrays(limen_scene *s, const limen_mesh_data *d, c
         mesh_free(s, m);
         return limen__fail(s, LIMEN_ERR_NOMEM, "%s: out of memory", what);
     }
+    m->lods = calloc(1, sizeof *m->lods);
+    if (!m->lods) {
+        mesh_free(s, m);
+        return limen__fail(s, LIMEN_ERR_NOMEM, "%s: out of memory", what);
+    }
+    m->lods[0] = (limen_mesh_lod){ .indices = m->idx, .triangle_count = (int)nt, .error = 0 };
+    m->nlods = 1;
     m->serial = limen__next_serial();
     m->pub = (limen_mesh_geometry){ .id = m->serial, .vertex_count = (int)nv,
                                     .triangle_count = (int)nt, .positions = m->pos,
-                                    .normals = m->nrm, .uvs = m->uv, .indices = m->idx };
+                                    .normals = m->nrm, .uvs = m->uv, .indices = m->idx,
+                                    .lod_count = (int)m->nlods, .lods = m->lods };
     snprintf(m->name, sizeof m->name, "%s", what);
     *out = m;
     return LIMEN_OK;
@@ -701,6 +710,7 @@ limen_status limen_mesh_get(const limen_scene *s, limen_node n, limen_mesh_info 
         out->hi[a] = (float)m->hi[a];
     }
     out->shared_by = m->refs;
+    out->lod_count = (int)m->nlods;
     out->bytes = m->bytes;
     return LIMEN_OK;
 }

@@ -37,6 +37,8 @@ typedef struct limen__mesh {
     size_t bytes;               /* what it holds, counted against a script's memory cap */
     struct limen__texture *tex; /* the file's base-colour texture (with uvs), or NULL */
     uint64_t serial;            /* unique per asset: the renderer keys its buffers on it */
+    limen_mesh_lod *lods;       /* levels of detail, lods[0] the full mesh (idx) */
+    uint32_t nlods;
     limen_mesh_geometry pub;    /* what limen_drawable.mesh shows of it */
 } limen__mesh;
 
