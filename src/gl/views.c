@@ -533,8 +533,9 @@ static void draw_thing(limen_renderer *r, const rview *v, const limen_drawable *
 }
 
 /* fresh: nothing is in the view's depth yet (it sees no surface). Then the nearest thing,
- * drawn first, passes the depth test wherever it lands (every shape is convex, closed ones
- * without their back faces): it only writes depth, which llvmpipe does without reading it. */
+ * drawn first, passes the depth test wherever it lands if it is a shape (each is convex,
+ * closed ones without their back faces; a mesh need not be): it only writes depth, which
+ * llvmpipe does without reading it. */
 static void draw_geometry(limen_renderer *r, const rview *v, bool fresh)
 {
     const limen_drawable *items;
@@ -545,11 +546,12 @@ static void draw_geometry(limen_renderer *r, const rview *v, bool fresh)
             if (shows(v, &items[i]))
                 draw_thing(r, v, items, i);
     }
+    bool first_free = fresh && n > 0 && items[r->order[0].node].kind != LIMEN_NODE_MESH;
     for (int k = 0; k < n; k++) {
-        if (k == 0 && fresh)
+        if (k == 0 && first_free)
             GL(DepthFunc)(GL_ALWAYS);
         draw_thing(r, v, items, r->order[k].node);
-        if (k == 0 && fresh)
+        if (k == 0 && first_free)
             GL(DepthFunc)(r->range == LIMEN_DEPTH_ZO_REVERSED ? GL_GREATER : GL_LESS);
     }
     /* what has gone into a portal, coming out of its partner */
