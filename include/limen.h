@@ -691,6 +691,8 @@ typedef struct limen_frame_stats {
     uint64_t samples;           /* samples that passed depth and stencil (occlusion query) */
     uint64_t pixels;            /* width * height */
     int truncated;              /* views not created: limits or the budget (see the plan) */
+    int draw_calls;             /* OpenGL draw calls (meshes sharing geometry: one per batch) */
+    uint64_t triangles;         /* triangles submitted, meshes at their levels of detail */
 } limen_frame_stats;
 
 LIMEN_API limen_status limen_renderer_create(const limen_renderer_desc *desc,

@@ -7,7 +7,12 @@
  * the hall further on; a floor, a light, the camera at the entrance looking down the hall.
  *
  * field_create(n, seed): n spheres in a fixed 20 x 12 x 20 block before the camera, their
- * radius falling as n grows so that they cover about the same share of the picture. */
+ * radius falling as n grows so that they cover about the same share of the picture.
+ *
+ * bunnies_create(n, path, smooth, seed): n statues of one mesh file (the bunny: 10 units
+ * wide, scaled to 0.3) on a jittered grid over a fixed 16 x 14 floor, each turned and
+ * coloured at random, before a 16 x 6 mirror at its far end; the camera above the near
+ * edge looks across the field at the mirror, which shows the field again. */
 #ifndef LIMEN_TESTS_HALL_H
 #define LIMEN_TESTS_HALL_H
 
@@ -104,6 +109,45 @@ __attribute__((unused)) static limen_scene *field_create(int n, unsigned long lo
         limen_node_set_color(s, ball, (float[3]){ (float)hall__uniform(), 0.6f, 0.5f });
     }
     hall__camera(s, 0, 0, 12, 0, 0, -15);
+    return s;
+}
+
+__attribute__((unused)) static limen_scene *bunnies_create(int n, const char *path, int smooth,
+                                                           unsigned long long seed)
+{
+    limen_scene *s = hall__scene(n + 8);
+    if (!s)
+        return NULL;
+    hall__rng = seed;
+    limen_scene_set_ambient(s, 0.25f);
+    limen_node light = hall__add(s, LIMEN_NODE_LIGHT, 3, 6, 0);
+    limen_node_set_color(s, light, (float[3]){ 0.9f, 0.88f, 0.8f });
+    limen_node floor = hall__add(s, LIMEN_NODE_QUAD, 0, 0, -8);
+    limen_node_set_rotation(s, floor, (float[3]){ -1.5707963f, 0, 0 });
+    limen_node_set_dims(s, floor, (float[3]){ 16, 16, 0 });
+    limen_node_set_color(s, floor, (float[3]){ 0.35f, 0.45f, 0.3f });
+    limen_node mirror = hall__add(s, LIMEN_NODE_MIRROR, 0, 3, -16);
+    limen_node_set_dims(s, mirror, (float[3]){ 16, 6, 0 });
+    int cols = (int)ceil(sqrt((double)n));
+    int rows = (n + cols - 1) / cols;
+    float dx = 15.0f / (float)cols, dz = 14.0f / (float)rows;
+    for (int i = 0; i < n; i++) {
+        limen_node b = { 0 };
+        if (limen_node_create(s, LIMEN_NODE_MESH, NULL, &b) || limen_mesh_load(s, b, path)) {
+            limen_scene_destroy(s);
+            return NULL;
+        }
+        float x = -7.5f + dx * ((float)(i % cols) + 0.2f + 0.6f * (float)hall__uniform());
+        float z = -1.0f - dz * ((float)(i / cols) + 0.2f + 0.6f * (float)hall__uniform());
+        limen_node_set_position(s, b, (float[3]){ x, 0, z });
+        limen_node_set_rotation(s, b, (float[3]){ 0, (float)(6.2831853 * hall__uniform()), 0 });
+        limen_node_set_scale(s, b, (float[3]){ 0.03f, 0.03f, 0.03f });
+        limen_node_set_color(s, b, (float[3]){ (float)(0.5 + 0.5 * hall__uniform()),
+                                               (float)(0.4 + 0.5 * hall__uniform()),
+                                               (float)(0.3 + 0.4 * hall__uniform()) });
+        limen_mesh_set_smooth(s, b, smooth);
+    }
+    hall__camera(s, 0, 2.5f, 1.5f, 0, 1.0f, -14);
     return s;
 }
 

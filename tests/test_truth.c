@@ -8,6 +8,7 @@
 #include <time.h>
 
 #include "check.h"
+#include "hall.h"
 #include "limen.h"
 #include "load.h"
 #include "core/testing.h"
@@ -184,6 +185,42 @@ static void test_statue(void)
     limen_scene_destroy(s);
 }
 
+/* A field of statues before a mirror: the bunnies share one mesh, so each view draws them
+ * in a few batches (one per level of detail in use), not one call each; each keeps its own
+ * turn and colour (per-instance values), and the picture stays within the bound, flat and
+ * smooth. */
+static void test_field(void)
+{
+    const int w = 320, h = 240, n = 100;
+    limen_renderer *r = NULL;
+    CHECK_OK(limen_renderer_create(&(limen_renderer_desc){ .width = w, .height = h }, &r));
+    for (int smooth = 0; smooth < 2 && r; smooth++) {
+        limen_scene *s = bunnies_create(n, "scenes/data/bunny.obj", smooth, 7);
+        CHECK_MSG(s != NULL, "the field cannot be made");
+        if (!s)
+            break;
+        double ms;
+        unsigned char *truth = trace(s, w, h, -1, &ms);
+        for (int m = 0; m < 2; m++) {
+            limen_frame_stats st = { 0 };
+            limen_render_opts o = { .method = m };
+            CHECK_OK(limen_render_frame(r, s, &o, &st));
+            double d = bad_share(r, s, o, truth, w, h, NULL);
+            printf("     %d bunnies (%s) and a mirror, %s: %.3f%% of pixels off, %d views, "
+                   "%d draw calls, %llu triangles\n", n, smooth ? "smooth" : "flat",
+                   m ? "texture" : "stencil", 100 * d, st.views, st.draw_calls,
+                   (unsigned long long)st.triangles);
+            CHECK_MSG(d <= BOUND, "%.3f%% of pixels off", 100 * d);
+            CHECK_MSG(st.views == 2, "%d views", st.views);
+            CHECK_MSG(st.draw_calls <= 40, "%d draw calls for %d bunnies in %d views",
+                      st.draw_calls, n, st.views);
+        }
+        free(truth);
+        limen_scene_destroy(s);
+    }
+    limen_renderer_destroy(r);
+}
+
 /* The metric must catch a wrong picture, by a wide margin. */
 static void test_metric_has_teeth(void)
 {
@@ -269,6 +306,7 @@ static const check_case cases[] = {
     { "crossing_surfaces", test_crossing_surfaces },
     { "gallery_640x480", test_gallery_640x480 },
     { "statue", test_statue },
+    { "field", test_field },
     { "metric_has_teeth", test_metric_has_teeth },
     { 0 },
 };

@@ -32,7 +32,8 @@ static const limen_cli_option render_options[] = {
                           "each sees, and the shapes cloned through portals" },
     { "--stats", "one JSON line per frame: frame, time, ms, views, truncated (views\n"
                  "the limits and the frame budget left out), fragments,\n"
-                 "samples, pixels, and warm_up: true for the run's first frame, whose\n"
+                 "samples, pixels, draw_calls, triangles (meshes at their levels\n"
+                 "of detail), and warm_up: true for the run's first frame, whose\n"
                  "ms includes one-time work (shader compilation, buffers); take ms\n"
                  "from later frames (--frames) for a steady figure" },
     { NULL, NULL }
@@ -311,10 +312,11 @@ static int cmd_render(int argc, char **argv)
         if (o.run.stats)
             printf("{\"frame\": %ld, \"time\": %.6g, \"ms\": %.3f, \"warm_up\": %s, "
                    "\"views\": %d, \"truncated\": %d, \"fragments\": %llu, \"samples\": %llu, "
-                   "\"pixels\": %llu}\n",
+                   "\"pixels\": %llu, \"draw_calls\": %d, \"triangles\": %llu}\n",
                    f, t, stats.ms, f ? "false" : "true", stats.views, stats.truncated,
                    (unsigned long long)stats.fragments, (unsigned long long)stats.samples,
-                   (unsigned long long)stats.pixels);
+                   (unsigned long long)stats.pixels, stats.draw_calls,
+                   (unsigned long long)stats.triangles);
         if (frames > 1 && tty)
             fprintf(stderr, "\rlimen: frame %ld/%ld", f + 1, frames);
     }

@@ -4,7 +4,10 @@
  *
  * A mesh is drawn unindexed, three corners per triangle, each with its position, its
  * triangle's face normal (computed as the ray tracer does), its vertex normal and its
- * texture coordinates; a node's flat or smooth shading picks which normal feeds the shader. */
+ * texture coordinates; a node's flat or smooth shading picks which normal feeds the shader.
+ * Its levels of detail follow each other in the same buffer. Its vertex arrays also read
+ * the renderer's instance buffer (gl/batch.c): a model matrix, a normal matrix and an
+ * albedo per node. */
 #include <stdlib.h>
 #include <string.h>
 
@@ -21,11 +24,14 @@
 #endif
 
 enum { CORNER_FLOATS = 11, AT_FLAT = 3, AT_SMOOTH = 6, AT_UV = 9 };
+enum { GPU_LODS = 16 };         /* levels kept; a coarser one asked for gets the last */
 
 struct limen__gpu_asset {
     uint64_t serial;
     GLuint vao, vbo, tex;       /* a mesh's arrays, or an image's texture */
-    GLsizei count;              /* corners */
+    int nlods;
+    GLint first[GPU_LODS];      /* each level's first corner and corners */
+    GLsizei count[GPU_LODS];
     bool used;                  /* by the frame being drawn */
 };
 
@@ -65,25 +71,56 @@ static void face_normal(const limen_mesh_geometry *m, const uint32_t *ix, float 
         n[k] = len > 0 ? (float)(c[k] / len) : 0.0f;
 }
 
-static bool upload_mesh(limen_renderer *r, const limen_mesh_geometry *m, struct limen__gpu_asset *a)
+/* The corners of level `lod` (its triangles' indices ix) from buf on. */
+static float *lay_corners(const limen_mesh_geometry *m, const uint32_t *ix, int ntris, float *buf)
 {
-    size_t corners = (size_t)m->triangle_count * 3;
-    float *buf = malloc(sizeof(float) * CORNER_FLOATS * corners);
-    if (!buf)
-        return false;
-    for (int t = 0; t < m->triangle_count; t++) {
-        const uint32_t *ix = &m->indices[(size_t)t * 3];
+    for (int t = 0; t < ntris; t++, ix += 3) {
         float fn[3];
         face_normal(m, ix, fn);
-        for (int k = 0; k < 3; k++) {
-            float *c = buf + ((size_t)t * 3 + k) * CORNER_FLOATS;
-            memcpy(c, &m->positions[ix[k] * 3], sizeof(float) * 3);
-            memcpy(c + AT_FLAT, fn, sizeof fn);
-            memcpy(c + AT_SMOOTH, &m->normals[ix[k] * 3], sizeof(float) * 3);
-            c[AT_UV] = m->uvs ? m->uvs[ix[k] * 2] : 0.0f;
-            c[AT_UV + 1] = m->uvs ? m->uvs[ix[k] * 2 + 1] : 0.0f;
+        for (int k = 0; k < 3; k++, buf += CORNER_FLOATS) {
+            memcpy(buf, &m->positions[ix[k] * 3], sizeof(float) * 3);
+            memcpy(buf + AT_FLAT, fn, sizeof fn);
+            memcpy(buf + AT_SMOOTH, &m->normals[ix[k] * 3], sizeof(float) * 3);
+            buf[AT_UV] = m->uvs ? m->uvs[ix[k] * 2] : 0.0f;
+            buf[AT_UV + 1] = m->uvs ? m->uvs[ix[k] * 2 + 1] : 0.0f;
         }
     }
+    return buf;
+}
+
+/* Per-instance attributes from the instance buffer: model matrix (locations 3-6), normal
+ * matrix (7-9), albedo (10), as gl/batch.c lays them. */
+static void instance_arrays(limen_renderer *r)
+{
+    if (!r->inst_vbo)
+        GL(GenBuffers)(1, &r->inst_vbo);
+    GL(BindBuffer)(GL_ARRAY_BUFFER, r->inst_vbo);
+    const GLsizei stride = sizeof(float) * LIMEN__INSTANCE_FLOATS;
+    for (int i = 0; i < 8; i++) {
+        int size = i < 4 ? 4 : 3, at = i < 4 ? 4 * i : 16 + 3 * (i - 4);
+        GL(EnableVertexAttribArray)((GLuint)(3 + i));
+        GL(VertexAttribPointer)((GLuint)(3 + i), size, GL_FLOAT, GL_FALSE, stride,
+                                (void *)(sizeof(float) * (size_t)at));
+        GL(VertexAttribDivisor)((GLuint)(3 + i), 1);
+    }
+}
+
+static bool upload_mesh(limen_renderer *r, const limen_mesh_geometry *m, struct limen__gpu_asset *a)
+{
+    int nlods = m->lod_count < 1 || !m->lods ? 1 : m->lod_count > GPU_LODS ? GPU_LODS : m->lod_count;
+    size_t corners = 0;
+    for (int k = 0; k < nlods; k++)
+        corners += (size_t)(k && m->lods ? m->lods[k].triangle_count : m->triangle_count) * 3;
+    float *buf = malloc(sizeof(float) * CORNER_FLOATS * corners), *at = buf;
+    if (!buf)
+        return false;
+    for (int k = 0; k < nlods; k++) {
+        int ntris = k ? m->lods[k].triangle_count : m->triangle_count;
+        a->first[k] = (GLint)((at - buf) / CORNER_FLOATS);
+        a->count[k] = (GLsizei)ntris * 3;
+        at = lay_corners(m, k ? m->lods[k].indices : m->indices, ntris, at);
+    }
+    a->nlods = nlods;
     GL(GenVertexArrays)(1, &a->vao);
     GL(BindVertexArray)(a->vao);
     GL(GenBuffers)(1, &a->vbo);
@@ -97,20 +134,25 @@ static bool upload_mesh(limen_renderer *r, const limen_mesh_geometry *m, struct 
     GL(EnableVertexAttribArray)(2);
     GL(VertexAttribPointer)(2, 2, GL_FLOAT, GL_FALSE, sizeof(float) * CORNER_FLOATS,
                             (void *)(sizeof(float) * AT_UV));
-    a->count = (GLsizei)corners;
+    instance_arrays(r);
+    GL(BindBuffer)(GL_ARRAY_BUFFER, a->vbo);
     return true;
 }
 
-GLsizei limen__gpu_mesh_bind(limen_renderer *r, const limen_mesh_geometry *m, bool smooth)
+bool limen__gpu_mesh_bind(limen_renderer *r, const limen_mesh_geometry *m, bool smooth, int lod,
+                          GLint *first, GLsizei *count)
 {
     struct limen__gpu_asset *a = find(r, m->id);
     if (!a || (!a->vao && !upload_mesh(r, m, a)))
-        return 0;
+        return false;
     GL(BindVertexArray)(a->vao);
     GL(BindBuffer)(GL_ARRAY_BUFFER, a->vbo);
     GL(VertexAttribPointer)(1, 3, GL_FLOAT, GL_FALSE, sizeof(float) * CORNER_FLOATS,
                             (void *)(sizeof(float) * (smooth ? AT_SMOOTH : AT_FLAT)));
-    return a->count;
+    lod = lod < 0 ? 0 : lod >= a->nlods ? a->nlods - 1 : lod;
+    *first = a->first[lod];
+    *count = a->count[lod];
+    return true;
 }
 
 GLuint limen__gpu_texture(limen_renderer *r, const limen_image *t)

@@ -96,6 +96,15 @@ struct limen_renderer {
 
     struct limen__draw_key *order;          /* a view's things, nearest first */
     int order_cap;
+    int draw_calls;                         /* this frame's (limen_frame_stats) */
+    uint64_t triangles;
+    bool instanced;                         /* variants read the model from instances */
+    GLuint inst_vbo;                        /* per-instance values (gl/batch.c) */
+    struct limen__instance *inst;
+    int inst_cap;
+    struct limen__batch *batches;           /* a view's meshes in batches (gl/batch.c) */
+    struct limen__batch_item *batch_items;
+    int batch_cap;
 
     struct limen__gpu_asset *assets;        /* mesh buffers and textures (gl/assets.c) */
     int nassets, assets_cap;
@@ -110,6 +119,16 @@ struct limen_renderer {
 };
 
 #define GL(fn) r->gl.fn
+
+/* Floats per instance (gl/batch.c): model matrix, normal matrix, albedo. */
+#define LIMEN__INSTANCE_FLOATS 28
+
+/* One of a view's things: its squared distance from the eye (to its bounding sphere's
+ * centre) and its index in the drawables. */
+struct limen__draw_key {
+    float dist;
+    int node;
+};
 
 static inline GLenum limen__depth_format(const limen_renderer *r)
 {
@@ -146,9 +165,26 @@ bool limen__unit_mesh(limen_renderer *r, const vec4 *view, float px_scale, const
 /* gl/assets.c: a mesh's vertex arrays, bound with the flat or smooth normals (returns the
  * corners to draw, 0 if it cannot); an image's texture (0 if it cannot); after a frame,
  * dropping what it did not use; everything, at the end. */
-GLsizei limen__gpu_mesh_bind(limen_renderer *r, const limen_mesh_geometry *m, bool smooth);
+bool limen__gpu_mesh_bind(limen_renderer *r, const limen_mesh_geometry *m, bool smooth, int lod,
+                          GLint *first, GLsizei *count);
 GLuint limen__gpu_texture(limen_renderer *r, const limen_image *t);
 void limen__gpu_assets_sweep(limen_renderer *r);
 void limen__gpu_assets_free(limen_renderer *r);
+
+/* gl/batch.c: meshes drawn instanced. limen__batches_plan groups the meshes among a view's
+ * things (order[0..n), nearest first; not those cut at a portal) that show the same
+ * geometry at the same level of detail alike, each group starting where its nearest member
+ * stands; returns the number of groups (-1: out of memory, draw each alone).
+ * limen__batch_first gives where group b starts in order, limen__batch_draw draws it, and
+ * limen__mesh_draw draws one mesh node at a world matrix (a copy carried through a portal,
+ * a node cut at one). Each binds the unit meshes' arrays again after. limen__batches_free
+ * frees their memory (the instance buffer goes with the context). */
+int limen__batches_plan(limen_renderer *r, const limen_view *v, const limen_drawable *items,
+                        const struct limen__draw_key *order, int n);
+int limen__batch_first(const limen_renderer *r, int b);
+void limen__batch_draw(limen_renderer *r, const limen_view *v, const limen_drawable *items, int b);
+void limen__mesh_draw(limen_renderer *r, const limen_view *v, const limen_drawable *d,
+                      const float world[16], const float albedo[3]);
+void limen__batches_free(limen_renderer *r);
 
 #endif

@@ -103,6 +103,8 @@
     X(void, GetQueryObjectui64v, (GLuint q, GLenum pname, GLuint64 *v))                  \
     X(void, DrawElements, (GLenum mode, GLsizei count, GLenum type, const void *idx))    \
     X(void, DrawArrays, (GLenum mode, GLint first, GLsizei count))                     \
+    X(void, DrawArraysInstanced, (GLenum mode, GLint first, GLsizei count, GLsizei n))   \
+    X(void, VertexAttribDivisor, (GLuint i, GLuint divisor))                             \
     X(GLboolean, IsEnabled, (GLenum cap))                                                \
     X(void, GetBooleanv, (GLenum pname, GLboolean *data))                                \
     X(void, GetFloatv, (GLenum pname, GLfloat *data))                                    \

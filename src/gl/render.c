@@ -295,6 +295,8 @@ void limen_renderer_destroy(limen_renderer *r)
         GL(DeleteQueries)(1, &r->q_fragments);
         limen__targets_free(r);
         limen__gpu_assets_free(r);
+        if (r->inst_vbo)
+            GL(DeleteBuffers)(1, &r->inst_vbo);
         if (r->prev_fbo) {
             GL(DeleteFramebuffers)(1, &r->prev_fbo);
             GL(DeleteTextures)(1, &r->prev_tex);
@@ -306,6 +308,7 @@ void limen_renderer_destroy(limen_renderer *r)
     free(r->clone_of);
     free(r->q_pool);
     free(r->order);
+    limen__batches_free(r);
     if (r->ctx)
         r->ops->destroy(r->ctx);
     limen__meshes_free(&r->meshes);
@@ -531,6 +534,8 @@ static limen_status frame(limen_renderer *r, limen_scene *s, limen_frame_stats *
     r->q_used = 0;
     r->bound_prog = 0;
     r->draw_failed = false;
+    r->draw_calls = 0;
+    r->triangles = 0;
     if (r->has_fragment_stats)
         GL(BeginQuery)(GL_FRAGMENT_SHADER_INVOCATIONS_ARB, r->q_fragments);
     st = r->opts.method == LIMEN_METHOD_STENCIL ? limen__draw_stencil(r)
@@ -572,6 +577,8 @@ static limen_status frame(limen_renderer *r, limen_scene *s, limen_frame_stats *
         stats->samples = samples;
         stats->fragments = frags;
         stats->pixels = (uint64_t)r->width * (uint64_t)r->height;
+        stats->draw_calls = r->draw_calls;
+        stats->triangles = r->triangles;
     }
     return LIMEN_OK;
 }

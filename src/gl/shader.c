@@ -23,14 +23,29 @@ static const char *vs_body =
     "uniform mat3 u_normal_mat;\n"
     "out vec3 v_world, v_local, v_nrm;\n"
     "flat out vec3 v_face;\n"
+    "#if INSTANCED\n"
+    "layout(location = 3) in mat4 i_model;\n"
+    "layout(location = 7) in mat3 i_normal_mat;\n"
+    "layout(location = 10) in vec3 i_albedo;\n"
+    "flat out mat3 v_normal_mat;\n"
+    "flat out vec3 v_albedo;\n"
+    "#define MODEL i_model\n"
+    "#define NORMAL_MAT i_normal_mat\n"
+    "#else\n"
+    "#define MODEL u_model\n"
+    "#define NORMAL_MAT u_normal_mat\n"
+    "#endif\n"
     "void main() {\n"
-    "    vec4 w = u_model * vec4(a_pos, 1.0);\n"
+    "    vec4 w = MODEL * vec4(a_pos, 1.0);\n"
     "    v_world = w.xyz; v_local = a_pos; v_nrm = a_nrm;\n"
+    "#if INSTANCED\n"
+    "    v_normal_mat = i_normal_mat; v_albedo = i_albedo;\n"
+    "#endif\n"
     "#if TEXTURED == 3\n"
     "    v_uv = a_uv;\n"
     "#endif\n"
     "#if MODE == 0 && SHAPE == 0\n"
-    "    v_face = normalize(u_normal_mat * a_nrm);\n"
+    "    v_face = normalize(NORMAL_MAT * a_nrm);\n"
     "#endif\n"
     "#if CLIP0\n"
     "    gl_ClipDistance[0] = dot(u_clip_plane, w);\n"
@@ -52,6 +67,15 @@ static const char *fs_body =
     "flat in vec3 v_face;\n"
     "uniform mat3 u_normal_mat;\n"
     "uniform vec3 u_eye, u_albedo, u_albedo_b, u_scale, u_tint;\n"
+    "#if INSTANCED\n"
+    "flat in mat3 v_normal_mat;\n"
+    "flat in vec3 v_albedo;\n"
+    "#define NORMAL_MAT v_normal_mat\n"
+    "#define ALBEDO v_albedo\n"
+    "#else\n"
+    "#define NORMAL_MAT u_normal_mat\n"
+    "#define ALBEDO u_albedo\n"
+    "#endif\n"
     "uniform float u_cell, u_ambient;\n"
     "#if NLIGHTS > 0\n"
     "uniform vec3 u_light_pos[NLIGHTS], u_light_col[NLIGHTS];\n"
@@ -83,12 +107,12 @@ static const char *fs_body =
     "#if SHAPE == 0\n"
     "    vec3 n = v_face;\n"
     "#elif SHAPE == 3\n"
-    "    vec3 n = normalize(u_normal_mat * v_nrm);\n"
+    "    vec3 n = normalize(NORMAL_MAT * v_nrm);\n"
     "#else\n"
-    "    vec3 n = normalize(u_normal_mat * nl);\n"
+    "    vec3 n = normalize(NORMAL_MAT * nl);\n"
     "#endif\n"
     "    if (dot(n, u_eye - v_world) < 0.0) n = -n;\n"
-    "    vec3 albedo = u_albedo;\n"
+    "    vec3 albedo = ALBEDO;\n"
     "#if CHECKER\n"
     "    vec3 c = floor(v_local * u_scale / u_cell);\n"
     "#if CHECKER == 1\n"
@@ -179,17 +203,19 @@ GLuint limen__gl_link(limen_renderer *r, const char *head, const char *vsrc, con
 
 /* key: mode (2 bits), shape (2), checker (2), lights (4), clip distances 0 and 1 (1 each),
  * tint (1: the view's tint is not white; multiplying by 1 changes no colour), texture
- * coordinates (2), light ranges (1) */
+ * coordinates (2), light ranges (1), instanced (1: model, normal matrix and albedo per
+ * instance, gl/batch.c) */
 static unsigned variant_key(int mode, int shape, int checker, int nlights, bool clip0, bool clip1,
-                            bool tint, int textured, bool ranged)
+                            bool tint, int textured, bool ranged, bool instanced)
 {
     if (mode != LIMEN__MODE_LIT)
-        shape = checker = nlights = textured = 0;
+        shape = checker = nlights = textured = instanced = 0;
     if (!nlights)
         ranged = false;
     return (unsigned)mode | (unsigned)shape << 2 | (unsigned)checker << 4 |
            (unsigned)nlights << 6 | (unsigned)clip0 << 10 | (unsigned)clip1 << 11 |
-           (unsigned)tint << 12 | (unsigned)textured << 13 | (unsigned)ranged << 15;
+           (unsigned)tint << 12 | (unsigned)textured << 13 | (unsigned)ranged << 15 |
+           (unsigned)instanced << 16;
 }
 
 static limen__variant *variant_build(limen_renderer *r, unsigned key)
@@ -198,13 +224,13 @@ static limen__variant *variant_build(limen_renderer *r, unsigned key)
         limen__rfail(r, LIMEN_ERR_GL, "more than %d shader variants", LIMEN__MAX_VARIANTS);
         return NULL;
     }
-    char head[320];
+    char head[400];
     snprintf(head, sizeof head,
              "#version 330 core\n#define MODE %u\n#define SHAPE %u\n#define CHECKER %u\n"
              "#define NLIGHTS %u\n#define CLIP0 %u\n#define CLIP1 %u\n#define TINTED %s\n"
-             "#define TEXTURED %u\n#define RANGE %u\n",
+             "#define TEXTURED %u\n#define RANGE %u\n#define INSTANCED %u\n",
              key & 3, key >> 2 & 3, key >> 4 & 3, key >> 6 & 15, key >> 10 & 1, key >> 11 & 1,
-             key >> 12 & 1 ? "* u_tint" : "", key >> 13 & 3, key >> 15 & 1);
+             key >> 12 & 1 ? "* u_tint" : "", key >> 13 & 3, key >> 15 & 1, key >> 16 & 1);
     GLuint prog = limen__gl_link(r, head, vs_body, fs_body);
     if (!prog)
         return NULL;
@@ -262,7 +288,7 @@ bool limen__variant_use(limen_renderer *r, int mode, int shape, int checker, int
     const float *t = r->shared.tint;
     bool tint = mode != LIMEN__MODE_TEXTURE && (t[0] != 1 || t[1] != 1 || t[2] != 1);
     unsigned key = variant_key(mode, shape, checker, r->shared.nlights, r->clip0_on,
-                               r->clip1_on, tint, textured, r->shared.ranged);
+                               r->clip1_on, tint, textured, r->shared.ranged, r->instanced);
     limen__variant *v = NULL;
     for (int i = 0; i < r->nvariants && !v; i++)
         if (r->variants[i].key == key)

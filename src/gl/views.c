@@ -179,13 +179,6 @@ static void set_lights(limen_renderer *r)
 
 /* ------------------------------------------------------------------ meshes */
 
-/* After a mesh node's own arrays: the unit meshes' again. */
-static void rebind_unit_mesh(limen_renderer *r)
-{
-    GL(BindVertexArray)(r->vao);
-    GL(BindBuffer)(GL_ARRAY_BUFFER, r->vbo);
-}
-
 /* Draws one node's mesh; `mode` lit, flat or textured with colour `albedo`. */
 static void draw_node_at(limen_renderer *r, const rview *v, const limen_drawable *node,
                          mat4 world, int mode, const float *albedo)
@@ -193,24 +186,19 @@ static void draw_node_at(limen_renderer *r, const rview *v, const limen_drawable
     limen__range range = { 0, 0 };
     vec3 scale = { 1, 1, 1 };
     int shape = 0;
-    GLsizei corners = 0;    /* a mesh node's: drawn from its geometry's own arrays */
     if (node->kind == LIMEN_NODE_MESH) {
-        if (!node->mesh || !(corners = limen__gpu_mesh_bind(r, node->mesh, node->smooth)))
-            return;
-    } else if (!limen__unit_mesh(r, v->view, v->px_scale, node, world, &range, scale, &shape)) {
+        limen__mesh_draw(r, v->pub, node, (const float *)world, albedo);
         return;
     }
+    if (!limen__unit_mesh(r, v->view, v->px_scale, node, world, &range, scale, &shape))
+        return;
     int checker = mode != MODE_LIT || !(node->cell > 0) ? 0
                   : node->kind == LIMEN_NODE_QUAD                ? 1
                                                                  : 2;
-    if (corners && node->smooth)
-        shape = LIMEN__SHAPE_SMOOTH;
     /* an albedo texture, bound on unit 1, its coordinates as limen.h says */
     int textured = LIMEN__UV_NONE;
     if (node->texture && mode == MODE_LIT && limen__gpu_texture(r, node->texture))
-        textured = node->kind == LIMEN_NODE_QUAD ? LIMEN__UV_PLANE
-                   : node->kind == LIMEN_NODE_BOX ? LIMEN__UV_BOX
-                                                  : LIMEN__UV_MESH;
+        textured = node->kind == LIMEN_NODE_QUAD ? LIMEN__UV_PLANE : LIMEN__UV_BOX;
     /* In an oblique view the near plane is the exit plane, and clamping (below) would keep
      * what of a surface lies beyond it (a neighbour poking through a mirror shows its back
      * there): the view's clip plane cuts it instead, as in a plane view, through a variant
@@ -225,8 +213,6 @@ static void draw_node_at(limen_renderer *r, const rview *v, const limen_drawable
     if (!limen__variant_use(r, mode, shape, checker, textured)) {
         if (cut)
             set_view_clip(r, v);
-        if (corners)
-            rebind_unit_mesh(r);
         return;
     }
     mat4 model;
@@ -253,19 +239,16 @@ static void draw_node_at(limen_renderer *r, const rview *v, const limen_drawable
         GL(Enable)(GL_DEPTH_CLAMP);
     else
         GL(Disable)(GL_DEPTH_CLAMP);
-    /* Closed shapes hide their back faces; flat shapes and meshes (whose files need not be
-     * closed) are seen from both sides. */
-    if ((shape && !corners) || node->kind == LIMEN_NODE_BOX)
+    /* Closed shapes hide their back faces; flat shapes are seen from both sides (meshes,
+     * whose files need not be closed, too: gl/batch.c). */
+    if (shape || node->kind == LIMEN_NODE_BOX)
         GL(Enable)(GL_CULL_FACE);
     else
         GL(Disable)(GL_CULL_FACE);
-    if (corners) {
-        GL(DrawArrays)(GL_TRIANGLES, 0, corners);
-        rebind_unit_mesh(r);
-    } else {
-        GL(DrawElements)(GL_TRIANGLES, (GLsizei)range.count, GL_UNSIGNED_INT,
-                         (void *)(sizeof(uint32_t) * range.first));
-    }
+    GL(DrawElements)(GL_TRIANGLES, (GLsizei)range.count, GL_UNSIGNED_INT,
+                     (void *)(sizeof(uint32_t) * range.first));
+    r->draw_calls++;
+    r->triangles += range.count / 3;
     if (cut)
         set_view_clip(r, v);
 }
@@ -397,6 +380,8 @@ static void draw_parts(limen_renderer *r, const limen__spoly *sp, bool fixed, fl
         GL(BufferData)(GL_ARRAY_BUFFER, (GLsizeiptr)(sizeof(limen__vertex) * (size_t)n), buf,
                        GL_STREAM_DRAW);
         GL(DrawArrays)(GL_TRIANGLE_FAN, 0, n);
+        r->draw_calls++;
+        r->triangles += (uint64_t)n - 2;
     }
     GL(BindVertexArray)(r->vao);
     GL(BindBuffer)(GL_ARRAY_BUFFER, r->vbo);
@@ -472,11 +457,6 @@ static void set_cut(limen_renderer *r, const float *plane)
         GL(Disable)(GL_CLIP_DISTANCE1);
 }
 
-struct limen__draw_key {
-    float dist;                 /* from the eye to the bounding sphere's centre, squared */
-    int node;
-};
-
 static int by_distance(const void *a, const void *b)
 {
     const struct limen__draw_key *x = a, *y = b;
@@ -546,11 +526,19 @@ static void draw_geometry(limen_renderer *r, const rview *v, bool fresh)
             if (shows(v, &items[i]))
                 draw_thing(r, v, items, i);
     }
+    /* meshes that share geometry go in batches, each drawn where its nearest member stands */
+    int nb = n > 0 ? limen__batches_plan(r, v->pub, items, r->order, n) : 0, b = 0;
     bool first_free = fresh && n > 0 && items[r->order[0].node].kind != LIMEN_NODE_MESH;
     for (int k = 0; k < n; k++) {
+        int i = r->order[k].node;
+        if (nb >= 0 && items[i].kind == LIMEN_NODE_MESH && r->clone_of[i] < 0) {
+            if (b < nb && limen__batch_first(r, b) == k)
+                limen__batch_draw(r, v->pub, items, b++);
+            continue;
+        }
         if (k == 0 && first_free)
             GL(DepthFunc)(GL_ALWAYS);
-        draw_thing(r, v, items, r->order[k].node);
+        draw_thing(r, v, items, i);
         if (k == 0 && first_free)
             GL(DepthFunc)(r->range == LIMEN_DEPTH_ZO_REVERSED ? GL_GREATER : GL_LESS);
     }

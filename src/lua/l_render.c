@@ -30,7 +30,7 @@ static int read_choice(lua_State *L, int idx, const char *what, const char *cons
 }
 
 /* s:render { out = "x.png", size = {w, h}, backend = "osmesa"|"egl", time = t, ... }
- * -> stats { ms, views, fragments, samples, pixels }. */
+ * -> stats { ms, views, fragments, samples, pixels, draw_calls, triangles }. */
 int limen__lua_scene_render(lua_State *L)
 {
     lscene *ls = limen__lua_check_scene(L, 1);
@@ -169,7 +169,7 @@ int limen__lua_scene_render(lua_State *L)
         return lua_error(L);
     }
     limen_renderer_destroy(r);
-    lua_createtable(L, 0, 5);
+    lua_createtable(L, 0, 7);
     lua_pushnumber(L, stats.ms);
     lua_setfield(L, -2, "ms");
     lua_pushinteger(L, stats.views);
@@ -180,6 +180,10 @@ int limen__lua_scene_render(lua_State *L)
     lua_setfield(L, -2, "samples");
     lua_pushinteger(L, (lua_Integer)stats.pixels);
     lua_setfield(L, -2, "pixels");
+    lua_pushinteger(L, stats.draw_calls);
+    lua_setfield(L, -2, "draw_calls");
+    lua_pushinteger(L, (lua_Integer)stats.triangles);
+    lua_setfield(L, -2, "triangles");
     return 1;
 }
 
