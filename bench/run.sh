@@ -18,6 +18,8 @@ echo "bench ($MODE): speed against accuracy (progress on stderr)"
 echo "bench ($MODE): cost against object count (progress on stderr)"
 "$B/bench/scale" --out "$OUT" 2> "$OUT/scale.log"
 "$B/bench/embree" --out "$OUT/embree.csv" > "$OUT/embree.txt"
+echo "bench ($MODE): levels of detail and batches: the field of bunnies (progress on stderr)"
+"$B/bench/lod" --out "$OUT" 2> "$OUT/lod.log"
 echo "bench ($MODE): speed per pixel and per view against the floor and the classic recursion"
 "$B/bench/speed" --"$MODE" --out "$OUT" > /dev/null
 echo "bench ($MODE): charts"
@@ -32,4 +34,4 @@ end=$(date +%s)
 echo "runtime: $((end - start)) s" >> "$OUT/meta.txt"
 echo
 echo "bench ($MODE) done in $((end - start)) s: $OUT/points.csv, $OUT/matrices.csv, charts $OUT/*.png"
-cat "$OUT/targets.txt" "$OUT/speed.txt" "$OUT/scale_targets.txt" "$OUT/embree.txt"
+cat "$OUT/targets.txt" "$OUT/speed.txt" "$OUT/scale_targets.txt" "$OUT/lod_targets.txt" "$OUT/embree.txt"

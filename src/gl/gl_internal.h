@@ -96,6 +96,9 @@ struct limen_renderer {
 
     struct limen__draw_key *order;          /* a view's things, nearest first */
     int order_cap;
+    limen_node *things;                     /* a view's candidates from the scene's index */
+    int things_cap;
+    limen_scene *scene;                     /* the scene of the frame being drawn */
     int draw_calls;                         /* this frame's (limen_frame_stats) */
     uint64_t triangles;
     bool instanced;                         /* variants read the model from instances */

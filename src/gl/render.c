@@ -308,6 +308,7 @@ void limen_renderer_destroy(limen_renderer *r)
     free(r->clone_of);
     free(r->q_pool);
     free(r->order);
+    free(r->things);
     limen__batches_free(r);
     if (r->ctx)
         r->ops->destroy(r->ctx);
@@ -538,8 +539,10 @@ static limen_status frame(limen_renderer *r, limen_scene *s, limen_frame_stats *
     r->triangles = 0;
     if (r->has_fragment_stats)
         GL(BeginQuery)(GL_FRAGMENT_SHADER_INVOCATIONS_ARB, r->q_fragments);
+    r->scene = s;
     st = r->opts.method == LIMEN_METHOD_STENCIL ? limen__draw_stencil(r)
                                                 : limen__draw_texture(r);
+    r->scene = NULL;
     if (r->has_fragment_stats)
         GL(EndQuery)(GL_FRAGMENT_SHADER_INVOCATIONS_ARB);
     if (!st && r->draw_failed)

@@ -460,7 +460,8 @@ static void set_cut(limen_renderer *r, const float *plane)
 static int by_distance(const void *a, const void *b)
 {
     const struct limen__draw_key *x = a, *y = b;
-    return (x->dist > y->dist) - (x->dist < y->dist);
+    int c = (x->dist > y->dist) - (x->dist < y->dist);
+    return c ? c : (x->node > y->node) - (x->node < y->node);
 }
 
 /* A shape (not a surface, not a light) that view v may show. */
@@ -472,9 +473,28 @@ static bool shows(const rview *v, const limen_drawable *d)
            !outside(v, d, NULL);
 }
 
+/* The candidates for view v from the scene's spatial index (limen_plan_view_things), in
+ * r->things: what the view's pyramid meets, found in time that follows what it holds, not
+ * what the scene holds. Returns their count, or -1 where the index cannot answer. */
+static int view_things(limen_renderer *r, const rview *v)
+{
+    if (!r->scene)
+        return -1;
+    int n = limen_plan_view_things(r->plan, r->scene, v->index, r->things, r->things_cap);
+    if (n > r->things_cap) {
+        limen_node *t = realloc(r->things, sizeof *t * (size_t)n);
+        if (!t)
+            return -1;
+        r->things = t;
+        r->things_cap = n;
+        n = limen_plan_view_things(r->plan, r->scene, v->index, r->things, r->things_cap);
+    }
+    return n;
+}
+
 /* The shapes view v can show, nearest first (so that, without a depth-only pass, what lies
- * behind fails the depth test before it is shaded), in r->order. Returns the count, or -1
- * where the list cannot grow (then draw them in list order). */
+ * behind fails the depth test before it is shaded; ties in list order), in r->order.
+ * Returns the count, or -1 where the list cannot grow (then draw them in list order). */
 static int view_order(limen_renderer *r, const rview *v)
 {
     const limen_drawable *items;
@@ -486,9 +506,10 @@ static int view_order(limen_renderer *r, const rview *v)
         r->order = o;
         r->order_cap = count;
     }
-    int n = 0;
-    for (int i = 0; i < count; i++) {
-        if (!shows(v, &items[i]))
+    int nt = view_things(r, v), n = 0;
+    for (int k = 0; k < (nt < 0 ? count : nt); k++) {
+        int i = nt < 0 ? k : limen_drawables_find(r->draw, r->things[k]);
+        if (i < 0 || !shows(v, &items[i]))
             continue;
         const float *c = items[i].centre, *eye = v->pub->eye;
         double dx = (double)c[0] - eye[0], dy = (double)c[1] - eye[1], dz = (double)c[2] - eye[2];

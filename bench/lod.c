@@ -1,0 +1,229 @@
+/* lod.c - what levels of detail and batches buy: the field of bunnies before a mirror
+ * (tests/hall.h bunnies_create, 640x480, stencil method), timed against the number of
+ * bunnies with levels of detail and with the full mesh, and against the LOD error bound
+ * (limen_limits.lod_pixels) with its error against the ray tracer (which always uses the
+ * full mesh). Then the target, both fields measured interleaved in one run:
+ *   - 1,000 bunnies within 1% of the tracer, and their frame <= 4x the field of 10.
+ * Times are processor time of the whole process per frame (llvmpipe's threads included;
+ * steadier than wall time on a shared machine), medians; wall medians beside them.
+ *
+ *   lod [--out DIR] [--mesh FILE]
+ *
+ * Writes DIR/lod_count.csv, DIR/lod_bound.csv and DIR/lod_targets.txt; a line per point
+ * on stderr. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include "core/internal.h"
+#include "../tests/hall.h"
+#include "timing.h"
+
+enum { W = 640, H = 480 };
+
+static void die(const char *what)
+{
+    fprintf(stderr, "lod: %s\n", what);
+    exit(1);
+}
+
+static double cpu_ms(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+    return ts.tv_sec * 1e3 + ts.tv_nsec * 1e-6;
+}
+
+typedef struct field {
+    limen_scene *s;
+    int n;
+    float bound;                /* lod_pixels */
+    unsigned char *truth;       /* the tracer's picture, or NULL */
+    double cpu[64], wall[64];
+    int runs;
+    limen_frame_stats st;
+    double bad;                 /* share of pixels off the truth */
+} field;
+
+static const char *g_mesh = "scenes/data/bunny.obj";
+static limen_renderer *g_r;
+static unsigned char *g_rgb;
+
+static void field_open(field *f, int n, float bound)
+{
+    memset(f, 0, sizeof *f);
+    f->n = n;
+    f->bound = bound;
+    f->s = bunnies_create(n, g_mesh, 1, 7);
+    if (!f->s)
+        die("cannot make the field (is the mesh file there?)");
+}
+
+static void frame(field *f)
+{
+    limen_render_opts o = { .limits.lod_pixels = f->bound };
+    double c0 = cpu_ms(), w0 = now_ms();
+    if (limen_render_frame(g_r, f->s, &o, &f->st))
+        die(limen_renderer_error(g_r));
+    if (f->runs < 64) {
+        f->cpu[f->runs] = cpu_ms() - c0;
+        f->wall[f->runs] = now_ms() - w0;
+        f->runs++;
+    }
+}
+
+/* One warm-up frame (buffers, shader variants), then the error against the truth. */
+static void measure_error(field *f)
+{
+    if (!f->truth) {
+        f->truth = malloc((size_t)W * H * 3);
+        if (!f->truth || limen_trace_image(f->s, &(limen_trace_desc){ .width = W, .height = H },
+                                           f->truth))
+            die("trace");
+    }
+    limen_render_opts o = { .limits.lod_pixels = f->bound };
+    limen_diff d;
+    if (limen_render_frame(g_r, f->s, &o, &f->st) || limen_renderer_read_rgb(g_r, g_rgb) ||
+        limen_image_diff(g_rgb, f->truth, W, H, 8, &d, NULL))
+        die("render");
+    f->bad = d.bad_share;
+}
+
+static double med(double *v, int n)
+{
+    double c[64];
+    memcpy(c, v, sizeof(double) * (size_t)n);
+    return median(c, n);
+}
+
+/* rounds of one frame of each field in turn */
+static void interleave(field *f, int nf, int rounds)
+{
+    for (int i = 0; i < nf; i++)
+        frame(&f[i]);   /* warm */
+    for (int i = 0; i < nf; i++)
+        f[i].runs = 0;
+    for (int k = 0; k < rounds; k++)
+        for (int i = 0; i < nf; i++)
+            frame(&f[i]);
+}
+
+static void field_close(field *f)
+{
+    limen_scene_destroy(f->s);
+    free(f->truth);
+}
+
+static FILE *out_open(limen__out *o, const char *dir, const char *name)
+{
+    char path[512];
+    snprintf(path, sizeof path, "%s/%s", dir, name);
+    if (limen__out_open(o, path))
+        die("cannot write the results");
+    return o->f;
+}
+
+static void out_close(limen__out *o)
+{
+    if (limen__out_close(o))
+        die("cannot write the results");
+}
+
+int main(int argc, char **argv)
+{
+    const char *out = "build/bench";
+    for (int i = 1; i < argc; i++) {
+        if (!strcmp(argv[i], "--out") && i + 1 < argc)
+            out = argv[++i];
+        else if (!strcmp(argv[i], "--mesh") && i + 1 < argc)
+            g_mesh = argv[++i];
+        else
+            die("usage: lod [--out DIR] [--mesh FILE]");
+    }
+    g_rgb = malloc((size_t)W * H * 3);
+    if (!g_rgb || limen_renderer_create(&(limen_renderer_desc){ .width = W, .height = H }, &g_r))
+        die("cannot make a renderer");
+
+    /* cost against the number of bunnies, with levels of detail and without */
+    limen__out oc;
+    FILE *fc = out_open(&oc, out, "lod_count.csv");
+    fprintf(fc, "bunnies,lod_ms,lod_triangles,full_ms,full_triangles,lod_wall_ms,full_wall_ms\n");
+    static const int COUNTS[] = { 10, 30, 100, 300, 1000 };
+    for (size_t k = 0; k < sizeof COUNTS / sizeof COUNTS[0]; k++) {
+        field f[2];
+        field_open(&f[0], COUNTS[k], 0);
+        field_open(&f[1], COUNTS[k], LIMEN_LOD_FULL);
+        interleave(f, 2, COUNTS[k] >= 300 ? 5 : 9);
+        fprintf(fc, "%d,%.3f,%llu,%.3f,%llu,%.3f,%.3f\n", COUNTS[k], med(f[0].cpu, f[0].runs),
+                (unsigned long long)f[0].st.triangles, med(f[1].cpu, f[1].runs),
+                (unsigned long long)f[1].st.triangles, med(f[0].wall, f[0].runs),
+                med(f[1].wall, f[1].runs));
+        fprintf(stderr, "lod: %5d bunnies: %8.2f ms (%llu triangles) with levels of detail, "
+                "%8.2f ms (%llu) with the full mesh\n", COUNTS[k], med(f[0].cpu, f[0].runs),
+                (unsigned long long)f[0].st.triangles, med(f[1].cpu, f[1].runs),
+                (unsigned long long)f[1].st.triangles);
+        field_close(&f[0]);
+        field_close(&f[1]);
+    }
+    out_close(&oc);
+
+    /* frame time and error against the bound, 1,000 bunnies */
+    limen__out ob;
+    FILE *fb = out_open(&ob, out, "lod_bound.csv");
+    fprintf(fb, "lod_pixels,ms,wall_ms,triangles,bad_share\n");
+    static const float BOUNDS[] = { LIMEN_LOD_FULL, 0.125f, 0.25f, 0.5f, 1, 2, 4, 8, 16 };
+    enum { NB = sizeof BOUNDS / sizeof BOUNDS[0] };
+    field fs[NB];
+    for (int k = 0; k < NB; k++) {
+        field_open(&fs[k], 1000, BOUNDS[k]);
+        if (k) {    /* one scene, one truth */
+            limen_scene_destroy(fs[k].s);
+            fs[k].s = fs[0].s;
+            fs[k].truth = fs[0].truth;
+        }
+        measure_error(&fs[k]);
+    }
+    interleave(fs, NB, 5);
+    for (int k = 0; k < NB; k++) {
+        fprintf(fb, "%g,%.3f,%.3f,%llu,%.6f\n", BOUNDS[k] < 0 ? 0.0 : BOUNDS[k],
+                med(fs[k].cpu, fs[k].runs), med(fs[k].wall, fs[k].runs),
+                (unsigned long long)fs[k].st.triangles, fs[k].bad);
+        fprintf(stderr, "lod: bound %6.3f px: %8.2f ms, %8llu triangles, %.4f%% of pixels off "
+                "the tracer\n", BOUNDS[k] < 0 ? 0.0 : BOUNDS[k], med(fs[k].cpu, fs[k].runs),
+                (unsigned long long)fs[k].st.triangles, 100 * fs[k].bad);
+    }
+    out_close(&ob);
+    double bad1000 = fs[0].bad;
+    for (int k = 0; k < NB; k++)
+        if (BOUNDS[k] == 1)     /* the default, 0 -> 1 */
+            bad1000 = fs[k].bad;
+    free(fs[0].truth);
+    limen_scene_destroy(fs[0].s);
+
+    /* the target: 1,000 against 10, default bound, interleaved */
+    field t[2];
+    field_open(&t[0], 10, 0);
+    field_open(&t[1], 1000, 0);
+    interleave(t, 2, 15);
+    double small = med(t[0].cpu, t[0].runs), big = med(t[1].cpu, t[1].runs);
+    double wsmall = med(t[0].wall, t[0].runs), wbig = med(t[1].wall, t[1].runs);
+    limen__out ot;
+    FILE *ft = out_open(&ot, out, "lod_targets.txt");
+    fprintf(ft, "lod: 1,000 bunnies before a mirror (%dx%d, levels of detail under 1 pixel): "
+            "%.3f%% of pixels off the tracer (target <= 1%%): %s\n", W, H, 100 * bad1000,
+            bad1000 <= 0.01 ? "met" : "NOT met");
+    fprintf(ft, "lod: their frame %.2f ms against 10 bunnies %.2f ms (processor time; wall "
+            "%.2f against %.2f ms): %.2fx (target <= 4x): %s\n", big, small, wbig, wsmall,
+            big / small, big <= 4 * small ? "met" : "NOT met");
+    fprintf(ft, "lod: draw calls %d against %d, triangles %llu against %llu\n",
+            t[1].st.draw_calls, t[0].st.draw_calls, (unsigned long long)t[1].st.triangles,
+            (unsigned long long)t[0].st.triangles);
+    out_close(&ot);
+    field_close(&t[0]);
+    field_close(&t[1]);
+    limen_renderer_destroy(g_r);
+    free(g_rgb);
+    return 0;
+}
