@@ -1,7 +1,376 @@
-/* lod.c - which level of detail of a mesh a view draws. */
+/* lod.c - levels of detail of a mesh: made once when the mesh is made (meshoptimizer's
+ * simplifier, each level about half the triangles of the one before), each with a measured
+ * bound on its distance from the full mesh; and which level a view draws.
+ *
+ * The error of a level is a certified upper bound on the two-sided Hausdorff distance between
+ * its surface and the full mesh's. For one side (surface A against surface B), the distance
+ * to B is the smallest of the distances to B's triangles, and the distance to one triangle is
+ * a convex function, so over a piece of A it is largest at one of the piece's corners: the
+ * largest corner distance to any one triangle of B bounds the whole piece. Pieces whose bound
+ * stays within a few per cent of the largest distance found at a corner are done; the others
+ * are cut in four, down to a fixed depth. Corners find their nearest triangle through a
+ * hierarchy over B (the ray tracer's, for the full mesh). */
+#include <float.h>
 #include <math.h>
+#include <string.h>
 
-#include "limen.h"
+#include <meshoptimizer.h>
+
+#include "core/internal.h"
+#include "core/mesh.h"
+
+#define MAX_LEVELS 12           /* the full mesh and up to 11 coarser ones */
+#define MIN_TRIS 16             /* a level this small gets no halved successor */
+#define REL_TOL 0.1             /* a piece's bound may exceed the largest distance found by this */
+#define MAX_DEPTH 4             /* pieces per triangle: at most 4^4 */
+#define STACK_MAX 64
+
+/* ------------------------------------------------------------------ distances */
+
+static void sub3(const double a[3], const double b[3], double out[3])
+{
+    for (int k = 0; k < 3; k++)
+        out[k] = a[k] - b[k];
+}
+
+static double dot3(const double a[3], const double b[3])
+{
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+
+/* Squared distance from p to the segment ab. */
+static double seg_d2(const double p[3], const double a[3], const double b[3])
+{
+    double ab[3], ap[3];
+    sub3(b, a, ab);
+    sub3(p, a, ap);
+    double len2 = dot3(ab, ab), t = len2 > 0 ? dot3(ap, ab) / len2 : 0;
+    t = t < 0 ? 0 : t > 1 ? 1 : t;
+    double d2 = 0;
+    for (int k = 0; k < 3; k++) {
+        double e = ap[k] - t * ab[k];
+        d2 += e * e;
+    }
+    return d2;
+}
+
+/* Squared distance from p to the triangle abc: the nearest point found by the region of the
+ * triangle's plane that p projects into (corner, edge or face; Ericson, Real-Time Collision
+ * Detection 5.1.5), with the edges as a fallback for a triangle of no area. */
+static double tri_d2(const double p[3], const double a[3], const double b[3], const double c[3])
+{
+    double ab[3], ac[3], ap[3], bp[3], cp[3], q[3];
+    sub3(b, a, ab);
+    sub3(c, a, ac);
+    sub3(p, a, ap);
+    double d1 = dot3(ab, ap), d2 = dot3(ac, ap);
+    if (d1 <= 0 && d2 <= 0)
+        return dot3(ap, ap);
+    sub3(p, b, bp);
+    double d3 = dot3(ab, bp), d4 = dot3(ac, bp);
+    if (d3 >= 0 && d4 <= d3)
+        return dot3(bp, bp);
+    double vc = d1 * d4 - d3 * d2;
+    if (vc <= 0 && d1 >= 0 && d3 <= 0)
+        return seg_d2(p, a, b);
+    sub3(p, c, cp);
+    double d5 = dot3(ab, cp), d6 = dot3(ac, cp);
+    if (d6 >= 0 && d5 <= d6)
+        return dot3(cp, cp);
+    double vb = d5 * d2 - d1 * d6;
+    if (vb <= 0 && d2 >= 0 && d6 <= 0)
+        return seg_d2(p, a, c);
+    double va = d3 * d6 - d5 * d4;
+    if (va <= 0 && d4 - d3 >= 0 && d5 - d6 >= 0)
+        return seg_d2(p, b, c);
+    double sum = va + vb + vc;
+    if (!(sum > 0)) {
+        double ab2 = seg_d2(p, a, b), bc2 = seg_d2(p, b, c), ca2 = seg_d2(p, c, a);
+        double m = ab2 < bc2 ? ab2 : bc2;
+        return m < ca2 ? m : ca2;
+    }
+    double v = vb / sum, w = vc / sum, d2q = 0;
+    for (int k = 0; k < 3; k++) {
+        q[k] = ap[k] - ab[k] * v - ac[k] * w;
+        d2q += q[k] * q[k];
+    }
+    return d2q;
+}
+
+static void corner(const limen__mesh *m, const uint32_t *idx, uint32_t t, int k, double out[3])
+{
+    const float *v = &m->pos[idx[t * 3 + k] * 3];
+    for (int a = 0; a < 3; a++)
+        out[a] = v[a];
+}
+
+/* Squared distance from p to triangle t of the list idx over m's vertices. */
+static double to_tri(const limen__mesh *m, const uint32_t *idx, uint32_t t, const double p[3])
+{
+    double a[3], b[3], c[3];
+    corner(m, idx, t, 0, a);
+    corner(m, idx, t, 1, b);
+    corner(m, idx, t, 2, c);
+    return tri_d2(p, a, b, c);
+}
+
+static double box_d2(const limen__tri_node *n, const double p[3])
+{
+    double d2 = 0;
+    for (int a = 0; a < 3; a++) {
+        double e = n->lo[a] - p[a] > 0 ? n->lo[a] - p[a] : p[a] - n->hi[a] > 0 ? p[a] - n->hi[a] : 0;
+        d2 += e * e;
+    }
+    return d2;
+}
+
+/* The nearest triangle of m (through its hierarchy) to p: returns the squared distance,
+ * *tri the triangle. hint: a triangle likely near (its distance starts the search). */
+static double nearest(const limen__mesh *m, const double p[3], uint32_t hint, uint32_t *tri)
+{
+    double best = to_tri(m, m->idx, hint, p);
+    *tri = hint;
+    struct { uint32_t node; double d2; } stack[STACK_MAX];
+    int top = 0;
+    stack[top].node = 0;
+    stack[top++].d2 = box_d2(&m->bvh[0], p);
+    while (top > 0) {
+        top--;
+        if (stack[top].d2 >= best)
+            continue;
+        const limen__tri_node *n = &m->bvh[stack[top].node];
+        if (n->count == 0) {
+            uint32_t l = (uint32_t)(n - m->bvh) + 1u, r = n->index;
+            double dl = box_d2(&m->bvh[l], p), dr = box_d2(&m->bvh[r], p);
+            if (top + 2 > STACK_MAX)
+                continue;   /* depth is log2(triangles) <= 32: never */
+            /* the nearer child on top */
+            bool l_near = dl <= dr;
+            stack[top].node = l_near ? r : l;
+            stack[top++].d2 = l_near ? dr : dl;
+            stack[top].node = l_near ? l : r;
+            stack[top++].d2 = l_near ? dl : dr;
+            continue;
+        }
+        for (uint32_t i = n->index; i < n->index + n->count; i++) {
+            uint32_t t = m->tri_order[i];
+            double d2 = to_tri(m, m->idx, t, p);
+            if (d2 < best) {
+                best = d2;
+                *tri = t;
+            }
+        }
+    }
+    return best;
+}
+
+/* ------------------------------------------------------------------ one side */
+
+typedef struct point {
+    double p[3];
+    double d2;                  /* squared distance to the other surface */
+    uint32_t tri;               /* its nearest triangle there */
+} point;
+
+typedef struct side {
+    const limen__mesh *from;    /* the surface measured: from->idx over from->pos */
+    const limen__mesh *to;      /* the surface measured against, with its hierarchy */
+    point *pts;                 /* per vertex of from */
+    double lower;               /* the largest distance found at a point */
+    double upper;               /* the largest bound of a finished piece */
+    double *floor;              /* a bound at most this (both sides share it) needs no cutting */
+    double abs_tol;             /* below this a bound counts as met */
+} side;
+
+static void locate(side *sd, point *q, uint32_t hint)
+{
+    q->d2 = nearest(sd->to, q->p, hint, &q->tri);
+    double d = sqrt(q->d2);
+    if (d > sd->lower)
+        sd->lower = d;
+    if (d > *sd->floor)
+        *sd->floor = d;
+}
+
+/* Bounds the distance to sd->to over the triangle abc (see the top of the file). */
+static void piece(side *sd, const point *a, const point *b, const point *c, int depth)
+{
+    const point *v[3] = { a, b, c };
+    double bound = INFINITY;
+    for (int j = 0; j < 3; j++) {
+        uint32_t t = v[j]->tri;
+        if ((j > 0 && t == v[0]->tri) || (j > 1 && t == v[1]->tri))
+            continue;
+        double worst = 0;
+        for (int k = 0; k < 3 && worst < bound; k++)
+            worst = fmax(worst, v[k]->tri == t ? v[k]->d2 : to_tri(sd->to, sd->to->idx, t, v[k]->p));
+        bound = fmin(bound, worst);
+    }
+    bound = sqrt(bound);
+    /* the distance changes no faster than the point moves, and every point of the piece
+     * lies within its longest edge / sqrt(3) of a corner */
+    double far = 0, longest = 0;
+    for (int k = 0; k < 3; k++) {
+        double e[3];
+        sub3(v[(k + 1) % 3]->p, v[k]->p, e);
+        longest = fmax(longest, dot3(e, e));
+        far = fmax(far, v[k]->d2);
+    }
+    bound = fmin(bound, sqrt(far) + sqrt(longest / 3));
+    if (bound <= *sd->floor * (1 + REL_TOL) + sd->abs_tol || depth == MAX_DEPTH) {
+        sd->upper = fmax(sd->upper, bound);
+        return;
+    }
+    point mid[3];               /* ab, bc, ca */
+    for (int k = 0; k < 3; k++) {
+        for (int e = 0; e < 3; e++)
+            mid[k].p[e] = 0.5 * (v[k]->p[e] + v[(k + 1) % 3]->p[e]);
+        locate(sd, &mid[k], v[k]->tri);
+    }
+    piece(sd, a, &mid[0], &mid[2], depth + 1);
+    piece(sd, &mid[0], b, &mid[1], depth + 1);
+    piece(sd, &mid[2], &mid[1], c, depth + 1);
+    piece(sd, &mid[0], &mid[1], &mid[2], depth + 1);
+}
+
+/* The distances from from's vertices to to's surface; false when out of memory. */
+static bool side_corners(side *sd)
+{
+    const limen__mesh *from = sd->from;
+    sd->pts = malloc(sizeof *sd->pts * from->nverts);
+    if (!sd->pts)
+        return false;
+    for (uint32_t v = 0; v < from->nverts; v++)
+        sd->pts[v].tri = UINT32_MAX;
+    uint32_t hint = 0;
+    for (uint32_t i = 0; i < from->ntris * 3; i++) {
+        point *q = &sd->pts[from->idx[i]];
+        if (q->tri != UINT32_MAX)
+            continue;
+        for (int a = 0; a < 3; a++)
+            q->p[a] = from->pos[from->idx[i] * 3 + a];
+        locate(sd, q, hint);
+        hint = q->tri;
+    }
+    return true;
+}
+
+/* An upper bound on the largest distance from a point of from's surface to to's, or at
+ * most *floor * (1 + REL_TOL) where it is below that (MAX_DEPTH may leave it above the
+ * true one). */
+static double side_bound(side *sd)
+{
+    const limen__mesh *from = sd->from;
+    for (uint32_t t = 0; t < from->ntris; t++)
+        piece(sd, &sd->pts[from->idx[t * 3]], &sd->pts[from->idx[t * 3 + 1]],
+              &sd->pts[from->idx[t * 3 + 2]], 0);
+    free(sd->pts);
+    sd->pts = NULL;
+    return fmax(sd->lower, sd->upper);
+}
+
+/* A bound on the two-sided distance between level (a mesh over m's vertices) and m, or
+ * floor where the distance is no more than floor; NAN when out of memory. */
+static double level_error(const limen__mesh *m, const uint32_t *idx, uint32_t ntris,
+                          double floor)
+{
+    limen__mesh lv = { .nverts = m->nverts, .ntris = ntris, .pos = m->pos,
+                       .idx = (uint32_t *)idx };
+    if (!limen__mesh_bvh(&lv))
+        return NAN;
+    double diag = 0;
+    for (int a = 0; a < 3; a++)
+        diag += (m->hi[a] - m->lo[a]) * (m->hi[a] - m->lo[a]);
+    double tol = 1e-6 * sqrt(diag);
+    side there = { .from = &lv, .to = m, .floor = &floor, .abs_tol = tol };
+    side back = { .from = m, .to = &lv, .floor = &floor, .abs_tol = tol };
+    double e = NAN;
+    if (side_corners(&there) && side_corners(&back))
+        e = fmax(fmax(side_bound(&there), side_bound(&back)), floor);
+    free(there.pts);
+    free(back.pts);
+    free(lv.bvh);
+    free(lv.tri_order);
+    return e;
+}
+
+/* ------------------------------------------------------------------ building */
+
+bool limen__mesh_lods_build(limen__mesh *m)
+{
+    size_t n0 = (size_t)m->ntris * 3, cap = n0;     /* the coarse levels' indices, in all */
+    size_t head = sizeof(limen_mesh_lod) * MAX_LEVELS;
+    unsigned char *block = malloc(head + sizeof(uint32_t) * cap);
+    uint32_t *shadow = malloc(sizeof(uint32_t) * n0), *scratch = malloc(sizeof(uint32_t) * n0);
+    bool ok = block && shadow && scratch;
+    limen_mesh_lod *lods = (limen_mesh_lod *)block;
+    uint32_t *store = (uint32_t *)(block + head);
+    size_t at[MAX_LEVELS] = { 0 }, used = 0;
+    uint32_t nlods = 1;
+    if (ok) {
+        lods[0] = (limen_mesh_lod){ .triangle_count = (int)m->ntris, .error = 0 };
+        /* welded by position, so that seams in normals or texture coordinates do not hold the
+         * simplifier back; each weld keeps one of the original vertices */
+        meshopt_generateShadowIndexBuffer(shadow, m->idx, n0, m->pos, m->nverts,
+                                          sizeof(float) * 3, sizeof(float) * 3);
+    }
+    const uint32_t *cur = shadow;
+    size_t cur_n = n0;
+    float scale = ok ? meshopt_simplifyScale(m->pos, m->nverts, sizeof(float) * 3) : 0;
+    double estimate = 0, prev = 0;
+    while (ok && nlods < MAX_LEVELS && cur_n >= 6) {
+        /* halve while there is much to halve; then once collapse only what costs (next to)
+         * nothing, which takes a flat patch down to its outline */
+        bool halve = cur_n / 3 >= MIN_TRIS;
+        float err = 0;
+        size_t n = meshopt_simplify(scratch, cur, cur_n, m->pos, m->nverts, sizeof(float) * 3,
+                                    halve ? cur_n / 6 * 3 : 0, halve ? FLT_MAX : 1e-5f, 0, &err);
+        if (n == 0 || n * 4 > cur_n * 3 || used + n > cap)
+            break;
+        memcpy(store + used, scratch, sizeof(uint32_t) * n);
+        /* the simplifier's own estimate, summed over the chain of levels, and the previous
+         * level's error may not be undercut: what lies below them needs no measuring */
+        estimate += (double)err * scale;
+        double e = level_error(m, store + used, (uint32_t)(n / 3), fmax(estimate, prev));
+        if (isnan(e)) {
+            ok = false;
+            break;
+        }
+        lods[nlods] = (limen_mesh_lod){ .triangle_count = (int)(n / 3), .error = (float)e };
+        /* rounding to float must not undercut the measure either */
+        if ((double)lods[nlods].error < e)
+            lods[nlods].error = nextafterf(lods[nlods].error, INFINITY);
+        prev = lods[nlods].error;
+        at[nlods++] = used;
+        cur = store + used;
+        cur_n = n;
+        used += n;
+        if (!halve)
+            break;
+    }
+    free(shadow);
+    free(scratch);
+    if (!ok) {
+        free(block);
+        return false;
+    }
+    unsigned char *fit = realloc(block, head + sizeof(uint32_t) * used);
+    if (fit)
+        block = fit;
+    lods = (limen_mesh_lod *)block;
+    store = (uint32_t *)(block + head);
+    lods[0].indices = m->idx;
+    for (uint32_t k = 1; k < nlods; k++)
+        lods[k].indices = store + at[k];
+    free(m->lods);
+    m->lods = lods;
+    m->nlods = nlods;
+    /* limen__mesh_bytes counted the levels as one more copy of the indices */
+    m->bytes = m->bytes - sizeof(uint32_t) * n0 + head + sizeof(uint32_t) * used;
+    return true;
+}
+
+/* ------------------------------------------------------------------ the pick */
 
 int limen_view_mesh_lod(const limen_view *v, int height, const limen_drawable *d, float pixels)
 {

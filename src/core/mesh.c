@@ -26,8 +26,9 @@
 
 size_t limen__mesh_bytes(uint64_t nverts, uint64_t ntris, bool uvs)
 {
+    /* indices twice: the full mesh's and, at most as many again, its coarser levels */
     uint64_t b = sizeof(limen__mesh) + nverts * (uvs ? 8u : 6u) * sizeof(float) +
-                 ntris * 4u * sizeof(uint32_t) + ntris * 2u * sizeof(limen__tri_node);
+                 ntris * 7u * sizeof(uint32_t) + ntris * 2u * sizeof(limen__tri_node);
     return b > SIZE_MAX ? SIZE_MAX : (size_t)b;
 }
 
@@ -100,7 +101,7 @@ static void build_node(build *bd, uint32_t at, uint32_t first, uint32_t count)
 
 /* Nodes are claimed as they are made (at most 2 * triangles - 1), a left child in the slot
  * after its parent. */
-static bool bvh_build(limen__mesh *m)
+bool limen__mesh_bvh(limen__mesh *m)
 {
     m->bvh = malloc(sizeof *m->bvh * (size_t)(2 * m->ntris));
     m->tri_order = malloc(sizeof *m->tri_order * (size_t)m->ntris);
@@ -327,17 +328,10 @@ static limen_status mesh_from_arrays(limen_scene *s, const limen_mesh_data *d, c
             m->lo[a] = fmin(m->lo[a], m->pos[v * 3 + a]);
             m->hi[a] = fmax(m->hi[a], m->pos[v * 3 + a]);
         }
-    if (!bvh_build(m)) {
+    if (!limen__mesh_bvh(m) || !limen__mesh_lods_build(m)) {
         mesh_free(s, m);
         return limen__fail(s, LIMEN_ERR_NOMEM, "%s: out of memory", what);
     }
-    m->lods = calloc(1, sizeof *m->lods);
-    if (!m->lods) {
-        mesh_free(s, m);
-        return limen__fail(s, LIMEN_ERR_NOMEM, "%s: out of memory", what);
-    }
-    m->lods[0] = (limen_mesh_lod){ .indices = m->idx, .triangle_count = (int)nt, .error = 0 };
-    m->nlods = 1;
     m->serial = limen__next_serial();
     m->pub = (limen_mesh_geometry){ .id = m->serial, .vertex_count = (int)nv,
                                     .triangle_count = (int)nt, .positions = m->pos,

@@ -42,8 +42,15 @@ typedef struct limen__mesh {
     limen_mesh_geometry pub;    /* what limen_drawable.mesh shows of it */
 } limen__mesh;
 
-/* Bytes a mesh of this size holds (geometry, hierarchy and bookkeeping). */
+/* Bytes a mesh of this size may hold (geometry, levels of detail, hierarchy and
+ * bookkeeping): an upper bound, known before any of it is made. */
 size_t limen__mesh_bytes(uint64_t nverts, uint64_t ntris, bool uvs);
+/* Builds m's triangle hierarchy (bvh, tri_order, nbvh) over idx; false when out of memory.
+ * Uses pos, idx, ntris; lowers bytes by the nodes it did not need. */
+bool limen__mesh_bvh(limen__mesh *m);
+/* Builds m's levels of detail (lods, nlods; core/lod.c) from pos and idx with the hierarchy
+ * made, and sets bytes to what they hold; false when out of memory. */
+bool limen__mesh_lods_build(limen__mesh *m);
 
 /* Loads path (or finds it already loaded in the scene), refusing one that would hold more
  * than max_bytes; *charged gets the bytes newly held (0 when shared). On failure the message
