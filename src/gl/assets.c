@@ -5,9 +5,11 @@
  * A mesh is drawn unindexed, three corners per triangle, each with its position, its
  * triangle's face normal (computed as the ray tracer does), its vertex normal and its
  * texture coordinates; a node's flat or smooth shading picks which normal feeds the shader.
- * Its levels of detail follow each other in the same buffer. Its vertex arrays also read
- * the renderer's instance buffer (gl/batch.c): a model matrix, a normal matrix and an
- * albedo per node. */
+ * Its levels of detail follow each other in the same buffer. Smooth shading needs no face
+ * normal, so for it the mesh's own vertices are drawn indexed (a second buffer, made on
+ * first use), which runs the vertex shader about once per vertex instead of once per
+ * corner. Both vertex arrays also read the renderer's instance buffer (gl/batch.c): a model
+ * matrix, a normal matrix and an albedo per node. */
 #include <stdlib.h>
 #include <string.h>
 
@@ -28,10 +30,13 @@ enum { GPU_LODS = 16 };         /* levels kept; a coarser one asked for gets the
 
 struct limen__gpu_asset {
     uint64_t serial;
-    GLuint vao, vbo, tex;       /* a mesh's arrays, or an image's texture */
+    GLuint vao, vbo, tex;       /* a mesh's corners, or an image's texture */
     int nlods;
     GLint first[GPU_LODS];      /* each level's first corner and corners */
     GLsizei count[GPU_LODS];
+    GLuint svao, svbo, sibo;    /* smooth: the vertices, and each level's indices */
+    GLint sfirst[GPU_LODS];     /* each level's first index and indices */
+    GLsizei scount[GPU_LODS];
     bool used;                  /* by the frame being drawn */
 };
 
@@ -139,17 +144,75 @@ static bool upload_mesh(limen_renderer *r, const limen_mesh_geometry *m, struct 
     return true;
 }
 
+enum { VERTEX_FLOATS = 8 };     /* smooth: position, vertex normal, texture coordinates */
+
+static bool upload_smooth(limen_renderer *r, const limen_mesh_geometry *m,
+                          struct limen__gpu_asset *a)
+{
+    size_t nv = (size_t)m->vertex_count, nidx = 0;
+    for (int k = 0; k < a->nlods; k++)
+        nidx += (size_t)(k ? m->lods[k].triangle_count : m->triangle_count) * 3;
+    float *buf = malloc(sizeof(float) * VERTEX_FLOATS * nv);
+    uint32_t *idx = malloc(sizeof(uint32_t) * nidx), *at = idx;
+    if (!buf || !idx) {
+        free(buf);
+        free(idx);
+        return false;
+    }
+    for (size_t v = 0; v < nv; v++) {
+        float *c = buf + v * VERTEX_FLOATS;
+        memcpy(c, &m->positions[v * 3], sizeof(float) * 3);
+        memcpy(c + 3, &m->normals[v * 3], sizeof(float) * 3);
+        c[6] = m->uvs ? m->uvs[v * 2] : 0.0f;
+        c[7] = m->uvs ? m->uvs[v * 2 + 1] : 0.0f;
+    }
+    for (int k = 0; k < a->nlods; k++) {
+        size_t n = (size_t)(k ? m->lods[k].triangle_count : m->triangle_count) * 3;
+        a->sfirst[k] = (GLint)(at - idx);
+        a->scount[k] = (GLsizei)n;
+        memcpy(at, k ? m->lods[k].indices : m->indices, sizeof(uint32_t) * n);
+        at += n;
+    }
+    GL(GenVertexArrays)(1, &a->svao);
+    GL(BindVertexArray)(a->svao);
+    GL(GenBuffers)(1, &a->svbo);
+    GL(BindBuffer)(GL_ARRAY_BUFFER, a->svbo);
+    GL(BufferData)(GL_ARRAY_BUFFER, (GLsizeiptr)(sizeof(float) * VERTEX_FLOATS * nv), buf,
+                   GL_STATIC_DRAW);
+    GL(GenBuffers)(1, &a->sibo);
+    GL(BindBuffer)(GL_ELEMENT_ARRAY_BUFFER, a->sibo);
+    GL(BufferData)(GL_ELEMENT_ARRAY_BUFFER, (GLsizeiptr)(sizeof(uint32_t) * nidx), idx,
+                   GL_STATIC_DRAW);
+    free(buf);
+    free(idx);
+    const GLsizei stride = sizeof(float) * VERTEX_FLOATS;
+    for (int i = 0; i < 3; i++) {
+        GL(EnableVertexAttribArray)((GLuint)i);
+        GL(VertexAttribPointer)((GLuint)i, i == 2 ? 2 : 3, GL_FLOAT, GL_FALSE, stride,
+                                (void *)(sizeof(float) * 3 * (size_t)i));
+    }
+    instance_arrays(r);
+    return true;
+}
+
 bool limen__gpu_mesh_bind(limen_renderer *r, const limen_mesh_geometry *m, bool smooth, int lod,
-                          GLint *first, GLsizei *count)
+                          GLint *first, GLsizei *count, bool *indexed)
 {
     struct limen__gpu_asset *a = find(r, m->id);
     if (!a || (!a->vao && !upload_mesh(r, m, a)))
         return false;
+    lod = lod < 0 ? 0 : lod >= a->nlods ? a->nlods - 1 : lod;
+    *indexed = smooth && (a->svao || upload_smooth(r, m, a));
+    if (*indexed) {
+        GL(BindVertexArray)(a->svao);
+        *first = a->sfirst[lod];
+        *count = a->scount[lod];
+        return true;
+    }
     GL(BindVertexArray)(a->vao);
     GL(BindBuffer)(GL_ARRAY_BUFFER, a->vbo);
     GL(VertexAttribPointer)(1, 3, GL_FLOAT, GL_FALSE, sizeof(float) * CORNER_FLOATS,
                             (void *)(sizeof(float) * (smooth ? AT_SMOOTH : AT_FLAT)));
-    lod = lod < 0 ? 0 : lod >= a->nlods ? a->nlods - 1 : lod;
     *first = a->first[lod];
     *count = a->count[lod];
     return true;
@@ -195,6 +258,11 @@ static void drop(limen_renderer *r, struct limen__gpu_asset *a)
         GL(DeleteBuffers)(1, &a->vbo);
     if (a->vao)
         GL(DeleteVertexArrays)(1, &a->vao);
+    if (a->svao) {
+        GL(DeleteVertexArrays)(1, &a->svao);
+        GL(DeleteBuffers)(1, &a->svbo);
+        GL(DeleteBuffers)(1, &a->sibo);
+    }
     if (a->tex)
         GL(DeleteTextures)(1, &a->tex);
 }

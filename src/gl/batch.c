@@ -156,7 +156,8 @@ static void draw_instances(limen_renderer *r, const limen_view *v, const limen_d
 {
     GLint first;
     GLsizei count;
-    if (!limen__gpu_mesh_bind(r, d->mesh, d->smooth, lod, &first, &count))
+    bool indexed;
+    if (!limen__gpu_mesh_bind(r, d->mesh, d->smooth, lod, &first, &count, &indexed))
         return;
     int checker = d->cell > 0 ? 2 : 0;
     int textured = d->texture && limen__gpu_texture(r, d->texture) ? LIMEN__UV_MESH
@@ -181,7 +182,11 @@ static void draw_instances(limen_renderer *r, const limen_view *v, const limen_d
         GL(BindBuffer)(GL_ARRAY_BUFFER, r->inst_vbo);
         GL(BufferData)(GL_ARRAY_BUFFER, (GLsizeiptr)(sizeof(limen__instance) * (size_t)n), r->inst,
                        GL_STREAM_DRAW);
-        GL(DrawArraysInstanced)(GL_TRIANGLES, first, count, n);
+        if (indexed)
+            GL(DrawElementsInstanced)(GL_TRIANGLES, count, GL_UNSIGNED_INT,
+                                      (void *)(sizeof(uint32_t) * (size_t)first), n);
+        else
+            GL(DrawArraysInstanced)(GL_TRIANGLES, first, count, n);
         r->draw_calls++;
         r->triangles += (uint64_t)(count / 3) * (uint64_t)n;
     }

@@ -165,11 +165,12 @@ void limen__targets_free(limen_renderer *r);
 bool limen__unit_mesh(limen_renderer *r, const vec4 *view, float px_scale, const limen_drawable *node,
                       mat4 world, limen__range *range, vec3 scale, int *shape);
 
-/* gl/assets.c: a mesh's vertex arrays, bound with the flat or smooth normals (returns the
- * corners to draw, 0 if it cannot); an image's texture (0 if it cannot); after a frame,
+/* gl/assets.c: a mesh's vertex arrays at a level of detail, bound with the flat or smooth
+ * normals (what to draw: first and count of corners, or of indices where indexed; false if
+ * it cannot); an image's texture (0 if it cannot); after a frame,
  * dropping what it did not use; everything, at the end. */
 bool limen__gpu_mesh_bind(limen_renderer *r, const limen_mesh_geometry *m, bool smooth, int lod,
-                          GLint *first, GLsizei *count);
+                          GLint *first, GLsizei *count, bool *indexed);
 GLuint limen__gpu_texture(limen_renderer *r, const limen_image *t);
 void limen__gpu_assets_sweep(limen_renderer *r);
 void limen__gpu_assets_free(limen_renderer *r);

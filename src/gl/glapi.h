@@ -105,6 +105,8 @@
     X(void, DrawArrays, (GLenum mode, GLint first, GLsizei count))                     \
     X(void, DrawArraysInstanced, (GLenum mode, GLint first, GLsizei count, GLsizei n))   \
     X(void, VertexAttribDivisor, (GLuint i, GLuint divisor))                             \
+    X(void, DrawElementsInstanced, (GLenum mode, GLsizei count, GLenum type,             \
+                                    const void *idx, GLsizei n))                         \
     X(GLboolean, IsEnabled, (GLenum cap))                                                \
     X(void, GetBooleanv, (GLenum pname, GLboolean *data))                                \
     X(void, GetFloatv, (GLenum pname, GLfloat *data))                                    \
