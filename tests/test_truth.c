@@ -187,8 +187,10 @@ static void test_statue(void)
 
 /* A field of statues before a mirror: the bunnies share one mesh, so each view draws them
  * in a few batches (one per level of detail in use), not one call each; each keeps its own
- * turn and colour (per-instance values), and the picture stays within the bound, flat and
- * smooth. */
+ * turn and colour (per-instance values). With the full mesh the picture stays within the
+ * bound, flat and smooth; at the default level-of-detail bound it draws a fraction of the
+ * triangles and stays within 1% (the issue's bound for the field: coarser levels shade
+ * with other normals than the full mesh, which the tracer samples). */
 static void test_field(void)
 {
     const int w = 320, h = 240, n = 100;
@@ -202,18 +204,27 @@ static void test_field(void)
         double ms;
         unsigned char *truth = trace(s, w, h, -1, &ms);
         for (int m = 0; m < 2; m++) {
-            limen_frame_stats st = { 0 };
-            limen_render_opts o = { .method = m };
-            CHECK_OK(limen_render_frame(r, s, &o, &st));
-            double d = bad_share(r, s, o, truth, w, h, NULL);
-            printf("     %d bunnies (%s) and a mirror, %s: %.3f%% of pixels off, %d views, "
-                   "%d draw calls, %llu triangles\n", n, smooth ? "smooth" : "flat",
-                   m ? "texture" : "stencil", 100 * d, st.views, st.draw_calls,
-                   (unsigned long long)st.triangles);
-            CHECK_MSG(d <= BOUND, "%.3f%% of pixels off", 100 * d);
-            CHECK_MSG(st.views == 2, "%d views", st.views);
-            CHECK_MSG(st.draw_calls <= 40, "%d draw calls for %d bunnies in %d views",
-                      st.draw_calls, n, st.views);
+            limen_frame_stats st[2] = { { 0 } };
+            double d[2];
+            for (int lod = 0; lod < 2; lod++) {
+                limen_render_opts o = { .method = m,
+                                        .limits.lod_pixels = lod ? 0 : LIMEN_LOD_FULL };
+                CHECK_OK(limen_render_frame(r, s, &o, &st[lod]));
+                d[lod] = bad_share(r, s, o, truth, w, h, NULL);
+                printf("     %d bunnies (%s) and a mirror, %s, %s: %.3f%% of pixels off, "
+                       "%d views, %d draw calls, %llu triangles\n", n,
+                       smooth ? "smooth" : "flat", m ? "texture" : "stencil",
+                       lod ? "levels of detail" : "full mesh", 100 * d[lod], st[lod].views,
+                       st[lod].draw_calls, (unsigned long long)st[lod].triangles);
+                CHECK_MSG(st[lod].views == 2, "%d views", st[lod].views);
+                CHECK_MSG(st[lod].draw_calls <= 40, "%d draw calls for %d bunnies in %d views",
+                          st[lod].draw_calls, n, st[lod].views);
+            }
+            CHECK_MSG(d[0] <= BOUND, "%.3f%% of pixels off", 100 * d[0]);
+            CHECK_MSG(d[1] <= 0.01, "%.3f%% of pixels off with levels of detail", 100 * d[1]);
+            CHECK_MSG(2 * st[1].triangles < st[0].triangles,
+                      "levels of detail drew %llu triangles, the full mesh %llu",
+                      (unsigned long long)st[1].triangles, (unsigned long long)st[0].triangles);
         }
         free(truth);
         limen_scene_destroy(s);

@@ -378,7 +378,7 @@ int limen_view_mesh_lod(const limen_view *v, int height, const limen_drawable *d
         height < 1 || pixels == LIMEN_LOD_FULL || !(pixels >= 0))
         return 0;
     if (pixels == 0)
-        pixels = 1;
+        pixels = LIMEN_LOD_DEFAULT;
     /* pixels per unit at distance 1, and the view's own unit (a view through scaled portals
      * scales distances) */
     double px_scale = (double)v->proj[5] * 0.5 * height;
