@@ -192,6 +192,116 @@ static void locate(side *sd, point *q, uint32_t hint)
         *sd->floor = d;
 }
 
+/* Area of the part of triangle p inside triangle t, both counter-clockwise in a plane
+ * (Sutherland-Hodgman: p clipped by t's three edges). */
+static double clip_area(const double p[3][2], const double t[3][2])
+{
+    double poly[9][2], next[9][2];
+    int n = 3;
+    memcpy(poly, p, sizeof(double) * 6);
+    for (int e = 0; e < 3 && n > 0; e++) {
+        const double *a = t[e], *b = t[(e + 1) % 3];
+        int m = 0;
+        for (int i = 0; i < n; i++) {
+            const double *x = poly[i], *y = poly[(i + 1) % n];
+            double sx = (b[0] - a[0]) * (x[1] - a[1]) - (b[1] - a[1]) * (x[0] - a[0]);
+            double sy = (b[0] - a[0]) * (y[1] - a[1]) - (b[1] - a[1]) * (y[0] - a[0]);
+            if (sx >= 0) {
+                next[m][0] = x[0];
+                next[m++][1] = x[1];
+            }
+            if ((sx >= 0) != (sy >= 0)) {
+                double f = sx / (sx - sy);
+                next[m][0] = x[0] + f * (y[0] - x[0]);
+                next[m++][1] = x[1] + f * (y[1] - x[1]);
+            }
+        }
+        memcpy(poly, next, sizeof(double) * 2 * (size_t)m);
+        n = m;
+    }
+    double area = 0;
+    for (int i = 0; i < n; i++)
+        area += poly[i][0] * poly[(i + 1) % n][1] - poly[(i + 1) % n][0] * poly[i][1];
+    return area / 2;
+}
+
+/* Whether the flat piece abc lies wholly over triangles of sd->to that lie within abs_tol
+ * of its plane (their clipped areas add up to its own; the triangles of a mesh do not
+ * overlap): then no point of it is farther than abs_tol * sqrt(3) from them, though the
+ * convex bound above, one triangle at a time, cannot see it. */
+static bool covered(const side *sd, const point *v[3])
+{
+    const limen__mesh *to = sd->to;
+    double e1[3], e2[3], n[3];
+    sub3(v[1]->p, v[0]->p, e1);
+    sub3(v[2]->p, v[0]->p, e2);
+    n[0] = e1[1] * e2[2] - e1[2] * e2[1];
+    n[1] = e1[2] * e2[0] - e1[0] * e2[2];
+    n[2] = e1[0] * e2[1] - e1[1] * e2[0];
+    double len = sqrt(dot3(n, n));
+    if (!(len > 0))
+        return false;
+    int ax = 0;                 /* projected along the normal's largest axis */
+    for (int a = 1; a < 3; a++)
+        if (fabs(n[a]) > fabs(n[ax]))
+            ax = a;
+    int u = (ax + 1) % 3, w = (ax + 2) % 3;
+    double flip = n[ax] > 0 ? 1 : -1;
+    double pp[3][2], lo[3], hi[3];
+    for (int k = 0; k < 3; k++) {
+        const point *q = v[flip > 0 ? k : (3 - k) % 3];
+        pp[k][0] = q->p[u];
+        pp[k][1] = q->p[w];
+    }
+    for (int a = 0; a < 3; a++) {
+        lo[a] = fmin(v[0]->p[a], fmin(v[1]->p[a], v[2]->p[a])) - sd->abs_tol;
+        hi[a] = fmax(v[0]->p[a], fmax(v[1]->p[a], v[2]->p[a])) + sd->abs_tol;
+    }
+    double need = len / 2 * fabs(n[ax]) / len, got = 0;
+    uint32_t stack[STACK_MAX];
+    int top = 0;
+    stack[top++] = 0;
+    while (top > 0) {
+        const limen__tri_node *nd = &to->bvh[stack[--top]];
+        bool apart = false;
+        for (int a = 0; a < 3; a++)
+            apart = apart || nd->lo[a] > hi[a] || nd->hi[a] < lo[a];
+        if (apart)
+            continue;
+        if (nd->count == 0) {
+            if (top + 2 > STACK_MAX)
+                return false;
+            stack[top++] = nd->index;
+            stack[top++] = (uint32_t)(nd - to->bvh) + 1u;
+            continue;
+        }
+        for (uint32_t i = nd->index; i < nd->index + nd->count; i++) {
+            uint32_t t = to->tri_order[i];
+            double c[3][3], tt[3][2];
+            bool flat = true;
+            for (int k = 0; k < 3 && flat; k++) {
+                corner(to, to->idx, t, k, c[k]);
+                double d[3];
+                sub3(c[k], v[0]->p, d);
+                flat = fabs(dot3(d, n)) <= sd->abs_tol * len;
+            }
+            if (!flat)
+                continue;
+            double o = (c[1][u] - c[0][u]) * (c[2][w] - c[0][w]) -
+                       (c[1][w] - c[0][w]) * (c[2][u] - c[0][u]);
+            if (o == 0)
+                continue;
+            for (int k = 0; k < 3; k++) {
+                const double *q = c[o > 0 ? k : (3 - k) % 3];
+                tt[k][0] = q[u];
+                tt[k][1] = q[w];
+            }
+            got += clip_area(pp, tt);
+        }
+    }
+    return got >= need * (1 - 1e-9);
+}
+
 /* Bounds the distance to sd->to over the triangle abc (see the top of the file). */
 static void piece(side *sd, const point *a, const point *b, const point *c, int depth)
 {
@@ -217,6 +327,9 @@ static void piece(side *sd, const point *a, const point *b, const point *c, int 
         far = fmax(far, v[k]->d2);
     }
     bound = fmin(bound, sqrt(far) + sqrt(longest / 3));
+    if (bound > *sd->floor * (1 + REL_TOL) + sd->abs_tol && sqrt(far) <= sd->abs_tol &&
+        covered(sd, v))
+        bound = fmin(bound, sd->abs_tol * sqrt(3));
     if (bound <= *sd->floor * (1 + REL_TOL) + sd->abs_tol || depth == MAX_DEPTH) {
         sd->upper = fmax(sd->upper, bound);
         return;
@@ -314,24 +427,26 @@ bool limen__mesh_lods_build(limen__mesh *m)
         meshopt_generateShadowIndexBuffer(shadow, m->idx, n0, m->pos, m->nverts,
                                           sizeof(float) * 3, sizeof(float) * 3);
     }
-    const uint32_t *cur = shadow;
     size_t cur_n = n0;
     float scale = ok ? meshopt_simplifyScale(m->pos, m->nverts, sizeof(float) * 3) : 0;
-    double estimate = 0, prev = 0;
+    double prev = 0;
     while (ok && nlods < MAX_LEVELS && cur_n >= 6) {
-        /* halve while there is much to halve; then once collapse only what costs (next to)
-         * nothing, which takes a flat patch down to its outline */
+        /* each level from the full mesh, half the triangles of the last while there is much
+         * to halve; then once only what costs (next to) nothing, which takes a flat patch
+         * down to its outline */
         bool halve = cur_n / 3 >= MIN_TRIS;
         float err = 0;
-        size_t n = meshopt_simplify(scratch, cur, cur_n, m->pos, m->nverts, sizeof(float) * 3,
+        size_t n = meshopt_simplify(scratch, shadow, n0, m->pos, m->nverts, sizeof(float) * 3,
                                     halve ? cur_n / 6 * 3 : 0, halve ? FLT_MAX : 1e-5f, 0, &err);
         if (n == 0 || n * 4 > cur_n * 3 || used + n > cap)
             break;
         memcpy(store + used, scratch, sizeof(uint32_t) * n);
-        /* the simplifier's own estimate, summed over the chain of levels, and the previous
-         * level's error may not be undercut: what lies below them needs no measuring */
-        estimate += (double)err * scale;
-        double e = level_error(m, store + used, (uint32_t)(n / 3), fmax(estimate, prev));
+        /* the simplifier's own estimate may not be undercut; nor, while halving, the level
+         * before (a coarser level no better than a finer one takes its place, below): what
+         * lies below them needs no measuring */
+        double estimate = (double)err * scale;
+        double e = level_error(m, store + used, (uint32_t)(n / 3),
+                               halve ? fmax(estimate, prev) : estimate);
         if (isnan(e)) {
             ok = false;
             break;
@@ -342,12 +457,29 @@ bool limen__mesh_lods_build(limen__mesh *m)
             lods[nlods].error = nextafterf(lods[nlods].error, INFINITY);
         prev = lods[nlods].error;
         at[nlods++] = used;
-        cur = store + used;
         cur_n = n;
         used += n;
         if (!halve)
             break;
     }
+    /* a level with no less error than a coarser one is never worth drawing: dropped, which
+     * leaves the errors growing with the level */
+    uint32_t kept = 1;
+    size_t packed = 0;
+    for (uint32_t k = 1; ok && k < nlods; k++) {
+        bool beaten = false;
+        for (uint32_t j = k + 1; j < nlods && !beaten; j++)
+            beaten = lods[j].error <= lods[k].error;
+        if (beaten)
+            continue;
+        size_t len = (size_t)lods[k].triangle_count * 3;
+        memmove(store + packed, store + at[k], sizeof(uint32_t) * len);
+        lods[kept] = lods[k];
+        at[kept++] = packed;
+        packed += len;
+    }
+    nlods = kept;
+    used = packed;
     free(shadow);
     free(scratch);
     if (!ok) {
@@ -372,13 +504,17 @@ bool limen__mesh_lods_build(limen__mesh *m)
 
 /* ------------------------------------------------------------------ the pick */
 
+float limen__lod_pixels(float pixels)
+{
+    return pixels == 0 ? 1 : pixels;
+}
+
 int limen_view_mesh_lod(const limen_view *v, int height, const limen_drawable *d, float pixels)
 {
     if (!v || !d || d->kind != LIMEN_NODE_MESH || !d->mesh || d->mesh->lod_count < 2 ||
         height < 1 || pixels == LIMEN_LOD_FULL || !(pixels >= 0))
         return 0;
-    if (pixels == 0)
-        pixels = 1;
+    pixels = limen__lod_pixels(pixels);
     /* pixels per unit at distance 1, and the view's own unit (a view through scaled portals
      * scales distances) */
     double px_scale = (double)v->proj[5] * 0.5 * height;
