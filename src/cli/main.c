@@ -20,6 +20,8 @@ static const limen_cli_option render_options[] = {
     { "--clip oblique|plane|none", "how a view cuts what is behind its surface (default\n"
                                    "oblique, with the plane where oblique cannot)" },
     { "--max-views N", "view budget (default 1024)" },
+    { "--lod PIXELS", "draw each mesh at the coarsest level of detail whose error covers at\n"
+                      "most PIXELS pixels in a view (default 0.125); full: always the full mesh" },
     { "--adaptive T", "stop recursion where no pixel could change by more than T\n"
                       "(8-bit steps; mirror tints decide)" },
     { "--fill color|previous", "where recursion stops: the surface's fill colour\n"
@@ -167,7 +169,7 @@ static int set_choice(int c, const char *v, options *o)
 static int render_option(const char *a, const char *v, options *o)
 {
     static const char *const numeric[] = { "--plan", "--msaa", "--adaptive", "--depth-bits",
-                                           "--texture-scale", "--max-views", NULL };
+                                           "--texture-scale", "--max-views", "--lod", NULL };
     int known = 0;
     for (int i = 0; numeric[i]; i++)
         known |= !strcmp(a, numeric[i]);
@@ -205,6 +207,14 @@ static int render_option(const char *a, const char *v, options *o)
         if (limen_cli_parse_long(v, 1, 1000000, &n))
             return limen_cli_fail(2, "--max-views: expected 1 to 1000000, got '%s'", v);
         o->ro.limits.max_views = (int)n;
+    } else if (!strcmp(a, "--lod")) {
+        if (!strcmp(v, "full"))
+            o->ro.limits.lod_pixels = LIMEN_LOD_FULL;
+        else if (limen_cli_parse_double(v, &x) || !(x >= 0))
+            return limen_cli_fail(2, "--lod: expected a number of pixels >= 0 or 'full', got "
+                                     "'%s'", v);
+        else
+            o->ro.limits.lod_pixels = (float)x;
     }
     return 1;
 }

@@ -28,6 +28,7 @@ struct limen__spatial {
     limen__box *boxes;          /* per slot, for building */
     int boxes_cap;
     int *ids, ids_cap;
+    int *slots, slots_cap;      /* the live slots, ascending, for building */
     int *hits, hits_cap;
     limen__rtc *rtc;            /* the tracer's Embree copy of the trees (core/rtc.c) */
     bool rtc_current, rtc_failed;
@@ -45,6 +46,7 @@ void limen__index_free(limen_scene *s)
     free(x->surf_slots);
     free(x->boxes);
     free(x->ids);
+    free(x->slots);
     free(x->hits);
     limen__rtc_free(x->rtc);
     free(x);
@@ -131,8 +133,9 @@ static bool refresh_walk(limen_scene *s, bool all)
         free(stack);
         return false;
     }
-    for (int i = 0; i < s->cap; i++) {
-        if (!limen__alive(&s->nodes[i]) || mark[i])
+    for (int l = 0; l < s->live_len; l++) {
+        int i = s->live[l];
+        if (i < 0 || mark[i])
             continue;
         int top = 0;
         uint32_t at = (uint32_t)i;
@@ -187,9 +190,11 @@ int limen__scene_bad_world(const limen_scene *s)
 {
     if (!s->nbad)
         return -1;
-    for (int i = 0; i < s->cap; i++) {
-        const limen__node *n = &s->nodes[i];
-        if (!limen__alive(n) || !n->bad_world)
+    for (int l = 0; l < s->live_len; l++) {
+        if (s->live[l] < 0)
+            continue;
+        const limen__node *n = &s->nodes[s->live[l]];
+        if (!n->bad_world)
             continue;
         /* the highest bad ancestor: where the overflow starts */
         while (n->parent && s->nodes[n->parent - 1].bad_world)
@@ -264,18 +269,34 @@ void limen__node_box(const limen__node *n, limen__box *b)
     }
 }
 
+static int by_slot(const void *a, const void *b)
+{
+    int x = *(const int *)a, y = *(const int *)b;
+    return (x > y) - (x < y);
+}
+
 static bool rebuild(limen_scene *s, limen__spatial *x)
 {
     if (!limen__reserve((void **)&x->boxes, &x->boxes_cap, s->cap, sizeof *x->boxes) ||
-        !limen__reserve((void **)&x->ids, &x->ids_cap, s->cap, sizeof *x->ids))
+        !limen__reserve((void **)&x->ids, &x->ids_cap, s->cap, sizeof *x->ids) ||
+        !limen__reserve((void **)&x->slots, &x->slots_cap, s->count + 1, sizeof *x->slots))
         return false;
+    /* the live nodes, not the pool; in ascending slot order, which the lists below promise
+     * (portal order decides the order of straddlers, and so keeps plans made through the
+     * index equal to those made by a full scan) */
+    int nslots = 0;
+    for (int l = 0; l < s->live_len; l++)
+        if (s->live[l] >= 0)
+            x->slots[nslots++] = s->live[l];
+    qsort(x->slots, (size_t)nslots, sizeof *x->slots, by_slot);
     int nshapes = 0, nsurf = 0;
     x->nportals = 0;
     x->nsurf_slots = 0;
     /* shapes from the front of ids, surfaces from the back */
-    for (int i = 0; i < s->cap; i++) {
+    for (int l = 0; l < nslots; l++) {
+        int i = x->slots[l];
         const limen__node *n = &s->nodes[i];
-        if (!limen__alive(n) || !(is_shape(n) || limen__is_surface(n)))
+        if (!(is_shape(n) || limen__is_surface(n)))
             continue;
         limen__node_box(n, &x->boxes[i]);
         if (is_shape(n)) {

@@ -24,6 +24,10 @@ limen_status limen__limits_resolve(limen_scene *s, const char *who, const limen_
         return limen__fail(s, LIMEN_ERR_ARG, "%s: frame budget must not be negative", who);
     if (!(l.adaptive >= 0 && l.adaptive <= 1))
         return limen__fail(s, LIMEN_ERR_ARG, "%s: adaptive threshold must be in [0, 1]", who);
+    if (l.lod_pixels != LIMEN_LOD_FULL && !(l.lod_pixels >= 0 && l.lod_pixels < INFINITY))
+        return limen__fail(s, LIMEN_ERR_ARG, "%s: level-of-detail bound must be a finite number "
+                           "of pixels >= 0, or LIMEN_LOD_FULL (got %g)", who, (double)l.lod_pixels);
+    l.lod_pixels = limen__lod_pixels(l.lod_pixels);
     if (l.depth_rule == LIMEN_DEPTH_RULE_OWN)
         l.depth = 0;
     if (l.max_views == 0)

@@ -97,21 +97,45 @@ static double tri_d2(const double p[3], const double a[3], const double b[3], co
     return d2q;
 }
 
-static void corner(const limen__mesh *m, const uint32_t *idx, uint32_t t, int k, double out[3])
+/* A mesh measured against: its triangles' corners in double, per triangle, and its
+ * hierarchy (built over the same triangle numbers). */
+typedef struct target {
+    const limen__mesh *m;
+    double (*tri)[9];
+    double (*ball)[4];          /* per triangle: a sphere around it (centre, radius) */
+} target;
+
+/* The corners table of m; false when out of memory. */
+static bool target_make(target *t, const limen__mesh *m)
 {
-    const float *v = &m->pos[idx[t * 3 + k] * 3];
-    for (int a = 0; a < 3; a++)
-        out[a] = v[a];
+    t->m = m;
+    t->tri = malloc(sizeof *t->tri * m->ntris);
+    t->ball = malloc(sizeof *t->ball * m->ntris);
+    if (!t->tri || !t->ball) {
+        free(t->tri);
+        free(t->ball);
+        return false;
+    }
+    for (uint32_t i = 0; i < m->ntris; i++) {
+        double *c = t->ball[i], r2 = 0;
+        for (int k = 0; k < 9; k++)
+            t->tri[i][k] = m->pos[m->idx[i * 3 + k / 3] * 3 + k % 3];
+        for (int a = 0; a < 3; a++)
+            c[a] = (t->tri[i][a] + t->tri[i][3 + a] + t->tri[i][6 + a]) / 3;
+        for (int k = 0; k < 3; k++) {
+            double e[3];
+            sub3(t->tri[i] + 3 * k, c, e);
+            r2 = fmax(r2, dot3(e, e));
+        }
+        c[3] = sqrt(r2) * (1 + 1e-12);
+    }
+    return true;
 }
 
-/* Squared distance from p to triangle t of the list idx over m's vertices. */
-static double to_tri(const limen__mesh *m, const uint32_t *idx, uint32_t t, const double p[3])
+/* Squared distance from p to triangle i of t. */
+static double to_tri(const target *t, uint32_t i, const double p[3])
 {
-    double a[3], b[3], c[3];
-    corner(m, idx, t, 0, a);
-    corner(m, idx, t, 1, b);
-    corner(m, idx, t, 2, c);
-    return tri_d2(p, a, b, c);
+    return tri_d2(p, t->tri[i], t->tri[i] + 3, t->tri[i] + 6);
 }
 
 static double box_d2(const limen__tri_node *n, const double p[3])
@@ -126,9 +150,10 @@ static double box_d2(const limen__tri_node *n, const double p[3])
 
 /* The nearest triangle of m (through its hierarchy) to p: returns the squared distance,
  * *tri the triangle. hint: a triangle likely near (its distance starts the search). */
-static double nearest(const limen__mesh *m, const double p[3], uint32_t hint, uint32_t *tri)
+static double nearest(const target *to, const double p[3], uint32_t hint, uint32_t *tri)
 {
-    double best = to_tri(m, m->idx, hint, p);
+    const limen__mesh *m = to->m;
+    double best = to_tri(to, hint, p);
     *tri = hint;
     struct { uint32_t node; double d2; } stack[STACK_MAX];
     int top = 0;
@@ -152,11 +177,18 @@ static double nearest(const limen__mesh *m, const double p[3], uint32_t hint, ui
             stack[top++].d2 = l_near ? dl : dr;
             continue;
         }
+        double reach = sqrt(best);
         for (uint32_t i = n->index; i < n->index + n->count; i++) {
             uint32_t t = m->tri_order[i];
-            double d2 = to_tri(m, m->idx, t, p);
+            /* a triangle whose sphere lies beyond the best so far cannot be nearer */
+            const double *c = to->ball[t];
+            double e[3] = { p[0] - c[0], p[1] - c[1], p[2] - c[2] };
+            if (dot3(e, e) > (reach + c[3]) * (reach + c[3]))
+                continue;
+            double d2 = to_tri(to, t, p);
             if (d2 < best) {
                 best = d2;
+                reach = sqrt(best);
                 *tri = t;
             }
         }
@@ -174,12 +206,16 @@ typedef struct point {
 
 typedef struct side {
     const limen__mesh *from;    /* the surface measured: from->idx over from->pos */
-    const limen__mesh *to;      /* the surface measured against, with its hierarchy */
+    const target *to;           /* the surface measured against */
     point *pts;                 /* per vertex of from */
     double lower;               /* the largest distance found at a point */
     double upper;               /* the largest bound of a finished piece */
     double *floor;              /* a bound at most this (both sides share it) needs no cutting */
     double abs_tol;             /* below this a bound counts as met */
+    point *seen;                /* points cut so far (open addressing on their coordinates):
+                                 * neighbouring pieces share their edges' midpoints */
+    uint32_t seen_mask, nseen;
+    bool nomem;
 } side;
 
 static void locate(side *sd, point *q, uint32_t hint)
@@ -192,21 +228,248 @@ static void locate(side *sd, point *q, uint32_t hint)
         *sd->floor = d;
 }
 
+/* Area of the part of triangle p inside triangle t, both counter-clockwise in a plane
+ * (Sutherland-Hodgman: p clipped by t's three edges). */
+static double clip_area(const double p[3][2], const double t[3][2])
+{
+    double poly[9][2], next[9][2];
+    int n = 3;
+    memcpy(poly, p, sizeof(double) * 6);
+    for (int e = 0; e < 3 && n > 0; e++) {
+        const double *a = t[e], *b = t[(e + 1) % 3];
+        int m = 0;
+        for (int i = 0; i < n; i++) {
+            const double *x = poly[i], *y = poly[(i + 1) % n];
+            double sx = (b[0] - a[0]) * (x[1] - a[1]) - (b[1] - a[1]) * (x[0] - a[0]);
+            double sy = (b[0] - a[0]) * (y[1] - a[1]) - (b[1] - a[1]) * (y[0] - a[0]);
+            if (sx >= 0) {
+                next[m][0] = x[0];
+                next[m++][1] = x[1];
+            }
+            if ((sx >= 0) != (sy >= 0)) {
+                double f = sx / (sx - sy);
+                next[m][0] = x[0] + f * (y[0] - x[0]);
+                next[m++][1] = x[1] + f * (y[1] - x[1]);
+            }
+        }
+        memcpy(poly, next, sizeof(double) * 2 * (size_t)m);
+        n = m;
+    }
+    double area = 0;
+    for (int i = 0; i < n; i++)
+        area += poly[i][0] * poly[(i + 1) % n][1] - poly[(i + 1) % n][0] * poly[i][1];
+    return area / 2;
+}
+
+/* Whether the flat piece abc lies wholly over triangles of sd->to that lie within abs_tol
+ * of its plane (their clipped areas add up to its own; the triangles of a mesh do not
+ * overlap): then no point of it is farther than abs_tol * sqrt(3) from them, though the
+ * convex bound above, one triangle at a time, cannot see it. */
+static bool covered(const side *sd, const point *v[3])
+{
+    const limen__mesh *to = sd->to->m;
+    double e1[3], e2[3], n[3];
+    sub3(v[1]->p, v[0]->p, e1);
+    sub3(v[2]->p, v[0]->p, e2);
+    n[0] = e1[1] * e2[2] - e1[2] * e2[1];
+    n[1] = e1[2] * e2[0] - e1[0] * e2[2];
+    n[2] = e1[0] * e2[1] - e1[1] * e2[0];
+    double len = sqrt(dot3(n, n));
+    if (!(len > 0))
+        return false;
+    /* the corners' own triangles must lie in the plane too, a cheap test first */
+    for (int k = 0; k < 3; k++)
+        for (int i = 0; i < 3; i++) {
+            double d[3];
+            sub3(sd->to->tri[v[k]->tri] + 3 * i, v[0]->p, d);
+            if (fabs(dot3(d, n)) > sd->abs_tol * len)
+                return false;
+        }
+    int ax = 0;                 /* projected along the normal's largest axis */
+    for (int a = 1; a < 3; a++)
+        if (fabs(n[a]) > fabs(n[ax]))
+            ax = a;
+    int u = (ax + 1) % 3, w = (ax + 2) % 3;
+    double flip = n[ax] > 0 ? 1 : -1;
+    double pp[3][2], lo[3], hi[3];
+    for (int k = 0; k < 3; k++) {
+        const point *q = v[flip > 0 ? k : (3 - k) % 3];
+        pp[k][0] = q->p[u];
+        pp[k][1] = q->p[w];
+    }
+    for (int a = 0; a < 3; a++) {
+        lo[a] = fmin(v[0]->p[a], fmin(v[1]->p[a], v[2]->p[a])) - sd->abs_tol;
+        hi[a] = fmax(v[0]->p[a], fmax(v[1]->p[a], v[2]->p[a])) + sd->abs_tol;
+    }
+    double need = len / 2 * fabs(n[ax]) / len, got = 0;
+    uint32_t stack[STACK_MAX];
+    int top = 0;
+    stack[top++] = 0;
+    while (top > 0) {
+        const limen__tri_node *nd = &to->bvh[stack[--top]];
+        bool apart = false;
+        for (int a = 0; a < 3; a++)
+            apart = apart || nd->lo[a] > hi[a] || nd->hi[a] < lo[a];
+        if (apart)
+            continue;
+        if (nd->count == 0) {
+            if (top + 2 > STACK_MAX)
+                return false;
+            stack[top++] = nd->index;
+            stack[top++] = (uint32_t)(nd - to->bvh) + 1u;
+            continue;
+        }
+        for (uint32_t i = nd->index; i < nd->index + nd->count; i++) {
+            uint32_t t = to->tri_order[i];
+            const double *c[3] = { sd->to->tri[t], sd->to->tri[t] + 3, sd->to->tri[t] + 6 };
+            double tt[3][2];
+            bool flat = true;
+            for (int k = 0; k < 3 && flat; k++) {
+                double d[3];
+                sub3(c[k], v[0]->p, d);
+                flat = fabs(dot3(d, n)) <= sd->abs_tol * len;
+            }
+            if (!flat)
+                continue;
+            double o = (c[1][u] - c[0][u]) * (c[2][w] - c[0][w]) -
+                       (c[1][w] - c[0][w]) * (c[2][u] - c[0][u]);
+            if (o == 0)
+                continue;
+            for (int k = 0; k < 3; k++) {
+                const double *q = c[o > 0 ? k : (3 - k) % 3];
+                tt[k][0] = q[u];
+                tt[k][1] = q[w];
+            }
+            got += clip_area(pp, tt);
+        }
+    }
+    return got >= need * (1 - 1e-9);
+}
+
+static uint32_t point_hash(const double p[3])
+{
+    uint64_t h = 0x9e3779b97f4a7c15ull;
+    for (int a = 0; a < 3; a++) {
+        uint64_t bits;
+        memcpy(&bits, &p[a], sizeof bits);
+        h = (h ^ bits) * 0xff51afd7ed558ccdull;
+        h ^= h >> 32;
+    }
+    return (uint32_t)h;
+}
+
+/* Finds q (by its coordinates) among the points already located, or locates it and keeps
+ * it; as locate. */
+static void locate_shared(side *sd, point *q, uint32_t hint)
+{
+    if (sd->nseen * 2 >= sd->seen_mask && !sd->nomem) {
+        uint32_t size = sd->seen ? (sd->seen_mask + 1) * 2 : 1024;
+        point *grown = malloc(sizeof *grown * size);
+        if (grown) {
+            for (uint32_t i = 0; i < size; i++)
+                grown[i].tri = UINT32_MAX;
+            for (uint32_t i = 0; sd->seen && i <= sd->seen_mask; i++) {
+                if (sd->seen[i].tri == UINT32_MAX)
+                    continue;
+                uint32_t at = point_hash(sd->seen[i].p) & (size - 1);
+                while (grown[at].tri != UINT32_MAX)
+                    at = (at + 1) & (size - 1);
+                grown[at] = sd->seen[i];
+            }
+            free(sd->seen);
+            sd->seen = grown;
+            sd->seen_mask = size - 1;
+        } else {
+            sd->nomem = true;   /* go on without sharing */
+        }
+    }
+    if (!sd->seen || sd->nseen * 2 >= sd->seen_mask) {
+        locate(sd, q, hint);
+        return;
+    }
+    uint32_t at = point_hash(q->p) & sd->seen_mask;
+    for (; sd->seen[at].tri != UINT32_MAX; at = (at + 1) & sd->seen_mask)
+        if (!memcmp(sd->seen[at].p, q->p, sizeof q->p)) {
+            *q = sd->seen[at];
+            return;
+        }
+    locate(sd, q, hint);
+    sd->seen[at] = *q;
+    sd->nseen++;
+}
+
+/* The distance to one triangle is convex, so over the piece it lies below the plane through
+ * its values at the corners: the distance to sd->to is at most the least of those planes,
+ * one per corner's nearest triangle, and this is the largest that least takes over the piece
+ * (a concave function, largest at a corner of the piece, where an edge of the piece meets
+ * a line on which two planes agree, or where all three agree). */
+static double convex_bound(const side *sd, const point *v[3])
+{
+    double f[3][3];             /* f[k][i]: corner i's distance to corner k's triangle */
+    int nk = 0;
+    for (int k = 0; k < 3; k++) {
+        uint32_t t = v[k]->tri;
+        if ((k > 0 && t == v[0]->tri) || (k > 1 && t == v[1]->tri))
+            continue;
+        for (int i = 0; i < 3; i++)
+            f[nk][i] = v[i]->tri == t ? sqrt(v[i]->d2) : sqrt(to_tri(sd->to, t, v[i]->p));
+        nk++;
+    }
+    double best = 0;
+    /* least of the planes at barycentric point l */
+#define LEAST(l) (fmin(nk > 1 ? fmin(f[0][0] * (l)[0] + f[0][1] * (l)[1] + f[0][2] * (l)[2], \
+                                      f[1][0] * (l)[0] + f[1][1] * (l)[1] + f[1][2] * (l)[2]) \
+                              : f[0][0] * (l)[0] + f[0][1] * (l)[1] + f[0][2] * (l)[2], \
+                       nk > 2 ? f[2][0] * (l)[0] + f[2][1] * (l)[1] + f[2][2] * (l)[2] : INFINITY))
+    for (int i = 0; i < 3; i++) {
+        double l[3] = { 0, 0, 0 };
+        l[i] = 1;
+        best = fmax(best, LEAST(l));
+        int j = (i + 1) % 3;
+        for (int a = 0; a < nk; a++)
+            for (int b = a + 1; b < nk; b++) {
+                /* on the edge (1 - t) corner i + t corner j, planes a and b agree */
+                double da = f[a][j] - f[a][i], db = f[b][j] - f[b][i];
+                if (da == db)
+                    continue;
+                double t = (f[b][i] - f[a][i]) / (da - db);
+                if (!(t > 0 && t < 1))
+                    continue;
+                double m[3] = { 0, 0, 0 };
+                m[i] = 1 - t;
+                m[j] = t;
+                best = fmax(best, LEAST(m));
+            }
+    }
+    if (nk == 3) {
+        /* all three agree: (f0 - f1) . l = 0, (f0 - f2) . l = 0, sum l = 1 (Cramer) */
+        double r[3][3];
+        for (int i = 0; i < 3; i++) {
+            r[0][i] = f[0][i] - f[1][i];
+            r[1][i] = f[0][i] - f[2][i];
+            r[2][i] = 1;
+        }
+        double det = r[0][0] * (r[1][1] * r[2][2] - r[1][2] * r[2][1]) -
+                     r[0][1] * (r[1][0] * r[2][2] - r[1][2] * r[2][0]) +
+                     r[0][2] * (r[1][0] * r[2][1] - r[1][1] * r[2][0]);
+        if (det != 0) {
+            /* the solution's components are the cofactors of the last row over det */
+            double l[3] = { (r[0][1] * r[1][2] - r[0][2] * r[1][1]) / det,
+                            (r[0][2] * r[1][0] - r[0][0] * r[1][2]) / det,
+                            (r[0][0] * r[1][1] - r[0][1] * r[1][0]) / det };
+            if (l[0] >= 0 && l[1] >= 0 && l[2] >= 0)
+                best = fmax(best, LEAST(l));
+        }
+    }
+#undef LEAST
+    return best;
+}
+
 /* Bounds the distance to sd->to over the triangle abc (see the top of the file). */
 static void piece(side *sd, const point *a, const point *b, const point *c, int depth)
 {
     const point *v[3] = { a, b, c };
-    double bound = INFINITY;
-    for (int j = 0; j < 3; j++) {
-        uint32_t t = v[j]->tri;
-        if ((j > 0 && t == v[0]->tri) || (j > 1 && t == v[1]->tri))
-            continue;
-        double worst = 0;
-        for (int k = 0; k < 3 && worst < bound; k++)
-            worst = fmax(worst, v[k]->tri == t ? v[k]->d2 : to_tri(sd->to, sd->to->idx, t, v[k]->p));
-        bound = fmin(bound, worst);
-    }
-    bound = sqrt(bound);
+    double goal = *sd->floor * (1 + REL_TOL) + sd->abs_tol;
     /* the distance changes no faster than the point moves, and every point of the piece
      * lies within its longest edge / sqrt(3) of a corner */
     double far = 0, longest = 0;
@@ -216,8 +479,12 @@ static void piece(side *sd, const point *a, const point *b, const point *c, int 
         longest = fmax(longest, dot3(e, e));
         far = fmax(far, v[k]->d2);
     }
-    bound = fmin(bound, sqrt(far) + sqrt(longest / 3));
-    if (bound <= *sd->floor * (1 + REL_TOL) + sd->abs_tol || depth == MAX_DEPTH) {
+    double bound = sqrt(far) + sqrt(longest / 3);
+    if (bound > goal)
+        bound = fmin(bound, convex_bound(sd, v));
+    if (bound > goal && sqrt(far) <= sd->abs_tol && covered(sd, v))
+        bound = fmin(bound, sd->abs_tol * sqrt(3));
+    if (bound <= goal || depth == MAX_DEPTH) {
         sd->upper = fmax(sd->upper, bound);
         return;
     }
@@ -225,7 +492,7 @@ static void piece(side *sd, const point *a, const point *b, const point *c, int 
     for (int k = 0; k < 3; k++) {
         for (int e = 0; e < 3; e++)
             mid[k].p[e] = 0.5 * (v[k]->p[e] + v[(k + 1) % 3]->p[e]);
-        locate(sd, &mid[k], v[k]->tri);
+        locate_shared(sd, &mid[k], v[k]->tri);
     }
     piece(sd, a, &mid[0], &mid[2], depth + 1);
     piece(sd, &mid[0], b, &mid[1], depth + 1);
@@ -271,24 +538,33 @@ static double side_bound(side *sd)
 
 /* A bound on the two-sided distance between level (a mesh over m's vertices) and m, or
  * floor where the distance is no more than floor; NAN when out of memory. */
-static double level_error(const limen__mesh *m, const uint32_t *idx, uint32_t ntris,
+static double level_error(const target *full, const uint32_t *idx, uint32_t ntris,
                           double floor)
 {
+    const limen__mesh *m = full->m;
     limen__mesh lv = { .nverts = m->nverts, .ntris = ntris, .pos = m->pos,
                        .idx = (uint32_t *)idx };
-    if (!limen__mesh_bvh(&lv))
+    target level = { 0 };
+    if (!limen__mesh_bvh(&lv) || !target_make(&level, &lv)) {
+        free(lv.bvh);
+        free(lv.tri_order);
         return NAN;
+    }
     double diag = 0;
     for (int a = 0; a < 3; a++)
         diag += (m->hi[a] - m->lo[a]) * (m->hi[a] - m->lo[a]);
     double tol = 1e-6 * sqrt(diag);
-    side there = { .from = &lv, .to = m, .floor = &floor, .abs_tol = tol };
-    side back = { .from = m, .to = &lv, .floor = &floor, .abs_tol = tol };
+    side there = { .from = &lv, .to = full, .floor = &floor, .abs_tol = tol };
+    side back = { .from = m, .to = &level, .floor = &floor, .abs_tol = tol };
     double e = NAN;
     if (side_corners(&there) && side_corners(&back))
         e = fmax(fmax(side_bound(&there), side_bound(&back)), floor);
     free(there.pts);
     free(back.pts);
+    free(there.seen);
+    free(back.seen);
+    free(level.tri);
+    free(level.ball);
     free(lv.bvh);
     free(lv.tri_order);
     return e;
@@ -302,7 +578,8 @@ bool limen__mesh_lods_build(limen__mesh *m)
     size_t head = sizeof(limen_mesh_lod) * MAX_LEVELS;
     unsigned char *block = malloc(head + sizeof(uint32_t) * cap);
     uint32_t *shadow = malloc(sizeof(uint32_t) * n0), *scratch = malloc(sizeof(uint32_t) * n0);
-    bool ok = block && shadow && scratch;
+    target full = { 0 };
+    bool ok = block && shadow && scratch && target_make(&full, m);
     limen_mesh_lod *lods = (limen_mesh_lod *)block;
     uint32_t *store = (uint32_t *)(block + head);
     size_t at[MAX_LEVELS] = { 0 }, used = 0;
@@ -314,24 +591,26 @@ bool limen__mesh_lods_build(limen__mesh *m)
         meshopt_generateShadowIndexBuffer(shadow, m->idx, n0, m->pos, m->nverts,
                                           sizeof(float) * 3, sizeof(float) * 3);
     }
-    const uint32_t *cur = shadow;
     size_t cur_n = n0;
     float scale = ok ? meshopt_simplifyScale(m->pos, m->nverts, sizeof(float) * 3) : 0;
-    double estimate = 0, prev = 0;
+    double prev = 0;
     while (ok && nlods < MAX_LEVELS && cur_n >= 6) {
-        /* halve while there is much to halve; then once collapse only what costs (next to)
-         * nothing, which takes a flat patch down to its outline */
+        /* each level from the full mesh, half the triangles of the last while there is much
+         * to halve; then once only what costs (next to) nothing, which takes a flat patch
+         * down to its outline */
         bool halve = cur_n / 3 >= MIN_TRIS;
         float err = 0;
-        size_t n = meshopt_simplify(scratch, cur, cur_n, m->pos, m->nverts, sizeof(float) * 3,
+        size_t n = meshopt_simplify(scratch, shadow, n0, m->pos, m->nverts, sizeof(float) * 3,
                                     halve ? cur_n / 6 * 3 : 0, halve ? FLT_MAX : 1e-5f, 0, &err);
         if (n == 0 || n * 4 > cur_n * 3 || used + n > cap)
             break;
         memcpy(store + used, scratch, sizeof(uint32_t) * n);
-        /* the simplifier's own estimate, summed over the chain of levels, and the previous
-         * level's error may not be undercut: what lies below them needs no measuring */
-        estimate += (double)err * scale;
-        double e = level_error(m, store + used, (uint32_t)(n / 3), fmax(estimate, prev));
+        /* the simplifier's own estimate may not be undercut; nor, while halving, the level
+         * before (a coarser level no better than a finer one takes its place, below): what
+         * lies below them needs no measuring */
+        double estimate = (double)err * scale;
+        double e = level_error(&full, store + used, (uint32_t)(n / 3),
+                               halve ? fmax(estimate, prev) : estimate);
         if (isnan(e)) {
             ok = false;
             break;
@@ -342,14 +621,33 @@ bool limen__mesh_lods_build(limen__mesh *m)
             lods[nlods].error = nextafterf(lods[nlods].error, INFINITY);
         prev = lods[nlods].error;
         at[nlods++] = used;
-        cur = store + used;
         cur_n = n;
         used += n;
         if (!halve)
             break;
     }
+    /* a level with no less error than a coarser one is never worth drawing: dropped, which
+     * leaves the errors growing with the level */
+    uint32_t kept = 1;
+    size_t packed = 0;
+    for (uint32_t k = 1; ok && k < nlods; k++) {
+        bool beaten = false;
+        for (uint32_t j = k + 1; j < nlods && !beaten; j++)
+            beaten = lods[j].error <= lods[k].error;
+        if (beaten)
+            continue;
+        size_t len = (size_t)lods[k].triangle_count * 3;
+        memmove(store + packed, store + at[k], sizeof(uint32_t) * len);
+        lods[kept] = lods[k];
+        at[kept++] = packed;
+        packed += len;
+    }
+    nlods = kept;
+    used = packed;
     free(shadow);
     free(scratch);
+    free(full.tri);
+    free(full.ball);
     if (!ok) {
         free(block);
         return false;
@@ -372,13 +670,17 @@ bool limen__mesh_lods_build(limen__mesh *m)
 
 /* ------------------------------------------------------------------ the pick */
 
+float limen__lod_pixels(float pixels)
+{
+    return pixels == 0 ? LIMEN_LOD_DEFAULT : pixels;
+}
+
 int limen_view_mesh_lod(const limen_view *v, int height, const limen_drawable *d, float pixels)
 {
     if (!v || !d || d->kind != LIMEN_NODE_MESH || !d->mesh || d->mesh->lod_count < 2 ||
         height < 1 || pixels == LIMEN_LOD_FULL || !(pixels >= 0))
         return 0;
-    if (pixels == 0)
-        pixels = LIMEN_LOD_DEFAULT;
+    pixels = limen__lod_pixels(pixels);
     /* pixels per unit at distance 1, and the view's own unit (a view through scaled portals
      * scales distances) */
     double px_scale = (double)v->proj[5] * 0.5 * height;

@@ -12,6 +12,7 @@
 
 #include "core/dmath.h"
 #include "core/internal.h"
+#include "core/mesh.h"
 #include "core/plan.h"
 #include "core/reserve.h"
 #include "core/testing.h"
@@ -693,6 +694,39 @@ static void json_view_surfaces(FILE *f, const limen_plan *p, const limen_scene *
     fputc(']', f);
 }
 
+/* The meshes view i may show (limen_plan_view_things) and the level of detail each is drawn
+ * at there (limen_view_mesh_lod under the plan's limits and height); false when out of
+ * memory. */
+static bool json_view_meshes(FILE *f, const limen_plan *p, limen_scene *s, int i)
+{
+    int n = limen_plan_view_things(p, s, i, NULL, 0);
+    limen_node *things = n > 0 ? malloc(sizeof *things * (size_t)n) : NULL;
+    if (n < 0 || (n > 0 && !things))
+        return false;
+    n = limen_plan_view_things(p, s, i, things, n);
+    fprintf(f, ", \"meshes\": [");
+    int listed = 0;
+    for (int k = 0; k < n; k++) {
+        const limen__node *node = limen__node_get(s, things[k]);
+        if (!node || node->kind != LIMEN_NODE_MESH || !node->mesh)
+            continue;
+        limen_drawable d = { .kind = LIMEN_NODE_MESH, .mesh = &node->mesh->pub };
+        memcpy(d.world, node->world, sizeof d.world);
+        double c[3], r;
+        limen__node_bounds(node, c, &r);
+        for (int a = 0; a < 3; a++)
+            d.centre[a] = (float)c[a];
+        d.radius = (float)r;
+        int lod = limen_view_mesh_lod(&p->views[i], p->height, &d, p->limits.lod_pixels);
+        fprintf(f, "%s{\"node\": ", listed++ ? ", " : "");
+        json_node(f, s, things[k]);
+        fprintf(f, ", \"lod\": %d, \"triangles\": %d}", lod, d.mesh->lods[lod].triangle_count);
+    }
+    fputc(']', f);
+    free(things);
+    return true;
+}
+
 /* Shapes passing through portals (limen_plan_clones). */
 static void json_clones(FILE *f, const limen_plan *p, const limen_scene *s)
 {
@@ -762,6 +796,11 @@ limen_status limen_plan_write_json(const limen_plan *p, const limen_scene *s, co
         fprintf(f, ", \"tint\": ");
         json_floats(f, v->tint, 3);
         json_view_surfaces(f, p, s, i);
+        /* the index may need refreshing: it is the scene's cache, not its state */
+        if (!json_view_meshes(f, p, (limen_scene *)s, i)) {
+            limen__out_abort(&out);
+            return LIMEN_ERR_NOMEM;
+        }
         fputc('}', f);
     }
     fprintf(f, "\n], ");

@@ -12,7 +12,7 @@
 
 static const char *const render_fields[] = { "out", "size", "backend", "time", "msaa",
                                              "method", "clip", "max_depth", "depth_override",
-                                             "max_views", "depth", "texture_scale" };
+                                             "max_views", "depth", "texture_scale", "lod" };
 #define RENDER_FIELD_COUNT ((int)(sizeof render_fields / sizeof render_fields[0]))
 
 /* Looks a string field up in a NULL-ended list of choices; returns its index. */
@@ -122,6 +122,17 @@ int limen__lua_scene_render(lua_State *L)
     if (lua_getfield(L, 2, "max_views") != LUA_TNIL)
         ro.limits.max_views = limen__lua_read_int(L, -1, "render", "field 'max_views'", 1, 1 << 20,
                                                   "a positive integer");
+    lua_pop(L, 1);
+    /* lod = pixels the error of a mesh's level of detail may cover (limen_limits.lod_pixels),
+     * or false for the full meshes */
+    if (lua_getfield(L, 2, "lod") == LUA_TBOOLEAN && !lua_toboolean(L, -1)) {
+        ro.limits.lod_pixels = LIMEN_LOD_FULL;
+    } else if (!lua_isnil(L, -1)) {
+        lua_Number px = lua_type(L, -1) == LUA_TNUMBER ? lua_tonumber(L, -1) : -1;
+        if (!(px >= 0 && px < HUGE_VAL))
+            limen__lua_bad(L, -1, "render", "field 'lod'", "a number of pixels >= 0, or false");
+        ro.limits.lod_pixels = (float)px;
+    }
     lua_pop(L, 1);
     if (lua_getfield(L, 2, "texture_scale") != LUA_TNIL) {
         float k = limen__lua_read_positive(L, -1, "render", "field 'texture_scale'");

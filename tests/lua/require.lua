@@ -156,6 +156,9 @@ check_error(function() s:render { siz = {1, 1} } end, "render: unknown field 'si
 check_error(function() s:render { backend = "vulkan" } end, "render: field 'backend' must be \"osmesa\" or \"egl\" (got \"vulkan\")")
 check_error(function() s:render { size = {0, 10} } end, "render: field 'size'[1] must be a positive number (got 0)")
 check_error(function() limen.scene():render { size = {8, 8} } end, "render: scene has no camera (add s:camera{...})")
+check_error(function() s:render { lod = -1 } end, "render: field 'lod' must be a number of pixels >= 0, or false (got -1)")
+check_error(function() s:render { lod = true } end, "render: field 'lod' must be a number of pixels >= 0, or false (got true)")
+check_error(function() s:render { lod = math.huge } end, "render: field 'lod' must be a number of pixels >= 0, or false (got inf)")
 
 -- a destroyed node leaves the scene; the rest stays usable
 local n = #s
@@ -170,6 +173,8 @@ local out = tmp_name .. ".png"
 local stats = s:render { out = out, size = {32, 24}, time = 0.5 }
 check(near(ball.pos[1], math.sin(0.5)), "render{time} calls update")
 check(stats.pixels == 32 * 24 and stats.views >= 1, "render stats")
+check(s:render { size = {32, 24}, lod = false }.pixels == 32 * 24, "render{lod = false}")
+check(s:render { size = {32, 24}, lod = 4 }.pixels == 32 * 24, "render{lod = 4}")
 local f = io.open(out, "rb")
 check(f and f:read(4) == "\137PNG", "render wrote a PNG")
 if f then f:close() end

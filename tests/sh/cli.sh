@@ -75,7 +75,21 @@ help_exits_0() {   # help_exits_0 COMMAND OPTION...: --help prints usage naming 
     [ ! -s "$TMP/help_err" ] && grep -q "^usage: limen $cmd" "$TMP/help" &&
     for opt in "$@"; do grep -q -- "$opt" "$TMP/help" || { echo "no $opt in:"; cat "$TMP/help"; return 1; }; done
 }
-t_ok "render --help prints its usage and exits 0" help_exits_0 render --depth-override --depth --plan --stats warm_up
+t_ok "render --help prints its usage and exits 0" help_exits_0 render --depth-override --depth --plan --stats --lod warm_up
+t_ok "bad --lod -> exit 2" expect_fail 2 "limen: --lod: expected a number of pixels >= 0 or 'full', got '-1'" "$LIMEN" render scenes/plain.lua -o "$TMP/x.png" --lod -1
+
+# --lod reaches the plan: a coarse bound draws the statues coarser than --lod full
+lod_levels() {
+    for l in full 1 64; do
+        "$LIMEN" render scenes/hall_of_mirrors.lua -o "$TMP/l.png" --size 160x120 --lod $l --plan "$TMP/lod_$l.json" || return 1
+        grep -o '"lod": [0-9]*' "$TMP/lod_$l.json" | sort -u | tr '\n' ' ' > "$TMP/lod_$l"
+    done
+    grep -q '"meshes": \[{"node": ' "$TMP/lod_full.json" &&
+    [ "$(cat "$TMP/lod_full")" = '"lod": 0 ' ] &&
+    [ "$(cat "$TMP/lod_64")" != '"lod": 0 ' ] && [ -s "$TMP/lod_1" ] ||
+    { echo "levels: full $(cat "$TMP/lod_full"), 1 $(cat "$TMP/lod_1"), 64 $(cat "$TMP/lod_64")"; return 1; }
+}
+t_ok "--lod full draws full meshes, --lod 64 coarser levels (plan JSON)" lod_levels
 t_ok "trace --help prints its usage and exits 0" help_exits_0 trace --frames --fps --threads --depth-override
 t_ok "diff --help prints its usage and exits 0" help_exits_0 diff --threshold --heatmap --max-bad
 

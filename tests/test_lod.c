@@ -1,0 +1,417 @@
+/* test_lod.c - levels of detail of meshes: how they are made (the bunny in scenes/data, a
+ * flat grid made here), that the error each carries bounds its true distance from the full
+ * mesh (checked by brute force, independently of the library's measure), and which level a
+ * view picks (limen_view_mesh_lod), through a scaled portal too. No GL. */
+#include <stdint.h>
+#include <stdlib.h>
+
+#include "check.h"
+#include "limen.h"
+
+#define HEIGHT 480
+
+/* A scene, its camera at eye looking at `at`, and a mesh node "statue". */
+typedef struct fixture {
+    limen_scene *s;
+    limen_node cam, mesh;
+    limen_drawables *d;
+} fixture;
+
+static fixture open_scene(const float eye[3], const float at[3])
+{
+    fixture f = { 0 };
+    CHECK_OK(limen_scene_create(NULL, &f.s));
+    CHECK_OK(limen_node_create(f.s, LIMEN_NODE_CAMERA, "cam", &f.cam));
+    CHECK_OK(limen_node_look_at(f.s, f.cam, eye, at, (float[3]){ 0, 1, 0 }));
+    CHECK_OK(limen_scene_set_camera(f.s, f.cam));
+    CHECK_OK(limen_node_create(f.s, LIMEN_NODE_MESH, "statue", &f.mesh));
+    CHECK_OK(limen_drawables_create(&f.d));
+    return f;
+}
+
+static void close_scene(fixture *f)
+{
+    limen_drawables_destroy(f->d);
+    limen_scene_destroy(f->s);
+}
+
+/* The mesh node's drawable as the renderer reads it (refreshed now). */
+static const limen_drawable *item(fixture *f)
+{
+    CHECK_OK(limen_drawables_build(f->d, f->s));
+    const limen_drawable *all;
+    limen_drawables_items(f->d, &all);
+    int i = limen_drawables_find(f->d, f->mesh);
+    CHECK(i >= 0 && all[i].mesh != NULL);
+    return i >= 0 ? &all[i] : NULL;
+}
+
+/* ------------------------------------------------------------------ brute force */
+
+static double dot(const double a[3], const double b[3])
+{
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+
+static void vtx(const limen_mesh_geometry *g, uint32_t v, double out[3])
+{
+    for (int a = 0; a < 3; a++)
+        out[a] = g->positions[v * 3 + a];
+}
+
+static double seg_dist(const double p[3], const double a[3], const double b[3])
+{
+    double ab[3], ap[3], e[3];
+    for (int k = 0; k < 3; k++) {
+        ab[k] = b[k] - a[k];
+        ap[k] = p[k] - a[k];
+    }
+    double t = dot(ab, ab) > 0 ? dot(ap, ab) / dot(ab, ab) : 0;
+    t = t < 0 ? 0 : t > 1 ? 1 : t;
+    for (int k = 0; k < 3; k++)
+        e[k] = ap[k] - t * ab[k];
+    return sqrt(dot(e, e));
+}
+
+/* Distance from p to a triangle: through barycentric coordinates of p's projection on the
+ * plane (solved by Cramer's rule) when they are all >= 0, else the nearest edge. */
+static double tri_dist(const double p[3], const double a[3], const double b[3], const double c[3])
+{
+    double u[3], v[3], w[3];
+    for (int k = 0; k < 3; k++) {
+        u[k] = b[k] - a[k];
+        v[k] = c[k] - a[k];
+        w[k] = p[k] - a[k];
+    }
+    double uu = dot(u, u), uv = dot(u, v), vv = dot(v, v), wu = dot(w, u), wv = dot(w, v);
+    double det = uu * vv - uv * uv;
+    if (det > 1e-30 * uu * vv) {
+        double s = (wu * vv - wv * uv) / det, t = (wv * uu - wu * uv) / det;
+        if (s >= 0 && t >= 0 && s + t <= 1) {
+            double q[3];
+            for (int k = 0; k < 3; k++)
+                q[k] = w[k] - s * u[k] - t * v[k];
+            return sqrt(dot(q, q));
+        }
+    }
+    return fmin(seg_dist(p, a, b), fmin(seg_dist(p, b, c), seg_dist(p, c, a)));
+}
+
+/* Distance from p to the nearest of the triangles idx[0 .. 3n), by trying every one. */
+static double mesh_dist(const limen_mesh_geometry *g, const uint32_t *idx, int n, const double p[3])
+{
+    double best = INFINITY;
+    for (int t = 0; t < n; t++) {
+        double a[3], b[3], c[3];
+        vtx(g, idx[t * 3], a);
+        vtx(g, idx[t * 3 + 1], b);
+        vtx(g, idx[t * 3 + 2], c);
+        best = fmin(best, tri_dist(p, a, b, c));
+    }
+    return best;
+}
+
+static uint64_t rng = 88172645463325252ull;
+
+static double uniform(void)
+{
+    rng ^= rng << 13;
+    rng ^= rng >> 7;
+    rng ^= rng << 17;
+    return (double)(rng >> 11) / 9007199254740992.0;
+}
+
+/* The largest distance found from samples of level k to the full mesh (its vertices, its
+ * edges' midpoints and `random` points at random) and from every full-mesh vertex to level k. */
+static double brute_hausdorff(const limen_mesh_geometry *g, int k, int random)
+{
+    const limen_mesh_lod *lv = &g->lods[k], *full = &g->lods[0];
+    double worst = 0;
+    for (int t = 0; t < lv->triangle_count; t++)
+        for (int e = 0; e < 3; e++) {
+            double a[3], b[3], m[3];
+            vtx(g, lv->indices[t * 3 + e], a);
+            vtx(g, lv->indices[t * 3 + (e + 1) % 3], b);
+            for (int c = 0; c < 3; c++)
+                m[c] = 0.5 * (a[c] + b[c]);
+            worst = fmax(worst, mesh_dist(g, full->indices, full->triangle_count, m));
+        }
+    for (int i = 0; i < random; i++) {
+        int t = (int)(uniform() * lv->triangle_count);
+        double r1 = sqrt(uniform()), r2 = uniform(), a[3], b[3], c[3], p[3];
+        vtx(g, lv->indices[t * 3], a);
+        vtx(g, lv->indices[t * 3 + 1], b);
+        vtx(g, lv->indices[t * 3 + 2], c);
+        for (int x = 0; x < 3; x++)
+            p[x] = (1 - r1) * a[x] + r1 * (1 - r2) * b[x] + r1 * r2 * c[x];
+        worst = fmax(worst, mesh_dist(g, full->indices, full->triangle_count, p));
+    }
+    for (int v = 0; v < g->vertex_count; v++) {
+        double p[3];
+        vtx(g, (uint32_t)v, p);
+        worst = fmax(worst, mesh_dist(g, lv->indices, lv->triangle_count, p));
+    }
+    return worst;
+}
+
+/* ------------------------------------------------------------------ building */
+
+static void check_levels(const limen_mesh_geometry *g, const char *what)
+{
+    CHECK_MSG(g->lod_count >= 5 && g->lod_count <= 12, "%s: %d levels", what, g->lod_count);
+    CHECK(g->lods[0].indices == g->indices && g->lods[0].triangle_count == g->triangle_count &&
+          g->lods[0].error == 0);
+    for (int k = 1; k < g->lod_count; k++) {
+        const limen_mesh_lod *a = &g->lods[k - 1], *b = &g->lods[k];
+        CHECK_MSG(b->triangle_count > 0 && b->triangle_count * 4 <= a->triangle_count * 3,
+                  "%s: level %d has %d triangles after %d", what, k, b->triangle_count,
+                  a->triangle_count);
+        CHECK_MSG(b->error >= a->error && b->error > 0, "%s: level %d error %g after %g", what,
+                  k, b->error, a->error);
+        for (int i = 0; i < b->triangle_count * 3; i++)
+            if (b->indices[i] >= (uint32_t)g->vertex_count) {
+                CHECK_MSG(0, "%s: level %d index %u out of range", what, k, b->indices[i]);
+                break;
+            }
+    }
+}
+
+static void test_bunny_levels(void)
+{
+    fixture f = open_scene((float[3]){ 0, 0, 30 }, (float[3]){ 0, 0, 0 });
+    static const char *files[] = { "scenes/data/bunny.obj", "scenes/data/bunny.glb" };
+    for (int i = 0; i < 2; i++) {
+        CHECK_OK(limen_mesh_load(f.s, f.mesh, files[i]));
+        const limen_drawable *d = item(&f);
+        if (!d)
+            break;
+        check_levels(d->mesh, files[i]);
+        limen_mesh_info info;
+        CHECK_OK(limen_mesh_get(f.s, f.mesh, &info));
+        CHECK(info.lod_count == d->mesh->lod_count);
+        /* the levels' indices are counted in what the mesh holds */
+        size_t lod_bytes = 0;
+        for (int k = 1; k < d->mesh->lod_count; k++)
+            lod_bytes += (size_t)d->mesh->lods[k].triangle_count * 3 * sizeof(uint32_t);
+        CHECK(info.bytes > lod_bytes + (size_t)info.triangle_count * 3 * sizeof(uint32_t) +
+                               (size_t)info.vertex_count * 6 * sizeof(float));
+    }
+    close_scene(&f);
+}
+
+/* Each level's error is at least the largest distance a brute force finds between it and
+ * the full mesh, either way. */
+static void test_error_bounds(void)
+{
+    fixture f = open_scene((float[3]){ 0, 0, 30 }, (float[3]){ 0, 0, 0 });
+    CHECK_OK(limen_mesh_load(f.s, f.mesh, "scenes/data/bunny.obj"));
+    const limen_drawable *d = item(&f);
+    for (int k = 1; d && k < d->mesh->lod_count; k++) {
+        double found = brute_hausdorff(d->mesh, k, 400);
+        CHECK_MSG(found <= d->mesh->lods[k].error * (1 + 1e-5), "level %d: error %g, found %g",
+                  k, d->mesh->lods[k].error, found);
+        CHECK(found > 0);
+    }
+    close_scene(&f);
+}
+
+/* A flat grid simplifies to its outline: two triangles, no error. */
+static void test_flat_grid(void)
+{
+    enum { N = 16 };
+    float pos[(N + 1) * (N + 1) * 3];
+    uint32_t idx[N * N * 6];
+    int k = 0;
+    for (int y = 0; y <= N; y++)
+        for (int x = 0; x <= N; x++) {
+            float *p = &pos[(y * (N + 1) + x) * 3];
+            p[0] = (float)x;
+            p[1] = (float)y;
+            p[2] = 0;
+        }
+    for (int y = 0; y < N; y++)
+        for (int x = 0; x < N; x++) {
+            uint32_t a = (uint32_t)(y * (N + 1) + x), b = a + 1, c = a + N + 1, e = c + 1;
+            uint32_t q[6] = { a, b, e, a, e, c };
+            for (int i = 0; i < 6; i++)
+                idx[k++] = q[i];
+        }
+    fixture f = open_scene((float[3]){ 8, 8, 30 }, (float[3]){ 8, 8, 0 });
+    CHECK_OK(limen_mesh_set_triangles(f.s, f.mesh, &(limen_mesh_data){
+        .positions = pos, .vertex_count = (N + 1) * (N + 1), .indices = idx,
+        .triangle_count = N * N * 2 }));
+    const limen_drawable *d = item(&f);
+    if (d) {
+        const limen_mesh_geometry *g = d->mesh;
+        const limen_mesh_lod *last = &g->lods[g->lod_count - 1];
+        CHECK_MSG(last->triangle_count == 2, "%d levels, the last of %d triangles", g->lod_count,
+                  last->triangle_count);
+        CHECK_MSG(last->error <= 1e-5 * N, "error %g", last->error);
+        CHECK(brute_hausdorff(g, g->lod_count - 1, 50) <= 1e-6);
+    }
+    close_scene(&f);
+}
+
+/* ------------------------------------------------------------------ the pick */
+
+/* The pixels level k's error covers in view v, as limen.h states it: error * the node's
+ * stretch * the view's scale * proj[5] * height / 2 / the nearest depth of the bounding
+ * sphere. NAN where the eye is inside the sphere's slab. */
+static double projected(const limen_view *v, const limen_drawable *d, int k)
+{
+    const float *m = v->view, *w = d->world, *c = d->centre;
+    double scale = sqrt((double)m[0] * m[0] + (double)m[4] * m[4] + (double)m[8] * m[8]);
+    double stretch = 0;
+    for (int col = 0; col < 3; col++)
+        stretch = fmax(stretch, sqrt((double)w[col * 4] * w[col * 4] +
+                                     (double)w[col * 4 + 1] * w[col * 4 + 1] +
+                                     (double)w[col * 4 + 2] * w[col * 4 + 2]));
+    double z = -(m[2] * c[0] + m[6] * c[1] + m[10] * c[2] + m[14]);
+    double nearest = z - d->radius * scale;
+    if (!(nearest > 0))
+        return NAN;
+    return d->mesh->lods[k].error * stretch * scale * v->proj[5] * HEIGHT / 2 / nearest;
+}
+
+/* The pick at `pixels` is the coarsest level within it: it fits, the next does not. */
+static int check_pick(const limen_view *v, const limen_drawable *d, float pixels)
+{
+    int k = limen_view_mesh_lod(v, HEIGHT, d, pixels);
+    int n = d->mesh->lod_count;
+    CHECK(k >= 0 && k < n);
+    double here = projected(v, d, k);
+    if (k > 0)
+        CHECK_MSG(here <= pixels * (1 + 1e-5), "level %d covers %g px > %g", k, here, pixels);
+    if (k + 1 < n && !isnan(here))
+        CHECK_MSG(projected(v, d, k + 1) > pixels * (1 - 1e-5), "level %d would do at %g px",
+                  k + 1, projected(v, d, k + 1));
+    return k;
+}
+
+static limen_plan *plan_of(limen_scene *s, float pixels)
+{
+    limen_plan *p = NULL;
+    CHECK_OK(limen_plan_create(&p));
+    limen_plan_desc pd = { .width = 640, .height = HEIGHT };
+    pd.limits.lod_pixels = pixels;
+    limen_status st = limen_plan_build(p, s, &pd);
+    CHECK_MSG(st == LIMEN_OK, "%s", limen_scene_error(s));
+    return p;
+}
+
+static void test_pick(void)
+{
+    fixture f = open_scene((float[3]){ 0, 0, 0 }, (float[3]){ 0, 0, -1 });
+    CHECK_OK(limen_mesh_load(f.s, f.mesh, "scenes/data/bunny.obj"));
+    limen_plan *p = plan_of(f.s, 0);
+    const limen_view *v = limen_plan_view(p, 0);
+    int prev = 0, coarser = 0;
+    for (float z = 2; z < 4000; z *= 1.5f) {
+        CHECK_OK(limen_node_set_position(f.s, f.mesh, (float[3]){ 1, 0, -z }));
+        const limen_drawable *d = item(&f);
+        if (!d)
+            break;
+        int k = check_pick(v, d, 1);
+        CHECK_MSG(k >= prev, "farther, finer: level %d after %d at z = %g", k, prev, z);
+        prev = k;
+        if (z < 3)
+            CHECK_MSG(k == 0, "the eye inside the bounds: level %d", k);
+        CHECK(limen_view_mesh_lod(v, HEIGHT, d, 0) == k);   /* 0 means 1 pixel */
+        CHECK(limen_view_mesh_lod(v, HEIGHT, d, LIMEN_LOD_FULL) == 0);
+        int loose = check_pick(v, d, 8);
+        CHECK(loose >= k);
+        coarser += loose > k;
+        /* a node scaled up shows its error larger */
+        CHECK_OK(limen_node_set_scale(f.s, f.mesh, (float[3]){ 1, 3, 1 }));
+        d = item(&f);
+        CHECK(check_pick(v, d, 1) <= k);
+        CHECK_OK(limen_node_set_scale(f.s, f.mesh, (float[3]){ 1, 1, 1 }));
+    }
+    CHECK_MSG(prev == 0 ? 0 : prev >= 5, "at 4000 units: level %d", prev);
+    CHECK(coarser > 0);
+    limen_plan_destroy(p);
+    close_scene(&f);
+}
+
+/* Through a portal whose exit is half the entrance's size, the child view's units are
+ * twice the world's: the pick is the same as from an eye of world units at the same place. */
+static void test_pick_scaled_portal(void)
+{
+    fixture f = open_scene((float[3]){ 0, 0, 4 }, (float[3]){ 0, 0, 0 });
+    limen_node a, b;
+    CHECK_OK(limen_node_create(f.s, LIMEN_NODE_PORTAL, "a", &a));
+    CHECK_OK(limen_node_set_dims(f.s, a, (float[3]){ 4, 4, 0 }));
+    CHECK_OK(limen_node_create(f.s, LIMEN_NODE_PORTAL, "b", &b));
+    CHECK_OK(limen_node_set_position(f.s, b, (float[3]){ 100, 0, 0 }));
+    CHECK_OK(limen_node_set_dims(f.s, b, (float[3]){ 4, 4, 0 }));
+    CHECK_OK(limen_node_set_scale(f.s, b, (float[3]){ 0.5f, 0.5f, 0.5f }));
+    CHECK_OK(limen_portal_link(f.s, a, b));
+    CHECK_OK(limen_mesh_load(f.s, f.mesh, "scenes/data/bunny.obj"));
+    limen_plan *p = plan_of(f.s, 0);
+    CHECK(limen_plan_count(p) >= 2);
+    const limen_view *child = limen_plan_view(p, 1);
+    if (child) {
+        double scale = sqrt((double)child->view[0] * child->view[0] +
+                            (double)child->view[4] * child->view[4] +
+                            (double)child->view[8] * child->view[8]);
+        CHECK_MSG(fabs(scale - 2) < 1e-3, "child view scale %g", scale);
+        /* the same eye and gaze in world units */
+        limen_view plain = *child;
+        for (int i = 0; i < 16; i++)
+            if (i % 4 != 3)
+                plain.view[i] = (float)(child->view[i] / scale);
+        int seen = 0;
+        for (float z = 3; z < 3000; z *= 1.5f) {
+            CHECK_OK(limen_node_set_position(f.s, f.mesh, (float[3]){ 100, 0, z }));
+            const limen_drawable *d = item(&f);
+            if (!d)
+                break;
+            int k = check_pick(child, d, 1);
+            CHECK_MSG(k == limen_view_mesh_lod(&plain, HEIGHT, d, 1), "z = %g: level %d", z, k);
+            seen |= 1 << k;
+        }
+        CHECK_MSG(seen & ~1, "the portal view never picked a coarser level (%x)", seen);
+    }
+    limen_plan_destroy(p);
+    close_scene(&f);
+}
+
+/* lod_pixels: a number of pixels >= 0, or LIMEN_LOD_FULL. */
+static void test_lod_pixels(void)
+{
+    fixture f = open_scene((float[3]){ 0, 0, 4 }, (float[3]){ 0, 0, 0 });
+    limen_plan *p = NULL;
+    CHECK_OK(limen_plan_create(&p));
+    float bad[] = { NAN, INFINITY, -INFINITY, -0.5f, -2 };
+    for (int i = 0; i < 5; i++) {
+        limen_plan_desc pd = { 0 };
+        pd.limits.lod_pixels = bad[i];
+        CHECK(limen_plan_build(p, f.s, &pd) == LIMEN_ERR_ARG);
+        CHECK_MSG(strstr(limen_scene_error(f.s), "level-of-detail bound must be a finite number "
+                                                 "of pixels >= 0, or LIMEN_LOD_FULL"),
+                  "%s", limen_scene_error(f.s));
+    }
+    float good[] = { 0, LIMEN_LOD_FULL, 0.25f, 1e6f };
+    for (int i = 0; i < 4; i++) {
+        limen_plan_desc pd = { 0 };
+        pd.limits.lod_pixels = good[i];
+        CHECK_OK(limen_plan_build(p, f.s, &pd));
+    }
+    limen_plan_destroy(p);
+    close_scene(&f);
+}
+
+static const check_case cases[] = {
+    { "bunny_levels", test_bunny_levels },
+    { "error_bounds", test_error_bounds },
+    { "flat_grid", test_flat_grid },
+    { "pick", test_pick },
+    { "pick_scaled_portal", test_pick_scaled_portal },
+    { "lod_pixels", test_lod_pixels },
+    { 0 },
+};
+
+int main(int argc, char **argv)
+{
+    return check_run(argc, argv, cases);
+}
