@@ -1,5 +1,5 @@
 /* gl_internal.h - the renderer's state, shared by its files (render.c: set-up and frames;
- * views.c: drawing a view tree). */
+ * views.c: drawing a view tree, and its texture method; stencil.c: its stencil method). */
 #ifndef LIMEN_GL_INTERNAL_H
 #define LIMEN_GL_INTERNAL_H
 
@@ -153,10 +153,57 @@ GLuint limen__gl_link(limen_renderer *r, const char *head, const char *vsrc, con
 bool limen__variant_use(limen_renderer *r, int mode, int shape, int checker, int textured);
 void limen__variants_free(limen_renderer *r);
 
+/* ------------------------------------------------------------------ drawing views (views.c) */
+
+/* One view as the renderer draws it. */
+typedef struct rview {
+    const limen_view *pub;
+    int index;
+    mat4 view, proj, view_proj;
+    float px_scale;             /* pixels per unit at distance 1 (for levels of detail) */
+    float img_map[4];           /* image pixel = gl_FragCoord * xy + zw in the target */
+    vec4 cull[6];               /* world-space planes of the narrowed frustum (inside >= 0) */
+    int ncull;
+} rview;
+
+/* A surface as the screen sees it: its polygon clipped in double and split into the parts
+ * depth clamping puts at the near and far planes and the part between, in NDC (x, y and,
+ * for the middle part, z). The same floats serve every pass over the surface, so its depth,
+ * its mark, its seal and the nested view's region cover the same pixels. */
+typedef struct limen__spoly {
+    int n[3];                   /* vertices of the near, far and middle parts */
+    float p[3][32][3];
+    float z[2];                 /* NDC depth of the near and far planes */
+} limen__spoly;
+
+/* A view's matrices (proj_pre: the texture method's narrowing, identity otherwise), its cull
+ * planes (rect: the pixels it may draw, NULL for all), and its state bound for drawing. */
+void limen__rview_make(limen_renderer *r, int index, mat4 proj_pre, rview *v);
+void limen__rview_cull(limen_renderer *r, rview *v, const int *rect);
+void limen__rview_apply(limen_renderer *r, const rview *v);
+/* The scene's lights, once per frame. */
+void limen__lights_set(limen_renderer *r);
+/* A surface's polygon as view v sees it, in parts (computed where sp is NULL for the flat
+ * pass); the flat pass of a surface (MODE_FLAT or MODE_TEXTURE) and of parts in one colour,
+ * at their own depth or all at z where fixed. */
+void limen__surface_parts(const limen_renderer *r, const rview *v, const limen_drawable *node,
+                          limen__spoly *sp);
+void limen__surface_flat(limen_renderer *r, const rview *v, const limen_drawable *node,
+                         int mode, const float *albedo, const limen__spoly *sp);
+void limen__flat_parts(limen_renderer *r, const rview *v, const limen__spoly *sp,
+                       const float rgb[3], bool fixed, float z);
+/* The view's opaque things (the surfaces that end there, then the geometry), shaded. */
+void limen__draw_opaque(limen_renderer *r, const rview *v, const limen_view_surface *vs, int n);
+/* The drawable of a surface that a view recurses into; NULL for the others. */
+const limen_drawable *limen__recursed(const limen_renderer *r, const limen_view_surface *vs);
+/* GL_LESS and GL_LEQUAL, or their reverse where depth is reversed. */
+GLenum limen__depth_less(const limen_renderer *r);
+GLenum limen__depth_lequal(const limen_renderer *r);
+
 /* Draws the planned tree of r->plan and r->draw into the frame buffer (bound by the caller,
  * cleared). */
-limen_status limen__draw_stencil(limen_renderer *r);
-limen_status limen__draw_texture(limen_renderer *r);
+limen_status limen__draw_stencil(limen_renderer *r);       /* stencil.c */
+limen_status limen__draw_texture(limen_renderer *r);       /* views.c */
 void limen__targets_free(limen_renderer *r);
 
 /* gl/mesh.c: which unit mesh, and how it is scaled, for a node seen through a view (its

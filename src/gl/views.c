@@ -1,5 +1,5 @@
 /* views.c - drawing a planned view tree: the scene's geometry for one view, the surfaces
- * seen from it, and the two ways of nesting views (stencil and texture). */
+ * seen from it, and the texture method of nesting views (the stencil method: stencil.c). */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -22,17 +22,6 @@ static const limen_drawable *item_of(const limen_renderer *r, limen_node n)
     return i >= 0 ? &items[i] : NULL;
 }
 
-/* One view as the renderer draws it. */
-typedef struct rview {
-    const limen_view *pub;
-    int index;
-    mat4 view, proj, view_proj;
-    float px_scale;             /* pixels per unit at distance 1 (for levels of detail) */
-    float img_map[4];           /* image pixel = gl_FragCoord * xy + zw in the target */
-    vec4 cull[6];               /* world-space planes of the narrowed frustum (inside >= 0) */
-    int ncull;
-} rview;
-
 /* The clip-space transform that stretches the pixel rectangle rect of the image over the
  * whole of [-1, 1]^2. */
 static void narrow_to(const limen_renderer *r, const int rect[4], mat4 out)
@@ -50,7 +39,7 @@ static void narrow_to(const limen_renderer *r, const int rect[4], mat4 out)
 /* The planes of what view v can show: its projection's sides narrowed to the pixels it
  * may draw, its near plane (the oblique one where there is one) and its clip plane. A node
  * whose bounding sphere lies wholly outside one of them cannot touch a pixel. */
-static void cull_planes(limen_renderer *r, rview *v, const int *rect)
+void limen__rview_cull(limen_renderer *r, rview *v, const int *rect)
 {
     mat4 m, narrow;
     glm_mat4_identity(narrow);
@@ -112,7 +101,7 @@ static void set_mat4(limen_renderer *r, GLint loc, mat4 m)
 /* ------------------------------------------------------------------ per-view state */
 
 /* proj_pre: the narrowing applied for the texture method (identity otherwise). */
-static void make_rview(limen_renderer *r, int index, mat4 proj_pre, rview *v)
+void limen__rview_make(limen_renderer *r, int index, mat4 proj_pre, rview *v)
 {
     const limen_view *pub = limen_plan_view(r->plan, index);
     v->pub = pub;
@@ -142,7 +131,7 @@ static void set_view_clip(limen_renderer *r, const rview *v)
     r->shared_stamp++;
 }
 
-static void apply_view(limen_renderer *r, const rview *v)
+void limen__rview_apply(limen_renderer *r, const rview *v)
 {
     GL(BindVertexArray)(r->vao);
     memcpy(r->shared.view_proj, v->view_proj, sizeof r->shared.view_proj);
@@ -154,7 +143,7 @@ static void apply_view(limen_renderer *r, const rview *v)
     memcpy(r->shared.tint, v->pub->tint, sizeof r->shared.tint);
 }
 
-static void set_lights(limen_renderer *r)
+void limen__lights_set(limen_renderer *r)
 {
     float (*pos)[3] = r->shared.light_pos, (*col)[3] = r->shared.light_col;
     float *inv_r2 = r->shared.light_inv_r2;
@@ -269,16 +258,6 @@ static int clip4(double in[][4], int n, const double pl[4], double out[][4])
     return limen_clip_polygon(&in[0][0], n, pl, &out[0][0], 31);
 }
 
-/* A surface as the screen sees it: its polygon clipped in double and split into the parts
- * depth clamping puts at the near and far planes and the part between, in NDC (x, y and,
- * for the middle part, z). The same floats serve every pass over the surface, so its depth,
- * its mark, its seal and the nested view's region cover the same pixels. */
-typedef struct limen__spoly {
-    int n[3];                   /* vertices of the near, far and middle parts */
-    float p[3][32][3];
-    float z[2];                 /* NDC depth of the near and far planes */
-} limen__spoly;
-
 static void to_ndc(double p[][4], int n, float out[][3], int *count)
 {
     *count = n < 3 ? 0 : n;
@@ -291,7 +270,7 @@ static void to_ndc(double p[][4], int n, float out[][3], int *count)
  * clamping an oblique near plane would not cut it), to the frustum's four sides (so that the
  * GPU clips nothing: its float clipping fails when the surface nearly touches the eye, w a
  * few float steps of x), then split at the near and far planes. */
-static void surface_parts(const limen_renderer *r, const rview *v, const limen_drawable *node,
+void limen__surface_parts(const limen_renderer *r, const rview *v, const limen_drawable *node,
                           limen__spoly *sp)
 {
     double a[32][4], b[32][4], c[32][4];
@@ -389,7 +368,7 @@ static void draw_parts(limen_renderer *r, const limen__spoly *sp, bool fixed, fl
 
 /* Flat polygons in one colour (times the view's tint) with the fill program; the main
  * program is bound again after. */
-static void draw_flat_parts(limen_renderer *r, const rview *v, const limen__spoly *sp,
+void limen__flat_parts(limen_renderer *r, const rview *v, const limen__spoly *sp,
                             const float rgb[3], bool fixed, float z)
 {
     const float *t = v->pub->tint;
@@ -404,16 +383,16 @@ static void draw_flat_parts(limen_renderer *r, const rview *v, const limen__spol
 
 /* A surface's flat pass (mark, seal, fill: flat colour; or the previous frame's picture)
  * from its parts (computed here where sp is NULL). */
-static void draw_surface_flat(limen_renderer *r, const rview *v, const limen_drawable *node,
+void limen__surface_flat(limen_renderer *r, const rview *v, const limen_drawable *node,
                               int mode, const float *albedo, const limen__spoly *sp)
 {
     limen__spoly own;
     if (!sp) {
-        surface_parts(r, v, node, &own);
+        limen__surface_parts(r, v, node, &own);
         sp = &own;
     }
     if (mode == MODE_FLAT) {
-        draw_flat_parts(r, v, sp, albedo, false, 0);
+        limen__flat_parts(r, v, sp, albedo, false, 0);
         return;
     }
     /* the parts are in NDC already: identity matrices, planes that keep everything */
@@ -437,7 +416,7 @@ static void draw_node(limen_renderer *r, const rview *v, const limen_drawable *n
                       const float *albedo)
 {
     if ((mode == MODE_FLAT || mode == MODE_TEXTURE) && is_surface(node)) {
-        draw_surface_flat(r, v, node, mode, albedo, NULL);
+        limen__surface_flat(r, v, node, mode, albedo, NULL);
         return;
     }
     mat4 world;
@@ -581,14 +560,6 @@ static void draw_geometry(limen_renderer *r, const rview *v, bool fresh)
     }
 }
 
-/* The far-plane fill limited to a nested view's region: the parts of the surface it is
- * seen through, as the parent view drew them (stencil decides the rest). */
-static void draw_region_fill(limen_renderer *r, const rview *v, const limen__spoly *reg,
-                             const float rgb[3])
-{
-    draw_flat_parts(r, v, reg, rgb, true, r->range == LIMEN_DEPTH_ZO_REVERSED ? 0.0f : 1.0f);
-}
-
 /* The previous frame's picture of a surface where recursion stops: the rectangle of the
  * shallowest view through it, stretched onto the surface's rectangle here. False where there
  * is no such picture. */
@@ -636,27 +607,21 @@ static void draw_terminal_surface(limen_renderer *r, const rview *v,
         draw_node(r, v, n, MODE_FLAT, n->fill);
 }
 
-static GLenum depth_less(const limen_renderer *r)
+/* ------------------------------------------------------------------ shared by both methods */
+
+GLenum limen__depth_less(const limen_renderer *r)
 {
     return r->range == LIMEN_DEPTH_ZO_REVERSED ? GL_GREATER : GL_LESS;
 }
 
-static void set_scissor(limen_renderer *r, const int rect[4])
-{
-    GL(Enable)(GL_SCISSOR_TEST);
-    GL(Scissor)(r->origin[0] + rect[0], r->origin[1] + rect[1], rect[2], rect[3]);
-}
-
-/* ------------------------------------------------------------------ stencil method */
-
-static GLenum depth_lequal(const limen_renderer *r)
+GLenum limen__depth_lequal(const limen_renderer *r)
 {
     return r->range == LIMEN_DEPTH_ZO_REVERSED ? GL_GEQUAL : GL_LEQUAL;
 }
 
 /* The view's opaque things: the surfaces that end here (flat, cheap to shade twice), then
  * the geometry. */
-static void draw_opaque(limen_renderer *r, const rview *v, const limen_view_surface *vs, int n)
+void limen__draw_opaque(limen_renderer *r, const rview *v, const limen_view_surface *vs, int n)
 {
     for (int k = 0; k < n; k++)
         if (vs[k].state != LIMEN_SURFACE_RECURSE)
@@ -664,170 +629,10 @@ static void draw_opaque(limen_renderer *r, const rview *v, const limen_view_surf
     draw_geometry(r, v, n == 0);
 }
 
-/* How the stencil method tells views apart. Where the tree has at most 255 views each gets
- * a value of its own (its parent's pixels are switched to it by inverting the bits in which
- * the two differ). Then a view finishes its own passes, marks included, before any child
- * draws, and nothing tests a finished view's pixels again: a child may reset depth with a
- * clear of its whole rectangle, and no pass has to seal it. Larger trees count nesting depth
- * instead (the plan's `stencil`): each child is marked, drawn and sealed in turn (its pixels
- * back to its parent's value, with the surface's depth), and resets depth inside the
- * surface's polygon only. */
-typedef struct stencil_ids {
-    bool unique;
-    int next;                   /* the next unused value */
-} stencil_ids;
-
-/* Marks the visible pixels of the surface of sp (its depth still there) with value cv. */
-static void mark_surface(limen_renderer *r, const rview *v, const limen_drawable *node,
-                         const limen__spoly *sp, int sv, int cv)
-{
-    GL(Enable)(GL_STENCIL_TEST);
-    GL(ColorMask)(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
-    GL(DepthMask)(GL_FALSE);
-    GL(DepthFunc)(depth_lequal(r));
-    GL(StencilFunc)(GL_EQUAL, sv, 0xFF);
-    GL(StencilMask)((GLuint)(sv ^ cv));
-    GL(StencilOp)(GL_KEEP, GL_KEEP, GL_INVERT);
-    draw_surface_flat(r, v, node, MODE_FLAT, node->fill, sp);
-    GL(StencilMask)(0xFF);
-    GL(StencilOp)(GL_KEEP, GL_KEEP, GL_KEEP);
-    GL(DepthMask)(GL_TRUE);
-    GL(DepthFunc)(depth_less(r));
-}
-
-/* The background of a nested view where nothing landed (depth still at the far plane). */
-static void view_background(limen_renderer *r, const rview *v, const limen__spoly *reg, int sv)
-{
-    GL(ColorMask)(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
-    GL(StencilFunc)(GL_EQUAL, sv, 0xFF);
-    GL(DepthFunc)(GL_EQUAL);
-    limen__samples_begin(r);
-    draw_region_fill(r, v, reg, r->background);
-    limen__samples_end(r);
-    GL(DepthFunc)(depth_less(r));
-}
-
 /* The drawable of a surface that a view recurses into; NULL for the others. */
-static const limen_drawable *recursed(const limen_renderer *r, const limen_view_surface *vs)
+const limen_drawable *limen__recursed(const limen_renderer *r, const limen_view_surface *vs)
 {
     return vs->state == LIMEN_SURFACE_RECURSE ? item_of(r, vs->node) : NULL;
-}
-
-/* Pixels of view `index` hold stencil == sv when this is called, reg the parts of the surface
- * the view is seen through (NULL for the root view).
- *
- * Each pixel is shaded once, without a depth-only pass over the scene: the surfaces the view
- * recurses into are laid into depth first (flat polygons, cheap), so that the view's things
- * are shaded only where nothing nearer, surface or thing, covers them; then each surface is
- * marked where its depth survived (its visible pixels) and its view drawn there. */
-static void stencil_view(limen_renderer *r, int index, const limen__spoly *reg, int sv,
-                         stencil_ids *ids)
-{
-    mat4 id;
-    glm_mat4_identity(id);
-    rview v;
-    make_rview(r, index, id, &v);
-    cull_planes(r, &v, v.pub->scissor);
-    const limen_view_surface *vs;
-    int n = limen_plan_view_surfaces(r->plan, index, &vs);
-    set_scissor(r, v.pub->scissor);
-    /* the camera's view draws before any mark, where every pixel holds 0: its passes need
-     * no stencil test (the first mark turns it on) */
-    if (reg)
-        GL(Enable)(GL_STENCIL_TEST);
-    else
-        GL(Disable)(GL_STENCIL_TEST);
-    GL(StencilFunc)(GL_EQUAL, sv, 0xFF);
-    GL(StencilOp)(GL_KEEP, GL_KEEP, GL_KEEP);
-
-    /* depth: reset inside the view, then the surfaces it recurses into. With a value per
-     * view (and one sample per pixel) the reset also paints the view's background (its
-     * things land on it later), so that no pass after the marks has to find the pixels where
-     * nothing landed. With MSAA the scissored clear and that later pass stay: the region's
-     * polygon alone was seen to change a few edge pixels there. */
-    bool paint = ids->unique && !r->msaa;
-    GL(ColorMask)(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
-    if (reg && ids->unique && r->msaa) {
-        GL(Clear)(GL_DEPTH_BUFFER_BIT);
-    } else if (reg) {
-        if (paint)
-            GL(ColorMask)(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
-        GL(DepthFunc)(GL_ALWAYS);
-        draw_region_fill(r, &v, reg, r->background);
-        GL(DepthFunc)(depth_less(r));
-        GL(ColorMask)(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
-    }
-    apply_view(r, &v);
-    /* (the parts are recomputed where needed: the same floats come out each time) */
-    limen__spoly sp;
-    const limen_drawable *node;
-    for (int k = 0; k < n; k++) {
-        if (!(node = recursed(r, &vs[k])))
-            continue;
-        surface_parts(r, &v, node, &sp);
-        draw_surface_flat(r, &v, node, MODE_FLAT, r->background, &sp);
-    }
-
-    /* shade this view's things where they are nearest */
-    GL(ColorMask)(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
-    limen__samples_begin(r);
-    draw_opaque(r, &v, vs, n);
-    limen__samples_end(r);
-
-    if (ids->unique) {
-        const int first = ids->next;
-        for (int k = 0; k < n; k++) {
-            if (!(node = recursed(r, &vs[k])))
-                continue;
-            surface_parts(r, &v, node, &sp);
-            mark_surface(r, &v, node, &sp, sv, ids->next++);
-        }
-        if (reg && !paint)
-            view_background(r, &v, reg, sv);
-        int cv = first;
-        for (int k = 0; k < n; k++) {
-            if (!(node = recursed(r, &vs[k])))
-                continue;
-            surface_parts(r, &v, node, &sp);
-            stencil_view(r, vs[k].child, &sp, cv++, ids);
-        }
-        GL(ColorMask)(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
-        return;
-    }
-
-    for (int k = 0; k < n; k++) {
-        if (!(node = recursed(r, &vs[k])))
-            continue;
-        surface_parts(r, &v, node, &sp);
-        mark_surface(r, &v, node, &sp, sv, sv + 1);
-        stencil_view(r, vs[k].child, &sp, sv + 1, ids);
-
-        /* seal: back to this view's value, with the surface's depth over the child's */
-        set_scissor(r, v.pub->scissor);
-        apply_view(r, &v);
-        GL(ColorMask)(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
-        GL(StencilFunc)(GL_EQUAL, sv + 1, 0xFF);
-        GL(StencilOp)(GL_KEEP, GL_KEEP, GL_DECR);
-        GL(DepthFunc)(GL_ALWAYS);
-        draw_surface_flat(r, &v, node, MODE_FLAT, node->fill, &sp);
-        GL(DepthFunc)(depth_less(r));
-        GL(StencilFunc)(GL_EQUAL, sv, 0xFF);
-        GL(StencilOp)(GL_KEEP, GL_KEEP, GL_KEEP);
-    }
-    if (reg)
-        view_background(r, &v, reg, sv);
-    GL(ColorMask)(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
-}
-
-limen_status limen__draw_stencil(limen_renderer *r)
-{
-    set_lights(r);
-    stencil_ids ids = { .unique = limen_plan_count(r->plan) <= 255, .next = 1 };
-    stencil_view(r, 0, NULL, 0, &ids);
-    GL(Disable)(GL_STENCIL_TEST);
-    GL(Disable)(GL_SCISSOR_TEST);
-    GL(FrontFace)(GL_CCW);
-    return LIMEN_OK;
 }
 
 /* ------------------------------------------------------------------ texture method */
@@ -902,7 +707,7 @@ static bool texture_view(limen_renderer *r, int index, const placement *pl)
     mat4 narrow;
     narrow_to(r, pl->rect, narrow);
     rview v;
-    make_rview(r, index, narrow, &v);
+    limen__rview_make(r, index, narrow, &v);
     v.img_map[0] = 1.0f / pl->sx;
     v.img_map[1] = 1.0f / pl->sy;
     /* the image pixels of the target's first fragment */
@@ -910,7 +715,7 @@ static bool texture_view(limen_renderer *r, int index, const placement *pl)
     const float py0 = (float)pl->rect[1] - (float)pl->oy / pl->sy;
     v.img_map[2] = px0;
     v.img_map[3] = py0;
-    cull_planes(r, &v, NULL);
+    limen__rview_cull(r, &v, NULL);
 
     bind_placement(r, pl);
     const float *tint = v.pub->tint;
@@ -918,7 +723,7 @@ static bool texture_view(limen_renderer *r, int index, const placement *pl)
                    r->background[2] * tint[2], 1.0f);
     GL(ClearDepth)(r->range == LIMEN_DEPTH_ZO_REVERSED ? 0.0 : 1.0);
     GL(Clear)(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
-    apply_view(r, &v);
+    limen__rview_apply(r, &v);
     const limen_view_surface *vs;
     int n = limen_plan_view_surfaces(r->plan, index, &vs);
     const limen_drawable *node;
@@ -926,15 +731,15 @@ static bool texture_view(limen_renderer *r, int index, const placement *pl)
      * them is shaded; then the view's own things, nearest first */
     GL(ColorMask)(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
     for (int k = 0; k < n; k++)
-        if ((node = recursed(r, &vs[k])))
-            draw_surface_flat(r, &v, node, MODE_FLAT, r->background, NULL);
+        if ((node = limen__recursed(r, &vs[k])))
+            limen__surface_flat(r, &v, node, MODE_FLAT, r->background, NULL);
     GL(ColorMask)(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
     limen__samples_begin(r);
-    draw_opaque(r, &v, vs, n);
+    limen__draw_opaque(r, &v, vs, n);
     limen__samples_end(r);
 
     for (int k = 0; k < n; k++) {
-        if (!(node = recursed(r, &vs[k])))
+        if (!(node = limen__recursed(r, &vs[k])))
             continue;
         int ci = vs[k].child;
         const limen_view *c = limen_plan_view(r->plan, ci);
@@ -955,7 +760,7 @@ static bool texture_view(limen_renderer *r, int index, const placement *pl)
         /* back in this view: the surface samples the child's image where it appears on
          * screen (the child applied the tints already) */
         bind_placement(r, pl);
-        apply_view(r, &v);
+        limen__rview_apply(r, &v);
         GL(ActiveTexture)(GL_TEXTURE0);
         GL(BindTexture)(GL_TEXTURE_2D, t->tex);
         /* fragment (this target) -> image pixel -> child texel -> uv */
@@ -968,18 +773,18 @@ static bool texture_view(limen_renderer *r, int index, const placement *pl)
         memcpy(r->shared.tex_map, map, sizeof map);
         r->shared_stamp++;
         vec3 white = { 1, 1, 1 };
-        GL(DepthFunc)(depth_lequal(r));      /* its own depth is there already */
+        GL(DepthFunc)(limen__depth_lequal(r));      /* its own depth is there already */
         limen__samples_begin(r);
         draw_node(r, &v, node, MODE_TEXTURE, white);
         limen__samples_end(r);
-        GL(DepthFunc)(depth_less(r));
+        GL(DepthFunc)(limen__depth_less(r));
     }
     return true;
 }
 
 limen_status limen__draw_texture(limen_renderer *r)
 {
-    set_lights(r);
+    limen__lights_set(r);
     placement root = { r->fbo, r->origin[0], r->origin[1], r->width, r->height, 1.0f, 1.0f,
                        { 0, 0, r->width, r->height } };
     bool ok = texture_view(r, 0, &root);
