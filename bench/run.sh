@@ -25,7 +25,8 @@ echo "bench ($MODE): speed per pixel and per view against the floor and the clas
 echo "bench ($MODE): charts"
 # gnuplot warns about series the quick run leaves empty: keep its words in a log
 if ! gnuplot -e "dir='$OUT'" bench/plots.gp 2> "$OUT/gnuplot.log" ||
-   ! gnuplot -e "dir='$OUT'" bench/scale.gp 2>> "$OUT/gnuplot.log"; then
+   ! gnuplot -e "dir='$OUT'" bench/scale.gp 2>> "$OUT/gnuplot.log" ||
+   ! gnuplot -e "dir='$OUT'" bench/lod.gp 2>> "$OUT/gnuplot.log"; then
     cat "$OUT/gnuplot.log" >&2
     exit 1
 fi

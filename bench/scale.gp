@@ -26,26 +26,3 @@ plot dir.'/scale_trace.csv' skip 1 using 1:2 with linespoints pt 7 lc rgb "#1f77
      ''                     skip 1 using 1:3 with linespoints pt 13 lc rgb "#d62728" title "every prim per ray"
 unset multiplot
 
-# levels of detail (bench/lod.c): the field of bunnies before a mirror
-set output dir.'/6_lod.png'
-set multiplot layout 1,2 title "Levels of detail: the field of bunnies before a mirror (640x480, stencil method)" font ",12"
-set title "Frame time against the number of bunnies (log-log)"
-set xlabel "bunnies"
-set ylabel "median frame, processor time (ms)"
-set key top left
-plot dir.'/lod_count.csv' skip 1 using 1:2 with linespoints pt 7 lc rgb "#1f77b4" title "levels of detail under 1 pixel", \
-     ''                   skip 1 using 1:4 with linespoints pt 13 lc rgb "#d62728" title "the full mesh"
-set title "1,000 bunnies: frame time and error against the LOD bound"
-set xlabel "LOD error bound (pixels; 0: the full mesh)"
-unset logscale
-set logscale x 2
-set xrange [0.1:20]
-set ylabel "median frame, processor time (ms)"
-set y2label "pixels off the tracer (%)"
-set y2tics
-set ytics nomirror
-set key top right
-plot dir.'/lod_bound.csv' skip 2 using 1:2 with linespoints pt 7 lc rgb "#1f77b4" axes x1y1 title "frame time", \
-     ''                   skip 2 using 1:($5*100) with linespoints pt 5 lc rgb "#ff7f0e" axes x1y2 title "pixels off the tracer", \
-     ''                   every ::0::0 skip 1 using (0.1):2 with points pt 13 ps 1.5 lc rgb "#d62728" axes x1y1 title "full mesh (time)"
-unset multiplot
