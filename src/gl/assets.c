@@ -110,6 +110,17 @@ static void instance_arrays(limen_renderer *r)
     }
 }
 
+/* A new vertex array (bound) with a new array buffer holding `bytes` of data. */
+static void vertex_arrays(limen_renderer *r, GLuint *vao, GLuint *vbo, size_t bytes,
+                          const void *data)
+{
+    GL(GenVertexArrays)(1, vao);
+    GL(BindVertexArray)(*vao);
+    GL(GenBuffers)(1, vbo);
+    GL(BindBuffer)(GL_ARRAY_BUFFER, *vbo);
+    GL(BufferData)(GL_ARRAY_BUFFER, (GLsizeiptr)bytes, data, GL_STATIC_DRAW);
+}
+
 static bool upload_mesh(limen_renderer *r, const limen_mesh_geometry *m, struct limen__gpu_asset *a)
 {
     int nlods = m->lod_count < 1 || !m->lods ? 1 : m->lod_count > GPU_LODS ? GPU_LODS : m->lod_count;
@@ -126,12 +137,7 @@ static bool upload_mesh(limen_renderer *r, const limen_mesh_geometry *m, struct 
         at = lay_corners(m, k ? m->lods[k].indices : m->indices, ntris, at);
     }
     a->nlods = nlods;
-    GL(GenVertexArrays)(1, &a->vao);
-    GL(BindVertexArray)(a->vao);
-    GL(GenBuffers)(1, &a->vbo);
-    GL(BindBuffer)(GL_ARRAY_BUFFER, a->vbo);
-    GL(BufferData)(GL_ARRAY_BUFFER, (GLsizeiptr)(sizeof(float) * CORNER_FLOATS * corners), buf,
-                   GL_STATIC_DRAW);
+    vertex_arrays(r, &a->vao, &a->vbo, sizeof(float) * CORNER_FLOATS * corners, buf);
     free(buf);
     GL(EnableVertexAttribArray)(0);
     GL(VertexAttribPointer)(0, 3, GL_FLOAT, GL_FALSE, sizeof(float) * CORNER_FLOATS, (void *)0);
@@ -173,12 +179,7 @@ static bool upload_smooth(limen_renderer *r, const limen_mesh_geometry *m,
         memcpy(at, k ? m->lods[k].indices : m->indices, sizeof(uint32_t) * n);
         at += n;
     }
-    GL(GenVertexArrays)(1, &a->svao);
-    GL(BindVertexArray)(a->svao);
-    GL(GenBuffers)(1, &a->svbo);
-    GL(BindBuffer)(GL_ARRAY_BUFFER, a->svbo);
-    GL(BufferData)(GL_ARRAY_BUFFER, (GLsizeiptr)(sizeof(float) * VERTEX_FLOATS * nv), buf,
-                   GL_STATIC_DRAW);
+    vertex_arrays(r, &a->svao, &a->svbo, sizeof(float) * VERTEX_FLOATS * nv, buf);
     GL(GenBuffers)(1, &a->sibo);
     GL(BindBuffer)(GL_ELEMENT_ARRAY_BUFFER, a->sibo);
     GL(BufferData)(GL_ELEMENT_ARRAY_BUFFER, (GLsizeiptr)(sizeof(uint32_t) * nidx), idx,
