@@ -643,6 +643,61 @@ static double level_error(const target *full, const uint32_t *idx, uint32_t ntri
 
 /* ------------------------------------------------------------------ building */
 
+/* The simplifier names, at each corner, the first vertex at its position (the weld). Where
+ * several share the position (a seam: a crease in the normals, an edge of the texture),
+ * each corner takes instead the one whose normal is nearest its triangle's own, the side
+ * of the seam the triangle lies on. False when out of memory (the corners stay). */
+static bool seam_sides(const limen__mesh *m, const uint32_t *shadow, uint32_t *idx, size_t n)
+{
+    uint32_t nv = m->nverts;
+    uint32_t *weld = malloc(sizeof *weld * nv), *first = calloc(nv + 1, sizeof *first),
+             *members = malloc(sizeof *members * nv);
+    bool ok = weld && first && members;
+    for (uint32_t v = 0; ok && v < nv; v++)
+        weld[v] = UINT32_MAX;
+    for (size_t i = 0; ok && i < (size_t)m->ntris * 3; i++)
+        weld[m->idx[i]] = shadow[i];
+    for (uint32_t v = 0; ok && v < nv; v++)
+        if (weld[v] != UINT32_MAX)
+            first[weld[v] + 1]++;
+    for (uint32_t v = 0; ok && v < nv; v++)
+        first[v + 1] += first[v];
+    for (uint32_t v = 0, *fill = first; ok && v < nv; v++)
+        if (weld[v] != UINT32_MAX)
+            members[fill[weld[v]]++] = v;
+    /* the fill moved each group's start to the next one's: shift back */
+    for (uint32_t v = nv; ok && v > 0; v--)
+        first[v] = first[v - 1];
+    if (ok)
+        first[0] = 0;
+    for (size_t t = 0; ok && t < n / 3; t++) {
+        const float *a = &m->pos[idx[t * 3] * 3], *b = &m->pos[idx[t * 3 + 1] * 3],
+                    *c = &m->pos[idx[t * 3 + 2] * 3];
+        double e1[3] = { b[0] - a[0], b[1] - a[1], b[2] - a[2] },
+               e2[3] = { c[0] - a[0], c[1] - a[1], c[2] - a[2] }, fn[3];
+        fn[0] = e1[1] * e2[2] - e1[2] * e2[1];
+        fn[1] = e1[2] * e2[0] - e1[0] * e2[2];
+        fn[2] = e1[0] * e2[1] - e1[1] * e2[0];
+        for (int k = 0; k < 3; k++) {
+            uint32_t w = idx[t * 3 + k], best = w;
+            double best_dot = -INFINITY;
+            for (uint32_t j = first[w]; j < first[w + 1]; j++) {
+                const float *nr = &m->nrm[members[j] * 3];
+                double d = fn[0] * nr[0] + fn[1] * nr[1] + fn[2] * nr[2];
+                if (d > best_dot) {
+                    best_dot = d;
+                    best = members[j];
+                }
+            }
+            idx[t * 3 + k] = best;
+        }
+    }
+    free(weld);
+    free(first);
+    free(members);
+    return ok;
+}
+
 bool limen__mesh_lods_build(limen__mesh *m)
 {
     size_t n0 = (size_t)m->ntris * 3, cap = n0;     /* the coarse levels' indices, in all */
@@ -715,6 +770,8 @@ bool limen__mesh_lods_build(limen__mesh *m)
     }
     nlods = kept;
     used = packed;
+    if (ok)
+        seam_sides(m, shadow, store, used);
     free(shadow);
     free(scratch);
     free(full.tri);
