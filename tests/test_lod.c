@@ -4,6 +4,7 @@
  * view picks (limen_view_mesh_lod), through a scaled portal too. No GL. */
 #include <stdint.h>
 #include <stdlib.h>
+#include <unistd.h>
 
 #include "check.h"
 #include "limen.h"
@@ -443,6 +444,42 @@ static void test_pick_scaled_portal(void)
     close_scene(&f);
 }
 
+/* The plan's JSON lists each view's meshes with the level it picks. */
+static void test_plan_json(void)
+{
+    fixture f = open_scene((float[3]){ 0, 0, 0 }, (float[3]){ 0, 0, -1 });
+    CHECK_OK(limen_mesh_load(f.s, f.mesh, "scenes/data/bunny.obj"));
+    CHECK_OK(limen_node_set_position(f.s, f.mesh, (float[3]){ 0, 0, -200 }));
+    limen_node hidden;      /* out of sight: not listed */
+    CHECK_OK(limen_node_create(f.s, LIMEN_NODE_MESH, "behind", &hidden));
+    CHECK_OK(limen_mesh_load(f.s, hidden, "scenes/data/bunny.obj"));
+    CHECK_OK(limen_node_set_position(f.s, hidden, (float[3]){ 0, 0, 200 }));
+    for (int full = 0; full < 2; full++) {
+        limen_plan *p = plan_of(f.s, full ? LIMEN_LOD_FULL : 2);
+        const limen_drawable *d = item(&f);
+        int k = d ? limen_view_mesh_lod(limen_plan_view(p, 0), HEIGHT, d, full ? LIMEN_LOD_FULL : 2)
+                  : -1;
+        CHECK(full ? k == 0 : k > 0);
+        char path[] = "/tmp/limen-lod-XXXXXX", want[128], text[8192] = "";
+        int fd = mkstemp(path);
+        CHECK(fd >= 0);
+        if (fd >= 0)
+            close(fd);
+        CHECK_OK(limen_plan_write_json(p, f.s, path));
+        FILE *in = fopen(path, "r");
+        size_t n = in ? fread(text, 1, sizeof text - 1, in) : 0;
+        text[n] = 0;
+        if (in)
+            fclose(in);
+        remove(path);
+        snprintf(want, sizeof want, "\"meshes\": [{\"node\": \"statue\", \"lod\": %d, "
+                 "\"triangles\": %d}]", k, d ? d->mesh->lods[k > 0 ? k : 0].triangle_count : 0);
+        CHECK_MSG(strstr(text, want) != NULL, "no '%s' in %s", want, text);
+        limen_plan_destroy(p);
+    }
+    close_scene(&f);
+}
+
 /* lod_pixels: a number of pixels >= 0, or LIMEN_LOD_FULL. */
 static void test_lod_pixels(void)
 {
@@ -475,6 +512,7 @@ static const check_case cases[] = {
     { "seam_sides", test_seam_sides },
     { "pick", test_pick },
     { "pick_scaled_portal", test_pick_scaled_portal },
+    { "plan_json", test_plan_json },
     { "lod_pixels", test_lod_pixels },
     { 0 },
 };
