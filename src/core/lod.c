@@ -63,24 +63,22 @@ static double tri_d2(const double p[3], const double a[3], const double b[3], co
     sub3(b, a, ab);
     sub3(c, a, ac);
     sub3(p, a, ap);
-    double d1 = dot3(ab, ap), d2 = dot3(ac, ap);
+    sub3(ap, ab, bp);
+    sub3(ap, ac, cp);
+    double d1 = dot3(ab, ap), d2 = dot3(ac, ap), d3 = dot3(ab, bp), d4 = dot3(ac, bp),
+           d5 = dot3(ab, cp), d6 = dot3(ac, cp);
+    /* the regions are disjoint but for their borders, so the order of the tests is free */
     if (d1 <= 0 && d2 <= 0)
         return dot3(ap, ap);
-    sub3(p, b, bp);
-    double d3 = dot3(ab, bp), d4 = dot3(ac, bp);
     if (d3 >= 0 && d4 <= d3)
         return dot3(bp, bp);
-    double vc = d1 * d4 - d3 * d2;
-    if (vc <= 0 && d1 >= 0 && d3 <= 0)
-        return seg_d2(p, a, b);
-    sub3(p, c, cp);
-    double d5 = dot3(ab, cp), d6 = dot3(ac, cp);
     if (d6 >= 0 && d5 <= d6)
         return dot3(cp, cp);
-    double vb = d5 * d2 - d1 * d6;
+    double va = d3 * d6 - d5 * d4, vb = d5 * d2 - d1 * d6, vc = d1 * d4 - d3 * d2;
+    if (vc <= 0 && d1 >= 0 && d3 <= 0)
+        return seg_d2(p, a, b);
     if (vb <= 0 && d2 >= 0 && d6 <= 0)
         return seg_d2(p, a, c);
-    double va = d3 * d6 - d5 * d4;
     if (va <= 0 && d4 - d3 >= 0 && d5 - d6 >= 0)
         return seg_d2(p, b, c);
     double sum = va + vb + vc;
