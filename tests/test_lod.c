@@ -4,6 +4,7 @@
  * view picks (limen_view_mesh_lod), through a scaled portal too. No GL. */
 #include <stdint.h>
 #include <stdlib.h>
+#include <unistd.h>
 
 #include "check.h"
 #include "limen.h"
@@ -121,13 +122,15 @@ static double uniform(void)
     return (double)(rng >> 11) / 9007199254740992.0;
 }
 
-/* The largest distance found from samples of level k to the full mesh (its vertices, its
- * edges' midpoints and `random` points at random) and from every full-mesh vertex to level k. */
+/* The largest distance found from samples of level k to the full mesh (edge midpoints of
+ * up to 200 of its triangles, and `random` points at random) and from every full-mesh
+ * vertex to level k. */
 static double brute_hausdorff(const limen_mesh_geometry *g, int k, int random)
 {
     const limen_mesh_lod *lv = &g->lods[k], *full = &g->lods[0];
     double worst = 0;
-    for (int t = 0; t < lv->triangle_count; t++)
+    int stride = lv->triangle_count / 200 + 1;
+    for (int t = 0; t < lv->triangle_count; t += stride)
         for (int e = 0; e < 3; e++) {
             double a[3], b[3], m[3];
             vtx(g, lv->indices[t * 3 + e], a);
@@ -248,6 +251,71 @@ static void test_flat_grid(void)
                   last->triangle_count);
         CHECK_MSG(last->error <= 1e-5 * N, "error %g", last->error);
         CHECK(brute_hausdorff(g, g->lod_count - 1, 50) <= 1e-6);
+    }
+    close_scene(&f);
+}
+
+/* A fold: two flat grids at a right angle, their vertices on the ridge doubled with each
+ * side's own normal. Every level's corners keep the normal of their own side. */
+static void test_seam_sides(void)
+{
+    enum { N = 8, SIDE = (N + 1) * (N + 1) };
+    float pos[2 * SIDE * 3], nrm[2 * SIDE * 3];
+    uint32_t idx[2 * N * N * 6];
+    int k = 0;
+    for (int side = 0; side < 2; side++) {
+        for (int j = 0; j <= N; j++)
+            for (int i = 0; i <= N; i++) {
+                float *p = &pos[(side * SIDE + j * (N + 1) + i) * 3];
+                float *n = &nrm[(side * SIDE + j * (N + 1) + i) * 3];
+                /* side 0: z = 0, y from 0 to N; side 1: y = N, z from 0 to N */
+                p[0] = (float)i;
+                p[1] = side ? N : (float)j;
+                p[2] = side ? (float)j : 0;
+                n[0] = 0;
+                n[1] = side ? -1.0f : 0;
+                n[2] = side ? 0 : 1.0f;
+            }
+        for (int j = 0; j < N; j++)
+            for (int i = 0; i < N; i++) {
+                uint32_t a = (uint32_t)(side * SIDE + j * (N + 1) + i), b = a + 1, c = a + N + 1,
+                         e = c + 1;
+                /* side 0 faces +z; side 1 faces -y */
+                uint32_t q[6] = { a, b, e, a, e, c };
+                for (int x = 0; x < 6; x++)
+                    idx[k++] = q[x];
+            }
+    }
+    fixture f = open_scene((float[3]){ 4, -10, 10 }, (float[3]){ 4, 4, 4 });
+    CHECK_OK(limen_mesh_set_triangles(f.s, f.mesh, &(limen_mesh_data){
+        .positions = pos, .normals = nrm, .vertex_count = 2 * SIDE, .indices = idx,
+        .triangle_count = 2 * N * N * 2 }));
+    const limen_drawable *d = item(&f);
+    if (d) {
+        const limen_mesh_geometry *g = d->mesh;
+        CHECK_MSG(g->lod_count >= 3, "%d levels", g->lod_count);
+        for (int l = 1; l < g->lod_count; l++)
+            for (int t = 0; t < g->lods[l].triangle_count; t++) {
+                const uint32_t *ix = &g->lods[l].indices[t * 3];
+                double a[3], b[3], c[3], u[3], v[3], fn[3];
+                vtx(g, ix[0], a);
+                vtx(g, ix[1], b);
+                vtx(g, ix[2], c);
+                for (int x = 0; x < 3; x++) {
+                    u[x] = b[x] - a[x];
+                    v[x] = c[x] - a[x];
+                }
+                fn[0] = u[1] * v[2] - u[2] * v[1];
+                fn[1] = u[2] * v[0] - u[0] * v[2];
+                fn[2] = u[0] * v[1] - u[1] * v[0];
+                double len = sqrt(dot(fn, fn));
+                for (int x = 0; x < 3 && len > 0; x++) {     /* no face: no side */
+                    const float *nr = &g->normals[ix[x] * 3];
+                    double cosine = (fn[0] * nr[0] + fn[1] * nr[1] + fn[2] * nr[2]) / len;
+                    CHECK_MSG(cosine > 0.99, "level %d triangle %d corner %d: normal at %g", l,
+                              t, x, cosine);
+                }
+            }
     }
     close_scene(&f);
 }
@@ -376,6 +444,42 @@ static void test_pick_scaled_portal(void)
     close_scene(&f);
 }
 
+/* The plan's JSON lists each view's meshes with the level it picks. */
+static void test_plan_json(void)
+{
+    fixture f = open_scene((float[3]){ 0, 0, 0 }, (float[3]){ 0, 0, -1 });
+    CHECK_OK(limen_mesh_load(f.s, f.mesh, "scenes/data/bunny.obj"));
+    CHECK_OK(limen_node_set_position(f.s, f.mesh, (float[3]){ 0, 0, -200 }));
+    limen_node hidden;      /* out of sight: not listed */
+    CHECK_OK(limen_node_create(f.s, LIMEN_NODE_MESH, "behind", &hidden));
+    CHECK_OK(limen_mesh_load(f.s, hidden, "scenes/data/bunny.obj"));
+    CHECK_OK(limen_node_set_position(f.s, hidden, (float[3]){ 0, 0, 200 }));
+    for (int full = 0; full < 2; full++) {
+        limen_plan *p = plan_of(f.s, full ? LIMEN_LOD_FULL : 2);
+        const limen_drawable *d = item(&f);
+        int k = d ? limen_view_mesh_lod(limen_plan_view(p, 0), HEIGHT, d, full ? LIMEN_LOD_FULL : 2)
+                  : -1;
+        CHECK(full ? k == 0 : k > 0);
+        char path[] = "/tmp/limen-lod-XXXXXX", want[128], text[8192] = "";
+        int fd = mkstemp(path);
+        CHECK(fd >= 0);
+        if (fd >= 0)
+            close(fd);
+        CHECK_OK(limen_plan_write_json(p, f.s, path));
+        FILE *in = fopen(path, "r");
+        size_t n = in ? fread(text, 1, sizeof text - 1, in) : 0;
+        text[n] = 0;
+        if (in)
+            fclose(in);
+        remove(path);
+        snprintf(want, sizeof want, "\"meshes\": [{\"node\": \"statue\", \"lod\": %d, "
+                 "\"triangles\": %d}]", k, d ? d->mesh->lods[k > 0 ? k : 0].triangle_count : 0);
+        CHECK_MSG(strstr(text, want) != NULL, "no '%s' in %s", want, text);
+        limen_plan_destroy(p);
+    }
+    close_scene(&f);
+}
+
 /* lod_pixels: a number of pixels >= 0, or LIMEN_LOD_FULL. */
 static void test_lod_pixels(void)
 {
@@ -405,8 +509,10 @@ static const check_case cases[] = {
     { "bunny_levels", test_bunny_levels },
     { "error_bounds", test_error_bounds },
     { "flat_grid", test_flat_grid },
+    { "seam_sides", test_seam_sides },
     { "pick", test_pick },
     { "pick_scaled_portal", test_pick_scaled_portal },
+    { "plan_json", test_plan_json },
     { "lod_pixels", test_lod_pixels },
     { 0 },
 };

@@ -63,24 +63,22 @@ static double tri_d2(const double p[3], const double a[3], const double b[3], co
     sub3(b, a, ab);
     sub3(c, a, ac);
     sub3(p, a, ap);
-    double d1 = dot3(ab, ap), d2 = dot3(ac, ap);
+    sub3(ap, ab, bp);
+    sub3(ap, ac, cp);
+    double d1 = dot3(ab, ap), d2 = dot3(ac, ap), d3 = dot3(ab, bp), d4 = dot3(ac, bp),
+           d5 = dot3(ab, cp), d6 = dot3(ac, cp);
+    /* the regions are disjoint but for their borders, so the order of the tests is free */
     if (d1 <= 0 && d2 <= 0)
         return dot3(ap, ap);
-    sub3(p, b, bp);
-    double d3 = dot3(ab, bp), d4 = dot3(ac, bp);
     if (d3 >= 0 && d4 <= d3)
         return dot3(bp, bp);
-    double vc = d1 * d4 - d3 * d2;
-    if (vc <= 0 && d1 >= 0 && d3 <= 0)
-        return seg_d2(p, a, b);
-    sub3(p, c, cp);
-    double d5 = dot3(ab, cp), d6 = dot3(ac, cp);
     if (d6 >= 0 && d5 <= d6)
         return dot3(cp, cp);
-    double vb = d5 * d2 - d1 * d6;
+    double va = d3 * d6 - d5 * d4, vb = d5 * d2 - d1 * d6, vc = d1 * d4 - d3 * d2;
+    if (vc <= 0 && d1 >= 0 && d3 <= 0)
+        return seg_d2(p, a, b);
     if (vb <= 0 && d2 >= 0 && d6 <= 0)
         return seg_d2(p, a, c);
-    double va = d3 * d6 - d5 * d4;
     if (va <= 0 && d4 - d3 >= 0 && d5 - d6 >= 0)
         return seg_d2(p, b, c);
     double sum = va + vb + vc;
@@ -216,6 +214,7 @@ typedef struct side {
                                  * neighbouring pieces share their edges' midpoints */
     uint32_t seen_mask, nseen;
     bool nomem;
+    int cover_tries, cover_hits;    /* cover_bound, which pays where pieces are small */
 } side;
 
 static void locate(side *sd, point *q, uint32_t hint)
@@ -228,18 +227,18 @@ static void locate(side *sd, point *q, uint32_t hint)
         *sd->floor = d;
 }
 
-/* Area of the part of triangle p inside triangle t, both counter-clockwise in a plane
- * (Sutherland-Hodgman: p clipped by t's three edges). */
-static double clip_area(const double p[3][2], const double t[3][2])
+/* The part of triangle p inside triangle t, both counter-clockwise in a plane
+ * (Sutherland-Hodgman: p clipped by t's three edges), into out; returns its corners. */
+static int clip_tri(const double p[3][2], const double t[3][2], double out[9][2])
 {
-    double poly[9][2], next[9][2];
+    double next[9][2];
     int n = 3;
-    memcpy(poly, p, sizeof(double) * 6);
+    memcpy(out, p, sizeof(double) * 6);
     for (int e = 0; e < 3 && n > 0; e++) {
         const double *a = t[e], *b = t[(e + 1) % 3];
         int m = 0;
         for (int i = 0; i < n; i++) {
-            const double *x = poly[i], *y = poly[(i + 1) % n];
+            const double *x = out[i], *y = out[(i + 1) % n];
             double sx = (b[0] - a[0]) * (x[1] - a[1]) - (b[1] - a[1]) * (x[0] - a[0]);
             double sy = (b[0] - a[0]) * (y[1] - a[1]) - (b[1] - a[1]) * (y[0] - a[0]);
             if (sx >= 0) {
@@ -252,98 +251,164 @@ static double clip_area(const double p[3][2], const double t[3][2])
                 next[m++][1] = x[1] + f * (y[1] - x[1]);
             }
         }
-        memcpy(poly, next, sizeof(double) * 2 * (size_t)m);
+        memcpy(out, next, sizeof(double) * 2 * (size_t)m);
         n = m;
     }
+    return n;
+}
+
+static double poly_area(const double (*q)[2], int n)
+{
     double area = 0;
     for (int i = 0; i < n; i++)
-        area += poly[i][0] * poly[(i + 1) % n][1] - poly[(i + 1) % n][0] * poly[i][1];
+        area += q[i][0] * q[(i + 1) % n][1] - q[(i + 1) % n][0] * q[i][1];
     return area / 2;
 }
 
-/* Whether the flat piece abc lies wholly over triangles of sd->to that lie within abs_tol
- * of its plane (their clipped areas add up to its own; the triangles of a mesh do not
- * overlap): then no point of it is farther than abs_tol * sqrt(3) from them, though the
- * convex bound above, one triangle at a time, cannot see it. */
-static bool covered(const side *sd, const point *v[3])
+/* Whether two counter-clockwise triangles of a plane share no inner point (an edge of
+ * one or the other separates them). */
+static bool apart2(const double a[3][2], const double b[3][2])
 {
-    const limen__mesh *to = sd->to->m;
+    for (int x = 0; x < 2; x++)
+        if (fmax(a[0][x], fmax(a[1][x], a[2][x])) <= fmin(b[0][x], fmin(b[1][x], b[2][x])) ||
+            fmax(b[0][x], fmax(b[1][x], b[2][x])) <= fmin(a[0][x], fmin(a[1][x], a[2][x])))
+            return true;
+    for (int k = 0; k < 6; k++) {
+        const double (*t)[2] = k < 3 ? a : b;
+        const double *p = t[k % 3], *q = t[(k + 1) % 3];
+        double nx = q[1] - p[1], ny = p[0] - q[0], lo_a = INFINITY, hi_a = -INFINITY,
+               lo_b = INFINITY, hi_b = -INFINITY;
+        for (int i = 0; i < 3; i++) {
+            double x = nx * a[i][0] + ny * a[i][1], y = nx * b[i][0] + ny * b[i][1];
+            lo_a = fmin(lo_a, x);
+            hi_a = fmax(hi_a, x);
+            lo_b = fmin(lo_b, y);
+            hi_b = fmax(hi_b, y);
+        }
+        if (hi_a <= lo_b || hi_b <= lo_a)
+            return true;
+    }
+    return false;
+}
+
+#define COVER_MAX 48            /* triangles of the other surface one piece is laid over */
+
+/* A bound from laying the piece over the other surface: seen along the axis nearest its
+ * normal, where triangles of sd->to that lie within `goal` of it along that axis, and
+ * overlap no other, together cover it (their clipped areas add up to its own), every
+ * point of it has a point of sd->to straight along the axis, no farther than the largest
+ * such offset at the clipped corners (the offset is linear over each clipped part). This
+ * sees what the convex bound cannot: a piece lying along many small triangles, a flat
+ * patch above all. INFINITY where it does not apply. */
+static double cover_bound(const side *sd, const point *v[3], double goal)
+{
+    const target *to = sd->to;
     double e1[3], e2[3], n[3];
     sub3(v[1]->p, v[0]->p, e1);
     sub3(v[2]->p, v[0]->p, e2);
     n[0] = e1[1] * e2[2] - e1[2] * e2[1];
     n[1] = e1[2] * e2[0] - e1[0] * e2[2];
     n[2] = e1[0] * e2[1] - e1[1] * e2[0];
-    double len = sqrt(dot3(n, n));
-    if (!(len > 0))
-        return false;
-    /* the corners' own triangles must lie in the plane too, a cheap test first */
-    for (int k = 0; k < 3; k++)
-        for (int i = 0; i < 3; i++) {
-            double d[3];
-            sub3(sd->to->tri[v[k]->tri] + 3 * i, v[0]->p, d);
-            if (fabs(dot3(d, n)) > sd->abs_tol * len)
-                return false;
-        }
-    int ax = 0;                 /* projected along the normal's largest axis */
+    int ax = 0;
     for (int a = 1; a < 3; a++)
         if (fabs(n[a]) > fabs(n[ax]))
             ax = a;
+    if (!(fabs(n[ax]) > 0))
+        return INFINITY;
     int u = (ax + 1) % 3, w = (ax + 2) % 3;
-    double flip = n[ax] > 0 ? 1 : -1;
     double pp[3][2], lo[3], hi[3];
     for (int k = 0; k < 3; k++) {
-        const point *q = v[flip > 0 ? k : (3 - k) % 3];
+        const point *q = v[n[ax] > 0 ? k : (3 - k) % 3];
         pp[k][0] = q->p[u];
         pp[k][1] = q->p[w];
     }
     for (int a = 0; a < 3; a++) {
-        lo[a] = fmin(v[0]->p[a], fmin(v[1]->p[a], v[2]->p[a])) - sd->abs_tol;
-        hi[a] = fmax(v[0]->p[a], fmax(v[1]->p[a], v[2]->p[a])) + sd->abs_tol;
+        lo[a] = fmin(v[0]->p[a], fmin(v[1]->p[a], v[2]->p[a])) - goal;
+        hi[a] = fmax(v[0]->p[a], fmax(v[1]->p[a], v[2]->p[a])) + goal;
     }
-    double need = len / 2 * fabs(n[ax]) / len, got = 0;
+    double tris[COVER_MAX][3][2], need = poly_area((const double (*)[2])pp, 3), got = 0,
+           worst = 0;
+    int ntris = 0, looked = 0;
     uint32_t stack[STACK_MAX];
     int top = 0;
     stack[top++] = 0;
     while (top > 0) {
-        const limen__tri_node *nd = &to->bvh[stack[--top]];
-        bool apart = false;
+        const limen__tri_node *nd = &to->m->bvh[stack[--top]];
+        bool out = false;
         for (int a = 0; a < 3; a++)
-            apart = apart || nd->lo[a] > hi[a] || nd->hi[a] < lo[a];
-        if (apart)
+            out = out || nd->lo[a] > hi[a] || nd->hi[a] < lo[a];
+        if (out)
             continue;
         if (nd->count == 0) {
             if (top + 2 > STACK_MAX)
-                return false;
+                return INFINITY;
             stack[top++] = nd->index;
-            stack[top++] = (uint32_t)(nd - to->bvh) + 1u;
+            stack[top++] = (uint32_t)(nd - to->m->bvh) + 1u;
             continue;
         }
+        /* a piece far larger than the triangles it lies on is left to cutting */
+        if ((looked += (int)nd->count) > 2 * COVER_MAX)
+            return INFINITY;
         for (uint32_t i = nd->index; i < nd->index + nd->count; i++) {
-            uint32_t t = to->tri_order[i];
-            const double *c[3] = { sd->to->tri[t], sd->to->tri[t] + 3, sd->to->tri[t] + 6 };
-            double tt[3][2];
-            bool flat = true;
-            for (int k = 0; k < 3 && flat; k++) {
-                double d[3];
-                sub3(c[k], v[0]->p, d);
-                flat = fabs(dot3(d, n)) <= sd->abs_tol * len;
-            }
-            if (!flat)
-                continue;
-            double o = (c[1][u] - c[0][u]) * (c[2][w] - c[0][w]) -
-                       (c[1][w] - c[0][w]) * (c[2][u] - c[0][u]);
-            if (o == 0)
-                continue;
+            const double *c = to->tri[to->m->tri_order[i]];
+            double f1[3], f2[3], m[3];
+            sub3(c + 3, c, f1);
+            sub3(c + 6, c, f2);
+            m[ax] = f1[u] * f2[w] - f1[w] * f2[u];
+            if (m[ax] == 0)
+                continue;       /* seen edge-on */
+            m[u] = f1[w] * f2[ax] - f1[ax] * f2[w];
+            m[w] = f1[ax] * f2[u] - f1[u] * f2[ax];
+            if (fmax(c[u], fmax(c[3 + u], c[6 + u])) <= lo[u] + goal ||
+                fmin(c[u], fmin(c[3 + u], c[6 + u])) >= hi[u] - goal ||
+                fmax(c[w], fmax(c[3 + w], c[6 + w])) <= lo[w] + goal ||
+                fmin(c[w], fmin(c[3 + w], c[6 + w])) >= hi[w] - goal)
+                continue;       /* beside the piece as seen */
+            double tt[3][2], part[9][2];
             for (int k = 0; k < 3; k++) {
-                const double *q = c[o > 0 ? k : (3 - k) % 3];
+                const double *q = c + 3 * (m[ax] > 0 ? k : (3 - k) % 3);
                 tt[k][0] = q[u];
                 tt[k][1] = q[w];
             }
-            got += clip_area(pp, tt);
+            int np = clip_tri((const double (*)[2])pp, (const double (*)[2])tt, part);
+            double area = np >= 3 ? poly_area((const double (*)[2])part, np) : 0;
+            if (!(area > 0))
+                continue;
+            /* the offset along the axis from the piece's plane to the triangle's */
+            double off = 0;
+            for (int k = 0; k < np; k++) {
+                double du = part[k][0] - v[0]->p[u], dw = part[k][1] - v[0]->p[w];
+                double hp = v[0]->p[ax] - (n[u] * du + n[w] * dw) / n[ax];
+                double hu = part[k][0] - c[u], hw = part[k][1] - c[w];
+                double ht = c[ax] - (m[u] * hu + m[w] * hw) / m[ax];
+                off = fmax(off, fabs(ht - hp));
+            }
+            if (!(off <= goal))
+                continue;       /* another sheet, or too far to help */
+            if (ntris == COVER_MAX)
+                return INFINITY;
+            for (int j = 0; j < ntris; j++)
+                if (!apart2((const double (*)[2])tris[j], (const double (*)[2])tt))
+                    return INFINITY;    /* folded: the areas would count twice */
+            memcpy(tris[ntris++], tt, sizeof tt);
+            got += area;
+            worst = fmax(worst, off);
         }
     }
-    return got >= need * (1 - 1e-9);
+    /* what the sum leaves uncovered, at most `gap` of area, reaches no farther into the
+     * piece than a disc of that area fits in its sharpest corner */
+    double gap = need - got + 1e-12 * need;
+    if (gap > 1e-9 * need)
+        return INFINITY;
+    double sharpest = M_PI;
+    for (int k = 0; k < 3; k++) {
+        const double *a = pp[k], *b = pp[(k + 1) % 3], *c = pp[(k + 2) % 3];
+        double ab[2] = { b[0] - a[0], b[1] - a[1] }, ac[2] = { c[0] - a[0], c[1] - a[1] };
+        sharpest = fmin(sharpest, atan2(fabs(ab[0] * ac[1] - ab[1] * ac[0]),
+                                        ab[0] * ac[0] + ab[1] * ac[1]));
+    }
+    /* a step in the projection is at most sqrt(3) times as long on the piece */
+    return worst + sqrt(3.0) * sqrt(2 * fmax(gap, 0) / sharpest);
 }
 
 static uint32_t point_hash(const double p[3])
@@ -482,8 +547,12 @@ static void piece(side *sd, const point *a, const point *b, const point *c, int 
     double bound = sqrt(far) + sqrt(longest / 3);
     if (bound > goal)
         bound = fmin(bound, convex_bound(sd, v));
-    if (bound > goal && sqrt(far) <= sd->abs_tol && covered(sd, v))
-        bound = fmin(bound, sd->abs_tol * sqrt(3));
+    /* laying pieces over the other surface, while it succeeds often enough to pay */
+    if (bound > goal && (sd->cover_tries < 64 || sd->cover_hits * 8 > sd->cover_tries)) {
+        bound = fmin(bound, cover_bound(sd, v, goal));
+        sd->cover_tries++;
+        sd->cover_hits += bound <= goal;
+    }
     if (bound <= goal || depth == MAX_DEPTH) {
         sd->upper = fmax(sd->upper, bound);
         return;
@@ -536,8 +605,9 @@ static double side_bound(side *sd)
     return fmax(sd->lower, sd->upper);
 }
 
-/* A bound on the two-sided distance between level (a mesh over m's vertices) and m, or
- * floor where the distance is no more than floor; NAN when out of memory. */
+/* A bound on the two-sided distance between a level (idx, a mesh over the full mesh's
+ * vertices) and the full mesh, or floor where the distance is no more than floor; NAN
+ * when out of memory. */
 static double level_error(const target *full, const uint32_t *idx, uint32_t ntris,
                           double floor)
 {
@@ -545,24 +615,23 @@ static double level_error(const target *full, const uint32_t *idx, uint32_t ntri
     limen__mesh lv = { .nverts = m->nverts, .ntris = ntris, .pos = m->pos,
                        .idx = (uint32_t *)idx };
     target level = { 0 };
-    if (!limen__mesh_bvh(&lv) || !target_make(&level, &lv)) {
-        free(lv.bvh);
-        free(lv.tri_order);
-        return NAN;
-    }
-    double diag = 0;
-    for (int a = 0; a < 3; a++)
-        diag += (m->hi[a] - m->lo[a]) * (m->hi[a] - m->lo[a]);
-    double tol = 1e-6 * sqrt(diag);
-    side there = { .from = &lv, .to = full, .floor = &floor, .abs_tol = tol };
-    side back = { .from = m, .to = &level, .floor = &floor, .abs_tol = tol };
     double e = NAN;
-    if (side_corners(&there) && side_corners(&back))
-        e = fmax(fmax(side_bound(&there), side_bound(&back)), floor);
-    free(there.pts);
-    free(back.pts);
-    free(there.seen);
-    free(back.seen);
+    if (limen__mesh_bvh(&lv) && target_make(&level, &lv)) {
+        double diag = 0;
+        for (int a = 0; a < 3; a++)
+            diag += (m->hi[a] - m->lo[a]) * (m->hi[a] - m->lo[a]);
+        double tol = 1e-6 * sqrt(diag);
+        /* both sides share the floor (what one has found, the other need not beat), and
+         * both find their corners' distances before cutting */
+        side there = { .from = &lv, .to = full, .floor = &floor, .abs_tol = tol };
+        side back = { .from = m, .to = &level, .floor = &floor, .abs_tol = tol };
+        if (side_corners(&there) && side_corners(&back))
+            e = fmax(fmax(side_bound(&there), side_bound(&back)), floor);
+        free(there.pts);
+        free(back.pts);
+        free(there.seen);
+        free(back.seen);
+    }
     free(level.tri);
     free(level.ball);
     free(lv.bvh);
@@ -571,6 +640,61 @@ static double level_error(const target *full, const uint32_t *idx, uint32_t ntri
 }
 
 /* ------------------------------------------------------------------ building */
+
+/* The simplifier names, at each corner, the first vertex at its position (the weld). Where
+ * several share the position (a seam: a crease in the normals, an edge of the texture),
+ * each corner takes instead the one whose normal is nearest its triangle's own, the side
+ * of the seam the triangle lies on. False when out of memory (the corners stay). */
+static bool seam_sides(const limen__mesh *m, const uint32_t *shadow, uint32_t *idx, size_t n)
+{
+    uint32_t nv = m->nverts;
+    uint32_t *weld = malloc(sizeof *weld * nv), *first = calloc(nv + 1, sizeof *first),
+             *members = malloc(sizeof *members * nv);
+    bool ok = weld && first && members;
+    for (uint32_t v = 0; ok && v < nv; v++)
+        weld[v] = UINT32_MAX;
+    for (size_t i = 0; ok && i < (size_t)m->ntris * 3; i++)
+        weld[m->idx[i]] = shadow[i];
+    for (uint32_t v = 0; ok && v < nv; v++)
+        if (weld[v] != UINT32_MAX)
+            first[weld[v] + 1]++;
+    for (uint32_t v = 0; ok && v < nv; v++)
+        first[v + 1] += first[v];
+    for (uint32_t v = 0, *fill = first; ok && v < nv; v++)
+        if (weld[v] != UINT32_MAX)
+            members[fill[weld[v]]++] = v;
+    /* the fill moved each group's start to the next one's: shift back */
+    for (uint32_t v = nv; ok && v > 0; v--)
+        first[v] = first[v - 1];
+    if (ok)
+        first[0] = 0;
+    for (size_t t = 0; ok && t < n / 3; t++) {
+        const float *a = &m->pos[idx[t * 3] * 3], *b = &m->pos[idx[t * 3 + 1] * 3],
+                    *c = &m->pos[idx[t * 3 + 2] * 3];
+        double e1[3] = { b[0] - a[0], b[1] - a[1], b[2] - a[2] },
+               e2[3] = { c[0] - a[0], c[1] - a[1], c[2] - a[2] }, fn[3];
+        fn[0] = e1[1] * e2[2] - e1[2] * e2[1];
+        fn[1] = e1[2] * e2[0] - e1[0] * e2[2];
+        fn[2] = e1[0] * e2[1] - e1[1] * e2[0];
+        for (int k = 0; k < 3; k++) {
+            uint32_t w = idx[t * 3 + k], best = w;
+            double best_dot = -INFINITY;
+            for (uint32_t j = first[w]; j < first[w + 1]; j++) {
+                const float *nr = &m->nrm[members[j] * 3];
+                double d = fn[0] * nr[0] + fn[1] * nr[1] + fn[2] * nr[2];
+                if (d > best_dot) {
+                    best_dot = d;
+                    best = members[j];
+                }
+            }
+            idx[t * 3 + k] = best;
+        }
+    }
+    free(weld);
+    free(first);
+    free(members);
+    return ok;
+}
 
 bool limen__mesh_lods_build(limen__mesh *m)
 {
@@ -644,6 +768,8 @@ bool limen__mesh_lods_build(limen__mesh *m)
     }
     nlods = kept;
     used = packed;
+    if (ok)
+        seam_sides(m, shadow, store, used);
     free(shadow);
     free(scratch);
     free(full.tri);
