@@ -325,6 +325,9 @@ void limen__surface_parts(const limen_renderer *r, const rview *v, const limen_d
     n = m;
     memcpy(a, b, sizeof(double) * 4 * (size_t)n);
     memset(sp->n, 0, sizeof sp->n);
+    sp->nxy = n < 3 ? 0 : n;
+    for (int i = 0; i < sp->nxy; i++)
+        sp->xy[i][0] = a[i][0] / a[i][3], sp->xy[i][1] = a[i][1] / a[i][3];
     /* near and far planes (inside >= 0) and the depths clamping gives beyond them */
     double np[4] = { 0, 0, 1, 1 }, fp[4] = { 0, 0, -1, 1 };
     sp->z[0] = -1, sp->z[1] = 1;
