@@ -533,10 +533,12 @@ double baseline_classic_frame(baseline *b, limen_scene *s, int max_depth, char *
         return -1;
     double t0 = now_ms();
     limen_plan_desc pd = { .width = b->w, .height = b->h, .range = LIMEN_DEPTH_NO,
-                           .clip = LIMEN_CLIP_OBLIQUE, .limit_depth = 1,
-                           .max_depth = max_depth, .no_cull = 1 };
+                           .limits = { .clip = LIMEN_CLIP_OBLIQUE,
+                                       .depth_rule = LIMEN_DEPTH_RULE_CAP, .depth = max_depth,
+                                       .budget = { INT64_MAX, INT64_MAX } },
+                           .cull = LIMEN_CULL_FRUSTUM };
     if (limen_plan_build(b->plan, s, &pd)) {
-        snprintf(err, errsize, "classic: %s", limen_last_error(s));
+        snprintf(err, errsize, "classic: %s", limen_scene_error(s));
         return -1;
     }
     b->nnodes = limen_scene_nodes(s, b->nodes, MAX_NODES);

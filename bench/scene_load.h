@@ -27,7 +27,7 @@ static inline limen_scene *bench_scene_load(const char *dir, const char *name, i
         limen_node_kind k = limen_node_get_kind(s, nodes[i]);
         if ((k == LIMEN_NODE_MIRROR || k == LIMEN_NODE_PORTAL) &&
             limen_surface_set_max_depth(s, nodes[i], depth)) {
-            snprintf(msg, msgsize, "%s: %s", name, limen_last_error(s));
+            snprintf(msg, msgsize, "%s: %s", name, limen_scene_error(s));
             return NULL;
         }
     }

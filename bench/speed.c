@@ -109,7 +109,9 @@ static double run(contender *c)
     char err[300] = "";
     double t0 = cpu_ms(), ms;
     if (c->k == LIMEN) {
-        limen_render_opts o = { .limit_depth = 1, .max_depth = c->depth };
+        limen_render_opts o = {
+            .limits = { .depth_rule = LIMEN_DEPTH_RULE_CAP, .depth = c->depth,
+                        .budget = { INT64_MAX, INT64_MAX } } };
         limen_frame_stats st;
         if (limen_render_frame(c->s->r, c->s->scene, &o, &st))
             die("%s: %s", c->s->name, limen_renderer_error(c->s->r));
@@ -148,10 +150,11 @@ static void check(contender *c, int nc, const char *out, unsigned char *rgb, uns
         } else {
             baseline_read_rgb(g_base, rgb);
         }
-        limen_trace_desc td = { .width = W, .height = H, .limit_depth = 1,
-                                .max_depth = c[i].depth };
+        limen_trace_desc td = { .width = W, .height = H,
+                                .limits = { .depth_rule = LIMEN_DEPTH_RULE_CAP,
+                                            .depth = c[i].depth } };
         if (limen_trace_image(c[i].s->scene, &td, ref))
-            die("trace %s: %s", c[i].s->name, limen_last_error(c[i].s->scene));
+            die("trace %s: %s", c[i].s->name, limen_scene_error(c[i].s->scene));
         limen_diff d;
         if (limen_image_diff(rgb, ref, W, H, BAD_THRESHOLD, &d, NULL))
             die("diff failed");

@@ -179,9 +179,12 @@ static void draw_instances(limen_renderer *r, const limen_view *v, const limen_d
         else
             GL(Disable)(GL_DEPTH_CLAMP);
         GL(Disable)(GL_CULL_FACE);
+        /* fresh storage each time: refilling the old one would wait for the draws queued
+         * on it (llvmpipe) */
+        GLsizeiptr size = (GLsizeiptr)(sizeof(limen__instance) * (size_t)n);
         GL(BindBuffer)(GL_ARRAY_BUFFER, r->inst_vbo);
-        GL(BufferData)(GL_ARRAY_BUFFER, (GLsizeiptr)(sizeof(limen__instance) * (size_t)n), r->inst,
-                       GL_STREAM_DRAW);
+        GL(BufferData)(GL_ARRAY_BUFFER, size, NULL, GL_STREAM_DRAW);
+        GL(BufferSubData)(GL_ARRAY_BUFFER, 0, size, r->inst);
         if (indexed)
             GL(DrawElementsInstanced)(GL_TRIANGLES, count, GL_UNSIGNED_INT,
                                       (void *)(sizeof(uint32_t) * (size_t)first), n);

@@ -162,7 +162,8 @@ typedef struct rview {
     mat4 view, proj, view_proj;
     float px_scale;             /* pixels per unit at distance 1 (for levels of detail) */
     float img_map[4];           /* image pixel = gl_FragCoord * xy + zw in the target */
-    vec4 cull[6];               /* world-space planes of the narrowed frustum (inside >= 0) */
+    vec4 cull[16];              /* world-space planes of the narrowed frustum (inside >= 0),
+                                 * and (stencil method) of the view's pixels */
     int ncull;
 } rview;
 
@@ -174,6 +175,8 @@ typedef struct limen__spoly {
     int n[3];                   /* vertices of the near, far and middle parts */
     float p[3][32][3];
     float z[2];                 /* NDC depth of the near and far planes */
+    double xy[32][2];           /* the whole polygon (the parts' union) in NDC x, y */
+    int nxy;
 } limen__spoly;
 
 /* A view's matrices (proj_pre: the texture method's narrowing, identity otherwise), its cull

@@ -44,6 +44,7 @@
     X(void, GenBuffers, (GLsizei n, GLuint *b))                                          \
     X(void, BindBuffer, (GLenum target, GLuint b))                                       \
     X(void, BufferData, (GLenum target, GLsizeiptr size, const void *data, GLenum use))  \
+    X(void, BufferSubData, (GLenum target, GLintptr off, GLsizeiptr size, const void *data)) \
     X(void, DeleteBuffers, (GLsizei n, const GLuint *b))                                 \
     X(void, GenVertexArrays, (GLsizei n, GLuint *a))                                     \
     X(void, BindVertexArray, (GLuint a))                                                 \

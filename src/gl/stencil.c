@@ -1,8 +1,107 @@
 /* stencil.c - the stencil method of nesting views: every view draws into the frame itself,
  * on the pixels the stencil buffer gives it (views.c draws what a view holds). */
+#include <math.h>
+#include <string.h>
+
 #include "gl/gl_internal.h"
 
-enum { MODE_FLAT = LIMEN__MODE_FLAT };
+enum { MODE_FLAT = LIMEN__MODE_FLAT, AREA_CAP = 32 };
+
+/* ------------------------------------------------------------------ where a view can draw */
+
+/* The pixels a nested view can draw lie inside its surface's polygon, as its parent drew
+ * it, and inside every ancestor's: the polygons nest on the one image. Their intersection,
+ * kept on the processor as a convex polygon in image pixels (x, y, 0, 1, for the clipper),
+ * tells what cannot touch the view's pixels and need not be drawn: the things outside it
+ * and the surfaces outside it with all that lies behind them. The planner knows only the
+ * view's rectangle, which is often twice the polygon (a reflection seen at a slant is a
+ * sliver across it). The stencil test alone decides which pixels are drawn, so leaving out
+ * a draw that could not pass it changes no pixel; the edges are pushed out by AREA_MARGIN
+ * pixels, far more than rasterization rounds. */
+#define AREA_MARGIN 2.0
+typedef struct area {
+    int n;
+    double p[AREA_CAP][4];
+} area;
+
+static void area_of_rect(const int rect[4], area *a)
+{
+    double x0 = rect[0], y0 = rect[1], x1 = rect[0] + rect[2], y1 = rect[1] + rect[3];
+    const double c[4][2] = { { x0, y0 }, { x1, y0 }, { x1, y1 }, { x0, y1 } };
+    a->n = 4;
+    for (int i = 0; i < 4; i++) {
+        a->p[i][0] = c[i][0], a->p[i][1] = c[i][1];
+        a->p[i][2] = 0, a->p[i][3] = 1;
+    }
+}
+
+/* Edge i of a (turning either way) as a line inside >= 0, pushed out by AREA_MARGIN. */
+static bool area_edge(const area *a, int i, double line[3])
+{
+    double turn = 0;
+    for (int k = 0; k < a->n; k++) {
+        const double *p = a->p[k], *q = a->p[(k + 1) % a->n];
+        turn += p[0] * q[1] - q[0] * p[1];
+    }
+    const double *p = a->p[i], *q = a->p[(i + 1) % a->n];
+    double ex = q[0] - p[0], ey = q[1] - p[1], len = sqrt(ex * ex + ey * ey);
+    if (!(len > 0) || turn == 0)
+        return false;
+    double s = turn > 0 ? 1 : -1;
+    line[0] = -s * ey, line[1] = s * ex;
+    line[2] = s * (ey * p[0] - ex * p[1]) + AREA_MARGIN * len;
+    return true;
+}
+
+/* The area of the view seen through the surface of sp: its polygon within the parent's
+ * area. False where nothing is left. */
+static bool area_within(const limen_renderer *r, const limen__spoly *sp, const area *parent,
+                        area *out)
+{
+    if (sp->nxy < 3)
+        return false;
+    out->n = sp->nxy;
+    for (int i = 0; i < sp->nxy; i++) {
+        out->p[i][0] = (sp->xy[i][0] + 1) * 0.5 * r->width;
+        out->p[i][1] = (sp->xy[i][1] + 1) * 0.5 * r->height;
+        out->p[i][2] = 0, out->p[i][3] = 1;
+    }
+    double tmp[AREA_CAP][4];
+    for (int e = 0; e < parent->n && out->n + 1 < AREA_CAP; e++) {
+        double line[3];
+        if (!area_edge(parent, e, line))
+            continue;
+        const double plane[4] = { line[0], line[1], 0, line[2] };
+        out->n = limen_clip_polygon(&out->p[0][0], out->n, plane, &tmp[0][0], AREA_CAP);
+        if (out->n < 3)
+            return false;
+        memcpy(out->p, tmp, sizeof(double) * 4 * (size_t)out->n);
+    }
+    return true;
+}
+
+/* Adds the planes through the eye and the area's edges to v's cull planes, as many as fit. */
+static void cull_to_area(const limen_renderer *r, rview *v, const area *a)
+{
+    const int cap = (int)(sizeof v->cull / sizeof v->cull[0]);
+    double W = r->width, H = r->height;
+    for (int e = 0; e < a->n && v->ncull < cap; e++) {
+        double line[3];
+        if (!area_edge(a, e, line))
+            continue;
+        /* pixel x = (x_clip / w + 1) W / 2: the line times w, in clip coordinates */
+        double cx = line[0] * W / 2, cy = line[1] * H / 2, cw = cx + cy + line[2];
+        double pl[4];
+        for (int c = 0; c < 4; c++)
+            pl[c] = cx * v->view_proj[c][0] + cy * v->view_proj[c][1] + cw * v->view_proj[c][3];
+        double len = sqrt(pl[0] * pl[0] + pl[1] * pl[1] + pl[2] * pl[2]);
+        if (!(len > 0))
+            continue;
+        for (int c = 0; c < 4; c++)
+            v->cull[v->ncull][c] = (float)(pl[c] / len);
+        v->ncull++;
+    }
+}
 
 /* The far-plane fill limited to a nested view's region: the parts of the surface it is
  * seen through, as the parent view drew them (stencil decides the rest). */
@@ -10,6 +109,25 @@ static void draw_region_fill(limen_renderer *r, const rview *v, const limen__spo
                              const float rgb[3])
 {
     limen__flat_parts(r, v, reg, rgb, true, r->range == LIMEN_DEPTH_ZO_REVERSED ? 0.0f : 1.0f);
+}
+
+/* The pixels of rect that the area can touch: rect narrowed to the area's bounding box,
+ * rounded outward (the margin is inside the area already). */
+static void area_rect(const area *a, const int rect[4], int out[4])
+{
+    double x0 = INFINITY, y0 = INFINITY, x1 = -INFINITY, y1 = -INFINITY;
+    for (int i = 0; i < a->n; i++) {
+        x0 = fmin(x0, a->p[i][0]), x1 = fmax(x1, a->p[i][0]);
+        y0 = fmin(y0, a->p[i][1]), y1 = fmax(y1, a->p[i][1]);
+    }
+    int lo[2] = { rect[0], rect[1] }, hi[2] = { rect[0] + rect[2], rect[1] + rect[3] };
+    if (a->n >= 3) {
+        lo[0] = (int)fmax(lo[0], floor(x0)), hi[0] = (int)fmin(hi[0], ceil(x1));
+        lo[1] = (int)fmax(lo[1], floor(y0)), hi[1] = (int)fmin(hi[1], ceil(y1));
+    }
+    out[0] = lo[0], out[1] = lo[1];
+    out[2] = hi[0] > lo[0] ? hi[0] - lo[0] : 0;
+    out[3] = hi[1] > lo[1] ? hi[1] - lo[1] : 0;
 }
 
 static void set_scissor(limen_renderer *r, const int rect[4])
@@ -61,6 +179,20 @@ static void view_background(limen_renderer *r, const rview *v, const limen__spol
     GL(DepthFunc)(limen__depth_less(r));
 }
 
+/* The drawable of the k-th surface view v sees when it recurses into it and the surface
+ * can touch the view's pixels (ar: the view's area), with its parts in sp and the area of
+ * the view through it in child; NULL otherwise. */
+static const limen_drawable *live_child(limen_renderer *r, const rview *v,
+                                        const limen_view_surface *vs, const area *ar,
+                                        limen__spoly *sp, area *child)
+{
+    const limen_drawable *node = limen__recursed(r, vs);
+    if (!node)
+        return NULL;
+    limen__surface_parts(r, v, node, sp);
+    return area_within(r, sp, ar, child) ? node : NULL;
+}
+
 /* Pixels of view `index` hold stencil == sv when this is called, reg the parts of the surface
  * the view is seen through (NULL for the root view).
  *
@@ -68,17 +200,22 @@ static void view_background(limen_renderer *r, const rview *v, const limen__spol
  * recurses into are laid into depth first (flat polygons, cheap), so that the view's things
  * are shaded only where nothing nearer, surface or thing, covers them; then each surface is
  * marked where its depth survived (its visible pixels) and its view drawn there. */
-static void stencil_view(limen_renderer *r, int index, const limen__spoly *reg, int sv,
-                         stencil_ids *ids)
+static void stencil_view(limen_renderer *r, int index, const limen__spoly *reg, const area *ar,
+                         int sv, stencil_ids *ids)
 {
     mat4 id;
     glm_mat4_identity(id);
     rview v;
     limen__rview_make(r, index, id, &v);
-    limen__rview_cull(r, &v, v.pub->scissor);
+    /* the pixels it may draw: its rectangle, narrowed to its area */
+    int rect[4];
+    area_rect(ar, v.pub->scissor, rect);
+    limen__rview_cull(r, &v, rect);
+    if (reg)
+        cull_to_area(r, &v, ar);
     const limen_view_surface *vs;
     int n = limen_plan_view_surfaces(r->plan, index, &vs);
-    set_scissor(r, v.pub->scissor);
+    set_scissor(r, rect);
     /* the camera's view draws before any mark, where every pixel holds 0: its passes need
      * no stencil test (the first mark turns it on) */
     if (reg)
@@ -108,13 +245,11 @@ static void stencil_view(limen_renderer *r, int index, const limen__spoly *reg, 
     limen__rview_apply(r, &v);
     /* (the parts are recomputed where needed: the same floats come out each time) */
     limen__spoly sp;
+    area child;
     const limen_drawable *node;
-    for (int k = 0; k < n; k++) {
-        if (!(node = limen__recursed(r, &vs[k])))
-            continue;
-        limen__surface_parts(r, &v, node, &sp);
-        limen__surface_flat(r, &v, node, MODE_FLAT, r->background, &sp);
-    }
+    for (int k = 0; k < n; k++)
+        if ((node = live_child(r, &v, &vs[k], ar, &sp, &child)))
+            limen__surface_flat(r, &v, node, MODE_FLAT, r->background, &sp);
 
     /* shade this view's things where they are nearest */
     GL(ColorMask)(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
@@ -124,34 +259,27 @@ static void stencil_view(limen_renderer *r, int index, const limen__spoly *reg, 
 
     if (ids->unique) {
         const int first = ids->next;
-        for (int k = 0; k < n; k++) {
-            if (!(node = limen__recursed(r, &vs[k])))
-                continue;
-            limen__surface_parts(r, &v, node, &sp);
-            mark_surface(r, &v, node, &sp, sv, ids->next++);
-        }
+        for (int k = 0; k < n; k++)
+            if ((node = live_child(r, &v, &vs[k], ar, &sp, &child)))
+                mark_surface(r, &v, node, &sp, sv, ids->next++);
         if (reg && !paint)
             view_background(r, &v, reg, sv);
         int cv = first;
-        for (int k = 0; k < n; k++) {
-            if (!(node = limen__recursed(r, &vs[k])))
-                continue;
-            limen__surface_parts(r, &v, node, &sp);
-            stencil_view(r, vs[k].child, &sp, cv++, ids);
-        }
+        for (int k = 0; k < n; k++)
+            if (live_child(r, &v, &vs[k], ar, &sp, &child))
+                stencil_view(r, vs[k].child, &sp, &child, cv++, ids);
         GL(ColorMask)(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
         return;
     }
 
     for (int k = 0; k < n; k++) {
-        if (!(node = limen__recursed(r, &vs[k])))
+        if (!(node = live_child(r, &v, &vs[k], ar, &sp, &child)))
             continue;
-        limen__surface_parts(r, &v, node, &sp);
         mark_surface(r, &v, node, &sp, sv, sv + 1);
-        stencil_view(r, vs[k].child, &sp, sv + 1, ids);
+        stencil_view(r, vs[k].child, &sp, &child, sv + 1, ids);
 
         /* seal: back to this view's value, with the surface's depth over the child's */
-        set_scissor(r, v.pub->scissor);
+        set_scissor(r, rect);
         limen__rview_apply(r, &v);
         GL(ColorMask)(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
         GL(StencilFunc)(GL_EQUAL, sv + 1, 0xFF);
@@ -171,7 +299,9 @@ limen_status limen__draw_stencil(limen_renderer *r)
 {
     limen__lights_set(r);
     stencil_ids ids = { .unique = limen_plan_count(r->plan) <= 255, .next = 1 };
-    stencil_view(r, 0, NULL, 0, &ids);
+    area all;
+    area_of_rect(limen_plan_view(r->plan, 0)->scissor, &all);
+    stencil_view(r, 0, NULL, &all, 0, &ids);
     GL(Disable)(GL_STENCIL_TEST);
     GL(Disable)(GL_SCISSOR_TEST);
     GL(FrontFace)(GL_CCW);

@@ -308,6 +308,9 @@ void limen__surface_parts(const limen_renderer *r, const rview *v, const limen_d
     n = m;
     memcpy(a, b, sizeof(double) * 4 * (size_t)n);
     memset(sp->n, 0, sizeof sp->n);
+    sp->nxy = n < 3 ? 0 : n;
+    for (int i = 0; i < sp->nxy; i++)
+        sp->xy[i][0] = a[i][0] / a[i][3], sp->xy[i][1] = a[i][1] / a[i][3];
     /* near and far planes (inside >= 0) and the depths clamping gives beyond them */
     double np[4] = { 0, 0, 1, 1 }, fp[4] = { 0, 0, -1, 1 };
     sp->z[0] = -1, sp->z[1] = 1;
@@ -328,7 +331,11 @@ void limen__surface_parts(const limen_renderer *r, const rview *v, const limen_d
 }
 
 /* Draws the parts of sp with the bound program (positions in NDC): at their own depth, or
- * all at z where fixed. */
+ * all at z where fixed. The vertices go into fresh storage each time (the buffer orphaned,
+ * then filled): llvmpipe serves a same-sized glBufferData of new data as a write into the
+ * old storage, and so first finishes every draw queued so far that might read it, which
+ * made the stencil method's hundreds of flat passes a frame wait, one by one, for the
+ * rasterizer threads. */
 static void draw_parts(limen_renderer *r, const limen__spoly *sp, bool fixed, float z)
 {
     if (!r->poly_vao) {
@@ -342,26 +349,36 @@ static void draw_parts(limen_renderer *r, const limen__spoly *sp, bool fixed, fl
         GL(VertexAttribPointer)(1, 3, GL_FLOAT, GL_FALSE, sizeof(limen__vertex),
                                 (void *)offsetof(limen__vertex, nrm));
     }
-    GL(BindVertexArray)(r->poly_vao);
-    GL(BindBuffer)(GL_ARRAY_BUFFER, r->poly_vbo);
+    limen__vertex buf[3 * 32];
+    int first[3], total = 0;
     for (int part = 0; part < 3; part++) {
         int n = sp->n[part];
+        first[part] = total;
         if (n < 3)
             continue;
-        limen__vertex buf[32];
         float pz = fixed ? z : part < 2 ? sp->z[part] : 0;
         for (int i = 0; i < n; i++) {
-            buf[i].pos[0] = sp->p[part][i][0];
-            buf[i].pos[1] = sp->p[part][i][1];
-            buf[i].pos[2] = !fixed && part == 2 ? sp->p[part][i][2] : pz;
-            buf[i].nrm[0] = buf[i].nrm[1] = 0, buf[i].nrm[2] = 1;
+            limen__vertex *b = &buf[total + i];
+            b->pos[0] = sp->p[part][i][0];
+            b->pos[1] = sp->p[part][i][1];
+            b->pos[2] = !fixed && part == 2 ? sp->p[part][i][2] : pz;
+            b->nrm[0] = b->nrm[1] = 0, b->nrm[2] = 1;
         }
-        GL(BufferData)(GL_ARRAY_BUFFER, (GLsizeiptr)(sizeof(limen__vertex) * (size_t)n), buf,
-                       GL_STREAM_DRAW);
-        GL(DrawArrays)(GL_TRIANGLE_FAN, 0, n);
-        r->draw_calls++;
-        r->triangles += (uint64_t)n - 2;
+        total += n;
     }
+    if (!total)
+        return;
+    GL(BindVertexArray)(r->poly_vao);
+    GL(BindBuffer)(GL_ARRAY_BUFFER, r->poly_vbo);
+    GLsizeiptr size = (GLsizeiptr)(sizeof(limen__vertex) * (size_t)total);
+    GL(BufferData)(GL_ARRAY_BUFFER, size, NULL, GL_STREAM_DRAW);
+    GL(BufferSubData)(GL_ARRAY_BUFFER, 0, size, buf);
+    for (int part = 0; part < 3; part++)
+        if (sp->n[part] >= 3) {
+            GL(DrawArrays)(GL_TRIANGLE_FAN, first[part], sp->n[part]);
+            r->draw_calls++;
+            r->triangles += (uint64_t)sp->n[part] - 2;
+        }
     GL(BindVertexArray)(r->vao);
     GL(BindBuffer)(GL_ARRAY_BUFFER, r->vbo);
 }
