@@ -2,14 +2,16 @@
  * simplifier, each level about half the triangles of the one before), each with a measured
  * bound on its distance from the full mesh; and which level a view draws.
  *
- * The error of a level is a certified upper bound on the two-sided Hausdorff distance between
- * its surface and the full mesh's. For one side (surface A against surface B), the distance
- * to B is the smallest of the distances to B's triangles, and the distance to one triangle is
- * a convex function, so over a piece of A it is largest at one of the piece's corners: the
- * largest corner distance to any one triangle of B bounds the whole piece. Pieces whose bound
- * stays within a few per cent of the largest distance found at a corner are done; the others
- * are cut in four, down to a fixed depth. Corners find their nearest triangle through a
- * hierarchy over B (the ray tracer's, for the full mesh). */
+ * The error of a level is an upper bound on the two-sided Hausdorff distance between its
+ * surface and the full mesh's. For one side (surface A against surface B): every corner of
+ * A finds its nearest triangle of B (through a hierarchy over B, the ray tracer's for the
+ * full mesh), and the largest of those distances is a lower bound. Then each triangle of A,
+ * a piece, is bounded over its whole area by the least of: its farthest corner's distance
+ * plus how far a point can be from a corner (the distance is 1-Lipschitz); the planes
+ * through the corners' distances to each corner's nearest triangle (the distance to one
+ * triangle is convex); the largest offset to the triangles of B it lies over (seen along
+ * its normal's axis). A piece whose bound exceeds the lower bound by more than REL_TOL is cut
+ * in four, down to MAX_DEPTH; the answer is the largest bound of a finished piece. */
 #include <float.h>
 #include <math.h>
 #include <string.h>
