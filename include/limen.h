@@ -564,8 +564,8 @@ typedef struct limen_limits {
 #define LIMEN_LOD_FULL (-1.0f)  /* limen_limits.lod_pixels: no levels of detail */
 /* The default bound, an eighth of a pixel: a coarser level moves the surface by less than
  * that, but it also shades with fewer normals than the full mesh, and the picture's error
- * grows with the bound (README: about 2.6% of a 320x240 frame of the hall of mirrors at 1
- * pixel, 0.07% at this one). */
+ * grows with the bound (README: 2.6% of a 320x240 frame of the hall of mirrors off the
+ * tracer at 1 pixel, 0.15% at this one). */
 #define LIMEN_LOD_DEFAULT 0.125f
 
 /* Which surfaces a view keeps. */
