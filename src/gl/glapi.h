@@ -38,6 +38,7 @@
     X(void, CullFace, (GLenum mode))                                                     \
     X(void, BlendFunc, (GLenum s, GLenum d))                                             \
     X(void, Finish, (void))                                                              \
+    X(void, Flush, (void))                                                               \
     X(void, ReadPixels, (GLint x, GLint y, GLsizei w, GLsizei h, GLenum f, GLenum t,     \
                          void *p))                                                       \
     X(void, PixelStorei, (GLenum pname, GLint param))                                    \

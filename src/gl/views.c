@@ -386,7 +386,7 @@ static void draw_parts(limen_renderer *r, const limen__spoly *sp, bool fixed, fl
 /* Flat polygons in one colour (times the view's tint) with the fill program; the main
  * program is bound again after. */
 void limen__flat_parts(limen_renderer *r, const rview *v, const limen__spoly *sp,
-                            const float rgb[3], bool fixed, float z)
+                       const float rgb[3], bool fixed, float z)
 {
     const float *t = v->pub->tint;
     float c[3] = { rgb[0] * t[0], rgb[1] * t[1], rgb[2] * t[2] };
@@ -401,7 +401,7 @@ void limen__flat_parts(limen_renderer *r, const rview *v, const limen__spoly *sp
 /* A surface's flat pass (mark, seal, fill: flat colour; or the previous frame's picture)
  * from its parts (computed here where sp is NULL). */
 void limen__surface_flat(limen_renderer *r, const rview *v, const limen_drawable *node,
-                              int mode, const float *albedo, const limen__spoly *sp)
+                         int mode, const float *albedo, const limen__spoly *sp)
 {
     limen__spoly own;
     if (!sp) {
