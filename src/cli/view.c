@@ -63,6 +63,9 @@ typedef struct viewer {
     int nfiles;
     int held;                           /* the person moves the camera: pose wins */
     float pose[16];                     /* the camera's world matrix while held */
+    limen_cli_pose snapped;             /* the pose that made ... */
+    float snapped_m[16];                /* ... this camera matrix (snap) */
+    int have_snapped;
     double t, speed;
     int paused, looking, shot;
     float mouse_dx, mouse_dy;
@@ -161,14 +164,20 @@ static void walk(viewer *v, const float d[3])
     take_pose(v);
 }
 
-/* Rebuilds the camera from the pose a screenshot prints (eye, look, up as floats), so that
- * `--eye --look --up` gives this very camera again, bit for bit. (A scale that a portal
- * pair of two sizes gave the camera is dropped: it would only move the near plane.) */
+/* Rebuilds the camera from a pose (eye, look, up as floats) and keeps that pose for the
+ * screenshot to print, so that `--eye --look --up` gives this very camera again, bit for
+ * bit (the pose read back from the rebuilt camera may differ from it in the last bits).
+ * (A scale that a portal pair of two sizes gave the camera is dropped: it would only move
+ * the near plane.) */
 static void snap(viewer *v)
 {
     limen_cli_pose p;
-    if (!limen_cli_pose_get(scene(v), &p) && !limen_cli_pose_apply(scene(v), &p))
+    if (!limen_cli_pose_get(scene(v), &p) && !limen_cli_pose_apply(scene(v), &p)) {
         take_pose(v);
+        v->snapped = p;
+        memcpy(v->snapped_m, v->pose, sizeof v->snapped_m);
+        v->have_snapped = v->held;
+    }
 }
 
 static void controls(viewer *v, double dt)
@@ -311,7 +320,12 @@ static void screenshot(viewer *v)
     }
     limen_cli_pose pose;
     printf("screenshot %s ", path);
-    if (!limen_cli_pose_get(scene(v), &pose))
+    float m[16];
+    limen_node cam = limen_scene_get_camera(scene(v));
+    if (v->have_snapped && cam.id && !limen_node_world_matrix(scene(v), cam, m) &&
+        !memcmp(m, v->snapped_m, sizeof m))
+        limen_cli_pose_print(stdout, &v->snapped);
+    else if (!limen_cli_pose_get(scene(v), &pose))
         limen_cli_pose_print(stdout, &pose);
     if (limen_script_animated(v->sc))
         printf(" --time %.9g", v->t);
