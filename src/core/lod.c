@@ -23,6 +23,7 @@
 
 #define MAX_LEVELS 12           /* the full mesh and up to 11 coarser ones */
 #define MIN_TRIS 16             /* a level this small gets no halved successor */
+#define SOURCE_STEP 3           /* a level is simplified from the one this many before */
 #define REL_TOL 0.1             /* a piece's bound may exceed the largest distance found by this */
 #define MAX_DEPTH 4             /* pieces per triangle: at most 4^4 */
 #define STACK_MAX 64
@@ -209,7 +210,8 @@ typedef struct side {
     const target *to;           /* the surface measured against */
     point *pts;                 /* per vertex of from */
     double lower;               /* the largest distance found at a point */
-    double upper;               /* the largest bound of a finished piece */
+    double *upper;              /* the largest bound of a finished piece (both sides share
+                                 * it): a piece bounded below it need not be cut */
     double *floor;              /* a bound at most this (both sides share it) needs no cutting */
     double abs_tol;             /* below this a bound counts as met */
     point *seen;                /* points cut so far (open addressing on their coordinates):
@@ -536,7 +538,8 @@ static double convex_bound(const side *sd, const point *v[3])
 static void piece(side *sd, const point *a, const point *b, const point *c, int depth)
 {
     const point *v[3] = { a, b, c };
-    double goal = *sd->floor * (1 + REL_TOL) + sd->abs_tol;
+    /* what the answer already holds, cutting cannot lower */
+    double goal = fmax(*sd->floor * (1 + REL_TOL) + sd->abs_tol, *sd->upper);
     /* the distance changes no faster than the point moves, and every point of the piece
      * lies within its longest edge / sqrt(3) of a corner */
     double far = 0, longest = 0;
@@ -556,7 +559,7 @@ static void piece(side *sd, const point *a, const point *b, const point *c, int 
         sd->cover_hits += bound <= goal;
     }
     if (bound <= goal || depth == MAX_DEPTH) {
-        sd->upper = fmax(sd->upper, bound);
+        *sd->upper = fmax(*sd->upper, bound);
         return;
     }
     point mid[3];               /* ab, bc, ca */
@@ -604,7 +607,7 @@ static double side_bound(side *sd)
               &sd->pts[from->idx[t * 3 + 2]], 0);
     free(sd->pts);
     sd->pts = NULL;
-    return fmax(sd->lower, sd->upper);
+    return fmax(sd->lower, *sd->upper);
 }
 
 /* A bound on the two-sided distance between a level (idx, a mesh over the full mesh's
@@ -625,8 +628,11 @@ static double level_error(const target *full, const uint32_t *idx, uint32_t ntri
         double tol = 1e-6 * sqrt(diag);
         /* both sides share the floor (what one has found, the other need not beat), and
          * both find their corners' distances before cutting */
-        side there = { .from = &lv, .to = full, .floor = &floor, .abs_tol = tol };
-        side back = { .from = m, .to = &level, .floor = &floor, .abs_tol = tol };
+        double upper = 0;
+        side there = { .from = &lv, .to = full, .floor = &floor, .upper = &upper,
+                       .abs_tol = tol };
+        side back = { .from = m, .to = &level, .floor = &floor, .upper = &upper,
+                      .abs_tol = tol };
         if (side_corners(&there) && side_corners(&back))
             e = fmax(fmax(side_bound(&there), side_bound(&back)), floor);
         free(there.pts);
@@ -721,19 +727,25 @@ bool limen__mesh_lods_build(limen__mesh *m)
     float scale = ok ? meshopt_simplifyScale(m->pos, m->nverts, sizeof(float) * 3) : 0;
     double prev = 0;
     while (ok && nlods < MAX_LEVELS && cur_n >= 6) {
-        /* each level from the full mesh, half the triangles of the last while there is much
-         * to halve; then once only what costs (next to) nothing, which takes a flat patch
-         * down to its outline */
+        /* half the triangles of the last level while there is much to halve; then once only
+         * what costs (next to) nothing, which takes a flat patch down to its outline. Each
+         * from the level SOURCE_STEP before (or the full mesh): the simplifier's work stays
+         * a few times the full mesh's in all, not once per level, while a level is not
+         * built on the last one's choices alone (which left the bunny's coarse levels
+         * worse) */
         bool halve = cur_n / 3 >= MIN_TRIS;
         float err = 0;
-        size_t n = meshopt_simplify(scratch, shadow, n0, m->pos, m->nverts, sizeof(float) * 3,
+        const uint32_t *src = nlods <= SOURCE_STEP ? shadow : store + at[nlods - SOURCE_STEP];
+        size_t src_n = nlods <= SOURCE_STEP ? n0
+                                            : (size_t)lods[nlods - SOURCE_STEP].triangle_count * 3;
+        size_t n = meshopt_simplify(scratch, src, src_n, m->pos, m->nverts, sizeof(float) * 3,
                                     halve ? cur_n / 6 * 3 : 0, halve ? FLT_MAX : 1e-5f, 0, &err);
         if (n == 0 || n * 4 > cur_n * 3 || used + n > cap)
             break;
         memcpy(store + used, scratch, sizeof(uint32_t) * n);
-        /* the simplifier's own estimate may not be undercut; nor, while halving, the level
-         * before (a coarser level no better than a finer one takes its place, below): what
-         * lies below them needs no measuring */
+        /* the simplifier's own estimate (from its source) may not be undercut; nor, while
+         * halving, the level before (a coarser level no better than a finer one takes its
+         * place, below): what lies below them needs no measuring */
         double estimate = (double)err * scale;
         double e = level_error(&full, store + used, (uint32_t)(n / 3),
                                halve ? fmax(estimate, prev) : estimate);
