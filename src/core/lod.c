@@ -104,18 +104,34 @@ typedef struct target {
     const limen__mesh *m;
     double (*tri)[9];
     double (*ball)[4];          /* per triangle: a sphere around it (centre, radius) */
+    uint32_t *at_vertex;        /* per vertex: a triangle with a corner there, or UINT32_MAX */
 } target;
 
-/* The corners table of m; false when out of memory. */
-static bool target_make(target *t, const limen__mesh *m)
+static void target_free(target *t)
+{
+    free(t->tri);
+    free(t->ball);
+    free(t->at_vertex);
+}
+
+/* The corners table of m; false when out of memory. weld, where not NULL: per corner of m,
+ * another vertex at the corner's position, which finds the triangle too. */
+static bool target_make(target *t, const limen__mesh *m, const uint32_t *weld)
 {
     t->m = m;
     t->tri = malloc(sizeof *t->tri * m->ntris);
     t->ball = malloc(sizeof *t->ball * m->ntris);
-    if (!t->tri || !t->ball) {
-        free(t->tri);
-        free(t->ball);
+    t->at_vertex = malloc(sizeof *t->at_vertex * m->nverts);
+    if (!t->tri || !t->ball || !t->at_vertex) {
+        target_free(t);
         return false;
+    }
+    for (uint32_t v = 0; v < m->nverts; v++)
+        t->at_vertex[v] = UINT32_MAX;
+    for (size_t i = 0; i < (size_t)m->ntris * 3; i++) {
+        t->at_vertex[m->idx[i]] = (uint32_t)(i / 3);
+        if (weld)
+            t->at_vertex[weld[i]] = (uint32_t)(i / 3);
     }
     for (uint32_t i = 0; i < m->ntris; i++) {
         double *c = t->ball[i], r2 = 0;
@@ -156,6 +172,8 @@ static double nearest(const target *to, const double p[3], uint32_t hint, uint32
     const limen__mesh *m = to->m;
     double best = to_tri(to, hint, p);
     *tri = hint;
+    if (best == 0)
+        return 0;               /* on it: nothing is nearer */
     struct { uint32_t node; double d2; } stack[STACK_MAX];
     int top = 0;
     stack[top].node = 0;
@@ -208,6 +226,7 @@ typedef struct point {
 typedef struct side {
     const limen__mesh *from;    /* the surface measured: from->idx over from->pos */
     const target *to;           /* the surface measured against */
+    const uint32_t *weld;       /* per corner of from, where not NULL: its vertex of to */
     point *pts;                 /* per vertex of from */
     double lower;               /* the largest distance found at a point */
     double *upper;              /* the largest bound of a finished piece (both sides share
@@ -590,7 +609,9 @@ static bool side_corners(side *sd)
             continue;
         for (int a = 0; a < 3; a++)
             q->p[a] = from->pos[from->idx[i] * 3 + a];
-        locate(sd, q, hint);
+        /* a corner the other surface shares lies on a triangle there: found at once */
+        uint32_t on = sd->to->at_vertex[sd->weld ? sd->weld[i] : from->idx[i]];
+        locate(sd, q, on != UINT32_MAX ? on : hint);
         hint = q->tri;
     }
     return true;
@@ -611,17 +632,18 @@ static double side_bound(side *sd)
 }
 
 /* A bound on the two-sided distance between a level (idx, a mesh over the full mesh's
- * vertices) and the full mesh, or floor where the distance is no more than floor; NAN
- * when out of memory. */
-static double level_error(const target *full, const uint32_t *idx, uint32_t ntris,
-                          double floor)
+ * vertices, welded: per corner of the full mesh, weld names its vertex at the same position)
+ * and the full mesh, or floor where the distance is no more than floor; NAN when out of
+ * memory. */
+static double level_error(const target *full, const uint32_t *weld, const uint32_t *idx,
+                          uint32_t ntris, double floor)
 {
     const limen__mesh *m = full->m;
     limen__mesh lv = { .nverts = m->nverts, .ntris = ntris, .pos = m->pos,
                        .idx = (uint32_t *)idx };
     target level = { 0 };
     double e = NAN;
-    if (limen__mesh_bvh(&lv) && target_make(&level, &lv)) {
+    if (limen__mesh_bvh(&lv) && target_make(&level, &lv, NULL)) {
         double diag = 0;
         for (int a = 0; a < 3; a++)
             diag += (m->hi[a] - m->lo[a]) * (m->hi[a] - m->lo[a]);
@@ -631,8 +653,8 @@ static double level_error(const target *full, const uint32_t *idx, uint32_t ntri
         double upper = 0;
         side there = { .from = &lv, .to = full, .floor = &floor, .upper = &upper,
                        .abs_tol = tol };
-        side back = { .from = m, .to = &level, .floor = &floor, .upper = &upper,
-                      .abs_tol = tol };
+        side back = { .from = m, .to = &level, .weld = weld, .floor = &floor,
+                      .upper = &upper, .abs_tol = tol };
         if (side_corners(&there) && side_corners(&back))
             e = fmax(fmax(side_bound(&there), side_bound(&back)), floor);
         free(there.pts);
@@ -640,8 +662,7 @@ static double level_error(const target *full, const uint32_t *idx, uint32_t ntri
         free(there.seen);
         free(back.seen);
     }
-    free(level.tri);
-    free(level.ball);
+    target_free(&level);
     free(lv.bvh);
     free(lv.tri_order);
     return e;
@@ -711,7 +732,7 @@ bool limen__mesh_lods_build(limen__mesh *m)
     unsigned char *block = malloc(head + sizeof(uint32_t) * cap);
     uint32_t *shadow = malloc(sizeof(uint32_t) * n0), *scratch = malloc(sizeof(uint32_t) * n0);
     target full = { 0 };
-    bool ok = block && shadow && scratch && target_make(&full, m);
+    bool ok = block && shadow && scratch;
     limen_mesh_lod *lods = (limen_mesh_lod *)block;
     uint32_t *store = (uint32_t *)(block + head);
     size_t at[MAX_LEVELS] = { 0 }, used = 0;
@@ -722,6 +743,7 @@ bool limen__mesh_lods_build(limen__mesh *m)
          * simplifier back; each weld keeps one of the original vertices */
         meshopt_generateShadowIndexBuffer(shadow, m->idx, n0, m->pos, m->nverts,
                                           sizeof(float) * 3, sizeof(float) * 3);
+        ok = target_make(&full, m, shadow);
     }
     size_t cur_n = n0;
     float scale = ok ? meshopt_simplifyScale(m->pos, m->nverts, sizeof(float) * 3) : 0;
@@ -747,7 +769,7 @@ bool limen__mesh_lods_build(limen__mesh *m)
          * halving, the level before (a coarser level no better than a finer one takes its
          * place, below): what lies below them needs no measuring */
         double estimate = (double)err * scale;
-        double e = level_error(&full, store + used, (uint32_t)(n / 3),
+        double e = level_error(&full, shadow, store + used, (uint32_t)(n / 3),
                                halve ? fmax(estimate, prev) : estimate);
         if (isnan(e)) {
             ok = false;
@@ -786,8 +808,7 @@ bool limen__mesh_lods_build(limen__mesh *m)
         seam_sides(m, shadow, store, used);
     free(shadow);
     free(scratch);
-    free(full.tri);
-    free(full.ball);
+    target_free(&full);
     if (!ok) {
         free(block);
         return false;
