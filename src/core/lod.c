@@ -11,7 +11,11 @@
  * through the corners' distances to each corner's nearest triangle (the distance to one
  * triangle is convex); the largest offset to the triangles of B it lies over (seen along
  * its normal's axis). A piece whose bound exceeds the lower bound by more than REL_TOL is cut
- * in four, down to MAX_DEPTH; the answer is the largest bound of a finished piece. */
+ * in four, down to MAX_DEPTH; the answer is the largest bound of a finished piece. A point
+ * a cut makes is searched for only where its edge's corners' triangles leave it far from
+ * the other surface: near enough, the distance to one of them is an upper bound that every
+ * bound above may take in place of the nearest; a piece these leave above the goal has
+ * them searched before it is cut (or, at MAX_DEPTH, let go). */
 #include <float.h>
 #include <math.h>
 #include <string.h>
@@ -27,6 +31,9 @@
 #define REL_TOL 0.1             /* a piece's bound may exceed the largest distance found by this */
 #define MAX_DEPTH 4             /* pieces per triangle: at most 4^4 */
 #define STACK_MAX 64
+#define NEAR_ENOUGH 0.8         /* a cut's point this near a corner's triangle (of what the
+                                 * floor asks; not of the largest bound, which it would raise)
+                                 * takes its distance there, unsearched */
 
 /* ------------------------------------------------------------------ distances */
 
@@ -219,8 +226,10 @@ static double nearest(const target *to, const double p[3], uint32_t hint, uint32
 
 typedef struct point {
     double p[3];
-    double d2;                  /* squared distance to the other surface */
+    double d2;                  /* squared distance to the other surface, or (a cut's point)
+                                 * an upper bound on it: the distance to tri */
     uint32_t tri;               /* its nearest triangle there */
+    bool rough;                 /* d2 is the distance to tri, unsearched */
 } point;
 
 typedef struct side {
@@ -240,9 +249,11 @@ typedef struct side {
     int cover_tries, cover_hits;    /* cover_bound, which pays where pieces are small */
 } side;
 
+/* q's nearest triangle and distance (the largest found raises lower and the floor). */
 static void locate(side *sd, point *q, uint32_t hint)
 {
     q->d2 = nearest(sd->to, q->p, hint, &q->tri);
+    q->rough = false;
     double d = sqrt(q->d2);
     if (d > sd->lower)
         sd->lower = d;
@@ -447,8 +458,10 @@ static uint32_t point_hash(const double p[3])
 }
 
 /* Finds q (by its coordinates) among the points already located, or locates it and keeps
- * it; as locate. */
-static void locate_shared(side *sd, point *q, uint32_t hint)
+ * it; as locate, but where hint or other lies within `enough` of q, that triangle's distance
+ * stands for the nearest: an upper bound, which every bound of a piece may take for it, and
+ * which needs no search where it is far below what the piece must reach. */
+static void locate_shared(side *sd, point *q, uint32_t hint, uint32_t other, double enough)
 {
     if (sd->nseen * 2 >= sd->seen_mask && !sd->nomem) {
         uint32_t size = sd->seen ? (sd->seen_mask + 1) * 2 : 1024;
@@ -471,17 +484,22 @@ static void locate_shared(side *sd, point *q, uint32_t hint)
             sd->nomem = true;   /* go on without sharing */
         }
     }
-    if (!sd->seen || sd->nseen * 2 >= sd->seen_mask) {
-        locate(sd, q, hint);
+    uint32_t at = 0;
+    if (sd->seen && sd->nseen * 2 < sd->seen_mask)
+        for (at = point_hash(q->p) & sd->seen_mask; sd->seen[at].tri != UINT32_MAX;
+             at = (at + 1) & sd->seen_mask)
+            if (!memcmp(sd->seen[at].p, q->p, sizeof q->p)) {
+                *q = sd->seen[at];
+                return;
+            }
+    double dh = to_tri(sd->to, hint, q->p), doth = other == hint ? dh : to_tri(sd->to, other, q->p);
+    q->d2 = fmin(dh, doth);
+    q->tri = dh <= doth ? hint : other;
+    q->rough = q->d2 <= enough * enough;
+    if (!q->rough)
+        locate(sd, q, q->tri);
+    if (!sd->seen || sd->nseen * 2 >= sd->seen_mask)
         return;
-    }
-    uint32_t at = point_hash(q->p) & sd->seen_mask;
-    for (; sd->seen[at].tri != UINT32_MAX; at = (at + 1) & sd->seen_mask)
-        if (!memcmp(sd->seen[at].p, q->p, sizeof q->p)) {
-            *q = sd->seen[at];
-            return;
-        }
-    locate(sd, q, hint);
     sd->seen[at] = *q;
     sd->nseen++;
 }
@@ -553,12 +571,10 @@ static double convex_bound(const side *sd, const point *v[3])
     return best;
 }
 
-/* Bounds the distance to sd->to over the triangle abc (see the top of the file). */
-static void piece(side *sd, const point *a, const point *b, const point *c, int depth)
+/* The least of the three bounds over the triangle v (see the top of the file), or one
+ * above goal. */
+static double piece_bound(side *sd, const point *v[3], double goal)
 {
-    const point *v[3] = { a, b, c };
-    /* what the answer already holds, cutting cannot lower */
-    double goal = fmax(*sd->floor * (1 + REL_TOL) + sd->abs_tol, *sd->upper);
     /* the distance changes no faster than the point moves, and every point of the piece
      * lies within its longest edge / sqrt(3) of a corner */
     double far = 0, longest = 0;
@@ -577,6 +593,31 @@ static void piece(side *sd, const point *a, const point *b, const point *c, int 
         sd->cover_tries++;
         sd->cover_hits += bound <= goal;
     }
+    return bound;
+}
+
+/* Bounds the distance to sd->to over the triangle abc (see the top of the file). */
+static void piece(side *sd, const point *a, const point *b, const point *c, int depth)
+{
+    const point *v[3] = { a, b, c };
+    /* what the answer already holds, cutting cannot lower */
+    double need = *sd->floor * (1 + REL_TOL) + sd->abs_tol, goal = fmax(need, *sd->upper);
+    double bound = piece_bound(sd, v, goal);
+    /* corners taken unsearched are searched before the piece is cut or let go above the
+     * goal, which leaves the bound as tight as searching every point would */
+    point sharp[3];
+    if (bound > goal && (a->rough || b->rough || c->rough)) {
+        for (int k = 0; k < 3; k++) {
+            sharp[k] = *v[k];
+            if (sharp[k].rough)
+                locate(sd, &sharp[k], sharp[k].tri);
+            v[k] = &sharp[k];
+        }
+        a = v[0];
+        b = v[1];
+        c = v[2];
+        bound = piece_bound(sd, v, goal);
+    }
     if (bound <= goal || depth == MAX_DEPTH) {
         *sd->upper = fmax(*sd->upper, bound);
         return;
@@ -585,7 +626,7 @@ static void piece(side *sd, const point *a, const point *b, const point *c, int 
     for (int k = 0; k < 3; k++) {
         for (int e = 0; e < 3; e++)
             mid[k].p[e] = 0.5 * (v[k]->p[e] + v[(k + 1) % 3]->p[e]);
-        locate_shared(sd, &mid[k], v[k]->tri);
+        locate_shared(sd, &mid[k], v[k]->tri, v[(k + 1) % 3]->tri, NEAR_ENOUGH * need);
     }
     piece(sd, a, &mid[0], &mid[2], depth + 1);
     piece(sd, &mid[0], b, &mid[1], depth + 1);
