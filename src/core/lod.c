@@ -11,7 +11,11 @@
  * through the corners' distances to each corner's nearest triangle (the distance to one
  * triangle is convex); the largest offset to the triangles of B it lies over (seen along
  * its normal's axis). A piece whose bound exceeds the lower bound by more than REL_TOL is cut
- * in four, down to MAX_DEPTH; the answer is the largest bound of a finished piece. */
+ * in four, down to MAX_DEPTH; the answer is the largest bound of a finished piece. A point
+ * a cut makes is searched for only where its edge's corners' triangles leave it far from
+ * the other surface: near enough, the distance to one of them is an upper bound that every
+ * bound above may take in place of the nearest; a piece these leave above the goal has
+ * them searched before it is cut (or, at MAX_DEPTH, let go). */
 #include <float.h>
 #include <math.h>
 #include <string.h>
@@ -23,9 +27,13 @@
 
 #define MAX_LEVELS 12           /* the full mesh and up to 11 coarser ones */
 #define MIN_TRIS 16             /* a level this small gets no halved successor */
+#define SOURCE_STEP 3           /* a level is simplified from the one this many before */
 #define REL_TOL 0.1             /* a piece's bound may exceed the largest distance found by this */
 #define MAX_DEPTH 4             /* pieces per triangle: at most 4^4 */
 #define STACK_MAX 64
+#define NEAR_ENOUGH 0.8         /* a cut's point this near a corner's triangle (of what the
+                                 * floor asks; not of the largest bound, which it would raise)
+                                 * takes its distance there, unsearched */
 
 /* ------------------------------------------------------------------ distances */
 
@@ -103,18 +111,34 @@ typedef struct target {
     const limen__mesh *m;
     double (*tri)[9];
     double (*ball)[4];          /* per triangle: a sphere around it (centre, radius) */
+    uint32_t *at_vertex;        /* per vertex: a triangle with a corner there, or UINT32_MAX */
 } target;
 
-/* The corners table of m; false when out of memory. */
-static bool target_make(target *t, const limen__mesh *m)
+static void target_free(target *t)
+{
+    free(t->tri);
+    free(t->ball);
+    free(t->at_vertex);
+}
+
+/* The corners table of m; false when out of memory. weld, where not NULL: per corner of m,
+ * another vertex at the corner's position, which finds the triangle too. */
+static bool target_make(target *t, const limen__mesh *m, const uint32_t *weld)
 {
     t->m = m;
     t->tri = malloc(sizeof *t->tri * m->ntris);
     t->ball = malloc(sizeof *t->ball * m->ntris);
-    if (!t->tri || !t->ball) {
-        free(t->tri);
-        free(t->ball);
+    t->at_vertex = malloc(sizeof *t->at_vertex * m->nverts);
+    if (!t->tri || !t->ball || !t->at_vertex) {
+        target_free(t);
         return false;
+    }
+    for (uint32_t v = 0; v < m->nverts; v++)
+        t->at_vertex[v] = UINT32_MAX;
+    for (size_t i = 0; i < (size_t)m->ntris * 3; i++) {
+        t->at_vertex[m->idx[i]] = (uint32_t)(i / 3);
+        if (weld)
+            t->at_vertex[weld[i]] = (uint32_t)(i / 3);
     }
     for (uint32_t i = 0; i < m->ntris; i++) {
         double *c = t->ball[i], r2 = 0;
@@ -155,6 +179,8 @@ static double nearest(const target *to, const double p[3], uint32_t hint, uint32
     const limen__mesh *m = to->m;
     double best = to_tri(to, hint, p);
     *tri = hint;
+    if (best == 0)
+        return 0;               /* on it: nothing is nearer */
     struct { uint32_t node; double d2; } stack[STACK_MAX];
     int top = 0;
     stack[top].node = 0;
@@ -200,16 +226,20 @@ static double nearest(const target *to, const double p[3], uint32_t hint, uint32
 
 typedef struct point {
     double p[3];
-    double d2;                  /* squared distance to the other surface */
+    double d2;                  /* squared distance to the other surface, or (a cut's point)
+                                 * an upper bound on it: the distance to tri */
     uint32_t tri;               /* its nearest triangle there */
+    bool rough;                 /* d2 is the distance to tri, unsearched */
 } point;
 
 typedef struct side {
     const limen__mesh *from;    /* the surface measured: from->idx over from->pos */
     const target *to;           /* the surface measured against */
+    const uint32_t *weld;       /* per corner of from, where not NULL: its vertex of to */
     point *pts;                 /* per vertex of from */
     double lower;               /* the largest distance found at a point */
-    double upper;               /* the largest bound of a finished piece */
+    double *upper;              /* the largest bound of a finished piece (both sides share
+                                 * it): a piece bounded below it need not be cut */
     double *floor;              /* a bound at most this (both sides share it) needs no cutting */
     double abs_tol;             /* below this a bound counts as met */
     point *seen;                /* points cut so far (open addressing on their coordinates):
@@ -219,9 +249,11 @@ typedef struct side {
     int cover_tries, cover_hits;    /* cover_bound, which pays where pieces are small */
 } side;
 
+/* q's nearest triangle and distance (the largest found raises lower and the floor). */
 static void locate(side *sd, point *q, uint32_t hint)
 {
     q->d2 = nearest(sd->to, q->p, hint, &q->tri);
+    q->rough = false;
     double d = sqrt(q->d2);
     if (d > sd->lower)
         sd->lower = d;
@@ -426,8 +458,10 @@ static uint32_t point_hash(const double p[3])
 }
 
 /* Finds q (by its coordinates) among the points already located, or locates it and keeps
- * it; as locate. */
-static void locate_shared(side *sd, point *q, uint32_t hint)
+ * it; as locate, but where hint or other lies within `enough` of q, that triangle's distance
+ * stands for the nearest: an upper bound, which every bound of a piece may take for it, and
+ * which needs no search where it is far below what the piece must reach. */
+static void locate_shared(side *sd, point *q, uint32_t hint, uint32_t other, double enough)
 {
     if (sd->nseen * 2 >= sd->seen_mask && !sd->nomem) {
         uint32_t size = sd->seen ? (sd->seen_mask + 1) * 2 : 1024;
@@ -450,17 +484,22 @@ static void locate_shared(side *sd, point *q, uint32_t hint)
             sd->nomem = true;   /* go on without sharing */
         }
     }
-    if (!sd->seen || sd->nseen * 2 >= sd->seen_mask) {
-        locate(sd, q, hint);
+    uint32_t at = 0;
+    if (sd->seen && sd->nseen * 2 < sd->seen_mask)
+        for (at = point_hash(q->p) & sd->seen_mask; sd->seen[at].tri != UINT32_MAX;
+             at = (at + 1) & sd->seen_mask)
+            if (!memcmp(sd->seen[at].p, q->p, sizeof q->p)) {
+                *q = sd->seen[at];
+                return;
+            }
+    double dh = to_tri(sd->to, hint, q->p), doth = other == hint ? dh : to_tri(sd->to, other, q->p);
+    q->d2 = fmin(dh, doth);
+    q->tri = dh <= doth ? hint : other;
+    q->rough = q->d2 <= enough * enough;
+    if (!q->rough)
+        locate(sd, q, q->tri);
+    if (!sd->seen || sd->nseen * 2 >= sd->seen_mask)
         return;
-    }
-    uint32_t at = point_hash(q->p) & sd->seen_mask;
-    for (; sd->seen[at].tri != UINT32_MAX; at = (at + 1) & sd->seen_mask)
-        if (!memcmp(sd->seen[at].p, q->p, sizeof q->p)) {
-            *q = sd->seen[at];
-            return;
-        }
-    locate(sd, q, hint);
     sd->seen[at] = *q;
     sd->nseen++;
 }
@@ -532,11 +571,10 @@ static double convex_bound(const side *sd, const point *v[3])
     return best;
 }
 
-/* Bounds the distance to sd->to over the triangle abc (see the top of the file). */
-static void piece(side *sd, const point *a, const point *b, const point *c, int depth)
+/* The least of the three bounds over the triangle v (see the top of the file), or one
+ * above goal. */
+static double piece_bound(side *sd, const point *v[3], double goal)
 {
-    const point *v[3] = { a, b, c };
-    double goal = *sd->floor * (1 + REL_TOL) + sd->abs_tol;
     /* the distance changes no faster than the point moves, and every point of the piece
      * lies within its longest edge / sqrt(3) of a corner */
     double far = 0, longest = 0;
@@ -555,15 +593,40 @@ static void piece(side *sd, const point *a, const point *b, const point *c, int 
         sd->cover_tries++;
         sd->cover_hits += bound <= goal;
     }
+    return bound;
+}
+
+/* Bounds the distance to sd->to over the triangle abc (see the top of the file). */
+static void piece(side *sd, const point *a, const point *b, const point *c, int depth)
+{
+    const point *v[3] = { a, b, c };
+    /* what the answer already holds, cutting cannot lower */
+    double need = *sd->floor * (1 + REL_TOL) + sd->abs_tol, goal = fmax(need, *sd->upper);
+    double bound = piece_bound(sd, v, goal);
+    /* corners taken unsearched are searched before the piece is cut or let go above the
+     * goal, which leaves the bound as tight as searching every point would */
+    point sharp[3];
+    if (bound > goal && (a->rough || b->rough || c->rough)) {
+        for (int k = 0; k < 3; k++) {
+            sharp[k] = *v[k];
+            if (sharp[k].rough)
+                locate(sd, &sharp[k], sharp[k].tri);
+            v[k] = &sharp[k];
+        }
+        a = v[0];
+        b = v[1];
+        c = v[2];
+        bound = piece_bound(sd, v, goal);
+    }
     if (bound <= goal || depth == MAX_DEPTH) {
-        sd->upper = fmax(sd->upper, bound);
+        *sd->upper = fmax(*sd->upper, bound);
         return;
     }
     point mid[3];               /* ab, bc, ca */
     for (int k = 0; k < 3; k++) {
         for (int e = 0; e < 3; e++)
             mid[k].p[e] = 0.5 * (v[k]->p[e] + v[(k + 1) % 3]->p[e]);
-        locate_shared(sd, &mid[k], v[k]->tri);
+        locate_shared(sd, &mid[k], v[k]->tri, v[(k + 1) % 3]->tri, NEAR_ENOUGH * need);
     }
     piece(sd, a, &mid[0], &mid[2], depth + 1);
     piece(sd, &mid[0], b, &mid[1], depth + 1);
@@ -587,7 +650,9 @@ static bool side_corners(side *sd)
             continue;
         for (int a = 0; a < 3; a++)
             q->p[a] = from->pos[from->idx[i] * 3 + a];
-        locate(sd, q, hint);
+        /* a corner the other surface shares lies on a triangle there: found at once */
+        uint32_t on = sd->to->at_vertex[sd->weld ? sd->weld[i] : from->idx[i]];
+        locate(sd, q, on != UINT32_MAX ? on : hint);
         hint = q->tri;
     }
     return true;
@@ -604,29 +669,33 @@ static double side_bound(side *sd)
               &sd->pts[from->idx[t * 3 + 2]], 0);
     free(sd->pts);
     sd->pts = NULL;
-    return fmax(sd->lower, sd->upper);
+    return fmax(sd->lower, *sd->upper);
 }
 
 /* A bound on the two-sided distance between a level (idx, a mesh over the full mesh's
- * vertices) and the full mesh, or floor where the distance is no more than floor; NAN
- * when out of memory. */
-static double level_error(const target *full, const uint32_t *idx, uint32_t ntris,
-                          double floor)
+ * vertices, welded: per corner of the full mesh, weld names its vertex at the same position)
+ * and the full mesh, or floor where the distance is no more than floor; NAN when out of
+ * memory. */
+static double level_error(const target *full, const uint32_t *weld, const uint32_t *idx,
+                          uint32_t ntris, double floor)
 {
     const limen__mesh *m = full->m;
     limen__mesh lv = { .nverts = m->nverts, .ntris = ntris, .pos = m->pos,
                        .idx = (uint32_t *)idx };
     target level = { 0 };
     double e = NAN;
-    if (limen__mesh_bvh(&lv) && target_make(&level, &lv)) {
+    if (limen__mesh_bvh(&lv) && target_make(&level, &lv, NULL)) {
         double diag = 0;
         for (int a = 0; a < 3; a++)
             diag += (m->hi[a] - m->lo[a]) * (m->hi[a] - m->lo[a]);
         double tol = 1e-6 * sqrt(diag);
         /* both sides share the floor (what one has found, the other need not beat), and
          * both find their corners' distances before cutting */
-        side there = { .from = &lv, .to = full, .floor = &floor, .abs_tol = tol };
-        side back = { .from = m, .to = &level, .floor = &floor, .abs_tol = tol };
+        double upper = 0;
+        side there = { .from = &lv, .to = full, .floor = &floor, .upper = &upper,
+                       .abs_tol = tol };
+        side back = { .from = m, .to = &level, .weld = weld, .floor = &floor,
+                      .upper = &upper, .abs_tol = tol };
         if (side_corners(&there) && side_corners(&back))
             e = fmax(fmax(side_bound(&there), side_bound(&back)), floor);
         free(there.pts);
@@ -634,8 +703,7 @@ static double level_error(const target *full, const uint32_t *idx, uint32_t ntri
         free(there.seen);
         free(back.seen);
     }
-    free(level.tri);
-    free(level.ball);
+    target_free(&level);
     free(lv.bvh);
     free(lv.tri_order);
     return e;
@@ -705,7 +773,7 @@ bool limen__mesh_lods_build(limen__mesh *m)
     unsigned char *block = malloc(head + sizeof(uint32_t) * cap);
     uint32_t *shadow = malloc(sizeof(uint32_t) * n0), *scratch = malloc(sizeof(uint32_t) * n0);
     target full = { 0 };
-    bool ok = block && shadow && scratch && target_make(&full, m);
+    bool ok = block && shadow && scratch;
     limen_mesh_lod *lods = (limen_mesh_lod *)block;
     uint32_t *store = (uint32_t *)(block + head);
     size_t at[MAX_LEVELS] = { 0 }, used = 0;
@@ -716,26 +784,33 @@ bool limen__mesh_lods_build(limen__mesh *m)
          * simplifier back; each weld keeps one of the original vertices */
         meshopt_generateShadowIndexBuffer(shadow, m->idx, n0, m->pos, m->nverts,
                                           sizeof(float) * 3, sizeof(float) * 3);
+        ok = target_make(&full, m, shadow);
     }
     size_t cur_n = n0;
     float scale = ok ? meshopt_simplifyScale(m->pos, m->nverts, sizeof(float) * 3) : 0;
     double prev = 0;
     while (ok && nlods < MAX_LEVELS && cur_n >= 6) {
-        /* each level from the full mesh, half the triangles of the last while there is much
-         * to halve; then once only what costs (next to) nothing, which takes a flat patch
-         * down to its outline */
+        /* half the triangles of the last level while there is much to halve; then once only
+         * what costs (next to) nothing, which takes a flat patch down to its outline. Each
+         * from the level SOURCE_STEP before (or the full mesh): the simplifier's work stays
+         * a few times the full mesh's in all, not once per level, while a level is not
+         * built on the last one's choices alone (which left the bunny's coarse levels
+         * worse) */
         bool halve = cur_n / 3 >= MIN_TRIS;
         float err = 0;
-        size_t n = meshopt_simplify(scratch, shadow, n0, m->pos, m->nverts, sizeof(float) * 3,
+        const uint32_t *src = nlods <= SOURCE_STEP ? shadow : store + at[nlods - SOURCE_STEP];
+        size_t src_n = nlods <= SOURCE_STEP ? n0
+                                            : (size_t)lods[nlods - SOURCE_STEP].triangle_count * 3;
+        size_t n = meshopt_simplify(scratch, src, src_n, m->pos, m->nverts, sizeof(float) * 3,
                                     halve ? cur_n / 6 * 3 : 0, halve ? FLT_MAX : 1e-5f, 0, &err);
         if (n == 0 || n * 4 > cur_n * 3 || used + n > cap)
             break;
         memcpy(store + used, scratch, sizeof(uint32_t) * n);
-        /* the simplifier's own estimate may not be undercut; nor, while halving, the level
-         * before (a coarser level no better than a finer one takes its place, below): what
-         * lies below them needs no measuring */
+        /* the simplifier's own estimate (from its source) may not be undercut; nor, while
+         * halving, the level before (a coarser level no better than a finer one takes its
+         * place, below): what lies below them needs no measuring */
         double estimate = (double)err * scale;
-        double e = level_error(&full, store + used, (uint32_t)(n / 3),
+        double e = level_error(&full, shadow, store + used, (uint32_t)(n / 3),
                                halve ? fmax(estimate, prev) : estimate);
         if (isnan(e)) {
             ok = false;
@@ -774,8 +849,7 @@ bool limen__mesh_lods_build(limen__mesh *m)
         seam_sides(m, shadow, store, used);
     free(shadow);
     free(scratch);
-    free(full.tri);
-    free(full.ball);
+    target_free(&full);
     if (!ok) {
         free(block);
         return false;
