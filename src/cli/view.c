@@ -5,6 +5,7 @@
  * the person stood and the last good scene while the script is broken. Lines on stdout say
  * what happened (ready, crossed, reloaded, screenshot), so that a person or a test can follow. */
 #include <SDL.h>
+#include <SDL_opengl.h>
 #include <errno.h>
 #include <limits.h>
 #include <math.h>
@@ -58,6 +59,23 @@ typedef struct viewer {
     SDL_Window *win;
     SDL_GLContext gl;
     int fb_w, fb_h;
+    /* the frame is drawn into a framebuffer of the viewer's own (colour, depth24/stencil8
+     * renderbuffers, as limen's offscreen renderers draw), then copied to the window: a
+     * window's buffer may be laid out upside down, and edges exactly on pixel centres then
+     * fall to the other side, so its pixels would not be `limen render`'s */
+    GLuint fbo, rb[2];
+    struct {
+        PFNGLGENFRAMEBUFFERSPROC GenFramebuffers;
+        PFNGLDELETEFRAMEBUFFERSPROC DeleteFramebuffers;
+        PFNGLBINDFRAMEBUFFERPROC BindFramebuffer;
+        PFNGLGENRENDERBUFFERSPROC GenRenderbuffers;
+        PFNGLDELETERENDERBUFFERSPROC DeleteRenderbuffers;
+        PFNGLBINDRENDERBUFFERPROC BindRenderbuffer;
+        PFNGLRENDERBUFFERSTORAGEPROC RenderbufferStorage;
+        PFNGLFRAMEBUFFERRENDERBUFFERPROC FramebufferRenderbuffer;
+        PFNGLCHECKFRAMEBUFFERSTATUSPROC CheckFramebufferStatus;
+        PFNGLBLITFRAMEBUFFERPROC BlitFramebuffer;
+    } gl_fn;
     struct stat seen;                   /* the script file as last loaded or tried */
     watched files[MAX_WATCHED];         /* the meshes and textures the last good scene read */
     int nfiles;
@@ -341,6 +359,62 @@ static void screenshot(viewer *v)
 
 /* ------------------------------------------------------------------ the window */
 
+/* The viewer's framebuffer at w x h (made on first use, its storage renewed on a resize);
+ * -1 where it cannot be made. */
+static int frame_target(viewer *v, int w, int h)
+{
+    if (!v->fbo) {
+#define LOAD(name) \
+    if (!(*(void **)&v->gl_fn.name = SDL_GL_GetProcAddress("gl" #name))) \
+        return -1;
+        LOAD(GenFramebuffers) LOAD(DeleteFramebuffers) LOAD(BindFramebuffer)
+        LOAD(GenRenderbuffers) LOAD(DeleteRenderbuffers) LOAD(BindRenderbuffer)
+        LOAD(RenderbufferStorage) LOAD(FramebufferRenderbuffer) LOAD(CheckFramebufferStatus)
+        LOAD(BlitFramebuffer)
+#undef LOAD
+        v->gl_fn.GenFramebuffers(1, &v->fbo);
+        v->gl_fn.GenRenderbuffers(2, v->rb);
+    }
+    v->gl_fn.BindFramebuffer(GL_FRAMEBUFFER, v->fbo);
+    v->gl_fn.BindRenderbuffer(GL_RENDERBUFFER, v->rb[0]);
+    v->gl_fn.RenderbufferStorage(GL_RENDERBUFFER, GL_RGBA8, w, h);
+    v->gl_fn.FramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER,
+                                     v->rb[0]);
+    v->gl_fn.BindRenderbuffer(GL_RENDERBUFFER, v->rb[1]);
+    v->gl_fn.RenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH24_STENCIL8, w, h);
+    v->gl_fn.FramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_STENCIL_ATTACHMENT,
+                                     GL_RENDERBUFFER, v->rb[1]);
+    GLenum status = v->gl_fn.CheckFramebufferStatus(GL_FRAMEBUFFER);
+    v->gl_fn.BindRenderbuffer(GL_RENDERBUFFER, 0);
+    v->gl_fn.BindFramebuffer(GL_FRAMEBUFFER, 0);
+    return status == GL_FRAMEBUFFER_COMPLETE ? 0 : -1;
+}
+
+/* The frame, from the viewer's framebuffer into the window's back buffer. */
+static void present(viewer *v)
+{
+    if (v->fbo) {
+        v->gl_fn.BindFramebuffer(GL_READ_FRAMEBUFFER, v->fbo);
+        v->gl_fn.BindFramebuffer(GL_DRAW_FRAMEBUFFER, 0);
+        v->gl_fn.BlitFramebuffer(0, 0, v->fb_w, v->fb_h, 0, 0, v->fb_w, v->fb_h,
+                                 GL_COLOR_BUFFER_BIT, GL_NEAREST);
+        v->gl_fn.BindFramebuffer(GL_FRAMEBUFFER, 0);
+    }
+    SDL_GL_SwapWindow(v->win);
+}
+
+static void close_window(viewer *v)
+{
+    if (v->fbo) {
+        v->gl_fn.DeleteFramebuffers(1, &v->fbo);
+        v->gl_fn.DeleteRenderbuffers(2, v->rb);
+    }
+    if (v->gl)
+        SDL_GL_DeleteContext(v->gl);
+    if (v->win)
+        SDL_DestroyWindow(v->win);
+}
+
 static int open_window(viewer *v, const limen_renderer_desc *rd)
 {
     if (SDL_Init(SDL_INIT_VIDEO)) {
@@ -375,7 +449,12 @@ static int open_window(viewer *v, const limen_renderer_desc *rd)
     d.width = v->fb_w;
     d.height = v->fb_h;
     d.msaa = 0;
-    d.framebuffer = 0;
+    /* multisampled, the window's own buffer resolves the samples */
+    if (rd->msaa <= 1 && frame_target(v, v->fb_w, v->fb_h)) {
+        fprintf(stderr, "limen: view: cannot make a framebuffer\n");
+        return -1;
+    }
+    d.framebuffer = v->fbo;
     limen_status st = limen_renderer_create(&d, &v->r);
     if (st) {
         fprintf(stderr, "limen: %s\n", v->r ? limen_renderer_error(v->r) : limen_status_string(st));
@@ -456,7 +535,8 @@ static int run(viewer *v)
         int w, h;
         SDL_GL_GetDrawableSize(v->win, &w, &h);
         if ((w != v->fb_w || h != v->fb_h) && w > 0 && h > 0 &&
-            !limen_renderer_set_viewport(v->r, 0, 0, 0, w, h))
+            (!v->fbo || !frame_target(v, w, h)) &&
+            !limen_renderer_set_viewport(v->r, v->fbo, 0, 0, w, h))
             v->fb_w = w, v->fb_h = h;
         limen_frame_stats fs = { 0 };
         if (limen_render_frame(v->r, scene(v), &v->ro, &fs))
@@ -476,7 +556,7 @@ static int run(viewer *v)
             set_title(v, acc_ms / acc_n, &fs);
             title_at = 0, acc_ms = 0, acc_n = 0;
         }
-        SDL_GL_SwapWindow(v->win);
+        present(v);
     }
 }
 
@@ -548,10 +628,7 @@ int limen_cli_view(int argc, char **argv)
     }
     rc = open_window(&v, &rd) ? 1 : run(&v);
     limen_renderer_destroy(v.r);
-    if (v.gl)
-        SDL_GL_DeleteContext(v.gl);
-    if (v.win)
-        SDL_DestroyWindow(v.win);
+    close_window(&v);
     SDL_Quit();
     limen_script_destroy(v.sc);
     return rc;
