@@ -113,7 +113,6 @@ static void take_pose(viewer *v)
     limen_node cam = limen_scene_get_camera(scene(v));
     if (cam.id && !limen_node_world_matrix(scene(v), cam, v->pose))
         v->held = 1;
-    v->have_snapped = 0;
 }
 
 /* The held pose onto the scene's camera (after a reload or an update that moved it). */
@@ -121,10 +120,6 @@ static void apply_pose(viewer *v)
 {
     limen_node cam = limen_scene_get_camera(scene(v));
     if (!v->held || !cam.id)
-        return;
-    /* the pose the camera was last rebuilt from gives it again bit for bit (a local matrix
-     * is stored as position, rotation and scale, and comes back in other last bits) */
-    if (v->have_snapped && !limen_cli_pose_apply(scene(v), &v->snapped))
         return;
     limen_node_set_parent(scene(v), cam, (limen_node){ 0 });
     limen_node_set_local_matrix(scene(v), cam, v->pose);
@@ -156,7 +151,6 @@ static void unit(float v[3])
 static void look(viewer *v, float yaw, float pitch)
 {
     static const float y_up[3] = { 0, 1, 0 };
-    v->have_snapped = 0;        /* the pose moves away from the one snapped */
     turn(v->pose, y_up, yaw);
     float f[3] = { -v->pose[8], -v->pose[9], -v->pose[10] }, right[3] = { v->pose[0],
                                                                           v->pose[1],
