@@ -129,9 +129,7 @@ static void instance_of(const float world[16], const float albedo[3], limen__ins
     mat4 model;
     mat3 nm;
     memcpy(model, world, sizeof model);
-    glm_mat4_pick3(model, nm);
-    glm_mat3_inv(nm, nm);
-    glm_mat3_transpose(nm);
+    limen__normal_matrix(model, nm);
     memcpy(out->model, world, sizeof out->model);
     memcpy(out->normal, nm, sizeof out->normal);
     memcpy(out->albedo, albedo, sizeof out->albedo);

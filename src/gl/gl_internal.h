@@ -123,6 +123,16 @@ struct limen_renderer {
 
 #define GL(fn) r->gl.fn
 
+/* The normal matrix of a model matrix: the inverse transpose of its 3x3 part. The one-node
+ * draws (uniforms) and the instanced ones (gl/batch.c) both take it from here, so a node
+ * shades the same either way. */
+static inline void limen__normal_matrix(mat4 model, mat3 out)
+{
+    glm_mat4_pick3(model, out);
+    glm_mat3_inv(out, out);
+    glm_mat3_transpose(out);
+}
+
 /* Floats per instance (gl/batch.c): model matrix, normal matrix, albedo. */
 #define LIMEN__INSTANCE_FLOATS 28
 

@@ -208,9 +208,7 @@ static void draw_node_at(limen_renderer *r, const rview *v, const limen_drawable
     mat3 nm;
     glm_mat4_copy(world, model);
     glm_scale(model, scale);
-    glm_mat4_pick3(model, nm);
-    glm_mat3_inv(nm, nm);
-    glm_mat3_transpose(nm);
+    limen__normal_matrix(model, nm);
     set_mat4(r, r->u.model, model);
     GL(UniformMatrix3fv)(r->u.normal_mat, 1, GL_FALSE, (const GLfloat *)nm);
     GL(Uniform3fv)(r->u.albedo, 1, albedo);
