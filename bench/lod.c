@@ -31,13 +31,6 @@ static void die(const char *what)
     exit(1);
 }
 
-static double cpu_ms(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
-    return ts.tv_sec * 1e3 + ts.tv_nsec * 1e-6;
-}
-
 typedef struct field {
     limen_scene *s;
     int n;

@@ -20,6 +20,7 @@
 #include "baseline.h"
 #include "limen.h"
 #include "scene_load.h"
+#include "timing.h"
 
 enum { W = 1280, H = 720, MAXF = 64, BAD_THRESHOLD = 8, ROOM_DEPTHS = 17 };
 /* A baseline's picture may differ from the tracer's on this share of pixels at most (edges
@@ -35,12 +36,6 @@ static void die(const char *fmt, ...)
     fputc('\n', stderr);
     va_end(ap);
     exit(1);
-}
-
-static int cmp_double(const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return (x > y) - (x < y);
 }
 
 static double quantile(const double *v, int n, double q)
@@ -93,16 +88,6 @@ typedef struct contender {
 
 static baseline *g_base;
 
-/* The process's processor time (all its threads, llvmpipe's included) in milliseconds: on a
- * machine that others share, the work a frame takes, where its wall time also counts the
- * waits for a processor. */
-static double cpu_ms(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
-    return (double)ts.tv_sec * 1e3 + (double)ts.tv_nsec * 1e-6;
-}
-
 /* One frame; returns its processor time. */
 static double run(contender *c)
 {
@@ -129,7 +114,7 @@ static double run(contender *c)
     return cpu_ms() - t0;
 }
 
-static double median(const contender *c)
+static double cpu_median(const contender *c)
 {
     return quantile(c->ms, c->n, 0.5);
 }
@@ -188,7 +173,7 @@ static void csv_rows(FILE *f, const contender *c, int nc)
 {
     for (int i = 0; i < nc; i++)
         fprintf(f, "%s,%s,%d,%d,%.3f,%.3f,%.3f,%d,%.6f,%.3f\n", c[i].s->name,
-                KIND_NAMES[c[i].k], c[i].depth, c[i].n, median(&c[i]),
+                KIND_NAMES[c[i].k], c[i].depth, c[i].n, cpu_median(&c[i]),
                 quantile(c[i].ms, c[i].n, 0.25), quantile(c[i].ms, c[i].n, 0.75), c[i].views,
                 c[i].bad, wall_median(&c[i]));
 }
@@ -278,9 +263,9 @@ int main(int argc, char **argv)
         check(cw, 2, out, rgb, ref);
         interleave(cw, 2, wall_rounds);
         csv_rows(csv, cw, 2);
-        double wr = median(&cw[0]) / median(&cw[1]);
+        double wr = cpu_median(&cw[0]) / cpu_median(&cw[1]);
         say("wall depth 0 <= 1.3x the floor: %.2fx (limen %.1f ms, floor %.1f ms; %d rounds; "
-            "wall time %.2fx): %s\n", wr, median(&cw[0]), median(&cw[1]), wall_rounds,
+            "wall time %.2fx): %s\n", wr, cpu_median(&cw[0]), cpu_median(&cw[1]), wall_rounds,
             wall_median(&cw[0]) / wall_median(&cw[1]), verdict(wr <= 1.3));
         bad_wall = cw[0].bad, bad_floor = cw[1].bad;
     }
@@ -296,25 +281,25 @@ int main(int argc, char **argv)
         fprintf(stderr, "speed: timing the box room\n");
         interleave(cr, 2 * ROOM_DEPTHS, rounds);
         csv_rows(csv, cr, 2 * ROOM_DEPTHS);
-        double r16 = median(&cr[16]) / median(&cr[0]), r11 = median(&cr[11]) / median(&cr[10]);
+        double r16 = cpu_median(&cr[16]) / cpu_median(&cr[0]), r11 = cpu_median(&cr[11]) / cpu_median(&cr[10]);
         say("box room depth 16 <= 1.25x depth 0: %.2fx (%.1f ms, %d views, against %.1f ms; "
-            "wall time %.2fx): %s\n", r16, median(&cr[16]), cr[16].views, median(&cr[0]),
+            "wall time %.2fx): %s\n", r16, cpu_median(&cr[16]), cr[16].views, cpu_median(&cr[0]),
             wall_median(&cr[16]) / wall_median(&cr[0]), verdict(r16 <= 1.25));
         say("box room depth 11 <= 1.15x depth 10: %.2fx (%.1f ms against %.1f ms; wall time "
-            "%.2fx): %s\n", r11, median(&cr[11]), median(&cr[10]),
+            "%.2fx): %s\n", r11, cpu_median(&cr[11]), cpu_median(&cr[10]),
             wall_median(&cr[11]) / wall_median(&cr[10]), verdict(r11 <= 1.15));
         double worst = INFINITY;
         int worst_d = 0;
         for (int d = 0; d < ROOM_DEPTHS; d++) {
-            double x = median(&cr[ROOM_DEPTHS + d]) / median(&cr[d]);
+            double x = cpu_median(&cr[ROOM_DEPTHS + d]) / cpu_median(&cr[d]);
             if (x < worst)
                 worst = x, worst_d = d;
         }
         say("box room >= 2x faster than the classic recursion at every depth 0-16: %.2fx at worst "
             "(depth %d: %.1f ms against %.1f ms): %s\n    per depth:", worst, worst_d,
-            median(&cr[worst_d]), median(&cr[ROOM_DEPTHS + worst_d]), verdict(worst >= 2));
+            cpu_median(&cr[worst_d]), cpu_median(&cr[ROOM_DEPTHS + worst_d]), verdict(worst >= 2));
         for (int d = 0; d < ROOM_DEPTHS; d++)
-            say(" %d:%.1f/%.1f", d, median(&cr[d]), median(&cr[ROOM_DEPTHS + d]));
+            say(" %d:%.1f/%.1f", d, cpu_median(&cr[d]), cpu_median(&cr[ROOM_DEPTHS + d]));
         say(" (limen/classic ms)\n    wall time per depth:");
         for (int d = 0; d < ROOM_DEPTHS; d++)
             say(" %d:%.1f/%.1f", d, wall_median(&cr[d]), wall_median(&cr[ROOM_DEPTHS + d]));
@@ -331,10 +316,10 @@ int main(int argc, char **argv)
             check(cg, 2, out, rgb, ref);
             interleave(cg, 2, gallery_rounds);
             csv_rows(csv, cg, 2);
-            double x = median(&cg[1]) / median(&cg[0]);
+            double x = cpu_median(&cg[1]) / cpu_median(&cg[0]);
             say("%s depth %d >= 2x faster than the classic recursion: %.2fx (limen %.1f ms, %d "
                 "views; classic %.1f ms, %d views; %d rounds; wall time %.2fx): %s\n",
-                gal[g].s->name, gal[g].depth, x, median(&cg[0]), cg[0].views, median(&cg[1]),
+                gal[g].s->name, gal[g].depth, x, cpu_median(&cg[0]), cg[0].views, cpu_median(&cg[1]),
                 cg[1].views, gallery_rounds, wall_median(&cg[1]) / wall_median(&cg[0]),
                 verdict(x >= 2));
         }
