@@ -2,14 +2,14 @@
  * buffer per mesh asset and one texture per image, shared by every node that shows it, kept
  * while a frame uses them and dropped after the first frame that does not.
  *
- * A mesh is drawn unindexed, three corners per triangle, each with its position, its
- * triangle's face normal (computed as the ray tracer does), its vertex normal and its
- * texture coordinates; a node's flat or smooth shading picks which normal feeds the shader.
- * Its levels of detail follow each other in the same buffer. Smooth shading needs no face
- * normal, so for it the mesh's own vertices are drawn indexed (a second buffer, made on
- * first use), which runs the vertex shader about once per vertex instead of once per
- * corner. Both vertex arrays also read the renderer's instance buffer (gl/batch.c): a model
- * matrix, a normal matrix and an albedo per node. */
+ * A flat-shaded mesh is drawn unindexed, three corners per triangle, each with its
+ * position, its triangle's face normal (computed as the ray tracer does), its vertex normal
+ * and its texture coordinates. Smooth shading needs no face normal, so a smooth mesh's own
+ * vertices are drawn indexed instead, which runs the vertex shader about once per vertex
+ * rather than once per corner (its corners stand in where that buffer cannot be made). Each
+ * buffer is made when a draw first needs it, and holds the levels of detail one after
+ * another. Both vertex arrays also read the renderer's instance buffer (gl/batch.c): a
+ * model matrix, a normal matrix and an albedo per node. */
 #include <stdlib.h>
 #include <string.h>
 
@@ -31,7 +31,6 @@ enum { GPU_LODS = 16 };         /* levels kept; a coarser one asked for gets the
 struct limen__gpu_asset {
     uint64_t serial;
     GLuint vao, vbo, tex;       /* a mesh's corners, or an image's texture */
-    int nlods;
     GLint first[GPU_LODS];      /* each level's first corner and corners */
     GLsizei count[GPU_LODS];
     GLuint svao, svbo, sibo;    /* smooth: the vertices, and each level's indices */
@@ -121,22 +120,46 @@ static void vertex_arrays(limen_renderer *r, GLuint *vao, GLuint *vbo, size_t by
     GL(BufferData)(GL_ARRAY_BUFFER, (GLsizeiptr)bytes, data, GL_STATIC_DRAW);
 }
 
+/* The levels kept of mesh m (a mesh without levels is its own level 0). */
+static int levels(const limen_mesh_geometry *m)
+{
+    return !m->lods || m->lod_count < 1 ? 1 : m->lod_count > GPU_LODS ? GPU_LODS : m->lod_count;
+}
+
+/* Level k of mesh m: its indices, and its triangles (returned). */
+static int level(const limen_mesh_geometry *m, int k, const uint32_t **ix)
+{
+    if (!m->lods || m->lod_count < 1) {
+        *ix = m->indices;
+        return m->triangle_count;
+    }
+    *ix = m->lods[k].indices;
+    return m->lods[k].triangle_count;
+}
+
+/* Corners (three a triangle) of all kept levels together. */
+static size_t level_corners(const limen_mesh_geometry *m)
+{
+    size_t n = 0;
+    const uint32_t *ix;
+    for (int k = 0; k < levels(m); k++)
+        n += (size_t)level(m, k, &ix) * 3;
+    return n;
+}
+
 static bool upload_mesh(limen_renderer *r, const limen_mesh_geometry *m, struct limen__gpu_asset *a)
 {
-    int nlods = m->lod_count < 1 || !m->lods ? 1 : m->lod_count > GPU_LODS ? GPU_LODS : m->lod_count;
-    size_t corners = 0;
-    for (int k = 0; k < nlods; k++)
-        corners += (size_t)(k && m->lods ? m->lods[k].triangle_count : m->triangle_count) * 3;
+    size_t corners = level_corners(m);
     float *buf = malloc(sizeof(float) * CORNER_FLOATS * corners), *at = buf;
     if (!buf)
         return false;
-    for (int k = 0; k < nlods; k++) {
-        int ntris = k ? m->lods[k].triangle_count : m->triangle_count;
+    for (int k = 0; k < levels(m); k++) {
+        const uint32_t *ix;
+        int ntris = level(m, k, &ix);
         a->first[k] = (GLint)((at - buf) / CORNER_FLOATS);
         a->count[k] = (GLsizei)ntris * 3;
-        at = lay_corners(m, k ? m->lods[k].indices : m->indices, ntris, at);
+        at = lay_corners(m, ix, ntris, at);
     }
-    a->nlods = nlods;
     vertex_arrays(r, &a->vao, &a->vbo, sizeof(float) * CORNER_FLOATS * corners, buf);
     free(buf);
     GL(EnableVertexAttribArray)(0);
@@ -155,9 +178,7 @@ enum { VERTEX_FLOATS = 8 };     /* smooth: position, vertex normal, texture coor
 static bool upload_smooth(limen_renderer *r, const limen_mesh_geometry *m,
                           struct limen__gpu_asset *a)
 {
-    size_t nv = (size_t)m->vertex_count, nidx = 0;
-    for (int k = 0; k < a->nlods; k++)
-        nidx += (size_t)(k ? m->lods[k].triangle_count : m->triangle_count) * 3;
+    size_t nv = (size_t)m->vertex_count, nidx = level_corners(m);
     float *buf = malloc(sizeof(float) * VERTEX_FLOATS * nv);
     uint32_t *idx = malloc(sizeof(uint32_t) * nidx), *at = idx;
     if (!buf || !idx) {
@@ -172,11 +193,12 @@ static bool upload_smooth(limen_renderer *r, const limen_mesh_geometry *m,
         c[6] = m->uvs ? m->uvs[v * 2] : 0.0f;
         c[7] = m->uvs ? m->uvs[v * 2 + 1] : 0.0f;
     }
-    for (int k = 0; k < a->nlods; k++) {
-        size_t n = (size_t)(k ? m->lods[k].triangle_count : m->triangle_count) * 3;
+    for (int k = 0; k < levels(m); k++) {
+        const uint32_t *ix;
+        size_t n = (size_t)level(m, k, &ix) * 3;
         a->sfirst[k] = (GLint)(at - idx);
         a->scount[k] = (GLsizei)n;
-        memcpy(at, k ? m->lods[k].indices : m->indices, sizeof(uint32_t) * n);
+        memcpy(at, ix, sizeof(uint32_t) * n);
         at += n;
     }
     vertex_arrays(r, &a->svao, &a->svbo, sizeof(float) * VERTEX_FLOATS * nv, buf);
@@ -200,9 +222,12 @@ bool limen__gpu_mesh_bind(limen_renderer *r, const limen_mesh_geometry *m, bool 
                           GLint *first, GLsizei *count, bool *indexed)
 {
     struct limen__gpu_asset *a = find(r, m->id);
-    if (!a || (!a->vao && !upload_mesh(r, m, a)))
+    if (!a)
         return false;
-    lod = lod < 0 ? 0 : lod >= a->nlods ? a->nlods - 1 : lod;
+    int nlods = levels(m);
+    lod = lod < 0 ? 0 : lod >= nlods ? nlods - 1 : lod;
+    /* each buffer is made when a draw first needs it: a mesh only ever drawn smooth has no
+     * corners (the corners stand in where the smooth buffer cannot be made) */
     *indexed = smooth && (a->svao || upload_smooth(r, m, a));
     if (*indexed) {
         GL(BindVertexArray)(a->svao);
@@ -210,6 +235,8 @@ bool limen__gpu_mesh_bind(limen_renderer *r, const limen_mesh_geometry *m, bool 
         *count = a->scount[lod];
         return true;
     }
+    if (!a->vao && !upload_mesh(r, m, a))
+        return false;
     GL(BindVertexArray)(a->vao);
     GL(BindBuffer)(GL_ARRAY_BUFFER, a->vbo);
     GL(VertexAttribPointer)(1, 3, GL_FLOAT, GL_FALSE, sizeof(float) * CORNER_FLOATS,
