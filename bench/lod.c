@@ -56,6 +56,17 @@ static void field_open(field *f, int n, float bound)
         die("cannot make the field (is the mesh file there?)");
 }
 
+/* The field f shares with src (its scene, and its truth once measured) at another bound;
+ * src closes them. */
+static void field_like(field *f, const field *src, float bound)
+{
+    memset(f, 0, sizeof *f);
+    f->n = src->n;
+    f->bound = bound;
+    f->s = src->s;
+    f->truth = src->truth;
+}
+
 static void frame(field *f)
 {
     limen_render_opts o = { .limits.lod_pixels = f->bound };
@@ -149,7 +160,7 @@ int main(int argc, char **argv)
     for (size_t k = 0; k < sizeof COUNTS / sizeof COUNTS[0]; k++) {
         field f[2];
         field_open(&f[0], COUNTS[k], 0);
-        field_open(&f[1], COUNTS[k], LIMEN_LOD_FULL);
+        field_like(&f[1], &f[0], LIMEN_LOD_FULL);
         interleave(f, 2, COUNTS[k] >= 300 ? 5 : 9);
         fprintf(fc, "%d,%.3f,%llu,%.3f,%llu,%.3f,%.3f\n", COUNTS[k], med(f[0].cpu, f[0].runs),
                 (unsigned long long)f[0].st.triangles, med(f[1].cpu, f[1].runs),
@@ -160,7 +171,6 @@ int main(int argc, char **argv)
                 (unsigned long long)f[0].st.triangles, med(f[1].cpu, f[1].runs),
                 (unsigned long long)f[1].st.triangles);
         field_close(&f[0]);
-        field_close(&f[1]);
     }
     out_close(&oc);
 
@@ -173,14 +183,12 @@ int main(int argc, char **argv)
     enum { NB = sizeof BOUNDS / sizeof BOUNDS[0] };
     field fs[2 * NB];           /* 1,000 bunnies at bound k, then 10 */
     for (int k = 0; k < NB; k++) {
-        field_open(&fs[k], 1000, BOUNDS[k]);
-        field_open(&fs[NB + k], 10, BOUNDS[k]);
-        if (k) {    /* one scene of each size, one truth */
-            limen_scene_destroy(fs[k].s);
-            limen_scene_destroy(fs[NB + k].s);
-            fs[k].s = fs[0].s;
-            fs[NB + k].s = fs[NB].s;
-            fs[k].truth = fs[0].truth;
+        if (!k) {   /* one scene of each size, one truth */
+            field_open(&fs[0], 1000, BOUNDS[0]);
+            field_open(&fs[NB], 10, BOUNDS[0]);
+        } else {
+            field_like(&fs[k], &fs[0], BOUNDS[k]);
+            field_like(&fs[NB + k], &fs[NB], BOUNDS[k]);
         }
         measure_error(&fs[k]);
     }
@@ -226,9 +234,8 @@ int main(int argc, char **argv)
                                                                         : BOUNDS[exact_k]),
                 ratio[exact_k]);
     out_close(&ot);
-    free(fs[0].truth);
-    limen_scene_destroy(fs[0].s);
-    limen_scene_destroy(fs[NB].s);
+    field_close(&fs[0]);
+    field_close(&fs[NB]);
     limen_renderer_destroy(g_r);
     free(g_rgb);
     return 0;
