@@ -170,13 +170,11 @@ static void draw_instances(limen_renderer *r, const limen_view *v, const limen_d
             GL(Uniform1f)(r->u.cell, d->cell);
             GL(Uniform3fv)(r->u.scale, 1, (const float[3]){ 1, 1, 1 });
         }
-        /* as for shapes: a view cut by a user clip plane keeps what lies just in front of
-         * its exit; meshes need not be closed, so both sides show */
-        if (v->clip == LIMEN_CLIP_PLANE && v->depth > 0)
+        if (limen__depth_clamped(v, false))
             GL(Enable)(GL_DEPTH_CLAMP);
         else
             GL(Disable)(GL_DEPTH_CLAMP);
-        GL(Disable)(GL_CULL_FACE);
+        GL(Disable)(GL_CULL_FACE);      /* meshes need not be closed: both sides show */
         /* fresh storage each time: refilling the old one would wait for the draws queued
          * on it (llvmpipe) */
         GLsizeiptr size = (GLsizeiptr)(sizeof(limen__instance) * (size_t)n);

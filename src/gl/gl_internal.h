@@ -133,6 +133,16 @@ static inline void limen__normal_matrix(mat4 model, mat3 out)
     glm_mat3_transpose(out);
 }
 
+/* Depth clamping for a lit draw in view v, the same for one node and for a batch: mirrors
+ * and portals are not cut by the near plane (a camera closer to one than its near distance
+ * still sees through it, and the ray tracer agrees); and in a view cut by a user clip plane
+ * (the eye too near its exit surface for an oblique near plane) the clip plane alone cuts:
+ * its own near plane would also drop what lies just in front of the exit. */
+static inline bool limen__depth_clamped(const limen_view *v, bool surface)
+{
+    return surface || (v->clip == LIMEN_CLIP_PLANE && v->depth > 0);
+}
+
 /* Floats per instance (gl/batch.c): model matrix, normal matrix, albedo. */
 #define LIMEN__INSTANCE_FLOATS 28
 

@@ -217,12 +217,7 @@ static void draw_node_at(limen_renderer *r, const rview *v, const limen_drawable
         GL(Uniform1f)(r->u.cell, node->cell);
         GL(Uniform3fv)(r->u.scale, 1, scale);
     }
-    /* Mirrors and portals are not cut by the near plane: a camera closer to one than its
-     * near distance still sees through it (and the ray tracer agrees). */
-    /* In a view cut by a user clip plane (the eye too near its exit surface for an oblique
-     * near plane) the clip plane alone cuts: its own near plane would also drop what lies
-     * just in front of the exit. */
-    if (is_surface(node) || (v->pub->clip == LIMEN_CLIP_PLANE && v->pub->depth > 0))
+    if (limen__depth_clamped(v->pub, is_surface(node)))
         GL(Enable)(GL_DEPTH_CLAMP);
     else
         GL(Disable)(GL_DEPTH_CLAMP);
