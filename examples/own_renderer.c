@@ -17,9 +17,14 @@
  *      the views). Any window system works the same way.
  *   2. Shader and meshes (sections 2, 3). The game's own. To match limen's pictures it
  *      shades with limen's formula
- *          colour = albedo * (ambient + (1 - ambient) * sum_i light_i * max(0, n . l_i))
- *      with per-pixel true normals for spheres and cylinders, the normal turned towards
- *      the view's eye, and the checker of limen_node_get_checker in node-local units.
+ *          colour = albedo * (ambient + (1 - ambient) * sum_i light_i * w_i * max(0, n . l_i))
+ *      (w_i the light's range falloff, limen.h) with per-pixel true normals for spheres and
+ *      cylinders, the normal turned towards the view's eye, the checker of
+ *      limen_node_get_checker in node-local units, and albedo times the texel of the
+ *      node's texture (bilinear, repeating, as limen_node_set_texture says). Triangle
+ *      meshes (limen_drawable.mesh) and images (limen_drawable.texture) are uploaded once
+ *      each, keyed on their id; a mesh is drawn at the level of detail limen_view_mesh_lod
+ *      picks for the view.
  *   3. Scene (section 7). Load a Lua scene script with limen_script_load, or build the
  *      nodes in C with limen_node_create and friends.
  *   4. Every frame (section 6):
@@ -32,7 +37,11 @@
  *         nodes that draw or light, each with its kind, world matrix, dims, colours,
  *         checker and surface colours, and limen_drawables_find gives the item of a node
  *         the plan names;
- *      d. draw view 0, the camera, which recurses through the tree (section 5).
+ *      d. draw view 0, the camera, which recurses through the tree (section 5). Each view
+ *         draws only the shapes limen_plan_view_things lists for it (found through the
+ *         scene's spatial index: the cost follows what the view can see), and each shape
+ *         passing through a portal (limen_plan_clones) twice: cut at the portal, and its
+ *         copy carried out of the partner, cut there (gl_ClipDistance[1]).
  *
  * DRAWING ONE VIEW v (the stencil method; v's pixels hold stencil == v->stencil)
  *   - scissor to v->scissor, stencil test EQUAL v->stencil;
@@ -54,9 +63,10 @@
  *     they are cut by v->clip_plane as gl_ClipDistance[0]: else what of one lies behind the
  *     exit surface (a neighbour poking through a mirror) would show.
  *
- * The tests (tests/test_example_game.c) render scenes/mirror_room.lua, portals.lua and
- * corridor.lua with this code and with limen's renderer and compare; frames go to
- * build/example_*.png.
+ * The tests (tests/test_example_game.c) render scenes/mirror_room.lua, portals.lua,
+ * corridor.lua, hall_of_mirrors.lua (meshes), portal_rooms.lua (textures, light ranges)
+ * and portal_statue.lua (a mesh halfway through a portal) with this code and with limen's
+ * renderer and compare; frames go to build/example_*.png.
  */
 #ifndef _DEFAULT_SOURCE
 #define _DEFAULT_SOURCE         /* M_PI */
@@ -72,7 +82,6 @@
 #include "limen.h"
 
 #define SEGMENTS 96             /* fixed tessellation of spheres and cylinders */
-#define MAX_ITEMS 1024          /* nodes the game draws per frame */
 
 /* ============================================================ 0. small maths */
 
@@ -89,13 +98,32 @@ static void mat4_mul(const float a[16], const float b[16], float c[16])
 
 typedef struct mesh { GLsizei first, count; } mesh;
 enum { MESH_QUAD, MESH_BOX, MESH_SPHERE, MESH_CYLINDER, MESH_COUNT };
-enum { SHAPE_FLAT = 0, SHAPE_SPHERE = 1, SHAPE_CYLINDER = 2 }; /* where the normal comes from */
+enum { MESH_FILE = -1 };                /* a triangle mesh of the scene's (item.geo) */
+/* where the normal comes from: the vertices', the true sphere's or cylinder's, or the
+ * triangle's plane (a mesh without smooth normals) */
+enum { SHAPE_FLAT = 0, SHAPE_SPHERE = 1, SHAPE_CYLINDER = 2, SHAPE_FACETS = 3 };
+/* where texture coordinates come from: none, a plane's, a box face's, a mesh's own */
+enum { UV_NONE, UV_PLANE, UV_BOX, UV_MESH };
+
+/* A scene mesh on the GPU: its vertices, and all its levels of detail in one index buffer. */
+typedef struct gpu_mesh {
+    uint64_t id;                        /* limen_mesh_geometry.id */
+    GLuint vao, vbo, ibo;
+    int levels;
+    GLsizei first[16], count[16];       /* level k: indices [first, first + count) */
+} gpu_mesh;
+
+/* An image on the GPU. */
+typedef struct gpu_image { uint64_t id; GLuint tex; } gpu_image;
 
 /* What the game draws for one node this frame. */
 typedef struct item {
     limen_node node;
     limen_node_kind kind;
-    int mesh, shape;
+    int mesh, shape, uv;
+    const gpu_mesh *geo;                /* MESH_FILE: its triangles */
+    const limen_drawable *src;          /* what limen says of it (for the level of detail) */
+    GLuint tex;                         /* albedo texture, or 0 */
     float model[16];                    /* world matrix times the mesh's scale */
     float scale[3];                     /* unit mesh -> node-local units (for the checker) */
     float color[3], color_b[3], cell;   /* albedo, or checker colours a and b */
@@ -110,15 +138,22 @@ typedef struct game {
     PFNGLCLIPCONTROLPROC clip_control;  /* GL 4.5 (NULL on a 3.3 context) */
     GLuint fbo, color_rb, depth_rb, prog, vao, vbo, ibo;
     struct {
-        GLint model, view_proj, clip_plane, scale, eye, albedo, albedo_b, cell, tint,
-            ambient, shape, flat, nlights, light_pos, light_col;
+        GLint model, view_proj, clip_plane, cut, scale, eye, albedo, albedo_b, cell, tint,
+            ambient, shape, flat, uv, textured, tex, nlights, light_pos, light_col, light_inv_r2;
     } u;
+    gpu_mesh *meshes_gpu;               /* the scene meshes and images uploaded so far */
+    int nmeshes_gpu;
+    gpu_image *images;
+    int nimages;
+    limen_scene *scene;                 /* the scene being drawn */
+    limen_node *things;                 /* a view's shapes (limen_plan_view_things) */
+    int things_cap;
     mesh meshes[MESH_COUNT];
     limen_plan *plan;                   /* the game's plan, rebuilt every frame ... */
     limen_drawables *draw;              /* ... and its list of what to draw */
     const limen_plan *drawing;          /* the plan being drawn */
-    item items[MAX_ITEMS];              /* this frame's drawables, as the game draws them */
-    int nitems;
+    item *items;                        /* this frame's drawables, as the game draws them */
+    int nitems, items_cap;
     float background[3];
     /* Hooks for tests/sweeps/plan_gl.h, which draws through this game with some views'
      * projections or clip methods replaced and the surfaces' flat passes drawn its own way.
@@ -128,6 +163,7 @@ typedef struct game {
     void (*flat_surface)(struct game *g, const limen_view *v, const item *it, const float rgb[3]);
     void *hook_data;
     const float *cut;                   /* world plane that cuts surfaces (see use_view) */
+    const limen_view *view;             /* the view being drawn (levels of detail) */
 } game;
 
 static int make_current(game *g)
@@ -178,11 +214,13 @@ static const char *vs_src =
     "#version 330 core\n"
     "layout(location = 0) in vec3 a_pos;\n"
     "layout(location = 1) in vec3 a_nrm;\n"
+    "layout(location = 2) in vec2 a_uv;\n"
     "uniform mat4 u_model, u_view_proj;\n"
     "uniform vec3 u_scale;\n"
-    "uniform vec4 u_clip_plane;\n"
-    "uniform int u_shape;\n"
+    "uniform vec4 u_clip_plane, u_cut;\n"
+    "uniform int u_shape, u_uv;\n"
     "out vec3 v_world, v_local, v_normal;\n"
+    "out vec2 v_uv;\n"
     "void main() {\n"
     "    vec4 w = u_model * vec4(a_pos, 1.0);\n"
     "    v_world = w.xyz; v_local = a_pos * u_scale;\n"
@@ -191,21 +229,29 @@ static const char *vs_src =
     "    else if (u_shape == 2 && abs(a_nrm.y) < 0.5) n = vec3(a_pos.x, 0.0, a_pos.z);\n"
     /* linear in n, so interpolating it gives the true normal at every pixel */
     "    v_normal = transpose(inverse(mat3(u_model))) * n;\n"
+    /* texture coordinates: a plane's over its extent, a box face's two other axes */
+    "    vec3 q = a_pos + 0.5;\n"
+    "    v_uv = u_uv == 3 ? a_uv : u_uv == 1 ? q.xy\n"
+    "         : abs(a_nrm.x) > 0.5 ? q.yz : abs(a_nrm.y) > 0.5 ? q.zx : q.xy;\n"
     "    gl_ClipDistance[0] = dot(u_clip_plane, w);\n"
+    "    gl_ClipDistance[1] = dot(u_cut, w);\n"   /* a shape cut at a portal it passes */
     "    gl_Position = u_view_proj * w;\n"
     "}\n";
 
 static const char *fs_src =
     "#version 330 core\n"
     "in vec3 v_world, v_local, v_normal;\n"
+    "in vec2 v_uv;\n"
     "uniform vec3 u_eye, u_albedo, u_albedo_b, u_tint;\n"
     "uniform float u_cell, u_ambient;\n"
-    "uniform int u_flat, u_nlights;\n"
+    "uniform int u_flat, u_nlights, u_shape, u_textured;\n"
+    "uniform sampler2D u_tex;\n"
     "uniform vec3 u_light_pos[8], u_light_col[8];\n"
+    "uniform float u_light_inv_r2[8];\n"          /* 1 / range^2; 0: no range */
     "out vec4 o_color;\n"
     "void main() {\n"
     "    if (u_flat != 0) { o_color = vec4(u_albedo * u_tint, 1.0); return; }\n"
-    "    vec3 n = normalize(v_normal);\n"
+    "    vec3 n = normalize(u_shape == 3 ? cross(dFdx(v_world), dFdy(v_world)) : v_normal);\n"
     "    if (dot(n, u_eye - v_world) < 0.0) n = -n;\n"  /* two-sided: face the eye */
     "    vec3 albedo = u_albedo;\n"
     "    if (u_cell > 0.0) {\n"                     /* a quad's local z is 0: xy only */
@@ -213,9 +259,15 @@ static const char *fs_src =
     "        float k = c.x + c.y + c.z;\n"
     "        if (k - 2.0 * floor(k * 0.5) > 0.5) albedo = u_albedo_b;\n"
     "    }\n"
+    /* rows were uploaded top first: v = 0 is the image's bottom */
+    "    if (u_textured != 0) albedo *= texture(u_tex, vec2(v_uv.x, 1.0 - v_uv.y)).rgb;\n"
     "    vec3 light = vec3(0.0);\n"
-    "    for (int i = 0; i < u_nlights; i++)\n"
-    "        light += u_light_col[i] * max(0.0, dot(n, normalize(u_light_pos[i] - v_world)));\n"
+    "    for (int i = 0; i < u_nlights; i++) {\n"
+    "        vec3 d = u_light_pos[i] - v_world;\n"
+    "        float q = dot(d, d) * u_light_inv_r2[i];\n"    /* (distance / range)^2 */
+    "        float w = clamp(1.0 - q * q, 0.0, 1.0);\n"
+    "        light += u_light_col[i] * w * w * max(0.0, dot(n, normalize(d)));\n"
+    "    }\n"
     "    vec3 c = clamp(albedo * (u_ambient + (1.0 - u_ambient) * light), 0.0, 1.0);\n"
     "    o_color = vec4(c * u_tint, 1.0);\n"
     "}\n";
@@ -243,11 +295,16 @@ static int program_create(game *g)
     glGetProgramiv(g->prog, GL_LINK_STATUS, &ok);
 #define U(field, name) g->u.field = glGetUniformLocation(g->prog, name)
     U(model, "u_model"); U(view_proj, "u_view_proj");
-    U(clip_plane, "u_clip_plane"); U(scale, "u_scale"); U(eye, "u_eye");
+    U(clip_plane, "u_clip_plane"); U(cut, "u_cut"); U(scale, "u_scale"); U(eye, "u_eye");
     U(albedo, "u_albedo"); U(albedo_b, "u_albedo_b"); U(cell, "u_cell"); U(tint, "u_tint");
-    U(ambient, "u_ambient"); U(shape, "u_shape"); U(flat, "u_flat");
+    U(ambient, "u_ambient"); U(shape, "u_shape"); U(flat, "u_flat"); U(uv, "u_uv");
+    U(textured, "u_textured"); U(tex, "u_tex");
     U(nlights, "u_nlights"); U(light_pos, "u_light_pos"); U(light_col, "u_light_col");
+    U(light_inv_r2, "u_light_inv_r2");
 #undef U
+    glUseProgram(g->prog);
+    glUniform1i(g->u.tex, 0);                   /* texture unit 0 */
+    glUniform4f(g->u.cut, 0, 0, 0, 1);
     return ok ? 0 : -1;
 }
 
@@ -360,9 +417,99 @@ static int meshes_create(game *g)
     return 0;
 }
 
+/* The GPU copy of a scene mesh: vertices (position, normal, texture coordinates) and every
+ * level's indices (limen_mesh_geometry.lods; level 0 is the full mesh). NULL if out of
+ * memory. */
+static const gpu_mesh *mesh_upload(game *g, const limen_mesh_geometry *m)
+{
+    for (int i = 0; i < g->nmeshes_gpu; i++)
+        if (g->meshes_gpu[i].id == m->id)
+            return &g->meshes_gpu[i];
+    gpu_mesh *grown = realloc(g->meshes_gpu, sizeof *grown * (size_t)(g->nmeshes_gpu + 1));
+    if (!grown)
+        return NULL;
+    g->meshes_gpu = grown;
+    size_t nv = (size_t)m->vertex_count, ni = 0;
+    int levels = m->lod_count < 16 ? m->lod_count : 16;
+    for (int k = 0; k < levels; k++)
+        ni += 3 * (size_t)m->lods[k].triangle_count;
+    float *v = malloc(sizeof(float) * 8 * nv);
+    GLuint *idx = malloc(sizeof(GLuint) * ni);
+    if (!v || !idx) {
+        free(v);
+        free(idx);
+        return NULL;
+    }
+    for (size_t i = 0; i < nv; i++) {
+        memcpy(v + 8 * i, m->positions + 3 * i, sizeof(float) * 3);
+        memcpy(v + 8 * i + 3, m->normals + 3 * i, sizeof(float) * 3);
+        v[8 * i + 6] = m->uvs ? m->uvs[2 * i] : 0.0f;
+        v[8 * i + 7] = m->uvs ? m->uvs[2 * i + 1] : 0.0f;
+    }
+    gpu_mesh *gm = &g->meshes_gpu[g->nmeshes_gpu++];
+    memset(gm, 0, sizeof *gm);
+    gm->id = m->id;
+    gm->levels = levels;
+    for (int k = 0, at = 0; k < levels; k++) {
+        gm->first[k] = at;
+        gm->count[k] = 3 * m->lods[k].triangle_count;
+        memcpy(idx + at, m->lods[k].indices, sizeof(GLuint) * (size_t)gm->count[k]);
+        at += gm->count[k];
+    }
+    glGenVertexArrays(1, &gm->vao);
+    glBindVertexArray(gm->vao);
+    glGenBuffers(1, &gm->vbo);
+    glBindBuffer(GL_ARRAY_BUFFER, gm->vbo);
+    glBufferData(GL_ARRAY_BUFFER, (GLsizeiptr)(sizeof(float) * 8 * nv), v, GL_STATIC_DRAW);
+    glGenBuffers(1, &gm->ibo);
+    glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, gm->ibo);
+    glBufferData(GL_ELEMENT_ARRAY_BUFFER, (GLsizeiptr)(sizeof(GLuint) * ni), idx, GL_STATIC_DRAW);
+    for (GLuint a = 0; a < 3; a++) {
+        glEnableVertexAttribArray(a);
+        glVertexAttribPointer(a, a == 2 ? 2 : 3, GL_FLOAT, GL_FALSE, 8 * sizeof(float),
+                              (void *)(sizeof(float) * 3 * a));
+    }
+    glBindVertexArray(g->vao);
+    free(v);
+    free(idx);
+    return gm;
+}
+
+/* The GPU copy of an image: bilinear, repeating, no mipmaps (limen_node_set_texture). 0 if
+ * out of memory. */
+static GLuint image_upload(game *g, const limen_image *im)
+{
+    for (int i = 0; i < g->nimages; i++)
+        if (g->images[i].id == im->id)
+            return g->images[i].tex;
+    gpu_image *grown = realloc(g->images, sizeof *grown * (size_t)(g->nimages + 1));
+    if (!grown)
+        return 0;
+    g->images = grown;
+    gpu_image *gi = &g->images[g->nimages++];
+    gi->id = im->id;
+    glGenTextures(1, &gi->tex);
+    glBindTexture(GL_TEXTURE_2D, gi->tex);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+    glTexImage2D(GL_TEXTURE_2D, 0, GL_RGB8, im->width, im->height, 0, GL_RGB, GL_UNSIGNED_BYTE,
+                 im->rgb);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_REPEAT);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_REPEAT);
+    return gi->tex;
+}
+
 static void game_destroy(game *g)
 {
     if (g->ctx && !make_current(g)) {
+        for (int i = 0; i < g->nmeshes_gpu; i++) {
+            glDeleteBuffers(1, &g->meshes_gpu[i].vbo);
+            glDeleteBuffers(1, &g->meshes_gpu[i].ibo);
+            glDeleteVertexArrays(1, &g->meshes_gpu[i].vao);
+        }
+        for (int i = 0; i < g->nimages; i++)
+            glDeleteTextures(1, &g->images[i].tex);
         glDeleteProgram(g->prog);
         glDeleteBuffers(1, &g->vbo);
         glDeleteBuffers(1, &g->ibo);
@@ -376,6 +523,10 @@ static void game_destroy(game *g)
         OSMesaDestroyContext(g->ctx);
     limen_plan_destroy(g->plan);
     limen_drawables_destroy(g->draw);
+    free(g->meshes_gpu);
+    free(g->images);
+    free(g->items);
+    free(g->things);
     free(g);
 }
 
@@ -395,12 +546,14 @@ static game *game_create(int w, int h)
 
 /* ============================================================ 4. reading the scene */
 
-/* The game's picture of one drawable; 0 if it draws nothing (a light). */
-static int read_item(const limen_drawable *d, item *it)
+/* The game's picture of one drawable; 0 if it draws nothing (a light, a mesh without
+ * triangles, or what cannot be uploaded). */
+static int read_item(game *g, const limen_drawable *d, item *it)
 {
     memset(it, 0, sizeof *it);
     it->node = d->node;
     it->kind = d->kind;
+    it->src = d;
     const float *dims = d->dims;
     switch (it->kind) {
     case LIMEN_NODE_BOX:      it->mesh = MESH_BOX;      memcpy(it->scale, dims, 3 * sizeof *dims);
@@ -411,6 +564,12 @@ static int read_item(const limen_drawable *d, item *it)
                               it->scale[0] = it->scale[2] = dims[0], it->scale[1] = dims[1]; break;
     case LIMEN_NODE_QUAD: case LIMEN_NODE_MIRROR: case LIMEN_NODE_PORTAL:
         it->mesh = MESH_QUAD, it->scale[0] = dims[0], it->scale[1] = dims[1], it->scale[2] = 1;
+        break;
+    case LIMEN_NODE_MESH:
+        if (!d->mesh || !(it->geo = mesh_upload(g, d->mesh)))
+            return 0;
+        it->mesh = MESH_FILE, it->shape = d->smooth ? SHAPE_FLAT : SHAPE_FACETS;
+        it->scale[0] = it->scale[1] = it->scale[2] = 1;     /* in the node's own units */
         break;
     default:
         return 0;                               /* lights */
@@ -425,6 +584,8 @@ static int read_item(const limen_drawable *d, item *it)
     /* (the planner folds mirror tints into limen_view.tint) */
     memcpy(it->back, d->back, sizeof it->back);
     memcpy(it->fill, d->fill, sizeof it->fill);
+    if (d->texture && (it->tex = image_upload(g, d->texture)))
+        it->uv = it->kind == LIMEN_NODE_MESH ? UV_MESH : it->kind == LIMEN_NODE_BOX ? UV_BOX : UV_PLANE;
     return 1;
 }
 
@@ -433,18 +594,25 @@ static int read_item(const limen_drawable *d, item *it)
 static void read_scene(game *g, limen_scene *s)
 {
     float light_pos[LIMEN_MAX_LIGHTS][3], light_col[LIMEN_MAX_LIGHTS][3], ambient;
+    float inv_r2[LIMEN_MAX_LIGHTS];
     int nlights = 0;
     const limen_drawable *d;
     if (limen_drawables_build(g->draw, s))
         fprintf(stderr, "  drawables: %s\n", limen_scene_error(s));
     int n = limen_drawables_items(g->draw, &d);
-    g->nitems = n < MAX_ITEMS ? n : MAX_ITEMS;
+    if (n > g->items_cap) {
+        item *grown = realloc(g->items, sizeof *grown * (size_t)n);
+        if (grown)
+            g->items = grown, g->items_cap = n;
+    }
+    g->nitems = n < g->items_cap ? n : g->items_cap;
     for (int i = 0; i < g->nitems; i++) {
         item *it = &g->items[i];
-        it->drawn = d[i].visible && read_item(&d[i], it);
+        it->drawn = d[i].visible && read_item(g, &d[i], it);
         if (d[i].visible && d[i].kind == LIMEN_NODE_LIGHT && nlights < LIMEN_MAX_LIGHTS) {
             memcpy(light_pos[nlights], d[i].world + 12, sizeof light_pos[0]);
-            memcpy(light_col[nlights++], d[i].color, sizeof light_col[0]);
+            memcpy(light_col[nlights], d[i].color, sizeof light_col[0]);
+            inv_r2[nlights++] = d[i].range > 0 ? 1.0f / (d[i].range * d[i].range) : 0.0f;
         }
     }
     limen_drawables_environment(g->draw, g->background, &ambient);
@@ -453,6 +621,7 @@ static void read_scene(game *g, limen_scene *s)
     if (nlights) {
         glUniform3fv(g->u.light_pos, nlights, &light_pos[0][0]);
         glUniform3fv(g->u.light_col, nlights, &light_col[0][0]);
+        glUniform1fv(g->u.light_inv_r2, nlights, inv_r2);
     }
 }
 
@@ -492,6 +661,7 @@ static void use_view(game *g, const limen_view *v)
     glUniform4fv(g->u.clip_plane, 1, plane ? v->clip_plane : no_clip);
     glFrontFace(v->front_face_cw ? GL_CW : GL_CCW);
     glUniform3fv(g->u.tint, 1, v->tint);
+    g->view = v;
     /* depth clamping keeps surfaces from the near plane, the exit plane of an oblique view */
     g->cut = v->depth > 0 && clip == LIMEN_CLIP_OBLIQUE ? v->clip_plane : NULL;
 }
@@ -506,17 +676,33 @@ static void draw_item(game *g, const item *it, int flat, const float albedo[3])
     glUniform1f(g->u.cell, flat || is_surface(it) ? 0.0f : it->cell);
     glUniform1i(g->u.shape, it->shape);
     glUniform1i(g->u.flat, flat);
-    /* mirrors and portals are not cut by the near plane; closed shapes cull back faces */
+    glUniform1i(g->u.uv, it->uv);
+    glUniform1i(g->u.textured, !flat && it->tex);
+    if (!flat && it->tex)
+        glBindTexture(GL_TEXTURE_2D, it->tex);
+    /* mirrors and portals are not cut by the near plane; closed shapes cull back faces (a
+     * mesh need not be closed: both its sides show) */
     gl_set(GL_DEPTH_CLAMP, is_surface(it));
-    gl_set(GL_CULL_FACE, it->mesh != MESH_QUAD);
+    gl_set(GL_CULL_FACE, it->mesh != MESH_QUAD && it->mesh != MESH_FILE);
     int cut = is_surface(it) && g->cut;
     if (cut) {
         glUniform4fv(g->u.clip_plane, 1, g->cut);
         glEnable(GL_CLIP_DISTANCE0);
     }
-    const mesh *m = &g->meshes[it->mesh];
-    glDrawElements(GL_TRIANGLES, m->count, GL_UNSIGNED_INT,
-                   (void *)(sizeof(GLuint) * (size_t)m->first));
+    if (it->mesh == MESH_FILE) {
+        /* the coarsest level whose error stays under limen's default bound in this view */
+        int k = limen_view_mesh_lod(g->view, g->h, it->src, 0);
+        if (k < 0 || k >= it->geo->levels)
+            k = 0;
+        glBindVertexArray(it->geo->vao);
+        glDrawElements(GL_TRIANGLES, it->geo->count[k], GL_UNSIGNED_INT,
+                       (void *)(sizeof(GLuint) * (size_t)it->geo->first[k]));
+        glBindVertexArray(g->vao);
+    } else {
+        const mesh *m = &g->meshes[it->mesh];
+        glDrawElements(GL_TRIANGLES, m->count, GL_UNSIGNED_INT,
+                       (void *)(sizeof(GLuint) * (size_t)m->first));
+    }
     if (cut) {
         glUniform4f(g->u.clip_plane, 0, 0, 0, 1);
         glDisable(GL_CLIP_DISTANCE0);
@@ -549,6 +735,64 @@ static void draw_flat_surface(game *g, const limen_view *v, const item *it, cons
         draw_item(g, it, 1, rgb);
 }
 
+/* Shape `it` cut at world plane `keep` (NULL: whole), its world matrix first carried by
+ * `carry` (a portal's matrix) where not NULL. */
+static void draw_cut(game *g, const item *it, const float *carry, const float *keep)
+{
+    item copy = *it;
+    if (carry)
+        mat4_mul(carry, it->model, copy.model);
+    if (keep) {
+        glUniform4fv(g->u.cut, 1, keep);
+        glEnable(GL_CLIP_DISTANCE1);
+    }
+    draw_item(g, &copy, 0, copy.color);
+    if (keep) {
+        glUniform4f(g->u.cut, 0, 0, 0, 1);
+        glDisable(GL_CLIP_DISTANCE1);
+    }
+}
+
+/* View `index`'s shapes: those limen_plan_view_things lists (the scene's spatial index
+ * finds them; a superset of what shows), each cut at the portal it is passing through, then
+ * the copies of those coming out of the portals' partners. */
+static void draw_shapes(game *g, int index)
+{
+    const limen_clone *clones;
+    int nclones = limen_plan_clones(g->drawing, &clones);
+    int n = limen_plan_view_things(g->drawing, g->scene, index, g->things, g->things_cap);
+    if (n > g->things_cap) {
+        limen_node *grown = realloc(g->things, sizeof *grown * (size_t)n);
+        if (grown) {
+            g->things = grown;
+            g->things_cap = n;
+            n = limen_plan_view_things(g->drawing, g->scene, index, g->things, n);
+        }
+    }
+    if (n < 0 || n > g->things_cap) {    /* (out of memory: every shape then) */
+        fprintf(stderr, "  view things: %s\n", limen_scene_error(g->scene));
+        for (int i = 0; i < g->nitems; i++)
+            if (g->items[i].drawn && !is_surface(&g->items[i]))
+                draw_item(g, &g->items[i], 0, g->items[i].color);
+        return;
+    }
+    for (int k = 0; k < n; k++) {
+        const item *it = find_item(g, g->things[k]);
+        if (!it)
+            continue;
+        const float *keep = NULL;
+        for (int c = 0; c < nclones && !keep; c++)
+            if (clones[c].node.id == it->node.id)
+                keep = clones[c].keep;
+        draw_cut(g, it, NULL, keep);
+    }
+    for (int c = 0; c < nclones; c++) {
+        const item *it = find_item(g, clones[c].node);
+        if (it)
+            draw_cut(g, it, clones[c].matrix, clones[c].copy_keep);
+    }
+}
+
 static void draw_view(game *g, int index)
 {
     const limen_view *v = limen_plan_view(g->drawing, index);
@@ -565,9 +809,7 @@ static void draw_view(game *g, int index)
         glDepthFunc(GL_LESS);
     }
     use_view(g, v);
-    for (int i = 0; i < g->nitems; i++)
-        if (g->items[i].drawn && !is_surface(&g->items[i]))
-            draw_item(g, &g->items[i], 0, g->items[i].color);
+    draw_shapes(g, index);
     if (v->depth > 0) {
         /* the background (tinted) where no shape landed: depth is still at the far plane */
         glDepthFunc(GL_EQUAL);
@@ -631,6 +873,7 @@ static int game_draw(game *g, limen_scene *s, const limen_plan *p, limen_depth_r
         g->clip_control(GL_LOWER_LEFT,
                         range == LIMEN_DEPTH_ZO ? GL_ZERO_TO_ONE : GL_NEGATIVE_ONE_TO_ONE);
     g->drawing = p;
+    g->scene = s;
     glBindFramebuffer(GL_FRAMEBUFFER, g->fbo);
     glViewport(0, 0, g->w, g->h);
     glUseProgram(g->prog);

@@ -109,6 +109,32 @@ static void test_corridor(void)
     compare_script("scenes/corridor.lua", "corridor", LIMEN_DEPTH_NO, LIMEN_CLIP_OBLIQUE, 8);
 }
 
+/* Triangle meshes from files (flat and smooth), drawn at the level of detail limen picks
+ * for each view, between mirrors that repeat them. */
+static void test_meshes(void)
+{
+    compare_script("scenes/hall_of_mirrors.lua", "hall_of_mirrors", LIMEN_DEPTH_NO,
+                   LIMEN_CLIP_OBLIQUE, 6);
+}
+
+/* Textures on planes, a box and meshes, and lamps with a range. */
+static void test_textures_ranges(void)
+{
+    compare_script("scenes/portal_rooms.lua", "portal_rooms", LIMEN_DEPTH_NO, LIMEN_CLIP_OBLIQUE,
+                   2);
+}
+
+/* A bunny halfway through a portal: drawn cut at it, and its copy cut at the partner, where
+ * it comes out facing the camera (a tenth of the frame: missing, the frame fails). */
+static void test_clones(void)
+{
+    compare_script("scenes/portal_statue.lua", "portal_statue", LIMEN_DEPTH_NO,
+                   LIMEN_CLIP_OBLIQUE, 3);
+    const limen_clone *clones;
+    CHECK_MSG(the_game && limen_plan_clones(the_game->plan, &clones) == 1,
+              "portal_statue: the bunny should be passing through the blue portal");
+}
+
 /* The clip-space convention is the game's choice: Direct3D/Vulkan-style depth in [0, 1]
  * (here glClipControl) just asks the planner for LIMEN_DEPTH_ZO projections. */
 static void test_depth_zo(void)
@@ -166,7 +192,8 @@ static const check_case cases[] = {
     { "mirror_room", test_mirror_room }, { "portals", test_portals },
     { "corridor", test_corridor },       { "depth_zo", test_depth_zo },
     { "clip_plane", test_clip_plane },   { "game_loop", test_game_loop },
-    { "crossing_walls", test_crossing_walls },
+    { "crossing_walls", test_crossing_walls }, { "meshes", test_meshes },
+    { "textures_ranges", test_textures_ranges }, { "clones", test_clones },
     { 0 },
 };
 
