@@ -1,6 +1,7 @@
 /* test_mesh.c - mesh nodes: triangles from arrays and from files (OBJ, PLY, glTF written
  * here, and the bunny in scenes/data), sharing, bad input, and the ray caster on them.
  * No GL. */
+#include <pthread.h>
 #include <stdlib.h>
 #include <unistd.h>
 
@@ -597,6 +598,62 @@ static void test_mesh_texture(void)
 
 /* A mesh passing through a portal is cut and cloned like a box; culling and moving use its
  * bounds. */
+/* Loading in two threads at once, each into its own scene: every failure names its own
+ * file with the reason it has alone (the importer's error is the process's, not the
+ * scene's), and every good load succeeds. */
+typedef struct loader {
+    char bad[128], good[128];
+    char expected[512];
+    int wrong, failed_good;
+} loader;
+
+static void *load_many(void *arg)
+{
+    loader *l = arg;
+    limen_scene *s = new_scene();
+    for (int k = 0; k < 1000; k++) {
+        limen_node m = new_mesh(s, "m");
+        if (limen_mesh_load(s, m, l->bad) == LIMEN_OK ||
+            strcmp(limen_scene_error(s), l->expected) != 0)
+            l->wrong++;
+        if (limen_mesh_load(s, m, l->good) != LIMEN_OK)
+            l->failed_good++;
+        limen_node_destroy(s, m);
+    }
+    limen_scene_destroy(s);
+    return NULL;
+}
+
+static void test_threads(void)
+{
+    loader l[2] = { 0 };
+    snprintf(l[0].bad, sizeof l[0].bad, "%s", write_text("junk1.glb", "glTF\x02\0\0\0 not a glb"));
+    snprintf(l[0].good, sizeof l[0].good, "%s", write_text("tetra1.ply", ply_tetra));
+    snprintf(l[1].bad, sizeof l[1].bad, "%s",
+             write_text("junk2.gltf", "{ \"asset\": { \"version\": 7 } ]"));
+    snprintf(l[1].good, sizeof l[1].good, "%s", write_text("square2.obj", obj_square));
+    limen_scene *s = new_scene();
+    for (int i = 0; i < 2; i++) {
+        limen_node m = new_mesh(s, "alone");
+        CHECK(limen_mesh_load(s, m, l[i].bad) != LIMEN_OK);
+        snprintf(l[i].expected, sizeof l[i].expected, "%s", limen_scene_error(s));
+        CHECK_MSG(strstr(l[i].expected, "cannot read it as a mesh"), "%s", l[i].expected);
+        printf("     alone: %s\n", l[i].expected);
+    }
+    CHECK_MSG(strcmp(strchr(l[0].expected, ':'), strchr(l[1].expected, ':')) != 0,
+              "the two files should fail for different reasons: %s / %s", l[0].expected,
+              l[1].expected);
+    limen_scene_destroy(s);
+    pthread_t t[2];
+    for (int i = 0; i < 2; i++)
+        CHECK(pthread_create(&t[i], NULL, load_many, &l[i]) == 0);
+    for (int i = 0; i < 2; i++) {
+        pthread_join(t[i], NULL);
+        CHECK_MSG(!l[i].wrong && !l[i].failed_good, "%s: %d wrong messages, %d good loads failed",
+                  l[i].bad, l[i].wrong, l[i].failed_good);
+    }
+}
+
 static void test_portal_clone(void)
 {
     limen_scene *s = new_scene();
@@ -646,6 +703,7 @@ static const check_case cases[] = {
     { "trace_box", test_trace_box },
     { "bunny_cast", test_bunny_cast },
     { "portal_clone", test_portal_clone },
+    { "threads", test_threads },
     { "light_range", test_light_range },
     { "texture_sampling", test_texture_sampling },
     { "mesh_texture", test_mesh_texture },

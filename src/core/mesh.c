@@ -7,6 +7,8 @@
  * shading, which interpolates area-weighted vertex normals (computed here once per asset). */
 #include <errno.h>
 #include <limits.h>
+#include <pthread.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
@@ -574,15 +576,24 @@ static limen_status load_file(limen_scene *s, const char *path, size_t max_bytes
     if ((uint64_t)stt.st_size > max_bytes)
         return limen__fail(s, LIMEN_ERR_NOMEM, "%s: a file of %.1f MiB, more than the %.1f MiB "
                            "allowed", path, stt.st_size / 1048576.0, max_bytes / 1048576.0);
+    /* assimp's C interface keeps the last error in one string for the whole process: an
+     * import and the reading of its error go together, one thread at a time, so that
+     * scenes on different threads stay independent (limen.h, THREADS) */
+    static pthread_mutex_t importing = PTHREAD_MUTEX_INITIALIZER;
+    char err[301] = "";
+    pthread_mutex_lock(&importing);
     const struct aiScene *sc =
         aiImportFile(path, aiProcess_Triangulate | aiProcess_JoinIdenticalVertices |
                                aiProcess_PreTransformVertices | aiProcess_SortByPType |
                                aiProcess_ValidateDataStructure);
     if (!sc) {
-        const char *err = aiGetErrorString();
-        return limen__fail(s, LIMEN_ERR_IO, "%s: cannot read it as a mesh: %.300s", path,
-                           err && err[0] ? err : "unknown format");
+        const char *e = aiGetErrorString();
+        snprintf(err, sizeof err, "%s", e ? e : "");
     }
+    pthread_mutex_unlock(&importing);
+    if (!sc)
+        return limen__fail(s, LIMEN_ERR_IO, "%s: cannot read it as a mesh: %s", path,
+                           err[0] ? err : "unknown format");
     limen_status st = LIMEN_OK;
     if (sc->mFlags & AI_SCENE_FLAGS_INCOMPLETE)
         st = limen__fail(s, LIMEN_ERR_IO, "%s: incomplete (no meshes in it)", path);
