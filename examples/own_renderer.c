@@ -124,6 +124,7 @@ typedef struct item {
     const gpu_mesh *geo;                /* MESH_FILE: its triangles */
     const limen_drawable *src;          /* what limen says of it (for the level of detail) */
     GLuint tex;                         /* albedo texture, or 0 */
+    float repeat[2];                    /* its coordinates scaled by these (tiling) */
     float model[16];                    /* world matrix times the mesh's scale */
     float scale[3];                     /* unit mesh -> node-local units (for the checker) */
     float color[3], color_b[3], cell;   /* albedo, or checker colours a and b */
@@ -139,7 +140,8 @@ typedef struct game {
     GLuint fbo, color_rb, depth_rb, prog, vao, vbo, ibo;
     struct {
         GLint model, view_proj, clip_plane, cut, scale, eye, albedo, albedo_b, cell, tint,
-            ambient, shape, flat, uv, textured, tex, nlights, light_pos, light_col, light_inv_r2;
+            ambient, shape, flat, uv, textured, tex, repeat, nlights, light_pos, light_col,
+            light_inv_r2;
     } u;
     gpu_mesh *meshes_gpu;               /* the scene meshes and images uploaded so far */
     int nmeshes_gpu;
@@ -246,6 +248,7 @@ static const char *fs_src =
     "uniform float u_cell, u_ambient;\n"
     "uniform int u_flat, u_nlights, u_shape, u_textured;\n"
     "uniform sampler2D u_tex;\n"
+    "uniform vec2 u_repeat;\n"
     "uniform vec3 u_light_pos[8], u_light_col[8];\n"
     "uniform float u_light_inv_r2[8];\n"          /* 1 / range^2; 0: no range */
     "out vec4 o_color;\n"
@@ -259,8 +262,10 @@ static const char *fs_src =
     "        float k = c.x + c.y + c.z;\n"
     "        if (k - 2.0 * floor(k * 0.5) > 0.5) albedo = u_albedo_b;\n"
     "    }\n"
-    /* rows were uploaded top first: v = 0 is the image's bottom */
-    "    if (u_textured != 0) albedo *= texture(u_tex, vec2(v_uv.x, 1.0 - v_uv.y)).rgb;\n"
+    /* tiled (limen_node_set_texture_repeat); rows were uploaded top first: v = 0 is the
+     * image's bottom */
+    "    if (u_textured != 0)\n"
+    "        albedo *= texture(u_tex, vec2(0.0, 1.0) + vec2(1.0, -1.0) * v_uv * u_repeat).rgb;\n"
     "    vec3 light = vec3(0.0);\n"
     "    for (int i = 0; i < u_nlights; i++) {\n"
     "        vec3 d = u_light_pos[i] - v_world;\n"
@@ -298,7 +303,7 @@ static int program_create(game *g)
     U(clip_plane, "u_clip_plane"); U(cut, "u_cut"); U(scale, "u_scale"); U(eye, "u_eye");
     U(albedo, "u_albedo"); U(albedo_b, "u_albedo_b"); U(cell, "u_cell"); U(tint, "u_tint");
     U(ambient, "u_ambient"); U(shape, "u_shape"); U(flat, "u_flat"); U(uv, "u_uv");
-    U(textured, "u_textured"); U(tex, "u_tex");
+    U(textured, "u_textured"); U(tex, "u_tex"); U(repeat, "u_repeat");
     U(nlights, "u_nlights"); U(light_pos, "u_light_pos"); U(light_col, "u_light_col");
     U(light_inv_r2, "u_light_inv_r2");
 #undef U
@@ -584,6 +589,7 @@ static int read_item(game *g, const limen_drawable *d, item *it)
     /* (the planner folds mirror tints into limen_view.tint) */
     memcpy(it->back, d->back, sizeof it->back);
     memcpy(it->fill, d->fill, sizeof it->fill);
+    memcpy(it->repeat, d->texture_repeat, sizeof it->repeat);
     if (d->texture && (it->tex = image_upload(g, d->texture)))
         it->uv = it->kind == LIMEN_NODE_MESH ? UV_MESH : it->kind == LIMEN_NODE_BOX ? UV_BOX : UV_PLANE;
     return 1;
@@ -678,8 +684,10 @@ static void draw_item(game *g, const item *it, int flat, const float albedo[3])
     glUniform1i(g->u.flat, flat);
     glUniform1i(g->u.uv, it->uv);
     glUniform1i(g->u.textured, !flat && it->tex);
-    if (!flat && it->tex)
+    if (!flat && it->tex) {
         glBindTexture(GL_TEXTURE_2D, it->tex);
+        glUniform2fv(g->u.repeat, 1, it->repeat);
+    }
     /* mirrors and portals are not cut by the near plane; closed shapes cull back faces (a
      * mesh need not be closed: both its sides show) */
     gl_set(GL_DEPTH_CLAMP, is_surface(it));

@@ -307,6 +307,15 @@ typedef struct limen_mesh_info {
  * texture (glTF, or map_Kd in an OBJ's MTL; embedded or beside the file) is used unless the
  * node has one of its own. path NULL removes the node's texture. */
 LIMEN_API limen_status limen_node_set_texture(limen_scene *s, limen_node n, const char *path);
+/* Tiling: the node's texture coordinates (a plane's, a box face's or a mesh's own, as above)
+ * are multiplied by repeat = (u, v) before sampling, so that a plane or box face shows the
+ * image u times across and v times up (and a mesh's coordinates are scaled alike); each a
+ * positive number from 1e-9 to 1e9. Default (1, 1). Any node may carry it; it shows where
+ * the node has a texture. */
+LIMEN_API limen_status limen_node_set_texture_repeat(limen_scene *s, limen_node n,
+                                                     const float repeat[2]);
+LIMEN_API limen_status limen_node_get_texture_repeat(const limen_scene *s, limen_node n,
+                                                     float repeat[2]);
 
 /* Loads a file through assimp (OBJ, glTF 2.0 .gltf/.glb, PLY, FBX, STL, ...): polygons are
  * triangulated, the file's node transforms applied, all its meshes merged. */
@@ -430,6 +439,8 @@ typedef struct limen_drawable {
                                  * triangle's face normal (p1-p0) x (p2-p0) */
     const limen_image *texture; /* planes, boxes, meshes: albedo texture (a mesh file's own
                                  * where the node names none), or NULL */
+    float texture_repeat[2];    /* limen_node_set_texture_repeat: scales the texture
+                                 * coordinates before sampling */
 } limen_drawable;
 
 typedef struct limen_drawables limen_drawables;

@@ -1,6 +1,7 @@
 /* test_mesh.c - mesh nodes: triangles from arrays and from files (OBJ, PLY, glTF written
  * here, and the bunny in scenes/data), sharing, bad input, and the ray caster on them.
  * No GL. */
+#include <math.h>
 #include <pthread.h>
 #include <stdlib.h>
 #include <unistd.h>
@@ -567,6 +568,40 @@ static void test_texture_sampling(void)
     limen_scene_destroy(s);
 }
 
+/* Tiling: the coordinates are scaled before sampling, by any positive amount. */
+static void test_texture_repeat(void)
+{
+    limen_scene *s = new_scene();
+    CHECK_OK(limen_scene_set_ambient(s, 1));
+    limen_node q;
+    CHECK_OK(limen_node_create(s, LIMEN_NODE_QUAD, "q", &q));
+    CHECK_OK(limen_node_set_dims(s, q, (float[3]){ 2, 2, 0 }));
+    CHECK_OK(limen_node_set_texture(s, q, write_tex("t.png")));
+    float rep[2] = { 0, 0 }, c[3];
+    CHECK_OK(limen_node_get_texture_repeat(s, q, rep));
+    CHECK(rep[0] == 1 && rep[1] == 1);
+    CHECK_OK(limen_node_set_texture_repeat(s, q, (float[2]){ 2.5f, 1 }));
+    CHECK_OK(limen_node_get_texture_repeat(s, q, rep));
+    CHECK(rep[0] == 2.5f && rep[1] == 1);
+    /* (0.25, 0.25) becomes (0.625, 0.25): a quarter of the blue texel, three of the white */
+    albedo_at(s, -0.5f, -0.5f, c);
+    CHECK_NEAR(c[0], 0.75, 1e-6);
+    CHECK_NEAR(c[2], 1, 1e-6);
+    /* (0.75, 0.75) becomes (1.875, 0.75), which wraps to (0.875, 0.75): a quarter red */
+    albedo_at(s, 0.5f, 0.5f, c);
+    CHECK_NEAR(c[0], 0.25, 1e-6);
+    CHECK_NEAR(c[1], 0.75, 1e-6);
+    CHECK(limen_node_set_texture_repeat(s, q, (float[2]){ 0, 1 }) == LIMEN_ERR_ARG);
+    CHECK(strstr(limen_scene_error(s), "texture repeat") != NULL);
+    CHECK(limen_node_set_texture_repeat(s, q, (float[2]){ 1, NAN }) == LIMEN_ERR_ARG);
+    CHECK(limen_node_set_texture_repeat(s, q, NULL) == LIMEN_ERR_ARG);
+    CHECK(limen_node_set_texture_repeat(s, (limen_node){ 0 }, (float[2]){ 1, 1 }) ==
+          LIMEN_ERR_HANDLE);
+    CHECK_OK(limen_node_get_texture_repeat(s, q, rep));
+    CHECK(rep[0] == 2.5f && rep[1] == 1);       /* refused values leave it as it was */
+    limen_scene_destroy(s);
+}
+
 /* An OBJ's map_Kd is used with the file's texture coordinates. */
 static void test_mesh_texture(void)
 {
@@ -706,6 +741,7 @@ static const check_case cases[] = {
     { "threads", test_threads },
     { "light_range", test_light_range },
     { "texture_sampling", test_texture_sampling },
+    { "texture_repeat", test_texture_repeat },
     { "mesh_texture", test_mesh_texture },
     { "script", test_script },
     { "script_safety", test_script_safety },

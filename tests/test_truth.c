@@ -138,6 +138,58 @@ static void test_crossing_surfaces(void)
     scenes_at(crossing, 320, 240);
 }
 
+/* Tiled textures (limen_node_set_texture_repeat), by amounts that are not whole, on a plane
+ * and a box: both methods stay within the bound of the truth, and the tiling shows (the
+ * frame is far from the untiled one). */
+static void test_texture_repeat(void)
+{
+    const int w = 320, h = 240;
+    limen_scene *s = NULL;
+    limen_renderer *r = NULL;
+    limen_node cam, lamp, wall, crate;
+    CHECK_OK(limen_scene_create(&(limen_scene_desc){ 0 }, &s));
+    CHECK_OK(limen_renderer_create(&(limen_renderer_desc){ .width = w, .height = h }, &r));
+    if (!s || !r || limen_node_create(s, LIMEN_NODE_CAMERA, "eye", &cam) ||
+        limen_node_create(s, LIMEN_NODE_LIGHT, "lamp", &lamp) ||
+        limen_node_create(s, LIMEN_NODE_QUAD, "wall", &wall) ||
+        limen_node_create(s, LIMEN_NODE_BOX, "crate", &crate)) {
+        CHECK_MSG(0, "scene: %s", s ? limen_scene_error(s) : "none");
+        limen_scene_destroy(s);
+        limen_renderer_destroy(r);
+        return;
+    }
+    CHECK_OK(limen_scene_set_camera(s, cam));
+    CHECK_OK(limen_node_look_at(s, cam, (float[3]){ 0.6f, 0.8f, 3.2f }, (float[3]){ 0, 0.4f, 0 },
+                                (float[3]){ 0, 1, 0 }));
+    CHECK_OK(limen_node_set_position(s, lamp, (float[3]){ 1, 2.5f, 2 }));
+    CHECK_OK(limen_node_set_dims(s, wall, (float[3]){ 4, 3, 0 }));
+    CHECK_OK(limen_node_set_position(s, wall, (float[3]){ 0, 0.5f, -0.6f }));
+    CHECK_OK(limen_node_set_texture(s, wall, "scenes/data/bricks.png"));
+    CHECK_OK(limen_node_set_position(s, crate, (float[3]){ 0.2f, 0.2f, 0.5f }));
+    CHECK_OK(limen_node_set_rotation(s, crate, (float[3]){ 0.3f, 0.6f, 0 }));
+    CHECK_OK(limen_node_set_dims(s, crate, (float[3]){ 0.9f, 0.7f, 0.8f }));
+    CHECK_OK(limen_node_set_texture(s, crate, "scenes/data/tiles.png"));
+    double ms;
+    unsigned char *plain = trace(s, w, h, -1, &ms);
+    CHECK_OK(limen_node_set_texture_repeat(s, wall, (float[2]){ 2.6f, 1.7f }));
+    CHECK_OK(limen_node_set_texture_repeat(s, crate, (float[2]){ 1.5f, 2.25f }));
+    unsigned char *truth = trace(s, w, h, -1, &ms);
+    limen_diff tiled;
+    CHECK_OK(limen_image_diff(plain, truth, w, h, 8, &tiled, NULL));
+    CHECK_MSG(tiled.bad_share > 0.3, "tiling changed only %.1f%% of the pixels",
+              100 * tiled.bad_share);
+    for (int m = 0; m < 2; m++) {
+        double d = bad_share(r, s, (limen_render_opts){ .method = m }, truth, w, h, NULL);
+        printf("     tiled wall and crate, %s: %.3f%% of pixels off\n", m ? "texture" : "stencil",
+               100 * d);
+        CHECK_MSG(d <= BOUND, "%.3f%% of pixels off", 100 * d);
+    }
+    free(plain);
+    free(truth);
+    limen_renderer_destroy(r);
+    limen_scene_destroy(s);
+}
+
 /* Meshes are not convex: drawn first in a view that sees no surface (the camera's here, and
  * the mirror's), a bunny must still hide its own far side. Its levels of detail, picked per
  * view under a pixel of error, stay within the bound of the full mesh's truth. */
@@ -317,6 +369,7 @@ static const check_case cases[] = {
     { "crossing_surfaces", test_crossing_surfaces },
     { "gallery_640x480", test_gallery_640x480 },
     { "statue", test_statue },
+    { "texture_repeat", test_texture_repeat },
     { "field", test_field },
     { "metric_has_teeth", test_metric_has_teeth },
     { 0 },

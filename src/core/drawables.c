@@ -76,6 +76,7 @@ static void read_item(const limen_scene *s, int slot, limen_drawable *it)
     if (tex && (n->kind == LIMEN_NODE_QUAD || n->kind == LIMEN_NODE_BOX ||
                 n->kind == LIMEN_NODE_MESH))
         it->texture = &tex->pub;
+    memcpy(it->texture_repeat, n->tex_repeat, sizeof it->texture_repeat);
 }
 
 /* Room for the scene's slots and its live nodes (the list's size is bounded by both). */

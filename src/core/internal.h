@@ -53,6 +53,7 @@ typedef struct limen__node {
     struct limen__mesh *mesh;   /* meshes: shared geometry (core/mesh.h), or NULL */
     bool smooth;                /* meshes: interpolate vertex normals */
     struct limen__texture *texture;  /* quads, boxes, meshes: albedo = texel * colour */
+    float tex_repeat[2];        /* texture coordinates are scaled by these (1, 1) */
 } limen__node;
 
 struct limen_scene {

@@ -279,6 +279,7 @@ static void node_defaults(limen__node *node, limen_node_kind kind)
     glm_mat3_identity(node->facing);
     glm_vec3_one(node->color);
     node->visible = true;
+    node->tex_repeat[0] = node->tex_repeat[1] = 1.0f;
     switch (kind) {
     case LIMEN_NODE_BOX: glm_vec3_one(node->dims); break;
     case LIMEN_NODE_SPHERE: node->dims[0] = 0.5f; break;

@@ -94,6 +94,7 @@ typedef struct prim {
     const limen__mesh *mesh;    /* meshes: the triangles, in unit space (scale 1) */
     bool smooth;                /* meshes: interpolated vertex normals */
     const limen__texture *tex;  /* albedo = texel * colour, or NULL */
+    double repeat[2];           /* texture coordinates scaled by these */
     double color[3], checker_b[3], cell;
     /* mirrors and portals */
     double plane[4];            /* world, front = +Z side */
@@ -269,6 +270,8 @@ static void setup_prim(limen_scene *s, const limen__node *n, prim *p)
     copy3f(n->checker_b, p->checker_b);
     if (n->kind == LIMEN_NODE_QUAD || n->kind == LIMEN_NODE_BOX || n->kind == LIMEN_NODE_MESH)
         p->tex = n->texture ? n->texture : n->kind == LIMEN_NODE_MESH ? n->mesh->tex : NULL;
+    p->repeat[0] = n->tex_repeat[0];
+    p->repeat[1] = n->tex_repeat[1];
     p->cell = n->checker_cell;
     if (limen__is_surface(n)) {
         limen__surface_plane_d(n, p->plane);
@@ -707,7 +710,7 @@ static void shade(const tracer *tr, const prim *p, const double albedo_a[3], con
         double uv[2] = { uv_in[0], uv_in[1] };
         if (p->shape != SHAPE_MESH)
             flat_uv(p, pu, nu, uv);
-        limen__texture_sample(p->tex, uv[0], uv[1], texel);
+        limen__texture_sample(p->tex, uv[0] * p->repeat[0], uv[1] * p->repeat[1], texel);
         for (int k = 0; k < 3; k++)
             texel[k] *= albedo[k];
         albedo = texel;

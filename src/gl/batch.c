@@ -23,6 +23,7 @@ _Static_assert(sizeof(limen__instance) == sizeof(float) * LIMEN__INSTANCE_FLOATS
 struct limen__batch_item {
     const limen_mesh_geometry *mesh;
     const limen_image *texture;
+    float repeat[2];            /* the texture's (limen_drawable.texture_repeat) */
     int lod, smooth, solo;      /* solo: a checker's colours are uniforms, so it goes alone */
     int k;                      /* where it stands in the view's order */
     int node;                   /* its drawable */
@@ -53,6 +54,8 @@ static int by_batch(const void *pa, const void *pb)
         c = cmp_int(a->smooth, b->smooth);
     if (!c)
         c = cmp_ptr(a->texture, b->texture);
+    for (int i = 0; i < 2 && !c; i++)
+        c = (a->repeat[i] > b->repeat[i]) - (a->repeat[i] < b->repeat[i]);
     if (!c)
         c = cmp_int(a->solo ? a->k : -1, b->solo ? b->k : -1);
     return c ? c : cmp_int(a->k, b->k);
@@ -61,7 +64,8 @@ static int by_batch(const void *pa, const void *pb)
 static bool same_batch(const struct limen__batch_item *a, const struct limen__batch_item *b)
 {
     return a->mesh == b->mesh && a->lod == b->lod && a->smooth == b->smooth &&
-           a->texture == b->texture && !a->solo && !b->solo;
+           a->texture == b->texture && a->repeat[0] == b->repeat[0] &&
+           a->repeat[1] == b->repeat[1] && !a->solo && !b->solo;
 }
 
 static int by_first(const void *pa, const void *pb, void *ctx)
@@ -100,6 +104,7 @@ int limen__batches_plan(limen_renderer *r, const limen_view *v, const limen_draw
             continue;
         r->batch_items[m++] = (struct limen__batch_item){
             .mesh = d->mesh, .texture = d->texture, .smooth = d->smooth != 0,
+            .repeat = { d->texture ? d->texture_repeat[0] : 1, d->texture ? d->texture_repeat[1] : 1 },
             .solo = d->cell > 0, .k = k, .node = i,
             .lod = limen_view_mesh_lod(v, r->height, d, r->opts.limits.lod_pixels),
         };
@@ -170,6 +175,8 @@ static void draw_instances(limen_renderer *r, const limen_view *v, const limen_d
             GL(Uniform1f)(r->u.cell, d->cell);
             GL(Uniform3fv)(r->u.scale, 1, (const float[3]){ 1, 1, 1 });
         }
+        if (textured)
+            GL(Uniform2fv)(r->u.uv_repeat, 1, d->texture_repeat);
         if (limen__depth_clamped(v, false))
             GL(Enable)(GL_DEPTH_CLAMP);
         else

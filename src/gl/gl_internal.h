@@ -17,7 +17,7 @@
 
 typedef struct uniforms {
     GLint model, normal_mat, view_proj, eye, clip_plane, clip_plane2, albedo, albedo_b, cell,
-        scale, tint, tex, tex_map, ambient, light_pos, light_col, light_inv_r2;
+        scale, tint, tex, tex_map, ambient, light_pos, light_col, light_inv_r2, uv_repeat;
 } uniforms;
 
 /* Shader variants (shader.c): what a draw shades. */

@@ -71,6 +71,7 @@
     X(void, Uniform1i, (GLint loc, GLint v))                                             \
     X(void, Uniform1f, (GLint loc, GLfloat v))                                           \
     X(void, Uniform1fv, (GLint loc, GLsizei n, const GLfloat *v))                        \
+    X(void, Uniform2fv, (GLint loc, GLsizei n, const GLfloat *v))                        \
     X(void, Uniform3fv, (GLint loc, GLsizei n, const GLfloat *v))                        \
     X(void, Uniform4fv, (GLint loc, GLsizei n, const GLfloat *v))                        \
     X(void, UniformMatrix3fv, (GLint loc, GLsizei n, GLboolean t, const GLfloat *v))     \

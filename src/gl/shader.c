@@ -85,6 +85,7 @@ static const char *fs_body =
     "#endif\n"
     "#if TEXTURED\n"
     "uniform sampler2D u_albedo_tex;\n"
+    "uniform vec2 u_uv_repeat;\n"            /* limen_node_set_texture_repeat */
     "#endif\n"
     "#if TEXTURED == 3\n"
     "in vec2 v_uv;\n"
@@ -123,13 +124,13 @@ static const char *fs_body =
     "    if (k - 2.0 * floor(k * 0.5) > 0.5) albedo = u_albedo_b;\n"
     "#endif\n"
     "#if TEXTURED == 1\n"
-    "    albedo *= texture(u_albedo_tex, v_local.xy + 0.5).rgb;\n"
+    "    albedo *= texture(u_albedo_tex, (v_local.xy + 0.5) * u_uv_repeat).rgb;\n"
     "#elif TEXTURED == 2\n"
     "    vec3 ax = abs(v_nrm);\n"
     "    vec2 uv = (ax.x > 0.5 ? v_local.yz : ax.y > 0.5 ? v_local.zx : v_local.xy) + 0.5;\n"
-    "    albedo *= texture(u_albedo_tex, uv).rgb;\n"
+    "    albedo *= texture(u_albedo_tex, uv * u_uv_repeat).rgb;\n"
     "#elif TEXTURED == 3\n"
-    "    albedo *= texture(u_albedo_tex, v_uv).rgb;\n"
+    "    albedo *= texture(u_albedo_tex, v_uv * u_uv_repeat).rgb;\n"
     "#endif\n"
     "    vec3 light = vec3(0.0);\n"
     "#if NLIGHTS > 0\n"
@@ -256,6 +257,7 @@ static limen__variant *variant_build(limen_renderer *r, unsigned key)
     U(light_pos, "u_light_pos");
     U(light_col, "u_light_col");
     U(light_inv_r2, "u_light_inv_r2");
+    U(uv_repeat, "u_uv_repeat");
 #undef U
     GL(UseProgram)(prog);
     GL(Uniform1i)(v->u.tex, 0);

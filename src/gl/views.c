@@ -217,6 +217,8 @@ static void draw_node_at(limen_renderer *r, const rview *v, const limen_drawable
         GL(Uniform1f)(r->u.cell, node->cell);
         GL(Uniform3fv)(r->u.scale, 1, scale);
     }
+    if (textured)
+        GL(Uniform2fv)(r->u.uv_repeat, 1, node->texture_repeat);
     if (limen__depth_clamped(v->pub, is_surface(node)))
         GL(Enable)(GL_DEPTH_CLAMP);
     else

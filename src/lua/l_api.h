@@ -59,7 +59,8 @@ typedef struct lnode {
 enum field {
     F_NAME, F_PARENT, F_POS, F_ROTATE, F_SCALE, F_NORMAL, F_UP, F_VISIBLE, F_COLOR,
     F_SIZE, F_RADIUS, F_HEIGHT, F_CHECKER, F_LOOK_AT, F_FOV, F_NEAR, F_FAR,
-    F_TINT, F_BACK, F_FILL, F_MAX_DEPTH, F_LINK, F_FILE, F_SMOOTH, F_RANGE, F_TEXTURE, F_COUNT
+    F_TINT, F_BACK, F_FILL, F_MAX_DEPTH, F_LINK, F_FILE, F_SMOOTH, F_RANGE, F_TEXTURE,
+    F_TEXTURE_REPEAT, F_COUNT
 };
 
 #define BIT(f) (1u << (f))
@@ -82,7 +83,7 @@ typedef struct spec {
     float pos[3], rotate[3], scale[3], normal[3], up[3], look_at[3];
     float color[3], size[3], radius, height;
     float checker_a[3], checker_b[3], cell;
-    float fov, znear, zfar, range;
+    float fov, znear, zfar, range, texture_repeat[2];
     float tint[3], back[3], fill[3];
     int max_depth, visible, smooth;
     const char *file;

@@ -17,21 +17,23 @@ const char *const limen__lua_kind_names[LIMEN_NODE_KIND_COUNT] = {
 static const char *const field_names[F_COUNT] = {
     "name", "parent", "pos", "rotate", "scale", "normal", "up", "visible", "color",
     "size", "radius", "height", "checker", "look_at", "fov", "near", "far",
-    "tint", "back", "fill", "max_depth", "link", "file", "smooth", "range", "texture"
+    "tint", "back", "fill", "max_depth", "link", "file", "smooth", "range", "texture",
+    "texture_repeat"
 };
 
 /* Which constructor fields each kind takes. */
 const unsigned limen__lua_kind_fields[LIMEN_NODE_KIND_COUNT] = {
     [LIMEN_NODE_GROUP] = F_TRANSFORM,
-    [LIMEN_NODE_BOX] = F_SHAPE | BIT(F_SIZE) | BIT(F_TEXTURE),
+    [LIMEN_NODE_BOX] = F_SHAPE | BIT(F_SIZE) | BIT(F_TEXTURE) | BIT(F_TEXTURE_REPEAT),
     [LIMEN_NODE_SPHERE] = F_SHAPE | BIT(F_RADIUS),
     [LIMEN_NODE_CYLINDER] = F_SHAPE | BIT(F_RADIUS) | BIT(F_HEIGHT),
-    [LIMEN_NODE_QUAD] = F_SHAPE | BIT(F_SIZE) | BIT(F_TEXTURE),
+    [LIMEN_NODE_QUAD] = F_SHAPE | BIT(F_SIZE) | BIT(F_TEXTURE) | BIT(F_TEXTURE_REPEAT),
     [LIMEN_NODE_MIRROR] = F_SURFACE,
     [LIMEN_NODE_PORTAL] = F_SURFACE | BIT(F_LINK),
     [LIMEN_NODE_LIGHT] = F_TRANSFORM | BIT(F_COLOR) | BIT(F_RANGE),
     [LIMEN_NODE_CAMERA] = F_TRANSFORM | BIT(F_LOOK_AT) | BIT(F_FOV) | BIT(F_NEAR) | BIT(F_FAR),
-    [LIMEN_NODE_MESH] = F_SHAPE | BIT(F_FILE) | BIT(F_SMOOTH) | BIT(F_TEXTURE),
+    [LIMEN_NODE_MESH] = F_SHAPE | BIT(F_FILE) | BIT(F_SMOOTH) | BIT(F_TEXTURE) |
+                        BIT(F_TEXTURE_REPEAT),
 };
 
 int limen__lua_field_index(const char *key)
@@ -271,19 +273,24 @@ void limen__lua_read_vec(lua_State *L, int idx, const char *ctx, const char *wha
 }
 
 /* A number (uniform) or {x, y, z}, all positive. */
-static void read_scale(lua_State *L, int idx, const char *ctx, const char *what, float out[3])
+/* A positive number for all n elements (scale: 3; texture_repeat: 2), or a table of n. */
+static void read_scale(lua_State *L, int idx, const char *ctx, const char *what, int n,
+                       float *out)
 {
+    const char *must = n == 3 ? "a positive number or a table of 3 positive numbers"
+                              : "a positive number or a table of 2 positive numbers";
     if (lua_type(L, idx) == LUA_TNUMBER) {
         double d = lua_tonumber(L, idx);
         if (!isfinite((float)d) || !(d > 0))
-            limen__lua_bad(L, idx, ctx, what, "a positive number or a table of 3 positive numbers");
+            limen__lua_bad(L, idx, ctx, what, must);
         if (d < MIN_SIZE || d > MAX_MAGNITUDE)
             limen__lua_bad(L, idx, ctx, what, RANGE_POSITIVE);
-        out[0] = out[1] = out[2] = (float)d;
+        for (int i = 0; i < n; i++)
+            out[i] = (float)d;
     } else if (lua_istable(L, idx)) {
-        limen__lua_read_vec(L, idx, ctx, what, 3, ELEM_POSITIVE, out);
+        limen__lua_read_vec(L, idx, ctx, what, n, ELEM_POSITIVE, out);
     } else {
-        limen__lua_bad(L, idx, ctx, what, "a positive number or a table of 3 positive numbers");
+        limen__lua_bad(L, idx, ctx, what, must);
     }
 }
 
@@ -372,7 +379,8 @@ void limen__lua_parse_field(lua_State *L, int v, int f, limen_node_kind kind, in
         for (int i = 0; i < 3; i++)
             sp->rotate[i] = (float)(sp->rotate[i] * DEG);
         break;
-    case F_SCALE: read_scale(L, v, ctx, what, sp->scale); break;
+    case F_SCALE: read_scale(L, v, ctx, what, 3, sp->scale); break;
+    case F_TEXTURE_REPEAT: read_scale(L, v, ctx, what, 2, sp->texture_repeat); break;
     case F_NORMAL: limen__lua_read_vec(L, v, ctx, what, 3, ELEM_FINITE, sp->normal); break;
     case F_UP: limen__lua_read_vec(L, v, ctx, what, 3, ELEM_FINITE, sp->up); break;
     case F_LOOK_AT: limen__lua_read_vec(L, v, ctx, what, 3, ELEM_FINITE, sp->look_at); break;
@@ -527,6 +535,8 @@ limen_status limen__lua_apply_spec(limen_scene *s, limen_node n, const spec *sp)
         TRY(limen_mesh_set_smooth(s, n, sp->smooth));
     if (HAVE(sp, F_RANGE))
         TRY(limen_light_set_range(s, n, sp->range));
+    if (HAVE(sp, F_TEXTURE_REPEAT))
+        TRY(limen_node_set_texture_repeat(s, n, sp->texture_repeat));
 #undef TRY
     return LIMEN_OK;
 }

@@ -232,6 +232,10 @@ int limen__lua_node_index(lua_State *L)
         return 1;
     }
     case F_RANGE: limen__lua_push_float(L, limen_light_get_range(s, n)); return 1;
+    case F_TEXTURE_REPEAT:
+        limen_node_get_texture_repeat(s, n, v);
+        limen__lua_push_vec(L, v, 2, 1);
+        return 1;
     case F_SMOOTH: {
         limen_mesh_info mi;
         limen_mesh_get(s, n, &mi);
