@@ -742,6 +742,36 @@ static void test_churn_same(void)
     limen_scene_destroy(s);
 }
 
+/* Spheres created one by one ever further along a line, each the farthest yet, go in below
+ * the one before: the tree deepens by one each time. Past the depth the traversals' stacks
+ * allow, the index is built again rather than walked too deep (check_index checks the
+ * depth), though far fewer nodes came than the quarter that rebuilds. */
+static void test_churn_deep(void)
+{
+    limen_scene *s = NULL;
+    limen_scene_create(&(limen_scene_desc){ .max_nodes = 4096 }, &s);
+    rng = 5;
+    for (int i = 0; i < 600; i++)
+        add(s, LIMEN_NODE_SPHERE, uni(-8, 8), uni(-8, 8), uni(-8, 8));
+    check_index(s, "a cloud of spheres");
+    long before = limen__index_builds(limen__scene_index(s));
+    int deepest = 0;
+    for (int i = 0; i < 140; i++) {
+        limen_node m = { 0 };
+        CHECK_OK(limen_node_create(s, LIMEN_NODE_SPHERE, NULL, &m));
+        limen_node_set_position(s, m, (float[3]){ 50.0f + 2.0f * (float)i, 1, -3 });
+        limen__spatial *x = limen__scene_index(s);
+        const limen__bvh *b = limen__index_shapes(x);
+        deepest = b->nodes[0].height > deepest ? b->nodes[0].height : deepest;
+        if (i % 20 == 19)
+            check_index(s, "a line of spheres");
+    }
+    long builds = limen__index_builds(limen__scene_index(s)) - before;
+    CHECK_MSG(builds >= 1 && builds <= 2 && deepest > 80 && deepest <= 100,
+              "%ld builds, the tree %d deep at most", builds, deepest);
+    limen_scene_destroy(s);
+}
+
 static const check_case cases[] = {
     { "gallery_same", test_gallery_same },
     { "random_same", test_random_same },
@@ -750,6 +780,7 @@ static const check_case cases[] = {
     { "cost_follows_visibility", test_cost_follows_visibility },
     { "view_things", test_view_things },
     { "churn_same", test_churn_same },
+    { "churn_deep", test_churn_deep },
     { 0 },
 };
 
