@@ -391,29 +391,6 @@ static bool push_item(int id, int **out, int *count, int *cap)
     return true;
 }
 
-static bool outside_planes(const limen__box *bx, const double (*planes)[4], int nplanes,
-                           double slack)
-{
-    for (int i = 0; i < nplanes; i++) {
-        const double *p = planes[i];
-        /* the corner furthest along the plane's normal */
-        double d = p[3];
-        for (int k = 0; k < 3; k++)
-            d += p[k] * (p[k] >= 0 ? bx->hi[k] : bx->lo[k]);
-        if (d < -slack)
-            return true;
-    }
-    return false;
-}
-
-static bool boxes_meet(const limen__box *a, const limen__box *q)
-{
-    for (int k = 0; k < 3; k++)
-        if (a->hi[k] < q->lo[k] || a->lo[k] > q->hi[k])
-            return false;
-    return true;
-}
-
 /* One walk for both queries: planes when q is NULL, else the box. */
 static int query(const limen__bvh *b, const double (*planes)[4], int nplanes, double slack,
                  const limen__box *q, int **out, int *count, int *cap, limen__bvh_stats *stats)
@@ -427,7 +404,8 @@ static int query(const limen__bvh *b, const double (*planes)[4], int nplanes, do
     while (top > 0) {
         const limen__bvh_node *nd = &b->nodes[stack[--top]];
         tested++;
-        if (q ? !boxes_meet(&nd->box, q) : outside_planes(&nd->box, planes, nplanes, slack))
+        if (q ? !limen__box_meets(&nd->box, q)
+              : limen__box_outside(&nd->box, planes, nplanes, slack))
             continue;
         if (!nd->count) {
             stack[top++] = nd->first + 1;
@@ -438,7 +416,7 @@ static int query(const limen__bvh *b, const double (*planes)[4], int nplanes, do
             int id = b->order[nd->first + i];
             const limen__box *ib = &b->boxes[id];
             tested++;
-            if (q ? !boxes_meet(ib, q) : outside_planes(ib, planes, nplanes, slack))
+            if (q ? !limen__box_meets(ib, q) : limen__box_outside(ib, planes, nplanes, slack))
                 continue;
             if (!push_item(id, out, count, cap))
                 return -1;

@@ -99,4 +99,29 @@ static inline void limen__box_sphere(limen__box *b, const double c[3], double r)
     }
 }
 
+/* Whether box bx lies wholly on the negative side of one of the planes (its corner furthest
+ * along the normal at a . p + d < -slack): what the plane query leaves out. */
+static inline bool limen__box_outside(const limen__box *bx, const double (*planes)[4],
+                                      int nplanes, double slack)
+{
+    for (int i = 0; i < nplanes; i++) {
+        const double *p = planes[i];
+        double d = p[3];
+        for (int k = 0; k < 3; k++)
+            d += p[k] * (p[k] >= 0 ? bx->hi[k] : bx->lo[k]);
+        if (d < -slack)
+            return true;
+    }
+    return false;
+}
+
+/* Whether two boxes overlap (touching counts): what the box query keeps. */
+static inline bool limen__box_meets(const limen__box *a, const limen__box *q)
+{
+    for (int k = 0; k < 3; k++)
+        if (a->hi[k] < q->lo[k] || a->lo[k] > q->hi[k])
+            return false;
+    return true;
+}
+
 #endif
