@@ -5,10 +5,16 @@
  * Then the targets, each pair of configurations measured interleaved in one run (so that a
  * shared machine's noise falls on both alike), as ratios:
  *   - one plan of the hall with 10,000 spheres <= 2 ms and <= 10x the hall with 1,000;
- *   - the trace of 20,000 spheres <= 4x the trace of 200.
+ *   - the trace of 20,000 spheres <= 4x the trace of 200;
+ *   - churn: at 1,000 and 10,000 spheres, a frame that creates one sphere (and places it)
+ *     then plans, and one that destroys a sphere then plans, each against the plan of a frame
+ *     where nothing changed, the three interleaved frame by frame on the same hall: at
+ *     10,000 the frame with a sphere added <= 1.5x the unchanged one. Medians, and means
+ *     (which count the full rebuilds that a quarter of the index's size in changes brings).
  *
- *   scale [--out DIR]
+ *   scale [--out DIR] [--churn]
  *
+ * --churn measures the churn alone and prints it (nothing written).
  * Writes DIR/scale_plan.csv, DIR/scale_trace.csv and DIR/scale_targets.txt; a line per
  * point on stderr. Timings are medians. */
 #include <stdio.h>
@@ -97,6 +103,65 @@ static double plan_median(hall *h, int reps, int movers)
     return m;
 }
 
+/* ------------------------------------------------------------------ churn */
+
+/* A game's frame at the hall: one sphere created and placed where the hall's are, or one
+ * destroyed (at random), or nothing, then a plan; the time of the whole frame. */
+static double churn_once(hall *h, int what)
+{
+    double t0 = now_ms();
+    if (what > 0) {
+        limen_node b;
+        if (limen_node_create(h->s, LIMEN_NODE_SPHERE, NULL, &b))
+            fail("create", h->s);
+        limen_node_set_position(h->s, b, (float[3]){ (float)(8.1 * hall__uniform() - 4.05),
+                                                     (float)(0.1 + 3.8 * hall__uniform()),
+                                                     (float)(-4.0 * PAIRS * hall__uniform()) });
+        limen_node_set_dims(h->s, b, (float[3]){ 0.08f, 0, 0 });
+        h->balls[h->n++] = b;
+    } else if (what < 0 && h->n) {
+        int k = (int)(hall__uniform() * h->n);
+        if (limen_node_destroy(h->s, h->balls[k]))
+            fail("destroy", h->s);
+        h->balls[k] = h->balls[--h->n];
+    }
+    if (limen_plan_build(h->p, h->s, NULL))
+        fail("plan", h->s);
+    return now_ms() - t0;
+}
+
+static double mean(const double *v, int n)
+{
+    double sum = 0;
+    for (int i = 0; i < n; i++)
+        sum += v[i];
+    return n ? sum / n : 0;
+}
+
+/* Frames unchanged, with a sphere added, with one removed, interleaved; medians and means
+ * into med[3] and avg[3]. */
+static void churn_measure(int n, int frames, double med[3], double avg[3])
+{
+    hall h = hall_open(n, false);
+    limen_node *grown = realloc(h.balls, sizeof *grown * (size_t)(n + frames + 1));
+    if (!grown)
+        fail("churn", NULL);
+    h.balls = grown;
+    double *t[3];
+    for (int c = 0; c < 3; c++)
+        if (!(t[c] = malloc(sizeof *t[c] * (size_t)frames)))
+            fail("churn", NULL);
+    for (int i = 0; i < frames; i++)
+        for (int c = 0; c < 3; c++)
+            t[c][i] = churn_once(&h, c == 0 ? 0 : c == 1 ? 1 : -1);
+    for (int c = 0; c < 3; c++) {
+        avg[c] = mean(t[c], frames);
+        med[c] = median(t[c], frames);
+        free(t[c]);
+    }
+    hall_close(&h);
+}
+
 /* ------------------------------------------------------------------ traces */
 
 static double trace_once(limen_scene *s, unsigned char *rgb)
@@ -113,14 +178,31 @@ static double trace_once(limen_scene *s, unsigned char *rgb)
 int main(int argc, char **argv)
 {
     const char *out = "build/bench";
+    bool churn_only = false;
     for (int i = 1; i < argc; i++) {
         if (!strcmp(argv[i], "--out") && i + 1 < argc)
             out = argv[++i];
+        else if (!strcmp(argv[i], "--churn"))
+            churn_only = true;
         else {
-            fprintf(stderr, "usage: scale [--out DIR]\n");
+            fprintf(stderr, "usage: scale [--out DIR] [--churn]\n");
             return 2;
         }
     }
+    /* enough frames that a quarter of 10,000 in changes (two a frame) rebuilds once, and that
+     * of 1,000 some ten times: the means count those builds */
+    enum { CHURN_FRAMES = 1401 };
+    static const int CHURN_N[2] = { 1000, 10000 };
+    double cmed[2][3], cavg[2][3];
+    for (int k = 0; k < 2 && churn_only; k++) {
+        churn_measure(CHURN_N[k], CHURN_FRAMES, cmed[k], cavg[k]);
+        printf("churn %6d spheres: unchanged %.3f ms; one added %.3f ms (%.2fx), one removed "
+               "%.3f ms (%.2fx) (medians; means %.3f, %.3f, %.3f)\n", CHURN_N[k], cmed[k][0],
+               cmed[k][1], cmed[k][1] / cmed[k][0], cmed[k][2], cmed[k][2] / cmed[k][0],
+               cavg[k][0], cavg[k][1], cavg[k][2]);
+    }
+    if (churn_only)
+        return 0;
     char path[1024];
     snprintf(path, sizeof path, "%s/scale_plan.csv", out);
     FILE *fp = fopen(path, "w");
@@ -203,6 +285,13 @@ int main(int argc, char **argv)
     limen_scene_destroy(f20k);
     free(rgb);
 
+    for (int k = 0; k < 2; k++) {
+        churn_measure(CHURN_N[k], CHURN_FRAMES, cmed[k], cavg[k]);
+        fprintf(stderr, "churn %6d spheres: unchanged %.3f ms, one added %.3f ms, one removed "
+                "%.3f ms (medians; means %.3f, %.3f, %.3f)\n", CHURN_N[k], cmed[k][0],
+                cmed[k][1], cmed[k][2], cavg[k][0], cavg[k][1], cavg[k][2]);
+    }
+
     snprintf(path, sizeof path, "%s/scale_targets.txt", out);
     FILE *fo = fopen(path, "w");
     if (!fo) {
@@ -217,6 +306,16 @@ int main(int argc, char **argv)
     fprintf(fo, "scale: trace of 20,000 spheres %.1f ms against 200 %.1f ms (%dx%d): %.2fx "
             "(target <= 4x): %s\n", tr_big, tr_small, TRACE_W, TRACE_H, trace_ratio,
             trace_ratio <= 4.0 ? "met" : "NOT met");
+    for (int k = 0; k < 2; k++) {
+        double add = cmed[k][1] / cmed[k][0], del = cmed[k][2] / cmed[k][0];
+        fprintf(fo, "scale: churn at %d spheres: a frame with one sphere added %.2fx, one "
+                "removed %.2fx the unchanged frame (%.3f ms; means with the rebuilds %.2fx, "
+                "%.2fx)", CHURN_N[k], add, del, cmed[k][0], cavg[k][1] / cavg[k][0],
+                cavg[k][2] / cavg[k][0]);
+        if (CHURN_N[k] == 10000)
+            fprintf(fo, " (target: added <= 1.5x): %s", add <= 1.5 ? "met" : "NOT met");
+        fputc('\n', fo);
+    }
     fclose(fo);
     return 0;
 }

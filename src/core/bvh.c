@@ -4,7 +4,11 @@
  * spread: O(n log n), balanced (depth log2(n / LEAF_MAX) + 1), which bounds the traversal
  * stacks below. Moving items are refitted in place (limen__bvh_update): the tree keeps its
  * shape and its ancestors' boxes follow, so a scene whose objects move stays indexed at
- * O(depth) per moved object; the caller rebuilds when items come or go. */
+ * O(depth) per moved object. Items that come are inserted as leaves where the surface area
+ * heuristic's cost grows least (found walking down from the root, as dynamic AABB trees do)
+ * and items that go leave their leaf's place to its sibling, O(depth) each: the tree stays
+ * good while such changes are few against what it holds, and the caller rebuilds when they
+ * are many (or when an insertion made it deeper than HEIGHT_MAX). */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -16,7 +20,8 @@
 #define LEAF_MAX 8          /* and of up to this many where a split would not pay */
 #define COST_NODE 1.0       /* a box test against an item test, in the heuristic */
 #define DEPTH_SAH 48        /* deeper than this, median splits: depth <= 48 + 31 */
-#define STACK_MAX 128       /* > 2 x that depth */
+#define HEIGHT_MAX 100      /* insertions deeper than this ask for a rebuild */
+#define STACK_MAX 128       /* > that height + 1, a depth-first walk's most */
 
 void limen__bvh_free(limen__bvh *b)
 {
@@ -163,6 +168,7 @@ static void build_node(limen__bvh *b, int at, int lo, int hi, int parent, int de
     if (mid == -2) {
         nd->first = lo;
         nd->count = hi - lo;
+        nd->height = 0;
         for (int i = lo; i < hi; i++)
             b->leaf[b->order[i]] = at;
         return;
@@ -177,6 +183,30 @@ static void build_node(limen__bvh *b, int at, int lo, int hi, int parent, int de
     nd->count = 0;
     build_node(b, left, lo, mid, at, depth + 1);
     build_node(b, left + 1, mid, hi, at, depth + 1);
+    int hl = b->nodes[left].height, hr = b->nodes[left + 1].height;
+    b->nodes[at].height = 1 + (hl > hr ? hl : hr);
+}
+
+/* Room for item ids below `need` in boxes and leaf (new ones not in the tree). */
+static bool grow_ids(limen__bvh *b, int need)
+{
+    if (need <= b->id_cap)
+        return true;
+    int cap = b->id_cap > 16 ? b->id_cap : 16;
+    while (cap < need)
+        cap = cap > (1 << 29) ? need : 2 * cap;
+    limen__box *bx = realloc(b->boxes, sizeof *bx * (size_t)cap);
+    if (bx)
+        b->boxes = bx;
+    int *lf = realloc(b->leaf, sizeof *lf * (size_t)cap);
+    if (lf)
+        b->leaf = lf;
+    if (!bx || !lf)
+        return false;
+    for (int i = b->id_cap; i < cap; i++)
+        b->leaf[i] = -1;
+    b->id_cap = cap;
+    return true;
 }
 
 bool limen__bvh_build(limen__bvh *b, const int *ids, int n, const limen__box *boxes,
@@ -185,25 +215,17 @@ bool limen__bvh_build(limen__bvh *b, const int *ids, int n, const limen__box *bo
     if (!limen__reserve((void **)&b->order, &b->order_cap, n > 0 ? n : 1, sizeof *b->order) ||
         !limen__reserve((void **)&b->nodes, &b->nodes_cap, n > 0 ? 2 * n : 1, sizeof *b->nodes))
         return false;
-    if (id_count > b->id_cap) {
-        limen__box *bx = realloc(b->boxes, sizeof *bx * (size_t)id_count);
-        if (bx)
-            b->boxes = bx;
-        int *lf = realloc(b->leaf, sizeof *lf * (size_t)id_count);
-        if (lf)
-            b->leaf = lf;
-        if (!bx || !lf)
-            return false;
-        b->id_cap = id_count;
-    }
+    if (!grow_ids(b, id_count))
+        return false;
     if (id_count > 0)
         memcpy(b->boxes, boxes, sizeof *boxes * (size_t)id_count);
-    for (int i = 0; i < id_count; i++)
+    for (int i = 0; i < b->id_cap; i++)
         b->leaf[i] = -1;
     if (n > 0)
         memcpy(b->order, ids, sizeof *ids * (size_t)n);
-    b->nitems = n;
+    b->nitems = b->norder = n;
     b->nnodes = 0;
+    b->free_pair = 0;
     if (n == 0)
         return true;
     b->nnodes = 1;
@@ -211,22 +233,152 @@ bool limen__bvh_build(limen__bvh *b, const int *ids, int n, const limen__box *bo
     return true;
 }
 
-void limen__bvh_update(limen__bvh *b, int id, const limen__box *box)
+/* Recomputes the boxes and heights of node `at` and its ancestors from their contents. */
+static void refit(limen__bvh *b, int at)
 {
-    if (id < 0 || id >= b->id_cap || b->leaf[id] < 0)
-        return;
-    b->boxes[id] = *box;
-    for (int at = b->leaf[id]; at >= 0; at = b->nodes[at].parent) {
+    for (; at >= 0; at = b->nodes[at].parent) {
         limen__bvh_node *nd = &b->nodes[at];
         limen__box_empty(&nd->box);
         if (nd->count) {
             for (int i = 0; i < nd->count; i++)
                 limen__box_add(&nd->box, &b->boxes[b->order[nd->first + i]]);
+            nd->height = 0;
         } else {
-            limen__box_add(&nd->box, &b->nodes[nd->first].box);
-            limen__box_add(&nd->box, &b->nodes[nd->first + 1].box);
+            const limen__bvh_node *l = &b->nodes[nd->first], *r = l + 1;
+            limen__box_add(&nd->box, &l->box);
+            limen__box_add(&nd->box, &r->box);
+            nd->height = 1 + (l->height > r->height ? l->height : r->height);
         }
     }
+}
+
+void limen__bvh_update(limen__bvh *b, int id, const limen__box *box)
+{
+    if (!limen__bvh_holds(b, id))
+        return;
+    b->boxes[id] = *box;
+    refit(b, b->leaf[id]);
+}
+
+/* ------------------------------------------------------------------ changes */
+
+/* Copies node `from` into slot `to` under `parent`, pointing its children (or its items)
+ * at the new slot. */
+static void place(limen__bvh *b, int to, int from, int parent)
+{
+    b->nodes[to] = b->nodes[from];
+    limen__bvh_node *nd = &b->nodes[to];
+    nd->parent = parent;
+    if (nd->count) {
+        for (int i = 0; i < nd->count; i++)
+            b->leaf[b->order[nd->first + i]] = to;
+    } else {
+        b->nodes[nd->first].parent = to;
+        b->nodes[nd->first + 1].parent = to;
+    }
+}
+
+/* The node to pair a new box with: walking down from the root, stop where a new parent over
+ * this node costs less (twice the area of their union: the parent and the growth it brings
+ * to its ancestors) than the least either child could cost, which is the growth of this
+ * node passed on down plus the child's own growth (its whole union when a leaf, which gets
+ * a parent). The greedy descent of dynamic AABB trees (Box2D's b2DynamicTree). */
+static int best_sibling(const limen__bvh *b, const limen__box *box)
+{
+    int at = 0;
+    while (!b->nodes[at].count) {
+        const limen__bvh_node *nd = &b->nodes[at];
+        limen__box u = nd->box;
+        limen__box_add(&u, box);
+        double joined = area(&u), here = 2 * joined, passed = 2 * (joined - area(&nd->box));
+        double cost[2];
+        for (int c = 0; c < 2; c++) {
+            const limen__bvh_node *ch = &b->nodes[nd->first + c];
+            limen__box cu = ch->box;
+            limen__box_add(&cu, box);
+            cost[c] = passed + area(&cu) - (ch->count ? 0 : area(&ch->box));
+        }
+        if (here < cost[0] && here < cost[1])
+            break;
+        at = nd->first + (cost[1] < cost[0]);
+    }
+    return at;
+}
+
+bool limen__bvh_insert(limen__bvh *b, int id, const limen__box *box)
+{
+    if (id < 0 || !grow_ids(b, id + 1))
+        return false;
+    if (b->leaf[id] >= 0) {
+        limen__bvh_update(b, id, box);
+        return true;
+    }
+    if (!limen__reserve((void **)&b->order, &b->order_cap, b->norder + 1, sizeof *b->order) ||
+        !limen__reserve((void **)&b->nodes, &b->nodes_cap, b->nnodes + 2, sizeof *b->nodes))
+        return false;
+    b->boxes[id] = *box;
+    limen__bvh_node fresh = { .box = *box, .parent = -1, .first = b->norder, .count = 1 };
+    b->order[b->norder++] = id;
+    b->nitems++;
+    if (!b->nnodes) {
+        b->nodes[0] = fresh;
+        b->nnodes = 1;
+        b->leaf[id] = 0;
+        return true;
+    }
+    /* the sibling moves down into a pair of nodes beside the new leaf; its slot becomes
+     * their parent */
+    int at = best_sibling(b, box), pair = b->free_pair - 1;
+    if (pair >= 0)
+        b->free_pair = b->nodes[pair].first;
+    else {
+        pair = b->nnodes;
+        b->nnodes += 2;
+    }
+    place(b, pair, at, at);
+    fresh.parent = at;
+    b->nodes[pair + 1] = fresh;
+    b->leaf[id] = pair + 1;
+    b->nodes[at].first = pair;
+    b->nodes[at].count = 0;
+    refit(b, at);
+    return b->nodes[0].height <= HEIGHT_MAX;
+}
+
+void limen__bvh_remove(limen__bvh *b, int id)
+{
+    if (!limen__bvh_holds(b, id))
+        return;
+    int at = b->leaf[id];
+    limen__bvh_node *nd = &b->nodes[at];
+    int p = nd->first, last = nd->first + nd->count - 1;
+    while (b->order[p] != id)
+        p++;
+    /* the leaf's last item takes the place; the range shrinks from its end */
+    b->order[p] = b->order[last];
+    b->order[last] = -1;
+    while (b->norder > 0 && b->order[b->norder - 1] < 0)
+        b->norder--;
+    b->leaf[id] = -1;
+    b->nitems--;
+    if (--nd->count > 0) {
+        refit(b, at);
+        return;
+    }
+    int parent = nd->parent;
+    if (parent < 0) {   /* the last item */
+        b->nnodes = 0;
+        b->norder = 0;
+        b->free_pair = 0;
+        return;
+    }
+    /* the sibling takes the parent's slot; the pair they were is free */
+    int pair = b->nodes[parent].first;
+    place(b, parent, pair + (pair == at), b->nodes[parent].parent);
+    b->nodes[pair].first = b->free_pair;
+    b->nodes[pair].count = -1;
+    b->free_pair = pair + 1;
+    refit(b, b->nodes[parent].parent);
 }
 
 /* ------------------------------------------------------------------ queries */
@@ -236,29 +388,6 @@ static bool push_item(int id, int **out, int *count, int *cap)
     if (!limen__reserve((void **)out, cap, *count + 1, sizeof **out))
         return false;
     (*out)[(*count)++] = id;
-    return true;
-}
-
-static bool outside_planes(const limen__box *bx, const double (*planes)[4], int nplanes,
-                           double slack)
-{
-    for (int i = 0; i < nplanes; i++) {
-        const double *p = planes[i];
-        /* the corner furthest along the plane's normal */
-        double d = p[3];
-        for (int k = 0; k < 3; k++)
-            d += p[k] * (p[k] >= 0 ? bx->hi[k] : bx->lo[k]);
-        if (d < -slack)
-            return true;
-    }
-    return false;
-}
-
-static bool boxes_meet(const limen__box *a, const limen__box *q)
-{
-    for (int k = 0; k < 3; k++)
-        if (a->hi[k] < q->lo[k] || a->lo[k] > q->hi[k])
-            return false;
     return true;
 }
 
@@ -275,7 +404,8 @@ static int query(const limen__bvh *b, const double (*planes)[4], int nplanes, do
     while (top > 0) {
         const limen__bvh_node *nd = &b->nodes[stack[--top]];
         tested++;
-        if (q ? !boxes_meet(&nd->box, q) : outside_planes(&nd->box, planes, nplanes, slack))
+        if (q ? !limen__box_meets(&nd->box, q)
+              : limen__box_outside(&nd->box, planes, nplanes, slack))
             continue;
         if (!nd->count) {
             stack[top++] = nd->first + 1;
@@ -286,7 +416,7 @@ static int query(const limen__bvh *b, const double (*planes)[4], int nplanes, do
             int id = b->order[nd->first + i];
             const limen__box *ib = &b->boxes[id];
             tested++;
-            if (q ? !boxes_meet(ib, q) : outside_planes(ib, planes, nplanes, slack))
+            if (q ? !limen__box_meets(ib, q) : limen__box_outside(ib, planes, nplanes, slack))
                 continue;
             if (!push_item(id, out, count, cap))
                 return -1;

@@ -1,7 +1,10 @@
 /* index.c - what makes a scene's cost follow what moved and what is seen: world matrices
  * recomputed only for the nodes that changed and their descendants, and a spatial index
  * (two bounding volume hierarchies, core/bvh.h) over the world bounds of the shapes and of
- * the surfaces, refitted for the nodes that moved and rebuilt when nodes come or go.
+ * the surfaces, refitted for the nodes that moved, with leaves inserted and removed for the
+ * nodes that come and go (O(log n) each), and rebuilt whole only when those changes since
+ * the last build are many against what it holds (CHURN_SHARE): a scene made from nothing, or
+ * one that loses half its nodes at once, costs one build, not a change per node.
  *
  * Every change to a node's transform, parent or size goes through limen__node_touch, which
  * puts the node on the scene's stale list. limen__scene_refresh recomputes the stale nodes;
@@ -19,10 +22,20 @@
 #include "core/reserve.h"
 #include "core/rtc.h"
 
+/* Rebuild when the nodes created and destroyed since the last build outnumber this share of
+ * those it holds (plus CHURN_MIN): the inserted leaves, placed one by one, make a tree whose
+ * queries cost more than a built one's, and this bounds by how much; the build's
+ * O(n log n) spread over n / 4 changes keeps each at O(log n) amortized. */
+#define CHURN_SHARE 4
+#define CHURN_MIN 32
+
 struct limen__spatial {
     limen__bvh shapes, surfaces;
     bool built;                 /* false: rebuild on the next use */
     int *moved, nmoved, moved_cap;
+    int *changed, nchanged, changed_cap;    /* slots created or destroyed since the last use */
+    int churn;                  /* leaves inserted and removed since the last build */
+    long builds;                /* full builds, for the tests */
     int *portals, nportals, portals_cap;    /* live portal slots, ascending */
     int *surf_slots, nsurf_slots, surf_slots_cap;   /* live mirror and portal slots, ascending */
     limen__box *boxes;          /* per slot, for building */
@@ -42,6 +55,7 @@ void limen__index_free(limen_scene *s)
     limen__bvh_free(&x->shapes);
     limen__bvh_free(&x->surfaces);
     free(x->moved);
+    free(x->changed);
     free(x->portals);
     free(x->surf_slots);
     free(x->boxes);
@@ -69,10 +83,25 @@ void limen__node_touch(limen_scene *s, limen__node *node)
     s->stale_list[s->nstale++] = (uint32_t)limen__index(s, node);
 }
 
-void limen__scene_restructure(limen_scene *s)
+static int churn_limit(const limen__spatial *x)
 {
-    if (s->index)
-        s->index->built = false;
+    return (x->shapes.nitems + x->surfaces.nitems) / CHURN_SHARE + CHURN_MIN;
+}
+
+void limen__scene_restructure(limen_scene *s, int slot)
+{
+    limen__spatial *x = s->index;
+    if (!x || !x->built)
+        return;
+    /* past the share that rebuilds anyway, stop listing (thousands created at once) */
+    if (x->churn + x->nchanged >= churn_limit(x) ||
+        !limen__reserve((void **)&x->changed, &x->changed_cap, x->nchanged + 1,
+                        sizeof *x->changed)) {
+        x->built = false;
+        x->nchanged = 0;
+        return;
+    }
+    x->changed[x->nchanged++] = slot;
 }
 
 static void note_moved(limen_scene *s, int k)
@@ -319,7 +348,73 @@ static bool rebuild(limen_scene *s, limen__spatial *x)
         !limen__bvh_build(&x->surfaces, x->ids + s->cap - nsurf, nsurf, x->boxes, s->cap))
         return false;
     x->nmoved = 0;
+    x->nchanged = 0;
+    x->churn = 0;
+    x->builds++;
     x->built = true;
+    x->rtc_current = false;
+    return true;
+}
+
+/* Puts slot k into (or takes it out of) an ascending list. */
+static bool list_set(int **list, int *n, int *cap, int k, bool in)
+{
+    int lo = 0, hi = *n;
+    while (lo < hi) {
+        int mid = lo + (hi - lo) / 2;
+        if ((*list)[mid] < k)
+            lo = mid + 1;
+        else
+            hi = mid;
+    }
+    bool there = lo < *n && (*list)[lo] == k;
+    if (in == there)
+        return true;
+    if (!in) {
+        memmove(*list + lo, *list + lo + 1, sizeof **list * (size_t)(*n - lo - 1));
+        (*n)--;
+        return true;
+    }
+    if (!limen__reserve((void **)list, cap, *n + 1, sizeof **list))
+        return false;
+    memmove(*list + lo + 1, *list + lo, sizeof **list * (size_t)(*n - lo));
+    (*list)[lo] = k;
+    (*n)++;
+    return true;
+}
+
+/* The slots created or destroyed since the last use, as leaves inserted and removed (a slot
+ * destroyed and reused since may change trees). False when the tree must be rebuilt instead:
+ * too many changes, out of memory, or an insertion made it too deep. */
+static bool apply_changes(limen_scene *s, limen__spatial *x)
+{
+    if (x->churn + x->nchanged >= churn_limit(x))
+        return false;
+    for (int i = 0; i < x->nchanged; i++) {
+        int k = x->changed[i];
+        const limen__node *n = &s->nodes[k];
+        bool alive = limen__alive(n), shape = alive && is_shape(n);
+        bool surface = alive && limen__is_surface(n);
+        limen__bvh *want = shape ? &x->shapes : surface ? &x->surfaces : NULL;
+        limen__bvh *trees[2] = { &x->shapes, &x->surfaces };
+        for (int t = 0; t < 2; t++)
+            if (trees[t] != want && limen__bvh_holds(trees[t], k)) {
+                limen__bvh_remove(trees[t], k);
+                x->churn++;
+            }
+        if (want && !limen__bvh_holds(want, k)) {
+            limen__box b;
+            limen__node_box(n, &b);
+            if (!limen__bvh_insert(want, k, &b))
+                return false;
+            x->churn++;
+        }
+        if (!list_set(&x->surf_slots, &x->nsurf_slots, &x->surf_slots_cap, k, surface) ||
+            !list_set(&x->portals, &x->nportals, &x->portals_cap, k,
+                      surface && n->kind == LIMEN_NODE_PORTAL))
+            return false;
+    }
+    x->nchanged = 0;
     x->rtc_current = false;
     return true;
 }
@@ -335,6 +430,8 @@ limen__spatial *limen__scene_index(limen_scene *s)
         if (!x)
             return NULL;
     }
+    if (x->built && x->nchanged && !apply_changes(s, x))
+        x->built = false;
     if (!x->built)
         return rebuild(s, x) ? x : NULL;
     for (int i = 0; i < x->nmoved; i++) {
@@ -387,4 +484,9 @@ int limen__index_surface_slots(const limen__spatial *x, const int **out)
 {
     *out = x->surf_slots;
     return x->nsurf_slots;
+}
+
+long limen__index_builds(const limen__spatial *x)
+{
+    return x->builds;
 }

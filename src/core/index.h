@@ -8,7 +8,8 @@
 #include "core/rtc.h"
 
 /* Refreshes the world matrices and brings the index up to date: refits the leaves of the
- * nodes that moved, rebuilds after nodes were created or destroyed. NULL when out of memory.
+ * nodes that moved, inserts and removes those of the nodes created and destroyed (rebuilds
+ * when they are many against what it holds). NULL when out of memory.
  * Items are node slots of live nodes, visible or not: callers test visibility. */
 limen__spatial *limen__scene_index(limen_scene *s);
 /* Boxes, quads (shapes) and mirrors, portals (surfaces). */
@@ -20,6 +21,8 @@ const limen__rtc *limen__index_rtc(limen__spatial *x);
 /* The live portals' slots, ascending; the live mirrors' and portals' slots, ascending. */
 int limen__index_portals(const limen__spatial *x, const int **out);
 int limen__index_surface_slots(const limen__spatial *x, const int **out);
+/* Full builds of the trees so far (for the tests: changes go in as leaves, not builds). */
+long limen__index_builds(const limen__spatial *x);
 /* World box of a node as the index holds it (a little wider than its bounds). */
 void limen__node_box(const limen__node *n, limen__box *b);
 

@@ -122,8 +122,9 @@ void limen__scene_refresh(limen_scene *s);
 void limen__node_compose_local(limen__node *node);
 /* Marks a node whose transform, parent or size changed. */
 void limen__node_touch(limen_scene *s, limen__node *node);
-/* Nodes were created or destroyed: the spatial index is rebuilt on its next use. */
-void limen__scene_restructure(limen_scene *s);
+/* The node in `slot` was created or destroyed: the spatial index inserts or removes its leaf
+ * on its next use (core/index.c). */
+void limen__scene_restructure(limen_scene *s, int slot);
 void limen__index_free(limen_scene *s);
 /* Slot of the node where a non-finite world matrix starts, or -1. */
 int limen__scene_bad_world(const limen_scene *s);

@@ -12,6 +12,7 @@
 
 #include <embree3/rtcore.h>
 
+#include "core/reserve.h"
 #include "core/rtc.h"
 
 struct limen__rtc {
@@ -20,6 +21,7 @@ struct limen__rtc {
     RTCGeometry geom;
     const limen__bvh *trees[2];
     int counts[2];
+    int *items, items_cap;      /* per primitive: its item, the shapes' first */
     limen__box root;
     double widen;
 };
@@ -36,7 +38,7 @@ typedef struct context {
 static int item_of(const limen__rtc *r, unsigned prim, int *tree)
 {
     *tree = prim >= (unsigned)r->counts[0];
-    return r->trees[*tree]->order[*tree ? prim - (unsigned)r->counts[0] : prim];
+    return r->items[prim];
 }
 
 static void bounds(const struct RTCBoundsFunctionArguments *a)
@@ -85,6 +87,7 @@ void limen__rtc_free(limen__rtc *r)
     if (r->scene)
         rtcReleaseScene(r->scene);
     rtcReleaseDevice(r->device);
+    free(r->items);
     free(r);
 }
 
@@ -95,8 +98,17 @@ bool limen__rtc_commit(limen__rtc *r, const limen__bvh *shapes, const limen__bvh
     r->scene = NULL;
     r->trees[0] = shapes;
     r->trees[1] = surfaces;
-    r->counts[0] = shapes->nitems;
-    r->counts[1] = surfaces->nitems;
+    /* the trees' items, without the holes their removals left in `order` */
+    if (!limen__reserve((void **)&r->items, &r->items_cap, shapes->nitems + surfaces->nitems + 1,
+                        sizeof *r->items))
+        return false;
+    int n = 0;
+    for (int t = 0; t < 2; t++) {
+        for (int i = 0; i < r->trees[t]->norder; i++)
+            if (r->trees[t]->order[i] >= 0)
+                r->items[n++] = r->trees[t]->order[i];
+        r->counts[t] = t ? n - r->counts[0] : n;
+    }
     limen__box_empty(&r->root);
     double extent = 0;
     for (int t = 0; t < 2; t++) {

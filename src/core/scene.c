@@ -390,7 +390,7 @@ limen_status limen_node_create(limen_scene *s, limen_node_kind kind, const char 
         snprintf(node->name, sizeof node->name, "%s", name);
     s->count++;
     limen__node_touch(s, node);
-    limen__scene_restructure(s);
+    limen__scene_restructure(s, (int)index);
     *out = make_handle(index, node->gen);
     return LIMEN_OK;
 }
@@ -436,7 +436,7 @@ limen_status limen_node_destroy(limen_scene *s, limen_node n)
     }
     s->count--;
     s->dirty = true;
-    limen__scene_restructure(s);
+    limen__scene_restructure(s, (int)(self - 1u));
     return LIMEN_OK;
 }
 
