@@ -112,6 +112,7 @@ typedef struct target {
     double (*tri)[9];
     double (*ball)[4];          /* per triangle: a sphere around it (centre, radius) */
     uint32_t *at_vertex;        /* per vertex: a triangle with a corner there, or UINT32_MAX */
+    double mean_area;           /* of its triangles */
 } target;
 
 static void target_free(target *t)
@@ -152,7 +153,15 @@ static bool target_make(target *t, const limen__mesh *m, const uint32_t *weld)
             r2 = fmax(r2, dot3(e, e));
         }
         c[3] = sqrt(r2) * (1 + 1e-12);
+        double e1[3], e2[3], n[3];
+        sub3(t->tri[i] + 3, t->tri[i], e1);
+        sub3(t->tri[i] + 6, t->tri[i], e2);
+        n[0] = e1[1] * e2[2] - e1[2] * e2[1];
+        n[1] = e1[2] * e2[0] - e1[0] * e2[2];
+        n[2] = e1[0] * e2[1] - e1[1] * e2[0];
+        t->mean_area += sqrt(dot3(n, n)) / 2;
     }
+    t->mean_area /= m->ntris > 0 ? m->ntris : 1;
     return true;
 }
 
@@ -299,69 +308,76 @@ static double poly_area(const double (*q)[2], int n)
     return area / 2;
 }
 
-/* Whether two counter-clockwise triangles of a plane share no inner point (an edge of
- * one or the other separates them). */
+/* The signed double area of the triangle pqx: exactly 0 where x is p or q, whatever the
+ * rounding (the two products are the same numbers), which lets two triangles that share an
+ * edge or a corner be told apart exactly. */
+static double orient2(const double p[2], const double q[2], const double x[2])
+{
+    return (q[0] - p[0]) * (x[1] - p[1]) - (q[1] - p[1]) * (x[0] - p[0]);
+}
+
+/* Whether two counter-clockwise triangles of a plane share no inner point: the line of an
+ * edge of one leaves the other wholly on its outer side (for two convex shapes, one such
+ * edge exists where they are apart). */
 static bool apart2(const double a[3][2], const double b[3][2])
 {
-    for (int x = 0; x < 2; x++)
-        if (fmax(a[0][x], fmax(a[1][x], a[2][x])) <= fmin(b[0][x], fmin(b[1][x], b[2][x])) ||
-            fmax(b[0][x], fmax(b[1][x], b[2][x])) <= fmin(a[0][x], fmin(a[1][x], a[2][x])))
-            return true;
     for (int k = 0; k < 6; k++) {
-        const double (*t)[2] = k < 3 ? a : b;
+        const double (*t)[2] = k < 3 ? a : b, (*o)[2] = k < 3 ? b : a;
         const double *p = t[k % 3], *q = t[(k + 1) % 3];
-        double nx = q[1] - p[1], ny = p[0] - q[0], lo_a = INFINITY, hi_a = -INFINITY,
-               lo_b = INFINITY, hi_b = -INFINITY;
-        for (int i = 0; i < 3; i++) {
-            double x = nx * a[i][0] + ny * a[i][1], y = nx * b[i][0] + ny * b[i][1];
-            lo_a = fmin(lo_a, x);
-            hi_a = fmax(hi_a, x);
-            lo_b = fmin(lo_b, y);
-            hi_b = fmax(hi_b, y);
-        }
-        if (hi_a <= lo_b || hi_b <= lo_a)
+        if (orient2(p, q, o[0]) <= 0 && orient2(p, q, o[1]) <= 0 && orient2(p, q, o[2]) <= 0)
             return true;
     }
     return false;
 }
 
 #define COVER_MAX 48            /* triangles of the other surface one piece is laid over */
+#define COVER_LOOK 192          /* triangles looked at for them, at most */
+#define COVER_AREA 8            /* a piece is laid over the other surface when it is at most
+                                 * this many times that surface's mean triangle */
 
-/* A bound from laying the piece over the other surface: seen along the axis nearest its
- * normal, where triangles of sd->to that lie within `goal` of it along that axis, and
- * overlap no other, together cover it (their clipped areas add up to its own), every
- * point of it has a point of sd->to straight along the axis, no farther than the largest
- * such offset at the clipped corners (the offset is linear over each clipped part). This
- * sees what the convex bound cannot: a piece lying along many small triangles, a flat
- * patch above all. INFINITY where it does not apply. */
+/* A bound from laying the piece over the other surface: seen along the piece's normal,
+ * where triangles of sd->to that lie within `goal` of its plane along that normal, and
+ * overlap no other, together cover it (their clipped areas add up to its own), every point
+ * of it has a point of sd->to straight along the normal, no farther than the largest such
+ * offset at the clipped corners (the offset is linear over each clipped part). This sees
+ * what the convex bound cannot: a piece lying over several triangles, each of which is near
+ * only a part of it. INFINITY where it does not apply. */
 static double cover_bound(const side *sd, const point *v[3], double goal)
 {
     const target *to = sd->to;
-    double e1[3], e2[3], n[3];
+    double e1[3], e2[3], n[3], u[3], w[3];
     sub3(v[1]->p, v[0]->p, e1);
     sub3(v[2]->p, v[0]->p, e2);
     n[0] = e1[1] * e2[2] - e1[2] * e2[1];
     n[1] = e1[2] * e2[0] - e1[0] * e2[2];
     n[2] = e1[0] * e2[1] - e1[1] * e2[0];
-    int ax = 0;
-    for (int a = 1; a < 3; a++)
-        if (fabs(n[a]) > fabs(n[ax]))
-            ax = a;
-    if (!(fabs(n[ax]) > 0))
+    double nn = sqrt(dot3(n, n)), ne = sqrt(dot3(e1, e1));
+    if (!(nn > 0) || !(ne > 0))
         return INFINITY;
-    int u = (ax + 1) % 3, w = (ax + 2) % 3;
+    for (int a = 0; a < 3; a++) {
+        n[a] /= nn;
+        u[a] = e1[a] / ne;
+    }
+    /* (u, w, n) right-handed: the piece runs counter-clockwise in (u, w) */
+    w[0] = n[1] * u[2] - n[2] * u[1];
+    w[1] = n[2] * u[0] - n[0] * u[2];
+    w[2] = n[0] * u[1] - n[1] * u[0];
     double pp[3][2], lo[3], hi[3];
     for (int k = 0; k < 3; k++) {
-        const point *q = v[n[ax] > 0 ? k : (3 - k) % 3];
-        pp[k][0] = q->p[u];
-        pp[k][1] = q->p[w];
+        double d[3];
+        sub3(v[k]->p, v[0]->p, d);
+        pp[k][0] = dot3(d, u);
+        pp[k][1] = dot3(d, w);
     }
+    double plo[2] = { fmin(pp[0][0], fmin(pp[1][0], pp[2][0])),
+                      fmin(pp[0][1], fmin(pp[1][1], pp[2][1])) },
+           phi[2] = { fmax(pp[0][0], fmax(pp[1][0], pp[2][0])),
+                      fmax(pp[0][1], fmax(pp[1][1], pp[2][1])) };
     for (int a = 0; a < 3; a++) {
         lo[a] = fmin(v[0]->p[a], fmin(v[1]->p[a], v[2]->p[a])) - goal;
         hi[a] = fmax(v[0]->p[a], fmax(v[1]->p[a], v[2]->p[a])) + goal;
     }
-    double tris[COVER_MAX][3][2], need = poly_area((const double (*)[2])pp, 3), got = 0,
-           worst = 0;
+    double tris[COVER_MAX][3][2], need = nn / 2, got = 0, worst = 0;
     int ntris = 0, looked = 0;
     uint32_t stack[STACK_MAX];
     int top = 0;
@@ -381,49 +397,66 @@ static double cover_bound(const side *sd, const point *v[3], double goal)
             continue;
         }
         /* a piece far larger than the triangles it lies on is left to cutting */
-        if ((looked += (int)nd->count) > 2 * COVER_MAX)
+        if ((looked += (int)nd->count) > COVER_LOOK)
             return INFINITY;
         for (uint32_t i = nd->index; i < nd->index + nd->count; i++) {
             const double *c = to->tri[to->m->tri_order[i]];
-            double f1[3], f2[3], m[3];
-            sub3(c + 3, c, f1);
-            sub3(c + 6, c, f2);
-            m[ax] = f1[u] * f2[w] - f1[w] * f2[u];
-            if (m[ax] == 0)
-                continue;       /* seen edge-on */
-            m[u] = f1[w] * f2[ax] - f1[ax] * f2[w];
-            m[w] = f1[ax] * f2[u] - f1[u] * f2[ax];
-            if (fmax(c[u], fmax(c[3 + u], c[6 + u])) <= lo[u] + goal ||
-                fmin(c[u], fmin(c[3 + u], c[6 + u])) >= hi[u] - goal ||
-                fmax(c[w], fmax(c[3 + w], c[6 + w])) <= lo[w] + goal ||
-                fmin(c[w], fmin(c[3 + w], c[6 + w])) >= hi[w] - goal)
-                continue;       /* beside the piece as seen */
-            double tt[3][2], part[9][2];
+            bool apart = false;
+            for (int a = 0; a < 3 && !apart; a++)
+                apart = fmin(c[a], fmin(c[3 + a], c[6 + a])) > hi[a] ||
+                        fmax(c[a], fmax(c[3 + a], c[6 + a])) < lo[a];
+            if (apart)
+                continue;       /* beyond the piece's box and the goal around it */
+            double tt[3][2], h[3];
             for (int k = 0; k < 3; k++) {
-                const double *q = c + 3 * (m[ax] > 0 ? k : (3 - k) % 3);
-                tt[k][0] = q[u];
-                tt[k][1] = q[w];
+                double d[3];
+                sub3(c + 3 * k, v[0]->p, d);
+                tt[k][0] = dot3(d, u);
+                tt[k][1] = dot3(d, w);
+                h[k] = dot3(d, n);
             }
+            if ((h[0] > goal && h[1] > goal && h[2] > goal) ||
+                (h[0] < -goal && h[1] < -goal && h[2] < -goal))
+                continue;       /* another sheet, or too far to help */
+            if (fmax(tt[0][0], fmax(tt[1][0], tt[2][0])) <= plo[0] ||
+                fmin(tt[0][0], fmin(tt[1][0], tt[2][0])) >= phi[0] ||
+                fmax(tt[0][1], fmax(tt[1][1], tt[2][1])) <= plo[1] ||
+                fmin(tt[0][1], fmin(tt[1][1], tt[2][1])) >= phi[1])
+                continue;       /* beside the piece as seen */
+            double twice = orient2(tt[0], tt[1], tt[2]);
+            if (!(fabs(twice) > 0))
+                continue;       /* seen edge-on */
+            if (twice < 0) {    /* counter-clockwise as seen */
+                double sw[2] = { tt[1][0], tt[1][1] }, sh = h[1];
+                memcpy(tt[1], tt[2], sizeof sw);
+                memcpy(tt[2], sw, sizeof sw);
+                h[1] = h[2];
+                h[2] = sh;
+                twice = -twice;
+            }
+            double part[9][2];
             int np = clip_tri((const double (*)[2])pp, (const double (*)[2])tt, part);
             double area = np >= 3 ? poly_area((const double (*)[2])part, np) : 0;
             if (!(area > 0))
                 continue;
-            /* the offset along the axis from the piece's plane to the triangle's */
+            /* the offset along the normal, linear over the triangle as seen (barycentric) */
             double off = 0;
             for (int k = 0; k < np; k++) {
-                double du = part[k][0] - v[0]->p[u], dw = part[k][1] - v[0]->p[w];
-                double hp = v[0]->p[ax] - (n[u] * du + n[w] * dw) / n[ax];
-                double hu = part[k][0] - c[u], hw = part[k][1] - c[w];
-                double ht = c[ax] - (m[u] * hu + m[w] * hw) / m[ax];
-                off = fmax(off, fabs(ht - hp));
+                double l1 = orient2(tt[2], tt[0], part[k]) / twice,
+                       l2 = orient2(tt[0], tt[1], part[k]) / twice;
+                off = fmax(off, fabs(h[0] + (h[1] - h[0]) * l1 + (h[2] - h[0]) * l2));
             }
             if (!(off <= goal))
-                continue;       /* another sheet, or too far to help */
+                continue;
             if (ntris == COVER_MAX)
                 return INFINITY;
-            for (int j = 0; j < ntris; j++)
-                if (!apart2((const double (*)[2])tris[j], (const double (*)[2])tt))
-                    return INFINITY;    /* folded: the areas would count twice */
+            /* one that overlaps one taken (the surface folds, as seen) is left out: its area
+             * would count twice */
+            bool folded = false;
+            for (int j = 0; j < ntris && !folded; j++)
+                folded = !apart2((const double (*)[2])tris[j], (const double (*)[2])tt);
+            if (folded)
+                continue;
             memcpy(tris[ntris++], tt, sizeof tt);
             got += area;
             worst = fmax(worst, off);
@@ -441,8 +474,8 @@ static double cover_bound(const side *sd, const point *v[3], double goal)
         sharpest = fmin(sharpest, atan2(fabs(ab[0] * ac[1] - ab[1] * ac[0]),
                                         ab[0] * ac[0] + ab[1] * ac[1]));
     }
-    /* a step in the projection is at most sqrt(3) times as long on the piece */
-    return worst + sqrt(3.0) * sqrt(2 * fmax(gap, 0) / sharpest);
+    /* the projection keeps lengths; a little over for rounding */
+    return (worst + sqrt(2 * fmax(gap, 0) / sharpest)) * (1 + 1e-12);
 }
 
 static uint32_t point_hash(const double p[3])
@@ -571,6 +604,17 @@ static double convex_bound(const side *sd, const point *v[3])
     return best;
 }
 
+static double piece_area(const point *v[3])
+{
+    double e1[3], e2[3], n[3];
+    sub3(v[1]->p, v[0]->p, e1);
+    sub3(v[2]->p, v[0]->p, e2);
+    n[0] = e1[1] * e2[2] - e1[2] * e2[1];
+    n[1] = e1[2] * e2[0] - e1[0] * e2[2];
+    n[2] = e1[0] * e2[1] - e1[1] * e2[0];
+    return sqrt(dot3(n, n)) / 2;
+}
+
 /* The least of the three bounds over the triangle v (see the top of the file), or one
  * above goal. */
 static double piece_bound(side *sd, const point *v[3], double goal)
@@ -585,10 +629,11 @@ static double piece_bound(side *sd, const point *v[3], double goal)
         far = fmax(far, v[k]->d2);
     }
     double bound = sqrt(far) + sqrt(longest / 3);
+    /* laying the piece over the other surface, where it is small enough to lie on a few of
+     * its triangles */
     if (bound > goal)
         bound = fmin(bound, convex_bound(sd, v));
-    /* laying pieces over the other surface, while it succeeds often enough to pay */
-    if (bound > goal && (sd->cover_tries < 64 || sd->cover_hits * 8 > sd->cover_tries)) {
+    if (bound > goal && piece_area(v) <= COVER_AREA * sd->to->mean_area) {
         bound = fmin(bound, cover_bound(sd, v, goal));
         sd->cover_tries++;
         sd->cover_hits += bound <= goal;
