@@ -48,6 +48,17 @@ static double dot3(const double a[3], const double b[3])
     return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
 }
 
+/* fmin and fmax for numbers known not to be NaN, where the library's calls cost */
+static double lesser(double a, double b)
+{
+    return b < a ? b : a;
+}
+
+static double greater(double a, double b)
+{
+    return b > a ? b : a;
+}
+
 /* Squared distance from p to the segment ab. */
 static double seg_d2(const double p[3], const double a[3], const double b[3])
 {
@@ -112,6 +123,8 @@ typedef struct target {
     double (*tri)[9];
     double (*ball)[4];          /* per triangle: a sphere around it (centre, radius) */
     uint32_t *at_vertex;        /* per vertex: a triangle with a corner there, or UINT32_MAX */
+    uint32_t (*across)[3];      /* per triangle and edge (corners k, k + 1): the triangle on
+                                 * its other side, or UINT32_MAX */
     double mean_area;           /* of its triangles */
 } target;
 
@@ -120,6 +133,58 @@ static void target_free(target *t)
     free(t->tri);
     free(t->ball);
     free(t->at_vertex);
+    free(t->across);
+}
+
+/* The vertex at corner i of t's mesh, welded where weld is given. */
+static uint32_t corner_vertex(const target *t, const uint32_t *weld, size_t i)
+{
+    return weld ? weld[i] : t->m->idx[i];
+}
+
+/* t->across: edges paired through a table of half-edges keyed on their two (welded)
+ * vertices. An edge of more than two triangles pairs some of them; what a pairing misses,
+ * the walks over the surface below do without (they only ever find less). False when out
+ * of memory. */
+static bool pair_edges(target *t, const uint32_t *weld)
+{
+    size_t n = (size_t)t->m->ntris * 3, size = 16;
+    while (size < 2 * n)
+        size *= 2;
+    uint32_t *slot = malloc(sizeof *slot * size);
+    t->across = malloc(sizeof *t->across * t->m->ntris);
+    if (!slot || !t->across) {
+        free(slot);
+        return false;
+    }
+    memset(slot, 0xff, sizeof *slot * size);
+    memset(t->across, 0xff, sizeof *t->across * t->m->ntris);
+    for (size_t h = 0; h < n; h++) {
+        size_t base = h - h % 3;
+        uint32_t a = corner_vertex(t, weld, h), b = corner_vertex(t, weld, base + (h + 1) % 3);
+        if (a == b)
+            continue;
+        uint64_t key = a < b ? (uint64_t)a << 32 | b : (uint64_t)b << 32 | a;
+        size_t at = (size_t)((key * 0x9e3779b97f4a7c15ull) >> 20) & (size - 1);
+        for (;; at = (at + 1) & (size - 1)) {
+            uint32_t o = slot[at];
+            if (o == UINT32_MAX) {
+                slot[at] = (uint32_t)h;
+                break;
+            }
+            size_t obase = o - o % 3;
+            uint32_t oa = corner_vertex(t, weld, o), ob = corner_vertex(t, weld, obase + (o + 1) % 3);
+            uint64_t okey = oa < ob ? (uint64_t)oa << 32 | ob : (uint64_t)ob << 32 | oa;
+            if (okey != key || t->across[o / 3][o % 3] != UINT32_MAX)
+                continue;
+            t->across[o / 3][o % 3] = (uint32_t)(h / 3);
+            t->across[h / 3][h % 3] = o / 3;
+            slot[at] = (uint32_t)h;     /* a third triangle pairs with this one, if any */
+            break;
+        }
+    }
+    free(slot);
+    return true;
 }
 
 /* The corners table of m; false when out of memory. weld, where not NULL: per corner of m,
@@ -130,7 +195,7 @@ static bool target_make(target *t, const limen__mesh *m, const uint32_t *weld)
     t->tri = malloc(sizeof *t->tri * m->ntris);
     t->ball = malloc(sizeof *t->ball * m->ntris);
     t->at_vertex = malloc(sizeof *t->at_vertex * m->nverts);
-    if (!t->tri || !t->ball || !t->at_vertex) {
+    if (!t->tri || !t->ball || !t->at_vertex || !pair_edges(t, weld)) {
         target_free(t);
         return false;
     }
@@ -231,6 +296,31 @@ static double nearest(const target *to, const double p[3], uint32_t hint, uint32
     return best;
 }
 
+#define WALK_MAX 64             /* steps of a walk over the surface */
+
+/* Steps from triangle *t to a neighbour across an edge while one is nearer to p, and
+ * returns the squared distance to the last: an upper bound on the nearest's, which it is
+ * where the surface near p is a single sheet. */
+static double walk(const target *to, const double p[3], uint32_t *t)
+{
+    double best = to_tri(to, *t, p);
+    for (int step = 0; step < WALK_MAX && best > 0; step++) {
+        uint32_t next = UINT32_MAX;
+        for (int e = 0; e < 3; e++) {
+            uint32_t o = to->across[*t][e];
+            double d2 = o == UINT32_MAX ? INFINITY : to_tri(to, o, p);
+            if (d2 < best) {
+                best = d2;
+                next = o;
+            }
+        }
+        if (next == UINT32_MAX)
+            break;
+        *t = next;
+    }
+    return best;
+}
+
 /* ------------------------------------------------------------------ one side */
 
 typedef struct point {
@@ -255,7 +345,8 @@ typedef struct side {
                                  * neighbouring pieces share their edges' midpoints */
     uint32_t seen_mask, nseen;
     bool nomem;
-    int cover_tries, cover_hits;    /* cover_bound, which pays where pieces are small */
+    uint32_t *marks, mark;      /* per triangle of to: the last cover_bound that met it */
+    int cover_tries, cover_hits;
 } side;
 
 /* q's nearest triangle and distance (the largest found raises lower and the floor). */
@@ -331,7 +422,7 @@ static bool apart2(const double a[3][2], const double b[3][2])
 }
 
 #define COVER_MAX 48            /* triangles of the other surface one piece is laid over */
-#define COVER_LOOK 192          /* triangles looked at for them, at most */
+#define COVER_LOOK 96           /* triangles looked at for them, at most */
 #define COVER_AREA 8            /* a piece is laid over the other surface when it is at most
                                  * this many times that surface's mean triangle */
 
@@ -342,7 +433,7 @@ static bool apart2(const double a[3][2], const double b[3][2])
  * offset at the clipped corners (the offset is linear over each clipped part). This sees
  * what the convex bound cannot: a piece lying over several triangles, each of which is near
  * only a part of it. INFINITY where it does not apply. */
-static double cover_bound(const side *sd, const point *v[3], double goal)
+static double cover_bound(side *sd, const point *v[3], double goal)
 {
     const target *to = sd->to;
     double e1[3], e2[3], n[3], u[3], w[3];
@@ -369,98 +460,106 @@ static double cover_bound(const side *sd, const point *v[3], double goal)
         pp[k][0] = dot3(d, u);
         pp[k][1] = dot3(d, w);
     }
-    double plo[2] = { fmin(pp[0][0], fmin(pp[1][0], pp[2][0])),
-                      fmin(pp[0][1], fmin(pp[1][1], pp[2][1])) },
-           phi[2] = { fmax(pp[0][0], fmax(pp[1][0], pp[2][0])),
-                      fmax(pp[0][1], fmax(pp[1][1], pp[2][1])) };
+    double plo[2] = { lesser(pp[0][0], lesser(pp[1][0], pp[2][0])),
+                      lesser(pp[0][1], lesser(pp[1][1], pp[2][1])) },
+           phi[2] = { greater(pp[0][0], greater(pp[1][0], pp[2][0])),
+                      greater(pp[0][1], greater(pp[1][1], pp[2][1])) };
     for (int a = 0; a < 3; a++) {
-        lo[a] = fmin(v[0]->p[a], fmin(v[1]->p[a], v[2]->p[a])) - goal;
-        hi[a] = fmax(v[0]->p[a], fmax(v[1]->p[a], v[2]->p[a])) + goal;
+        lo[a] = lesser(v[0]->p[a], lesser(v[1]->p[a], v[2]->p[a])) - goal;
+        hi[a] = greater(v[0]->p[a], greater(v[1]->p[a], v[2]->p[a])) + goal;
     }
     double tris[COVER_MAX][3][2], need = nn / 2, got = 0, worst = 0;
-    int ntris = 0, looked = 0;
-    uint32_t stack[STACK_MAX];
-    int top = 0;
-    stack[top++] = 0;
-    while (top > 0) {
-        const limen__tri_node *nd = &to->m->bvh[stack[--top]];
-        bool out = false;
-        for (int a = 0; a < 3; a++)
-            out = out || nd->lo[a] > hi[a] || nd->hi[a] < lo[a];
-        if (out)
-            continue;
-        if (nd->count == 0) {
-            if (top + 2 > STACK_MAX)
-                return INFINITY;
-            stack[top++] = nd->index;
-            stack[top++] = (uint32_t)(nd - to->m->bvh) + 1u;
-            continue;
+    int ntris = 0;
+    /* the triangles met, walked to across edges from the corners' own: each one that the
+     * piece's box (with the goal around it) meets leads on to its neighbours */
+    uint32_t met[COVER_LOOK], mark = ++sd->mark;
+    if (mark == 0) {            /* the marks have come round: none is current */
+        memset(sd->marks, 0, sizeof *sd->marks * to->m->ntris);
+        mark = sd->mark = 1;
+    }
+    int nmet = 0;
+    for (int k = 0; k < 3; k++) {
+        uint32_t t = v[k]->tri;
+        if (t != UINT32_MAX && sd->marks[t] != mark) {
+            sd->marks[t] = mark;
+            met[nmet++] = t;
         }
-        /* a piece far larger than the triangles it lies on is left to cutting */
-        if ((looked += (int)nd->count) > COVER_LOOK)
+    }
+    for (int next = 0; next < nmet; next++) {
+        uint32_t at = met[next];
+        const double *c = to->tri[at];
+        bool apart = false;
+        for (int a = 0; a < 3 && !apart; a++)
+            apart = lesser(c[a], lesser(c[3 + a], c[6 + a])) > hi[a] ||
+                    greater(c[a], greater(c[3 + a], c[6 + a])) < lo[a];
+        if (apart)
+            continue;       /* beyond the piece's box and the goal around it */
+        double tt[3][2], h[3];
+        for (int k = 0; k < 3; k++) {
+            double d[3];
+            sub3(c + 3 * k, v[0]->p, d);
+            tt[k][0] = dot3(d, u);
+            tt[k][1] = dot3(d, w);
+            h[k] = dot3(d, n);
+        }
+        if ((h[0] > goal && h[1] > goal && h[2] > goal) ||
+            (h[0] < -goal && h[1] < -goal && h[2] < -goal))
+            continue;       /* another sheet, or too far to help */
+        double tlo[2] = { lesser(tt[0][0], lesser(tt[1][0], tt[2][0])),
+                          lesser(tt[0][1], lesser(tt[1][1], tt[2][1])) },
+               thi[2] = { greater(tt[0][0], greater(tt[1][0], tt[2][0])),
+                          greater(tt[0][1], greater(tt[1][1], tt[2][1])) };
+        if (thi[0] < plo[0] || tlo[0] > phi[0] || thi[1] < plo[1] || tlo[1] > phi[1])
+            continue;       /* beside the piece as seen, not touching it */
+        for (int e = 0; e < 3; e++) {
+            uint32_t o = to->across[at][e];
+            if (o == UINT32_MAX || sd->marks[o] == mark)
+                continue;
+            /* a piece far larger than the triangles it lies on is left to cutting */
+            if (nmet == COVER_LOOK)
+                return INFINITY;
+            sd->marks[o] = mark;
+            met[nmet++] = o;
+        }
+        if (thi[0] <= plo[0] || tlo[0] >= phi[0] || thi[1] <= plo[1] || tlo[1] >= phi[1])
+            continue;       /* touching it only along its box */
+        double twice = orient2(tt[0], tt[1], tt[2]);
+        if (!(fabs(twice) > 0))
+            continue;       /* seen edge-on */
+        if (twice < 0) {    /* counter-clockwise as seen */
+            double sw[2] = { tt[1][0], tt[1][1] }, sh = h[1];
+            memcpy(tt[1], tt[2], sizeof sw);
+            memcpy(tt[2], sw, sizeof sw);
+            h[1] = h[2];
+            h[2] = sh;
+            twice = -twice;
+        }
+        double part[9][2];
+        int np = clip_tri((const double (*)[2])pp, (const double (*)[2])tt, part);
+        double area = np >= 3 ? poly_area((const double (*)[2])part, np) : 0;
+        if (!(area > 0))
+            continue;
+        /* the offset along the normal, linear over the triangle as seen (barycentric) */
+        double off = 0;
+        for (int k = 0; k < np; k++) {
+            double l1 = orient2(tt[2], tt[0], part[k]) / twice,
+                   l2 = orient2(tt[0], tt[1], part[k]) / twice;
+            off = greater(off, fabs(h[0] + (h[1] - h[0]) * l1 + (h[2] - h[0]) * l2));
+        }
+        if (!(off <= goal))
+            continue;
+        if (ntris == COVER_MAX)
             return INFINITY;
-        for (uint32_t i = nd->index; i < nd->index + nd->count; i++) {
-            const double *c = to->tri[to->m->tri_order[i]];
-            bool apart = false;
-            for (int a = 0; a < 3 && !apart; a++)
-                apart = fmin(c[a], fmin(c[3 + a], c[6 + a])) > hi[a] ||
-                        fmax(c[a], fmax(c[3 + a], c[6 + a])) < lo[a];
-            if (apart)
-                continue;       /* beyond the piece's box and the goal around it */
-            double tt[3][2], h[3];
-            for (int k = 0; k < 3; k++) {
-                double d[3];
-                sub3(c + 3 * k, v[0]->p, d);
-                tt[k][0] = dot3(d, u);
-                tt[k][1] = dot3(d, w);
-                h[k] = dot3(d, n);
-            }
-            if ((h[0] > goal && h[1] > goal && h[2] > goal) ||
-                (h[0] < -goal && h[1] < -goal && h[2] < -goal))
-                continue;       /* another sheet, or too far to help */
-            if (fmax(tt[0][0], fmax(tt[1][0], tt[2][0])) <= plo[0] ||
-                fmin(tt[0][0], fmin(tt[1][0], tt[2][0])) >= phi[0] ||
-                fmax(tt[0][1], fmax(tt[1][1], tt[2][1])) <= plo[1] ||
-                fmin(tt[0][1], fmin(tt[1][1], tt[2][1])) >= phi[1])
-                continue;       /* beside the piece as seen */
-            double twice = orient2(tt[0], tt[1], tt[2]);
-            if (!(fabs(twice) > 0))
-                continue;       /* seen edge-on */
-            if (twice < 0) {    /* counter-clockwise as seen */
-                double sw[2] = { tt[1][0], tt[1][1] }, sh = h[1];
-                memcpy(tt[1], tt[2], sizeof sw);
-                memcpy(tt[2], sw, sizeof sw);
-                h[1] = h[2];
-                h[2] = sh;
-                twice = -twice;
-            }
-            double part[9][2];
-            int np = clip_tri((const double (*)[2])pp, (const double (*)[2])tt, part);
-            double area = np >= 3 ? poly_area((const double (*)[2])part, np) : 0;
-            if (!(area > 0))
-                continue;
-            /* the offset along the normal, linear over the triangle as seen (barycentric) */
-            double off = 0;
-            for (int k = 0; k < np; k++) {
-                double l1 = orient2(tt[2], tt[0], part[k]) / twice,
-                       l2 = orient2(tt[0], tt[1], part[k]) / twice;
-                off = fmax(off, fabs(h[0] + (h[1] - h[0]) * l1 + (h[2] - h[0]) * l2));
-            }
-            if (!(off <= goal))
-                continue;
-            if (ntris == COVER_MAX)
-                return INFINITY;
-            /* one that overlaps one taken (the surface folds, as seen) is left out: its area
-             * would count twice */
-            bool folded = false;
-            for (int j = 0; j < ntris && !folded; j++)
-                folded = !apart2((const double (*)[2])tris[j], (const double (*)[2])tt);
-            if (folded)
-                continue;
-            memcpy(tris[ntris++], tt, sizeof tt);
-            got += area;
-            worst = fmax(worst, off);
-        }
+        /* one that overlaps one taken (the surface folds, as seen) is left out: its area
+         * would count twice */
+        bool folded = false;
+        for (int j = 0; j < ntris && !folded; j++)
+            folded = !apart2((const double (*)[2])tris[j], (const double (*)[2])tt);
+        if (folded)
+            continue;
+        memcpy(tris[ntris++], tt, sizeof tt);
+        got += area;
+        worst = greater(worst, off);
     }
     /* what the sum leaves uncovered, at most `gap` of area, reaches no farther into the
      * piece than a disc of that area fits in its sharpest corner */
@@ -471,11 +570,11 @@ static double cover_bound(const side *sd, const point *v[3], double goal)
     for (int k = 0; k < 3; k++) {
         const double *a = pp[k], *b = pp[(k + 1) % 3], *c = pp[(k + 2) % 3];
         double ab[2] = { b[0] - a[0], b[1] - a[1] }, ac[2] = { c[0] - a[0], c[1] - a[1] };
-        sharpest = fmin(sharpest, atan2(fabs(ab[0] * ac[1] - ab[1] * ac[0]),
+        sharpest = lesser(sharpest, atan2(fabs(ab[0] * ac[1] - ab[1] * ac[0]),
                                         ab[0] * ac[0] + ab[1] * ac[1]));
     }
     /* the projection keeps lengths; a little over for rounding */
-    return (worst + sqrt(2 * fmax(gap, 0) / sharpest)) * (1 + 1e-12);
+    return (worst + sqrt(2 * greater(gap, 0) / sharpest)) * (1 + 1e-12);
 }
 
 static uint32_t point_hash(const double p[3])
@@ -556,14 +655,14 @@ static double convex_bound(const side *sd, const point *v[3])
     }
     double best = 0;
     /* least of the planes at barycentric point l */
-#define LEAST(l) (fmin(nk > 1 ? fmin(f[0][0] * (l)[0] + f[0][1] * (l)[1] + f[0][2] * (l)[2], \
+#define LEAST(l) (lesser(nk > 1 ? lesser(f[0][0] * (l)[0] + f[0][1] * (l)[1] + f[0][2] * (l)[2], \
                                       f[1][0] * (l)[0] + f[1][1] * (l)[1] + f[1][2] * (l)[2]) \
                               : f[0][0] * (l)[0] + f[0][1] * (l)[1] + f[0][2] * (l)[2], \
                        nk > 2 ? f[2][0] * (l)[0] + f[2][1] * (l)[1] + f[2][2] * (l)[2] : INFINITY))
     for (int i = 0; i < 3; i++) {
         double l[3] = { 0, 0, 0 };
         l[i] = 1;
-        best = fmax(best, LEAST(l));
+        best = greater(best, LEAST(l));
         int j = (i + 1) % 3;
         for (int a = 0; a < nk; a++)
             for (int b = a + 1; b < nk; b++) {
@@ -577,7 +676,7 @@ static double convex_bound(const side *sd, const point *v[3])
                 double m[3] = { 0, 0, 0 };
                 m[i] = 1 - t;
                 m[j] = t;
-                best = fmax(best, LEAST(m));
+                best = greater(best, LEAST(m));
             }
     }
     if (nk == 3) {
@@ -597,7 +696,7 @@ static double convex_bound(const side *sd, const point *v[3])
                             (r[0][2] * r[1][0] - r[0][0] * r[1][2]) / det,
                             (r[0][0] * r[1][1] - r[0][1] * r[1][0]) / det };
             if (l[0] >= 0 && l[1] >= 0 && l[2] >= 0)
-                best = fmax(best, LEAST(l));
+                best = greater(best, LEAST(l));
         }
     }
 #undef LEAST
@@ -695,9 +794,20 @@ static bool side_corners(side *sd)
             continue;
         for (int a = 0; a < 3; a++)
             q->p[a] = from->pos[from->idx[i] * 3 + a];
-        /* a corner the other surface shares lies on a triangle there: found at once */
+        /* a corner the other surface shares lies on a triangle there: found at once; another
+         * walks there from the last one's triangle, and is searched for only where that
+         * leaves it near enough to the floor to raise it */
         uint32_t on = sd->to->at_vertex[sd->weld ? sd->weld[i] : from->idx[i]];
-        locate(sd, q, on != UINT32_MAX ? on : hint);
+        if (on != UINT32_MAX) {
+            locate(sd, q, on);
+        } else {
+            double enough = NEAR_ENOUGH * (*sd->floor * (1 + REL_TOL) + sd->abs_tol);
+            q->tri = hint;
+            q->d2 = walk(sd->to, q->p, &q->tri);
+            q->rough = q->d2 <= enough * enough;
+            if (!q->rough)
+                locate(sd, q, q->tri);
+        }
         hint = q->tri;
     }
     return true;
@@ -741,12 +851,16 @@ static double level_error(const target *full, const uint32_t *weld, const uint32
                        .abs_tol = tol };
         side back = { .from = m, .to = &level, .weld = weld, .floor = &floor,
                       .upper = &upper, .abs_tol = tol };
-        if (side_corners(&there) && side_corners(&back))
+        there.marks = calloc(full->m->ntris, sizeof *there.marks);
+        back.marks = calloc(ntris, sizeof *back.marks);
+        if (there.marks && back.marks && side_corners(&there) && side_corners(&back))
             e = fmax(fmax(side_bound(&there), side_bound(&back)), floor);
         free(there.pts);
         free(back.pts);
         free(there.seen);
         free(back.seen);
+        free(there.marks);
+        free(back.marks);
     }
     target_free(&level);
     free(lv.bvh);
