@@ -346,7 +346,6 @@ typedef struct side {
     uint32_t seen_mask, nseen;
     bool nomem;
     uint32_t *marks, mark;      /* per triangle of to: the last cover_bound that met it */
-    int cover_tries, cover_hits;
 } side;
 
 /* q's nearest triangle and distance (the largest found raises lower and the floor). */
@@ -560,6 +559,8 @@ static double cover_bound(side *sd, const point *v[3], double goal)
         memcpy(tris[ntris++], tt, sizeof tt);
         got += area;
         worst = greater(worst, off);
+        if (need - got + 1e-12 * need <= 1e-9 * need)
+            break;              /* covered: what lies further cannot lower the bound */
     }
     /* what the sum leaves uncovered, at most `gap` of area, reaches no farther into the
      * piece than a disc of that area fits in its sharpest corner */
@@ -732,11 +733,8 @@ static double piece_bound(side *sd, const point *v[3], double goal)
      * its triangles */
     if (bound > goal)
         bound = fmin(bound, convex_bound(sd, v));
-    if (bound > goal && piece_area(v) <= COVER_AREA * sd->to->mean_area) {
+    if (bound > goal && piece_area(v) <= COVER_AREA * sd->to->mean_area)
         bound = fmin(bound, cover_bound(sd, v, goal));
-        sd->cover_tries++;
-        sd->cover_hits += bound <= goal;
-    }
     return bound;
 }
 
