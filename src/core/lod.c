@@ -175,7 +175,8 @@ static bool pair_edges(target *t, const uint32_t *weld)
             size_t obase = o - o % 3;
             uint32_t oa = corner_vertex(t, weld, o), ob = corner_vertex(t, weld, obase + (o + 1) % 3);
             uint64_t okey = oa < ob ? (uint64_t)oa << 32 | ob : (uint64_t)ob << 32 | oa;
-            if (okey != key || t->across[o / 3][o % 3] != UINT32_MAX)
+            /* paired only where the two run the edge opposite ways (their windings agree) */
+            if (okey != key || oa != b || t->across[o / 3][o % 3] != UINT32_MAX)
                 continue;
             t->across[o / 3][o % 3] = (uint32_t)(h / 3);
             t->across[h / 3][h % 3] = o / 3;
@@ -411,6 +412,10 @@ static double orient2(const double p[2], const double q[2], const double x[2])
  * edge exists where they are apart). */
 static bool apart2(const double a[3][2], const double b[3][2])
 {
+    for (int x = 0; x < 2; x++)
+        if (greater(a[0][x], greater(a[1][x], a[2][x])) <= lesser(b[0][x], lesser(b[1][x], b[2][x])) ||
+            greater(b[0][x], greater(b[1][x], b[2][x])) <= lesser(a[0][x], lesser(a[1][x], a[2][x])))
+            return true;
     for (int k = 0; k < 6; k++) {
         const double (*t)[2] = k < 3 ? a : b, (*o)[2] = k < 3 ? b : a;
         const double *p = t[k % 3], *q = t[(k + 1) % 3];
@@ -468,6 +473,7 @@ static double cover_bound(side *sd, const point *v[3], double goal)
         hi[a] = greater(v[0]->p[a], greater(v[1]->p[a], v[2]->p[a])) + goal;
     }
     double tris[COVER_MAX][3][2], need = nn / 2, got = 0, worst = 0;
+    uint32_t taken[COVER_MAX];
     int ntris = 0;
     /* the triangles met, walked to across edges from the corners' own: each one that the
      * piece's box (with the goal around it) meets leads on to its neighbours */
@@ -525,7 +531,8 @@ static double cover_bound(side *sd, const point *v[3], double goal)
         double twice = orient2(tt[0], tt[1], tt[2]);
         if (!(fabs(twice) > 0))
             continue;       /* seen edge-on */
-        if (twice < 0) {    /* counter-clockwise as seen */
+        bool turned = twice < 0;
+        if (turned) {       /* counter-clockwise as seen */
             double sw[2] = { tt[1][0], tt[1][1] }, sh = h[1];
             memcpy(tt[1], tt[2], sizeof sw);
             memcpy(tt[2], sw, sizeof sw);
@@ -552,10 +559,17 @@ static double cover_bound(side *sd, const point *v[3], double goal)
         /* one that overlaps one taken (the surface folds, as seen) is left out: its area
          * would count twice */
         bool folded = false;
-        for (int j = 0; j < ntris && !folded; j++)
-            folded = !apart2((const double (*)[2])tris[j], (const double (*)[2])tt);
+        for (int j = 0; j < ntris && !folded; j++) {
+            /* a neighbour across an edge (where the two run it opposite ways), neither
+             * turned to be counter-clockwise as seen, lies on the edge's other side */
+            bool beside = !turned && taken[j] != UINT32_MAX &&
+                          (to->across[at][0] == taken[j] || to->across[at][1] == taken[j] ||
+                           to->across[at][2] == taken[j]);
+            folded = !beside && !apart2((const double (*)[2])tris[j], (const double (*)[2])tt);
+        }
         if (folded)
             continue;
+        taken[ntris] = turned ? UINT32_MAX : at;
         memcpy(tris[ntris++], tt, sizeof tt);
         got += area;
         worst = greater(worst, off);
