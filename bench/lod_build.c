@@ -140,7 +140,9 @@ int main(int argc, char **argv)
     fprintf(oc.f, "mesh,triangles,levels,coarsest,cpu_ms,us_per_triangle,errors\n");
 
     static const struct { const char *name; int u, v, runs; } SPHERES[] = {
-        { "sphere_50k", 200, 125, 3 }, { "sphere_200k", 400, 250, 3 }, { "sphere_800k", 800, 500, 1 },
+        { "sphere_50k", 200, 125, 3 },
+        { "sphere_200k", 400, 250, 3 },
+        { "sphere_800k", 800, 500, 1 },
     };
     double per[3];
     for (int m = 0; m < 4; m++) {
@@ -157,8 +159,8 @@ int main(int argc, char **argv)
         fprintf(oc.f, "\n");
         fprintf(stderr, "lod_build: %s, %d triangles: %d levels in %.1f ms of processor time\n",
                 name, a.nt, levels, ms);
-        fprintf(ot.f, "mesh making (hierarchy, levels, their errors): %-11s %7d triangles %8.1f ms\n",
-                name, a.nt, ms);
+        fprintf(ot.f, "mesh making (hierarchy, levels, their errors): %-11s %7d triangles "
+                      "%8.1f ms\n", name, a.nt, ms);
         free(a.pos);
         free(a.idx);
     }

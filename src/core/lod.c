@@ -4,18 +4,21 @@
  *
  * The error of a level is an upper bound on the two-sided Hausdorff distance between its
  * surface and the full mesh's. For one side (surface A against surface B): every corner of
- * A finds its nearest triangle of B (through a hierarchy over B, the ray tracer's for the
- * full mesh), and the largest of those distances is a lower bound. Then each triangle of A,
- * a piece, is bounded over its whole area by the least of: its farthest corner's distance
- * plus how far a point can be from a corner (the distance is 1-Lipschitz); the planes
- * through the corners' distances to each corner's nearest triangle (the distance to one
- * triangle is convex); the largest offset to the triangles of B it lies over (seen along
- * its normal's axis). A piece whose bound exceeds the lower bound by more than REL_TOL is cut
- * in four, down to MAX_DEPTH; the answer is the largest bound of a finished piece. A point
- * a cut makes is searched for only where its edge's corners' triangles leave it far from
- * the other surface: near enough, the distance to one of them is an upper bound that every
- * bound above may take in place of the nearest; a piece these leave above the goal has
- * them searched before it is cut (or, at MAX_DEPTH, let go). */
+ * A finds a near triangle of B (one it shares, or by walking across B's edges from the last
+ * corner's), and is searched for (through a hierarchy over B, the ray tracer's for the full
+ * mesh) where that leaves it near the largest distance found so far, which is a lower bound.
+ * Then each triangle of A, a piece, is bounded over its whole area by the least of: its
+ * farthest corner's distance plus how far a point can be from a corner (the distance is
+ * 1-Lipschitz); the planes through the corners' distances to each corner's nearest triangle
+ * (the distance to one triangle is convex); the largest offset to the triangles of B it lies
+ * over, seen along its normal (found by walking across B's edges from its corners'
+ * triangles). A piece whose bound exceeds the lower bound by more than REL_TOL is cut in
+ * four, down to MAX_DEPTH; the answer is the largest bound of a finished piece. A point a
+ * cut makes is searched for only where its edge's corners' triangles leave it far from the
+ * other surface: near enough, the distance to one of them is an upper bound that every
+ * bound above may take in place of the nearest; a piece these leave above the goal has them
+ * searched before it is cut (or, at MAX_DEPTH, let go). The surface measured against, and
+ * its distances, are core/lod_target.c's. */
 #include <float.h>
 #include <math.h>
 #include <string.h>
@@ -23,6 +26,7 @@
 #include <meshoptimizer.h>
 
 #include "core/internal.h"
+#include "core/lod_target.h"
 #include "core/mesh.h"
 
 #define MAX_LEVELS 12           /* the full mesh and up to 11 coarser ones */
@@ -30,23 +34,9 @@
 #define SOURCE_STEP 3           /* a level is simplified from the one this many before */
 #define REL_TOL 0.1             /* a piece's bound may exceed the largest distance found by this */
 #define MAX_DEPTH 4             /* pieces per triangle: at most 4^4 */
-#define STACK_MAX 64
 #define NEAR_ENOUGH 0.8         /* a cut's point this near a corner's triangle (of what the
                                  * floor asks; not of the largest bound, which it would raise)
                                  * takes its distance there, unsearched */
-
-/* ------------------------------------------------------------------ distances */
-
-static void sub3(const double a[3], const double b[3], double out[3])
-{
-    for (int k = 0; k < 3; k++)
-        out[k] = a[k] - b[k];
-}
-
-static double dot3(const double a[3], const double b[3])
-{
-    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-}
 
 /* fmin and fmax for numbers known not to be NaN, where the library's calls cost */
 static double lesser(double a, double b)
@@ -59,275 +49,14 @@ static double greater(double a, double b)
     return b > a ? b : a;
 }
 
-/* Squared distance from p to the segment ab. */
-static double seg_d2(const double p[3], const double a[3], const double b[3])
-{
-    double ab[3], ap[3];
-    sub3(b, a, ab);
-    sub3(p, a, ap);
-    double len2 = dot3(ab, ab), t = len2 > 0 ? dot3(ap, ab) / len2 : 0;
-    t = t < 0 ? 0 : t > 1 ? 1 : t;
-    double d2 = 0;
-    for (int k = 0; k < 3; k++) {
-        double e = ap[k] - t * ab[k];
-        d2 += e * e;
-    }
-    return d2;
-}
-
-/* Squared distance from p to the triangle abc: the nearest point found by the region of the
- * triangle's plane that p projects into (corner, edge or face; Ericson, Real-Time Collision
- * Detection 5.1.5), with the edges as a fallback for a triangle of no area. */
-static double tri_d2(const double p[3], const double a[3], const double b[3], const double c[3])
-{
-    double ab[3], ac[3], ap[3], bp[3], cp[3], q[3];
-    sub3(b, a, ab);
-    sub3(c, a, ac);
-    sub3(p, a, ap);
-    sub3(ap, ab, bp);
-    sub3(ap, ac, cp);
-    double d1 = dot3(ab, ap), d2 = dot3(ac, ap), d3 = dot3(ab, bp), d4 = dot3(ac, bp),
-           d5 = dot3(ab, cp), d6 = dot3(ac, cp);
-    /* the regions are disjoint but for their borders, so the order of the tests is free */
-    if (d1 <= 0 && d2 <= 0)
-        return dot3(ap, ap);
-    if (d3 >= 0 && d4 <= d3)
-        return dot3(bp, bp);
-    if (d6 >= 0 && d5 <= d6)
-        return dot3(cp, cp);
-    double va = d3 * d6 - d5 * d4, vb = d5 * d2 - d1 * d6, vc = d1 * d4 - d3 * d2;
-    if (vc <= 0 && d1 >= 0 && d3 <= 0)
-        return seg_d2(p, a, b);
-    if (vb <= 0 && d2 >= 0 && d6 <= 0)
-        return seg_d2(p, a, c);
-    if (va <= 0 && d4 - d3 >= 0 && d5 - d6 >= 0)
-        return seg_d2(p, b, c);
-    double sum = va + vb + vc;
-    if (!(sum > 0)) {
-        double ab2 = seg_d2(p, a, b), bc2 = seg_d2(p, b, c), ca2 = seg_d2(p, c, a);
-        double m = ab2 < bc2 ? ab2 : bc2;
-        return m < ca2 ? m : ca2;
-    }
-    double v = vb / sum, w = vc / sum, d2q = 0;
-    for (int k = 0; k < 3; k++) {
-        q[k] = ap[k] - ab[k] * v - ac[k] * w;
-        d2q += q[k] * q[k];
-    }
-    return d2q;
-}
-
-/* A mesh measured against: its triangles' corners in double, per triangle, and its
- * hierarchy (built over the same triangle numbers). */
-typedef struct target {
-    const limen__mesh *m;
-    double (*tri)[9];
-    double (*ball)[4];          /* per triangle: a sphere around it (centre, radius) */
-    uint32_t *at_vertex;        /* per vertex: a triangle with a corner there, or UINT32_MAX */
-    uint32_t (*across)[3];      /* per triangle and edge (corners k, k + 1): the triangle on
-                                 * its other side, or UINT32_MAX */
-    double mean_area;           /* of its triangles */
-} target;
-
-static void target_free(target *t)
-{
-    free(t->tri);
-    free(t->ball);
-    free(t->at_vertex);
-    free(t->across);
-}
-
-/* The vertex at corner i of t's mesh, welded where weld is given. */
-static uint32_t corner_vertex(const target *t, const uint32_t *weld, size_t i)
-{
-    return weld ? weld[i] : t->m->idx[i];
-}
-
-/* t->across: edges paired through a table of half-edges keyed on their two (welded)
- * vertices. An edge of more than two triangles pairs some of them; what a pairing misses,
- * the walks over the surface below do without (they only ever find less). False when out
- * of memory. */
-static bool pair_edges(target *t, const uint32_t *weld)
-{
-    size_t n = (size_t)t->m->ntris * 3, size = 16;
-    while (size < 2 * n)
-        size *= 2;
-    uint32_t *slot = malloc(sizeof *slot * size);
-    t->across = malloc(sizeof *t->across * t->m->ntris);
-    if (!slot || !t->across) {
-        free(slot);
-        return false;
-    }
-    memset(slot, 0xff, sizeof *slot * size);
-    memset(t->across, 0xff, sizeof *t->across * t->m->ntris);
-    for (size_t h = 0; h < n; h++) {
-        size_t base = h - h % 3;
-        uint32_t a = corner_vertex(t, weld, h), b = corner_vertex(t, weld, base + (h + 1) % 3);
-        if (a == b)
-            continue;
-        uint64_t key = a < b ? (uint64_t)a << 32 | b : (uint64_t)b << 32 | a;
-        size_t at = (size_t)((key * 0x9e3779b97f4a7c15ull) >> 20) & (size - 1);
-        for (;; at = (at + 1) & (size - 1)) {
-            uint32_t o = slot[at];
-            if (o == UINT32_MAX) {
-                slot[at] = (uint32_t)h;
-                break;
-            }
-            size_t obase = o - o % 3;
-            uint32_t oa = corner_vertex(t, weld, o), ob = corner_vertex(t, weld, obase + (o + 1) % 3);
-            uint64_t okey = oa < ob ? (uint64_t)oa << 32 | ob : (uint64_t)ob << 32 | oa;
-            /* paired only where the two run the edge opposite ways (their windings agree) */
-            if (okey != key || oa != b || t->across[o / 3][o % 3] != UINT32_MAX)
-                continue;
-            t->across[o / 3][o % 3] = (uint32_t)(h / 3);
-            t->across[h / 3][h % 3] = o / 3;
-            slot[at] = (uint32_t)h;     /* a third triangle pairs with this one, if any */
-            break;
-        }
-    }
-    free(slot);
-    return true;
-}
-
-/* The corners table of m; false when out of memory. weld, where not NULL: per corner of m,
- * another vertex at the corner's position, which finds the triangle too. */
-static bool target_make(target *t, const limen__mesh *m, const uint32_t *weld)
-{
-    t->m = m;
-    t->tri = malloc(sizeof *t->tri * m->ntris);
-    t->ball = malloc(sizeof *t->ball * m->ntris);
-    t->at_vertex = malloc(sizeof *t->at_vertex * m->nverts);
-    if (!t->tri || !t->ball || !t->at_vertex || !pair_edges(t, weld)) {
-        target_free(t);
-        return false;
-    }
-    for (uint32_t v = 0; v < m->nverts; v++)
-        t->at_vertex[v] = UINT32_MAX;
-    for (size_t i = 0; i < (size_t)m->ntris * 3; i++) {
-        t->at_vertex[m->idx[i]] = (uint32_t)(i / 3);
-        if (weld)
-            t->at_vertex[weld[i]] = (uint32_t)(i / 3);
-    }
-    for (uint32_t i = 0; i < m->ntris; i++) {
-        double *c = t->ball[i], r2 = 0;
-        for (int k = 0; k < 9; k++)
-            t->tri[i][k] = m->pos[m->idx[i * 3 + k / 3] * 3 + k % 3];
-        for (int a = 0; a < 3; a++)
-            c[a] = (t->tri[i][a] + t->tri[i][3 + a] + t->tri[i][6 + a]) / 3;
-        for (int k = 0; k < 3; k++) {
-            double e[3];
-            sub3(t->tri[i] + 3 * k, c, e);
-            r2 = fmax(r2, dot3(e, e));
-        }
-        c[3] = sqrt(r2) * (1 + 1e-12);
-        double e1[3], e2[3], n[3];
-        sub3(t->tri[i] + 3, t->tri[i], e1);
-        sub3(t->tri[i] + 6, t->tri[i], e2);
-        n[0] = e1[1] * e2[2] - e1[2] * e2[1];
-        n[1] = e1[2] * e2[0] - e1[0] * e2[2];
-        n[2] = e1[0] * e2[1] - e1[1] * e2[0];
-        t->mean_area += sqrt(dot3(n, n)) / 2;
-    }
-    t->mean_area /= m->ntris > 0 ? m->ntris : 1;
-    return true;
-}
-
-/* Squared distance from p to triangle i of t. */
-static double to_tri(const target *t, uint32_t i, const double p[3])
-{
-    return tri_d2(p, t->tri[i], t->tri[i] + 3, t->tri[i] + 6);
-}
-
-static double box_d2(const limen__tri_node *n, const double p[3])
-{
-    double d2 = 0;
-    for (int a = 0; a < 3; a++) {
-        double e = n->lo[a] - p[a] > 0 ? n->lo[a] - p[a] : p[a] - n->hi[a] > 0 ? p[a] - n->hi[a] : 0;
-        d2 += e * e;
-    }
-    return d2;
-}
-
-/* The nearest triangle of m (through its hierarchy) to p: returns the squared distance,
- * *tri the triangle. hint: a triangle likely near (its distance starts the search). */
-static double nearest(const target *to, const double p[3], uint32_t hint, uint32_t *tri)
-{
-    const limen__mesh *m = to->m;
-    double best = to_tri(to, hint, p);
-    *tri = hint;
-    if (best == 0)
-        return 0;               /* on it: nothing is nearer */
-    struct { uint32_t node; double d2; } stack[STACK_MAX];
-    int top = 0;
-    stack[top].node = 0;
-    stack[top++].d2 = box_d2(&m->bvh[0], p);
-    while (top > 0) {
-        top--;
-        if (stack[top].d2 >= best)
-            continue;
-        const limen__tri_node *n = &m->bvh[stack[top].node];
-        if (n->count == 0) {
-            uint32_t l = (uint32_t)(n - m->bvh) + 1u, r = n->index;
-            double dl = box_d2(&m->bvh[l], p), dr = box_d2(&m->bvh[r], p);
-            if (top + 2 > STACK_MAX)
-                continue;   /* depth is log2(triangles) <= 32: never */
-            /* the nearer child on top */
-            bool l_near = dl <= dr;
-            stack[top].node = l_near ? r : l;
-            stack[top++].d2 = l_near ? dr : dl;
-            stack[top].node = l_near ? l : r;
-            stack[top++].d2 = l_near ? dl : dr;
-            continue;
-        }
-        double reach = sqrt(best);
-        for (uint32_t i = n->index; i < n->index + n->count; i++) {
-            uint32_t t = m->tri_order[i];
-            /* a triangle whose sphere lies beyond the best so far cannot be nearer */
-            const double *c = to->ball[t];
-            double e[3] = { p[0] - c[0], p[1] - c[1], p[2] - c[2] };
-            if (dot3(e, e) > (reach + c[3]) * (reach + c[3]))
-                continue;
-            double d2 = to_tri(to, t, p);
-            if (d2 < best) {
-                best = d2;
-                reach = sqrt(best);
-                *tri = t;
-            }
-        }
-    }
-    return best;
-}
-
-#define WALK_MAX 64             /* steps of a walk over the surface */
-
-/* Steps from triangle *t to a neighbour across an edge while one is nearer to p, and
- * returns the squared distance to the last: an upper bound on the nearest's, which it is
- * where the surface near p is a single sheet. */
-static double walk(const target *to, const double p[3], uint32_t *t)
-{
-    double best = to_tri(to, *t, p);
-    for (int step = 0; step < WALK_MAX && best > 0; step++) {
-        uint32_t next = UINT32_MAX;
-        for (int e = 0; e < 3; e++) {
-            uint32_t o = to->across[*t][e];
-            double d2 = o == UINT32_MAX ? INFINITY : to_tri(to, o, p);
-            if (d2 < best) {
-                best = d2;
-                next = o;
-            }
-        }
-        if (next == UINT32_MAX)
-            break;
-        *t = next;
-    }
-    return best;
-}
+typedef limen__lod_target target;     /* a surface measured against */
 
 /* ------------------------------------------------------------------ one side */
 
 typedef struct point {
     double p[3];
-    double d2;                  /* squared distance to the other surface, or (a cut's point)
-                                 * an upper bound on it: the distance to tri */
+    double d2;                  /* squared distance to the other surface, or (a cut's point, a
+                                 * corner walked to) an upper bound on it: the distance to tri */
     uint32_t tri;               /* its nearest triangle there */
     bool rough;                 /* d2 is the distance to tri, unsearched */
 } point;
@@ -352,7 +81,7 @@ typedef struct side {
 /* q's nearest triangle and distance (the largest found raises lower and the floor). */
 static void locate(side *sd, point *q, uint32_t hint)
 {
-    q->d2 = nearest(sd->to, q->p, hint, &q->tri);
+    q->d2 = limen__lod_target_nearest(sd->to, q->p, hint, &q->tri);
     q->rough = false;
     double d = sqrt(q->d2);
     if (d > sd->lower)
@@ -413,8 +142,10 @@ static double orient2(const double p[2], const double q[2], const double x[2])
 static bool apart2(const double a[3][2], const double b[3][2])
 {
     for (int x = 0; x < 2; x++)
-        if (greater(a[0][x], greater(a[1][x], a[2][x])) <= lesser(b[0][x], lesser(b[1][x], b[2][x])) ||
-            greater(b[0][x], greater(b[1][x], b[2][x])) <= lesser(a[0][x], lesser(a[1][x], a[2][x])))
+        if (greater(a[0][x], greater(a[1][x], a[2][x])) <=
+                lesser(b[0][x], lesser(b[1][x], b[2][x])) ||
+            greater(b[0][x], greater(b[1][x], b[2][x])) <=
+                lesser(a[0][x], lesser(a[1][x], a[2][x])))
             return true;
     for (int k = 0; k < 6; k++) {
         const double (*t)[2] = k < 3 ? a : b, (*o)[2] = k < 3 ? b : a;
@@ -441,12 +172,12 @@ static double cover_bound(side *sd, const point *v[3], double goal)
 {
     const target *to = sd->to;
     double e1[3], e2[3], n[3], u[3], w[3];
-    sub3(v[1]->p, v[0]->p, e1);
-    sub3(v[2]->p, v[0]->p, e2);
+    limen__sub3(v[1]->p, v[0]->p, e1);
+    limen__sub3(v[2]->p, v[0]->p, e2);
     n[0] = e1[1] * e2[2] - e1[2] * e2[1];
     n[1] = e1[2] * e2[0] - e1[0] * e2[2];
     n[2] = e1[0] * e2[1] - e1[1] * e2[0];
-    double nn = sqrt(dot3(n, n)), ne = sqrt(dot3(e1, e1));
+    double nn = sqrt(limen__dot3(n, n)), ne = sqrt(limen__dot3(e1, e1));
     if (!(nn > 0) || !(ne > 0))
         return INFINITY;
     for (int a = 0; a < 3; a++) {
@@ -460,9 +191,9 @@ static double cover_bound(side *sd, const point *v[3], double goal)
     double pp[3][2], lo[3], hi[3];
     for (int k = 0; k < 3; k++) {
         double d[3];
-        sub3(v[k]->p, v[0]->p, d);
-        pp[k][0] = dot3(d, u);
-        pp[k][1] = dot3(d, w);
+        limen__sub3(v[k]->p, v[0]->p, d);
+        pp[k][0] = limen__dot3(d, u);
+        pp[k][1] = limen__dot3(d, w);
     }
     double plo[2] = { lesser(pp[0][0], lesser(pp[1][0], pp[2][0])),
                       lesser(pp[0][1], lesser(pp[1][1], pp[2][1])) },
@@ -502,10 +233,10 @@ static double cover_bound(side *sd, const point *v[3], double goal)
         double tt[3][2], h[3];
         for (int k = 0; k < 3; k++) {
             double d[3];
-            sub3(c + 3 * k, v[0]->p, d);
-            tt[k][0] = dot3(d, u);
-            tt[k][1] = dot3(d, w);
-            h[k] = dot3(d, n);
+            limen__sub3(c + 3 * k, v[0]->p, d);
+            tt[k][0] = limen__dot3(d, u);
+            tt[k][1] = limen__dot3(d, w);
+            h[k] = limen__dot3(d, n);
         }
         if ((h[0] > goal && h[1] > goal && h[2] > goal) ||
             (h[0] < -goal && h[1] < -goal && h[2] < -goal))
@@ -639,7 +370,8 @@ static void locate_shared(side *sd, point *q, uint32_t hint, uint32_t other, dou
                 *q = sd->seen[at];
                 return;
             }
-    double dh = to_tri(sd->to, hint, q->p), doth = other == hint ? dh : to_tri(sd->to, other, q->p);
+    double dh = limen__lod_d2(sd->to, hint, q->p),
+           doth = other == hint ? dh : limen__lod_d2(sd->to, other, q->p);
     q->d2 = fmin(dh, doth);
     q->tri = dh <= doth ? hint : other;
     q->rough = q->d2 <= enough * enough;
@@ -665,7 +397,7 @@ static double convex_bound(const side *sd, const point *v[3])
         if ((k > 0 && t == v[0]->tri) || (k > 1 && t == v[1]->tri))
             continue;
         for (int i = 0; i < 3; i++)
-            f[nk][i] = v[i]->tri == t ? sqrt(v[i]->d2) : sqrt(to_tri(sd->to, t, v[i]->p));
+            f[nk][i] = v[i]->tri == t ? sqrt(v[i]->d2) : sqrt(limen__lod_d2(sd->to, t, v[i]->p));
         nk++;
     }
     double best = 0;
@@ -721,12 +453,12 @@ static double convex_bound(const side *sd, const point *v[3])
 static double piece_area(const point *v[3])
 {
     double e1[3], e2[3], n[3];
-    sub3(v[1]->p, v[0]->p, e1);
-    sub3(v[2]->p, v[0]->p, e2);
+    limen__sub3(v[1]->p, v[0]->p, e1);
+    limen__sub3(v[2]->p, v[0]->p, e2);
     n[0] = e1[1] * e2[2] - e1[2] * e2[1];
     n[1] = e1[2] * e2[0] - e1[0] * e2[2];
     n[2] = e1[0] * e2[1] - e1[1] * e2[0];
-    return sqrt(dot3(n, n)) / 2;
+    return sqrt(limen__dot3(n, n)) / 2;
 }
 
 /* The least of the three bounds over the triangle v (see the top of the file), or one
@@ -738,8 +470,8 @@ static double piece_bound(side *sd, const point *v[3], double goal)
     double far = 0, longest = 0;
     for (int k = 0; k < 3; k++) {
         double e[3];
-        sub3(v[(k + 1) % 3]->p, v[k]->p, e);
-        longest = fmax(longest, dot3(e, e));
+        limen__sub3(v[(k + 1) % 3]->p, v[k]->p, e);
+        longest = fmax(longest, limen__dot3(e, e));
         far = fmax(far, v[k]->d2);
     }
     double bound = sqrt(far) + sqrt(longest / 3);
@@ -815,7 +547,7 @@ static bool side_corners(side *sd)
         } else {
             double enough = NEAR_ENOUGH * (*sd->floor * (1 + REL_TOL) + sd->abs_tol);
             q->tri = hint;
-            q->d2 = walk(sd->to, q->p, &q->tri);
+            q->d2 = limen__lod_target_walk(sd->to, q->p, &q->tri);
             q->rough = q->d2 <= enough * enough;
             if (!q->rough)
                 locate(sd, q, q->tri);
@@ -851,7 +583,7 @@ static double level_error(const target *full, const uint32_t *weld, const uint32
                        .idx = (uint32_t *)idx };
     target level = { 0 };
     double e = NAN;
-    if (limen__mesh_bvh(&lv) && target_make(&level, &lv, NULL)) {
+    if (limen__mesh_bvh(&lv) && limen__lod_target_make(&level, &lv, NULL)) {
         double diag = 0;
         for (int a = 0; a < 3; a++)
             diag += (m->hi[a] - m->lo[a]) * (m->hi[a] - m->lo[a]);
@@ -874,7 +606,7 @@ static double level_error(const target *full, const uint32_t *weld, const uint32
         free(there.marks);
         free(back.marks);
     }
-    target_free(&level);
+    limen__lod_target_free(&level);
     free(lv.bvh);
     free(lv.tri_order);
     return e;
@@ -955,7 +687,7 @@ bool limen__mesh_lods_build(limen__mesh *m)
          * simplifier back; each weld keeps one of the original vertices */
         meshopt_generateShadowIndexBuffer(shadow, m->idx, n0, m->pos, m->nverts,
                                           sizeof(float) * 3, sizeof(float) * 3);
-        ok = target_make(&full, m, shadow);
+        ok = limen__lod_target_make(&full, m, shadow);
     }
     size_t cur_n = n0;
     float scale = ok ? meshopt_simplifyScale(m->pos, m->nverts, sizeof(float) * 3) : 0;
@@ -1020,7 +752,7 @@ bool limen__mesh_lods_build(limen__mesh *m)
         seam_sides(m, shadow, store, used);
     free(shadow);
     free(scratch);
-    target_free(&full);
+    limen__lod_target_free(&full);
     if (!ok) {
         free(block);
         return false;
