@@ -56,6 +56,16 @@ static arrays sphere(int u, int v)
     return a;
 }
 
+/* Node n's mesh as the renderer reads it, through *d (the caller destroys it). */
+static const limen_mesh_geometry *geometry_of(limen_scene *s, limen_node n, limen_drawables **d)
+{
+    const limen_drawable *all;
+    if (limen_drawables_create(d) || limen_drawables_build(*d, s))
+        die("cannot list the mesh");
+    limen_drawables_items(*d, &all);
+    return all[limen_drawables_find(*d, n)].mesh;
+}
+
 /* The bunny's arrays, as the file loads them. */
 static arrays from_file(const char *path)
 {
@@ -65,11 +75,7 @@ static arrays from_file(const char *path)
         limen_mesh_load(s, n, path))
         die("cannot load the mesh (is the file there?)");
     limen_drawables *d;
-    const limen_drawable *all;
-    if (limen_drawables_create(&d) || limen_drawables_build(d, s))
-        die("cannot list the mesh");
-    limen_drawables_items(d, &all);
-    const limen_mesh_geometry *g = all[limen_drawables_find(d, n)].mesh;
+    const limen_mesh_geometry *g = geometry_of(s, n, &d);
     arrays a = { .nv = g->vertex_count, .nt = g->triangle_count };
     a.pos = malloc(sizeof(float) * 3 * (size_t)a.nv);
     a.idx = malloc(sizeof(uint32_t) * 3 * (size_t)a.nt);
@@ -82,8 +88,8 @@ static arrays from_file(const char *path)
     return a;
 }
 
-/* The median processor time of `runs` makings of a mesh from a (ms); *levels, *coarsest:
- * what the last one made. */
+/* The median processor time of `runs` makings of a mesh from a (ms); *levels, *coarsest
+ * and errors (12): what the last one made. */
 static double make_ms(const arrays *a, int runs, int *levels, int *coarsest, float *errors)
 {
     double t[16];
@@ -100,11 +106,7 @@ static double make_ms(const arrays *a, int runs, int *levels, int *coarsest, flo
         if (st)
             die(limen_scene_error(s));
         limen_drawables *d;
-        const limen_drawable *all;
-        if (limen_drawables_create(&d) || limen_drawables_build(d, s))
-            die("cannot list the mesh");
-        limen_drawables_items(d, &all);
-        const limen_mesh_geometry *g = all[limen_drawables_find(d, n)].mesh;
+        const limen_mesh_geometry *g = geometry_of(s, n, &d);
         *levels = g->lod_count;
         *coarsest = g->lods[g->lod_count - 1].triangle_count;
         for (int k = 0; k < g->lod_count && k < 12; k++)
