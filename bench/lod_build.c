@@ -2,7 +2,7 @@
  * hierarchy, the levels of detail and each level's measured error, src/core/lod.c) on bumpy
  * spheres of 50,000, 200,000 and 800,000 triangles made here, and on the bunny. Processor
  * time, medians; the growth from 50k to 800k per triangle, measured in one run (1 means
- * linear).
+ * linear). The spheres are tests/bumpy.h's.
  *
  *   lod_build [--out DIR] [--mesh FILE] [--full]
  *
@@ -14,6 +14,7 @@
 #include <string.h>
 
 #include "core/internal.h"
+#include "../tests/bumpy.h"
 #include "timing.h"
 
 static void die(const char *what)
@@ -28,7 +29,7 @@ typedef struct arrays {
     int nv, nt;
 } arrays;
 
-/* A sphere of u * v * 2 triangles, its radius rippled at two sizes. */
+/* bumpy_sphere's arrays (tests/bumpy.h). */
 static arrays sphere(int u, int v)
 {
     arrays a = { .nv = (u + 1) * (v + 1), .nt = u * v * 2 };
@@ -36,23 +37,7 @@ static arrays sphere(int u, int v)
     a.idx = malloc(sizeof(uint32_t) * 3 * (size_t)a.nt);
     if (!a.pos || !a.idx)
         die("out of memory");
-    for (int j = 0; j <= v; j++)
-        for (int i = 0; i <= u; i++) {
-            double th = M_PI * j / v, ph = 2 * M_PI * i / u;
-            double r = 1 + 0.05 * sin(7 * th) * cos(9 * ph) + 0.01 * sin(31 * th + 17 * ph);
-            float *q = &a.pos[(j * (u + 1) + i) * 3];
-            q[0] = (float)(r * sin(th) * cos(ph));
-            q[1] = (float)(r * cos(th));
-            q[2] = (float)(r * sin(th) * sin(ph));
-        }
-    size_t k = 0;
-    for (int j = 0; j < v; j++)
-        for (int i = 0; i < u; i++) {
-            uint32_t p = (uint32_t)(j * (u + 1) + i), b = p + 1, c = p + (uint32_t)u + 1, d = c + 1;
-            uint32_t q[6] = { p, c, b, b, c, d };
-            for (int x = 0; x < 6; x++)
-                a.idx[k++] = q[x];
-        }
+    bumpy_sphere(u, v, a.pos, a.idx);
     return a;
 }
 

@@ -7,6 +7,7 @@
 #include <stdlib.h>
 #include <unistd.h>
 
+#include "bumpy.h"
 #include "check.h"
 #include "limen.h"
 
@@ -419,23 +420,7 @@ static void test_big_bounds(void)
         free(idx);
         return;
     }
-    for (int j = 0; j <= V; j++)
-        for (int i = 0; i <= U; i++) {
-            double th = M_PI * j / V, ph = 2 * M_PI * i / U;
-            double r = 1 + 0.05 * sin(7 * th) * cos(9 * ph) + 0.01 * sin(31 * th + 17 * ph);
-            float *q = &pos[(j * (U + 1) + i) * 3];
-            q[0] = (float)(r * sin(th) * cos(ph));
-            q[1] = (float)(r * cos(th));
-            q[2] = (float)(r * sin(th) * sin(ph));
-        }
-    int k = 0;
-    for (int j = 0; j < V; j++)
-        for (int i = 0; i < U; i++) {
-            uint32_t a = (uint32_t)(j * (U + 1) + i), b = a + 1, c = a + U + 1, e = c + 1;
-            uint32_t q[6] = { a, c, b, b, c, e };
-            for (int x = 0; x < 6; x++)
-                idx[k++] = q[x];
-        }
+    bumpy_sphere(U, V, pos, idx);
     fixture f = open_scene((float[3]){ 0, 0, 5 }, (float[3]){ 0, 0, 0 });
     CHECK_OK(limen_mesh_set_triangles(f.s, f.mesh, &(limen_mesh_data){
         .positions = pos, .vertex_count = NV, .indices = idx, .triangle_count = NT }));
