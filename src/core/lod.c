@@ -94,16 +94,19 @@ static void locate(side *sd, point *q, uint32_t hint)
  * (Sutherland-Hodgman: p clipped by t's three edges), into out; returns its corners. */
 static int clip_tri(const double p[3][2], const double t[3][2], double out[9][2])
 {
-    double next[9][2];
+    double buf[2][9][2], at[9];
+    const double (*in)[2] = p;
     int n = 3;
-    memcpy(out, p, sizeof(double) * 6);
     for (int e = 0; e < 3 && n > 0; e++) {
-        const double *a = t[e], *b = t[(e + 1) % 3];
+        const double *a = t[e], *b = t[e == 2 ? 0 : e + 1];
+        double (*next)[2] = e == 2 ? out : buf[e];
+        for (int i = 0; i < n; i++)
+            at[i] = (b[0] - a[0]) * (in[i][1] - a[1]) - (b[1] - a[1]) * (in[i][0] - a[0]);
         int m = 0;
         for (int i = 0; i < n; i++) {
-            const double *x = out[i], *y = out[(i + 1) % n];
-            double sx = (b[0] - a[0]) * (x[1] - a[1]) - (b[1] - a[1]) * (x[0] - a[0]);
-            double sy = (b[0] - a[0]) * (y[1] - a[1]) - (b[1] - a[1]) * (y[0] - a[0]);
+            int j = i + 1 == n ? 0 : i + 1;
+            const double *x = in[i], *y = in[j];
+            double sx = at[i], sy = at[j];
             if (sx >= 0) {
                 next[m][0] = x[0];
                 next[m++][1] = x[1];
@@ -114,7 +117,7 @@ static int clip_tri(const double p[3][2], const double t[3][2], double out[9][2]
                 next[m++][1] = x[1] + f * (y[1] - x[1]);
             }
         }
-        memcpy(out, next, sizeof(double) * 2 * (size_t)m);
+        in = (const double (*)[2])next;
         n = m;
     }
     return n;
@@ -123,8 +126,10 @@ static int clip_tri(const double p[3][2], const double t[3][2], double out[9][2]
 static double poly_area(const double (*q)[2], int n)
 {
     double area = 0;
-    for (int i = 0; i < n; i++)
-        area += q[i][0] * q[(i + 1) % n][1] - q[(i + 1) % n][0] * q[i][1];
+    for (int i = 0; i < n; i++) {
+        int j = i + 1 == n ? 0 : i + 1;
+        area += q[i][0] * q[j][1] - q[j][0] * q[i][1];
+    }
     return area / 2;
 }
 
