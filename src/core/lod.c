@@ -4,18 +4,21 @@
  *
  * The error of a level is an upper bound on the two-sided Hausdorff distance between its
  * surface and the full mesh's. For one side (surface A against surface B): every corner of
- * A finds its nearest triangle of B (through a hierarchy over B, the ray tracer's for the
- * full mesh), and the largest of those distances is a lower bound. Then each triangle of A,
- * a piece, is bounded over its whole area by the least of: its farthest corner's distance
- * plus how far a point can be from a corner (the distance is 1-Lipschitz); the planes
- * through the corners' distances to each corner's nearest triangle (the distance to one
- * triangle is convex); the largest offset to the triangles of B it lies over (seen along
- * its normal's axis). A piece whose bound exceeds the lower bound by more than REL_TOL is cut
- * in four, down to MAX_DEPTH; the answer is the largest bound of a finished piece. A point
- * a cut makes is searched for only where its edge's corners' triangles leave it far from
- * the other surface: near enough, the distance to one of them is an upper bound that every
- * bound above may take in place of the nearest; a piece these leave above the goal has
- * them searched before it is cut (or, at MAX_DEPTH, let go). */
+ * A finds a near triangle of B (one it shares, or by walking across B's edges from the last
+ * corner's), and is searched for (through a hierarchy over B, the ray tracer's for the full
+ * mesh) where that leaves it near the largest distance found so far, which is a lower bound.
+ * Then each triangle of A, a piece, is bounded over its whole area by the least of: its
+ * farthest corner's distance plus how far a point can be from a corner (the distance is
+ * 1-Lipschitz); the planes through the corners' distances to each corner's nearest triangle
+ * (the distance to one triangle is convex); the largest offset to the triangles of B it lies
+ * over, seen along its normal (found by walking across B's edges from its corners'
+ * triangles). A piece whose bound exceeds the lower bound by more than REL_TOL is cut in
+ * four, down to MAX_DEPTH; the answer is the largest bound of a finished piece. A point a
+ * cut makes is searched for only where its edge's corners' triangles leave it far from the
+ * other surface: near enough, the distance to one of them is an upper bound that every
+ * bound above may take in place of the nearest; a piece these leave above the goal has them
+ * searched before it is cut (or, at MAX_DEPTH, let go). The surface measured against, and
+ * its distances, are core/lod_target.c's. */
 #include <float.h>
 #include <math.h>
 #include <string.h>
@@ -23,6 +26,7 @@
 #include <meshoptimizer.h>
 
 #include "core/internal.h"
+#include "core/lod_target.h"
 #include "core/mesh.h"
 
 #define MAX_LEVELS 12           /* the full mesh and up to 11 coarser ones */
@@ -30,204 +34,29 @@
 #define SOURCE_STEP 3           /* a level is simplified from the one this many before */
 #define REL_TOL 0.1             /* a piece's bound may exceed the largest distance found by this */
 #define MAX_DEPTH 4             /* pieces per triangle: at most 4^4 */
-#define STACK_MAX 64
 #define NEAR_ENOUGH 0.8         /* a cut's point this near a corner's triangle (of what the
                                  * floor asks; not of the largest bound, which it would raise)
                                  * takes its distance there, unsearched */
 
-/* ------------------------------------------------------------------ distances */
-
-static void sub3(const double a[3], const double b[3], double out[3])
+/* fmin and fmax for numbers known not to be NaN, where the library's calls cost */
+static double lesser(double a, double b)
 {
-    for (int k = 0; k < 3; k++)
-        out[k] = a[k] - b[k];
+    return b < a ? b : a;
 }
 
-static double dot3(const double a[3], const double b[3])
+static double greater(double a, double b)
 {
-    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+    return b > a ? b : a;
 }
 
-/* Squared distance from p to the segment ab. */
-static double seg_d2(const double p[3], const double a[3], const double b[3])
-{
-    double ab[3], ap[3];
-    sub3(b, a, ab);
-    sub3(p, a, ap);
-    double len2 = dot3(ab, ab), t = len2 > 0 ? dot3(ap, ab) / len2 : 0;
-    t = t < 0 ? 0 : t > 1 ? 1 : t;
-    double d2 = 0;
-    for (int k = 0; k < 3; k++) {
-        double e = ap[k] - t * ab[k];
-        d2 += e * e;
-    }
-    return d2;
-}
-
-/* Squared distance from p to the triangle abc: the nearest point found by the region of the
- * triangle's plane that p projects into (corner, edge or face; Ericson, Real-Time Collision
- * Detection 5.1.5), with the edges as a fallback for a triangle of no area. */
-static double tri_d2(const double p[3], const double a[3], const double b[3], const double c[3])
-{
-    double ab[3], ac[3], ap[3], bp[3], cp[3], q[3];
-    sub3(b, a, ab);
-    sub3(c, a, ac);
-    sub3(p, a, ap);
-    sub3(ap, ab, bp);
-    sub3(ap, ac, cp);
-    double d1 = dot3(ab, ap), d2 = dot3(ac, ap), d3 = dot3(ab, bp), d4 = dot3(ac, bp),
-           d5 = dot3(ab, cp), d6 = dot3(ac, cp);
-    /* the regions are disjoint but for their borders, so the order of the tests is free */
-    if (d1 <= 0 && d2 <= 0)
-        return dot3(ap, ap);
-    if (d3 >= 0 && d4 <= d3)
-        return dot3(bp, bp);
-    if (d6 >= 0 && d5 <= d6)
-        return dot3(cp, cp);
-    double va = d3 * d6 - d5 * d4, vb = d5 * d2 - d1 * d6, vc = d1 * d4 - d3 * d2;
-    if (vc <= 0 && d1 >= 0 && d3 <= 0)
-        return seg_d2(p, a, b);
-    if (vb <= 0 && d2 >= 0 && d6 <= 0)
-        return seg_d2(p, a, c);
-    if (va <= 0 && d4 - d3 >= 0 && d5 - d6 >= 0)
-        return seg_d2(p, b, c);
-    double sum = va + vb + vc;
-    if (!(sum > 0)) {
-        double ab2 = seg_d2(p, a, b), bc2 = seg_d2(p, b, c), ca2 = seg_d2(p, c, a);
-        double m = ab2 < bc2 ? ab2 : bc2;
-        return m < ca2 ? m : ca2;
-    }
-    double v = vb / sum, w = vc / sum, d2q = 0;
-    for (int k = 0; k < 3; k++) {
-        q[k] = ap[k] - ab[k] * v - ac[k] * w;
-        d2q += q[k] * q[k];
-    }
-    return d2q;
-}
-
-/* A mesh measured against: its triangles' corners in double, per triangle, and its
- * hierarchy (built over the same triangle numbers). */
-typedef struct target {
-    const limen__mesh *m;
-    double (*tri)[9];
-    double (*ball)[4];          /* per triangle: a sphere around it (centre, radius) */
-    uint32_t *at_vertex;        /* per vertex: a triangle with a corner there, or UINT32_MAX */
-} target;
-
-static void target_free(target *t)
-{
-    free(t->tri);
-    free(t->ball);
-    free(t->at_vertex);
-}
-
-/* The corners table of m; false when out of memory. weld, where not NULL: per corner of m,
- * another vertex at the corner's position, which finds the triangle too. */
-static bool target_make(target *t, const limen__mesh *m, const uint32_t *weld)
-{
-    t->m = m;
-    t->tri = malloc(sizeof *t->tri * m->ntris);
-    t->ball = malloc(sizeof *t->ball * m->ntris);
-    t->at_vertex = malloc(sizeof *t->at_vertex * m->nverts);
-    if (!t->tri || !t->ball || !t->at_vertex) {
-        target_free(t);
-        return false;
-    }
-    for (uint32_t v = 0; v < m->nverts; v++)
-        t->at_vertex[v] = UINT32_MAX;
-    for (size_t i = 0; i < (size_t)m->ntris * 3; i++) {
-        t->at_vertex[m->idx[i]] = (uint32_t)(i / 3);
-        if (weld)
-            t->at_vertex[weld[i]] = (uint32_t)(i / 3);
-    }
-    for (uint32_t i = 0; i < m->ntris; i++) {
-        double *c = t->ball[i], r2 = 0;
-        for (int k = 0; k < 9; k++)
-            t->tri[i][k] = m->pos[m->idx[i * 3 + k / 3] * 3 + k % 3];
-        for (int a = 0; a < 3; a++)
-            c[a] = (t->tri[i][a] + t->tri[i][3 + a] + t->tri[i][6 + a]) / 3;
-        for (int k = 0; k < 3; k++) {
-            double e[3];
-            sub3(t->tri[i] + 3 * k, c, e);
-            r2 = fmax(r2, dot3(e, e));
-        }
-        c[3] = sqrt(r2) * (1 + 1e-12);
-    }
-    return true;
-}
-
-/* Squared distance from p to triangle i of t. */
-static double to_tri(const target *t, uint32_t i, const double p[3])
-{
-    return tri_d2(p, t->tri[i], t->tri[i] + 3, t->tri[i] + 6);
-}
-
-static double box_d2(const limen__tri_node *n, const double p[3])
-{
-    double d2 = 0;
-    for (int a = 0; a < 3; a++) {
-        double e = n->lo[a] - p[a] > 0 ? n->lo[a] - p[a] : p[a] - n->hi[a] > 0 ? p[a] - n->hi[a] : 0;
-        d2 += e * e;
-    }
-    return d2;
-}
-
-/* The nearest triangle of m (through its hierarchy) to p: returns the squared distance,
- * *tri the triangle. hint: a triangle likely near (its distance starts the search). */
-static double nearest(const target *to, const double p[3], uint32_t hint, uint32_t *tri)
-{
-    const limen__mesh *m = to->m;
-    double best = to_tri(to, hint, p);
-    *tri = hint;
-    if (best == 0)
-        return 0;               /* on it: nothing is nearer */
-    struct { uint32_t node; double d2; } stack[STACK_MAX];
-    int top = 0;
-    stack[top].node = 0;
-    stack[top++].d2 = box_d2(&m->bvh[0], p);
-    while (top > 0) {
-        top--;
-        if (stack[top].d2 >= best)
-            continue;
-        const limen__tri_node *n = &m->bvh[stack[top].node];
-        if (n->count == 0) {
-            uint32_t l = (uint32_t)(n - m->bvh) + 1u, r = n->index;
-            double dl = box_d2(&m->bvh[l], p), dr = box_d2(&m->bvh[r], p);
-            if (top + 2 > STACK_MAX)
-                continue;   /* depth is log2(triangles) <= 32: never */
-            /* the nearer child on top */
-            bool l_near = dl <= dr;
-            stack[top].node = l_near ? r : l;
-            stack[top++].d2 = l_near ? dr : dl;
-            stack[top].node = l_near ? l : r;
-            stack[top++].d2 = l_near ? dl : dr;
-            continue;
-        }
-        double reach = sqrt(best);
-        for (uint32_t i = n->index; i < n->index + n->count; i++) {
-            uint32_t t = m->tri_order[i];
-            /* a triangle whose sphere lies beyond the best so far cannot be nearer */
-            const double *c = to->ball[t];
-            double e[3] = { p[0] - c[0], p[1] - c[1], p[2] - c[2] };
-            if (dot3(e, e) > (reach + c[3]) * (reach + c[3]))
-                continue;
-            double d2 = to_tri(to, t, p);
-            if (d2 < best) {
-                best = d2;
-                reach = sqrt(best);
-                *tri = t;
-            }
-        }
-    }
-    return best;
-}
+typedef limen__lod_target target;     /* a surface measured against */
 
 /* ------------------------------------------------------------------ one side */
 
 typedef struct point {
     double p[3];
-    double d2;                  /* squared distance to the other surface, or (a cut's point)
-                                 * an upper bound on it: the distance to tri */
+    double d2;                  /* squared distance to the other surface, or (a cut's point, a
+                                 * corner walked to) an upper bound on it: the distance to tri */
     uint32_t tri;               /* its nearest triangle there */
     bool rough;                 /* d2 is the distance to tri, unsearched */
 } point;
@@ -246,13 +75,13 @@ typedef struct side {
                                  * neighbouring pieces share their edges' midpoints */
     uint32_t seen_mask, nseen;
     bool nomem;
-    int cover_tries, cover_hits;    /* cover_bound, which pays where pieces are small */
+    uint32_t *marks, mark;      /* per triangle of to: the last cover_bound that met it */
 } side;
 
 /* q's nearest triangle and distance (the largest found raises lower and the floor). */
 static void locate(side *sd, point *q, uint32_t hint)
 {
-    q->d2 = nearest(sd->to, q->p, hint, &q->tri);
+    q->d2 = limen__lod_target_nearest(sd->to, q->p, hint, &q->tri);
     q->rough = false;
     double d = sqrt(q->d2);
     if (d > sd->lower)
@@ -265,16 +94,19 @@ static void locate(side *sd, point *q, uint32_t hint)
  * (Sutherland-Hodgman: p clipped by t's three edges), into out; returns its corners. */
 static int clip_tri(const double p[3][2], const double t[3][2], double out[9][2])
 {
-    double next[9][2];
+    double buf[2][9][2], at[9];
+    const double (*in)[2] = p;
     int n = 3;
-    memcpy(out, p, sizeof(double) * 6);
     for (int e = 0; e < 3 && n > 0; e++) {
-        const double *a = t[e], *b = t[(e + 1) % 3];
+        const double *a = t[e], *b = t[e == 2 ? 0 : e + 1];
+        double (*next)[2] = e == 2 ? out : buf[e];
+        for (int i = 0; i < n; i++)
+            at[i] = (b[0] - a[0]) * (in[i][1] - a[1]) - (b[1] - a[1]) * (in[i][0] - a[0]);
         int m = 0;
         for (int i = 0; i < n; i++) {
-            const double *x = out[i], *y = out[(i + 1) % n];
-            double sx = (b[0] - a[0]) * (x[1] - a[1]) - (b[1] - a[1]) * (x[0] - a[0]);
-            double sy = (b[0] - a[0]) * (y[1] - a[1]) - (b[1] - a[1]) * (y[0] - a[0]);
+            int j = i + 1 == n ? 0 : i + 1;
+            const double *x = in[i], *y = in[j];
+            double sx = at[i], sy = at[j];
             if (sx >= 0) {
                 next[m][0] = x[0];
                 next[m++][1] = x[1];
@@ -285,7 +117,7 @@ static int clip_tri(const double p[3][2], const double t[3][2], double out[9][2]
                 next[m++][1] = x[1] + f * (y[1] - x[1]);
             }
         }
-        memcpy(out, next, sizeof(double) * 2 * (size_t)m);
+        in = (const double (*)[2])next;
         n = m;
     }
     return n;
@@ -294,140 +126,191 @@ static int clip_tri(const double p[3][2], const double t[3][2], double out[9][2]
 static double poly_area(const double (*q)[2], int n)
 {
     double area = 0;
-    for (int i = 0; i < n; i++)
-        area += q[i][0] * q[(i + 1) % n][1] - q[(i + 1) % n][0] * q[i][1];
+    for (int i = 0; i < n; i++) {
+        int j = i + 1 == n ? 0 : i + 1;
+        area += q[i][0] * q[j][1] - q[j][0] * q[i][1];
+    }
     return area / 2;
 }
 
-/* Whether two counter-clockwise triangles of a plane share no inner point (an edge of
- * one or the other separates them). */
+/* The signed double area of the triangle pqx: exactly 0 where x is p or q, whatever the
+ * rounding (the two products are the same numbers), which lets two triangles that share an
+ * edge or a corner be told apart exactly. */
+static double orient2(const double p[2], const double q[2], const double x[2])
+{
+    return (q[0] - p[0]) * (x[1] - p[1]) - (q[1] - p[1]) * (x[0] - p[0]);
+}
+
+/* Whether two counter-clockwise triangles of a plane share no inner point: the line of an
+ * edge of one leaves the other wholly on its outer side (for two convex shapes, one such
+ * edge exists where they are apart). */
 static bool apart2(const double a[3][2], const double b[3][2])
 {
     for (int x = 0; x < 2; x++)
-        if (fmax(a[0][x], fmax(a[1][x], a[2][x])) <= fmin(b[0][x], fmin(b[1][x], b[2][x])) ||
-            fmax(b[0][x], fmax(b[1][x], b[2][x])) <= fmin(a[0][x], fmin(a[1][x], a[2][x])))
+        if (greater(a[0][x], greater(a[1][x], a[2][x])) <=
+                lesser(b[0][x], lesser(b[1][x], b[2][x])) ||
+            greater(b[0][x], greater(b[1][x], b[2][x])) <=
+                lesser(a[0][x], lesser(a[1][x], a[2][x])))
             return true;
     for (int k = 0; k < 6; k++) {
-        const double (*t)[2] = k < 3 ? a : b;
+        const double (*t)[2] = k < 3 ? a : b, (*o)[2] = k < 3 ? b : a;
         const double *p = t[k % 3], *q = t[(k + 1) % 3];
-        double nx = q[1] - p[1], ny = p[0] - q[0], lo_a = INFINITY, hi_a = -INFINITY,
-               lo_b = INFINITY, hi_b = -INFINITY;
-        for (int i = 0; i < 3; i++) {
-            double x = nx * a[i][0] + ny * a[i][1], y = nx * b[i][0] + ny * b[i][1];
-            lo_a = fmin(lo_a, x);
-            hi_a = fmax(hi_a, x);
-            lo_b = fmin(lo_b, y);
-            hi_b = fmax(hi_b, y);
-        }
-        if (hi_a <= lo_b || hi_b <= lo_a)
+        if (orient2(p, q, o[0]) <= 0 && orient2(p, q, o[1]) <= 0 && orient2(p, q, o[2]) <= 0)
             return true;
     }
     return false;
 }
 
 #define COVER_MAX 48            /* triangles of the other surface one piece is laid over */
+#define COVER_LOOK 96           /* triangles looked at for them, at most */
+#define COVER_AREA 8            /* a piece is laid over the other surface when it is at most
+                                 * this many times that surface's mean triangle */
 
-/* A bound from laying the piece over the other surface: seen along the axis nearest its
- * normal, where triangles of sd->to that lie within `goal` of it along that axis, and
- * overlap no other, together cover it (their clipped areas add up to its own), every
- * point of it has a point of sd->to straight along the axis, no farther than the largest
- * such offset at the clipped corners (the offset is linear over each clipped part). This
- * sees what the convex bound cannot: a piece lying along many small triangles, a flat
- * patch above all. INFINITY where it does not apply. */
-static double cover_bound(const side *sd, const point *v[3], double goal)
+/* A bound from laying the piece over the other surface: seen along the piece's normal,
+ * where triangles of sd->to that lie within `goal` of its plane along that normal, and
+ * overlap no other, together cover it (their clipped areas add up to its own), every point
+ * of it has a point of sd->to straight along the normal, no farther than the largest such
+ * offset at the clipped corners (the offset is linear over each clipped part). This sees
+ * what the convex bound cannot: a piece lying over several triangles, each of which is near
+ * only a part of it. INFINITY where it does not apply. */
+static double cover_bound(side *sd, const point *v[3], double goal)
 {
     const target *to = sd->to;
-    double e1[3], e2[3], n[3];
-    sub3(v[1]->p, v[0]->p, e1);
-    sub3(v[2]->p, v[0]->p, e2);
+    double e1[3], e2[3], n[3], u[3], w[3];
+    limen__sub3(v[1]->p, v[0]->p, e1);
+    limen__sub3(v[2]->p, v[0]->p, e2);
     n[0] = e1[1] * e2[2] - e1[2] * e2[1];
     n[1] = e1[2] * e2[0] - e1[0] * e2[2];
     n[2] = e1[0] * e2[1] - e1[1] * e2[0];
-    int ax = 0;
-    for (int a = 1; a < 3; a++)
-        if (fabs(n[a]) > fabs(n[ax]))
-            ax = a;
-    if (!(fabs(n[ax]) > 0))
+    double nn = sqrt(limen__dot3(n, n)), ne = sqrt(limen__dot3(e1, e1));
+    if (!(nn > 0) || !(ne > 0))
         return INFINITY;
-    int u = (ax + 1) % 3, w = (ax + 2) % 3;
+    for (int a = 0; a < 3; a++) {
+        n[a] /= nn;
+        u[a] = e1[a] / ne;
+    }
+    /* (u, w, n) right-handed: the piece runs counter-clockwise in (u, w) */
+    w[0] = n[1] * u[2] - n[2] * u[1];
+    w[1] = n[2] * u[0] - n[0] * u[2];
+    w[2] = n[0] * u[1] - n[1] * u[0];
     double pp[3][2], lo[3], hi[3];
     for (int k = 0; k < 3; k++) {
-        const point *q = v[n[ax] > 0 ? k : (3 - k) % 3];
-        pp[k][0] = q->p[u];
-        pp[k][1] = q->p[w];
+        double d[3];
+        limen__sub3(v[k]->p, v[0]->p, d);
+        pp[k][0] = limen__dot3(d, u);
+        pp[k][1] = limen__dot3(d, w);
     }
+    double plo[2] = { lesser(pp[0][0], lesser(pp[1][0], pp[2][0])),
+                      lesser(pp[0][1], lesser(pp[1][1], pp[2][1])) },
+           phi[2] = { greater(pp[0][0], greater(pp[1][0], pp[2][0])),
+                      greater(pp[0][1], greater(pp[1][1], pp[2][1])) };
     for (int a = 0; a < 3; a++) {
-        lo[a] = fmin(v[0]->p[a], fmin(v[1]->p[a], v[2]->p[a])) - goal;
-        hi[a] = fmax(v[0]->p[a], fmax(v[1]->p[a], v[2]->p[a])) + goal;
+        lo[a] = lesser(v[0]->p[a], lesser(v[1]->p[a], v[2]->p[a])) - goal;
+        hi[a] = greater(v[0]->p[a], greater(v[1]->p[a], v[2]->p[a])) + goal;
     }
-    double tris[COVER_MAX][3][2], need = poly_area((const double (*)[2])pp, 3), got = 0,
-           worst = 0;
-    int ntris = 0, looked = 0;
-    uint32_t stack[STACK_MAX];
-    int top = 0;
-    stack[top++] = 0;
-    while (top > 0) {
-        const limen__tri_node *nd = &to->m->bvh[stack[--top]];
-        bool out = false;
-        for (int a = 0; a < 3; a++)
-            out = out || nd->lo[a] > hi[a] || nd->hi[a] < lo[a];
-        if (out)
-            continue;
-        if (nd->count == 0) {
-            if (top + 2 > STACK_MAX)
-                return INFINITY;
-            stack[top++] = nd->index;
-            stack[top++] = (uint32_t)(nd - to->m->bvh) + 1u;
-            continue;
+    double tris[COVER_MAX][3][2], need = nn / 2, got = 0, worst = 0;
+    uint32_t taken[COVER_MAX];
+    int ntris = 0;
+    /* the triangles met, walked to across edges from the corners' own: each one that the
+     * piece's box (with the goal around it) meets leads on to its neighbours */
+    uint32_t met[COVER_LOOK], mark = ++sd->mark;
+    if (mark == 0) {            /* the marks have come round: none is current */
+        memset(sd->marks, 0, sizeof *sd->marks * to->m->ntris);
+        mark = sd->mark = 1;
+    }
+    int nmet = 0;
+    for (int k = 0; k < 3; k++) {
+        uint32_t t = v[k]->tri;
+        if (t != UINT32_MAX && sd->marks[t] != mark) {
+            sd->marks[t] = mark;
+            met[nmet++] = t;
         }
-        /* a piece far larger than the triangles it lies on is left to cutting */
-        if ((looked += (int)nd->count) > 2 * COVER_MAX)
-            return INFINITY;
-        for (uint32_t i = nd->index; i < nd->index + nd->count; i++) {
-            const double *c = to->tri[to->m->tri_order[i]];
-            double f1[3], f2[3], m[3];
-            sub3(c + 3, c, f1);
-            sub3(c + 6, c, f2);
-            m[ax] = f1[u] * f2[w] - f1[w] * f2[u];
-            if (m[ax] == 0)
-                continue;       /* seen edge-on */
-            m[u] = f1[w] * f2[ax] - f1[ax] * f2[w];
-            m[w] = f1[ax] * f2[u] - f1[u] * f2[ax];
-            if (fmax(c[u], fmax(c[3 + u], c[6 + u])) <= lo[u] + goal ||
-                fmin(c[u], fmin(c[3 + u], c[6 + u])) >= hi[u] - goal ||
-                fmax(c[w], fmax(c[3 + w], c[6 + w])) <= lo[w] + goal ||
-                fmin(c[w], fmin(c[3 + w], c[6 + w])) >= hi[w] - goal)
-                continue;       /* beside the piece as seen */
-            double tt[3][2], part[9][2];
-            for (int k = 0; k < 3; k++) {
-                const double *q = c + 3 * (m[ax] > 0 ? k : (3 - k) % 3);
-                tt[k][0] = q[u];
-                tt[k][1] = q[w];
-            }
-            int np = clip_tri((const double (*)[2])pp, (const double (*)[2])tt, part);
-            double area = np >= 3 ? poly_area((const double (*)[2])part, np) : 0;
-            if (!(area > 0))
+    }
+    for (int next = 0; next < nmet; next++) {
+        uint32_t at = met[next];
+        const double *c = to->tri[at];
+        bool apart = false;
+        for (int a = 0; a < 3 && !apart; a++)
+            apart = lesser(c[a], lesser(c[3 + a], c[6 + a])) > hi[a] ||
+                    greater(c[a], greater(c[3 + a], c[6 + a])) < lo[a];
+        if (apart)
+            continue;       /* beyond the piece's box and the goal around it */
+        double tt[3][2], h[3];
+        for (int k = 0; k < 3; k++) {
+            double d[3];
+            limen__sub3(c + 3 * k, v[0]->p, d);
+            tt[k][0] = limen__dot3(d, u);
+            tt[k][1] = limen__dot3(d, w);
+            h[k] = limen__dot3(d, n);
+        }
+        if ((h[0] > goal && h[1] > goal && h[2] > goal) ||
+            (h[0] < -goal && h[1] < -goal && h[2] < -goal))
+            continue;       /* another sheet, or too far to help */
+        double tlo[2] = { lesser(tt[0][0], lesser(tt[1][0], tt[2][0])),
+                          lesser(tt[0][1], lesser(tt[1][1], tt[2][1])) },
+               thi[2] = { greater(tt[0][0], greater(tt[1][0], tt[2][0])),
+                          greater(tt[0][1], greater(tt[1][1], tt[2][1])) };
+        if (thi[0] < plo[0] || tlo[0] > phi[0] || thi[1] < plo[1] || tlo[1] > phi[1])
+            continue;       /* beside the piece as seen, not touching it */
+        for (int e = 0; e < 3; e++) {
+            uint32_t o = to->across[at][e];
+            if (o == UINT32_MAX || sd->marks[o] == mark)
                 continue;
-            /* the offset along the axis from the piece's plane to the triangle's */
-            double off = 0;
-            for (int k = 0; k < np; k++) {
-                double du = part[k][0] - v[0]->p[u], dw = part[k][1] - v[0]->p[w];
-                double hp = v[0]->p[ax] - (n[u] * du + n[w] * dw) / n[ax];
-                double hu = part[k][0] - c[u], hw = part[k][1] - c[w];
-                double ht = c[ax] - (m[u] * hu + m[w] * hw) / m[ax];
-                off = fmax(off, fabs(ht - hp));
-            }
-            if (!(off <= goal))
-                continue;       /* another sheet, or too far to help */
-            if (ntris == COVER_MAX)
+            /* a piece far larger than the triangles it lies on is left to cutting */
+            if (nmet == COVER_LOOK)
                 return INFINITY;
-            for (int j = 0; j < ntris; j++)
-                if (!apart2((const double (*)[2])tris[j], (const double (*)[2])tt))
-                    return INFINITY;    /* folded: the areas would count twice */
-            memcpy(tris[ntris++], tt, sizeof tt);
-            got += area;
-            worst = fmax(worst, off);
+            sd->marks[o] = mark;
+            met[nmet++] = o;
         }
+        if (thi[0] <= plo[0] || tlo[0] >= phi[0] || thi[1] <= plo[1] || tlo[1] >= phi[1])
+            continue;       /* touching it only along its box */
+        double twice = orient2(tt[0], tt[1], tt[2]);
+        if (!(fabs(twice) > 0))
+            continue;       /* seen edge-on */
+        bool turned = twice < 0;
+        if (turned) {       /* counter-clockwise as seen */
+            double sw[2] = { tt[1][0], tt[1][1] }, sh = h[1];
+            memcpy(tt[1], tt[2], sizeof sw);
+            memcpy(tt[2], sw, sizeof sw);
+            h[1] = h[2];
+            h[2] = sh;
+            twice = -twice;
+        }
+        double part[9][2];
+        int np = clip_tri((const double (*)[2])pp, (const double (*)[2])tt, part);
+        double area = np >= 3 ? poly_area((const double (*)[2])part, np) : 0;
+        if (!(area > 0))
+            continue;
+        /* the offset along the normal, linear over the triangle as seen (barycentric) */
+        double off = 0;
+        for (int k = 0; k < np; k++) {
+            double l1 = orient2(tt[2], tt[0], part[k]) / twice,
+                   l2 = orient2(tt[0], tt[1], part[k]) / twice;
+            off = greater(off, fabs(h[0] + (h[1] - h[0]) * l1 + (h[2] - h[0]) * l2));
+        }
+        if (!(off <= goal))
+            continue;
+        if (ntris == COVER_MAX)
+            return INFINITY;
+        /* one that overlaps one taken (the surface folds, as seen) is left out: its area
+         * would count twice */
+        bool folded = false;
+        for (int j = 0; j < ntris && !folded; j++) {
+            /* a neighbour across an edge (where the two run it opposite ways), neither
+             * turned to be counter-clockwise as seen, lies on the edge's other side */
+            bool beside = !turned && taken[j] != UINT32_MAX &&
+                          (to->across[at][0] == taken[j] || to->across[at][1] == taken[j] ||
+                           to->across[at][2] == taken[j]);
+            folded = !beside && !apart2((const double (*)[2])tris[j], (const double (*)[2])tt);
+        }
+        if (folded)
+            continue;
+        taken[ntris] = turned ? UINT32_MAX : at;
+        memcpy(tris[ntris++], tt, sizeof tt);
+        got += area;
+        worst = greater(worst, off);
+        if (need - got + 1e-12 * need <= 1e-9 * need)
+            break;              /* covered: what lies further cannot lower the bound */
     }
     /* what the sum leaves uncovered, at most `gap` of area, reaches no farther into the
      * piece than a disc of that area fits in its sharpest corner */
@@ -438,11 +321,11 @@ static double cover_bound(const side *sd, const point *v[3], double goal)
     for (int k = 0; k < 3; k++) {
         const double *a = pp[k], *b = pp[(k + 1) % 3], *c = pp[(k + 2) % 3];
         double ab[2] = { b[0] - a[0], b[1] - a[1] }, ac[2] = { c[0] - a[0], c[1] - a[1] };
-        sharpest = fmin(sharpest, atan2(fabs(ab[0] * ac[1] - ab[1] * ac[0]),
+        sharpest = lesser(sharpest, atan2(fabs(ab[0] * ac[1] - ab[1] * ac[0]),
                                         ab[0] * ac[0] + ab[1] * ac[1]));
     }
-    /* a step in the projection is at most sqrt(3) times as long on the piece */
-    return worst + sqrt(3.0) * sqrt(2 * fmax(gap, 0) / sharpest);
+    /* the projection keeps lengths; a little over for rounding */
+    return (worst + sqrt(2 * greater(gap, 0) / sharpest)) * (1 + 1e-12);
 }
 
 static uint32_t point_hash(const double p[3])
@@ -492,7 +375,8 @@ static void locate_shared(side *sd, point *q, uint32_t hint, uint32_t other, dou
                 *q = sd->seen[at];
                 return;
             }
-    double dh = to_tri(sd->to, hint, q->p), doth = other == hint ? dh : to_tri(sd->to, other, q->p);
+    double dh = limen__lod_d2(sd->to, hint, q->p),
+           doth = other == hint ? dh : limen__lod_d2(sd->to, other, q->p);
     q->d2 = fmin(dh, doth);
     q->tri = dh <= doth ? hint : other;
     q->rough = q->d2 <= enough * enough;
@@ -518,19 +402,19 @@ static double convex_bound(const side *sd, const point *v[3])
         if ((k > 0 && t == v[0]->tri) || (k > 1 && t == v[1]->tri))
             continue;
         for (int i = 0; i < 3; i++)
-            f[nk][i] = v[i]->tri == t ? sqrt(v[i]->d2) : sqrt(to_tri(sd->to, t, v[i]->p));
+            f[nk][i] = v[i]->tri == t ? sqrt(v[i]->d2) : sqrt(limen__lod_d2(sd->to, t, v[i]->p));
         nk++;
     }
     double best = 0;
     /* least of the planes at barycentric point l */
-#define LEAST(l) (fmin(nk > 1 ? fmin(f[0][0] * (l)[0] + f[0][1] * (l)[1] + f[0][2] * (l)[2], \
+#define LEAST(l) (lesser(nk > 1 ? lesser(f[0][0] * (l)[0] + f[0][1] * (l)[1] + f[0][2] * (l)[2], \
                                       f[1][0] * (l)[0] + f[1][1] * (l)[1] + f[1][2] * (l)[2]) \
                               : f[0][0] * (l)[0] + f[0][1] * (l)[1] + f[0][2] * (l)[2], \
                        nk > 2 ? f[2][0] * (l)[0] + f[2][1] * (l)[1] + f[2][2] * (l)[2] : INFINITY))
     for (int i = 0; i < 3; i++) {
         double l[3] = { 0, 0, 0 };
         l[i] = 1;
-        best = fmax(best, LEAST(l));
+        best = greater(best, LEAST(l));
         int j = (i + 1) % 3;
         for (int a = 0; a < nk; a++)
             for (int b = a + 1; b < nk; b++) {
@@ -544,7 +428,7 @@ static double convex_bound(const side *sd, const point *v[3])
                 double m[3] = { 0, 0, 0 };
                 m[i] = 1 - t;
                 m[j] = t;
-                best = fmax(best, LEAST(m));
+                best = greater(best, LEAST(m));
             }
     }
     if (nk == 3) {
@@ -564,11 +448,22 @@ static double convex_bound(const side *sd, const point *v[3])
                             (r[0][2] * r[1][0] - r[0][0] * r[1][2]) / det,
                             (r[0][0] * r[1][1] - r[0][1] * r[1][0]) / det };
             if (l[0] >= 0 && l[1] >= 0 && l[2] >= 0)
-                best = fmax(best, LEAST(l));
+                best = greater(best, LEAST(l));
         }
     }
 #undef LEAST
     return best;
+}
+
+static double piece_area(const point *v[3])
+{
+    double e1[3], e2[3], n[3];
+    limen__sub3(v[1]->p, v[0]->p, e1);
+    limen__sub3(v[2]->p, v[0]->p, e2);
+    n[0] = e1[1] * e2[2] - e1[2] * e2[1];
+    n[1] = e1[2] * e2[0] - e1[0] * e2[2];
+    n[2] = e1[0] * e2[1] - e1[1] * e2[0];
+    return sqrt(limen__dot3(n, n)) / 2;
 }
 
 /* The least of the three bounds over the triangle v (see the top of the file), or one
@@ -580,19 +475,17 @@ static double piece_bound(side *sd, const point *v[3], double goal)
     double far = 0, longest = 0;
     for (int k = 0; k < 3; k++) {
         double e[3];
-        sub3(v[(k + 1) % 3]->p, v[k]->p, e);
-        longest = fmax(longest, dot3(e, e));
+        limen__sub3(v[(k + 1) % 3]->p, v[k]->p, e);
+        longest = fmax(longest, limen__dot3(e, e));
         far = fmax(far, v[k]->d2);
     }
     double bound = sqrt(far) + sqrt(longest / 3);
+    /* laying the piece over the other surface, where it is small enough to lie on a few of
+     * its triangles */
     if (bound > goal)
         bound = fmin(bound, convex_bound(sd, v));
-    /* laying pieces over the other surface, while it succeeds often enough to pay */
-    if (bound > goal && (sd->cover_tries < 64 || sd->cover_hits * 8 > sd->cover_tries)) {
+    if (bound > goal && piece_area(v) <= COVER_AREA * sd->to->mean_area)
         bound = fmin(bound, cover_bound(sd, v, goal));
-        sd->cover_tries++;
-        sd->cover_hits += bound <= goal;
-    }
     return bound;
 }
 
@@ -650,9 +543,20 @@ static bool side_corners(side *sd)
             continue;
         for (int a = 0; a < 3; a++)
             q->p[a] = from->pos[from->idx[i] * 3 + a];
-        /* a corner the other surface shares lies on a triangle there: found at once */
+        /* a corner the other surface shares lies on a triangle there: found at once; another
+         * walks there from the last one's triangle, and is searched for only where that
+         * leaves it near enough to the floor to raise it */
         uint32_t on = sd->to->at_vertex[sd->weld ? sd->weld[i] : from->idx[i]];
-        locate(sd, q, on != UINT32_MAX ? on : hint);
+        if (on != UINT32_MAX) {
+            locate(sd, q, on);
+        } else {
+            double enough = NEAR_ENOUGH * (*sd->floor * (1 + REL_TOL) + sd->abs_tol);
+            q->tri = hint;
+            q->d2 = limen__lod_target_walk(sd->to, q->p, &q->tri);
+            q->rough = q->d2 <= enough * enough;
+            if (!q->rough)
+                locate(sd, q, q->tri);
+        }
         hint = q->tri;
     }
     return true;
@@ -684,7 +588,7 @@ static double level_error(const target *full, const uint32_t *weld, const uint32
                        .idx = (uint32_t *)idx };
     target level = { 0 };
     double e = NAN;
-    if (limen__mesh_bvh(&lv) && target_make(&level, &lv, NULL)) {
+    if (limen__mesh_bvh(&lv) && limen__lod_target_make(&level, &lv, NULL)) {
         double diag = 0;
         for (int a = 0; a < 3; a++)
             diag += (m->hi[a] - m->lo[a]) * (m->hi[a] - m->lo[a]);
@@ -696,14 +600,18 @@ static double level_error(const target *full, const uint32_t *weld, const uint32
                        .abs_tol = tol };
         side back = { .from = m, .to = &level, .weld = weld, .floor = &floor,
                       .upper = &upper, .abs_tol = tol };
-        if (side_corners(&there) && side_corners(&back))
+        there.marks = calloc(full->m->ntris, sizeof *there.marks);
+        back.marks = calloc(ntris, sizeof *back.marks);
+        if (there.marks && back.marks && side_corners(&there) && side_corners(&back))
             e = fmax(fmax(side_bound(&there), side_bound(&back)), floor);
         free(there.pts);
         free(back.pts);
         free(there.seen);
         free(back.seen);
+        free(there.marks);
+        free(back.marks);
     }
-    target_free(&level);
+    limen__lod_target_free(&level);
     free(lv.bvh);
     free(lv.tri_order);
     return e;
@@ -784,7 +692,7 @@ bool limen__mesh_lods_build(limen__mesh *m)
          * simplifier back; each weld keeps one of the original vertices */
         meshopt_generateShadowIndexBuffer(shadow, m->idx, n0, m->pos, m->nverts,
                                           sizeof(float) * 3, sizeof(float) * 3);
-        ok = target_make(&full, m, shadow);
+        ok = limen__lod_target_make(&full, m, shadow);
     }
     size_t cur_n = n0;
     float scale = ok ? meshopt_simplifyScale(m->pos, m->nverts, sizeof(float) * 3) : 0;
@@ -849,7 +757,7 @@ bool limen__mesh_lods_build(limen__mesh *m)
         seam_sides(m, shadow, store, used);
     free(shadow);
     free(scratch);
-    target_free(&full);
+    limen__lod_target_free(&full);
     if (!ok) {
         free(block);
         return false;

@@ -39,15 +39,61 @@ size_t limen__mesh_bytes(uint64_t nverts, uint64_t ntris, bool uvs)
 typedef struct build {
     limen__mesh *m;
     double *centre;             /* per triangle */
-    int axis;
+    int axes[STACK_MAX];        /* the split axes from the root down to the node being built */
 } build;
 
-static int by_centre(const void *a, const void *b, void *ctx)
+/* Whether triangle a comes before b in the order a stable sort at every split would leave
+ * them in below `depth` splits: by the centre along the last split's axis, ties by the one
+ * before, and so on up to the root, then by number. Splitting by this order (selected, not
+ * sorted) makes the same tree as sorting did, so rays meet triangles in the same order and
+ * ties at equal distances fall as before. */
+static bool before(const build *bd, int depth, uint32_t a, uint32_t b)
 {
-    const build *bd = ctx;
-    double ca = bd->centre[*(const uint32_t *)a * 3 + bd->axis];
-    double cb = bd->centre[*(const uint32_t *)b * 3 + bd->axis];
-    return ca < cb ? -1 : ca > cb;
+    for (int k = depth - 1; k >= 0; k--) {
+        double ca = bd->centre[a * 3 + bd->axes[k]], cb = bd->centre[b * 3 + bd->axes[k]];
+        if (ca != cb)
+            return ca < cb;
+    }
+    return a < b;
+}
+
+/* Puts the `rank` first of t[0, n) in that order (among themselves in any order) before the
+ * rest: quickselect, median of three. */
+static void select_first(const build *bd, int depth, uint32_t *t, uint32_t n, uint32_t rank)
+{
+    uint32_t lo = 0, hi = n;    /* the boundary lies in [lo, hi) */
+    while (hi - lo > 2) {
+        uint32_t mid = lo + (hi - lo) / 2, a = t[lo], b = t[mid], c = t[hi - 1], pivot;
+        if (before(bd, depth, a, b))
+            pivot = before(bd, depth, b, c) ? b : before(bd, depth, a, c) ? c : a;
+        else
+            pivot = before(bd, depth, a, c) ? a : before(bd, depth, b, c) ? c : b;
+        /* [lo, i) before the pivot, (j, hi) after it; all distinct, so the pivot lands alone */
+        uint32_t i = lo, j = hi - 1;
+        for (;;) {
+            while (before(bd, depth, t[i], pivot))
+                i++;
+            while (before(bd, depth, pivot, t[j]))
+                j--;
+            if (i >= j)
+                break;
+            uint32_t x = t[i];
+            t[i] = t[j];
+            t[j] = x;
+        }
+        /* t[j] is the pivot: j of them come before it */
+        if (j == rank)
+            return;
+        if (j < rank)
+            lo = j + 1;
+        else
+            hi = j;
+    }
+    if (hi - lo == 2 && before(bd, depth, t[lo + 1], t[lo])) {
+        uint32_t x = t[lo];
+        t[lo] = t[lo + 1];
+        t[lo + 1] = x;
+    }
 }
 
 static void tri_box(const limen__mesh *m, uint32_t t, double lo[3], double hi[3])
@@ -61,44 +107,56 @@ static void tri_box(const limen__mesh *m, uint32_t t, double lo[3], double hi[3]
     }
 }
 
-/* Builds the node at m->bvh[at] over tri_order[first, first + count): median split on the
- * widest axis of the triangles' centres. Depth is log2 of the count. */
-static void build_node(build *bd, uint32_t at, uint32_t first, uint32_t count)
+/* Builds the node at m->bvh[at] over tri_order[first, first + count), `depth` splits below
+ * the root: median split on the widest axis of the triangles' centres, a leaf's triangles in
+ * the order of the split above it. Depth is log2 of the count. */
+static void build_node(build *bd, uint32_t at, uint32_t first, uint32_t count, int depth)
 {
     limen__mesh *m = bd->m;
+    uint32_t *t = &m->tri_order[first];
     limen__tri_node *n = &m->bvh[at];
-    double clo[3] = { INFINITY, INFINITY, INFINITY }, chi[3] = { -INFINITY, -INFINITY, -INFINITY };
     for (int a = 0; a < 3; a++) {
         n->lo[a] = INFINITY;
         n->hi[a] = -INFINITY;
     }
-    for (uint32_t i = first; i < first + count; i++) {
-        uint32_t t = m->tri_order[i];
-        tri_box(m, t, n->lo, n->hi);
-        for (int a = 0; a < 3; a++) {
-            clo[a] = fmin(clo[a], bd->centre[t * 3 + a]);
-            chi[a] = fmax(chi[a], bd->centre[t * 3 + a]);
-        }
-    }
     if (count <= LEAF_TRIS) {
+        for (uint32_t i = 1; i < count; i++)
+            for (uint32_t j = i; j > 0 && before(bd, depth, t[j], t[j - 1]); j--) {
+                uint32_t x = t[j];
+                t[j] = t[j - 1];
+                t[j - 1] = x;
+            }
+        for (uint32_t i = 0; i < count; i++)
+            tri_box(m, t[i], n->lo, n->hi);
         n->index = first;
         n->count = count;
         return;
     }
+    double clo[3] = { INFINITY, INFINITY, INFINITY }, chi[3] = { -INFINITY, -INFINITY, -INFINITY };
+    for (uint32_t i = 0; i < count; i++)
+        for (int a = 0; a < 3; a++) {
+            clo[a] = fmin(clo[a], bd->centre[t[i] * 3 + a]);
+            chi[a] = fmax(chi[a], bd->centre[t[i] * 3 + a]);
+        }
     int axis = 0;
     for (int a = 1; a < 3; a++)
         if (chi[a] - clo[a] > chi[axis] - clo[axis])
             axis = a;
-    bd->axis = axis;
-    qsort_r(&m->tri_order[first], count, sizeof(uint32_t), by_centre, bd);
+    bd->axes[depth] = axis;
     uint32_t half = count / 2;
+    select_first(bd, depth + 1, t, count, half);
     uint32_t left = m->nbvh++;  /* == at + 1: the caller has just claimed `at` */
-    build_node(bd, left, first, half);
+    build_node(bd, left, first, half, depth + 1);
     uint32_t right = m->nbvh++;
+    build_node(bd, right, first + half, count - half, depth + 1);
+    /* the box is its children's: the same numbers as from its triangles */
     n = &m->bvh[at];
     n->index = right;
     n->count = 0;
-    build_node(bd, right, first + half, count - half);
+    for (int a = 0; a < 3; a++) {
+        n->lo[a] = fmin(m->bvh[left].lo[a], m->bvh[right].lo[a]);
+        n->hi[a] = fmax(m->bvh[left].hi[a], m->bvh[right].hi[a]);
+    }
 }
 
 /* Nodes are claimed as they are made (at most 2 * triangles - 1), a left child in the slot
@@ -123,7 +181,7 @@ bool limen__mesh_bvh(limen__mesh *m)
     }
     build bd = { .m = m, .centre = centre };
     m->nbvh = 1;
-    build_node(&bd, 0, 0, m->ntris);
+    build_node(&bd, 0, 0, m->ntris, 0);
     free(centre);
     limen__tri_node *fit = realloc(m->bvh, sizeof *m->bvh * m->nbvh);
     if (fit)

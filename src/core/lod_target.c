@@ -1,0 +1,250 @@
+/* lod_target.c - a mesh that levels of detail are measured against (lod_target.h): the
+ * distance from a point to a triangle, the nearest triangle through the mesh's hierarchy,
+ * walks across edges, and the edges' pairing. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "core/lod_target.h"
+
+#define STACK_MAX 64
+#define WALK_MAX 64             /* steps of a walk over the surface */
+
+/* Squared distance from p to the segment ab. */
+static double seg_d2(const double p[3], const double a[3], const double b[3])
+{
+    double ab[3], ap[3];
+    limen__sub3(b, a, ab);
+    limen__sub3(p, a, ap);
+    double len2 = limen__dot3(ab, ab), t = len2 > 0 ? limen__dot3(ap, ab) / len2 : 0;
+    t = t < 0 ? 0 : t > 1 ? 1 : t;
+    double d2 = 0;
+    for (int k = 0; k < 3; k++) {
+        double e = ap[k] - t * ab[k];
+        d2 += e * e;
+    }
+    return d2;
+}
+
+/* Squared distance from p to the triangle abc: the nearest point found by the region of the
+ * triangle's plane that p projects into (corner, edge or face; Ericson, Real-Time Collision
+ * Detection 5.1.5), with the edges as a fallback for a triangle of no area. */
+double limen__tri_d2(const double p[3], const double a[3], const double b[3], const double c[3])
+{
+    double ab[3], ac[3], ap[3], bp[3], cp[3], q[3];
+    limen__sub3(b, a, ab);
+    limen__sub3(c, a, ac);
+    limen__sub3(p, a, ap);
+    limen__sub3(ap, ab, bp);
+    limen__sub3(ap, ac, cp);
+    double d1 = limen__dot3(ab, ap), d2 = limen__dot3(ac, ap), d3 = limen__dot3(ab, bp),
+           d4 = limen__dot3(ac, bp), d5 = limen__dot3(ab, cp), d6 = limen__dot3(ac, cp);
+    /* the regions are disjoint but for their borders, so the order of the tests is free */
+    if (d1 <= 0 && d2 <= 0)
+        return limen__dot3(ap, ap);
+    if (d3 >= 0 && d4 <= d3)
+        return limen__dot3(bp, bp);
+    if (d6 >= 0 && d5 <= d6)
+        return limen__dot3(cp, cp);
+    double va = d3 * d6 - d5 * d4, vb = d5 * d2 - d1 * d6, vc = d1 * d4 - d3 * d2;
+    if (vc <= 0 && d1 >= 0 && d3 <= 0)
+        return seg_d2(p, a, b);
+    if (vb <= 0 && d2 >= 0 && d6 <= 0)
+        return seg_d2(p, a, c);
+    if (va <= 0 && d4 - d3 >= 0 && d5 - d6 >= 0)
+        return seg_d2(p, b, c);
+    double sum = va + vb + vc;
+    if (!(sum > 0)) {
+        double ab2 = seg_d2(p, a, b), bc2 = seg_d2(p, b, c), ca2 = seg_d2(p, c, a);
+        double m = ab2 < bc2 ? ab2 : bc2;
+        return m < ca2 ? m : ca2;
+    }
+    double v = vb / sum, w = vc / sum, d2q = 0;
+    for (int k = 0; k < 3; k++) {
+        q[k] = ap[k] - ab[k] * v - ac[k] * w;
+        d2q += q[k] * q[k];
+    }
+    return d2q;
+}
+
+void limen__lod_target_free(limen__lod_target *t)
+{
+    free(t->tri);
+    free(t->ball);
+    free(t->at_vertex);
+    free(t->across);
+}
+
+/* The vertex at corner i of t's mesh, welded where weld is given. */
+static uint32_t corner_vertex(const limen__lod_target *t, const uint32_t *weld, size_t i)
+{
+    return weld ? weld[i] : t->m->idx[i];
+}
+
+/* t->across: edges paired through a table of half-edges keyed on their two (welded)
+ * vertices. An edge of more than two triangles pairs some of them; what a pairing misses,
+ * the walks over the surface below do without (they only ever find less). False when out
+ * of memory. */
+static bool pair_edges(limen__lod_target *t, const uint32_t *weld)
+{
+    size_t n = (size_t)t->m->ntris * 3, size = 16;
+    while (size < 2 * n)
+        size *= 2;
+    uint32_t *slot = malloc(sizeof *slot * size);
+    t->across = malloc(sizeof *t->across * t->m->ntris);
+    if (!slot || !t->across) {
+        free(slot);
+        return false;
+    }
+    memset(slot, 0xff, sizeof *slot * size);
+    memset(t->across, 0xff, sizeof *t->across * t->m->ntris);
+    for (size_t h = 0; h < n; h++) {
+        size_t base = h - h % 3;
+        uint32_t a = corner_vertex(t, weld, h), b = corner_vertex(t, weld, base + (h + 1) % 3);
+        if (a == b)
+            continue;
+        uint64_t key = a < b ? (uint64_t)a << 32 | b : (uint64_t)b << 32 | a;
+        size_t at = (size_t)((key * 0x9e3779b97f4a7c15ull) >> 20) & (size - 1);
+        for (;; at = (at + 1) & (size - 1)) {
+            uint32_t o = slot[at];
+            if (o == UINT32_MAX) {
+                slot[at] = (uint32_t)h;
+                break;
+            }
+            size_t obase = o - o % 3;
+            uint32_t oa = corner_vertex(t, weld, o),
+                     ob = corner_vertex(t, weld, obase + (o + 1) % 3);
+            uint64_t okey = oa < ob ? (uint64_t)oa << 32 | ob : (uint64_t)ob << 32 | oa;
+            /* paired only where the two run the edge opposite ways (their windings agree) */
+            if (okey != key || oa != b || t->across[o / 3][o % 3] != UINT32_MAX)
+                continue;
+            t->across[o / 3][o % 3] = (uint32_t)(h / 3);
+            t->across[h / 3][h % 3] = o / 3;
+            slot[at] = (uint32_t)h;     /* a third triangle pairs with this one, if any */
+            break;
+        }
+    }
+    free(slot);
+    return true;
+}
+
+bool limen__lod_target_make(limen__lod_target *t, const limen__mesh *m, const uint32_t *weld)
+{
+    t->m = m;
+    t->tri = malloc(sizeof *t->tri * m->ntris);
+    t->ball = malloc(sizeof *t->ball * m->ntris);
+    t->at_vertex = malloc(sizeof *t->at_vertex * m->nverts);
+    if (!t->tri || !t->ball || !t->at_vertex || !pair_edges(t, weld)) {
+        limen__lod_target_free(t);
+        return false;
+    }
+    for (uint32_t v = 0; v < m->nverts; v++)
+        t->at_vertex[v] = UINT32_MAX;
+    for (size_t i = 0; i < (size_t)m->ntris * 3; i++) {
+        t->at_vertex[m->idx[i]] = (uint32_t)(i / 3);
+        if (weld)
+            t->at_vertex[weld[i]] = (uint32_t)(i / 3);
+    }
+    for (uint32_t i = 0; i < m->ntris; i++) {
+        double *c = t->ball[i], r2 = 0;
+        for (int k = 0; k < 9; k++)
+            t->tri[i][k] = m->pos[m->idx[i * 3 + k / 3] * 3 + k % 3];
+        for (int a = 0; a < 3; a++)
+            c[a] = (t->tri[i][a] + t->tri[i][3 + a] + t->tri[i][6 + a]) / 3;
+        for (int k = 0; k < 3; k++) {
+            double e[3];
+            limen__sub3(t->tri[i] + 3 * k, c, e);
+            r2 = fmax(r2, limen__dot3(e, e));
+        }
+        c[3] = sqrt(r2) * (1 + 1e-12);
+        double e1[3], e2[3], n[3];
+        limen__sub3(t->tri[i] + 3, t->tri[i], e1);
+        limen__sub3(t->tri[i] + 6, t->tri[i], e2);
+        n[0] = e1[1] * e2[2] - e1[2] * e2[1];
+        n[1] = e1[2] * e2[0] - e1[0] * e2[2];
+        n[2] = e1[0] * e2[1] - e1[1] * e2[0];
+        t->mean_area += sqrt(limen__dot3(n, n)) / 2;
+    }
+    t->mean_area /= m->ntris > 0 ? m->ntris : 1;
+    return true;
+}
+
+static double box_d2(const limen__tri_node *n, const double p[3])
+{
+    double d2 = 0;
+    for (int a = 0; a < 3; a++) {
+        double e = n->lo[a] - p[a] > 0 ? n->lo[a] - p[a] : p[a] - n->hi[a] > 0 ? p[a] - n->hi[a] : 0;
+        d2 += e * e;
+    }
+    return d2;
+}
+
+double limen__lod_target_nearest(const limen__lod_target *to, const double p[3], uint32_t hint,
+                                 uint32_t *tri)
+{
+    const limen__mesh *m = to->m;
+    double best = limen__lod_d2(to, hint, p);
+    *tri = hint;
+    if (best == 0)
+        return 0;               /* on it: nothing is nearer */
+    struct { uint32_t node; double d2; } stack[STACK_MAX];
+    int top = 0;
+    stack[top].node = 0;
+    stack[top++].d2 = box_d2(&m->bvh[0], p);
+    while (top > 0) {
+        top--;
+        if (stack[top].d2 >= best)
+            continue;
+        const limen__tri_node *n = &m->bvh[stack[top].node];
+        if (n->count == 0) {
+            uint32_t l = (uint32_t)(n - m->bvh) + 1u, r = n->index;
+            double dl = box_d2(&m->bvh[l], p), dr = box_d2(&m->bvh[r], p);
+            if (top + 2 > STACK_MAX)
+                continue;   /* depth is log2(triangles) <= 32: never */
+            /* the nearer child on top */
+            bool l_near = dl <= dr;
+            stack[top].node = l_near ? r : l;
+            stack[top++].d2 = l_near ? dr : dl;
+            stack[top].node = l_near ? l : r;
+            stack[top++].d2 = l_near ? dl : dr;
+            continue;
+        }
+        double reach = sqrt(best);
+        for (uint32_t i = n->index; i < n->index + n->count; i++) {
+            uint32_t t = m->tri_order[i];
+            /* a triangle whose sphere lies beyond the best so far cannot be nearer */
+            const double *c = to->ball[t];
+            double e[3] = { p[0] - c[0], p[1] - c[1], p[2] - c[2] };
+            if (limen__dot3(e, e) > (reach + c[3]) * (reach + c[3]))
+                continue;
+            double d2 = limen__lod_d2(to, t, p);
+            if (d2 < best) {
+                best = d2;
+                reach = sqrt(best);
+                *tri = t;
+            }
+        }
+    }
+    return best;
+}
+
+
+double limen__lod_target_walk(const limen__lod_target *to, const double p[3], uint32_t *t)
+{
+    double best = limen__lod_d2(to, *t, p);
+    for (int step = 0; step < WALK_MAX && best > 0; step++) {
+        uint32_t next = UINT32_MAX;
+        for (int e = 0; e < 3; e++) {
+            uint32_t o = to->across[*t][e];
+            double d2 = o == UINT32_MAX ? INFINITY : limen__lod_d2(to, o, p);
+            if (d2 < best) {
+                best = d2;
+                next = o;
+            }
+        }
+        if (next == UINT32_MAX)
+            break;
+        *t = next;
+    }
+    return best;
+}

@@ -1,0 +1,56 @@
+/* lod_target.h - a mesh that levels of detail are measured against (core/lod.c): its
+ * triangles in double, the distance from a point to them (the nearest through the mesh's
+ * hierarchy, or a walk across edges), and each triangle's neighbours. Not part of the
+ * public API. */
+#ifndef LIMEN_CORE_LOD_TARGET_H
+#define LIMEN_CORE_LOD_TARGET_H
+
+#include <stdbool.h>
+#include <stdint.h>
+
+#include "core/mesh.h"
+
+typedef struct limen__lod_target {
+    const limen__mesh *m;
+    double (*tri)[9];           /* per triangle: its corners */
+    double (*ball)[4];          /* per triangle: a sphere around it (centre, radius) */
+    uint32_t *at_vertex;        /* per vertex: a triangle with a corner there, or UINT32_MAX */
+    uint32_t (*across)[3];      /* per triangle and edge (corners k, k + 1): the triangle on
+                                 * its other side, or UINT32_MAX */
+    double mean_area;           /* of its triangles */
+} limen__lod_target;
+
+static inline void limen__sub3(const double a[3], const double b[3], double out[3])
+{
+    for (int k = 0; k < 3; k++)
+        out[k] = a[k] - b[k];
+}
+
+static inline double limen__dot3(const double a[3], const double b[3])
+{
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+
+/* Squared distance from p to the triangle abc. */
+double limen__tri_d2(const double p[3], const double a[3], const double b[3], const double c[3]);
+/* t over m's triangles and hierarchy (which it must outlive); weld, where not NULL: per
+ * corner of m, another vertex at the corner's position, through which corners meet (at
+ * a vertex, across an edge). False when out of memory (t freed). */
+bool limen__lod_target_make(limen__lod_target *t, const limen__mesh *m, const uint32_t *weld);
+void limen__lod_target_free(limen__lod_target *t);
+/* The nearest triangle of t to p: returns the squared distance, *tri the triangle. hint: a
+ * triangle likely near (its distance starts the search). */
+double limen__lod_target_nearest(const limen__lod_target *t, const double p[3], uint32_t hint,
+                                 uint32_t *tri);
+/* From triangle *tri, steps across edges while a neighbour is nearer to p; returns the
+ * squared distance to the last, *tri (an upper bound on the nearest's, which it is where
+ * the surface near p is a single sheet). */
+double limen__lod_target_walk(const limen__lod_target *t, const double p[3], uint32_t *tri);
+
+/* Squared distance from p to triangle i of t. */
+static inline double limen__lod_d2(const limen__lod_target *t, uint32_t i, const double p[3])
+{
+    return limen__tri_d2(p, t->tri[i], t->tri[i] + 3, t->tri[i] + 6);
+}
+
+#endif
