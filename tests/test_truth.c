@@ -138,6 +138,26 @@ static void test_crossing_surfaces(void)
     scenes_at(crossing, 320, 240);
 }
 
+/* A scene with its camera ("eye", the scene's), a lamp and two nodes of the kinds given, and
+ * a renderer of w x h; false (both gone, the failure checked) if they cannot be made. */
+static bool stage(int w, int h, limen_scene **s, limen_renderer **r, limen_node *cam,
+                  limen_node *lamp, limen_node_kind ka, const char *na, limen_node *a,
+                  limen_node_kind kb, const char *nb, limen_node *b)
+{
+    CHECK_OK(limen_scene_create(&(limen_scene_desc){ 0 }, s));
+    CHECK_OK(limen_renderer_create(&(limen_renderer_desc){ .width = w, .height = h }, r));
+    if (!*s || !*r || limen_node_create(*s, LIMEN_NODE_CAMERA, "eye", cam) ||
+        limen_node_create(*s, LIMEN_NODE_LIGHT, "lamp", lamp) ||
+        limen_node_create(*s, ka, na, a) || limen_node_create(*s, kb, nb, b) ||
+        limen_scene_set_camera(*s, *cam)) {
+        CHECK_MSG(0, "scene: %s", *s ? limen_scene_error(*s) : "none");
+        limen_scene_destroy(*s);
+        limen_renderer_destroy(*r);
+        return false;
+    }
+    return true;
+}
+
 /* Tiled textures (limen_node_set_texture_repeat), by amounts that are not whole, on a plane
  * and a box: both methods stay within the bound of the truth, and the tiling shows (the
  * frame is far from the untiled one). */
@@ -147,18 +167,9 @@ static void test_texture_repeat(void)
     limen_scene *s = NULL;
     limen_renderer *r = NULL;
     limen_node cam, lamp, wall, crate;
-    CHECK_OK(limen_scene_create(&(limen_scene_desc){ 0 }, &s));
-    CHECK_OK(limen_renderer_create(&(limen_renderer_desc){ .width = w, .height = h }, &r));
-    if (!s || !r || limen_node_create(s, LIMEN_NODE_CAMERA, "eye", &cam) ||
-        limen_node_create(s, LIMEN_NODE_LIGHT, "lamp", &lamp) ||
-        limen_node_create(s, LIMEN_NODE_QUAD, "wall", &wall) ||
-        limen_node_create(s, LIMEN_NODE_BOX, "crate", &crate)) {
-        CHECK_MSG(0, "scene: %s", s ? limen_scene_error(s) : "none");
-        limen_scene_destroy(s);
-        limen_renderer_destroy(r);
+    if (!stage(w, h, &s, &r, &cam, &lamp, LIMEN_NODE_QUAD, "wall", &wall, LIMEN_NODE_BOX, "crate",
+               &crate))
         return;
-    }
-    CHECK_OK(limen_scene_set_camera(s, cam));
     CHECK_OK(limen_node_look_at(s, cam, (float[3]){ 0.6f, 0.8f, 3.2f }, (float[3]){ 0, 0.4f, 0 },
                                 (float[3]){ 0, 1, 0 }));
     CHECK_OK(limen_node_set_position(s, lamp, (float[3]){ 1, 2.5f, 2 }));
@@ -199,18 +210,9 @@ static void test_statue(void)
     limen_scene *s = NULL;
     limen_renderer *r = NULL;
     limen_node cam, lamp, bunny, mirror;
-    CHECK_OK(limen_scene_create(&(limen_scene_desc){ 0 }, &s));
-    CHECK_OK(limen_renderer_create(&(limen_renderer_desc){ .width = w, .height = h }, &r));
-    if (!s || !r || limen_node_create(s, LIMEN_NODE_CAMERA, "eye", &cam) ||
-        limen_node_create(s, LIMEN_NODE_LIGHT, "lamp", &lamp) ||
-        limen_node_create(s, LIMEN_NODE_MESH, "bunny", &bunny) ||
-        limen_node_create(s, LIMEN_NODE_MIRROR, "mirror", &mirror)) {
-        CHECK_MSG(0, "scene: %s", s ? limen_scene_error(s) : "none");
-        limen_scene_destroy(s);
-        limen_renderer_destroy(r);
+    if (!stage(w, h, &s, &r, &cam, &lamp, LIMEN_NODE_MESH, "bunny", &bunny, LIMEN_NODE_MIRROR,
+               "mirror", &mirror))
         return;
-    }
-    CHECK_OK(limen_scene_set_camera(s, cam));
     CHECK_OK(limen_node_look_at(s, cam, (float[3]){ 0.2f, 0.9f, 1.6f }, (float[3]){ 0, 0.6f, 0 },
                                 (float[3]){ 0, 1, 0 }));
     CHECK_OK(limen_node_set_position(s, lamp, (float[3]){ 2, 3, 3 }));
