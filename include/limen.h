@@ -748,7 +748,10 @@ typedef struct limen_render_opts {
     limen_limits limits;        /* as in limen_plan_desc; zero: the defaults */
 } limen_render_opts;
 
-/* Plans and draws one frame of the scene from its camera. opts and stats may be NULL. */
+/* Plans and draws one frame of the scene from its camera. opts and stats may be NULL. A mesh
+ * or texture that cannot be copied to the GPU (memory out) fails the frame with
+ * LIMEN_ERR_NOMEM and a message naming it, rather than a frame that lacks it; a later frame
+ * tries again. */
 LIMEN_API limen_status limen_render_frame(limen_renderer *r, limen_scene *s,
                                           const limen_render_opts *opts,
                                           limen_frame_stats *stats);

@@ -3,6 +3,7 @@
 #include <stdlib.h>
 
 #include "check.h"
+#include "core/testing.h"
 #include "limen.h"
 
 #define W 160
@@ -270,6 +271,44 @@ static void test_errors(void)
     limen_renderer_destroy(NULL);
 }
 
+/* A mesh or a texture that cannot be uploaded (memory out) fails the frame with a message
+ * that says so, instead of a frame that silently lacks it; once memory is back, the same
+ * renderer draws it. */
+static void test_upload_failure(void)
+{
+    static const char *what[2] = { "mesh", "texture" };
+    for (int k = 0; k < 2; k++) {
+        limen_scene *s = NULL;
+        limen_renderer *r = NULL;
+        limen_node cam, thing;
+        CHECK_OK(limen_scene_create(NULL, &s));
+        CHECK_OK(limen_renderer_create(&(limen_renderer_desc){ .width = W, .height = H }, &r));
+        if (!s || !r) {
+            limen_scene_destroy(s);
+            limen_renderer_destroy(r);
+            return;
+        }
+        CHECK_OK(limen_node_create(s, LIMEN_NODE_CAMERA, "eye", &cam));
+        CHECK_OK(limen_scene_set_camera(s, cam));
+        CHECK_OK(limen_node_set_position(s, cam, (float[3]){ 0, 0.5f, 3 }));
+        CHECK_OK(limen_node_create(s, k ? LIMEN_NODE_QUAD : LIMEN_NODE_MESH, "thing", &thing));
+        if (k)
+            CHECK_OK(limen_node_set_texture(s, thing, "scenes/data/tiles.png"));
+        else
+            CHECK_OK(limen_mesh_load(s, thing, "scenes/data/bunny.obj"));
+        CHECK_OK(limen_node_set_scale(s, thing, (float[3]){ 0.1f, 0.1f, 0.1f }));
+        limen__renderer_set_faults(r, 1);
+        CHECK(limen_render_frame(r, s, NULL, NULL) == LIMEN_ERR_NOMEM);
+        const char *msg = limen_renderer_error(r);
+        CHECK_MSG(strstr(msg, "out of memory uploading") && strstr(msg, what[k]), "%s: %s",
+                  what[k], msg);
+        limen__renderer_set_faults(r, 0);
+        CHECK_OK(limen_render_frame(r, s, NULL, NULL));
+        limen_renderer_destroy(r);
+        limen_scene_destroy(s);
+    }
+}
+
 static const check_case cases[] = {
     { "sphere_and_background", test_sphere_and_background },
     { "floor_checker", test_floor_checker },
@@ -278,6 +317,7 @@ static const check_case cases[] = {
     { "msaa", test_msaa },
     { "moving_node_changes_frame", test_moving_node_changes_frame },
     { "errors", test_errors },
+    { "upload_failure", test_upload_failure },
     { 0 },
 };
 

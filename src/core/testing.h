@@ -25,4 +25,8 @@ void limen__scene_set_faults(limen_scene *s, unsigned faults);
  * loses precision. Never use it as the default. */
 void limen__mirror_mat4_axis_angle(const vec4 plane, mat4 out);
 
+/* The renderer's faults (src/gl): 1 makes every upload of a mesh or a texture fail as if
+ * memory ran out; 0 turns it off. */
+void limen__renderer_set_faults(limen_renderer *r, unsigned faults);
+
 #endif

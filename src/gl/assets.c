@@ -150,7 +150,8 @@ static size_t level_corners(const limen_mesh_geometry *m)
 static bool upload_mesh(limen_renderer *r, const limen_mesh_geometry *m, struct limen__gpu_asset *a)
 {
     size_t corners = level_corners(m);
-    float *buf = malloc(sizeof(float) * CORNER_FLOATS * corners), *at = buf;
+    float *buf = r->faults & LIMEN__RFAULT_UPLOAD
+                     ? NULL : malloc(sizeof(float) * CORNER_FLOATS * corners), *at = buf;
     if (!buf)
         return false;
     for (int k = 0; k < levels(m); k++) {
@@ -179,7 +180,8 @@ static bool upload_smooth(limen_renderer *r, const limen_mesh_geometry *m,
                           struct limen__gpu_asset *a)
 {
     size_t nv = (size_t)m->vertex_count, nidx = level_corners(m);
-    float *buf = malloc(sizeof(float) * VERTEX_FLOATS * nv);
+    float *buf = r->faults & LIMEN__RFAULT_UPLOAD ? NULL
+                                                  : malloc(sizeof(float) * VERTEX_FLOATS * nv);
     uint32_t *idx = malloc(sizeof(uint32_t) * nidx), *at = idx;
     if (!buf || !idx) {
         free(buf);
@@ -222,8 +224,10 @@ bool limen__gpu_mesh_bind(limen_renderer *r, const limen_mesh_geometry *m, bool 
                           GLint *first, GLsizei *count, bool *indexed)
 {
     struct limen__gpu_asset *a = find(r, m->id);
-    if (!a)
+    if (!a) {
+        limen__draw_fail(r, LIMEN_ERR_NOMEM, "out of memory for the meshes' list");
         return false;
+    }
     int nlods = levels(m);
     lod = lod < 0 ? 0 : lod >= nlods ? nlods - 1 : lod;
     /* each buffer is made when a draw first needs it: a mesh only ever drawn smooth has no
@@ -235,8 +239,11 @@ bool limen__gpu_mesh_bind(limen_renderer *r, const limen_mesh_geometry *m, bool 
         *count = a->scount[lod];
         return true;
     }
-    if (!a->vao && !upload_mesh(r, m, a))
+    if (!a->vao && !upload_mesh(r, m, a)) {
+        limen__draw_fail(r, LIMEN_ERR_NOMEM, "out of memory uploading a mesh of %d triangles "
+                         "(it is not drawn)", m->triangle_count);
         return false;
+    }
     GL(BindVertexArray)(a->vao);
     GL(BindBuffer)(GL_ARRAY_BUFFER, a->vbo);
     GL(VertexAttribPointer)(1, 3, GL_FLOAT, GL_FALSE, sizeof(float) * CORNER_FLOATS,
@@ -249,16 +256,21 @@ bool limen__gpu_mesh_bind(limen_renderer *r, const limen_mesh_geometry *m, bool 
 GLuint limen__gpu_texture(limen_renderer *r, const limen_image *t)
 {
     struct limen__gpu_asset *a = find(r, t->id);
-    if (!a)
+    if (!a) {
+        limen__draw_fail(r, LIMEN_ERR_NOMEM, "out of memory for the textures' list");
         return 0;
+    }
     /* albedo textures live on unit 1 (unit 0 holds the texture method's view images) */
     GL(ActiveTexture)(GL_TEXTURE1);
     if (a->tex)
         GL(BindTexture)(GL_TEXTURE_2D, a->tex);
     if (!a->tex) {
         /* rows bottom first: GL's t = 0 is the image's bottom row, as v = 0 is */
-        unsigned char *flip = malloc((size_t)t->width * (size_t)t->height * 3);
+        unsigned char *flip = r->faults & LIMEN__RFAULT_UPLOAD
+                                  ? NULL : malloc((size_t)t->width * (size_t)t->height * 3);
         if (!flip) {
+            limen__draw_fail(r, LIMEN_ERR_NOMEM, "out of memory uploading a %dx%d texture (it "
+                             "is not drawn)", t->width, t->height);
             GL(ActiveTexture)(GL_TEXTURE0);
             return 0;
         }

@@ -74,7 +74,11 @@ struct limen_renderer {
     limen__shared shared;
     unsigned shared_stamp;
     bool clip0_on, clip1_on;                /* GL_CLIP_DISTANCE0 and 1 as enabled */
-    bool draw_failed;                       /* a variant failed to build (message in err) */
+    /* The first thing this frame could not draw: a shader variant that did not build, a
+     * mesh or texture that could not be uploaded (message in err); LIMEN_OK if none. The
+     * frame goes on without it and returns this. */
+    limen_status draw_status;
+    unsigned faults;                        /* LIMEN__RFAULT_* (tests only) */
     GLuint poly_vao, poly_vbo;              /* surfaces near the eye: CPU-clipped polygons */
     GLuint fill_prog;                       /* flat polygons in NDC */
     GLint u_fill_color;
@@ -160,6 +164,15 @@ static inline GLenum limen__depth_format(const limen_renderer *r)
 
 limen_status limen__rfail(limen_renderer *r, limen_status st, const char *fmt, ...)
     __attribute__((format(printf, 3, 4)));
+/* Notes what a draw could not do (limen_renderer.draw_status): the first of a frame keeps its
+ * status and message (fmt NULL: the message is set already). */
+void limen__draw_fail(limen_renderer *r, limen_status st, const char *fmt, ...)
+    __attribute__((format(printf, 3, 4)));
+
+/* Faults for tests (src/core/testing.h declares the setter): uploads of meshes and
+ * textures fail as if memory ran out. */
+enum { LIMEN__RFAULT_UPLOAD = 1 };
+void limen__renderer_set_faults(limen_renderer *r, unsigned faults);
 
 /* Occlusion queries around the passes that shade and write colour (the frame's `samples`);
  * masks, depth resets and seals are not counted. */

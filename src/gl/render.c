@@ -18,6 +18,25 @@ limen_status limen__rfail(limen_renderer *r, limen_status st, const char *fmt, .
     return st;
 }
 
+void limen__draw_fail(limen_renderer *r, limen_status st, const char *fmt, ...)
+{
+    if (r->draw_status)
+        return;
+    r->draw_status = st;
+    if (!fmt)
+        return;
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(r->err, sizeof r->err, fmt, ap);
+    va_end(ap);
+}
+
+void limen__renderer_set_faults(limen_renderer *r, unsigned faults)
+{
+    if (r)
+        r->faults = faults;
+}
+
 /* ------------------------------------------------------------------ GL loading */
 
 const char *limen__gl_load(limen__gl *gl, limen__glproc (*getproc)(struct limen__ctx *c,
@@ -534,7 +553,7 @@ static limen_status frame(limen_renderer *r, limen_scene *s, limen_frame_stats *
         return st;
     r->q_used = 0;
     r->bound_prog = 0;
-    r->draw_failed = false;
+    r->draw_status = LIMEN_OK;
     r->draw_calls = 0;
     r->triangles = 0;
     if (r->has_fragment_stats)
@@ -545,8 +564,8 @@ static limen_status frame(limen_renderer *r, limen_scene *s, limen_frame_stats *
     r->scene = NULL;
     if (r->has_fragment_stats)
         GL(EndQuery)(GL_FRAGMENT_SHADER_INVOCATIONS_ARB);
-    if (!st && r->draw_failed)
-        st = LIMEN_ERR_GL;      /* a shader variant could not be built: the message is set */
+    if (!st)
+        st = r->draw_status;    /* something could not be drawn: the message is set */
     if (st)
         return st;
     if (r->msaa) {

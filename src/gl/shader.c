@@ -296,7 +296,7 @@ bool limen__variant_use(limen_renderer *r, int mode, int shape, int checker, int
         if (r->variants[i].key == key)
             v = &r->variants[i];
     if (!v && !(v = variant_build(r, key))) {
-        r->draw_failed = true;
+        limen__draw_fail(r, LIMEN_ERR_GL, NULL);
         return false;
     }
     if (r->bound_prog != v->prog) {
