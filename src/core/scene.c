@@ -835,6 +835,27 @@ limen_status limen_node_set_checker(limen_scene *s, limen_node n, const float a[
     return LIMEN_OK;
 }
 
+limen_status limen_node_set_texture_repeat(limen_scene *s, limen_node n, const float repeat[2])
+{
+    GET(node, s, n);
+    limen_status st = check_sizes(s, repeat, 2, "texture repeat");
+    if (st)
+        return st;
+    node->tex_repeat[0] = repeat[0];
+    node->tex_repeat[1] = repeat[1];
+    return LIMEN_OK;
+}
+
+limen_status limen_node_get_texture_repeat(const limen_scene *s, limen_node n, float repeat[2])
+{
+    GET_CONST(node, s, n);
+    if (!repeat)
+        return LIMEN_ERR_ARG;
+    repeat[0] = node->tex_repeat[0];
+    repeat[1] = node->tex_repeat[1];
+    return LIMEN_OK;
+}
+
 limen_status limen_node_get_checker(const limen_scene *s, limen_node n, float a[3], float b[3],
                                     float *cell)
 {

@@ -212,35 +212,6 @@ limen_status limen_node_set_texture(limen_scene *s, limen_node n, const char *pa
     return limen__node_texture(s, n, path, SIZE_MAX, &charged);
 }
 
-limen_status limen_node_set_texture_repeat(limen_scene *s, limen_node n, const float repeat[2])
-{
-    if (!s)
-        return LIMEN_ERR_ARG;
-    limen__node *node = limen__node_get(s, n);
-    if (!node)
-        return limen__fail(s, LIMEN_ERR_HANDLE, "texture repeat: %s node handle",
-                           n.id ? "stale or foreign" : "null");
-    if (!repeat)
-        return limen__fail(s, LIMEN_ERR_ARG, "texture repeat: NULL");
-    for (int i = 0; i < 2; i++)
-        if (!(repeat[i] >= LIMEN_MIN_SIZE && repeat[i] <= LIMEN_MAX_MAGNITUDE))
-            return limen__fail(s, LIMEN_ERR_ARG, "texture repeat: each must be a positive "
-                               "number from 1e-9 to 1e9 (got %g, %g)", repeat[0], repeat[1]);
-    node->tex_repeat[0] = repeat[0];
-    node->tex_repeat[1] = repeat[1];
-    return LIMEN_OK;
-}
-
-limen_status limen_node_get_texture_repeat(const limen_scene *s, limen_node n, float repeat[2])
-{
-    const limen__node *node = s && repeat ? limen__node_get(s, n) : NULL;
-    if (!node)
-        return LIMEN_ERR_ARG;
-    repeat[0] = node->tex_repeat[0];
-    repeat[1] = node->tex_repeat[1];
-    return LIMEN_OK;
-}
-
 /* ------------------------------------------------------------------ the files behind assets */
 
 /* The path part of a file key ("path@seconds.nanoseconds"), or NULL for an asset that came
