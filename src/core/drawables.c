@@ -40,7 +40,7 @@ static bool draws(limen_node_kind kind)
     return kind != LIMEN_NODE_GROUP && kind != LIMEN_NODE_CAMERA;
 }
 
-static void read_item(const limen_scene *s, int slot, limen_drawable *it)
+void limen__drawable_read(const limen_scene *s, int slot, limen_drawable *it)
 {
     const limen__node *n = &s->nodes[slot];
     memset(it, 0, sizeof *it);
@@ -118,7 +118,7 @@ limen_status limen_drawables_build(limen_drawables *d, limen_scene *s)
         if (i < 0 || !draws(s->nodes[i].kind))
             continue;
         d->slot_item[i] = d->count;
-        read_item(s, i, &d->items[d->count++]);
+        limen__drawable_read(s, i, &d->items[d->count++]);
     }
     d->slots = s->cap;
     memcpy(d->background, s->background, sizeof d->background);

@@ -139,6 +139,8 @@ static inline int limen__node_get_index(limen_node n)
 }
 /* Handle of the node in slot i. */
 limen_node limen__node_handle(const limen_scene *s, int index);
+/* The drawable of the live node in `slot`, as limen_drawables_build lists it (drawables.c). */
+void limen__drawable_read(const limen_scene *s, int slot, limen_drawable *it);
 
 /* How messages name a node: its name, or where it was made ("scenes/x.lua:7") when it has
  * none, or "unnamed". */

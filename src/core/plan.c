@@ -710,13 +710,9 @@ static bool json_view_meshes(FILE *f, const limen_plan *p, limen_scene *s, int i
         const limen__node *node = limen__node_get(s, things[k]);
         if (!node || node->kind != LIMEN_NODE_MESH || !node->mesh)
             continue;
-        limen_drawable d = { .kind = LIMEN_NODE_MESH, .mesh = &node->mesh->pub };
-        memcpy(d.world, node->world, sizeof d.world);
-        double c[3], r;
-        limen__node_bounds(node, c, &r);
-        for (int a = 0; a < 3; a++)
-            d.centre[a] = (float)c[a];
-        d.radius = (float)r;
+        /* the drawable a renderer picks the level from */
+        limen_drawable d;
+        limen__drawable_read(s, (int)(node - s->nodes), &d);
         int lod = limen_view_mesh_lod(&p->views[i], p->height, &d, p->limits.lod_pixels);
         fprintf(f, "%s{\"node\": ", listed++ ? ", " : "");
         json_node(f, s, things[k]);
