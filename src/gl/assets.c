@@ -147,11 +147,16 @@ static size_t level_corners(const limen_mesh_geometry *m)
     return n;
 }
 
+/* Scratch memory for an upload; NULL where the test fault LIMEN__RFAULT_UPLOAD is on. */
+static void *upload_alloc(const limen_renderer *r, size_t bytes)
+{
+    return r->faults & LIMEN__RFAULT_UPLOAD ? NULL : malloc(bytes);
+}
+
 static bool upload_mesh(limen_renderer *r, const limen_mesh_geometry *m, struct limen__gpu_asset *a)
 {
     size_t corners = level_corners(m);
-    float *buf = r->faults & LIMEN__RFAULT_UPLOAD
-                     ? NULL : malloc(sizeof(float) * CORNER_FLOATS * corners), *at = buf;
+    float *buf = upload_alloc(r, sizeof(float) * CORNER_FLOATS * corners), *at = buf;
     if (!buf)
         return false;
     for (int k = 0; k < levels(m); k++) {
@@ -180,9 +185,8 @@ static bool upload_smooth(limen_renderer *r, const limen_mesh_geometry *m,
                           struct limen__gpu_asset *a)
 {
     size_t nv = (size_t)m->vertex_count, nidx = level_corners(m);
-    float *buf = r->faults & LIMEN__RFAULT_UPLOAD ? NULL
-                                                  : malloc(sizeof(float) * VERTEX_FLOATS * nv);
-    uint32_t *idx = malloc(sizeof(uint32_t) * nidx), *at = idx;
+    float *buf = upload_alloc(r, sizeof(float) * VERTEX_FLOATS * nv);
+    uint32_t *idx = upload_alloc(r, sizeof(uint32_t) * nidx), *at = idx;
     if (!buf || !idx) {
         free(buf);
         free(idx);
@@ -266,8 +270,7 @@ GLuint limen__gpu_texture(limen_renderer *r, const limen_image *t)
         GL(BindTexture)(GL_TEXTURE_2D, a->tex);
     if (!a->tex) {
         /* rows bottom first: GL's t = 0 is the image's bottom row, as v = 0 is */
-        unsigned char *flip = r->faults & LIMEN__RFAULT_UPLOAD
-                                  ? NULL : malloc((size_t)t->width * (size_t)t->height * 3);
+        unsigned char *flip = upload_alloc(r, (size_t)t->width * (size_t)t->height * 3);
         if (!flip) {
             limen__draw_fail(r, LIMEN_ERR_NOMEM, "out of memory uploading a %dx%d texture (it "
                              "is not drawn)", t->width, t->height);
