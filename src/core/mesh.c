@@ -57,6 +57,13 @@ static bool before(const build *bd, int depth, uint32_t a, uint32_t b)
     return a < b;
 }
 
+static void swap_tris(uint32_t *t, uint32_t i, uint32_t j)
+{
+    uint32_t x = t[i];
+    t[i] = t[j];
+    t[j] = x;
+}
+
 /* Puts the `rank` first of t[0, n) in that order (among themselves in any order) before the
  * rest: quickselect, median of three. */
 static void select_first(const build *bd, int depth, uint32_t *t, uint32_t n, uint32_t rank)
@@ -77,9 +84,7 @@ static void select_first(const build *bd, int depth, uint32_t *t, uint32_t n, ui
                 j--;
             if (i >= j)
                 break;
-            uint32_t x = t[i];
-            t[i] = t[j];
-            t[j] = x;
+            swap_tris(t, i, j);
         }
         /* t[j] is the pivot: j of them come before it */
         if (j == rank)
@@ -89,11 +94,8 @@ static void select_first(const build *bd, int depth, uint32_t *t, uint32_t n, ui
         else
             hi = j;
     }
-    if (hi - lo == 2 && before(bd, depth, t[lo + 1], t[lo])) {
-        uint32_t x = t[lo];
-        t[lo] = t[lo + 1];
-        t[lo + 1] = x;
-    }
+    if (hi - lo == 2 && before(bd, depth, t[lo + 1], t[lo]))
+        swap_tris(t, lo, lo + 1);
 }
 
 static void tri_box(const limen__mesh *m, uint32_t t, double lo[3], double hi[3])
@@ -121,11 +123,8 @@ static void build_node(build *bd, uint32_t at, uint32_t first, uint32_t count, i
     }
     if (count <= LEAF_TRIS) {
         for (uint32_t i = 1; i < count; i++)
-            for (uint32_t j = i; j > 0 && before(bd, depth, t[j], t[j - 1]); j--) {
-                uint32_t x = t[j];
-                t[j] = t[j - 1];
-                t[j - 1] = x;
-            }
+            for (uint32_t j = i; j > 0 && before(bd, depth, t[j], t[j - 1]); j--)
+                swap_tris(t, j, j - 1);
         for (uint32_t i = 0; i < count; i++)
             tri_box(m, t[i], n->lo, n->hi);
         n->index = first;
