@@ -210,16 +210,17 @@ static double mean_error(const unsigned char *a, const unsigned char *b, size_t 
     return sum / (double)(n * 3);
 }
 
-/* The floor of test_mipmaps: a tiled plane reaching far off, seen directly, in a mirror and
- * through a portal pair whose exit is twice the size (the footprint scales); filter f on the
- * floor. */
+/* Filter f on test_mipmaps' floor and wall. */
 static void floor_filter(limen_scene *s, limen_node floor, limen_texture_filter f)
 {
     CHECK_OK(limen_node_set_texture_filter(s, floor, f));
+    limen_node wall;
+    if (limen_node_find(s, "wall", &wall) == LIMEN_OK)
+        CHECK_OK(limen_node_set_texture_filter(s, wall, f));
 }
 
-/* Mipmaps (limen_node_set_texture_filter): a distant tiled floor, directly, in a mirror and
- * through a scaled portal. With every filter both methods stay within the bound of the
+/* Mipmaps (limen_node_set_texture_filter): a distant tiled floor and a sloping mesh wall,
+ * directly, in a mirror and through a scaled portal. With every filter both methods stay within the bound of the
  * truth (the tracer picks each pixel's level from its ray differentials as OpenGL does from
  * its neighbours). Against an area-averaged truth (a trace at 4 x 4 the pixels with the full
  * image, box-filtered down), the trilinear frames, traced and rendered, are at least twice
@@ -255,6 +256,19 @@ static void test_mipmaps(void)
                                 (float[3]){ 0, 1, 0 }));
     CHECK_OK(limen_node_set_dims(s, b, (float[3]){ 3.2f, 3.2f, 0 }));
     CHECK_OK(limen_portal_link(s, a, b));
+    /* a wall of triangles with texture coordinates of their own, sloping away: its level
+     * comes from the triangle's texture-coordinate gradient */
+    limen_node wall;
+    CHECK_OK(limen_node_create(s, LIMEN_NODE_MESH, "wall", &wall));
+    static const float wall_pos[] = { 0, 0, 0, 12, 0, -14, 12, 3, -14, 0, 2, 0 };
+    static const float wall_uv[] = { 0, 0, 6, 0, 6, 1.5f, 0, 1 };
+    static const uint32_t wall_idx[] = { 0, 1, 2, 0, 2, 3 };
+    CHECK_OK(limen_mesh_set_triangles(s, wall, &(limen_mesh_data){
+        .positions = wall_pos, .uvs = wall_uv, .vertex_count = 4, .indices = wall_idx,
+        .triangle_count = 2 }));
+    CHECK_OK(limen_node_set_position(s, wall, (float[3]){ -9, 0, -1 }));
+    CHECK_OK(limen_node_set_texture(s, wall, "scenes/data/bricks.png"));
+    CHECK_OK(limen_node_set_texture_repeat(s, wall, (float[2]){ 4, 4 }));
     /* the area-averaged truth */
     floor_filter(s, floor, LIMEN_FILTER_LINEAR);
     unsigned char *big = malloc((size_t)w * h * k * k * 3), *area = malloc((size_t)w * h * 3);
