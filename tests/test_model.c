@@ -340,6 +340,20 @@ static void test_refusals(void)
           "node 'm': its extras' \"limen\" is not an object" },
         { "{\"name\": \"e-mirror\"}", "node 'e-mirror': a mirror must be one flat rectangle (a "
           "polygon's bounding rectangle will do): it has no triangles" },
+        { "{\"name\": \"m\", \"mesh\": 2, \"extras\": {\"limen\": {\"mirror\": {\"max_depth\": "
+          "300}}}}", "node 'm': max_depth must be an integer from 0 to 255" },
+        { "{\"name\": \"m\", \"mesh\": 2, \"extras\": {\"limen\": {\"mirror\": {\"max_depth\": "
+          "2.5}}}}", "node 'm': max_depth must be an integer from 0 to 255" },
+        { "{\"name\": \"p\", \"mesh\": 3, \"extras\": {\"limen\": {\"portal\": {\"partner\": "
+          "7}}}}", "node 'p': partner must be a node's name" },
+        { "{\"name\": \"p\", \"mesh\": 3, \"extras\": {\"limen\": {\"portal\": {}}}}",
+          "node 'p': a portal needs \"partner\": the name of the other node" },
+        { "{\"name\": \"p\", \"mesh\": 3, \"extras\": {\"limen\": {\"portal\": {\"partner\": "
+          "\"p\"}, \"mirror\": {}}}}", "node 'p': its extras' \"limen\" must hold one object" },
+        { "{\"name\": \"far\", \"mesh\": 2, \"translation\": [1e39, 0, 0]}",
+          "node 'far': its matrix is not finite" },
+        { "{\"name\": \"tiny-mirror\", \"mesh\": 2, \"scale\": [1e-30, 1e-30, 1]}",
+          "node 'tiny-mirror': " },
     };
     for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
         char name[32];
