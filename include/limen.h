@@ -689,7 +689,13 @@ typedef enum limen_backend {
  *   polygons, and unbinds samplers and pixel buffers from what it uses.
  *   Two things it cannot give back: errors pending in glGetError when limen is called are
  *   read and dropped (so that limen reports only its own), and the game must not have an
- *   occlusion or pipeline-statistics query active during a frame (limen counts with them). */
+ *   occlusion or pipeline-statistics query active during a frame (limen counts with them).
+ *   Whose context: the renderer belongs to the context current at create (a context below
+ *   3.3 is refused there: "needs OpenGL 3.3 core, this context is 2.1"). Any later call made
+ *   while another context is current is refused with a message that says so and touches
+ *   nothing in that context; limen_renderer_destroy then frees limen's memory only and
+ *   leaves its GL objects to its own context, which frees them when the game destroys it
+ *   (destroy the renderer with its context current to free them sooner). */
 typedef void *(*limen_gl_loader)(const char *name);
 
 typedef struct limen_renderer_desc {
@@ -722,7 +728,7 @@ LIMEN_API limen_status limen_renderer_create(const limen_renderer_desc *desc,
  * OSMesa and EGL renderers make their own context current only within a call: afterwards
  * the context that was current on the thread before (of the same API) is current again. */
 LIMEN_API void limen_renderer_destroy(limen_renderer *r);              /* NULL is fine */
-LIMEN_API const char *limen_renderer_error(const limen_renderer *r);   /* "" when none */
+LIMEN_API const char *limen_renderer_error(const limen_renderer *r);   /* "" after a successful call */
 LIMEN_API const char *limen_renderer_gl_info(const limen_renderer *r); /* GL_RENDERER, GL_VERSION */
 LIMEN_API void limen_renderer_get_size(const limen_renderer *r, int *width, int *height);
 typedef enum limen_method {

@@ -64,6 +64,7 @@ struct limen_renderer {
     int depth_bits;                         /* 24: DEPTH24_STENCIL8, 32: DEPTH32F_STENCIL8 */
     bool has_fragment_stats;
     bool ready;                             /* set up completely */
+    bool loaded;                            /* gl holds every required entry point */
     char err[512];
     char info[256];
 
