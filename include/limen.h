@@ -546,12 +546,21 @@ typedef struct limen_frame_budget {
                                  * 0 -> 64 x width x height */
     int64_t surface_tests;      /* views x mirrors and portals: each view tests (and a
                                  * renderer may draw) every visible surface; 0 -> 131072 */
+    int64_t triangles;          /* mesh triangles over every view, each mesh at the level of
+                                 * detail the view draws it at (limen_view_mesh_lod), counted
+                                 * over limen_plan_view_things; 0 -> LIMEN_BUDGET_TRIANGLES_DEFAULT.
+                                 * The camera's view is always drawn: where it alone holds more,
+                                 * the renderer draws its meshes in order up to the budget and
+                                 * drops the rest (counted as one truncation) */
 } limen_frame_budget;
+
+#define LIMEN_BUDGET_TRIANGLES_DEFAULT ((int64_t)8 << 20)   /* 8 Mi triangles a frame */
 
 enum {                          /* limen_plan_work.budgets_hit */
     LIMEN_BUDGET_VIEWS = 1,             /* max_views */
     LIMEN_BUDGET_VIEW_PIXELS = 2,
-    LIMEN_BUDGET_SURFACE_TESTS = 4
+    LIMEN_BUDGET_SURFACE_TESTS = 4,
+    LIMEN_BUDGET_TRIANGLES = 8          /* budget.triangles */
 };
 
 typedef struct limen_limits {
@@ -645,6 +654,7 @@ typedef struct limen_plan_work {
     int64_t view_pixels;        /* sum of the views' scissor areas */
     int64_t surface_tests;      /* view x surface tests made */
     unsigned budgets_hit;       /* LIMEN_BUDGET_* bits of the budgets that stopped a view */
+    int64_t triangles;          /* mesh triangles of the views kept (budget.triangles' count) */
 } limen_plan_work;
 LIMEN_API void limen_plan_get_work(const limen_plan *p, limen_plan_work *out);
 /* Writes the plan as JSON ({"views": [...]}); returns LIMEN_ERR_IO if it cannot. Each view

@@ -581,6 +581,9 @@ static limen_status frame(limen_renderer *r, limen_scene *s, limen_frame_stats *
     r->draw_status = LIMEN_OK;
     r->draw_calls = 0;
     r->triangles = 0;
+    r->mesh_tris_left = (uint64_t)(r->opts.limits.budget.triangles > 0
+                                       ? r->opts.limits.budget.triangles
+                                       : LIMEN_BUDGET_TRIANGLES_DEFAULT);
     if (r->has_fragment_stats)
         GL(BeginQuery)(GL_FRAGMENT_SHADER_INVOCATIONS_ARB, r->q_fragments);
     r->scene = s;
