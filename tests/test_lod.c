@@ -9,6 +9,7 @@
 
 #include "bumpy.h"
 #include "check.h"
+#include "core/lod_target.h"
 #include "limen.h"
 
 #define HEIGHT 480
@@ -741,6 +742,57 @@ static void test_lod_pixels(void)
     close_scene(&f);
 }
 
+/* Degenerate input costs what other input does: 80,000 copies of one triangle (half of them
+ * wound the other way), then 80,000 of one with no area (three corners on a line). The
+ * edges' pairing (core/lod_target.c) looks at a few slots a half-edge, not at every copy
+ * before it (which took 24 s for the first); the copies wound opposite ways pair up, those
+ * wound alike cannot. The whole build then makes the mesh and its levels. */
+static void test_degenerate(void)
+{
+    enum { COPIES = 80000 };
+    float pos[12] = { 0, 0, 0, 1, 0, 0, 0, 1, 0, 2, 0, 0 };
+    uint32_t *idx = malloc(sizeof(uint32_t) * 3 * COPIES);
+    if (!idx) {
+        CHECK(idx);
+        return;
+    }
+    for (int flat = 0; flat < 2; flat++) {
+        uint32_t c = flat ? 3 : 2;      /* (0,0,0) (1,0,0) (2,0,0): on a line */
+        for (int t = 0; t < COPIES; t++) {
+            idx[t * 3] = 0;
+            idx[t * 3 + 1] = t % 2 ? c : 1;
+            idx[t * 3 + 2] = t % 2 ? 1 : c;
+        }
+        limen__mesh m = { .nverts = 4, .ntris = COPIES, .pos = pos, .idx = idx };
+        limen__lod_target tg = { 0 };
+        CHECK(limen__lod_target_make(&tg, &m, NULL));
+        uint64_t half_edges = 3ull * COPIES;
+        CHECK_MSG(tg.probes <= 4 * half_edges, "%s: %llu probes for %llu half-edges",
+                  flat ? "flat" : "copies", (unsigned long long)tg.probes,
+                  (unsigned long long)half_edges);
+        /* each copy wound one way pairs each edge with a copy wound the other */
+        uint32_t paired = 0;
+        for (uint32_t t = 0; tg.across && t < COPIES; t++)
+            for (int e = 0; e < 3; e++)
+                if (tg.across[t][e] != UINT32_MAX) {
+                    paired++;
+                    CHECK(tg.across[t][e] % 2 != t % 2);
+                    CHECK(tg.across[tg.across[t][e]][0] == t ||
+                          tg.across[tg.across[t][e]][1] == t ||
+                          tg.across[tg.across[t][e]][2] == t);
+                }
+        CHECK_MSG(paired == 3u * COPIES, "%u of %u edges paired", paired, 3u * COPIES);
+        limen__lod_target_free(&tg);
+        fixture f = open_scene((float[3]){ 0, 0, 5 }, (float[3]){ 0, 0, 0 });
+        CHECK_OK(limen_mesh_set_triangles(f.s, f.mesh, &(limen_mesh_data){
+            .positions = pos, .vertex_count = 4, .indices = idx, .triangle_count = COPIES }));
+        const limen_drawable *d = item(&f);
+        CHECK(d && d->mesh->lod_count >= 1 && d->mesh->triangle_count == COPIES);
+        close_scene(&f);
+    }
+    free(idx);
+}
+
 static const check_case cases[] = {
     { "bunny_levels", test_bunny_levels },
     { "error_bounds", test_error_bounds },
@@ -751,6 +803,7 @@ static const check_case cases[] = {
     { "pick_scaled_portal", test_pick_scaled_portal },
     { "plan_json", test_plan_json },
     { "lod_pixels", test_lod_pixels },
+    { "degenerate", test_degenerate },
     { 0 },
 };
 
