@@ -32,4 +32,12 @@ without_mesh() {
 }
 t_ok "a reference without s:mesh{} fails that check" without_mesh
 
+
+# the design notes are in the repository, and the code cites them by that path
+design_cited() {
+    [ -s docs/DESIGN.md ] &&
+    ! grep -rn 'DESIGN\.md' src include tests bench examples lua | grep -v 'docs/DESIGN\.md'
+}
+t_ok "docs/DESIGN.md exists and every citation of it in the code names docs/DESIGN.md" design_cited
+
 t_done
