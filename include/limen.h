@@ -74,7 +74,30 @@ extern "C" {
 #define LIMEN_API
 #endif
 
-#define LIMEN_VERSION "0.1.0"
+/* ---------------------------------------------------------------- version */
+
+/* The version, written here alone: the Makefile reads these three lines for the shared
+ * library's file name and soname (liblimen.so.MAJOR), the pkg-config file, the CMake
+ * package (find_package(limen X.Y)) and the LuaRocks rockspec (make rockspec). */
+#define LIMEN_VERSION_MAJOR 0
+#define LIMEN_VERSION_MINOR 1
+#define LIMEN_VERSION_PATCH 0
+/* One number that grows with every release: MAJOR * 10000 + MINOR * 100 + PATCH (0.1.0 ->
+ * 100), for #if LIMEN_VERSION_NUMBER >= 100. */
+#define LIMEN_VERSION_NUMBER \
+    (LIMEN_VERSION_MAJOR * 10000 + LIMEN_VERSION_MINOR * 100 + LIMEN_VERSION_PATCH)
+#define LIMEN__STR(x) #x                                         /* (internal) */
+#define LIMEN__XSTR(x) LIMEN__STR(x)                             /* (internal) */
+/* "MAJOR.MINOR.PATCH" of the header: "0.1.0". */
+#define LIMEN_VERSION                                                                      \
+    LIMEN__XSTR(LIMEN_VERSION_MAJOR) "." LIMEN__XSTR(LIMEN_VERSION_MINOR) "."              \
+    LIMEN__XSTR(LIMEN_VERSION_PATCH)
+
+/* The version of the library linked in, which may differ from the header's LIMEN_VERSION
+ * when a program runs against a newer shared library: "0.1.0". */
+LIMEN_API const char *limen_version(void);
+/* The same as LIMEN_VERSION_NUMBER counts it, for the library linked in. */
+LIMEN_API int limen_version_number(void);
 
 /* ---------------------------------------------------------------- errors */
 
