@@ -74,7 +74,30 @@ extern "C" {
 #define LIMEN_API
 #endif
 
-#define LIMEN_VERSION "0.1.0"
+/* ---------------------------------------------------------------- version */
+
+/* The version, written here alone: the Makefile reads these three lines for the shared
+ * library's file name and soname (liblimen.so.MAJOR), the pkg-config file, the CMake
+ * package (find_package(limen X.Y)) and the LuaRocks rockspec (make rockspec). */
+#define LIMEN_VERSION_MAJOR 0
+#define LIMEN_VERSION_MINOR 1
+#define LIMEN_VERSION_PATCH 0
+/* One number that grows with every release: MAJOR * 10000 + MINOR * 100 + PATCH (0.1.0 ->
+ * 100), for #if LIMEN_VERSION_NUMBER >= 100. */
+#define LIMEN_VERSION_NUMBER \
+    (LIMEN_VERSION_MAJOR * 10000 + LIMEN_VERSION_MINOR * 100 + LIMEN_VERSION_PATCH)
+#define LIMEN__STR(x) #x                                         /* (internal) */
+#define LIMEN__XSTR(x) LIMEN__STR(x)                             /* (internal) */
+/* "MAJOR.MINOR.PATCH" of the header: "0.1.0". */
+#define LIMEN_VERSION                                                                      \
+    LIMEN__XSTR(LIMEN_VERSION_MAJOR) "." LIMEN__XSTR(LIMEN_VERSION_MINOR) "."              \
+    LIMEN__XSTR(LIMEN_VERSION_PATCH)
+
+/* The version of the library linked in, which may differ from the header's LIMEN_VERSION
+ * when a program runs against a newer shared library: "0.1.0". */
+LIMEN_API const char *limen_version(void);
+/* The same as LIMEN_VERSION_NUMBER counts it, for the library linked in. */
+LIMEN_API int limen_version_number(void);
 
 /* ---------------------------------------------------------------- errors */
 
@@ -618,12 +641,21 @@ typedef struct limen_frame_budget {
                                  * 0 -> 64 x width x height */
     int64_t surface_tests;      /* views x mirrors and portals: each view tests (and a
                                  * renderer may draw) every visible surface; 0 -> 131072 */
+    int64_t triangles;          /* mesh triangles over every view, each mesh at the level of
+                                 * detail the view draws it at (limen_view_mesh_lod), counted
+                                 * over limen_plan_view_things; 0 -> LIMEN_BUDGET_TRIANGLES_DEFAULT.
+                                 * The camera's view is always drawn: where it alone holds more,
+                                 * the renderer draws its meshes in order up to the budget and
+                                 * drops the rest (counted as one truncation) */
 } limen_frame_budget;
+
+#define LIMEN_BUDGET_TRIANGLES_DEFAULT ((int64_t)8 << 20)   /* 8 Mi triangles a frame */
 
 enum {                          /* limen_plan_work.budgets_hit */
     LIMEN_BUDGET_VIEWS = 1,             /* max_views */
     LIMEN_BUDGET_VIEW_PIXELS = 2,
-    LIMEN_BUDGET_SURFACE_TESTS = 4
+    LIMEN_BUDGET_SURFACE_TESTS = 4,
+    LIMEN_BUDGET_TRIANGLES = 8          /* budget.triangles */
 };
 
 typedef struct limen_limits {
@@ -717,6 +749,7 @@ typedef struct limen_plan_work {
     int64_t view_pixels;        /* sum of the views' scissor areas */
     int64_t surface_tests;      /* view x surface tests made */
     unsigned budgets_hit;       /* LIMEN_BUDGET_* bits of the budgets that stopped a view */
+    int64_t triangles;          /* mesh triangles of the views kept (budget.triangles' count) */
 } limen_plan_work;
 LIMEN_API void limen_plan_get_work(const limen_plan *p, limen_plan_work *out);
 /* Writes the plan as JSON ({"views": [...]}); returns LIMEN_ERR_IO if it cannot. Each view
@@ -761,7 +794,13 @@ typedef enum limen_backend {
  *   polygons, and unbinds samplers and pixel buffers from what it uses.
  *   Two things it cannot give back: errors pending in glGetError when limen is called are
  *   read and dropped (so that limen reports only its own), and the game must not have an
- *   occlusion or pipeline-statistics query active during a frame (limen counts with them). */
+ *   occlusion or pipeline-statistics query active during a frame (limen counts with them).
+ *   Whose context: the renderer belongs to the context current at create (a context below
+ *   3.3 is refused there: "needs OpenGL 3.3 core, this context is 2.1"). Any later call made
+ *   while another context is current is refused with a message that says so and touches
+ *   nothing in that context; limen_renderer_destroy then frees limen's memory only and
+ *   leaves its GL objects to its own context, which frees them when the game destroys it
+ *   (destroy the renderer with its context current to free them sooner). */
 typedef void *(*limen_gl_loader)(const char *name);
 
 typedef struct limen_renderer_desc {
@@ -794,7 +833,7 @@ LIMEN_API limen_status limen_renderer_create(const limen_renderer_desc *desc,
  * OSMesa and EGL renderers make their own context current only within a call: afterwards
  * the context that was current on the thread before (of the same API) is current again. */
 LIMEN_API void limen_renderer_destroy(limen_renderer *r);              /* NULL is fine */
-LIMEN_API const char *limen_renderer_error(const limen_renderer *r);   /* "" when none */
+LIMEN_API const char *limen_renderer_error(const limen_renderer *r);   /* "" after a successful call */
 LIMEN_API const char *limen_renderer_gl_info(const limen_renderer *r); /* GL_RENDERER, GL_VERSION */
 LIMEN_API void limen_renderer_get_size(const limen_renderer *r, int *width, int *height);
 typedef enum limen_method {

@@ -51,6 +51,8 @@ void limen__texture_filter(const limen__texture *t, limen_texture_filter f, doub
 /* image.c: stb_image on a buffer (RGB), and why it failed. */
 unsigned char *limen__image_decode(const unsigned char *buf, size_t len, int *w, int *h);
 const char *limen__image_why(void);
+/* The same, RGBA (every format stb reads; HDR clamped to [0, 1] linearly). */
+unsigned char *limen__image_decode_rgba(const unsigned char *buf, size_t len, int *w, int *h);
 /* Size from the header alone; false if it is not an image stb reads. */
 bool limen__image_info(const unsigned char *buf, size_t len, int *w, int *h);
 

@@ -1,5 +1,5 @@
 /* trace.c - the reference ray tracer: the ground truth that the rasterizer is measured
- * against (DESIGN.md, "Ground truth"). Every rule below copies what the planner
+ * against (docs/DESIGN.md, "Ground truth"). Every rule below copies what the planner
  * (core/plan.c) and the renderer (gl/views.c, gl/render.c) do, so that a difference between
  * the two pictures is an error of the rasterizing method, not of the rules.
  *

@@ -166,11 +166,17 @@ static void draw_instances(limen_renderer *r, const limen_view *v, const limen_d
     bool indexed;
     if (!limen__gpu_mesh_bind(r, d->mesh, d->smooth, lod, &first, &count, &indexed))
         return;
+    /* the frame's triangle budget: the planner kept only the views that fit, but the
+     * camera's own view is always drawn, so its meshes stop here at the budget */
+    uint64_t per = (uint64_t)(count / 3);
+    if (per * (uint64_t)n > r->mesh_tris_left)
+        n = per ? (int)(r->mesh_tris_left / per) : n;
+    r->mesh_tris_left -= per * (uint64_t)n;
     int checker = d->cell > 0 ? 2 : 0;
     int textured = d->texture && limen__gpu_texture(r, d->texture, d->texture_filter) ? LIMEN__UV_MESH
                                                                    : LIMEN__UV_NONE;
     r->instanced = true;
-    bool ok = limen__variant_use(r, LIMEN__MODE_LIT, d->smooth ? LIMEN__SHAPE_SMOOTH : 0,
+    bool ok = n > 0 && limen__variant_use(r, LIMEN__MODE_LIT, d->smooth ? LIMEN__SHAPE_SMOOTH : 0,
                                  checker, textured);
     r->instanced = false;
     if (ok) {
