@@ -532,7 +532,9 @@ LIMEN_API void limen_drawables_environment(const limen_drawables *d, float backg
  * triangles face counter-clockwise; its height runs along the rectangle's side nearer the
  * parent's +Y. Portals pair with the node named as partner, which must name them back. The
  * file's cameras (at their node, looking as the file says; the first becomes the scene's
- * camera where it has none) and point lights (colour times intensity) when asked. A node
+ * camera where it has none) and point lights (colour times intensity; a glTF light's range
+ * as limen_light_set_range) when asked: the file node that carries one becomes that CAMERA
+ * or LIGHT node (a GROUP where it is not asked for). A node
  * name that is not UTF-8 is dropped (the node is unnamed). Any problem (a file that cannot
  * be read, a surface that is not flat, a partner missing or one-sided, a bad extras field)
  * fails with a message naming the file and the node, and leaves the scene as it was. */

@@ -11,6 +11,7 @@
 
 #include "check.h"
 #include "limen.h"
+#include "core/json.h"
 
 #define BOUND 0.005
 
@@ -111,7 +112,7 @@ static const char *write_gltf(const char *name, const gltf *g, const char *roots
                 "\"aspectRatio\": 1.3333, \"znear\": 0.05, \"zfar\": 100}}],\n"
                 " \"extensionsUsed\": [\"KHR_lights_punctual\"],\n \"extensions\": "
                 "{\"KHR_lights_punctual\": {\"lights\": [{\"type\": \"point\", \"color\": [1, 1, "
-                "1], \"intensity\": 0.9}]}},\n \"bufferViews\": [%s],\n \"accessors\": [%s],\n"
+                "1], \"intensity\": 0.9, \"range\": 7.5}]}},\n \"bufferViews\": [%s],\n \"accessors\": [%s],\n"
                 " \"buffers\": [{\"byteLength\": %zu, \"uri\": "
                 "\"data:application/octet-stream;base64,%s\"}]}\n",
                 roots, nodes, g->meshes, g->views, g->accessors, g->nbin, b64);
@@ -261,6 +262,7 @@ static void test_hierarchy(void)
     CHECK(limen_node_get_kind(s, lamp) == LIMEN_NODE_LIGHT);
     CHECK_OK(limen_node_get_color(s, lamp, c));
     CHECK_NEAR(c[0], 0.9, 1e-6);
+    CHECK_NEAR(limen_light_get_range(s, lamp), 7.5, 1e-6);  /* from the JSON: assimp drops it */
     /* asked for neither: no camera, no light */
     limen_scene *s2 = new_scene();
     limen_node g2;
@@ -391,7 +393,37 @@ static void test_refusals(void)
     limen_scene_destroy(s);
 }
 
+/* The JSON reader behind the light ranges, on hostile text: refused, never read past. */
+static void test_json(void)
+{
+    limen__json j;
+    const char *good = " {\"a\": [1, -2.5e1, true, null, \"x\\\"y\"], \"b\": {}} ";
+    CHECK(limen__json_parse(&j, good, strlen(good), 100));
+    int a = limen__json_get(&j, 0, "a");
+    CHECK(limen__json_at(&j, a, 1) >= 0 && j.v[limen__json_at(&j, a, 1)].number == -25);
+    CHECK(j.v[limen__json_at(&j, a, 2)].number == 1 && limen__json_at(&j, a, 5) < 0);
+    CHECK(limen__json_is(&j, limen__json_at(&j, a, 4), "x\\\"y"));
+    CHECK(limen__json_get(&j, a, "b") < 0 && limen__json_get(&j, 0, "c") < 0);
+    free(j.v);
+    static const char *const bad[] = { "", "{", "[1,]", "{\"a\" 1}", "\"abc", "01x", "[1] 2",
+                                       "{\"a\": tru}", "[\"\\", "1e999999999999999999999999"
+                                       "999999999999999999999999999999999999999999999999" };
+    for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
+        CHECK_MSG(!limen__json_parse(&j, bad[i], strlen(bad[i]), 100), "case %zu accepted", i);
+        free(j.v);
+    }
+    char deep[400];
+    memset(deep, '[', sizeof deep);
+    CHECK(!limen__json_parse(&j, deep, sizeof deep, 1000));     /* deeper than 64 */
+    free(j.v);
+    CHECK(!limen__json_parse(&j, "[1, 2, 3]", 9, 3));            /* more values than allowed */
+    free(j.v);
+    CHECK(limen__json_parse(&j, "[1, 2, 3]", 5, 10) == false);   /* cut short */
+    free(j.v);
+}
+
 static const check_case cases[] = {
+    { "json", test_json },
     { "hierarchy", test_hierarchy },
     { "render", test_render },
     { "refusals", test_refusals },

@@ -20,6 +20,7 @@
 #include <sys/stat.h>
 
 #include "core/internal.h"
+#include "core/json.h"
 #include "core/model.h"
 
 #define MAX_NODES 100000        /* a file's nodes at most */
@@ -57,6 +58,7 @@ typedef struct mcamera {
 typedef struct mlight {
     int node;
     float pos[3], color[3];
+    float range;                /* 0: none */
 } mlight;
 
 typedef struct model {
@@ -394,6 +396,79 @@ static limen_status from_assimp(limen_scene *s, const char *path, const struct a
     return st;
 }
 
+/* ------------------------------------------------------------------ what assimp drops */
+
+#define MAX_JSON_BYTES (64u << 20)
+
+/* The JSON of a .gltf, or of a .glb's first chunk; NULL if the file is neither or is too
+ * large. *len its length; free() it. */
+static char *gltf_json(const char *path, size_t *len)
+{
+    FILE *f = fopen(path, "rb");
+    if (!f)
+        return NULL;
+    char *text = NULL;
+    unsigned char head[20];
+    size_t got = fread(head, 1, sizeof head, f);
+    if (got == sizeof head && memcmp(head, "glTF", 4) == 0) {
+        uint32_t n = (uint32_t)head[12] | (uint32_t)head[13] << 8 | (uint32_t)head[14] << 16 |
+                     (uint32_t)head[15] << 24;
+        if (memcmp(head + 16, "JSON", 4) == 0 && n <= MAX_JSON_BYTES && (text = malloc(n + 1)) &&
+            fread(text, 1, n, f) == n) {
+            *len = n;
+        } else {
+            free(text);
+            text = NULL;
+        }
+    } else if (got > 0 && fseek(f, 0, SEEK_END) == 0) {
+        long size = ftell(f);
+        if (size > 0 && (unsigned long)size <= MAX_JSON_BYTES && fseek(f, 0, SEEK_SET) == 0 &&
+            (text = malloc((size_t)size + 1)) && fread(text, 1, (size_t)size, f) == (size_t)size) {
+            *len = (size_t)size;
+        } else {
+            free(text);
+            text = NULL;
+        }
+    }
+    fclose(f);
+    return text;
+}
+
+/* KHR_lights_punctual's ranges, which assimp does not keep: a light on the glTF node of the
+ * same name takes its light's range. Files that are not glTF, or whose JSON cannot be read
+ * here, keep their lights without. */
+static void light_ranges(const char *path, model *m)
+{
+    size_t len = 0;
+    char *text = m->nlights ? gltf_json(path, &len) : NULL;
+    limen__json j;
+    if (!text || !limen__json_parse(&j, text, len, 4 * 1024 * 1024)) {
+        if (text)
+            free(j.v);
+        free(text);
+        return;
+    }
+    int lights = limen__json_get(&j, limen__json_get(&j, limen__json_get(&j, 0, "extensions"),
+                                                    "KHR_lights_punctual"), "lights");
+    int nodes = limen__json_get(&j, 0, "nodes");
+    for (int k = 0, nd; (nd = limen__json_at(&j, nodes, k)) >= 0; k++) {
+        int name = limen__json_get(&j, nd, "name");
+        int li = limen__json_get(&j, limen__json_get(&j, limen__json_get(&j, nd, "extensions"),
+                                                    "KHR_lights_punctual"), "light");
+        if (name < 0 || li < 0 || j.v[li].type != LIMEN__JSON_NUMBER || j.v[li].number < 0 ||
+            j.v[li].number > 1e6)
+            continue;
+        int range = limen__json_get(&j, limen__json_at(&j, lights, (int)j.v[li].number), "range");
+        if (range < 0 || j.v[range].type != LIMEN__JSON_NUMBER)
+            continue;
+        for (int i = 0; i < m->nlights; i++)
+            if (limen__json_is(&j, name, m->nodes[m->lights[i].node].name))
+                m->lights[i].range = (float)j.v[range].number;
+    }
+    free(j.v);
+    free(text);
+}
+
 static limen_status read_file(limen_scene *s, const char *path, model *m)
 {
     struct stat stt;
@@ -420,6 +495,8 @@ static limen_status read_file(limen_scene *s, const char *path, model *m)
                            err[0] ? err : "unknown format");
     limen_status st = from_assimp(s, path, sc, m);
     aiReleaseImport(sc);
+    if (!st)
+        light_ranges(path, m);
     if (st)
         model_free(m);
     return st;
@@ -716,7 +793,8 @@ static limen_status build_eye_or_lamp(builder *b, int i, limen_node parent)
         mat_mul(mn->local, frame, local);
         if ((st = make(b, LIMEN_NODE_LIGHT, mn->name, parent, &n)) ||
             (st = limen_node_set_local_matrix(b->s, n, local)) ||
-            (st = limen_node_set_color(b->s, n, col)))
+            (st = limen_node_set_color(b->s, n, col)) ||
+            (l->range > 0 && (st = limen_light_set_range(b->s, n, l->range))))
             return refail(b, st, "light", mn->name);
     }
     b->of[i] = n;
