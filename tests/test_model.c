@@ -49,8 +49,10 @@ static int add_view(gltf *g, const void *data, size_t len, const char *accessor)
     return g->nviews++;
 }
 
-/* A mesh of nv points and nt triangles; returns its index. */
-static int add_mesh(gltf *g, const float *pos, int nv, const uint16_t *idx, int nt)
+/* A mesh of nv points and nt triangles in material mat, with texture coordinates uv (or
+ * NULL); returns its index. */
+static int add_mesh_uv(gltf *g, const float *pos, const float *uv, int mat, int nv,
+                       const uint16_t *idx, int nt)
 {
     float lo[3] = { INFINITY, INFINITY, INFINITY }, hi[3] = { -INFINITY, -INFINITY, -INFINITY };
     for (int i = 0; i < nv * 3; i++) {
@@ -65,9 +67,22 @@ static int add_mesh(gltf *g, const float *pos, int nv, const uint16_t *idx, int 
     snprintf(acc, sizeof acc, "\"componentType\": 5123, \"count\": %d, \"type\": \"SCALAR\"",
              nt * 3);
     int i = add_view(g, idx, sizeof(uint16_t) * 3 * (size_t)nt, acc);
+    char tex[64] = "";
+    if (uv) {
+        snprintf(acc, sizeof acc, "\"componentType\": 5126, \"count\": %d, \"type\": \"VEC2\"",
+                 nv);
+        snprintf(tex, sizeof tex, ", \"TEXCOORD_0\": %d",
+                 add_view(g, uv, sizeof(float) * 2 * (size_t)nv, acc));
+    }
     append(g->meshes, sizeof g->meshes, "%s{\"primitives\": [{\"attributes\": {\"POSITION\": "
-           "%d}, \"indices\": %d, \"material\": 0}]}", g->nmeshes ? ", " : "", p, i);
+           "%d%s}, \"indices\": %d, \"material\": %d}]}", g->nmeshes ? ", " : "", p, tex, i,
+           mat);
     return g->nmeshes++;
+}
+
+static int add_mesh(gltf *g, const float *pos, int nv, const uint16_t *idx, int nt)
+{
+    return add_mesh_uv(g, pos, NULL, 0, nv, idx, nt);
 }
 
 /* A w x h rectangle on z = 0 facing +Z (counter-clockwise seen from +Z). */
@@ -107,7 +122,11 @@ static const char *write_gltf(const char *name, const gltf *g, const char *roots
     if (f) {
         fprintf(f, "{\"asset\": {\"version\": \"2.0\"}, \"scene\": 0, \"scenes\": [{\"nodes\": "
                 "[%s]}],\n \"nodes\": [%s],\n \"meshes\": [%s],\n \"materials\": "
-                "[{\"pbrMetallicRoughness\": {\"baseColorFactor\": [0.8, 0.7, 0.6, 1]}}],\n"
+                "[{\"pbrMetallicRoughness\": {\"baseColorFactor\": [0.8, 0.7, 0.6, 1]}},\n"
+                "  {\"pbrMetallicRoughness\": {\"baseColorTexture\": {\"index\": 0}}},\n"
+                "  {\"pbrMetallicRoughness\": {\"baseColorTexture\": {\"index\": 1}}}],\n"
+                " \"textures\": [{\"source\": 0}, {\"source\": 1}],\n"
+                " \"images\": [{\"uri\": \"../elsewhere/checks.png\"}, {\"uri\": \"gone.png\"}],\n"
                 " \"cameras\": [{\"type\": \"perspective\", \"perspective\": {\"yfov\": 0.9, "
                 "\"aspectRatio\": 1.3333, \"znear\": 0.05, \"zfar\": 100}}],\n"
                 " \"extensionsUsed\": [\"KHR_lights_punctual\"],\n \"extensions\": "
@@ -124,13 +143,22 @@ static const char *write_gltf(const char *name, const gltf *g, const char *roots
 
 /* The level: a floor, a room group holding a crate, a mirror by extras and one by name, a
  * portal pair by extras, a camera and a lamp. Meshes: 0 floor, 1 crate, 2 a 2 x 1.5 quad,
- * 3 a 1 x 2 quad, 4 a bent quad, 5 a 1.2 x 1 quad. */
+ * 3 a 1 x 2 quad, 4 a bent quad, 5 a 1.2 x 1 quad, 6 a sign whose image is missing. The
+ * floor's image (material 1) is named "../elsewhere/checks.png" and lies beside the file. */
 static void level_meshes(gltf *g)
 {
     memset(g, 0, sizeof *g);
+    unsigned char px[8 * 8 * 3];
+    for (int i = 0; i < 64; i++)
+        for (int c = 0; c < 3; c++)
+            px[i * 3 + c] = (unsigned char)(((i % 8) / 2 + (i / 16)) % 2 ? 230 : 60 + 40 * c);
+    char path[128];
+    snprintf(path, sizeof path, "%s/checks.png", dir);
+    CHECK_OK(limen_write_png(path, 8, 8, px));
     static const float floor_pos[12] = { -5, 0, 5, 5, 0, 5, 5, 0, -5, -5, 0, -5 };
+    static const float floor_uv[8] = { 0, 0, 5, 0, 5, 5, 0, 5 };
     static const uint16_t quad_idx[6] = { 0, 1, 2, 0, 2, 3 };
-    add_mesh(g, floor_pos, 4, quad_idx, 2);
+    add_mesh_uv(g, floor_pos, floor_uv, 1, 4, quad_idx, 2);
     static const float cube_pos[24] = { -0.5f, -0.5f, -0.5f, 0.5f, -0.5f, -0.5f, 0.5f, 0.5f, -0.5f,
                                         -0.5f, 0.5f, -0.5f, -0.5f, -0.5f, 0.5f, 0.5f, -0.5f, 0.5f,
                                         0.5f, 0.5f, 0.5f, -0.5f, 0.5f, 0.5f };
@@ -143,26 +171,30 @@ static void level_meshes(gltf *g)
                                         -0.5f, 0.5f, 0 };
     add_mesh(g, bent_pos, 4, quad_idx, 2);
     add_quad(g, 1.2f, 1);
+    static const float sign_pos[12] = { -0.5f, 0, 0, 0.5f, 0, 0, 0.5f, 1, 0, -0.5f, 1, 0 };
+    static const float sign_uv[8] = { 0, 0, 1, 0, 1, 1, 0, 1 };
+    add_mesh_uv(g, sign_pos, sign_uv, 2, 4, quad_idx, 2);
 }
 
 #define Q_PLUS_X "\"rotation\": [0, 0.70710678, 0, 0.70710678]"
 #define Q_MINUS_X "\"rotation\": [0, -0.70710678, 0, 0.70710678]"
 
 static const char *level_nodes =
-    "{\"name\": \"level\", \"children\": [1, 2, 4, 5, 6, 7, 8, 9]},\n"
+    "{\"name\": \"level\", \"children\": [1, 2, 4, 5, 6, 7, 8, 9, 10]},\n"
     "{\"name\": \"floor\", \"mesh\": 0},\n"
     "{\"name\": \"room\", \"translation\": [1.5, 0, -1], \"children\": [3]},\n"
     "{\"name\": \"crate\", \"mesh\": 1, \"translation\": [0, 0.5, 0], \"scale\": [1, 1, 1]},\n"
     "{\"name\": \"glass\", \"mesh\": 2, \"translation\": [0, 1.2, -3.5], \"extras\": "
     "{\"limen\": {\"mirror\": {\"max_depth\": 3, \"tint\": [0.9, 0.95, 1]}}}},\n"
     "{\"name\": \"side-mirror\", \"mesh\": 5, \"translation\": [-4.5, 1, -1], " Q_PLUS_X "},\n"
-    "{\"name\": \"blue\", \"mesh\": 3, \"translation\": [-2.5, 1, 1.5], " Q_PLUS_X ", \"extras\": "
+    "{\"name\": \"blue\", \"mesh\": 3, \"translation\": [-2.5, 1, -1.2], " Q_PLUS_X ", \"extras\": "
     "{\"limen\": {\"portal\": {\"partner\": \"orange\", \"max_depth\": 4}}}},\n"
-    "{\"name\": \"orange\", \"mesh\": 3, \"translation\": [3.5, 1, 1.5], " Q_MINUS_X ", \"extras\": "
+    "{\"name\": \"orange\", \"mesh\": 3, \"translation\": [3.2, 1, -1.2], " Q_MINUS_X ", \"extras\": "
     "{\"limen\": {\"portal\": {\"partner\": \"blue\"}}}},\n"
     "{\"name\": \"eye\", \"camera\": 0, \"translation\": [0.3, 1.6, 4.5]},\n"
     "{\"name\": \"lamp\", \"translation\": [0, 3, 2], \"extensions\": {\"KHR_lights_punctual\": "
-    "{\"light\": 0}}}";
+    "{\"light\": 0}}},\n"
+    "{\"name\": \"sign\", \"mesh\": 6, \"translation\": [-1.5, 0, -2]}";
 
 static limen_scene *new_scene(void)
 {
@@ -247,7 +279,18 @@ static void test_hierarchy(void)
     limen_mesh_info mi;
     CHECK_OK(limen_mesh_get(s, crate, &mi));
     CHECK(mi.triangle_count == 12);
-    CHECK_OK(limen_node_get_color(s, find_below(s, group, "floor"), c));
+    /* the floor's image found beside the file by its base name; the sign's missing one
+     * leaves it untextured */
+    limen_drawables *d = NULL;
+    CHECK_OK(limen_drawables_create(&d));
+    CHECK_OK(limen_drawables_build(d, s));
+    const limen_drawable *items;
+    limen_drawables_items(d, &items);
+    const limen_drawable *fl = &items[limen_drawables_find(d, find_below(s, group, "floor"))];
+    CHECK(fl->texture && fl->texture->width == 8);
+    CHECK(!items[limen_drawables_find(d, find_below(s, group, "sign"))].texture);
+    limen_drawables_destroy(d);
+    CHECK_OK(limen_node_get_color(s, find_below(s, group, "crate"), c));
     CHECK_NEAR(c[1], 0.7, 1e-6);
     /* camera and lamp: the scene's camera now, at the file's place and lens */
     limen_node eye = limen_scene_get_camera(s);

@@ -22,6 +22,7 @@
 #include "core/internal.h"
 #include "core/json.h"
 #include "core/model.h"
+#include "core/texture.h"
 
 #define MAX_NODES 100000        /* a file's nodes at most */
 #define MAX_SURFACE_TRIS 256    /* a mirror's or portal's polygon, in triangles at most */
@@ -47,6 +48,8 @@ typedef struct mnode {
     int nverts, ntris;
     bool has_nrm, has_uv, has_color;
     float color[3];             /* its first mesh's material's diffuse colour */
+    char texture[256];          /* that material's base-colour image: a base name beside
+                                 * the file, or "" */
     msurf surf;
 } mnode;
 
@@ -206,6 +209,28 @@ static bool read_extras(const struct aiMetadata *md, msurf *sf, char *why, size_
 
 /* ------------------------------------------------------------------ from assimp */
 
+/* The base name of material mat's base-colour (or diffuse) image, or "": a file beside the
+ * model (images held in the file, "*N", are not read here). Only the name is taken from a
+ * path the file gives, so that a model reads nothing outside its own folder. */
+static void texture_name(const struct aiMaterial *mat, char out[256])
+{
+    struct aiString str;
+    out[0] = '\0';
+    if (aiGetMaterialTexture(mat, aiTextureType_BASE_COLOR, 0, &str, NULL, NULL, NULL, NULL, NULL,
+                             NULL) != aiReturn_SUCCESS &&
+        aiGetMaterialTexture(mat, aiTextureType_DIFFUSE, 0, &str, NULL, NULL, NULL, NULL, NULL,
+                             NULL) != aiReturn_SUCCESS)
+        return;
+    const char *base = str.data;
+    for (const char *p = str.data; *p; p++)
+        if (*p == '/' || *p == '\\')
+            base = p + 1;
+    if (base[0] == '*' || !base[0] || strcmp(base, "..") == 0 || strcmp(base, ".") == 0 ||
+        strlen(base) >= 256)
+        return;
+    snprintf(out, 256, "%s", base);
+}
+
 /* The triangles of node an's meshes into node mn (in its own frame). */
 static bool node_meshes(const struct aiScene *sc, const struct aiNode *an, mnode *mn)
 {
@@ -251,6 +276,7 @@ static bool node_meshes(const struct aiScene *sc, const struct aiNode *an, mnode
                     mn->color[i] = isfinite(rgb[i]) ? fminf(1, fmaxf(0, rgb[i])) : 1;
                 mn->has_color = true;
             }
+            texture_name(sc->mMaterials[m->mMaterialIndex], mn->texture);
         }
         for (unsigned i = 0; i < m->mNumVertices; i++) {
             memcpy(&mn->pos[(v0 + i) * 3], &m->mVertices[i], sizeof(float) * 3);
@@ -801,6 +827,24 @@ static limen_status build_eye_or_lamp(builder *b, int i, limen_node parent)
     return LIMEN_OK;
 }
 
+/* The image named `name` beside the model on mesh node n, where it can be read within the
+ * memory allowed; where it cannot, the node keeps its colour (a missing image never
+ * rejects a model) and the scene's message is left as it was. */
+static void node_texture(builder *b, limen_node n, const char *name)
+{
+    const char *slash = strrchr(b->path, '/');
+    char full[4096], keep[sizeof b->s->err];
+    int dir = slash ? (int)(slash - b->path + 1) : 0;
+    if (snprintf(full, sizeof full, "%.*s%s", dir, b->path, name) >= (int)sizeof full ||
+        b->bytes >= b->max_bytes)
+        return;
+    memcpy(keep, b->s->err, sizeof keep);
+    size_t charged = 0;
+    if (limen__node_texture(b->s, n, full, b->max_bytes - b->bytes, &charged) == LIMEN_OK)
+        b->bytes += charged;
+    memcpy(b->s->err, keep, sizeof keep);
+}
+
 static limen_status build_node(builder *b, int i)
 {
     const mnode *mn = &b->m->nodes[i];
@@ -837,6 +881,8 @@ static limen_status build_node(builder *b, int i)
         return refail(b, st, "node", mn->name);
     if (mn->has_color && (st = limen_node_set_color(b->s, n, mn->color)))
         return st;
+    if (mn->has_uv && mn->texture[0])
+        node_texture(b, n, mn->texture);
     limen_mesh_info info;
     if (!limen_mesh_get(b->s, n, &info))
         b->bytes += info.bytes;
