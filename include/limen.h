@@ -932,6 +932,40 @@ LIMEN_API limen_status limen_image_diff(const unsigned char *a, const unsigned c
                                         int width, int height, int threshold, limen_diff *out,
                                         unsigned char *heatmap);
 
+/* ---------------------------------------------------------------- defaults */
+
+/* Zero in a desc field means "default". Each function below returns a copy of *desc (NULL:
+ * all zero) with those zeros replaced by the defaults that the call taking it applies (one
+ * function per desc, all in src/core/limits.c), so a program can read or print them; fields
+ * that are not zero stay as they are (the call checks them, these do not). */
+#define LIMEN_DEFAULT_WIDTH 640                     /* image size where a desc gives none */
+#define LIMEN_DEFAULT_HEIGHT 480                    /* ... */
+#define LIMEN_DEFAULT_MAX_VIEWS 1024                /* limen_limits.max_views */
+#define LIMEN_DEFAULT_VIEW_SCREENS 64               /* budget.view_pixels: 64 x width x height */
+#define LIMEN_DEFAULT_SURFACE_TESTS 131072          /* budget.surface_tests */
+#define LIMEN_DEFAULT_INSTRUCTIONS 50000000         /* limen_script_desc.instruction_budget */
+#define LIMEN_DEFAULT_SCRIPT_MEMORY (64LL << 20)    /* limen_script_desc.memory_cap: 64 MiB */
+
+/* max_nodes stays 0 (no limit but memory). */
+LIMEN_API limen_scene_desc limen_scene_desc_defaults(const limen_scene_desc *desc);
+/* max_views, lod_pixels (LIMEN_LOD_DEFAULT), the frame budget for a width x height image
+ * (width or height 0: LIMEN_DEFAULT_WIDTH x LIMEN_DEFAULT_HEIGHT); depth 0 under
+ * LIMEN_DEPTH_RULE_OWN, which ignores it. */
+LIMEN_API limen_limits limen_limits_defaults(const limen_limits *limits, int width, int height);
+/* width and height (as limen_plan_build: 0 or less -> 640 x 480), then the limits for that
+ * size. */
+LIMEN_API limen_plan_desc limen_plan_desc_defaults(const limen_plan_desc *desc);
+/* width and height (0 or less -> 640 x 480), depth_bits (24, or 32 for ZO_REVERSED); msaa 0
+ * or 1 both mean off and stay. */
+LIMEN_API limen_renderer_desc limen_renderer_desc_defaults(const limen_renderer_desc *desc);
+/* texture_scale (1), and the limits for a renderer of width x height. */
+LIMEN_API limen_render_opts limen_render_opts_defaults(const limen_render_opts *opts, int width,
+                                                       int height);
+/* width and height (0 -> 640 x 480), threads (the online CPUs), the limits for that size. */
+LIMEN_API limen_trace_desc limen_trace_desc_defaults(const limen_trace_desc *desc);
+/* instruction_budget and memory_cap (0 -> the defaults above; < 0, none, stays). */
+LIMEN_API limen_script_desc limen_script_desc_defaults(const limen_script_desc *desc);
+
 /* ---------------------------------------------------------------- deprecated names */
 
 /* Names before the naming rule: errors are read with <subject>_error, and a getter paired

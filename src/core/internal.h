@@ -97,9 +97,10 @@ limen_status limen__fail(limen_scene *s, limen_status st, const char *fmt, ...)
 /* Writes into a fixed buffer (renderers, scripts). */
 void limen__vformat(char *buf, size_t size, const char *fmt, va_list ap);
 
-/* limits.c: checks in (NULL: all defaults) and fills out with its defaults (max_views
- * 1024, depth 0 under DEPTH_RULE_OWN); a bad field fails with a message that starts
- * "who: ". */
+/* limits.c: checks in (NULL: all defaults) and fills out with its defaults
+ * (limen_limits_defaults: max_views, lod_pixels, depth 0 under DEPTH_RULE_OWN, and a frame
+ * budget for a 640 x 480 image, where in has none: the planner fills its own size's first,
+ * through limen_plan_desc_defaults); a bad field fails with a message that starts "who: ". */
 limen_status limen__limits_resolve(limen_scene *s, const char *who, const limen_limits *in,
                                    limen_limits *out);
 /* The deepest view a surface whose own max_depth is surface_max may have under resolved

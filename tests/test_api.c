@@ -1,0 +1,149 @@
+/* test_api.c - the API's shape as a user meets it: the version (one source, limen.h), and
+ * the defaults functions (one per desc), which must return what the calls apply. */
+#include <limen.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "check.h"
+
+static void test_version(void)
+{
+    char parts[32];
+    snprintf(parts, sizeof parts, "%d.%d.%d", LIMEN_VERSION_MAJOR, LIMEN_VERSION_MINOR,
+             LIMEN_VERSION_PATCH);
+    CHECK(strcmp(LIMEN_VERSION, parts) == 0);
+    CHECK(strcmp(limen_version(), LIMEN_VERSION) == 0);
+    CHECK(limen_version_number() == LIMEN_VERSION_NUMBER);
+    CHECK(LIMEN_VERSION_NUMBER ==
+          LIMEN_VERSION_MAJOR * 10000 + LIMEN_VERSION_MINOR * 100 + LIMEN_VERSION_PATCH);
+}
+
+static void test_limits_defaults(void)
+{
+    limen_limits l = limen_limits_defaults(NULL, 0, 0);
+    CHECK(l.clip == LIMEN_CLIP_OBLIQUE && l.depth_rule == LIMEN_DEPTH_RULE_OWN);
+    CHECK(l.max_views == LIMEN_DEFAULT_MAX_VIEWS && LIMEN_DEFAULT_MAX_VIEWS == 1024);
+    CHECK(l.lod_pixels == LIMEN_LOD_DEFAULT);
+    CHECK(l.budget.view_pixels == (int64_t)LIMEN_DEFAULT_VIEW_SCREENS * 640 * 480);
+    CHECK(l.budget.surface_tests == LIMEN_DEFAULT_SURFACE_TESTS);
+    l = limen_limits_defaults(&(limen_limits){ .depth = 5, .max_views = 7,
+                                               .lod_pixels = LIMEN_LOD_FULL,
+                                               .budget.surface_tests = 9 }, 100, 50);
+    CHECK(l.depth == 0);                    /* OWN ignores depth */
+    CHECK(l.max_views == 7 && l.lod_pixels == LIMEN_LOD_FULL && l.budget.surface_tests == 9);
+    CHECK(l.budget.view_pixels == (int64_t)LIMEN_DEFAULT_VIEW_SCREENS * 100 * 50);
+    l = limen_limits_defaults(&(limen_limits){ .depth_rule = LIMEN_DEPTH_RULE_CAP, .depth = 5 },
+                              0, 0);
+    CHECK(l.depth == 5);
+}
+
+/* a camera facing a mirror that faces it: a tree of two views */
+static limen_scene *mirror_scene(void)
+{
+    limen_scene *s = NULL;
+    limen_node cam, m;
+    if (limen_scene_create(&(limen_scene_desc){ 0 }, &s))
+        return NULL;
+    limen_node_create(s, LIMEN_NODE_CAMERA, "cam", &cam);
+    limen_scene_set_camera(s, cam);
+    limen_node_create(s, LIMEN_NODE_MIRROR, "m", &m);
+    limen_node_set_position(s, m, (float[3]){ 0, 0, -3 });
+    return s;
+}
+
+static void test_plan_desc_defaults(void)
+{
+    limen_plan_desc d = limen_plan_desc_defaults(NULL);
+    CHECK(d.width == LIMEN_DEFAULT_WIDTH && d.height == LIMEN_DEFAULT_HEIGHT);
+    CHECK(d.width == 640 && d.height == 480);
+    CHECK(d.limits.max_views == 1024 && d.limits.lod_pixels == LIMEN_LOD_DEFAULT);
+    CHECK(d.limits.budget.view_pixels == 64LL * 640 * 480);
+    d = limen_plan_desc_defaults(&(limen_plan_desc){ .width = 100, .height = 50 });
+    CHECK(d.width == 100 && d.height == 50);
+    CHECK(d.limits.budget.view_pixels == 64LL * 100 * 50);
+
+    /* what the planner applies: a zero desc plans the same tree as the filled one, over a
+     * 640 x 480 image */
+    limen_scene *s = mirror_scene();
+    limen_plan *a = NULL, *b = NULL;
+    CHECK(s && limen_plan_create(&a) == LIMEN_OK && limen_plan_create(&b) == LIMEN_OK);
+    if (!s || !a || !b)
+        goto done;
+    limen_plan_desc filled = limen_plan_desc_defaults(NULL);
+    CHECK_OK(limen_plan_build(a, s, NULL));
+    CHECK_OK(limen_plan_build(b, s, &filled));
+    CHECK(limen_plan_count(a) == 2 && limen_plan_count(b) == 2);
+    const limen_view *ra = limen_plan_view(a, 0), *rb = limen_plan_view(b, 0);
+    CHECK(ra && rb && ra->scissor[2] == 640 && ra->scissor[3] == 480);
+    CHECK(ra && rb && memcmp(ra, rb, sizeof *ra) == 0);
+    limen_plan_work wa, wb;
+    limen_plan_get_work(a, &wa);
+    limen_plan_get_work(b, &wb);
+    CHECK(memcmp(&wa, &wb, sizeof wa) == 0);
+    /* the default view-pixel budget follows the image: at 100 x 50 it holds 64 such
+     * screens, so one screen's budget less than that stops the mirror's view */
+    limen_plan_desc small = { .width = 100, .height = 50 };
+    small.limits.budget.view_pixels = 100 * 50;
+    CHECK_OK(limen_plan_build(a, s, &small));
+    CHECK(limen_plan_count(a) == 1 && limen_plan_truncated(a) == 1);
+done:
+    limen_plan_destroy(a);
+    limen_plan_destroy(b);
+    limen_scene_destroy(s);
+}
+
+static void test_renderer_desc_defaults(void)
+{
+    limen_renderer_desc d = limen_renderer_desc_defaults(NULL);
+    CHECK(d.backend == LIMEN_BACKEND_OSMESA && d.width == 640 && d.height == 480);
+    CHECK(d.depth_bits == 24 && d.msaa == 0);
+    d = limen_renderer_desc_defaults(
+        &(limen_renderer_desc){ .depth_range = LIMEN_DEPTH_ZO_REVERSED, .width = 32 });
+    CHECK(d.depth_bits == 32 && d.width == 32 && d.height == 480);
+    /* what the renderer applies */
+    limen_renderer *r = NULL;
+    if (limen_renderer_create(&(limen_renderer_desc){ 0 }, &r) == LIMEN_OK) {
+        int w = 0, h = 0;
+        limen_renderer_get_size(r, &w, &h);
+        d = limen_renderer_desc_defaults(NULL);
+        CHECK(w == d.width && h == d.height);
+    } else {
+        CHECK_MSG(0, "renderer: %s", limen_renderer_error(r));
+    }
+    limen_renderer_destroy(r);
+    limen_render_opts o = limen_render_opts_defaults(NULL, 320, 200);
+    CHECK(o.method == LIMEN_METHOD_STENCIL && o.texture_scale == 1);
+    CHECK(o.limits.budget.view_pixels == 64LL * 320 * 200);
+}
+
+static void test_trace_and_script_defaults(void)
+{
+    limen_trace_desc t = limen_trace_desc_defaults(NULL);
+    CHECK(t.width == 640 && t.height == 480 && t.threads >= 1);
+    CHECK(t.limits.max_views == 1024);
+    t = limen_trace_desc_defaults(&(limen_trace_desc){ .threads = 3, .width = 8 });
+    CHECK(t.threads == 3 && t.width == 8 && t.height == 480);
+
+    limen_script_desc sd = limen_script_desc_defaults(NULL);
+    CHECK(sd.trusted == 0 && sd.print == NULL);
+    CHECK(sd.instruction_budget == 50000000 && sd.memory_cap == 64LL * 1024 * 1024);
+    sd = limen_script_desc_defaults(&(limen_script_desc){ .instruction_budget = -1,
+                                                         .memory_cap = 12345 });
+    CHECK(sd.instruction_budget == -1 && sd.memory_cap == 12345);
+    CHECK(limen_scene_desc_defaults(NULL).max_nodes == 0);
+    CHECK(limen_scene_desc_defaults(&(limen_scene_desc){ .max_nodes = 9 }).max_nodes == 9);
+}
+
+static const check_case cases[] = {
+    { "version", test_version },
+    { "limits_defaults", test_limits_defaults },
+    { "plan_desc_defaults", test_plan_desc_defaults },
+    { "renderer_desc_defaults", test_renderer_desc_defaults },
+    { "trace_and_script_defaults", test_trace_and_script_defaults },
+    { 0 },
+};
+
+int main(int argc, char **argv)
+{
+    return check_run(argc, argv, cases);
+}
