@@ -111,7 +111,8 @@ typedef enum limen_status {
     LIMEN_ERR_SCRIPT,       /* a Lua scene script failed */
     LIMEN_ERR_GL,           /* no OpenGL context, or OpenGL reported a failure */
     LIMEN_ERR_IO,           /* a file could not be read or written */
-    LIMEN_ERR_UNSUPPORTED   /* the backend or the context lacks a feature */
+    LIMEN_ERR_UNSUPPORTED,  /* the backend or the context lacks a feature */
+    LIMEN_STATUS_COUNT      /* the number of statuses (not one itself) */
 } limen_status;
 
 LIMEN_API const char *limen_status_string(limen_status st);    /* "invalid argument", ... */
@@ -121,7 +122,8 @@ LIMEN_API const char *limen_status_string(limen_status st);    /* "invalid argum
 typedef enum limen_depth_range {
     LIMEN_DEPTH_NO = 0,     /* OpenGL: z/w in [-1, 1], near at -1 */
     LIMEN_DEPTH_ZO,         /* Direct3D, Vulkan: z/w in [0, 1], near at 0 */
-    LIMEN_DEPTH_ZO_REVERSED /* near at 1, far at 0; pair with a float depth buffer */
+    LIMEN_DEPTH_ZO_REVERSED,/* near at 1, far at 0; pair with a float depth buffer */
+    LIMEN_DEPTH_RANGE_COUNT /* the number of conventions (not one itself) */
 } limen_depth_range;
 
 /* Plane through a, b, c; front side is where (b-a)x(c-a) points. Collinear -> DEGENERATE. */
@@ -489,13 +491,15 @@ LIMEN_API void limen_drawables_environment(const limen_drawables *d, float backg
 typedef enum limen_clip_method {
     LIMEN_CLIP_OBLIQUE = 0,     /* oblique near plane (falls back to PLANE where it cannot) */
     LIMEN_CLIP_PLANE,           /* user clip plane: gl_ClipDistance / SV_ClipDistance */
-    LIMEN_CLIP_NONE             /* nothing: objects behind the surface leak (baseline) */
+    LIMEN_CLIP_NONE,            /* nothing: objects behind the surface leak (baseline) */
+    LIMEN_CLIP_COUNT            /* the number of methods (not one itself) */
 } limen_clip_method;
 
 typedef enum limen_view_kind {
     LIMEN_VIEW_CAMERA = 0,      /* the scene camera: the root of the tree */
     LIMEN_VIEW_MIRROR,
-    LIMEN_VIEW_PORTAL
+    LIMEN_VIEW_PORTAL,
+    LIMEN_VIEW_KIND_COUNT       /* the number of kinds (not one itself) */
 } limen_view_kind;
 
 /* One view of the tree. Views are stored in draw order: depth first, a parent before its
@@ -535,7 +539,8 @@ typedef enum limen_surface_state {
                                  * not applied here: every colour of a view is multiplied by
                                  * its limen_view.tint, the product on the way.) */
     LIMEN_SURFACE_FILL,         /* front-facing, recursion stopped: draw its fill colour */
-    LIMEN_SURFACE_BACK          /* a mirror seen from behind: a matte quad of its back colour */
+    LIMEN_SURFACE_BACK,         /* a mirror seen from behind: a matte quad of its back colour */
+    LIMEN_SURFACE_STATE_COUNT   /* the number of states (not one itself) */
 } limen_surface_state;
 
 typedef struct limen_view_surface {
@@ -554,8 +559,9 @@ typedef enum limen_depth_rule {
     LIMEN_DEPTH_RULE_OWN = 0,   /* each surface's own max_depth (default; `depth` unused) */
     LIMEN_DEPTH_RULE_CAP,       /* the lesser of a surface's max_depth and `depth`: lowers
                                  * deep surfaces, never raises shallow ones (CLI --depth) */
-    LIMEN_DEPTH_RULE_OVERRIDE   /* `depth` for every surface, in place of its own: raises
+    LIMEN_DEPTH_RULE_OVERRIDE,  /* `depth` for every surface, in place of its own: raises
                                  * and lowers (CLI --depth-override) */
+    LIMEN_DEPTH_RULE_COUNT      /* the number of rules (not one itself) */
 } limen_depth_rule;
 
 /* What one frame may cost, whoever made the scene (scripts come from modders): a budget that
@@ -606,8 +612,9 @@ typedef struct limen_limits {
 typedef enum limen_cull {
     LIMEN_CULL_SURFACE = 0,     /* default: a surface must cover a pixel of the parent's
                                  * narrowed frustum; the child's scissor is what it covers */
-    LIMEN_CULL_FRUSTUM          /* the baseline of LIMEN_METHOD_NAIVE, for comparison: only
+    LIMEN_CULL_FRUSTUM,         /* the baseline of LIMEN_METHOD_NAIVE, for comparison: only
                                  * each virtual camera's whole frustum, full-image scissors */
+    LIMEN_CULL_COUNT            /* the number of rules (not one itself) */
 } limen_cull;
 
 typedef struct limen_plan_desc {
@@ -684,7 +691,8 @@ typedef struct limen_renderer limen_renderer;
 typedef enum limen_backend {
     LIMEN_BACKEND_OSMESA = 0,   /* Mesa's off-screen software renderer (llvmpipe) */
     LIMEN_BACKEND_EGL,          /* EGL surfaceless; a GPU where there is one */
-    LIMEN_BACKEND_HOST          /* the caller's own OpenGL context (a game's window) */
+    LIMEN_BACKEND_HOST,         /* the caller's own OpenGL context (a game's window) */
+    LIMEN_BACKEND_COUNT         /* the number of backends (not one itself) */
 } limen_backend;
 
 /* LIMEN_BACKEND_HOST: drawing into the game's context.
@@ -751,17 +759,19 @@ LIMEN_API void limen_renderer_get_size(const limen_renderer *r, int *width, int 
 typedef enum limen_method {
     LIMEN_METHOD_STENCIL = 0,   /* one framebuffer, stencil-nested recursion */
     LIMEN_METHOD_TEXTURE,       /* each view into an offscreen target sampled by its parent */
-    LIMEN_METHOD_NAIVE          /* the baseline of common engines, for comparison: one
+    LIMEN_METHOD_NAIVE,         /* the baseline of common engines, for comparison: one
                                  * full-resolution offscreen render per surface per level, no
                                  * culling of surfaces outside the narrowed frustum, no scissor
                                  * (its plan is LIMEN_CULL_FRUSTUM's) */
+    LIMEN_METHOD_COUNT          /* the number of methods (not one itself) */
 } limen_method;
 
 typedef enum limen_fill {
     LIMEN_FILL_COLOR = 0,       /* a surface where recursion stops shows its fill colour */
-    LIMEN_FILL_PREVIOUS         /* ... the previous frame's picture of that surface: its
+    LIMEN_FILL_PREVIOUS,        /* ... the previous frame's picture of that surface: its
                                  * shallowest view's rectangle, stretched onto it (the
                                  * fill colour on the first frame) */
+    LIMEN_FILL_COUNT            /* the number of fills (not one itself) */
 } limen_fill;
 
 typedef struct limen_render_opts {

@@ -134,7 +134,48 @@ static void test_trace_and_script_defaults(void)
     CHECK(limen_scene_desc_defaults(&(limen_scene_desc){ .max_nodes = 9 }).max_nodes == 9);
 }
 
+/* Each public enum ends with a _COUNT member: one past the last value, which every call
+ * refuses as it refuses any unknown value, and the last value below it is accepted. */
+static void test_enum_counts(void)
+{
+    CHECK(LIMEN_STATUS_COUNT == LIMEN_ERR_UNSUPPORTED + 1);
+    for (int i = 0; i < LIMEN_STATUS_COUNT; i++)
+        CHECK(strcmp(limen_status_string((limen_status)i), "unknown status") != 0);
+    CHECK(strcmp(limen_status_string(LIMEN_STATUS_COUNT), "unknown status") == 0);
+    CHECK(LIMEN_DEPTH_RANGE_COUNT == 3 && LIMEN_CLIP_COUNT == 3 && LIMEN_VIEW_KIND_COUNT == 3);
+    CHECK(LIMEN_SURFACE_STATE_COUNT == 3 && LIMEN_DEPTH_RULE_COUNT == 3 && LIMEN_CULL_COUNT == 2);
+    CHECK(LIMEN_BACKEND_COUNT == 3 && LIMEN_METHOD_COUNT == 3 && LIMEN_FILL_COUNT == 2);
+    CHECK(LIMEN_NODE_KIND_COUNT == LIMEN_NODE_MESH + 1);
+
+    float proj[16];
+    CHECK(limen_perspective(1, 1, 0.1f, 10, LIMEN_DEPTH_RANGE_COUNT - 1, proj) == LIMEN_OK);
+    CHECK(limen_perspective(1, 1, 0.1f, 10, LIMEN_DEPTH_RANGE_COUNT, proj) == LIMEN_ERR_ARG);
+    limen_scene *s = mirror_scene();
+    limen_plan *p = NULL;
+    CHECK(s && limen_plan_create(&p) == LIMEN_OK);
+    if (s && p) {
+        CHECK_OK(limen_plan_build(p, s, &(limen_plan_desc){ .cull = LIMEN_CULL_COUNT - 1 }));
+        CHECK(limen_plan_build(p, s, &(limen_plan_desc){ .cull = LIMEN_CULL_COUNT }) ==
+              LIMEN_ERR_ARG);
+        CHECK(limen_plan_build(p, s, &(limen_plan_desc){ .range = LIMEN_DEPTH_RANGE_COUNT }) ==
+              LIMEN_ERR_ARG);
+        limen_plan_desc d = { 0 };
+        d.limits.clip = LIMEN_CLIP_COUNT - 1;
+        CHECK_OK(limen_plan_build(p, s, &d));
+        d.limits.clip = LIMEN_CLIP_COUNT;
+        CHECK(limen_plan_build(p, s, &d) == LIMEN_ERR_ARG);
+        d.limits.clip = 0;
+        d.limits.depth_rule = LIMEN_DEPTH_RULE_COUNT - 1;
+        CHECK_OK(limen_plan_build(p, s, &d));
+        d.limits.depth_rule = LIMEN_DEPTH_RULE_COUNT;
+        CHECK(limen_plan_build(p, s, &d) == LIMEN_ERR_ARG);
+    }
+    limen_plan_destroy(p);
+    limen_scene_destroy(s);
+}
+
 static const check_case cases[] = {
+    { "enum_counts", test_enum_counts },
     { "version", test_version },
     { "limits_defaults", test_limits_defaults },
     { "plan_desc_defaults", test_plan_desc_defaults },

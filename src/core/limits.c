@@ -97,9 +97,9 @@ limen_status limen__limits_resolve(limen_scene *s, const char *who, const limen_
                                    limen_limits *out)
 {
     limen_limits l = in ? *in : (limen_limits){ 0 };
-    if ((unsigned)l.clip > LIMEN_CLIP_NONE)
+    if ((unsigned)l.clip >= LIMEN_CLIP_COUNT)
         return limen__fail(s, LIMEN_ERR_ARG, "%s: unknown clip method %d", who, (int)l.clip);
-    if ((unsigned)l.depth_rule > LIMEN_DEPTH_RULE_OVERRIDE)
+    if ((unsigned)l.depth_rule >= LIMEN_DEPTH_RULE_COUNT)
         return limen__fail(s, LIMEN_ERR_ARG, "%s: unknown depth rule %d", who,
                            (int)l.depth_rule);
     if (l.depth_rule != LIMEN_DEPTH_RULE_OWN && (l.depth < 0 || l.depth > 255))

@@ -424,7 +424,7 @@ limen_status limen_plan_build(limen_plan *p, limen_scene *s, const limen_plan_de
     limen_plan_desc d = limen_plan_desc_defaults(desc);
     p->width = d.width;
     p->height = d.height;
-    if ((unsigned)d.range > LIMEN_DEPTH_ZO_REVERSED || (unsigned)d.cull > LIMEN_CULL_FRUSTUM)
+    if ((unsigned)d.range >= LIMEN_DEPTH_RANGE_COUNT || (unsigned)d.cull >= LIMEN_CULL_COUNT)
         return limen__fail(s, LIMEN_ERR_ARG, "plan: unknown depth range or cull rule");
     limen_status lst = limen__limits_resolve(s, "plan", &d.limits, &p->limits);
     if (lst)
