@@ -680,8 +680,10 @@ LIMEN_API void limen_plan_get_work(const limen_plan *p, limen_plan_work *out);
 /* Writes the plan as JSON ({"views": [...]}); returns LIMEN_ERR_IO if it cannot. Each view
  * lists, besides its matrices and surfaces, the meshes it may show (limen_plan_view_things)
  * with the level of detail it draws each at under the plan's lod_pixels and height
- * (limen_view_mesh_lod): "meshes": [{"node": "statue", "lod": 3, "triangles": 212}]. */
-LIMEN_API limen_status limen_plan_write_json(const limen_plan *p, const limen_scene *s,
+ * (limen_view_mesh_lod): "meshes": [{"node": "statue", "lod": 3, "triangles": 212}]. Like
+ * limen_plan_view_things it asks the scene's spatial index, which it may refresh, so it takes
+ * the scene as an edit does (see THREADS). */
+LIMEN_API limen_status limen_plan_write_json(const limen_plan *p, limen_scene *s,
                                              const char *path);
 
 /* ---------------------------------------------------------------- renderer */

@@ -739,7 +739,7 @@ static void json_clones(FILE *f, const limen_plan *p, const limen_scene *s)
     fprintf(f, "%s]", n ? "\n" : "");
 }
 
-limen_status limen_plan_write_json(const limen_plan *p, const limen_scene *s, const char *path)
+limen_status limen_plan_write_json(const limen_plan *p, limen_scene *s, const char *path)
 {
     if (!p || !s || !path)
         return LIMEN_ERR_ARG;
@@ -786,8 +786,7 @@ limen_status limen_plan_write_json(const limen_plan *p, const limen_scene *s, co
         fprintf(f, ", \"tint\": ");
         json_floats(f, v->tint, 3);
         json_view_surfaces(f, p, s, i);
-        /* the index may need refreshing: it is the scene's cache, not its state */
-        if (!json_view_meshes(f, p, (limen_scene *)s, i)) {
+        if (!json_view_meshes(f, p, s, i)) {
             limen__out_abort(&out);
             return LIMEN_ERR_NOMEM;
         }
