@@ -174,7 +174,49 @@ static void test_enum_counts(void)
     limen_scene_destroy(s);
 }
 
+/* One node lookup (limen__node_lookup, and its const twin) behind every call: a status and,
+ * for a call that may write, a message that names the call and says what is wrong. */
+static void test_node_lookup(void)
+{
+    limen_scene *s = mirror_scene();
+    CHECK(s != NULL);
+    if (!s)
+        return;
+    limen_node ball, gone, m;
+    CHECK_OK(limen_node_find(s, "m", &m));
+    CHECK_OK(limen_node_create(s, LIMEN_NODE_SPHERE, "ball", &ball));
+    CHECK_OK(limen_node_create(s, LIMEN_NODE_BOX, "gone", &gone));
+    CHECK_OK(limen_node_destroy(s, gone));
+
+    CHECK(limen_node_set_position(s, gone, (float[3]){ 0, 0, 0 }) == LIMEN_ERR_HANDLE);
+    CHECK(strcmp(limen_scene_error(s),
+                 "limen_node_set_position: stale or foreign node handle") == 0);
+    CHECK(limen_node_set_position(s, (limen_node){ 0 }, (float[3]){ 0, 0, 0 }) ==
+          LIMEN_ERR_HANDLE);
+    CHECK(strcmp(limen_scene_error(s), "limen_node_set_position: null node handle") == 0);
+    CHECK(limen_node_set_position(NULL, ball, (float[3]){ 0, 0, 0 }) == LIMEN_ERR_ARG);
+    CHECK(limen_surface_set_tint(s, ball, (float[3]){ 1, 1, 1 }) == LIMEN_ERR_HANDLE);
+    CHECK(strcmp(limen_scene_error(s), "tint: 'ball' is not a mirror or a portal") == 0);
+    CHECK(limen_portal_link(s, m, gone) == LIMEN_ERR_HANDLE);
+    CHECK(strcmp(limen_scene_error(s), "portal_link: stale or foreign node handle") == 0);
+    CHECK_OK(limen_surface_set_tint(s, m, (float[3]){ 1, 1, 1 }));
+
+    /* const readers: a status, and the message stays as it was */
+    limen_node_set_position(s, gone, (float[3]){ 0, 0, 0 });
+    float rgb[3], p[3];
+    CHECK(limen_surface_get(s, ball, rgb, NULL, NULL, NULL) == LIMEN_ERR_HANDLE);
+    CHECK(limen_surface_get(s, gone, rgb, NULL, NULL, NULL) == LIMEN_ERR_HANDLE);
+    CHECK(limen_surface_get(NULL, m, rgb, NULL, NULL, NULL) == LIMEN_ERR_ARG);
+    CHECK_OK(limen_surface_get(s, m, rgb, NULL, NULL, NULL));
+    CHECK(limen_node_get_position(s, gone, p) == LIMEN_ERR_HANDLE);
+    CHECK(limen_portal_get_partner(s, m).id == 0);
+    CHECK(strcmp(limen_scene_error(s),
+                 "limen_node_set_position: stale or foreign node handle") == 0);
+    limen_scene_destroy(s);
+}
+
 static const check_case cases[] = {
+    { "node_lookup", test_node_lookup },
     { "enum_counts", test_enum_counts },
     { "version", test_version },
     { "limits_defaults", test_limits_defaults },

@@ -117,6 +117,19 @@ limen_status limen__write_jpeg(const char *path, int width, int height,
 
 /* Live node for a handle, or NULL. */
 limen__node *limen__node_get(const limen_scene *s, limen_node n);
+/* Bit of a node kind in a set of kinds (limen__node_lookup's kinds). */
+#define LIMEN__KIND(k) (1u << (unsigned)(k))
+/* The live node of handle n, looked up for an edit or a call that may write the scene:
+ * LIMEN_OK and *out; LIMEN_ERR_ARG without a scene; LIMEN_ERR_HANDLE for a null, stale or
+ * foreign handle, or a node whose kind is not in `kinds` (LIMEN__KIND bits; 0: any kind),
+ * with a message "fn: null node handle", "fn: stale or foreign node handle" or
+ * "fn: 'title' is not <what>". *out is NULL on failure. */
+limen_status limen__node_lookup(limen_scene *s, limen_node n, unsigned kinds, const char *what,
+                                const char *fn, limen__node **out);
+/* The same for const readers, which never write the scene (not even its message): only the
+ * status. */
+limen_status limen__node_lookup_const(const limen_scene *s, limen_node n, unsigned kinds,
+                                      const limen__node **out);
 /* Recomputes the world matrices of the nodes touched since the last call and of their
  * descendants (core/index.c). */
 void limen__scene_refresh(limen_scene *s);

@@ -36,34 +36,43 @@ limen__node *limen__node_get(const limen_scene *s, limen_node n)
     return node;
 }
 
+limen_status limen__node_lookup(limen_scene *s, limen_node n, unsigned kinds, const char *what,
+                                const char *fn, limen__node **out)
+{
+    *out = NULL;
+    if (!s)
+        return LIMEN_ERR_ARG;
+    limen__node *node = limen__node_get(s, n);
+    if (!node)
+        return limen__fail(s, LIMEN_ERR_HANDLE, "%s: %s node handle", fn,
+                           n.id ? "stale or foreign" : "null");
+    if (kinds && !(kinds & LIMEN__KIND(node->kind)))
+        return limen__fail(s, LIMEN_ERR_HANDLE, "%s: '%s' is not %s", fn, limen__node_title(node),
+                           what);
+    *out = node;
+    return LIMEN_OK;
+}
+
+limen_status limen__node_lookup_const(const limen_scene *s, limen_node n, unsigned kinds,
+                                      const limen__node **out)
+{
+    *out = NULL;
+    if (!s)
+        return LIMEN_ERR_ARG;
+    const limen__node *node = limen__node_get(s, n);
+    if (!node || (kinds && !(kinds & LIMEN__KIND(node->kind))))
+        return LIMEN_ERR_HANDLE;
+    *out = node;
+    return LIMEN_OK;
+}
+
+
 static const char *kind_name(limen_node_kind k)
 {
     static const char *names[] = { "group", "box", "sphere", "cylinder", "quad",
                                    "mirror", "portal", "light", "camera", "mesh" };
     return (unsigned)k < LIMEN_NODE_KIND_COUNT ? names[k] : "node";
 }
-
-/* Looks up a handle or leaves a message naming the caller. */
-static limen__node *get_or_fail(limen_scene *s, limen_node n, const char *fn)
-{
-    limen__node *node = limen__node_get(s, n);
-    if (!node && s)
-        limen__fail(s, LIMEN_ERR_HANDLE, "%s: %s node handle", fn,
-                    n.id ? "stale or foreign" : "null");
-    return node;
-}
-
-/* Const readers never write the scene, not even its message, so that any number of
- * threads may read one scene at once: a bad handle is only a status. */
-#define GET_CONST(node, s, n)                                                            \
-    const limen__node *node = limen__node_get((s), (n));                                 \
-    if (!node)                                                                           \
-    return (s) ? LIMEN_ERR_HANDLE : LIMEN_ERR_ARG
-
-#define GET(node, s, n)                                                                  \
-    limen__node *node = get_or_fail((s), (n), __func__);                                 \
-    if (!node)                                                                           \
-    return (s) ? LIMEN_ERR_HANDLE : LIMEN_ERR_ARG
 
 /* Message prefix for a node: "label: kind 'name'" ("label: kind" if it has no name). */
 static void node_desc(const limen__node *node, char *buf, size_t size)
@@ -140,7 +149,10 @@ float limen_scene_get_ambient(const limen_scene *s)
 
 limen_status limen_scene_set_camera(limen_scene *s, limen_node camera)
 {
-    GET(node, s, camera);
+    limen__node *node;
+    limen_status found = limen__node_lookup(s, camera, 0, NULL, __func__, &node);
+    if (found)
+        return found;
     if (node->kind != LIMEN_NODE_CAMERA)
         return limen__fail(s, LIMEN_ERR_HANDLE, "set_camera: node '%s' is a %s, not a camera",
                            limen__node_title(node), kind_name(node->kind));
@@ -397,7 +409,10 @@ limen_status limen_node_create(limen_scene *s, limen_node_kind kind, const char 
 
 limen_status limen_node_destroy(limen_scene *s, limen_node n)
 {
-    GET(node, s, n);
+    limen__node *node;
+    limen_status found = limen__node_lookup(s, n, 0, NULL, __func__, &node);
+    if (found)
+        return found;
     uint32_t self = (uint32_t)(node - s->nodes) + 1u;
     for (int k = 0; k < s->live_len && node->nchildren > 0; k++) {
         int i = s->live[k];
@@ -474,7 +489,10 @@ limen_node_kind limen_node_get_kind(const limen_scene *s, limen_node n)
 
 limen_status limen_node_set_label(limen_scene *s, limen_node n, const char *label)
 {
-    GET(node, s, n);
+    limen__node *node;
+    limen_status found = limen__node_lookup(s, n, 0, NULL, __func__, &node);
+    if (found)
+        return found;
     snprintf(node->label, sizeof node->label, "%s", label ? label : "");
     return LIMEN_OK;
 }
@@ -495,15 +513,18 @@ static void set_parent_slot(limen_scene *s, limen__node *node, uint32_t parent)
 
 limen_status limen_node_set_parent(limen_scene *s, limen_node n, limen_node parent)
 {
-    GET(node, s, n);
+    limen__node *node;
+    limen_status found = limen__node_lookup(s, n, 0, NULL, __func__, &node);
+    if (found)
+        return found;
     uint32_t self = (uint32_t)(node - s->nodes) + 1u;
     if (!parent.id) {
         set_parent_slot(s, node, 0);
         return LIMEN_OK;
     }
-    limen__node *p = get_or_fail(s, parent, "set_parent");
-    if (!p)
-        return LIMEN_ERR_HANDLE;
+    limen__node *p;
+    if ((found = limen__node_lookup(s, parent, 0, NULL, "set_parent", &p)))
+        return found;
     uint32_t pi = (uint32_t)(p - s->nodes) + 1u;
     for (uint32_t at = pi; at; at = s->nodes[at - 1].parent) {
         if (at == self) {
@@ -569,7 +590,10 @@ static void to_trs(limen_scene *s, limen__node *node)
 
 limen_status limen_node_set_position(limen_scene *s, limen_node n, const float p[3])
 {
-    GET(node, s, n);
+    limen__node *node;
+    limen_status found = limen__node_lookup(s, n, 0, NULL, __func__, &node);
+    if (found)
+        return found;
     CHECK_VEC(s, p, "position");
     glm_vec3_copy((float *)p, node->pos);
     to_trs(s, node);
@@ -578,7 +602,10 @@ limen_status limen_node_set_position(limen_scene *s, limen_node n, const float p
 
 limen_status limen_node_set_rotation(limen_scene *s, limen_node n, const float xyz[3])
 {
-    GET(node, s, n);
+    limen__node *node;
+    limen_status found = limen__node_lookup(s, n, 0, NULL, __func__, &node);
+    if (found)
+        return found;
     CHECK_VEC(s, xyz, "rotation");
     glm_vec3_copy((float *)xyz, node->euler);
     to_trs(s, node);
@@ -621,7 +648,10 @@ static limen_status facing_basis(limen_scene *s, const float normal[3], const fl
 limen_status limen_node_set_facing(limen_scene *s, limen_node n, const float normal[3],
                                    const float up[3])
 {
-    GET(node, s, n);
+    limen__node *node;
+    limen_status found = limen__node_lookup(s, n, 0, NULL, __func__, &node);
+    if (found)
+        return found;
     mat3 f;
     limen_status st = facing_basis(s, normal, up, f);
     if (st)
@@ -633,7 +663,10 @@ limen_status limen_node_set_facing(limen_scene *s, limen_node n, const float nor
 
 limen_status limen_node_set_scale(limen_scene *s, limen_node n, const float xyz[3])
 {
-    GET(node, s, n);
+    limen__node *node;
+    limen_status found = limen__node_lookup(s, n, 0, NULL, __func__, &node);
+    if (found)
+        return found;
     /* positive: a mirrored node would turn its faces inside out for the renderer's culling */
     limen_status st = check_sizes(s, xyz, 3, "scale");
     if (st)
@@ -645,7 +678,10 @@ limen_status limen_node_set_scale(limen_scene *s, limen_node n, const float xyz[
 
 limen_status limen_node_set_local_matrix(limen_scene *s, limen_node n, const float m[16])
 {
-    GET(node, s, n);
+    limen__node *node;
+    limen_status found = limen__node_lookup(s, n, 0, NULL, __func__, &node);
+    if (found)
+        return found;
     if (!m)
         return limen__fail(s, LIMEN_ERR_ARG, "local matrix: NULL");
     mat4 l;
@@ -672,7 +708,10 @@ limen_status limen_node_set_local_matrix(limen_scene *s, limen_node n, const flo
 limen_status limen_node_look_at(limen_scene *s, limen_node n, const float eye[3],
                                 const float target[3], const float up[3])
 {
-    GET(node, s, n);
+    limen__node *node;
+    limen_status found = limen__node_lookup(s, n, 0, NULL, __func__, &node);
+    if (found)
+        return found;
     CHECK_VEC(s, eye, "eye");
     CHECK_VEC(s, target, "target");
     vec3 back;
@@ -692,7 +731,10 @@ limen_status limen_node_look_at(limen_scene *s, limen_node n, const float eye[3]
 
 limen_status limen_node_get_position(const limen_scene *s, limen_node n, float p[3])
 {
-    GET_CONST(node, s, n);
+    const limen__node *node;
+    limen_status found = limen__node_lookup_const(s, n, 0, &node);
+    if (found)
+        return found;
     if (!p)
         return LIMEN_ERR_ARG;
     if (node->explicit_local)
@@ -704,7 +746,10 @@ limen_status limen_node_get_position(const limen_scene *s, limen_node n, float p
 
 limen_status limen_node_get_rotation(const limen_scene *s, limen_node n, float xyz[3])
 {
-    GET_CONST(node, s, n);
+    const limen__node *node;
+    limen_status found = limen__node_lookup_const(s, n, 0, &node);
+    if (found)
+        return found;
     if (!xyz)
         return LIMEN_ERR_ARG;
     memcpy(xyz, node->euler, sizeof(float) * 3);
@@ -713,7 +758,10 @@ limen_status limen_node_get_rotation(const limen_scene *s, limen_node n, float x
 
 limen_status limen_node_get_scale(const limen_scene *s, limen_node n, float xyz[3])
 {
-    GET_CONST(node, s, n);
+    const limen__node *node;
+    limen_status found = limen__node_lookup_const(s, n, 0, &node);
+    if (found)
+        return found;
     if (!xyz)
         return LIMEN_ERR_ARG;
     memcpy(xyz, node->scale, sizeof(float) * 3);
@@ -728,7 +776,10 @@ static void mat_out(mat4 m, float out[16])
 
 limen_status limen_node_get_local_matrix(limen_scene *s, limen_node n, float m[16])
 {
-    GET(node, s, n);
+    limen__node *node;
+    limen_status found = limen__node_lookup(s, n, 0, NULL, __func__, &node);
+    if (found)
+        return found;
     if (!m)
         return LIMEN_ERR_ARG;
     limen__node_compose_local(node);
@@ -738,7 +789,10 @@ limen_status limen_node_get_local_matrix(limen_scene *s, limen_node n, float m[1
 
 limen_status limen_node_world_matrix(limen_scene *s, limen_node n, float m[16])
 {
-    GET(node, s, n);
+    limen__node *node;
+    limen_status found = limen__node_lookup(s, n, 0, NULL, __func__, &node);
+    if (found)
+        return found;
     if (!m)
         return LIMEN_ERR_ARG;
     limen__scene_refresh(s);
@@ -752,7 +806,10 @@ limen_status limen_node_world_matrix(limen_scene *s, limen_node n, float m[16])
 
 limen_status limen_node_set_dims(limen_scene *s, limen_node n, const float dims[3])
 {
-    GET(node, s, n);
+    limen__node *node;
+    limen_status found = limen__node_lookup(s, n, 0, NULL, __func__, &node);
+    if (found)
+        return found;
     CHECK_VEC(s, dims, "dims");
     int used = 0;
     switch (node->kind) {
@@ -777,7 +834,10 @@ limen_status limen_node_set_dims(limen_scene *s, limen_node n, const float dims[
 
 limen_status limen_node_get_dims(const limen_scene *s, limen_node n, float dims[3])
 {
-    GET_CONST(node, s, n);
+    const limen__node *node;
+    limen_status found = limen__node_lookup_const(s, n, 0, &node);
+    if (found)
+        return found;
     if (!dims)
         return LIMEN_ERR_ARG;
     memcpy(dims, node->dims, sizeof(float) * 3);
@@ -796,7 +856,10 @@ static limen_status check_color(limen_scene *s, const float rgb[3], bool unit, c
 
 limen_status limen_node_set_color(limen_scene *s, limen_node n, const float rgb[3])
 {
-    GET(node, s, n);
+    limen__node *node;
+    limen_status found = limen__node_lookup(s, n, 0, NULL, __func__, &node);
+    if (found)
+        return found;
     limen_status st = check_color(s, rgb, node->kind != LIMEN_NODE_LIGHT, "color");
     if (st)
         return st;
@@ -806,7 +869,10 @@ limen_status limen_node_set_color(limen_scene *s, limen_node n, const float rgb[
 
 limen_status limen_node_get_color(const limen_scene *s, limen_node n, float rgb[3])
 {
-    GET_CONST(node, s, n);
+    const limen__node *node;
+    limen_status found = limen__node_lookup_const(s, n, 0, &node);
+    if (found)
+        return found;
     if (!rgb)
         return LIMEN_ERR_ARG;
     memcpy(rgb, node->color, sizeof(float) * 3);
@@ -816,7 +882,10 @@ limen_status limen_node_get_color(const limen_scene *s, limen_node n, float rgb[
 limen_status limen_node_set_checker(limen_scene *s, limen_node n, const float a[3],
                                     const float b[3], float cell)
 {
-    GET(node, s, n);
+    limen__node *node;
+    limen_status found = limen__node_lookup(s, n, 0, NULL, __func__, &node);
+    if (found)
+        return found;
     if (!(cell == 0 || (cell >= LIMEN_MIN_SIZE && cell <= LIMEN_MAX_MAGNITUDE)))
         return limen__fail(s, LIMEN_ERR_ARG, "checker: cell size must be 0 or a positive number "
                            "from 1e-9 to 1e9 (got %g)", cell);
@@ -837,7 +906,10 @@ limen_status limen_node_set_checker(limen_scene *s, limen_node n, const float a[
 
 limen_status limen_node_set_texture_repeat(limen_scene *s, limen_node n, const float repeat[2])
 {
-    GET(node, s, n);
+    limen__node *node;
+    limen_status found = limen__node_lookup(s, n, 0, NULL, __func__, &node);
+    if (found)
+        return found;
     limen_status st = check_sizes(s, repeat, 2, "texture repeat");
     if (st)
         return st;
@@ -848,7 +920,10 @@ limen_status limen_node_set_texture_repeat(limen_scene *s, limen_node n, const f
 
 limen_status limen_node_get_texture_repeat(const limen_scene *s, limen_node n, float repeat[2])
 {
-    GET_CONST(node, s, n);
+    const limen__node *node;
+    limen_status found = limen__node_lookup_const(s, n, 0, &node);
+    if (found)
+        return found;
     if (!repeat)
         return LIMEN_ERR_ARG;
     repeat[0] = node->tex_repeat[0];
@@ -859,7 +934,10 @@ limen_status limen_node_get_texture_repeat(const limen_scene *s, limen_node n, f
 limen_status limen_node_get_checker(const limen_scene *s, limen_node n, float a[3], float b[3],
                                     float *cell)
 {
-    GET_CONST(node, s, n);
+    const limen__node *node;
+    limen_status found = limen__node_lookup_const(s, n, 0, &node);
+    if (found)
+        return found;
     if (a)
         memcpy(a, node->color, sizeof(float) * 3);
     if (b)
@@ -871,7 +949,10 @@ limen_status limen_node_get_checker(const limen_scene *s, limen_node n, float a[
 
 limen_status limen_node_set_visible(limen_scene *s, limen_node n, int visible)
 {
-    GET(node, s, n);
+    limen__node *node;
+    limen_status found = limen__node_lookup(s, n, 0, NULL, __func__, &node);
+    if (found)
+        return found;
     node->visible = visible != 0;
     return LIMEN_OK;
 }
@@ -884,7 +965,10 @@ int limen_node_get_visible(const limen_scene *s, limen_node n)
 
 limen_status limen_light_set_range(limen_scene *s, limen_node n, float range)
 {
-    GET(node, s, n);
+    limen__node *node;
+    limen_status found = limen__node_lookup(s, n, 0, NULL, __func__, &node);
+    if (found)
+        return found;
     if (node->kind != LIMEN_NODE_LIGHT)
         return limen__fail(s, LIMEN_ERR_HANDLE, "range: '%s' is a %s, not a light",
                            limen__node_title(node), kind_name(node->kind));
@@ -906,7 +990,10 @@ float limen_light_get_range(const limen_scene *s, limen_node n)
 limen_status limen_camera_set_lens(limen_scene *s, limen_node cam, float fovy, float znear,
                                    float zfar)
 {
-    GET(node, s, cam);
+    limen__node *node;
+    limen_status found = limen__node_lookup(s, cam, 0, NULL, __func__, &node);
+    if (found)
+        return found;
     if (node->kind != LIMEN_NODE_CAMERA)
         return limen__fail(s, LIMEN_ERR_HANDLE, "camera lens: '%s' is not a camera",
                            limen__node_title(node));
@@ -930,7 +1017,10 @@ limen_status limen_camera_set_lens(limen_scene *s, limen_node cam, float fovy, f
 limen_status limen_camera_get_lens(const limen_scene *s, limen_node cam, float *fovy,
                                    float *znear, float *zfar)
 {
-    GET_CONST(node, s, cam);
+    const limen__node *node;
+    limen_status found = limen__node_lookup_const(s, cam, 0, &node);
+    if (found)
+        return found;
     if (fovy)
         *fovy = node->fovy;
     if (znear)
