@@ -190,13 +190,6 @@ int limen_scene_nodes(const limen_scene *s, limen_node *out, int max)
 
 /* ------------------------------------------------------------------ world matrices */
 
-/* "label: kind 'name'" of a node for messages. */
-static void node_title(const limen__node *n, char *buf, size_t size)
-{
-    snprintf(buf, size, "%s%s%s%s%s%s", n->label, n->label[0] ? ": " : "", kind_name(n->kind),
-             n->name[0] ? " '" : "", n->name, n->name[0] ? "'" : "");
-}
-
 /* The largest and smallest length of the world matrix's three axes. */
 static void world_scale(const limen__node *n, double *lo, double *hi)
 {
@@ -219,7 +212,7 @@ limen_status limen__scene_check(limen_scene *s)
     char title[256];
     int bad = limen__scene_bad_world(s);
     if (bad >= 0) {
-        node_title(&s->nodes[bad], title, sizeof title);
+        node_desc(&s->nodes[bad], title, sizeof title);
         return limen__fail(s, LIMEN_ERR_ARG,
                            "%s: its world transform is not finite (the scales along its "
                            "parent chain multiply past what a float holds)", title);
@@ -239,7 +232,7 @@ limen_status limen__scene_check(limen_scene *s)
         world_scale(n, &lo, &hi);
         if (lo >= LIMEN_MIN_SIZE * (1 - 1e-6) && hi <= LIMEN_MAX_MAGNITUDE * (1 + 1e-6))
             continue;
-        node_title(n, title, sizeof title);
+        node_desc(n, title, sizeof title);
         return limen__fail(s, LIMEN_ERR_ARG,
                            "%s: its world transform scales it by %g (the scales along its "
                            "parent chain must keep a camera, mirror or portal between 1e-9 and "
