@@ -5,6 +5,7 @@
 
 #include "core/internal.h"
 #include "core/mesh.h"
+#include "core/reserve.h"
 #include "core/texture.h"
 
 /* The pool grows by doubling up to this many slots (an index must fit a handle's low 32
@@ -348,18 +349,10 @@ static void compact_live(limen_scene *s)
 
 static bool push_live(limen_scene *s, int index)
 {
-    if (s->live_len == s->live_cap) {
-        if (s->live_holes)
-            compact_live(s);
-        if (s->live_len == s->live_cap) {
-            int cap = s->live_cap ? s->live_cap * 2 : 64;
-            int *live = realloc(s->live, sizeof *live * (size_t)cap);
-            if (!live)
-                return false;
-            s->live = live;
-            s->live_cap = cap;
-        }
-    }
+    if (s->live_len == s->live_cap && s->live_holes)
+        compact_live(s);
+    if (!limen__reserve((void **)&s->live, &s->live_cap, s->live_len + 1, sizeof *s->live))
+        return false;
     s->nodes[index].live_at = s->live_len;
     s->live[s->live_len++] = index;
     return true;
