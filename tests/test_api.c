@@ -26,6 +26,7 @@ static void test_limits_defaults(void)
     CHECK(l.lod_pixels == LIMEN_LOD_DEFAULT);
     CHECK(l.budget.view_pixels == (int64_t)LIMEN_DEFAULT_VIEW_SCREENS * 640 * 480);
     CHECK(l.budget.surface_tests == LIMEN_DEFAULT_SURFACE_TESTS);
+    CHECK(l.budget.triangles == LIMEN_BUDGET_TRIANGLES_DEFAULT);
     l = limen_limits_defaults(&(limen_limits){ .depth = 5, .max_views = 7,
                                                .lod_pixels = LIMEN_LOD_FULL,
                                                .budget.surface_tests = 9 }, 100, 50);

@@ -54,6 +54,7 @@ typedef struct limen__node {
     bool smooth;                /* meshes: interpolate vertex normals */
     struct limen__texture *texture;  /* quads, boxes, meshes: albedo = texel * colour */
     float tex_repeat[2];        /* texture coordinates are scaled by these (1, 1) */
+    limen_texture_filter tex_filter;  /* LIMEN_FILTER_TRILINEAR (0) unless set */
 } limen__node;
 
 struct limen_scene {

@@ -31,6 +31,8 @@ limen_limits limen_limits_defaults(const limen_limits *limits, int width, int he
         l.budget.view_pixels = (int64_t)LIMEN_DEFAULT_VIEW_SCREENS * width * height;
     if (l.budget.surface_tests == 0)
         l.budget.surface_tests = LIMEN_DEFAULT_SURFACE_TESTS;
+    if (l.budget.triangles == 0)
+        l.budget.triangles = LIMEN_BUDGET_TRIANGLES_DEFAULT;
     return l;
 }
 
@@ -107,7 +109,7 @@ limen_status limen__limits_resolve(limen_scene *s, const char *who, const limen_
                            l.depth);
     if (l.max_views < 0)
         return limen__fail(s, LIMEN_ERR_ARG, "%s: view budget must be positive", who);
-    if (l.budget.view_pixels < 0 || l.budget.surface_tests < 0)
+    if (l.budget.view_pixels < 0 || l.budget.surface_tests < 0 || l.budget.triangles < 0)
         return limen__fail(s, LIMEN_ERR_ARG, "%s: frame budget must not be negative", who);
     if (!(l.adaptive >= 0 && l.adaptive <= 1))
         return limen__fail(s, LIMEN_ERR_ARG, "%s: adaptive threshold must be in [0, 1]", who);
