@@ -220,7 +220,7 @@ clean:
 $(B)/cmake/limenConfig.cmake: packaging/limenConfig.cmake.in packaging/limenConfigVersion.cmake.in \
                               include/limen.h Makefile
 	@mkdir -p $(dir $@)
-	@sed -e 's|@VERSION@|$(VERSION)|g' -e 's|@SONAME@|$(SONAME)|g' \
+	@sed -e 's|@VERSION@|$(VERSION)|g' -e 's|@SONAME@|$(SONAME)|g' -e 's|@PKGS@|$(PKGS)|g' \
 	     packaging/limenConfig.cmake.in > $@
 	@sed -e 's|@VERSION@|$(VERSION)|g' packaging/limenConfigVersion.cmake.in \
 	     > $(B)/cmake/limenConfigVersion.cmake
