@@ -891,6 +891,12 @@ LIMEN_API int limen_script_animated(const limen_script *sc);           /* 1 if i
 /* Calls the scene's update(t), t in seconds; a no-op for a still scene. An error leaves the
  * script usable (the next update may succeed), except one from a limit (see above). */
 LIMEN_API limen_status limen_script_update(limen_script *sc, double t);
+/* After a load or update that failed on the memory cap (an allocation, or a mesh or image
+ * the cap had no room for, refused from its header before it is read): the cap in bytes
+ * that the refused request would have fitted in, what the script held then plus what it
+ * asked for; 0 when the last call failed otherwise or succeeded. Later requests may need
+ * more. The limen program prints it as "needs 231.8 MiB: --memory 256". */
+LIMEN_API int64_t limen_script_memory_needed(const limen_script *sc);
 
 /* ---------------------------------------------------------------- images */
 

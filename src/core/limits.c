@@ -3,6 +3,7 @@
  * desc). */
 #include "core/internal.h"
 #include "core/testing.h"
+#include "core/texture.h"
 
 #define DEFAULT_MAX_VIEWS 1024
 
@@ -43,6 +44,13 @@ int limen__limits_depth(const limen_limits *l, int surface_max)
     case LIMEN_DEPTH_RULE_OVERRIDE: return l->depth;
     default: return surface_max;
     }
+}
+
+uint64_t limen__scene_take_wanted(limen_scene *s)
+{
+    uint64_t w = s->mem_wanted;
+    s->mem_wanted = 0;
+    return w;
 }
 
 void limen__scene_set_faults(limen_scene *s, unsigned faults)
