@@ -820,6 +820,15 @@ typedef struct limen_trace_desc {
     int width, height;          /* image size in pixels (0 -> 640 x 480) */
     limen_limits limits;        /* depth fields only (see limen_limits); zero: the defaults */
     int threads;                /* worker threads; 0 -> the number of online CPUs */
+    int samples;                /* rays per pixel, averaged with equal weights (a box filter)
+                                 * after clamping each to [0, 1] as a framebuffer does: 0 or
+                                 * 1 -> the centre; 4 -> the standard 4x MSAA positions (GL
+                                 * window coordinates from the pixel's lower-left corner:
+                                 * (0.375, 0.125), (0.875, 0.375), (0.125, 0.625),
+                                 * (0.625, 0.875); what llvmpipe's glGetMultisamplefv gives),
+                                 * so that a renderer at msaa 4 can be held to it; another
+                                 * square k * k up to 256 -> the centres of a k x k grid of
+                                 * cells. Anything else -> ARG */
 } limen_trace_desc;
 
 /* Ray traces the scene from its camera (the root view skips what lies nearer than the
