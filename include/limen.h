@@ -711,7 +711,8 @@ typedef void *(*limen_gl_loader)(const char *name);
 typedef struct limen_renderer_desc {
     limen_backend backend;          /* default OSMesa */
     int width, height;              /* 0 -> 640 x 480 (host: the viewport's size) */
-    int msaa;                       /* samples per pixel; 0 or 1 -> off (host: 0) */
+    int msaa;                       /* samples per pixel; 0 or 1 -> off (host: 0); each
+                                     * sample shaded at its position where GL 4.0 allows */
     limen_depth_range depth_range;  /* default NO */
     int depth_bits;                 /* 24 (integer) or 32 (float); 0 -> 24, or 32 for
                                      * ZO_REVERSED, where a float buffer is the point (host:
@@ -788,13 +789,15 @@ LIMEN_API limen_status limen_renderer_write_png(limen_renderer *r, const char *p
 
 /* The reference ray tracer: the ground truth the renderers are measured against. It
  * intersects the true shapes (exact spheres and cylinders), shades like the renderer (see
- * CONVENTIONS) at pixel centres, reflects off mirrors and continues through portals exactly
- * as the planner's view tree does: a mirror or portal is passed only from its front, a
- * portal seen from behind is empty air, a mirror seen from behind is a matte quad of its
- * back colour, the surface just passed is never hit again by the next segment, and a
- * surface beyond a bounce limit shows its fill colour. Double precision throughout. Not
- * modelled: the far plane, the view budget (max_views), MSAA. Each call reads the scene
- * (refreshing its world matrices) and must not overlap with edits of that scene. */
+ * CONVENTIONS) at pixel centres (or limen_trace_desc.samples points), reflects off mirrors
+ * and continues through portals exactly as the planner's view tree does: a mirror or portal
+ * is passed only from its front, a portal seen from behind is empty air, a mirror seen from
+ * behind is a matte quad of its back colour, the surface just passed is never hit again by
+ * the next segment, and a surface beyond a bounce limit shows its fill colour. Double
+ * precision throughout. Not modelled: the far plane, the view budget (max_views); MSAA only
+ * as limen_trace_desc.samples = 4 (its positions, each sample shaded, as the renderer's msaa
+ * frames shade them). Each call reads the scene (refreshing its world matrices) and must not
+ * overlap with edits of that scene. */
 #define LIMEN_HIT_MAX_SURFACES 64
 
 typedef struct limen_hit {

@@ -4,7 +4,8 @@
  * the two pictures is an error of the rasterizing method, not of the rules.
  *
  * Camera. limen_camera_matrices(s, W/H, NO): pixel column x, GL row y (0 = bottom; PNG row
- * r is GL row H-1-r) is sampled at its centre, NDC ((x+0.5)*2/W-1, (y+0.5)*2/H-1). The ray
+ * r is GL row H-1-r) is sampled at its centre, NDC ((x+0.5)*2/W-1, (y+0.5)*2/H-1), or at
+ * limen_trace_desc.samples points (x+sx, y+sy) averaged with equal weights. The ray
  * runs from the eye along camera_world * (nx tan(fovy/2) aspect, ny tan(fovy/2), -1), in
  * double (not through a float projection, whose far point is lost when far/near is large,
  * nor through the far plane at all, which the tracer does not model). Shapes count only from the near
