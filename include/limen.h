@@ -74,7 +74,30 @@ extern "C" {
 #define LIMEN_API
 #endif
 
-#define LIMEN_VERSION "0.1.0"
+/* ---------------------------------------------------------------- version */
+
+/* The version, written here alone: the Makefile reads these three lines for the shared
+ * library's file name and soname (liblimen.so.MAJOR), the pkg-config file, the CMake
+ * package (find_package(limen X.Y)) and the LuaRocks rockspec (make rockspec). */
+#define LIMEN_VERSION_MAJOR 0
+#define LIMEN_VERSION_MINOR 1
+#define LIMEN_VERSION_PATCH 0
+/* One number that grows with every release: MAJOR * 10000 + MINOR * 100 + PATCH (0.1.0 ->
+ * 100), for #if LIMEN_VERSION_NUMBER >= 100. */
+#define LIMEN_VERSION_NUMBER \
+    (LIMEN_VERSION_MAJOR * 10000 + LIMEN_VERSION_MINOR * 100 + LIMEN_VERSION_PATCH)
+#define LIMEN__STR(x) #x                                         /* (internal) */
+#define LIMEN__XSTR(x) LIMEN__STR(x)                             /* (internal) */
+/* "MAJOR.MINOR.PATCH" of the header: "0.1.0". */
+#define LIMEN_VERSION                                                                      \
+    LIMEN__XSTR(LIMEN_VERSION_MAJOR) "." LIMEN__XSTR(LIMEN_VERSION_MINOR) "."              \
+    LIMEN__XSTR(LIMEN_VERSION_PATCH)
+
+/* The version of the library linked in, which may differ from the header's LIMEN_VERSION
+ * when a program runs against a newer shared library: "0.1.0". */
+LIMEN_API const char *limen_version(void);
+/* The same as LIMEN_VERSION_NUMBER counts it, for the library linked in. */
+LIMEN_API int limen_version_number(void);
 
 /* ---------------------------------------------------------------- errors */
 
@@ -298,8 +321,9 @@ typedef struct limen_mesh_info {
 /* Textures on planes (QUAD), boxes and meshes: albedo = texel * colour (the checker's
  * colours where it has one). A PNG or JPEG file, its bytes taken as linear RGB (no gamma,
  * like every colour here); one copy per scene however many nodes use the file. Sampling,
- * the same in the renderer and the ray tracer: bilinear between the four nearest texels,
- * repeating (u and v wrap), no mipmaps; texel (i, j) has its centre at ((i + 0.5) / width,
+ * the same in the renderer and the ray tracer: as limen_node_set_texture_filter says
+ * (trilinear over mipmap levels by default), repeating (u and v wrap); texel (i, j) of a
+ * level width x height has its centre at ((i + 0.5) / width,
  * (j + 0.5) / height), j counting rows from the image's bottom (v = 0) up (v = 1). Texture
  * coordinates: a plane's (x/w + 0.5, y/h + 0.5) over its extent; a box face's two other
  * axes in order (face x: (y, z), face y: (z, x), face z: (x, y)), each mapped from
@@ -316,6 +340,28 @@ LIMEN_API limen_status limen_node_set_texture_repeat(limen_scene *s, limen_node 
                                                      const float repeat[2]);
 LIMEN_API limen_status limen_node_get_texture_repeat(const limen_scene *s, limen_node n,
                                                      float repeat[2]);
+
+/* Texture filtering: how a node's texture is sampled, the same in the renderer and the ray
+ * tracer. Every image gets mipmap levels when it is read: each level half the one above
+ * (width and height divided by 2, rounded down, at least 1) down to 1 x 1, each texel the
+ * box-filtered (area-weighted) average of the texels above it, rounded to 8 bits
+ * (limen_image.levels). The level of detail of a pixel is lambda = log2(rho), rho the longer
+ * of the steps that the texture coordinates (times repeat, in texels of the full image) take
+ * to the next pixel across and up: OpenGL's rule. The ray tracer finds those steps from each
+ * pixel's ray differentials, carried through mirror reflections and portal transforms. */
+typedef enum limen_texture_filter {
+    LIMEN_FILTER_TRILINEAR = 0, /* default: lambda <= 0, bilinear in the full image; else
+                                 * bilinear in levels floor(lambda) and the next, blended by
+                                 * its fraction (GL_LINEAR_MIPMAP_LINEAR); past the last, it */
+    LIMEN_FILTER_LINEAR,        /* bilinear between the four nearest texels of the full image */
+    LIMEN_FILTER_NEAREST        /* the full image's texel that holds the point (GL_NEAREST) */
+} limen_texture_filter;
+/* Any node may carry it; it shows where the node has a texture. Lua: filter = "trilinear",
+ * "linear" or "nearest". */
+LIMEN_API limen_status limen_node_set_texture_filter(limen_scene *s, limen_node n,
+                                                     limen_texture_filter filter);
+LIMEN_API limen_status limen_node_get_texture_filter(const limen_scene *s, limen_node n,
+                                                     limen_texture_filter *filter);
 
 /* Loads a file through assimp (OBJ, glTF 2.0 .gltf/.glb, PLY, FBX, STL, ...): polygons are
  * triangulated, the file's node transforms applied, all its meshes merged. */
@@ -409,12 +455,20 @@ typedef struct limen_mesh_geometry {
     const limen_mesh_lod *lods; /* coarser as k grows, errors growing */
 } limen_mesh_geometry;
 
+/* One mipmap level of an image: 8-bit RGB, top row first. */
+typedef struct limen_image_level {
+    int width, height;
+    const unsigned char *rgb;
+} limen_image_level;
+
 /* An image for a texture (limen_drawable.texture): 8-bit RGB, top row first, sampled as
  * limen_node_set_texture says; valid while a node uses it. */
 typedef struct limen_image {
     uint64_t id;                /* unique in the process: key a GPU copy on it */
     int width, height;
     const unsigned char *rgb;
+    int level_count;            /* mipmap levels (limen_node_set_texture_filter), down to */
+    const limen_image_level *levels;  /* 1 x 1; levels[0] is the image itself */
 } limen_image;
 
 typedef struct limen_drawable {
@@ -441,6 +495,7 @@ typedef struct limen_drawable {
                                  * where the node names none), or NULL */
     float texture_repeat[2];    /* limen_node_set_texture_repeat: scales the texture
                                  * coordinates before sampling */
+    limen_texture_filter texture_filter;  /* limen_node_set_texture_filter */
 } limen_drawable;
 
 typedef struct limen_drawables limen_drawables;

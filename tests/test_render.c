@@ -1,4 +1,4 @@
-/* test_render.c - the plain renderer: shading against the formula of DESIGN.md, the
+/* test_render.c - the plain renderer: shading against the formula of docs/DESIGN.md, the
  * background, both backends, depth conventions, MSAA, statistics and errors. */
 #include <stdlib.h>
 
@@ -74,7 +74,7 @@ static void pixel_ray(limen_scene *s, int x, int y, double o[3], double d[3])
     }
 }
 
-/* DESIGN.md's shading formula at point p with normal n, in 8-bit. */
+/* docs/DESIGN.md's shading formula at point p with normal n, in 8-bit. */
 static void shade(const double p[3], const double n[3], const float albedo[3], int out[3])
 {
     double l[3] = { LIGHT[0] - p[0], LIGHT[1] - p[1], LIGHT[2] - p[2] };

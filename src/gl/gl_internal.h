@@ -256,7 +256,7 @@ bool limen__unit_mesh(limen_renderer *r, const vec4 *view, float px_scale, const
  * dropping what it did not use; everything, at the end. */
 bool limen__gpu_mesh_bind(limen_renderer *r, const limen_mesh_geometry *m, bool smooth, int lod,
                           GLint *first, GLsizei *count, bool *indexed);
-GLuint limen__gpu_texture(limen_renderer *r, const limen_image *t);
+GLuint limen__gpu_texture(limen_renderer *r, const limen_image *t, limen_texture_filter filter);
 void limen__gpu_assets_sweep(limen_renderer *r);
 void limen__gpu_assets_free(limen_renderer *r);
 

@@ -1,5 +1,5 @@
 /* render.c - the OpenGL renderer: context, shaders, meshes, framebuffers, and drawing the
- * scene for a view. Shading follows DESIGN.md exactly so that the ray tracer can match it
+ * scene for a view. Shading follows docs/DESIGN.md exactly so that the ray tracer can match it
  * pixel for pixel. */
 #include <stdarg.h>
 #include <stdio.h>
