@@ -776,7 +776,8 @@ typedef void *(*limen_gl_loader)(const char *name);
 typedef struct limen_renderer_desc {
     limen_backend backend;          /* default OSMesa */
     int width, height;              /* 0 -> 640 x 480 (host: the viewport's size) */
-    int msaa;                       /* samples per pixel; 0 or 1 -> off (host: 0) */
+    int msaa;                       /* samples per pixel; 0 or 1 -> off (host: 0); each
+                                     * sample shaded at its position where GL 4.0 allows */
     limen_depth_range depth_range;  /* default NO */
     int depth_bits;                 /* 24 (integer) or 32 (float); 0 -> 24, or 32 for
                                      * ZO_REVERSED, where a float buffer is the point (host:
@@ -855,13 +856,15 @@ LIMEN_API limen_status limen_renderer_write_png(limen_renderer *r, const char *p
 
 /* The reference ray tracer: the ground truth the renderers are measured against. It
  * intersects the true shapes (exact spheres and cylinders), shades like the renderer (see
- * CONVENTIONS) at pixel centres, reflects off mirrors and continues through portals exactly
- * as the planner's view tree does: a mirror or portal is passed only from its front, a
- * portal seen from behind is empty air, a mirror seen from behind is a matte quad of its
- * back colour, the surface just passed is never hit again by the next segment, and a
- * surface beyond a bounce limit shows its fill colour. Double precision throughout. Not
- * modelled: the far plane, the view budget (max_views), MSAA. Each call reads the scene
- * (refreshing its world matrices) and must not overlap with edits of that scene. */
+ * CONVENTIONS) at pixel centres (or limen_trace_desc.samples points), reflects off mirrors
+ * and continues through portals exactly as the planner's view tree does: a mirror or portal
+ * is passed only from its front, a portal seen from behind is empty air, a mirror seen from
+ * behind is a matte quad of its back colour, the surface just passed is never hit again by
+ * the next segment, and a surface beyond a bounce limit shows its fill colour. Double
+ * precision throughout. Not modelled: the far plane, the view budget (max_views); MSAA only
+ * as limen_trace_desc.samples = 4 (its positions, each sample shaded, as the renderer's msaa
+ * frames shade them). Each call reads the scene (refreshing its world matrices) and must not
+ * overlap with edits of that scene. */
 #define LIMEN_HIT_MAX_SURFACES 64
 
 typedef struct limen_hit {
@@ -887,6 +890,15 @@ typedef struct limen_trace_desc {
     int width, height;          /* image size in pixels (0 -> 640 x 480) */
     limen_limits limits;        /* depth fields only (see limen_limits); zero: the defaults */
     int threads;                /* worker threads; 0 -> the number of online CPUs */
+    int samples;                /* rays per pixel, averaged with equal weights (a box filter)
+                                 * after clamping each to [0, 1] as a framebuffer does: 0 or
+                                 * 1 -> the centre; 4 -> the standard 4x MSAA positions (GL
+                                 * window coordinates from the pixel's lower-left corner:
+                                 * (0.375, 0.125), (0.875, 0.375), (0.125, 0.625),
+                                 * (0.625, 0.875); what llvmpipe's glGetMultisamplefv gives),
+                                 * so that a renderer at msaa 4 can be held to it; another
+                                 * square k * k up to 256 -> the centres of a k x k grid of
+                                 * cells. Anything else -> ARG */
 } limen_trace_desc;
 
 /* Ray traces the scene from its camera (the root view skips what lies nearer than the
@@ -958,6 +970,12 @@ LIMEN_API int limen_script_animated(const limen_script *sc);           /* 1 if i
 /* Calls the scene's update(t), t in seconds; a no-op for a still scene. An error leaves the
  * script usable (the next update may succeed), except one from a limit (see above). */
 LIMEN_API limen_status limen_script_update(limen_script *sc, double t);
+/* After a load or update that failed on the memory cap (an allocation, or a mesh or image
+ * the cap had no room for, refused from its header before it is read): the cap in bytes
+ * that the refused request would have fitted in, what the script held then plus what it
+ * asked for; 0 when the last call failed otherwise or succeeded. Later requests may need
+ * more. The limen program prints it as "needs 231.8 MiB: --memory 256". */
+LIMEN_API int64_t limen_script_memory_needed(const limen_script *sc);
 
 /* ---------------------------------------------------------------- images */
 

@@ -85,6 +85,8 @@ struct limen_scene {
     float ambient;
     uint32_t camera;            /* index + 1 */
     unsigned test_faults;       /* LIMEN_FAULT_* bits (core/testing.h); 0 */
+    uint64_t mem_wanted;        /* bytes the last load refused for the memory allowed it
+                                 * would have taken (a script's host says what cap would do) */
     void **meshes;              /* limen__mesh *: each shared by the nodes that load it */
     int nmeshes, mesh_cap;
     void **textures;            /* limen__texture *: each shared by the nodes that use it */

@@ -5,6 +5,7 @@
 
 #include "core/internal.h"
 #include "core/testing.h"
+#include "core/texture.h"
 
 #define MAX_THREADS 256         /* the tracer's (core/trace.c) */
 
@@ -127,6 +128,13 @@ int limen__limits_depth(const limen_limits *l, int surface_max)
     case LIMEN_DEPTH_RULE_OVERRIDE: return l->depth;
     default: return surface_max;
     }
+}
+
+uint64_t limen__scene_take_wanted(limen_scene *s)
+{
+    uint64_t w = s->mem_wanted;
+    s->mem_wanted = 0;
+    return w;
 }
 
 void limen__scene_set_faults(limen_scene *s, unsigned faults)

@@ -336,7 +336,7 @@ static limen_status mesh_from_arrays(limen_scene *s, const limen_mesh_data *d, c
                            d->triangle_count);
     size_t bytes = limen__mesh_bytes((uint64_t)d->vertex_count, (uint64_t)d->triangle_count,
                                      d->uvs != NULL);
-    if (bytes > max_bytes)
+    if (bytes > max_bytes && (s->mem_wanted = bytes))
         return limen__fail(s, LIMEN_ERR_NOMEM,
                            "%s: %d triangles need %.1f MiB, more than the %.1f MiB allowed", what,
                            d->triangle_count, bytes / 1048576.0, max_bytes / 1048576.0);
@@ -460,7 +460,7 @@ static limen_status from_scene(limen_scene *s, const struct aiScene *sc, const c
         return limen__fail(s, LIMEN_ERR_ARG, "%s: %llu triangles, more than a mesh holds", path,
                            (unsigned long long)nt);
     size_t bytes = limen__mesh_bytes(nv, nt, uvs);
-    if (bytes > max_bytes)
+    if (bytes > max_bytes && (s->mem_wanted = bytes))
         return limen__fail(s, LIMEN_ERR_NOMEM,
                            "%s: %llu triangles need %.1f MiB, more than the %.1f MiB allowed",
                            path, (unsigned long long)nt, bytes / 1048576.0,
@@ -630,7 +630,7 @@ static limen_status load_file(limen_scene *s, const char *path, size_t max_bytes
     if (!ok)
         return limen__fail(s, LIMEN_ERR_IO, "%s: %s", path, why);
     /* the importer holds at least the file's bytes while it reads */
-    if ((uint64_t)stt.st_size > max_bytes)
+    if ((uint64_t)stt.st_size > max_bytes && (s->mem_wanted = (uint64_t)stt.st_size))
         return limen__fail(s, LIMEN_ERR_NOMEM, "%s: a file of %.1f MiB, more than the %.1f MiB "
                            "allowed", path, stt.st_size / 1048576.0, max_bytes / 1048576.0);
     /* assimp's C interface keeps the last error in one string for the whole process: an

@@ -186,7 +186,7 @@ limen_status limen__texture_load(limen_scene *s, const char *path, size_t max_by
     }
     if (st.st_size == 0)
         return limen__fail(s, LIMEN_ERR_IO, "%s: empty file", path);
-    if ((uint64_t)st.st_size > max_bytes)
+    if ((uint64_t)st.st_size > max_bytes && (s->mem_wanted = (uint64_t)st.st_size))
         return limen__fail(s, LIMEN_ERR_NOMEM, "%s: a file of %.1f MiB, more than the %.1f MiB "
                            "allowed", path, st.st_size / 1048576.0, max_bytes / 1048576.0);
     FILE *f = fopen(path, "rb");
@@ -202,6 +202,7 @@ limen_status limen__texture_load(limen_scene *s, const char *path, size_t max_by
     /* the decoded size, from the header, before decoding */
     int w, h;
     if (limen__image_info(buf, got, &w, &h) && (uint64_t)w * (uint64_t)h * 3 > max_bytes) {
+        s->mem_wanted = (uint64_t)w * (uint64_t)h * 3;
         free(buf);
         return limen__fail(s, LIMEN_ERR_NOMEM, "%s: %dx%d pixels need %.1f MiB, more than the "
                            "%.1f MiB allowed", path, w, h, (double)w * h * 3 / 1048576.0,

@@ -68,4 +68,8 @@ uint64_t limen__next_serial(void);
 limen_status limen__node_texture(limen_scene *s, limen_node n, const char *path,
                                  size_t max_bytes, size_t *charged);
 
+/* The bytes the last mesh or texture load refused for the memory allowed would have taken
+ * (0 if none was), and forgets them: a script host turns them into the cap that would do. */
+uint64_t limen__scene_take_wanted(limen_scene *s);
+
 #endif

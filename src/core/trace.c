@@ -4,7 +4,8 @@
  * the two pictures is an error of the rasterizing method, not of the rules.
  *
  * Camera. limen_camera_matrices(s, W/H, NO): pixel column x, GL row y (0 = bottom; PNG row
- * r is GL row H-1-r) is sampled at its centre, NDC ((x+0.5)*2/W-1, (y+0.5)*2/H-1). The ray
+ * r is GL row H-1-r) is sampled at its centre, NDC ((x+0.5)*2/W-1, (y+0.5)*2/H-1), or at
+ * limen_trace_desc.samples points (x+sx, y+sy) averaged with equal weights. The ray
  * runs from the eye along camera_world * (nx tan(fovy/2) aspect, ny tan(fovy/2), -1), in
  * double (not through a float projection, whose far point is lost when far/near is large,
  * nor through the far plane at all, which the tracer does not model). Shapes count only from the near
@@ -1016,7 +1017,32 @@ typedef struct job {
     limen_limits limits;        /* resolved */
     int first, step;            /* rows first, first + step, ... (PNG order) */
     unsigned char *rgb;
+    int nsamples;
+    const double (*samples)[2]; /* positions in the pixel, from its lower-left corner */
 } job;
+
+/* The standard 4x MSAA pattern (GL window coordinates, y up), as llvmpipe reports it. */
+static const double msaa4[4][2] = {
+    { 0.375, 0.125 }, { 0.875, 0.375 }, { 0.125, 0.625 }, { 0.625, 0.875 }
+};
+#define MAX_SAMPLES 256
+
+/* Where a pixel's n samples lie (limen_trace_desc.samples); false if n is not allowed. */
+static bool sample_positions(int n, double out[][2])
+{
+    if (n == 4) {
+        memcpy(out, msaa4, sizeof msaa4);
+        return true;
+    }
+    int k = (int)lround(sqrt((double)n));
+    if (n < 1 || n > MAX_SAMPLES || k * k != n)
+        return false;
+    for (int i = 0; i < n; i++) {
+        out[i][0] = (i % k + 0.5) / k;
+        out[i][1] = (i / k + 0.5) / k;
+    }
+    return true;
+}
 
 static unsigned char to_byte(double c)
 {
@@ -1027,29 +1053,37 @@ static unsigned char to_byte(double c)
 static void *trace_rows(void *arg)
 {
     const job *j = arg;
+    /* the rays through the next pixel across and up differ by these (a sample's footprint
+     * is the pixel's, as the rasterizer's derivatives are per pixel with every sample
+     * shaded) */
+    double dd[2][3];
+    for (int k = 0; k < 3; k++) {
+        dd[0][k] = j->cam[k] * 2.0 * j->tx / j->width;
+        dd[1][k] = j->cam[4 + k] * 2.0 * j->ty / j->height;
+    }
     for (int row = j->first; row < j->height; row += j->step) {
         int gy = j->height - 1 - row;
-        double ny = (gy + 0.5) * 2.0 / j->height - 1.0;
         unsigned char *dst = j->rgb + (size_t)row * (size_t)j->width * 3;
         for (int x = 0; x < j->width; x++) {
-            double nx = (x + 0.5) * 2.0 / j->width - 1.0;
-            /* the ray through the pixel centre, built from the lens in double: unprojecting
-             * points through a float projection lost the far point when far/near is large */
-            double de[3] = { nx * j->tx, ny * j->ty, -1.0 }, d[3], rgb[3];
-            for (int k = 0; k < 3; k++)
-                d[k] = j->cam[k] * de[0] + j->cam[4 + k] * de[1] + j->cam[8 + k] * de[2];
-            /* the rays through the next pixel across and up differ by these */
-            double dd[2][3];
-            for (int k = 0; k < 3; k++) {
-                dd[0][k] = j->cam[k] * 2.0 * j->tx / j->width;
-                dd[1][k] = j->cam[4 + k] * 2.0 * j->ty / j->height;
+            double sum[3] = { 0, 0, 0 };
+            for (int si = 0; si < j->nsamples; si++) {
+                double nx = (x + j->samples[si][0]) * 2.0 / j->width - 1.0;
+                double ny = (gy + j->samples[si][1]) * 2.0 / j->height - 1.0;
+                /* the ray through the sample, built from the lens in double: unprojecting
+                 * points through a float projection lost the far point when far/near is
+                 * large */
+                double de[3] = { nx * j->tx, ny * j->ty, -1.0 }, d[3], rgb[3];
+                for (int k = 0; k < 3; k++)
+                    d[k] = j->cam[k] * de[0] + j->cam[4 + k] * de[1] + j->cam[8 + k] * de[2];
+                /* from the eye: shapes count from the near plane on (the rasterizer's near
+                 * clip), mirrors and portals from the eye on (the renderer draws them
+                 * depth-clamped); eye-space z = -near is t = near in units of d */
+                follow(j->tr, j->eye, d, dd, j->znear, 1e-12, &j->limits, rgb, NULL);
+                for (int k = 0; k < 3; k++)     /* each sample clamped, as stored */
+                    sum[k] += rgb[k] < 0 ? 0 : rgb[k] > 1 ? 1 : rgb[k];
             }
-            /* from the eye: shapes count from the near plane on (the rasterizer's near clip),
-             * mirrors and portals from the eye on (the renderer draws them depth-clamped);
-             * eye-space z = -near is t = near in units of d */
-            follow(j->tr, j->eye, d, dd, j->znear, 1e-12, &j->limits, rgb, NULL);
             for (int k = 0; k < 3; k++)
-                dst[3 * x + k] = to_byte(rgb[k]);
+                dst[3 * x + k] = to_byte(sum[k] / j->nsamples);
         }
     }
     return NULL;
@@ -1078,6 +1112,11 @@ limen_status limen_trace_image(limen_scene *s, const limen_trace_desc *desc, uns
     if (d.threads < 0)
         return limen__fail(s, LIMEN_ERR_ARG, "trace: thread count must be >= 0 (got %d)",
                            d.threads);
+    double samples[MAX_SAMPLES][2];
+    int nsamples = d.samples ? d.samples : 1;
+    if (!sample_positions(nsamples, samples))
+        return limen__fail(s, LIMEN_ERR_ARG, "trace: samples must be 1, 4 (the 4x MSAA pattern) "
+                           "or a square up to 256 (a grid: 9, 16, 25, ...), got %d", d.samples);
     int width = d.width ? d.width : 640, height = d.height ? d.height : 480;
     limen_status cst = limen__scene_check(s);
     if (cst)
@@ -1089,7 +1128,8 @@ limen_status limen_trace_image(limen_scene *s, const limen_trace_desc *desc, uns
     float aspect = (float)width / (float)height;
     double ty = tan(0.5 * (double)cam->fovy);
     job base = { .width = width, .height = height, .rgb = rgb, .tx = ty * (double)aspect,
-                 .ty = ty, .znear = cam->znear, .limits = lim };
+                 .ty = ty, .znear = cam->znear, .limits = lim, .nsamples = nsamples,
+                 .samples = (const double(*)[2])samples };
     limen__d_from_f(&cam->world[0][0], base.cam);
     for (int k = 0; k < 3; k++)
         base.eye[k] = base.cam[12 + k];

@@ -7,6 +7,7 @@
 #include <string.h>
 
 #include "core/mesh.h"
+#include "core/texture.h"
 #include "lua/l_api.h"
 
 /* ------------------------------------------------------------------ C-side memory */
@@ -97,6 +98,7 @@ static int l_scene_mesh(lua_State *L)
     size_t charged;
     limen_status st = limen__mesh_load(ls->s, n, path, limen__lua_mem_left(L), &charged);
     if (st) {
+        limen__lua_want(L, limen__scene_take_wanted(ls->s));
         limen__lua_forget_node(L, 1, n);
         return limen__lua_c_error(L, ls->s, "mesh", label);
     }

@@ -78,6 +78,7 @@ struct limen_script {
     int64_t spent_at;
     int limit;                  /* LIMIT_*: the limit this call hit; it stops the script */
     int mem_refused;            /* the cap refused an allocation during this call */
+    uint64_t mem_wanted;        /* what this call's refused request would have held in all */
     int tracking;               /* line hook on: the state holds over half its cap */
     int stopped;                /* a limit stopped the script: update fails at once */
     const void *big[BIG_SLOTS]; /* the longest strings held (BIG_STRING bytes or more) */
@@ -389,6 +390,7 @@ static void *script_alloc(void *ud, void *ptr, size_t osize, size_t nsize)
         size_t grow = nsize - osize;
         if (sc->mem_cap && (grow > sc->mem_cap || sc->mem_used > sc->mem_cap - grow)) {
             sc->mem_refused = 1;
+            sc->mem_wanted = (uint64_t)sc->mem_used + grow;
             return NULL;
         }
         if (sc->running && sc->budget >= 0) {
@@ -578,10 +580,23 @@ int limen__lua_hold(lua_State *L, ptrdiff_t bytes)
     if (sc->mem_cap &&
         ((size_t)bytes > sc->mem_cap || sc->mem_used > sc->mem_cap - (size_t)bytes)) {
         sc->mem_refused = 1;
+        sc->mem_wanted = (uint64_t)sc->mem_used + (uint64_t)bytes;
         return 0;
     }
     sc->mem_used += (size_t)bytes;
     return 1;
+}
+
+void limen__lua_want(lua_State *L, uint64_t bytes)
+{
+    limen_script *sc = script_of(L);
+    if (sc && sc->mem_cap && bytes)
+        sc->mem_wanted = (uint64_t)sc->mem_used + bytes;
+}
+
+int64_t limen_script_memory_needed(const limen_script *sc)
+{
+    return sc && sc->mem_wanted <= INT64_MAX ? (int64_t)sc->mem_wanted : 0;
 }
 
 size_t limen__lua_mem_left(lua_State *L)
@@ -628,6 +643,7 @@ static void begin_call(limen_script *sc)
     sc->started_cpu = sc->time_limit > 0 ? thread_time() : 0;
     sc->cpu_check_at = sc->clock_at + sc->time_limit;
     sc->mem_refused = 0;
+    sc->mem_wanted = 0;
     sc->where[0] = '\0';
     sc->line[0] = '\0';
     sc->tracking = sc->mem_cap && sc->mem_used > sc->mem_cap / 2;
