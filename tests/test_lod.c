@@ -13,6 +13,7 @@
 #include <unistd.h>
 
 #include "bumpy.h"
+#include "charted.h"
 #include "check.h"
 #include "core/lod_target.h"
 #include "limen.h"
@@ -798,6 +799,68 @@ static void test_degenerate(void)
     free(idx);
 }
 
+/* ------------------------------------------------------------------ assets */
+
+/* A textured asset of 16,000 triangles, as an exporter makes one (tests/charted.h): five
+ * charts of a texture, so seams along every edge between them (one position, two texture
+ * coordinates), and an open side (a border). The seams and the border do not stop the
+ * simplifier: at least five levels, the coarsest at most 1/16 of the triangles, each with
+ * an error that bounds a brute force's largest distance. No triangle of any level takes
+ * its corners from two charts: the texture is not smeared across a seam, each corner's
+ * texture coordinate is its own position's on the full mesh. */
+static void test_asset_levels(void)
+{
+    enum { N = 40, NV = 5 * (N + 1) * (N + 1), NT = 5 * N * N * 2 };
+    float *pos = malloc(sizeof(float) * 3 * NV), *nrm = malloc(sizeof(float) * 3 * NV),
+          *uv = malloc(sizeof(float) * 2 * NV);
+    uint32_t *idx = malloc(sizeof(uint32_t) * 3 * NT);
+    if (!pos || !nrm || !uv || !idx) {
+        CHECK(!"out of memory");
+        goto done;
+    }
+    charted_ball(N, pos, nrm, uv, idx);
+    fixture f = open_scene((float[3]){ 0, 0, 5 }, (float[3]){ 0, 0, 0 });
+    CHECK_OK(limen_mesh_set_triangles(f.s, f.mesh, &(limen_mesh_data){
+        .positions = pos, .normals = nrm, .uvs = uv, .vertex_count = NV, .indices = idx,
+        .triangle_count = NT }));
+    const limen_drawable *d = item(&f);
+    tri_box *ft = d ? boxes_of(d->mesh, &d->mesh->lods[0]) : NULL;
+    grid full = { 0 };
+    if (ft && grid_make(&full, ft, d->mesh->triangle_count)) {
+        const limen_mesh_geometry *g = d->mesh;
+        int last = g->lods[g->lod_count - 1].triangle_count;
+        CHECK_MSG(g->lod_count >= 6 && last * 16 <= NT, "%d levels, the coarsest %d triangles",
+                  g->lod_count, last);
+        for (int k = 1; k < g->lod_count; k++) {
+            const limen_mesh_lod *lv = &g->lods[k];
+            int mixed = 0;
+            for (int t = 0; t < lv->triangle_count; t++) {
+                int c = charted_chart(N, lv->indices[t * 3]);
+                mixed += charted_chart(N, lv->indices[t * 3 + 1]) != c ||
+                         charted_chart(N, lv->indices[t * 3 + 2]) != c;
+            }
+            CHECK_MSG(mixed == 0, "level %d: %d of %d triangles across charts", k, mixed,
+                      lv->triangle_count);
+            /* a lattice on every triangle: the largest distance lies where the charts meet
+             * as often as anywhere */
+            double found = brute_sampled(g, &full, k, 1, 4, 400);
+            CHECK_MSG(found <= lv->error * (1 + 1e-5), "level %d: error %g, found %g", k,
+                      lv->error, found);
+            CHECK(found > 0);
+        }
+    } else {
+        CHECK(!"no mesh, or no memory for the brute force");
+    }
+    grid_free(&full);
+    free(ft);
+    close_scene(&f);
+done:
+    free(pos);
+    free(nrm);
+    free(uv);
+    free(idx);
+}
+
 /* ------------------------------------------------------------------ the cache */
 
 /* The levels of a bumpy sphere of u * v * 2 triangles, made in a scene of their own: their
@@ -1001,6 +1064,7 @@ static const check_case cases[] = {
     { "lod_pixels", test_lod_pixels },
     { "degenerate", test_degenerate },
     { "cache", test_cache },
+    { "asset_levels", test_asset_levels },
     { 0 },
 };
 

@@ -31,7 +31,7 @@
 #include "core/mesh.h"
 
 #define MAX_LEVELS 12           /* the full mesh and up to 11 coarser ones */
-#define LOD_VERSION 1           /* of how levels are made and measured: levels kept between
+#define LOD_VERSION 2           /* of how levels are made and measured: levels kept between
                                  * runs (core/lod_cache.c) are keyed by it, so change it with
                                  * anything that changes a level or its error */
 #define MIN_TRIS 16             /* a level this small gets no halved successor */
@@ -745,8 +745,9 @@ static bool lods_make(limen__mesh *m)
     size_t head = sizeof(limen_mesh_lod) * MAX_LEVELS;
     unsigned char *block = malloc(head + sizeof(uint32_t) * cap);
     uint32_t *shadow = malloc(sizeof(uint32_t) * n0), *scratch = malloc(sizeof(uint32_t) * n0);
+    uint32_t *attr = m->uv ? malloc(sizeof(uint32_t) * n0) : shadow;
     target full = { 0 };
-    bool ok = block && shadow && scratch;
+    bool ok = block && shadow && scratch && attr;
     limen_mesh_lod *lods = (limen_mesh_lod *)block;
     uint32_t *store = (uint32_t *)(block + head);
     size_t at[MAX_LEVELS] = { 0 }, used = 0;
@@ -757,6 +758,14 @@ static bool lods_make(limen__mesh *m)
          * simplifier back; each weld keeps one of the original vertices */
         meshopt_generateShadowIndexBuffer(shadow, m->idx, n0, m->pos, m->nverts,
                                           sizeof(float) * 3, sizeof(float) * 3);
+        /* what the simplifier is given: welded by position where the attributes allow
+         * (texture coordinates the same; normals are chosen after, by seam_sides), so that a
+         * seam in the texture stays one, which the simplifier moves along without tearing */
+        if (attr != shadow) {
+            struct meshopt_Stream streams[2] = { { m->pos, sizeof(float) * 3, sizeof(float) * 3 },
+                                                 { m->uv, sizeof(float) * 2, sizeof(float) * 2 } };
+            meshopt_generateShadowIndexBufferMulti(attr, m->idx, n0, m->nverts, streams, 2);
+        }
         ok = limen__lod_target_make(&full, m, shadow);
     }
     size_t cur_n = n0;
@@ -771,7 +780,7 @@ static bool lods_make(limen__mesh *m)
          * worse) */
         bool halve = cur_n / 3 >= MIN_TRIS;
         float err = 0;
-        const uint32_t *src = nlods <= SOURCE_STEP ? shadow : store + at[nlods - SOURCE_STEP];
+        const uint32_t *src = nlods <= SOURCE_STEP ? attr : store + at[nlods - SOURCE_STEP];
         size_t src_n = nlods <= SOURCE_STEP ? n0
                                             : (size_t)lods[nlods - SOURCE_STEP].triangle_count * 3;
         size_t n = meshopt_simplify(scratch, src, src_n, m->pos, m->nverts, sizeof(float) * 3,
@@ -783,7 +792,7 @@ static bool lods_make(limen__mesh *m)
          * halving, the level before (a coarser level no better than a finer one takes its
          * place, below): what lies below them needs no measuring */
         double estimate = (double)err * scale;
-        double e = level_error(&full, shadow, store + used, (uint32_t)(n / 3),
+        double e = level_error(&full, attr, store + used, (uint32_t)(n / 3),
                                halve ? fmax(estimate, prev) : estimate);
         if (isnan(e)) {
             ok = false;
@@ -819,7 +828,9 @@ static bool lods_make(limen__mesh *m)
     nlods = kept;
     used = packed;
     if (ok)
-        seam_sides(m, shadow, store, used);
+        seam_sides(m, attr, store, used);
+    if (attr != shadow)
+        free(attr);
     free(shadow);
     free(scratch);
     limen__lod_target_free(&full);
