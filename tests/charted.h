@@ -4,9 +4,11 @@
  * own tile of a 3 x 2 atlas), so every vertex on an edge between faces is there twice, at
  * one position with two texture coordinates (a seam), and the normals are smooth across.
  *
- * charted_ball(n, pos, nrm, uv, idx): n x n squares a face, 5 * n * n * 2 triangles,
- * counter-clockwise from outside; pos and nrm hold charted_verts(n) * 3 floats, uv * 2, idx
- * 5 * n * n * 6 indices. charted_chart(n, v): the face (chart) vertex v belongs to. */
+ * charted_ball(n, tile, pos, nrm, uv, idx): n x n squares a face, 5 * n * n * 2 triangles,
+ * counter-clockwise from outside; each face cut into charts of tile x tile squares (tile = n:
+ * one chart a face; n a multiple of tile), each its own part of the texture, so seams run
+ * between all of them. pos and nrm hold charted_verts(n, tile) * 3 floats, uv * 2, idx
+ * 5 * n * n * 6 indices. charted_chart(tile, v): the chart vertex v belongs to. */
 #ifndef LIMEN_TESTS_CHARTED_H
 #define LIMEN_TESTS_CHARTED_H
 
@@ -14,14 +16,14 @@
 #include <stddef.h>
 #include <stdint.h>
 
-static inline int charted_verts(int n)
+static inline int charted_verts(int n, int tile)
 {
-    return 5 * (n + 1) * (n + 1);
+    return 5 * (n / tile) * (n / tile) * (tile + 1) * (tile + 1);
 }
 
-static inline int charted_chart(int n, uint32_t v)
+static inline int charted_chart(int tile, uint32_t v)
 {
-    return (int)(v / (uint32_t)((n + 1) * (n + 1)));
+    return (int)(v / (uint32_t)((tile + 1) * (tile + 1)));
 }
 
 /* The point of the ball in direction d (normalised here), and its normal (by a small step). */
@@ -35,7 +37,8 @@ static inline void charted_point(const double d[3], double out[3])
     out[2] = r * z;
 }
 
-static inline void charted_ball(int n, float *pos, float *nrm, float *uv, uint32_t *idx)
+static inline void charted_ball(int n, int tile, float *pos, float *nrm, float *uv,
+                                uint32_t *idx)
 {
     /* each face: its centre direction and two axes across it (right-handed: a x b = c) */
     static const int face[5][3][3] = {
@@ -45,46 +48,56 @@ static inline void charted_ball(int n, float *pos, float *nrm, float *uv, uint32
         { { 0, -1, 0 }, { 1, 0, 0 }, { 0, 0, 1 } },     /* -y: x, z */
         { { 0, 0, 1 }, { 1, 0, 0 }, { 0, 1, 0 } },      /* +z: x, y (-z is open) */
     };
-    size_t k = 0;
+    int per = n / tile, charts = 5 * per * per, side = 1;
+    while (side * side < charts)
+        side++;                 /* the atlas: side x side cells, a chart in each */
+    size_t k = 0, v = 0;
     for (int f = 0; f < 5; f++) {
         const int(*c)[3] = face[f];
-        for (int j = 0; j <= n; j++)
-            for (int i = 0; i <= n; i++) {
-                double s = -1 + 2.0 * i / n, t = -1 + 2.0 * j / n, d[3], p[3], q[3], r[3];
-                for (int a = 0; a < 3; a++)
-                    d[a] = c[0][a] + s * c[1][a] + t * c[2][a];
-                charted_point(d, p);
-                /* the normal: across two small steps on the surface */
-                double h = 1e-4, ds[3], dt[3], e1[3], e2[3];
-                for (int a = 0; a < 3; a++) {
-                    ds[a] = d[a] + h * c[1][a];
-                    dt[a] = d[a] + h * c[2][a];
-                }
-                charted_point(ds, q);
-                charted_point(dt, r);
-                for (int a = 0; a < 3; a++) {
-                    e1[a] = q[a] - p[a];
-                    e2[a] = r[a] - p[a];
-                }
-                double nn[3] = { e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2],
-                                 e1[0] * e2[1] - e1[1] * e2[0] };
-                double l = sqrt(nn[0] * nn[0] + nn[1] * nn[1] + nn[2] * nn[2]);
-                size_t v = (size_t)f * (n + 1) * (n + 1) + (size_t)j * (n + 1) + i;
-                for (int a = 0; a < 3; a++) {
-                    pos[v * 3 + a] = (float)p[a];
-                    nrm[v * 3 + a] = (float)(nn[a] / l);
-                }
-                /* the face's tile of the atlas, a margin inside it */
-                uv[v * 2] = (float)((f % 3 + 0.05 + 0.9 * i / n) / 3);
-                uv[v * 2 + 1] = (float)((f / 3 + 0.05 + 0.9 * j / n) / 2);
-            }
-        for (int j = 0; j < n; j++)
-            for (int i = 0; i < n; i++) {
-                uint32_t a = (uint32_t)(f * (n + 1) * (n + 1) + j * (n + 1) + i), b = a + 1,
-                         cc = a + (uint32_t)n + 1, e = cc + 1;
-                uint32_t q[6] = { a, b, e, a, e, cc };
-                for (int x = 0; x < 6; x++)
-                    idx[k++] = q[x];
+        for (int cj = 0; cj < per; cj++)
+            for (int ci = 0; ci < per; ci++) {
+                int chart = (f * per + cj) * per + ci;
+                uint32_t first = (uint32_t)v;
+                for (int jj = 0; jj <= tile; jj++)
+                    for (int ii = 0; ii <= tile; ii++, v++) {
+                        int i = ci * tile + ii, j = cj * tile + jj;
+                        double s = -1 + 2.0 * i / n, t = -1 + 2.0 * j / n, d[3], p[3], q[3],
+                               r[3];
+                        for (int a = 0; a < 3; a++)
+                            d[a] = c[0][a] + s * c[1][a] + t * c[2][a];
+                        charted_point(d, p);
+                        /* the normal: across two small steps on the surface */
+                        double h = 1e-4, ds[3], dt[3], e1[3], e2[3];
+                        for (int a = 0; a < 3; a++) {
+                            ds[a] = d[a] + h * c[1][a];
+                            dt[a] = d[a] + h * c[2][a];
+                        }
+                        charted_point(ds, q);
+                        charted_point(dt, r);
+                        for (int a = 0; a < 3; a++) {
+                            e1[a] = q[a] - p[a];
+                            e2[a] = r[a] - p[a];
+                        }
+                        double nn[3] = { e1[1] * e2[2] - e1[2] * e2[1],
+                                         e1[2] * e2[0] - e1[0] * e2[2],
+                                         e1[0] * e2[1] - e1[1] * e2[0] };
+                        double l = sqrt(nn[0] * nn[0] + nn[1] * nn[1] + nn[2] * nn[2]);
+                        for (int a = 0; a < 3; a++) {
+                            pos[v * 3 + a] = (float)p[a];
+                            nrm[v * 3 + a] = (float)(nn[a] / l);
+                        }
+                        /* the chart's cell of the atlas, a margin inside it */
+                        uv[v * 2] = (float)((chart % side + 0.05 + 0.9 * ii / tile) / side);
+                        uv[v * 2 + 1] = (float)((chart / side + 0.05 + 0.9 * jj / tile) / side);
+                    }
+                for (int jj = 0; jj < tile; jj++)
+                    for (int ii = 0; ii < tile; ii++) {
+                        uint32_t a = first + (uint32_t)(jj * (tile + 1) + ii), b = a + 1,
+                                 cc = a + (uint32_t)tile + 1, e = cc + 1;
+                        uint32_t q[6] = { a, b, e, a, e, cc };
+                        for (int x = 0; x < 6; x++)
+                            idx[k++] = q[x];
+                    }
             }
     }
 }

@@ -31,10 +31,13 @@
 #include "core/mesh.h"
 
 #define MAX_LEVELS 12           /* the full mesh and up to 11 coarser ones */
-#define LOD_VERSION 2           /* of how levels are made and measured: levels kept between
+#define LOD_VERSION 3           /* of how levels are made and measured: levels kept between
                                  * runs (core/lod_cache.c) are keyed by it, so change it with
                                  * anything that changes a level or its error */
 #define MIN_TRIS 16             /* a level this small gets no halved successor */
+#define STUCK_ABOVE 32          /* the simplifier stuck above this fraction of the full mesh's
+                                 * triangles lets the seams go, then clusters (below, the
+                                 * levels end: both would mix the texture's charts) */
 #define SOURCE_STEP 3           /* a level is simplified from the one this many before */
 #define REL_TOL 0.1             /* a piece's bound may exceed the largest distance found by this */
 #define MAX_DEPTH 4             /* pieces per triangle: at most 4^4 */
@@ -678,6 +681,76 @@ static bool seam_sides(const limen__mesh *m, const uint32_t *shadow, uint32_t *i
     return ok;
 }
 
+/* After clustering (the sloppy simplifier, which knows positions only), a triangle's
+ * corners may come from different charts of the texture: of the vertices at a corner's
+ * position (each with its own coordinates), each triangle takes the three whose coordinates
+ * lie nearest together (the least sum of squared edges in the texture), which keeps a
+ * triangle within one chart wherever its corners all lie on it. Positions do not change, so
+ * neither does the level's error. False when out of memory (the corners stay). */
+static bool pick_charts(const limen__mesh *m, const uint32_t *shadow, const uint32_t *attr,
+                        uint32_t *idx, size_t n)
+{
+    enum { MAX_SIDES = 8 };
+    uint32_t nv = m->nverts;
+    uint32_t *prep = malloc(sizeof *prep * nv), *first = calloc((size_t)nv + 1, sizeof *first),
+             *members = malloc(sizeof *members * nv);
+    bool ok = prep && first && members;
+    for (uint32_t v = 0; ok && v < nv; v++)
+        prep[v] = UINT32_MAX;
+    for (size_t i = 0; ok && i < (size_t)m->ntris * 3; i++)
+        prep[attr[i]] = shadow[i];
+    for (uint32_t v = 0; ok && v < nv; v++)
+        if (prep[v] != UINT32_MAX)
+            first[prep[v] + 1]++;
+    for (uint32_t v = 0; ok && v < nv; v++)
+        first[v + 1] += first[v];
+    for (uint32_t v = 0, *fill = first; ok && v < nv; v++)
+        if (prep[v] != UINT32_MAX)
+            members[fill[prep[v]]++] = v;
+    for (uint32_t v = nv; ok && v > 0; v--)
+        first[v] = first[v - 1];
+    if (ok)
+        first[0] = 0;
+    for (size_t t = 0; ok && t < n / 3; t++) {
+        uint32_t *c = &idx[t * 3], from[3], count[3];
+        bool choice = false;
+        for (int k = 0; k < 3; k++) {
+            uint32_t g = prep[c[k]];
+            from[k] = g == UINT32_MAX ? 0 : first[g];
+            count[k] = g == UINT32_MAX ? 0 : first[g + 1] - first[g];
+            if (count[k] == 0 || count[k] > MAX_SIDES)
+                break;
+            choice |= count[k] > 1;
+        }
+        if (!choice || !count[0] || !count[1] || !count[2] || count[0] > MAX_SIDES ||
+            count[1] > MAX_SIDES || count[2] > MAX_SIDES)
+            continue;
+        double best = INFINITY;
+        uint32_t pick[3] = { c[0], c[1], c[2] };
+        for (uint32_t a = 0; a < count[0]; a++)
+            for (uint32_t b = 0; b < count[1]; b++)
+                for (uint32_t d = 0; d < count[2]; d++) {
+                    uint32_t v[3] = { members[from[0] + a], members[from[1] + b],
+                                      members[from[2] + d] };
+                    double sum = 0;
+                    for (int k = 0; k < 3; k++) {
+                        const float *p = &m->uv[v[k] * 2], *q = &m->uv[v[(k + 1) % 3] * 2];
+                        sum += ((double)p[0] - q[0]) * ((double)p[0] - q[0]) +
+                               ((double)p[1] - q[1]) * ((double)p[1] - q[1]);
+                    }
+                    if (sum < best) {
+                        best = sum;
+                        memcpy(pick, v, sizeof pick);
+                    }
+                }
+        memcpy(c, pick, sizeof pick);
+    }
+    free(prep);
+    free(first);
+    free(members);
+    return ok;
+}
+
 /* Gives m the levels in block (room for MAX_LEVELS limen_mesh_lod, then the coarse levels'
  * indices, `used` of them, each level's at at[k]), shrunk to fit. */
 static void install(limen__mesh *m, unsigned char *block, uint32_t nlods, const size_t *at,
@@ -738,6 +811,80 @@ bool limen__mesh_lods_build(limen__mesh *m)
     return true;
 }
 
+/* A mesh the simplifier is given: the distinct vertices of a weld (each corner's vertex
+ * replaced by its weld's), their positions packed, so that no
+ * vertex left unused shares a position with one used (meshoptimizer locks a position that
+ * three vertices share, used or not, which held whole grids of charts still). */
+typedef struct welded {
+    float *pos;                 /* per packed vertex */
+    uint32_t *to;               /* per vertex of the mesh: its packed vertex, or UINT32_MAX */
+    uint32_t *from;             /* per packed vertex: the mesh's */
+    uint32_t *idx;              /* per corner of the mesh: its weld's vertex, packed */
+    uint32_t *tmp;              /* a source mapped to packed vertices */
+    uint32_t n;
+} welded;
+
+static void welded_free(welded *pk)
+{
+    free(pk->pos);
+    free(pk->to);
+    free(pk->from);
+    free(pk->idx);
+    free(pk->tmp);
+    memset(pk, 0, sizeof *pk);
+}
+
+/* pk over m welded by weld; false when out of memory (pk freed). */
+static bool pack(welded *pk, const limen__mesh *m, const uint32_t *weld)
+{
+    size_t n0 = (size_t)m->ntris * 3;
+    memset(pk, 0, sizeof *pk);
+    pk->to = malloc(sizeof *pk->to * m->nverts);
+    pk->from = malloc(sizeof *pk->from * m->nverts);
+    pk->idx = malloc(sizeof *pk->idx * n0);
+    pk->tmp = malloc(sizeof *pk->tmp * n0);
+    pk->pos = malloc(sizeof(float) * 3 * m->nverts);
+    if (!pk->to || !pk->from || !pk->idx || !pk->tmp || !pk->pos) {
+        welded_free(pk);
+        return false;
+    }
+    /* numbered in the mesh's order (the simplifier's choices between equals follow it) */
+    memset(pk->to, 0xff, sizeof *pk->to * m->nverts);
+    for (size_t i = 0; i < n0; i++)
+        pk->to[weld[i]] = 0;
+    for (uint32_t v = 0; v < m->nverts; v++)
+        if (pk->to[v] == 0) {
+            pk->to[v] = pk->n;
+            pk->from[pk->n] = v;
+            memcpy(&pk->pos[(size_t)pk->n * 3], &m->pos[(size_t)v * 3], sizeof(float) * 3);
+            pk->n++;
+        }
+    for (size_t i = 0; i < n0; i++)
+        pk->idx[i] = pk->to[weld[i]];
+    return true;
+}
+
+/* meshoptimizer's simplifier (sloppy: its clustering) over pk, from src (n indices into the
+ * mesh's vertices, every one a weld's; NULL: the whole mesh), into out in the mesh's
+ * vertices; returns the indices made. */
+static size_t simplify(welded *pk, const uint32_t *src, size_t n, bool sloppy, size_t want,
+                       float target_error, float *err, uint32_t *out)
+{
+    const uint32_t *in = pk->idx;
+    if (src) {
+        for (size_t i = 0; i < n; i++)
+            pk->tmp[i] = pk->to[src[i]];
+        in = pk->tmp;
+    }
+    size_t made = sloppy ? meshopt_simplifySloppy(out, in, n, pk->pos, pk->n, sizeof(float) * 3,
+                                                  want, target_error, NULL)
+                         : meshopt_simplify(out, in, n, pk->pos, pk->n, sizeof(float) * 3, want,
+                                            target_error, 0, err);
+    for (size_t i = 0; i < made; i++)
+        out[i] = pk->from[out[i]];
+    return made;
+}
+
 /* Makes m's levels (see the top of the file). */
 static bool lods_make(limen__mesh *m)
 {
@@ -747,6 +894,7 @@ static bool lods_make(limen__mesh *m)
     uint32_t *shadow = malloc(sizeof(uint32_t) * n0), *scratch = malloc(sizeof(uint32_t) * n0);
     uint32_t *attr = m->uv ? malloc(sizeof(uint32_t) * n0) : shadow;
     target full = { 0 };
+    welded pk_attr = { 0 }, pk_pos = { 0 };
     bool ok = block && shadow && scratch && attr;
     limen_mesh_lod *lods = (limen_mesh_lod *)block;
     uint32_t *store = (uint32_t *)(block + head);
@@ -766,11 +914,14 @@ static bool lods_make(limen__mesh *m)
                                                  { m->uv, sizeof(float) * 2, sizeof(float) * 2 } };
             meshopt_generateShadowIndexBufferMulti(attr, m->idx, n0, m->nverts, streams, 2);
         }
-        ok = limen__lod_target_make(&full, m, shadow);
+        ok = limen__lod_target_make(&full, m, shadow) && pack(&pk_attr, m, attr);
     }
     size_t cur_n = n0;
     float scale = ok ? meshopt_simplifyScale(m->pos, m->nverts, sizeof(float) * 3) : 0;
     double prev = 0;
+    /* how levels are made: seams kept; once the simplifier is stuck on them, let go; once
+     * it is stuck even so, by clustering */
+    enum { SEAMS, NO_SEAMS, CLUSTERED } mode = SEAMS;
     while (ok && nlods < MAX_LEVELS && cur_n >= 6) {
         /* half the triangles of the last level while there is much to halve; then once only
          * what costs (next to) nothing, which takes a flat patch down to its outline. Each
@@ -780,11 +931,38 @@ static bool lods_make(limen__mesh *m)
          * worse) */
         bool halve = cur_n / 3 >= MIN_TRIS;
         float err = 0;
-        const uint32_t *src = nlods <= SOURCE_STEP ? attr : store + at[nlods - SOURCE_STEP];
-        size_t src_n = nlods <= SOURCE_STEP ? n0
-                                            : (size_t)lods[nlods - SOURCE_STEP].triangle_count * 3;
-        size_t n = meshopt_simplify(scratch, src, src_n, m->pos, m->nverts, sizeof(float) * 3,
-                                    halve ? cur_n / 6 * 3 : 0, halve ? FLT_MAX : 1e-5f, 0, &err);
+        bool from_full = nlods <= SOURCE_STEP || mode != SEAMS;
+        const uint32_t *src = from_full ? NULL : store + at[nlods - SOURCE_STEP];
+        size_t src_n = from_full ? n0 : (size_t)lods[nlods - SOURCE_STEP].triangle_count * 3;
+        size_t n = 0;
+        if (mode < CLUSTERED)
+            n = simplify(mode == SEAMS ? &pk_attr : &pk_pos, from_full ? NULL : src, src_n, false,
+                         halve ? cur_n / 6 * 3 : 0, halve ? FLT_MAX : 1e-5f, &err, scratch);
+        if (halve && (n == 0 || n * 4 > cur_n * 3) && mode == SEAMS && attr != shadow &&
+            cur_n > n0 / STUCK_ABOVE) {
+            /* the simplifier is stuck on the seams (where many charts meet) while the levels
+             * are still fine: from here on the seams are let go (welded by position alone,
+             * each triangle then taking its corners' sides by pick_charts) */
+            mode = NO_SEAMS;
+            if (!pack(&pk_pos, m, shadow)) {
+                ok = false;
+                break;
+            }
+            n = simplify(&pk_pos, NULL, n0, false, cur_n / 6 * 3, FLT_MAX, &err, scratch);
+        }
+        if (halve && (n == 0 || n * 4 > cur_n * 3) && mode != CLUSTERED &&
+            cur_n > n0 / STUCK_ABOVE) {
+            /* stuck still (borders, parts): the rest of the levels are made by clustering the
+             * full mesh, which moves seams and borders; its own estimate is not a bound's
+             * floor (the level before is) */
+            mode = CLUSTERED;
+            n = simplify(&pk_attr, NULL, n0, true, cur_n / 6 * 3, FLT_MAX, NULL, scratch);
+            err = 0;
+        }
+        if (n > 0 && mode != SEAMS && attr != shadow && !pick_charts(m, shadow, attr, scratch, n)) {
+            ok = false;
+            break;
+        }
         if (n == 0 || n * 4 > cur_n * 3 || used + n > cap)
             break;
         memcpy(store + used, scratch, sizeof(uint32_t) * n);
@@ -832,6 +1010,8 @@ static bool lods_make(limen__mesh *m)
     if (attr != shadow)
         free(attr);
     free(shadow);
+    welded_free(&pk_attr);
+    welded_free(&pk_pos);
     free(scratch);
     limen__lod_target_free(&full);
     if (!ok) {
