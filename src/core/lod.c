@@ -28,6 +28,7 @@
 #include "core/internal.h"
 #include "core/lod_cache.h"
 #include "core/lod_target.h"
+#include "core/lod_weld.h"
 #include "core/mesh.h"
 
 #define MAX_LEVELS 12           /* the full mesh and up to 11 coarser ones */
@@ -626,131 +627,6 @@ static double level_error(const target *full, const uint32_t *weld, const uint32
 
 /* ------------------------------------------------------------------ building */
 
-/* The simplifier names, at each corner, the first vertex at its position (the weld). Where
- * several share the position (a seam: a crease in the normals, an edge of the texture),
- * each corner takes instead the one whose normal is nearest its triangle's own, the side
- * of the seam the triangle lies on. False when out of memory (the corners stay). */
-static bool seam_sides(const limen__mesh *m, const uint32_t *shadow, uint32_t *idx, size_t n)
-{
-    uint32_t nv = m->nverts;
-    uint32_t *weld = malloc(sizeof *weld * nv), *first = calloc(nv + 1, sizeof *first),
-             *members = malloc(sizeof *members * nv);
-    bool ok = weld && first && members;
-    for (uint32_t v = 0; ok && v < nv; v++)
-        weld[v] = UINT32_MAX;
-    for (size_t i = 0; ok && i < (size_t)m->ntris * 3; i++)
-        weld[m->idx[i]] = shadow[i];
-    for (uint32_t v = 0; ok && v < nv; v++)
-        if (weld[v] != UINT32_MAX)
-            first[weld[v] + 1]++;
-    for (uint32_t v = 0; ok && v < nv; v++)
-        first[v + 1] += first[v];
-    for (uint32_t v = 0, *fill = first; ok && v < nv; v++)
-        if (weld[v] != UINT32_MAX)
-            members[fill[weld[v]]++] = v;
-    /* the fill moved each group's start to the next one's: shift back */
-    for (uint32_t v = nv; ok && v > 0; v--)
-        first[v] = first[v - 1];
-    if (ok)
-        first[0] = 0;
-    for (size_t t = 0; ok && t < n / 3; t++) {
-        const float *a = &m->pos[idx[t * 3] * 3], *b = &m->pos[idx[t * 3 + 1] * 3],
-                    *c = &m->pos[idx[t * 3 + 2] * 3];
-        double e1[3] = { b[0] - a[0], b[1] - a[1], b[2] - a[2] },
-               e2[3] = { c[0] - a[0], c[1] - a[1], c[2] - a[2] }, fn[3];
-        fn[0] = e1[1] * e2[2] - e1[2] * e2[1];
-        fn[1] = e1[2] * e2[0] - e1[0] * e2[2];
-        fn[2] = e1[0] * e2[1] - e1[1] * e2[0];
-        for (int k = 0; k < 3; k++) {
-            uint32_t w = idx[t * 3 + k], best = w;
-            double best_dot = -INFINITY;
-            for (uint32_t j = first[w]; j < first[w + 1]; j++) {
-                const float *nr = &m->nrm[members[j] * 3];
-                double d = fn[0] * nr[0] + fn[1] * nr[1] + fn[2] * nr[2];
-                if (d > best_dot) {
-                    best_dot = d;
-                    best = members[j];
-                }
-            }
-            idx[t * 3 + k] = best;
-        }
-    }
-    free(weld);
-    free(first);
-    free(members);
-    return ok;
-}
-
-/* After clustering (the sloppy simplifier, which knows positions only), a triangle's
- * corners may come from different charts of the texture: of the vertices at a corner's
- * position (each with its own coordinates), each triangle takes the three whose coordinates
- * lie nearest together (the least sum of squared edges in the texture), which keeps a
- * triangle within one chart wherever its corners all lie on it. Positions do not change, so
- * neither does the level's error. False when out of memory (the corners stay). */
-static bool pick_charts(const limen__mesh *m, const uint32_t *shadow, const uint32_t *attr,
-                        uint32_t *idx, size_t n)
-{
-    enum { MAX_SIDES = 8 };
-    uint32_t nv = m->nverts;
-    uint32_t *prep = malloc(sizeof *prep * nv), *first = calloc((size_t)nv + 1, sizeof *first),
-             *members = malloc(sizeof *members * nv);
-    bool ok = prep && first && members;
-    for (uint32_t v = 0; ok && v < nv; v++)
-        prep[v] = UINT32_MAX;
-    for (size_t i = 0; ok && i < (size_t)m->ntris * 3; i++)
-        prep[attr[i]] = shadow[i];
-    for (uint32_t v = 0; ok && v < nv; v++)
-        if (prep[v] != UINT32_MAX)
-            first[prep[v] + 1]++;
-    for (uint32_t v = 0; ok && v < nv; v++)
-        first[v + 1] += first[v];
-    for (uint32_t v = 0, *fill = first; ok && v < nv; v++)
-        if (prep[v] != UINT32_MAX)
-            members[fill[prep[v]]++] = v;
-    for (uint32_t v = nv; ok && v > 0; v--)
-        first[v] = first[v - 1];
-    if (ok)
-        first[0] = 0;
-    for (size_t t = 0; ok && t < n / 3; t++) {
-        uint32_t *c = &idx[t * 3], from[3], count[3];
-        bool choice = false;
-        for (int k = 0; k < 3; k++) {
-            uint32_t g = prep[c[k]];
-            from[k] = g == UINT32_MAX ? 0 : first[g];
-            count[k] = g == UINT32_MAX ? 0 : first[g + 1] - first[g];
-            if (count[k] == 0 || count[k] > MAX_SIDES)
-                break;
-            choice |= count[k] > 1;
-        }
-        if (!choice || !count[0] || !count[1] || !count[2] || count[0] > MAX_SIDES ||
-            count[1] > MAX_SIDES || count[2] > MAX_SIDES)
-            continue;
-        double best = INFINITY;
-        uint32_t pick[3] = { c[0], c[1], c[2] };
-        for (uint32_t a = 0; a < count[0]; a++)
-            for (uint32_t b = 0; b < count[1]; b++)
-                for (uint32_t d = 0; d < count[2]; d++) {
-                    uint32_t v[3] = { members[from[0] + a], members[from[1] + b],
-                                      members[from[2] + d] };
-                    double sum = 0;
-                    for (int k = 0; k < 3; k++) {
-                        const float *p = &m->uv[v[k] * 2], *q = &m->uv[v[(k + 1) % 3] * 2];
-                        sum += ((double)p[0] - q[0]) * ((double)p[0] - q[0]) +
-                               ((double)p[1] - q[1]) * ((double)p[1] - q[1]);
-                    }
-                    if (sum < best) {
-                        best = sum;
-                        memcpy(pick, v, sizeof pick);
-                    }
-                }
-        memcpy(c, pick, sizeof pick);
-    }
-    free(prep);
-    free(first);
-    free(members);
-    return ok;
-}
-
 /* Gives m the levels in block (room for MAX_LEVELS limen_mesh_lod, then the coarse levels'
  * indices, `used` of them, each level's at at[k]), shrunk to fit. */
 static void install(limen__mesh *m, unsigned char *block, uint32_t nlods, const size_t *at,
@@ -811,80 +687,6 @@ bool limen__mesh_lods_build(limen__mesh *m)
     return true;
 }
 
-/* A mesh the simplifier is given: the distinct vertices of a weld (each corner's vertex
- * replaced by its weld's), their positions packed, so that no
- * vertex left unused shares a position with one used (meshoptimizer locks a position that
- * three vertices share, used or not, which held whole grids of charts still). */
-typedef struct welded {
-    float *pos;                 /* per packed vertex */
-    uint32_t *to;               /* per vertex of the mesh: its packed vertex, or UINT32_MAX */
-    uint32_t *from;             /* per packed vertex: the mesh's */
-    uint32_t *idx;              /* per corner of the mesh: its weld's vertex, packed */
-    uint32_t *tmp;              /* a source mapped to packed vertices */
-    uint32_t n;
-} welded;
-
-static void welded_free(welded *pk)
-{
-    free(pk->pos);
-    free(pk->to);
-    free(pk->from);
-    free(pk->idx);
-    free(pk->tmp);
-    memset(pk, 0, sizeof *pk);
-}
-
-/* pk over m welded by weld; false when out of memory (pk freed). */
-static bool pack(welded *pk, const limen__mesh *m, const uint32_t *weld)
-{
-    size_t n0 = (size_t)m->ntris * 3;
-    memset(pk, 0, sizeof *pk);
-    pk->to = malloc(sizeof *pk->to * m->nverts);
-    pk->from = malloc(sizeof *pk->from * m->nverts);
-    pk->idx = malloc(sizeof *pk->idx * n0);
-    pk->tmp = malloc(sizeof *pk->tmp * n0);
-    pk->pos = malloc(sizeof(float) * 3 * m->nverts);
-    if (!pk->to || !pk->from || !pk->idx || !pk->tmp || !pk->pos) {
-        welded_free(pk);
-        return false;
-    }
-    /* numbered in the mesh's order (the simplifier's choices between equals follow it) */
-    memset(pk->to, 0xff, sizeof *pk->to * m->nverts);
-    for (size_t i = 0; i < n0; i++)
-        pk->to[weld[i]] = 0;
-    for (uint32_t v = 0; v < m->nverts; v++)
-        if (pk->to[v] == 0) {
-            pk->to[v] = pk->n;
-            pk->from[pk->n] = v;
-            memcpy(&pk->pos[(size_t)pk->n * 3], &m->pos[(size_t)v * 3], sizeof(float) * 3);
-            pk->n++;
-        }
-    for (size_t i = 0; i < n0; i++)
-        pk->idx[i] = pk->to[weld[i]];
-    return true;
-}
-
-/* meshoptimizer's simplifier (sloppy: its clustering) over pk, from src (n indices into the
- * mesh's vertices, every one a weld's; NULL: the whole mesh), into out in the mesh's
- * vertices; returns the indices made. */
-static size_t simplify(welded *pk, const uint32_t *src, size_t n, bool sloppy, size_t want,
-                       float target_error, float *err, uint32_t *out)
-{
-    const uint32_t *in = pk->idx;
-    if (src) {
-        for (size_t i = 0; i < n; i++)
-            pk->tmp[i] = pk->to[src[i]];
-        in = pk->tmp;
-    }
-    size_t made = sloppy ? meshopt_simplifySloppy(out, in, n, pk->pos, pk->n, sizeof(float) * 3,
-                                                  want, target_error, NULL)
-                         : meshopt_simplify(out, in, n, pk->pos, pk->n, sizeof(float) * 3, want,
-                                            target_error, 0, err);
-    for (size_t i = 0; i < made; i++)
-        out[i] = pk->from[out[i]];
-    return made;
-}
-
 /* Makes m's levels (see the top of the file). */
 static bool lods_make(limen__mesh *m)
 {
@@ -894,7 +696,7 @@ static bool lods_make(limen__mesh *m)
     uint32_t *shadow = malloc(sizeof(uint32_t) * n0), *scratch = malloc(sizeof(uint32_t) * n0);
     uint32_t *attr = m->uv ? malloc(sizeof(uint32_t) * n0) : shadow;
     target full = { 0 };
-    welded pk_attr = { 0 }, pk_pos = { 0 };
+    limen__lod_welded pk_attr = { 0 }, pk_pos = { 0 };
     bool ok = block && shadow && scratch && attr;
     limen_mesh_lod *lods = (limen_mesh_lod *)block;
     uint32_t *store = (uint32_t *)(block + head);
@@ -914,7 +716,7 @@ static bool lods_make(limen__mesh *m)
                                                  { m->uv, sizeof(float) * 2, sizeof(float) * 2 } };
             meshopt_generateShadowIndexBufferMulti(attr, m->idx, n0, m->nverts, streams, 2);
         }
-        ok = limen__lod_target_make(&full, m, shadow) && pack(&pk_attr, m, attr);
+        ok = limen__lod_target_make(&full, m, shadow) && limen__lod_pack(&pk_attr, m, attr);
     }
     size_t cur_n = n0;
     float scale = ok ? meshopt_simplifyScale(m->pos, m->nverts, sizeof(float) * 3) : 0;
@@ -936,7 +738,7 @@ static bool lods_make(limen__mesh *m)
         size_t src_n = from_full ? n0 : (size_t)lods[nlods - SOURCE_STEP].triangle_count * 3;
         size_t n = 0;
         if (mode < CLUSTERED)
-            n = simplify(mode == SEAMS ? &pk_attr : &pk_pos, from_full ? NULL : src, src_n, false,
+            n = limen__lod_simplify(mode == SEAMS ? &pk_attr : &pk_pos, from_full ? NULL : src, src_n, false,
                          halve ? cur_n / 6 * 3 : 0, halve ? FLT_MAX : 1e-5f, &err, scratch);
         if (halve && (n == 0 || n * 4 > cur_n * 3) && mode == SEAMS && attr != shadow &&
             cur_n > n0 / STUCK_ABOVE) {
@@ -944,11 +746,11 @@ static bool lods_make(limen__mesh *m)
              * are still fine: from here on the seams are let go (welded by position alone,
              * each triangle then taking its corners' sides by pick_charts) */
             mode = NO_SEAMS;
-            if (!pack(&pk_pos, m, shadow)) {
+            if (!limen__lod_pack(&pk_pos, m, shadow)) {
                 ok = false;
                 break;
             }
-            n = simplify(&pk_pos, NULL, n0, false, cur_n / 6 * 3, FLT_MAX, &err, scratch);
+            n = limen__lod_simplify(&pk_pos, NULL, n0, false, cur_n / 6 * 3, FLT_MAX, &err, scratch);
         }
         if (halve && (n == 0 || n * 4 > cur_n * 3) && mode != CLUSTERED &&
             cur_n > n0 / STUCK_ABOVE) {
@@ -956,10 +758,10 @@ static bool lods_make(limen__mesh *m)
              * full mesh, which moves seams and borders; its own estimate is not a bound's
              * floor (the level before is) */
             mode = CLUSTERED;
-            n = simplify(&pk_attr, NULL, n0, true, cur_n / 6 * 3, FLT_MAX, NULL, scratch);
+            n = limen__lod_simplify(&pk_attr, NULL, n0, true, cur_n / 6 * 3, FLT_MAX, NULL, scratch);
             err = 0;
         }
-        if (n > 0 && mode != SEAMS && attr != shadow && !pick_charts(m, shadow, attr, scratch, n)) {
+        if (n > 0 && mode != SEAMS && attr != shadow && !limen__lod_pick_charts(m, shadow, attr, scratch, n)) {
             ok = false;
             break;
         }
@@ -1006,12 +808,12 @@ static bool lods_make(limen__mesh *m)
     nlods = kept;
     used = packed;
     if (ok)
-        seam_sides(m, attr, store, used);
+        limen__lod_seam_sides(m, attr, store, used);
     if (attr != shadow)
         free(attr);
     free(shadow);
-    welded_free(&pk_attr);
-    welded_free(&pk_pos);
+    limen__lod_welded_free(&pk_attr);
+    limen__lod_welded_free(&pk_pos);
     free(scratch);
     limen__lod_target_free(&full);
     if (!ok) {
