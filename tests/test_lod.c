@@ -4,6 +4,7 @@
  * view picks (limen_view_mesh_lod), through a scaled portal too. No GL. */
 #include <dirent.h>
 #include <fcntl.h>
+#include <pthread.h>
 #include <stdbool.h>
 #include <stdint.h>
 #include <stdio.h>
@@ -1068,6 +1069,106 @@ static void test_cache(void)
     unsetenv("LIMEN_CACHE_DIR");
 }
 
+/* ------------------------------------------------------------------ on another thread */
+
+typedef struct reader {
+    const limen_scene *s;
+    limen_node mesh;
+    int odd;                    /* level counts other than one seen */
+} reader;
+
+/* Reads the mesh (const calls, as limen.h's THREADS allows beside one another) while its
+ * levels are made. */
+static void *read_mesh(void *arg)
+{
+    reader *r = arg;
+    for (int i = 0; i < 2000; i++) {
+        limen_mesh_info info;
+        if (limen_mesh_get(r->s, r->mesh, &info) != LIMEN_OK || info.lod_count != 1)
+            r->odd++;
+    }
+    return NULL;
+}
+
+/* A mesh's levels made on another thread (limen__mesh_lods_start, for a mesh above the size
+ * set): the mesh is there at once with its full level alone, and stays so, to every reader,
+ * until the scene's thread takes the levels (at a refresh, which every call that reads the
+ * world makes): then they are the same levels, counts, errors and indices, as made on the
+ * scene's thread, under a new id (the renderer uploads them). A scene destroyed while its
+ * levels are made stops the thread and frees everything (the sanitizer build checks). */
+static void test_async(void)
+{
+    enum { U = 100, V = 60, NV = (U + 1) * (V + 1), NT = U * V * 2 };
+    float *pos = malloc(sizeof(float) * 3 * NV), *made = NULL;
+    uint32_t *idx = malloc(sizeof(uint32_t) * 3 * NT);
+    if (!pos || !idx) {
+        CHECK(!"out of memory");
+        free(pos);
+        free(idx);
+        return;
+    }
+    bumpy_sphere(U, V, pos, idx);
+    limen_mesh_data data = { .positions = pos, .vertex_count = NV, .indices = idx,
+                             .triangle_count = NT };
+    size_t nmade = 0;
+    int levels = sphere_levels(U, V, &made, &nmade);
+    CHECK(levels >= 4);
+
+    limen__lod_set_async_above(1000);
+    fixture f = open_scene((float[3]){ 0, 0, 5 }, (float[3]){ 0, 0, 0 });
+    CHECK_OK(limen_mesh_set_triangles(f.s, f.mesh, &data));
+    limen_mesh_info info;
+    CHECK_OK(limen_mesh_get(f.s, f.mesh, &info));
+    CHECK_MSG(info.lod_count == 1, "%d levels before the hand-over", info.lod_count);
+    reader rd[2] = { { f.s, f.mesh, 0 }, { f.s, f.mesh, 0 } };
+    pthread_t th[2];
+    for (int i = 0; i < 2; i++)
+        CHECK(pthread_create(&th[i], NULL, read_mesh, &rd[i]) == 0);
+    for (int i = 0; i < 2; i++)
+        pthread_join(th[i], NULL);
+    CHECK(rd[0].odd == 0 && rd[1].odd == 0);
+    const limen_drawable *d = item(&f);
+    uint64_t id = d ? d->mesh->id : 0;
+    bool waited = d && d->mesh->lod_count == 1;
+    /* each refresh (here the drawables' build) takes the levels once they are made: waited
+     * for, not timed (a second's work, given minutes on a busy machine) */
+    for (int i = 0; i < 30000 && d && d->mesh->lod_count == 1; i++) {
+        usleep(10000);
+        d = item(&f);
+    }
+    if (d) {
+        const limen_mesh_geometry *g = d->mesh;
+        size_t n = 0;
+        bool same = g->lod_count == levels;
+        for (int k = 0; same && k < g->lod_count; k++) {
+            same = n + 2 + 3 * (size_t)g->lods[k].triangle_count <= nmade &&
+                   made[n] == (float)g->lods[k].triangle_count && made[n + 1] == g->lods[k].error;
+            n += 2;
+            for (int i = 0; same && i < 3 * g->lods[k].triangle_count; i++)
+                same = made[n++] == (float)g->lods[k].indices[i];
+        }
+        CHECK_MSG(same && n == nmade, "%d levels handed over, %d made here", g->lod_count, levels);
+        CHECK(!waited || g->id != id);
+    }
+    close_scene(&f);
+
+    /* destroyed while the levels are made */
+    for (int i = 0; i < 3; i++) {
+        limen_scene *s;
+        limen_node n;
+        CHECK_OK(limen_scene_create(NULL, &s));
+        CHECK_OK(limen_node_create(s, LIMEN_NODE_MESH, "m", &n));
+        CHECK_OK(limen_mesh_set_triangles(s, n, &data));
+        if (i == 2)
+            usleep(20000);
+        limen_scene_destroy(s);
+    }
+    limen__lod_set_async_above(LIMEN__LOD_ASYNC_TRIS);
+    free(made);
+    free(pos);
+    free(idx);
+}
+
 static const check_case cases[] = {
     { "bunny_levels", test_bunny_levels },
     { "error_bounds", test_error_bounds },
@@ -1081,6 +1182,7 @@ static const check_case cases[] = {
     { "degenerate", test_degenerate },
     { "cache", test_cache },
     { "asset_levels", test_asset_levels },
+    { "async", test_async },
     { 0 },
 };
 
