@@ -37,6 +37,8 @@ CORE_SRC := src/core/error.c src/core/limits.c src/core/lmath.c src/core/scene.c
 # the library's own version (limen_version)
 CORE_SRC += src/core/version.c
 CORE_SRC += src/core/import.c
+# levels of detail: the weld the simplifier is given (core/lod_weld.c)
+CORE_SRC += src/core/lod_weld.c
 GL_SRC   := src/gl/render.c src/gl/views.c src/gl/stencil.c src/gl/shader.c src/gl/mesh.c src/gl/assets.c src/gl/batch.c src/gl/ctx_osmesa.c \
             src/gl/ctx_egl.c src/gl/ctx_host.c
 LUA_SRC  := src/lua/l_fields.c src/lua/l_node.c src/lua/l_scene.c src/lua/l_render.c src/lua/script.c src/lua/safe.c src/lua/guards.c

@@ -290,6 +290,7 @@ static void mesh_free(limen_scene *s, limen__mesh *m)
 {
     if (!m)
         return;
+    limen__mesh_lods_stop(m);
     limen__texture_release(s, m->tex);
     free(m->pos);
     free(m->nrm);
@@ -387,7 +388,7 @@ static limen_status mesh_from_arrays(limen_scene *s, const limen_mesh_data *d, c
             m->lo[a] = fmin(m->lo[a], m->pos[v * 3 + a]);
             m->hi[a] = fmax(m->hi[a], m->pos[v * 3 + a]);
         }
-    if (!limen__mesh_bvh(m) || !limen__mesh_lods_build(m)) {
+    if (!limen__mesh_bvh(m) || !limen__mesh_lods_start(m)) {
         mesh_free(s, m);
         return limen__fail(s, LIMEN_ERR_NOMEM, "%s: out of memory", what);
     }
