@@ -517,6 +517,46 @@ LIMEN_API int limen_drawables_find(const limen_drawables *d, limen_node n);
 LIMEN_API void limen_drawables_environment(const limen_drawables *d, float background[3],
                                            float *ambient);
 
+/* ---------------------------------------------------------------- scenes from files */
+
+/* A model file's node hierarchy as limen nodes (limen_model_load): each file node becomes a
+ * node under the group with the file's name and local matrix, parents before children: a
+ * MESH holding its meshes' triangles (in its own frame; the first material's diffuse colour
+ * as its colour), or a GROUP where it has none. A node authored as a surface becomes a
+ * MIRROR or PORTAL instead, through glTF extras (Blender exports an object's custom
+ * properties as them):
+ *     "extras": {"limen": {"mirror": {"max_depth": 4, "tint": [r, g, b]}}}
+ *     "extras": {"limen": {"portal": {"partner": "OTHER NODE", "max_depth": 8}}}
+ * (every field optional but partner), or by a name ending in "-mirror" (for tools that
+ * export no extras). Its mesh must be one flat polygon facing one way, at most 256
+ * triangles: the polygon's bounding rectangle in its plane (along the edge that gives the
+ * least area) is the surface, its centre, width and height; its front is the side the
+ * triangles face counter-clockwise; its height runs along the rectangle's side nearer the
+ * parent's +Y. Portals pair with the node named as partner, which must name them back. The
+ * file's cameras (at their node, looking as the file says; the first becomes the scene's
+ * camera where it has none) and point lights (colour times intensity) when asked. A node
+ * name that is not UTF-8 is dropped (the node is unnamed). Any problem (a file that cannot
+ * be read, a surface that is not flat, a partner missing or one-sided, a bad extras field)
+ * fails with a message naming the file and the node, and leaves the scene as it was. */
+typedef struct limen_model_desc {
+    int cameras;                /* 1: the file's cameras become CAMERA nodes */
+    int lights;                 /* 1: its point lights become LIGHT nodes */
+} limen_model_desc;
+
+/* Loads path (glTF .gltf/.glb, and what assimp reads) under group, a live GROUP node the
+ * caller made and placed; desc NULL: neither cameras nor lights. */
+LIMEN_API limen_status limen_model_load(limen_scene *s, limen_node group, const char *path,
+                                        const limen_model_desc *desc);
+/* The first node in creation order named name among root's descendants (not root itself);
+ * LIMEN_ERR_HANDLE (no message: it only reads) where there is none. */
+LIMEN_API limen_status limen_node_find_below(const limen_scene *s, limen_node root,
+                                             const char *name, limen_node *out);
+/* The world box (lo, hi) of what node n and its descendants show (shapes, surfaces, meshes'
+ * triangles; boxes of each one's box through its world matrix). LIMEN_ERR_ARG where they
+ * show nothing. */
+LIMEN_API limen_status limen_node_get_bounds(limen_scene *s, limen_node n, float lo[3],
+                                             float hi[3]);
+
 /* ---------------------------------------------------------------- view planning */
 
 /* How a virtual view cuts away what lies behind its exit surface. */
