@@ -435,9 +435,7 @@ static void mesh(builder *b, const struct aiMesh *am, limen__import_part *p)
     p->material = am->mMaterialIndex < b->sc->mNumMaterials ? am->mMaterialIndex : 0;
     p->has_normals = am->mNormals != NULL;
     p->name = am->mName.length ? str_add(b, am->mName.data) : NONE;
-    if (!charge(b, (size_t)am->mNumVertices * sizeof(limen__import_vertex) +
-                       (size_t)am->mNumFaces * 12))
-        return;
+    /* geometry is charged where it is kept (core/mesh.c), textures here */
     limen__import_vertex *v = arr_push(&b->verts, am->mNumVertices);
     if (!v) {
         b->nomem = true;

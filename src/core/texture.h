@@ -18,6 +18,7 @@ typedef struct limen__texture {
     char name[512];             /* the path as given, for messages */
     int w, h;
     unsigned char *rgb;         /* w * h * 3, top row first (as the file) */
+    unsigned char *alpha;       /* w * h, or NULL: opaque (a model's own textures) */
     size_t bytes;
     uint64_t serial;            /* unique in the process: the renderer keys its copy on it */
     limen_image pub;            /* what limen_drawable.texture shows of it */
@@ -30,11 +31,18 @@ limen_status limen__texture_load(limen_scene *s, const char *path, size_t max_by
 /* An image held in memory (a mesh file's embedded texture), not shared. */
 limen_status limen__texture_decode(limen_scene *s, const unsigned char *buf, size_t len,
                                    const char *name, limen__texture **out);
+/* A model's texture from decoded RGBA8 texels (core/import.h), not shared; the alpha plane
+ * is kept only where some texel is not opaque. */
+limen_status limen__texture_from_rgba(limen_scene *s, const unsigned char *rgba, int w, int h,
+                                      const char *name, limen__texture **out);
 void limen__texture_release(limen_scene *s, limen__texture *t);
 void limen__textures_destroy(limen_scene *s);
 /* Bilinear, repeating, no mipmaps, texel centres at ((i + 0.5) / w, (j + 0.5) / h) with v
  * from the bottom row up: what GL_LINEAR with GL_REPEAT does. In [0, 1]. */
 void limen__texture_sample(const limen__texture *t, double u, double v, double out[3]);
+
+/* The alpha plane, sampled as limen__texture_sample samples colour; 1 where there is none. */
+double limen__texture_sample_alpha(const limen__texture *t, double u, double v);
 
 /* image.c: stb_image on a buffer (RGB), and why it failed. */
 unsigned char *limen__image_decode(const unsigned char *buf, size_t len, int *w, int *h);
