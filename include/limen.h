@@ -506,8 +506,9 @@ typedef struct limen_drawable {
     const limen_mesh_geometry *mesh;  /* meshes: the triangles (NULL: none yet) */
     int smooth;                 /* meshes: 1 interpolates the vertex normals, 0 takes each
                                  * triangle's face normal (p1-p0) x (p2-p0) */
-    const limen_image *texture; /* planes, boxes, meshes: albedo texture (a mesh file's own
-                                 * where the node names none), or NULL */
+    const limen_image *texture; /* planes, boxes, meshes: the node's albedo texture, or NULL;
+                                 * on a mesh it replaces every part's base texture (a mesh's
+                                 * own are in mesh->materials) */
     float texture_repeat[2];    /* limen_node_set_texture_repeat: scales the texture
                                  * coordinates before sampling */
 } limen_drawable;

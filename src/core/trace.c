@@ -269,7 +269,7 @@ static void setup_prim(limen_scene *s, const limen__node *n, prim *p)
     copy3f(n->color, p->color);
     copy3f(n->checker_b, p->checker_b);
     if (n->kind == LIMEN_NODE_QUAD || n->kind == LIMEN_NODE_BOX || n->kind == LIMEN_NODE_MESH)
-        p->tex = n->texture ? n->texture : n->kind == LIMEN_NODE_MESH ? n->mesh->tex : NULL;
+        p->tex = n->texture;    /* a mesh's own are its materials' (limen__mesh_material_at) */
     p->repeat[0] = n->tex_repeat[0];
     p->repeat[1] = n->tex_repeat[1];
     p->cell = n->checker_cell;
@@ -513,7 +513,7 @@ static bool hit_flat(const double o[3], const double d[3], double tmin, double t
  * as the renderer clips them without culling) and its unit-space normal: the face's, or the
  * vertex normals interpolated where the mesh is smooth. */
 static bool hit_mesh(const prim *p, const double o[3], const double d[3], double tmin,
-                     double tmax, double *t, double nu[3], double uv[2])
+                     double tmax, double *t, double nu[3], double uv[3])
 {
     const limen__mesh *m = p->mesh;
     double cut[4], *cutp = NULL;
@@ -528,10 +528,10 @@ static bool hit_mesh(const prim *p, const double o[3], const double d[3], double
     if (tri < 0)
         return false;
     const uint32_t *ix = &m->idx[tri * 3];
-    uv[0] = uv[1] = 0;
-    for (int k = 0; m->uv && k < 2; k++)
-        uv[k] = (1.0 - u - v) * m->uv[ix[0] * 2 + k] + u * m->uv[ix[1] * 2 + k] +
-                v * m->uv[ix[2] * 2 + k];
+    /* the material is found at shading from the triangle and the barycentric coordinates */
+    uv[0] = u;
+    uv[1] = v;
+    uv[2] = tri;
     if (p->smooth) {
         double w[3] = { 1.0 - u - v, u, v };
         for (int a = 0; a < 3; a++)
@@ -557,7 +557,7 @@ typedef struct search {
     double tmin_shape, tmin_surface;
     int skip;
     int best;
-    double tbest, pu[3], nu[3], uv[2];
+    double tbest, pu[3], nu[3], uv[3];
 } search;
 
 /* Tests prim i against the search's segment, keeping the nearest hit; between hits at the
@@ -585,7 +585,7 @@ static void test_prim(search *q, int i)
                                                                                 : q->tmin_shape;
     if (tc + p->br <= tmin)
         return;
-    double ou[3], du[3], t, n[3], uv[2] = { 0, 0 };
+    double ou[3], du[3], t, n[3], uv[3] = { 0, 0, 0 };
     limen__d_point(p->minv, o, ou);
     d_dir(p->minv, d, du);
     bool hit;
@@ -638,7 +638,7 @@ static void test_prim_bvh(void *ctx, int item, double *tmax)
  * the unit-space normal of the hit. */
 static int nearest(const tracer *tr, const double o[3], const double d[3], double tmin_shape,
                    double tmin_surface, int skip, double *t_out, double pu[3], double nu[3],
-                   double uv_out[2])
+                   double uv_out[3])
 {
     search q = { .tr = tr, .o = o, .d = d, .tmin_shape = tmin_shape,
                  .tmin_surface = tmin_surface, .skip = skip, .best = -1, .tbest = INFINITY };
@@ -693,11 +693,12 @@ static void flat_uv(const prim *p, const double pu[3], const double nu[3], doubl
 }
 
 static void shade(const tracer *tr, const prim *p, const double albedo_a[3], const double pu[3],
-                  const double nu[3], const double uv_in[2], const double pw[3],
-                  const double n[3], double out[3])
+                  const double nu[3], const double uv_in[3], const double pw[3],
+                  const double n[3], double out[3], double *alpha)
 {
     const double *albedo = albedo_a;
-    double texel[3];
+    double texel[3], mat[3], emissive[3] = { 0, 0, 0 };
+    *alpha = 1;
     if (p->cell > 0) {
         double k = 0;
         int axes = p->kind == LIMEN_NODE_QUAD ? 2 : 3;
@@ -706,10 +707,17 @@ static void shade(const tracer *tr, const prim *p, const double albedo_a[3], con
         if (k - 2.0 * floor(k * 0.5) > 0.5)
             albedo = p->checker_b;
     }
-    if (p->tex) {
+    if (p->shape == SHAPE_MESH) {
+        /* base x texel (the node's texture in place of the file's) x vertex colour */
+        float rep[2] = { (float)p->repeat[0], (float)p->repeat[1] };
+        limen__mesh_material_at(p->mesh, p->tex, rep, (uint32_t)uv_in[2], uv_in[0], uv_in[1],
+                                mat, alpha, emissive);
+        for (int k = 0; k < 3; k++)
+            mat[k] *= albedo[k];
+        albedo = mat;
+    } else if (p->tex) {
         double uv[2] = { uv_in[0], uv_in[1] };
-        if (p->shape != SHAPE_MESH)
-            flat_uv(p, pu, nu, uv);
+        flat_uv(p, pu, nu, uv);
         limen__texture_sample(p->tex, uv[0] * p->repeat[0], uv[1] * p->repeat[1], texel);
         for (int k = 0; k < 3; k++)
             texel[k] *= albedo[k];
@@ -732,6 +740,7 @@ static void shade(const tracer *tr, const prim *p, const double albedo_a[3], con
     }
     for (int k = 0; k < 3; k++) {
         double v = albedo[k] * (tr->ambient + (1.0 - tr->ambient) * light[k]);
+        v = (v < 0 ? 0 : v > 1 ? 1 : v) + emissive[k];
         out[k] = v < 0 ? 0 : v > 1 ? 1 : v;
     }
 }
@@ -751,8 +760,8 @@ static void follow(const tracer *tr, const double o_in[3], const double d_in[3],
     double len = sqrt(dot3(d, d));
     double tmin = tmin0 * len, tmin_surface = tmin_surface0 * len;
     normalize3(d);
-    int skip = -1, passed = 0;
-    double travelled = 0;
+    int skip = -1, passed = 0, layers = 0;
+    double travelled = 0, over[3] = { 0, 0, 0 }, cover = 1;   /* blended layers passed */
     const double *result = tr->background;
     double shaded[3];
     if (rec) {
@@ -760,7 +769,7 @@ static void follow(const tracer *tr, const double o_in[3], const double d_in[3],
         rec->prim = -1;
     }
     for (;;) {
-        double t, pu[3] = { 0, 0, 0 }, nu[3] = { 0, 0, 0 }, uv[2] = { 0, 0 };
+        double t, pu[3] = { 0, 0, 0 }, nu[3] = { 0, 0, 0 }, uv[3] = { 0, 0, 0 };
         int hi = nearest(tr, o, d, tmin, tmin_surface, skip, &t, pu, nu, uv);
         if (rec) {
             memcpy(rec->seg_o, o, sizeof o);
@@ -779,8 +788,24 @@ static void follow(const tracer *tr, const double o_in[3], const double d_in[3],
             double n[3];
             world_normal(p, nu, d, n);
             if (matte) {
-                shade(tr, p, surface ? p->back : p->color, pu, nu, uv, pw, n, shaded);
+                double alpha;
+                shade(tr, p, surface ? p->back : p->color, pu, nu, uv, pw, n, shaded, &alpha);
                 result = shaded;
+                if (p->shape == SHAPE_MESH && layers < 64 &&
+                    p->mesh->mats[p->mesh->parts[p->mesh->tri_part[(uint32_t)uv[2]]].material]
+                            .alpha_mode == LIMEN_ALPHA_BLEND) {
+                    /* blended: this over what lies behind, the ray going on past it */
+                    for (int k = 0; k < 3; k++)
+                        over[k] += cover * alpha * tint[k] * shaded[k];
+                    cover *= 1.0 - alpha;
+                    layers++;
+                    result = tr->background;
+                    memcpy(o, pw, sizeof o);
+                    skip = -1;
+                    tmin = 1e-9 * (1.0 + fmax(fabs(o[0]), fmax(fabs(o[1]), fabs(o[2]))));
+                    tmin_surface = tmin;
+                    continue;
+                }
             } else {
                 result = p->fill;
             }
@@ -814,7 +839,7 @@ static void follow(const tracer *tr, const double o_in[3], const double d_in[3],
             rec->distance = INFINITY;
     }
     for (int k = 0; k < 3; k++)
-        rgb[k] = tint[k] * result[k];
+        rgb[k] = over[k] + cover * tint[k] * result[k];
 }
 
 /* ------------------------------------------------------------------ public: rays */
