@@ -21,11 +21,17 @@
 #ifndef GL_RGB8
 #define GL_RGB8 0x8051
 #endif
+#ifndef GL_RGBA8
+#define GL_RGBA8 0x8058
+#endif
+#ifndef GL_RGBA
+#define GL_RGBA 0x1908
+#endif
 #ifndef GL_UNPACK_ALIGNMENT
 #define GL_UNPACK_ALIGNMENT 0x0CF5
 #endif
 
-enum { CORNER_FLOATS = 11, AT_FLAT = 3, AT_SMOOTH = 6, AT_UV = 9 };
+enum { CORNER_FLOATS = 15, AT_FLAT = 3, AT_SMOOTH = 6, AT_UV = 9, AT_COL = 11 };
 enum { GPU_LODS = 16 };         /* levels kept; a coarser one asked for gets the last */
 
 struct limen__gpu_asset {
@@ -87,6 +93,8 @@ static float *lay_corners(const limen_mesh_geometry *m, const uint32_t *ix, int 
             memcpy(buf + AT_SMOOTH, &m->normals[ix[k] * 3], sizeof(float) * 3);
             buf[AT_UV] = m->uvs ? m->uvs[ix[k] * 2] : 0.0f;
             buf[AT_UV + 1] = m->uvs ? m->uvs[ix[k] * 2 + 1] : 0.0f;
+            for (int c = 0; c < 4; c++)
+                buf[AT_COL + c] = m->colors ? m->colors[ix[k] * 4 + c] : 1.0f;
         }
     }
     return buf;
@@ -174,12 +182,16 @@ static bool upload_mesh(limen_renderer *r, const limen_mesh_geometry *m, struct 
     GL(EnableVertexAttribArray)(2);
     GL(VertexAttribPointer)(2, 2, GL_FLOAT, GL_FALSE, sizeof(float) * CORNER_FLOATS,
                             (void *)(sizeof(float) * AT_UV));
+    GL(EnableVertexAttribArray)(11);    /* vertex colours (materials) */
+    GL(VertexAttribPointer)(11, 4, GL_FLOAT, GL_FALSE, sizeof(float) * CORNER_FLOATS,
+                            (void *)(sizeof(float) * AT_COL));
     instance_arrays(r);
     GL(BindBuffer)(GL_ARRAY_BUFFER, a->vbo);
     return true;
 }
 
-enum { VERTEX_FLOATS = 8 };     /* smooth: position, vertex normal, texture coordinates */
+enum { VERTEX_FLOATS = 12 };    /* smooth: position, vertex normal, texture coordinates,
+                                 * colour */
 
 static bool upload_smooth(limen_renderer *r, const limen_mesh_geometry *m,
                           struct limen__gpu_asset *a)
@@ -198,6 +210,8 @@ static bool upload_smooth(limen_renderer *r, const limen_mesh_geometry *m,
         memcpy(c + 3, &m->normals[v * 3], sizeof(float) * 3);
         c[6] = m->uvs ? m->uvs[v * 2] : 0.0f;
         c[7] = m->uvs ? m->uvs[v * 2 + 1] : 0.0f;
+        for (int k = 0; k < 4; k++)
+            c[8 + k] = m->colors ? m->colors[v * 4 + k] : 1.0f;
     }
     for (int k = 0; k < levels(m); k++) {
         const uint32_t *ix;
@@ -220,6 +234,8 @@ static bool upload_smooth(limen_renderer *r, const limen_mesh_geometry *m,
         GL(VertexAttribPointer)((GLuint)i, i == 2 ? 2 : 3, GL_FLOAT, GL_FALSE, stride,
                                 (void *)(sizeof(float) * 3 * (size_t)i));
     }
+    GL(EnableVertexAttribArray)(11);
+    GL(VertexAttribPointer)(11, 4, GL_FLOAT, GL_FALSE, stride, (void *)(sizeof(float) * 8));
     instance_arrays(r);
     return true;
 }
@@ -257,7 +273,18 @@ bool limen__gpu_mesh_bind(limen_renderer *r, const limen_mesh_geometry *m, bool 
     return true;
 }
 
+int limen__gpu_mesh_level(const limen_mesh_geometry *m, int lod)
+{
+    int nlods = levels(m);
+    return lod < 0 ? 0 : lod >= nlods ? nlods - 1 : lod;
+}
+
 GLuint limen__gpu_texture(limen_renderer *r, const limen_image *t)
+{
+    return limen__gpu_texture_on(r, t, 1);
+}
+
+GLuint limen__gpu_texture_on(limen_renderer *r, const limen_image *t, int unit)
 {
     struct limen__gpu_asset *a = find(r, t->id);
     if (!a) {
@@ -265,25 +292,39 @@ GLuint limen__gpu_texture(limen_renderer *r, const limen_image *t)
         return 0;
     }
     /* albedo textures live on unit 1 (unit 0 holds the texture method's view images) */
-    GL(ActiveTexture)(GL_TEXTURE1);
+    GL(ActiveTexture)(GL_TEXTURE0 + (GLenum)unit);
     if (a->tex)
         GL(BindTexture)(GL_TEXTURE_2D, a->tex);
     if (!a->tex) {
         /* rows bottom first: GL's t = 0 is the image's bottom row, as v = 0 is */
-        unsigned char *flip = upload_alloc(r, (size_t)t->width * (size_t)t->height * 3);
+        int ch = t->alpha ? 4 : 3;     /* RGBA where the image has alpha */
+        unsigned char *flip = upload_alloc(r, (size_t)t->width * (size_t)t->height * (size_t)ch);
         if (!flip) {
             limen__draw_fail(r, LIMEN_ERR_NOMEM, "out of memory uploading a %dx%d texture (it "
                              "is not drawn)", t->width, t->height);
             GL(ActiveTexture)(GL_TEXTURE0);
             return 0;
         }
-        size_t row = (size_t)t->width * 3;
-        for (int j = 0; j < t->height; j++)
-            memcpy(flip + (size_t)j * row, t->rgb + (size_t)(t->height - 1 - j) * row, row);
+        size_t row = (size_t)t->width * (size_t)ch;
+        for (int j = 0; j < t->height; j++) {
+            const unsigned char *src = t->rgb + (size_t)(t->height - 1 - j) * t->width * 3;
+            const unsigned char *al = t->alpha ? t->alpha + (size_t)(t->height - 1 - j) * t->width
+                                               : NULL;
+            unsigned char *dst = flip + (size_t)j * row;
+            if (!al) {
+                memcpy(dst, src, row);
+                continue;
+            }
+            for (int i = 0; i < t->width; i++) {
+                memcpy(dst + i * 4, src + i * 3, 3);
+                dst[i * 4 + 3] = al[i];
+            }
+        }
         GL(GenTextures)(1, &a->tex);
         GL(BindTexture)(GL_TEXTURE_2D, a->tex);
         GL(PixelStorei)(GL_UNPACK_ALIGNMENT, 1);
-        GL(TexImage2D)(GL_TEXTURE_2D, 0, GL_RGB8, t->width, t->height, 0, GL_RGB, GL_UNSIGNED_BYTE, flip);
+        GL(TexImage2D)(GL_TEXTURE_2D, 0, ch == 4 ? GL_RGBA8 : GL_RGB8, t->width, t->height, 0,
+                       ch == 4 ? GL_RGBA : GL_RGB, GL_UNSIGNED_BYTE, flip);
         GL(PixelStorei)(GL_UNPACK_ALIGNMENT, 4);
         free(flip);
         GL(TexParameteri)(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);

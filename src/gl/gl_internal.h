@@ -18,6 +18,7 @@
 typedef struct uniforms {
     GLint model, normal_mat, view_proj, eye, clip_plane, clip_plane2, albedo, albedo_b, cell,
         scale, tint, tex, tex_map, ambient, light_pos, light_col, light_inv_r2, uv_repeat;
+    GLint base, emissive, cutoff, emissive_on, blend;     /* materials (gl/batch.c) */
 } uniforms;
 
 /* Shader variants (shader.c): what a draw shades. */
@@ -106,6 +107,8 @@ struct limen_renderer {
     int draw_calls;                         /* this frame's (limen_frame_stats) */
     uint64_t triangles;
     bool instanced;                         /* variants read the model from instances */
+    bool material;                          /* ... and a mesh part's material (gl/batch.c) */
+    bool blend_pass;                        /* mesh draws draw their blended parts only */
     GLuint inst_vbo;                        /* per-instance values (gl/batch.c) */
     struct limen__instance *inst;
     int inst_cap;
@@ -255,6 +258,14 @@ bool limen__unit_mesh(limen_renderer *r, const vec4 *view, float px_scale, const
 bool limen__gpu_mesh_bind(limen_renderer *r, const limen_mesh_geometry *m, bool smooth, int lod,
                           GLint *first, GLsizei *count, bool *indexed);
 GLuint limen__gpu_texture(limen_renderer *r, const limen_image *t);
+/* The same on texture unit `unit` (2: a material's emissive texture). */
+GLuint limen__gpu_texture_on(limen_renderer *r, const limen_image *t, int unit);
+/* The level limen__gpu_mesh_bind draws for `lod` (clamped to the levels it keeps). */
+int limen__gpu_mesh_level(const limen_mesh_geometry *m, int lod);
+/* gl/views.c: view v's meshes' blended parts, farthest first, over what it drew (both
+ * methods call it once a view's picture, its surfaces' included, is complete). */
+struct rview;
+void limen__draw_blended(limen_renderer *r, const struct rview *v);
 void limen__gpu_assets_sweep(limen_renderer *r);
 void limen__gpu_assets_free(limen_renderer *r);
 
