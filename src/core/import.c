@@ -431,7 +431,7 @@ static void material(builder *b, const struct aiMaterial *m, limen__import_mater
 static void mesh(builder *b, const struct aiMesh *am, limen__import_part *p)
 {
     p->first_vertex = (uint32_t)b->verts.n;
-    p->first_tri = (uint32_t)b->tris.n;
+    p->first_tri = (uint32_t)(b->tris.n / 3);
     p->material = am->mMaterialIndex < b->sc->mNumMaterials ? am->mMaterialIndex : 0;
     p->has_normals = am->mNormals != NULL;
     p->name = am->mName.length ? str_add(b, am->mName.data) : NONE;

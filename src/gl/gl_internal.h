@@ -264,8 +264,9 @@ GLuint limen__gpu_texture_on(limen_renderer *r, const limen_image *t, int unit);
 int limen__gpu_mesh_level(const limen_mesh_geometry *m, int lod);
 /* gl/views.c: view v's meshes' blended parts, farthest first, over what it drew (both
  * methods call it once a view's picture, its surfaces' included, is complete). */
-struct rview;
-void limen__draw_blended(limen_renderer *r, const struct rview *v);
+void limen__draw_blended(limen_renderer *r, const rview *v);
+/* Whether some visible mesh has blended parts (then the stencil method counts depth). */
+bool limen__scene_blends(const limen_renderer *r);
 void limen__gpu_assets_sweep(limen_renderer *r);
 void limen__gpu_assets_free(limen_renderer *r);
 
