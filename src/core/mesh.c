@@ -469,14 +469,14 @@ static bool lod_parts(limen__mesh *m)
     return ok;
 }
 
-static void mat_texel(const limen__texture *t, const float repeat[2], double u, double v,
-                      double c[3], double *a)
+static void mat_texel(const limen__texture *t, const float repeat[2], limen_texture_filter f,
+                      const double *duv, double u, double v, double c[3], double *a)
 {
     if (!t)
         return;
     double x[3];
     double su = u * (repeat ? repeat[0] : 1), sv = v * (repeat ? repeat[1] : 1);
-    limen__texture_sample(t, su, sv, x);
+    limen__texture_filter(t, f, su, sv, duv, x);
     for (int k = 0; k < 3; k++)
         c[k] *= x[k];
     if (a)
@@ -484,7 +484,8 @@ static void mat_texel(const limen__texture *t, const float repeat[2], double u, 
 }
 
 void limen__mesh_material_at(const limen__mesh *m, const limen__texture *node_tex,
-                             const float repeat[2], uint32_t tri, double u, double v,
+                             const float repeat[2], limen_texture_filter filter,
+                             const double *duv, uint32_t tri, double u, double v,
                              double albedo[3], double *alpha, double emissive[3])
 {
     const uint32_t *ix = &m->idx[tri * 3];
@@ -498,10 +499,10 @@ void limen__mesh_material_at(const limen__mesh *m, const limen__texture *node_te
     for (int k = 0; k < 3; k++)
         albedo[k] = mt->base_color[k];
     if (node_tex)
-        mat_texel(node_tex, repeat, uv[0], uv[1], albedo, NULL);
+        mat_texel(node_tex, repeat, filter, duv, uv[0], uv[1], albedo, NULL);
     else
-        mat_texel(m->texs[mi * LIMEN__MAT_TEXTURES + LIMEN__MAT_BASE], repeat, uv[0], uv[1],
-                  albedo, &a);
+        mat_texel(m->texs[mi * LIMEN__MAT_TEXTURES + LIMEN__MAT_BASE], repeat, filter, duv,
+                  uv[0], uv[1], albedo, &a);
     if (m->col)
         for (int k = 0; k < 4; k++) {
             double c = w[0] * m->col[ix[0] * 4 + k] + w[1] * m->col[ix[1] * 4 + k] +
@@ -514,8 +515,8 @@ void limen__mesh_material_at(const limen__mesh *m, const limen__texture *node_te
     *alpha = a;
     for (int k = 0; k < 3; k++)
         emissive[k] = mt->emissive[k];
-    mat_texel(m->texs[mi * LIMEN__MAT_TEXTURES + LIMEN__MAT_EMISSIVE], repeat, uv[0], uv[1],
-              emissive, NULL);
+    mat_texel(m->texs[mi * LIMEN__MAT_TEXTURES + LIMEN__MAT_EMISSIVE], repeat, filter, duv,
+              uv[0], uv[1], emissive, NULL);
 }
 
 bool limen__mesh_masked(const limen__mesh *m, uint32_t tri, double u, double v)
@@ -524,7 +525,7 @@ bool limen__mesh_masked(const limen__mesh *m, uint32_t tri, double u, double v)
     if (mt->alpha_mode != LIMEN_ALPHA_MASK)
         return false;
     double c[3], a, e[3];
-    limen__mesh_material_at(m, NULL, NULL, tri, u, v, c, &a, e);
+    limen__mesh_material_at(m, NULL, NULL, LIMEN_FILTER_LINEAR, NULL, tri, u, v, c, &a, e);
     return a < mt->alpha_cutoff;
 }
 

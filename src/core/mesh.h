@@ -60,9 +60,11 @@ enum { LIMEN__MAT_BASE, LIMEN__MAT_EMISSIVE, LIMEN__MAT_MR, LIMEN__MAT_NORMAL,
  * mask. */
 bool limen__mesh_masked(const limen__mesh *m, uint32_t tri, double u, double v);
 /* The material at a hit: albedo (base x texel x vertex colour; the node's texture, if not
- * NULL, in place of the base texture), alpha, and emissive. */
+ * NULL, in place of the base texture), alpha, and emissive. Textures are sampled with filter
+ * over the footprint duv (limen__texture_filter; NULL: the full image). */
 void limen__mesh_material_at(const limen__mesh *m, const struct limen__texture *node_tex,
-                             const float repeat[2], uint32_t tri, double u, double v,
+                             const float repeat[2], limen_texture_filter filter,
+                             const double *duv, uint32_t tri, double u, double v,
                              double albedo[3], double *alpha, double emissive[3]);
 
 /* Bytes a mesh of this size may hold (geometry, levels of detail, hierarchy and

@@ -30,6 +30,15 @@
 #ifndef GL_UNPACK_ALIGNMENT
 #define GL_UNPACK_ALIGNMENT 0x0CF5
 #endif
+#ifndef GL_TEXTURE_MAX_LEVEL
+#define GL_TEXTURE_MAX_LEVEL 0x813D
+#endif
+#ifndef GL_NEAREST
+#define GL_NEAREST 0x2600
+#endif
+#ifndef GL_LINEAR_MIPMAP_LINEAR
+#define GL_LINEAR_MIPMAP_LINEAR 0x2703
+#endif
 
 enum { CORNER_FLOATS = 15, AT_FLAT = 3, AT_SMOOTH = 6, AT_UV = 9, AT_COL = 11 };
 enum { GPU_LODS = 16 };         /* levels kept; a coarser one asked for gets the last */
@@ -43,6 +52,7 @@ struct limen__gpu_asset {
     GLint sfirst[GPU_LODS];     /* each level's first index and indices */
     GLsizei scount[GPU_LODS];
     bool used;                  /* by the frame being drawn */
+    int filter;                 /* textures: the limen_texture_filter last set, + 1 */
 };
 
 static struct limen__gpu_asset *find(limen_renderer *r, uint64_t serial)
@@ -279,12 +289,52 @@ int limen__gpu_mesh_level(const limen_mesh_geometry *m, int lod)
     return lod < 0 ? 0 : lod >= nlods ? nlods - 1 : lod;
 }
 
-GLuint limen__gpu_texture(limen_renderer *r, const limen_image *t)
+/* Uploads image t with its mipmap levels (limen_image.levels: the texels the ray tracer
+ * samples, rows bottom first: GL's t = 0 is the image's bottom row, as v = 0 is). */
+static bool upload_texture(limen_renderer *r, const limen_image *t, struct limen__gpu_asset *a)
 {
-    return limen__gpu_texture_on(r, t, 1);
+    /* an image with alpha (a model's own) goes up RGBA, at one level (it has no others) */
+    int ch = t->alpha ? 4 : 3;
+    unsigned char *flip = upload_alloc(r, (size_t)t->width * (size_t)t->height * (size_t)ch);
+    if (!flip)
+        return false;
+    GL(GenTextures)(1, &a->tex);
+    GL(BindTexture)(GL_TEXTURE_2D, a->tex);
+    GL(PixelStorei)(GL_UNPACK_ALIGNMENT, 1);
+    int nlevels = t->levels && t->level_count > 0 && !t->alpha ? t->level_count : 1;
+    for (int k = 0; k < nlevels; k++) {
+        limen_image_level l = t->levels ? t->levels[k]
+                                        : (limen_image_level){ t->width, t->height, t->rgb };
+        size_t row = (size_t)l.width * 3;
+        for (int j = 0; j < l.height && ch == 3; j++)
+            memcpy(flip + (size_t)j * row, l.rgb + (size_t)(l.height - 1 - j) * row, row);
+        for (int j = 0; j < l.height && ch == 4; j++) {
+            const unsigned char *src = l.rgb + (size_t)(l.height - 1 - j) * row;
+            const unsigned char *al = t->alpha + (size_t)(l.height - 1 - j) * (size_t)l.width;
+            unsigned char *dst = flip + (size_t)j * l.width * 4;
+            for (int i = 0; i < l.width; i++) {
+                memcpy(dst + i * 4, src + i * 3, 3);
+                dst[i * 4 + 3] = al[i];
+            }
+        }
+        GL(TexImage2D)(GL_TEXTURE_2D, k, ch == 4 ? GL_RGBA8 : GL_RGB8, l.width, l.height, 0,
+                       ch == 4 ? GL_RGBA : GL_RGB, GL_UNSIGNED_BYTE, flip);
+    }
+    GL(PixelStorei)(GL_UNPACK_ALIGNMENT, 4);
+    free(flip);
+    GL(TexParameteri)(GL_TEXTURE_2D, GL_TEXTURE_MAX_LEVEL, nlevels - 1);
+    GL(TexParameteri)(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_REPEAT);
+    GL(TexParameteri)(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_REPEAT);
+    return true;
 }
 
-GLuint limen__gpu_texture_on(limen_renderer *r, const limen_image *t, int unit)
+GLuint limen__gpu_texture(limen_renderer *r, const limen_image *t, limen_texture_filter filter)
+{
+    return limen__gpu_texture_on(r, t, 1, filter);
+}
+
+GLuint limen__gpu_texture_on(limen_renderer *r, const limen_image *t, int unit,
+                             limen_texture_filter filter)
 {
     struct limen__gpu_asset *a = find(r, t->id);
     if (!a) {
@@ -295,42 +345,21 @@ GLuint limen__gpu_texture_on(limen_renderer *r, const limen_image *t, int unit)
     GL(ActiveTexture)(GL_TEXTURE0 + (GLenum)unit);
     if (a->tex)
         GL(BindTexture)(GL_TEXTURE_2D, a->tex);
-    if (!a->tex) {
-        /* rows bottom first: GL's t = 0 is the image's bottom row, as v = 0 is */
-        int ch = t->alpha ? 4 : 3;     /* RGBA where the image has alpha */
-        unsigned char *flip = upload_alloc(r, (size_t)t->width * (size_t)t->height * (size_t)ch);
-        if (!flip) {
-            limen__draw_fail(r, LIMEN_ERR_NOMEM, "out of memory uploading a %dx%d texture (it "
-                             "is not drawn)", t->width, t->height);
-            GL(ActiveTexture)(GL_TEXTURE0);
-            return 0;
-        }
-        size_t row = (size_t)t->width * (size_t)ch;
-        for (int j = 0; j < t->height; j++) {
-            const unsigned char *src = t->rgb + (size_t)(t->height - 1 - j) * t->width * 3;
-            const unsigned char *al = t->alpha ? t->alpha + (size_t)(t->height - 1 - j) * t->width
-                                               : NULL;
-            unsigned char *dst = flip + (size_t)j * row;
-            if (!al) {
-                memcpy(dst, src, row);
-                continue;
-            }
-            for (int i = 0; i < t->width; i++) {
-                memcpy(dst + i * 4, src + i * 3, 3);
-                dst[i * 4 + 3] = al[i];
-            }
-        }
-        GL(GenTextures)(1, &a->tex);
-        GL(BindTexture)(GL_TEXTURE_2D, a->tex);
-        GL(PixelStorei)(GL_UNPACK_ALIGNMENT, 1);
-        GL(TexImage2D)(GL_TEXTURE_2D, 0, ch == 4 ? GL_RGBA8 : GL_RGB8, t->width, t->height, 0,
-                       ch == 4 ? GL_RGBA : GL_RGB, GL_UNSIGNED_BYTE, flip);
-        GL(PixelStorei)(GL_UNPACK_ALIGNMENT, 4);
-        free(flip);
-        GL(TexParameteri)(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
-        GL(TexParameteri)(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-        GL(TexParameteri)(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_REPEAT);
-        GL(TexParameteri)(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_REPEAT);
+    else if (!upload_texture(r, t, a)) {
+        limen__draw_fail(r, LIMEN_ERR_NOMEM, "out of memory uploading a %dx%d texture (it "
+                         "is not drawn)", t->width, t->height);
+        GL(ActiveTexture)(GL_TEXTURE0);
+        return 0;
+    }
+    /* the sampling state lives in the texture object: set where the draw wants another */
+    if (a->filter != (int)filter + 1) {
+        GLint min = filter == LIMEN_FILTER_NEAREST ? GL_NEAREST
+                    : filter == LIMEN_FILTER_LINEAR ? GL_LINEAR
+                                                    : GL_LINEAR_MIPMAP_LINEAR;
+        GL(TexParameteri)(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, min);
+        GL(TexParameteri)(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER,
+                          filter == LIMEN_FILTER_NEAREST ? GL_NEAREST : GL_LINEAR);
+        a->filter = (int)filter + 1;
     }
     GL(ActiveTexture)(GL_TEXTURE0);
     return a->tex;

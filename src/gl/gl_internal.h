@@ -65,6 +65,7 @@ struct limen_renderer {
     int depth_bits;                         /* 24: DEPTH24_STENCIL8, 32: DEPTH32F_STENCIL8 */
     bool has_fragment_stats;
     bool ready;                             /* set up completely */
+    bool loaded;                            /* gl holds every required entry point */
     char err[512];
     char info[256];
 
@@ -106,6 +107,7 @@ struct limen_renderer {
     limen_scene *scene;                     /* the scene of the frame being drawn */
     int draw_calls;                         /* this frame's (limen_frame_stats) */
     uint64_t triangles;
+    uint64_t mesh_tris_left;                /* of the frame's budget.triangles */
     bool instanced;                         /* variants read the model from instances */
     bool material;                          /* ... and a mesh part's material (gl/batch.c) */
     bool blend_pass;                        /* mesh draws draw their blended parts only */
@@ -257,9 +259,10 @@ bool limen__unit_mesh(limen_renderer *r, const vec4 *view, float px_scale, const
  * dropping what it did not use; everything, at the end. */
 bool limen__gpu_mesh_bind(limen_renderer *r, const limen_mesh_geometry *m, bool smooth, int lod,
                           GLint *first, GLsizei *count, bool *indexed);
-GLuint limen__gpu_texture(limen_renderer *r, const limen_image *t);
+GLuint limen__gpu_texture(limen_renderer *r, const limen_image *t, limen_texture_filter filter);
 /* The same on texture unit `unit` (2: a material's emissive texture). */
-GLuint limen__gpu_texture_on(limen_renderer *r, const limen_image *t, int unit);
+GLuint limen__gpu_texture_on(limen_renderer *r, const limen_image *t, int unit,
+                             limen_texture_filter filter);
 /* The level limen__gpu_mesh_bind draws for `lod` (clamped to the levels it keeps). */
 int limen__gpu_mesh_level(const limen_mesh_geometry *m, int lod);
 /* gl/views.c: view v's meshes' blended parts, farthest first, over what it drew (both
