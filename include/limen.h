@@ -38,7 +38,10 @@
  *        w_i = clamp(1 - (d/R)^4, 0, 1)^2
  *     which starts at 1, falls smoothly and reaches 0 (with zero slope) at d = R.
  *     albedo is the node's colour (or checker colour), times its texture's texel where it
- *     has one (see limen_node_set_texture).
+ *     has one (see limen_node_set_texture); on a mesh, times its part's material too:
+ *        albedo = base colour x base texel x vertex colour x the node's colour
+ *     and a material's emissive colour is added after the clamp, the sum clamped again
+ *     (see limen_material: alpha masks and blending there too).
  *   - Mirrors, portals and quads lie on their local z = 0, face local +Z,
  *     local +Y up, extent w x h centred on the origin.
  *
