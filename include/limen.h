@@ -38,7 +38,10 @@
  *        w_i = clamp(1 - (d/R)^4, 0, 1)^2
  *     which starts at 1, falls smoothly and reaches 0 (with zero slope) at d = R.
  *     albedo is the node's colour (or checker colour), times its texture's texel where it
- *     has one (see limen_node_set_texture).
+ *     has one (see limen_node_set_texture); on a mesh, times its part's material too:
+ *        albedo = base colour x base texel x vertex colour x the node's colour
+ *     and a material's emissive colour is added after the clamp, the sum clamped again
+ *     (see limen_material: alpha masks and blending there too).
  *   - Mirrors, portals and quads lie on their local z = 0, face local +Z,
  *     local +Y up, extent w x h centred on the origin.
  *
@@ -292,6 +295,48 @@ LIMEN_API limen_status limen_light_set_range(limen_scene *s, limen_node light, f
 LIMEN_API float limen_light_get_range(const limen_scene *s, limen_node light); /* 0 if none */
 LIMEN_API int limen_node_get_visible(const limen_scene *s, limen_node n);
 
+/* Materials: a mesh is made of parts (limen_mesh_part), each a range of its triangles in
+ * one material. What is shaded (renderer and ray tracer alike):
+ *     albedo = base_color x base texture's texel x vertex colour x the node's colour
+ *     alpha  = base_color[3] x the texel's alpha x the vertex colour's alpha
+ * the albedo lit as CONVENTIONS says, then the emissive colour (emissive x its texture's
+ * texel) added and the sum clamped to [0, 1]. MASK: where alpha < alpha_cutoff nothing is
+ * drawn (rays pass through). BLEND: colour = alpha x this + (1 - alpha) x what lies behind,
+ * blended parts drawn after the opaque ones, farthest first. A node's texture (limen_node_set_
+ * texture) replaces every part's base texture. The metallic, roughness, normal and occlusion
+ * fields are read from the file and listed for a game's own renderer, not shaded. */
+typedef enum limen_alpha_mode {
+    LIMEN_ALPHA_OPAQUE = 0,     /* alpha ignored */
+    LIMEN_ALPHA_MASK,           /* drawn where alpha >= alpha_cutoff */
+    LIMEN_ALPHA_BLEND           /* composited over what lies behind */
+} limen_alpha_mode;
+
+struct limen_image;
+
+typedef struct limen_material {
+    const char *name;           /* the file's name for it, "" if none */
+    float base_color[4];        /* linear RGBA factor (glTF baseColorFactor; MTL Kd, d) */
+    const struct limen_image *base_texture;  /* or NULL (none, or not found: a warning) */
+    int base_texcoord;          /* the file's texture-coordinate set for it (0 or 1), and */
+    float base_transform[6];    /* its 2x3 transform (column-major: u' = t0 u + t2 v + t4,
+                                 * v' = t1 u + t3 v + t5; KHR_texture_transform), both already
+                                 * applied to limen_mesh_geometry.uvs: listed, not to reapply */
+    limen_alpha_mode alpha_mode;
+    float alpha_cutoff;         /* MASK: default 0.5 */
+    float emissive[3];          /* linear RGB factor, added after shading */
+    const struct limen_image *emissive_texture;  /* or NULL; sampled at the same uvs */
+    int double_sided;           /* the file's flag (limen lights both sides regardless) */
+    const struct limen_image *metallic_roughness_texture;   /* listed, not shaded: */
+    const struct limen_image *normal_texture;               /* ... NULL where none */
+    const struct limen_image *occlusion_texture;
+    float metallic, roughness, normal_scale, occlusion_strength;
+} limen_material;
+
+typedef struct limen_mesh_part {
+    int first_triangle, triangle_count;     /* a range of the mesh's (or level's) triangles */
+    int material;                           /* index into the mesh's materials */
+} limen_mesh_part;
+
 /* Meshes: triangles in the node's local frame, drawn with the node's transform and colour
  * (checker too: cells of the local point, x+y+z). A mesh node shows nothing until it has
  * triangles. Both sides are lit (the normal turned toward the eye, as for quads). Normals:
@@ -308,6 +353,11 @@ typedef struct limen_mesh_data {
     int vertex_count;
     const uint32_t *indices;    /* triangle_count * 3, each < vertex_count */
     int triangle_count;
+    const float *colors;        /* vertex_count * 4 (linear RGBA vertex colours), or NULL */
+    int part_count;             /* 0: one part of all the triangles in a white material */
+    const limen_mesh_part *parts;   /* part_count ranges covering every triangle once */
+    int material_count;         /* materials the parts index; their textures are ignored */
+    const limen_material *materials;    /* (name, colours, alpha and emissive are taken) */
 } limen_mesh_data;
 
 typedef struct limen_mesh_info {
@@ -366,7 +416,14 @@ LIMEN_API limen_status limen_node_get_texture_filter(const limen_scene *s, limen
                                                      limen_texture_filter *filter);
 
 /* Loads a file through assimp (OBJ, glTF 2.0 .gltf/.glb, PLY, FBX, STL, ...): polygons are
- * triangulated, the file's node transforms applied, all its meshes merged. */
+ * triangulated, the file's node transforms applied, all its meshes merged into one part per
+ * material (limen_material). Its textures (PNG, JPEG, TGA, BMP, PSD, GIF, HDR clamped to
+ * [0, 1], or held in the file: GLB, FBX) are read as the file names them; one absent there,
+ * named by an absolute path or outside the file's folder is looked for by its base name
+ * beside the file (any case), and one not found leaves its parts their colour: both with a
+ * warning (limen_scene_warning), never a refusal. Points and lines are skipped with a
+ * warning; a file left with no triangles is refused. Where the node already has a texture
+ * (set before loading), the file's are not read. */
 LIMEN_API limen_status limen_mesh_load(limen_scene *s, limen_node mesh, const char *path);
 /* Copies triangles from arrays (the caller keeps its own). */
 LIMEN_API limen_status limen_mesh_set_triangles(limen_scene *s, limen_node mesh,
@@ -374,6 +431,12 @@ LIMEN_API limen_status limen_mesh_set_triangles(limen_scene *s, limen_node mesh,
 LIMEN_API limen_status limen_mesh_set_smooth(limen_scene *s, limen_node mesh, int smooth);
 LIMEN_API limen_status limen_mesh_get(const limen_scene *s, limen_node mesh,
                                       limen_mesh_info *out);   /* zeros before any triangles */
+
+/* Warnings: what loading files noticed without refusing them (a texture missing or found
+ * elsewhere, points and lines skipped), one line each, "file: warning: text", in order. */
+LIMEN_API int limen_scene_warning_count(const limen_scene *s);     /* 0 for NULL */
+LIMEN_API const char *limen_scene_warning(const limen_scene *s, int i); /* NULL out of range */
+LIMEN_API void limen_scene_clear_warnings(limen_scene *s);         /* forgets them all */
 
 /* Mirrors and portals ("surfaces"). Defaults: tint white, back mid-grey (0.5), fill black,
  * max_depth 8. A mirror seen from behind is a matte quad of its back colour; a portal seen
@@ -444,6 +507,8 @@ typedef struct limen_mesh_lod {
     float error;                /* the largest distance between this level's surface and the
                                  * full mesh's, measured (not the simplifier's estimate), in the
                                  * mesh's local units; 0 for level 0 */
+    const limen_mesh_part *parts;   /* the mesh's part_count parts as ranges of this level's
+                                 * triangles (a level keeps each triangle in its part) */
 } limen_mesh_lod;
 
 typedef struct limen_mesh_geometry {
@@ -455,6 +520,12 @@ typedef struct limen_mesh_geometry {
     const uint32_t *indices;    /* triangle_count * 3 */
     int lod_count;              /* levels of detail, >= 1; lods[0] is the full mesh (indices) */
     const limen_mesh_lod *lods; /* coarser as k grows, errors growing */
+    const float *colors;        /* vertex_count * 4 linear RGBA vertex colours, or NULL */
+    int part_count;             /* >= 1; parts[p] ranges over indices (level 0) */
+    const limen_mesh_part *parts;
+    int material_count;         /* >= 1 */
+    const limen_material *materials;
+    int has_blend;              /* some part's material is LIMEN_ALPHA_BLEND */
 } limen_mesh_geometry;
 
 /* One mipmap level of an image: 8-bit RGB, top row first. */
@@ -469,6 +540,7 @@ typedef struct limen_image {
     uint64_t id;                /* unique in the process: key a GPU copy on it */
     int width, height;
     const unsigned char *rgb;
+    const unsigned char *alpha; /* width * height alpha values (same order), or NULL: opaque */
     int level_count;            /* mipmap levels (limen_node_set_texture_filter), down to */
     const limen_image_level *levels;  /* 1 x 1; levels[0] is the image itself */
 } limen_image;
@@ -493,8 +565,9 @@ typedef struct limen_drawable {
     const limen_mesh_geometry *mesh;  /* meshes: the triangles (NULL: none yet) */
     int smooth;                 /* meshes: 1 interpolates the vertex normals, 0 takes each
                                  * triangle's face normal (p1-p0) x (p2-p0) */
-    const limen_image *texture; /* planes, boxes, meshes: albedo texture (a mesh file's own
-                                 * where the node names none), or NULL */
+    const limen_image *texture; /* planes, boxes, meshes: the node's albedo texture, or NULL;
+                                 * on a mesh it replaces every part's base texture (a mesh's
+                                 * own are in mesh->materials) */
     float texture_repeat[2];    /* limen_node_set_texture_repeat: scales the texture
                                  * coordinates before sampling */
     limen_texture_filter texture_filter;  /* limen_node_set_texture_filter */

@@ -374,6 +374,19 @@ static int l_scene_len(lua_State *L)
     return 1;
 }
 
+/* s:warnings(): what loading its files noticed, a list of "file: warning: text" lines. */
+static int l_scene_warnings(lua_State *L)
+{
+    lscene *ls = limen__lua_check_scene(L, 1);
+    int n = limen_scene_warning_count(ls->s);
+    lua_createtable(L, n, 0);
+    for (int i = 0; i < n; i++) {
+        lua_pushstring(L, limen_scene_warning(ls->s, i));
+        lua_rawseti(L, -2, i + 1);
+    }
+    return 1;
+}
+
 static int l_scene_tostring(lua_State *L)
 {
     lscene *ls = luaL_checkudata(L, 1, SCENE_MT);
@@ -412,6 +425,7 @@ static const luaL_Reg scene_methods[] = {
     { "find", l_scene_find },
     { "nodes", l_scene_nodes },
     { "render", limen__lua_scene_render },
+    { "warnings", l_scene_warnings },
     { NULL, NULL }
 };
 
