@@ -399,6 +399,7 @@ const luaL_Reg limen__lua_node_methods[] = {
     { "look_at", l_node_look_at },
     { "link", l_node_link },
     { "move", l_node_move },
+    { "slide", limen__lua_node_slide },
     { NULL, NULL }
 };
 

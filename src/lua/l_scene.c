@@ -337,6 +337,7 @@ static const luaL_Reg scene_methods[] = {
     { "find", l_scene_find },
     { "nodes", l_scene_nodes },
     { "render", limen__lua_scene_render },
+    { "sweep", limen__lua_scene_sweep },
     { NULL, NULL }
 };
 
