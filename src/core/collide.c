@@ -23,6 +23,7 @@
 #define MAX_CROSSINGS 64    /* portals one sweep may pass, whatever the limits say */
 #define MAX_SPLITS 32       /* plane crossings that cut one segment */
 #define SLIDE_ITERATIONS 5  /* collide-and-slide rounds per step */
+#define PLANE_EPS 1e-7      /* scene units: a centre this near a portal's plane is on it */
 
 enum { PIECE_POLY, PIECE_BALL, PIECE_CYL };
 
@@ -43,7 +44,8 @@ typedef struct body {
 typedef struct gate {
     int slot, partner;
     double plane[4];            /* front = +Z */
-    double side[4][4];          /* the outside of its rectangle's prism: x >= w/2, ... */
+    double side[5][4];          /* the outside of its rectangle's prism: x >= w/2, ..., and
+                                 * beyond the body's reach behind it */
     double pside[5][4];         /* the partner's front prism: inside = all >= 0 */
     double x[16], xinv[16];     /* into the partner, and back */
     double k;                   /* scale of x */
@@ -266,14 +268,16 @@ static double seg_poly(const double a[3], const double b[3], const piece *pc, do
     return best;
 }
 
+/* Signed: inside the ball the distance is negative, so that moving in counts as moving in. */
 static double point_ball(const double p[3], const piece *pc, double q[3])
 {
     double d[3];
     sub3(p, pc->c, d);
     double l = len3(d);
-    if (l <= pc->r) {
-        memcpy(q, p, sizeof d);
-        return 0;
+    if (!(l > 1e-300)) {
+        memcpy(q, pc->c, sizeof d);
+        q[0] += pc->r;
+        return -pc->r;
     }
     mad3(pc->c, pc->r / l, d, q);
     return l - pc->r;
@@ -353,7 +357,7 @@ static bool piece_contact(const body *bd, const piece *pc, double t0, double t1,
         double d = body_dist(bd, t, pc, pb, pk);
         double f = d - bd->r, g;
         sub3(pb, pk, dv);
-        g = d > 1e-300 ? dot3(bd->v, dv) / d : -vlen;
+        g = fabs(d) > 1e-300 ? dot3(bd->v, dv) / d : -vlen;
         if (f <= tol) {
             if (it == 0 && !(g < -1e-9 * vlen))
                 return false;
@@ -415,14 +419,6 @@ static bool clip_poly(const double (*in)[3], int n, const double plane[4], doubl
     return k >= 3;
 }
 
-static bool poly_all_front(const double (*v)[3], int n, const double plane[4])
-{
-    for (int i = 0; i < n; i++)
-        if (limen__d_plane_dist(plane, v[i]) < 0)
-            return false;
-    return true;
-}
-
 /* Adds a polygon less the holes of the gates (the prism behind each rectangle): the union
  * of its parts outside each of the prism's five sides, one piece each. */
 static void add_poly(sweeper *w, int node, const double (*v)[3], int n, const gate *const *holes,
@@ -437,18 +433,27 @@ static void add_poly(sweeper *w, int node, const double (*v)[3], int n, const ga
         return;
     }
     const gate *g = holes[0];
-    const double *outs[5] = { g->plane, g->side[0], g->side[1], g->side[2], g->side[3] };
-    for (int i = 0; i < 5; i++) {
-        if (poly_all_front(v, n, outs[i])) {
-            add_poly(w, node, v, n, holes + 1, nholes - 1);
-            return;
-        }
+    const double *outs[6] = { g->plane, g->side[0], g->side[1], g->side[2], g->side[3],
+                              g->side[4] };
+    /* whole unless it meets the prism (as a polygon with area) */
+    double a[MAXV][3], b[MAXV][3];
+    memcpy(a, v, sizeof(double) * 3 * (size_t)n);
+    int m = n;
+    bool meets = true;
+    for (int i = 0; i < 6 && meets; i++) {
+        double in[4] = { -outs[i][0], -outs[i][1], -outs[i][2], -outs[i][3] };
+        meets = clip_poly((const double(*)[3])a, m, in, b, &m);
+        memcpy(a, b, sizeof(double) * 3 * (size_t)m);
     }
-    for (int i = 0; i < 5; i++) {
+    if (!meets) {
+        add_poly(w, node, v, n, holes + 1, nholes - 1);
+        return;
+    }
+    for (int i = 0; i < 6; i++) {
         double out[MAXV][3];
-        int m;
-        if (clip_poly(v, n, outs[i], out, &m))
-            add_poly(w, node, (const double(*)[3])out, m, holes + 1, nholes - 1);
+        int k;
+        if (clip_poly(v, n, outs[i], out, &k))
+            add_poly(w, node, (const double(*)[3])out, k, holes + 1, nholes - 1);
     }
 }
 
@@ -614,7 +619,7 @@ static void add_node(sweeper *w, int slot, const limen__box *q, const gate *ghos
 
 /* ------------------------------------------------------------------ gates */
 
-static bool gate_make(limen_scene *s, int slot, gate *g)
+static bool gate_make(limen_scene *s, int slot, double reach, gate *g)
 {
     const limen__node *n = &s->nodes[slot], *p = &s->nodes[n->pair - 1];
     if (!limen__surface_matrix_d(s, n, g->x) || !limen__d_inv(g->x, g->xinv))
@@ -647,6 +652,9 @@ static bool gate_make(limen_scene *s, int slot, gate *g)
         }
     }
     limen__surface_plane_d(p, g->pside[4]);
+    for (int k = 0; k < 3; k++)
+        g->side[4][k] = -g->plane[k];
+    g->side[4][3] = -g->plane[3] - reach;
     return true;
 }
 
@@ -783,13 +791,16 @@ static bool sweep_segment(sweeper *w, const body *bd, double t0, double t1, gate
     body_ref(bd, ref);
     cuts[ncuts++] = t0;
     for (int i = 0; i < ngates && ncuts < MAX_SPLITS; i++) {
-        double d0 = limen__d_plane_dist(gates[i].plane, ref);
-        double dv = dot3(gates[i].plane, bd->v);
-        if (dv == 0)
-            continue;
-        double t = -d0 / dv;
-        if (t > t0 && t < t1)
-            cuts[ncuts++] = t;
+        /* a centre within PLANE_EPS of a plane at either end does not cross it there:
+         * rounding (a body just out of a portal sits on its partner's plane) makes no
+         * sliver of an interval */
+        double p0[3], p1[3];
+        mad3(ref, t0, bd->v, p0);
+        mad3(ref, t1, bd->v, p1);
+        double d0 = limen__d_plane_dist(gates[i].plane, p0);
+        double d1 = limen__d_plane_dist(gates[i].plane, p1);
+        if ((d0 > PLANE_EPS && d1 < -PLANE_EPS) || (d0 < -PLANE_EPS && d1 > PLANE_EPS))
+            cuts[ncuts++] = t0 + (t1 - t0) * d0 / (d0 - d1);
     }
     qsort(cuts + 1, (size_t)(ncuts - 1), sizeof *cuts, cmp_double);
     cuts[ncuts++] = t1;
@@ -902,7 +913,7 @@ static limen_status sweep_run(limen_scene *s, const char *who, body bd, int igno
                 out->crossed + 1 > limen__limits_depth(&w.lim, n->max_depth) ||
                 out->crossed >= MAX_CROSSINGS)
                 continue;
-            if (!gate_make(s, slot, &gates[ngates]))
+            if (!gate_make(s, slot, reach, &gates[ngates]))
                 continue;
             double t;
             if (gate_crossing(&gates[ngates], n, ref, bd.v, t0, 1, &t) && t < tp) {
