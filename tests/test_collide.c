@@ -535,13 +535,6 @@ static void ogather(limen_scene *s, const limen_drawable *items, int count, int 
             double z[3] = { 0, 0, 0 };
             opoint(m, z, pc.c);
             pc.r = d->dims[0] * sqrt(m[0] * m[0] + m[1] * m[1] + m[2] * m[2]);
-            if (ghost) {
-                bool in = true;
-                for (int k = 0; k < 5; k++)
-                    in &= pdist(ghost->pside[k], pc.c) >= 0;
-                if (!in)
-                    break;
-            }
             opush(o, &pc);
             break;
         }
@@ -907,6 +900,21 @@ static oresult osweep(limen_scene *s, limen_drawables *dl, const float from[3], 
                 ogather(s, items, count, res.portals, front[g], NULL, 0, os);
                 for (int i = 0; i < os->n; i++) {
                     double t = ocontact(gc, gv, r * front[g]->k, &os->p[i], ta, tb);
+                    if (t == t && os->p[i].ball) {  /* a ball counts where it touches in */
+                        double at[3], dd[3], l;
+                        for (int k = 0; k < 3; k++) {
+                            at[k] = gc[k] + t * gv[k];
+                            dd[k] = at[k] - os->p[i].c[k];
+                        }
+                        l = sqrt(odot(dd, dd));
+                        bool in = l > 0;
+                        for (int k = 0; k < 3; k++)
+                            at[k] = os->p[i].c[k] + os->p[i].r * dd[k] / l;
+                        for (int k = 0; k < 5; k++)
+                            in &= pdist(front[g]->pside[k], at) >= 0;
+                        if (!in)
+                            continue;
+                    }
                     if (t == t && (!res.hit || t < res.t)) {
                         res.hit = true;
                         res.t = t;

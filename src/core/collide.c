@@ -508,16 +508,6 @@ static void add_node(sweeper *w, int slot, const limen__box *q, const gate *ghos
         limen__d_point(m, o, c);
         if (n->kind == LIMEN_NODE_CYLINDER && !(ly > 0))
             return;
-        if (ghost) {
-            double mid[3];
-            if (n->kind == LIMEN_NODE_CYLINDER)
-                mad3(c, 0.5 * n->dims[1], up, mid);
-            else
-                memcpy(mid, c, sizeof c);
-            for (int i = 0; i < 5; i++)
-                if (limen__d_plane_dist(ghost->pside[i], mid) < 0)
-                    return;
-        }
         piece *p = piece_add(w, n->kind == LIMEN_NODE_SPHERE ? PIECE_BALL : PIECE_CYL, slot);
         if (!p)
             return;
@@ -726,8 +716,10 @@ static bool gather(sweeper *w, const limen__box *q, const gate *ghost, const gat
     return !w->oom;
 }
 
+/* The earliest contact with the pieces on [t0, t1]; for a ghost, a ball's or a cylinder's
+ * contact counts only where it lies in the partner's front prism. */
 static void closest_contact(const body *bd, const piece *pcs, int npc, double t0, double t1,
-                            contact *best)
+                            const gate *ghost, contact *best)
 {
     for (int i = 0; i < npc; i++) {
         double t;
@@ -737,6 +729,13 @@ static void closest_contact(const body *bd, const piece *pcs, int npc, double t0
             continue;
         double pb[3], pk[3];
         body_dist(bd, t, &pcs[i], pb, pk);
+        if (ghost && pcs[i].kind != PIECE_POLY) {
+            bool in = true;
+            for (int k = 0; k < 5; k++)
+                in &= limen__d_plane_dist(ghost->pside[k], pk) >= 0;
+            if (!in)
+                continue;
+        }
         best->hit = true;
         best->t = t;
         best->node = pcs[i].node;
@@ -819,7 +818,7 @@ static bool sweep_segment(sweeper *w, const body *bd, double t0, double t1, gate
         sweep_box(bd, ta, tb, reach, &q);
         if (!gather(w, &q, NULL, front, nfront, passed))
             return false;
-        closest_contact(bd, w->pc, w->npc, ta, tb, best);
+        closest_contact(bd, w->pc, w->npc, ta, tb, NULL, best);
         /* the part of the body through each opening, in the partner's room */
         for (int i = 0; i < nfront; i++) {
             const gate *g = front[i];
@@ -842,7 +841,7 @@ static bool sweep_segment(sweeper *w, const body *bd, double t0, double t1, gate
                 return false;
             contact gc = { 0 };
             gc.t = best->hit ? best->t : INFINITY;
-            closest_contact(&gb, w->pc, w->npc, ta, best->hit ? fmin(tb, best->t) : tb, &gc);
+            closest_contact(&gb, w->pc, w->npc, ta, best->hit ? fmin(tb, best->t) : tb, g, &gc);
             if (gc.node >= 0 && gc.hit && (!best->hit || gc.t < best->t)) {
                 best->hit = true;
                 best->t = gc.t;
