@@ -974,6 +974,7 @@ typedef struct limen_slide_result {
     limen_node portal;          /* the last one (zero if none) */
     float matrix[16];           /* their product (identity if none): carry velocities */
     float radius;               /* the body's radius at the end (unequal portals scale it) */
+    float segment[3];           /* capsules: the segment at the end (portals turn it) */
 } limen_slide_result;
 
 /* Collide and slide (Fauerby): moves node n by the world displacement d as a sphere of the
@@ -984,6 +985,12 @@ typedef struct limen_slide_result {
  * descendants do not collide with it. out may be NULL. */
 LIMEN_API limen_status limen_node_slide(limen_scene *s, limen_node n, const float d[3],
                                         float radius, limen_slide_result *out);
+/* The same for a capsule: the segment from the node's origin to origin + segment (world,
+ * e.g. {0, -0.8, 0} from a person's eyes towards the knees) with the radius. Portals are
+ * passed by the origin, as limen_node_move passes them, and turn the segment. */
+LIMEN_API limen_status limen_node_slide_capsule(limen_scene *s, limen_node n, const float d[3],
+                                                float radius, const float segment[3],
+                                                limen_slide_result *out);
 
 /* ---------------------------------------------------------------- deprecated names */
 

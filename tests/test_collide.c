@@ -311,6 +311,28 @@ static void test_slide(void)
     CHECK_OK(limen_node_slide(s, body, (float[3]){ 0, 0, -1e6f }, 0.3f, &r));
     CHECK_OK(limen_node_get_position(s, body, p));
     CHECK(r.contacts >= 1 && p[2] >= 0.3f - 1e-5f && p[2] < 0.31f);
+    /* a person (a capsule from the eyes 0.8 down) stops at a low box that a ball at the
+     * eyes passes over; the capsule passes the opening (its bottom, 0.15, above the
+     * portal's, 0.1) and comes out turned */
+    limen_node low = make(s, LIMEN_NODE_BOX, "low", 0, 0.25f, 3, 1, 0.5f, 1);
+    limen_node eye = make(s, LIMEN_NODE_CAMERA, "eye", 0, 1.2f, 5, 0, 0, 0);
+    CHECK_OK(limen_node_slide(s, eye, (float[3]){ 0, 0, -3 }, 0.25f, &r));
+    CHECK(r.contacts == 0);
+    CHECK_OK(limen_node_set_position(s, eye, (float[3]){ 0, 1.2f, 5 }));
+    CHECK_OK(limen_node_slide_capsule(s, eye, (float[3]){ 0, 0, -3 }, 0.25f,
+                                      (float[3]){ 0, -0.8f, 0 }, &r));
+    CHECK_OK(limen_node_get_position(s, eye, p));
+    CHECK(r.contacts >= 1);
+    CHECK_NEAR(p[2], 3.5 + 0.25, 1e-3);
+    CHECK_OK(limen_node_destroy(s, low));
+    CHECK_OK(limen_node_slide_capsule(s, eye, (float[3]){ 0, 0, -5 }, 0.25f,
+                                      (float[3]){ 0, -0.8f, 0 }, &r));
+    CHECK(r.crossed == 1 && r.contacts == 0);
+    CHECK_NEAR(r.segment[1], -0.8, 1e-4);
+    CHECK_OK(limen_node_world_matrix(s, eye, w));
+    CHECK_NEAR(w[12], 20 - 1.251, 1e-3);
+    CHECK(limen_node_slide_capsule(s, eye, (float[3]){ 0, 0, -1 }, 0.25f,
+                                   (float[3]){ 0, NAN, 0 }, &r) == LIMEN_ERR_ARG);
     limen_scene_destroy(s);
 }
 

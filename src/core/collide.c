@@ -34,10 +34,12 @@ typedef struct piece {
     double r, h;                /* radius; cylinder height */
 } piece;
 
-/* A body: the segment a-b (a point for a sphere) with radius r, at a + t v, b + t v. */
+/* A body: the segment a-b (a point for a sphere) with radius r, at a + t v, b + t v. Its
+ * reference point (which passes portals, and whose side of a portal opens its hole) is the
+ * midpoint, or a for a node that slides (its origin, as limen_node_move carries it). */
 typedef struct body {
     double a[3], b[3], v[3], r;
-    bool capsule;
+    bool capsule, ref_a;
 } body;
 
 /* An open portal near a segment: its plane, side planes and matrix. */
@@ -757,12 +759,13 @@ static void closest_contact(const body *bd, const piece *pcs, int npc, double t0
 static void body_ref(const body *bd, double p[3])
 {
     for (int k = 0; k < 3; k++)
-        p[k] = 0.5 * (bd->a[k] + bd->b[k]);
+        p[k] = bd->ref_a ? bd->a[k] : 0.5 * (bd->a[k] + bd->b[k]);
 }
 
+/* How far the body reaches from its reference point. */
 static double body_reach(const body *bd)
 {
-    return bd->r + 0.5 * dist3(bd->a, bd->b);
+    return bd->r + (bd->ref_a ? 1.0 : 0.5) * dist3(bd->a, bd->b);
 }
 
 static void body_carry(const double x[16], double k, const body *in, body *out)
@@ -825,7 +828,7 @@ static bool sweep_segment(sweeper *w, const body *bd, double t0, double t1, gate
             body gb;
             body_carry(g->x, g->k, bd, &gb);
             limen__box gq, pq;
-            sweep_box(&gb, ta, tb, gb.r + 0.5 * dist3(gb.a, gb.b), &gq);
+            sweep_box(&gb, ta, tb, body_reach(&gb), &gq);
             /* only the partner's front prism, as deep as the body reaches */
             limen__node_box(&w->s->nodes[g->partner], &pq);
             double pad = reach * g->k;
@@ -1050,8 +1053,8 @@ limen_status limen_sweep_capsule(limen_scene *s, const float a[3], const float b
 
 /* ------------------------------------------------------------------ sliding */
 
-limen_status limen_node_slide(limen_scene *s, limen_node n, const float d[3], float radius,
-                              limen_slide_result *out)
+static limen_status slide(limen_scene *s, limen_node n, const float d[3], float radius,
+                          const float *seg, limen_slide_result *out)
 {
     if (out) {
         memset(out, 0, sizeof *out);
@@ -1068,6 +1071,10 @@ limen_status limen_node_slide(limen_scene *s, limen_node n, const float d[3], fl
     if (!(radius >= LIMEN_MIN_SIZE && radius <= LIMEN_MAX_MAGNITUDE))
         return limen__fail(s, LIMEN_ERR_ARG, "slide: radius must be a positive number from "
                            "1e-9 to 1e9 (got %g)", (double)radius);
+    if (seg && !finite_in(seg, 3))
+        return limen__fail(s, LIMEN_ERR_ARG, "slide: the capsule's segment needs three numbers "
+                           "from -1e9 to 1e9");
+    double axis[3] = { seg ? seg[0] : 0, seg ? seg[1] : 0, seg ? seg[2] : 0 };
     double rest[3] = { d[0], d[1], d[2] }, total[16], moved[3] = { 0, 0, 0 }, r = radius;
     limen__d_identity(total);
     int contacts = 0, crossed = 0;
@@ -1079,9 +1086,10 @@ limen_status limen_node_slide(limen_scene *s, limen_node n, const float d[3], fl
         if (!(len > 1e-12 * fmax(1.0, r)))
             break;
         limen__scene_refresh(s);
-        body bd = { .r = r };
+        body bd = { .r = r, .capsule = seg != NULL, .ref_a = true };
         for (int k = 0; k < 3; k++) {
-            bd.a[k] = bd.b[k] = node->world[3][k];
+            bd.a[k] = node->world[3][k];
+            bd.b[k] = bd.a[k] + axis[k];
             bd.v[k] = rest[k];
         }
         sweep_out o;
@@ -1117,6 +1125,7 @@ limen_status limen_node_slide(limen_scene *s, limen_node n, const float d[3], fl
             last = mr.portal;
             limen__d_mul(m, total, total);
             r *= sqrt(m[0] * m[0] + m[1] * m[1] + m[2] * m[2]);
+            vec_d(m, axis, axis);
         }
         double left[3];
         for (int k = 0; k < 3; k++)
@@ -1125,6 +1134,8 @@ limen_status limen_node_slide(limen_scene *s, limen_node n, const float d[3], fl
         if (!o.c.hit)
             break;
         contacts++;
+        if (mr.crossed != o.crossed)
+            continue;       /* stopped short of the portal the contact lies beyond */
         memcpy(lastn, o.c.normal, sizeof lastn);
         /* slide: the rest of the motion less its part into the contact plane */
         double into = dot3(rest, o.c.normal);
@@ -1141,6 +1152,23 @@ limen_status limen_node_slide(limen_scene *s, limen_node n, const float d[3], fl
         out->portal = last;
         limen__d_to_f(total, out->matrix);
         out->radius = (float)r;
+        for (int k = 0; k < 3; k++)
+            out->segment[k] = (float)axis[k];
     }
     return LIMEN_OK;
+}
+
+limen_status limen_node_slide(limen_scene *s, limen_node n, const float d[3], float radius,
+                              limen_slide_result *out)
+{
+    return slide(s, n, d, radius, NULL, out);
+}
+
+limen_status limen_node_slide_capsule(limen_scene *s, limen_node n, const float d[3],
+                                      float radius, const float segment[3],
+                                      limen_slide_result *out)
+{
+    if (s && !segment)
+        return limen__fail(s, LIMEN_ERR_ARG, "slide: NULL segment");
+    return slide(s, n, d, radius, segment, out);
 }
