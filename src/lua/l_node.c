@@ -119,8 +119,10 @@ limen_node limen__lua_create_node(lua_State *L, int scene_idx, limen_node_kind k
             limen__lua_hold(L, (ptrdiff_t)charged);
             ls->assets += charged;
         }
-        if (st)
+        if (st) {
+            limen__lua_want(L, limen__scene_take_wanted(ls->s));
             limen_node_destroy(ls->s, n);   /* leaves the message alone */
+        }
     }
     if (st) {
         if (also.id)
@@ -445,6 +447,7 @@ const luaL_Reg limen__lua_node_methods[] = {
     { "link", l_node_link },
     { "move", l_node_move },
     { "find", l_node_find },
+    { "slide", limen__lua_node_slide },
     { NULL, NULL }
 };
 

@@ -7,6 +7,7 @@
 #include <string.h>
 
 #include "core/mesh.h"
+#include "core/texture.h"
 #include "core/model.h"
 #include "lua/l_api.h"
 
@@ -98,6 +99,7 @@ static int l_scene_mesh(lua_State *L)
     size_t charged;
     limen_status st = limen__mesh_load(ls->s, n, path, limen__lua_mem_left(L), &charged);
     if (st) {
+        limen__lua_want(L, limen__scene_take_wanted(ls->s));
         limen__lua_forget_node(L, 1, n);
         return limen__lua_c_error(L, ls->s, "mesh", label);
     }
@@ -372,6 +374,19 @@ static int l_scene_len(lua_State *L)
     return 1;
 }
 
+/* s:warnings(): what loading its files noticed, a list of "file: warning: text" lines. */
+static int l_scene_warnings(lua_State *L)
+{
+    lscene *ls = limen__lua_check_scene(L, 1);
+    int n = limen_scene_warning_count(ls->s);
+    lua_createtable(L, n, 0);
+    for (int i = 0; i < n; i++) {
+        lua_pushstring(L, limen_scene_warning(ls->s, i));
+        lua_rawseti(L, -2, i + 1);
+    }
+    return 1;
+}
+
 static int l_scene_tostring(lua_State *L)
 {
     lscene *ls = luaL_checkudata(L, 1, SCENE_MT);
@@ -410,6 +425,8 @@ static const luaL_Reg scene_methods[] = {
     { "find", l_scene_find },
     { "nodes", l_scene_nodes },
     { "render", limen__lua_scene_render },
+    { "warnings", l_scene_warnings },
+    { "sweep", limen__lua_scene_sweep },
     { NULL, NULL }
 };
 
