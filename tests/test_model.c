@@ -117,6 +117,15 @@ static const char *write_gltf(const char *name, const gltf *g, const char *roots
     snprintf(path, sizeof path, "%s/%s", dir, name);
     char *b64 = malloc(g->nbin * 2 + 8);
     base64(g->bin, g->nbin, b64);
+    /* the checks image again, held in the file as a data URI */
+    unsigned char png[4096];
+    char png64[6000] = "", pngpath[128];
+    snprintf(pngpath, sizeof pngpath, "%s/checks.png", dir);
+    FILE *pf = fopen(pngpath, "rb");
+    size_t npng = pf ? fread(png, 1, sizeof png, pf) : 0;
+    if (pf)
+        fclose(pf);
+    base64(png, npng, png64);
     FILE *f = fopen(path, "w");
     CHECK(f != NULL);
     if (f) {
@@ -124,9 +133,11 @@ static const char *write_gltf(const char *name, const gltf *g, const char *roots
                 "[%s]}],\n \"nodes\": [%s],\n \"meshes\": [%s],\n \"materials\": "
                 "[{\"pbrMetallicRoughness\": {\"baseColorFactor\": [0.8, 0.7, 0.6, 1]}},\n"
                 "  {\"pbrMetallicRoughness\": {\"baseColorTexture\": {\"index\": 0}}},\n"
-                "  {\"pbrMetallicRoughness\": {\"baseColorTexture\": {\"index\": 1}}}],\n"
-                " \"textures\": [{\"source\": 0}, {\"source\": 1}],\n"
-                " \"images\": [{\"uri\": \"../elsewhere/checks.png\"}, {\"uri\": \"gone.png\"}],\n"
+                "  {\"pbrMetallicRoughness\": {\"baseColorTexture\": {\"index\": 1}}},\n"
+                "  {\"pbrMetallicRoughness\": {\"baseColorTexture\": {\"index\": 2}}}],\n"
+                " \"textures\": [{\"source\": 0}, {\"source\": 1}, {\"source\": 2}],\n"
+                " \"images\": [{\"uri\": \"../elsewhere/checks.png\"}, {\"uri\": \"gone.png\"},\n"
+                "  {\"uri\": \"data:image/png;base64,%s\"}],\n"
                 " \"cameras\": [{\"type\": \"perspective\", \"perspective\": {\"yfov\": 0.9, "
                 "\"aspectRatio\": 1.3333, \"znear\": 0.05, \"zfar\": 100}}],\n"
                 " \"extensionsUsed\": [\"KHR_lights_punctual\"],\n \"extensions\": "
@@ -134,7 +145,7 @@ static const char *write_gltf(const char *name, const gltf *g, const char *roots
                 "1], \"intensity\": 0.9, \"range\": 7.5}]}},\n \"bufferViews\": [%s],\n \"accessors\": [%s],\n"
                 " \"buffers\": [{\"byteLength\": %zu, \"uri\": "
                 "\"data:application/octet-stream;base64,%s\"}]}\n",
-                roots, nodes, g->meshes, g->views, g->accessors, g->nbin, b64);
+                roots, nodes, g->meshes, png64, g->views, g->accessors, g->nbin, b64);
         fclose(f);
     }
     free(b64);
@@ -143,8 +154,9 @@ static const char *write_gltf(const char *name, const gltf *g, const char *roots
 
 /* The level: a floor, a room group holding a crate, a mirror by extras and one by name, a
  * portal pair by extras, a camera and a lamp. Meshes: 0 floor, 1 crate, 2 a 2 x 1.5 quad,
- * 3 a 1 x 2 quad, 4 a bent quad, 5 a 1.2 x 1 quad, 6 a sign whose image is missing. The
- * floor's image (material 1) is named "../elsewhere/checks.png" and lies beside the file. */
+ * 3 a 1 x 2 quad, 4 a bent quad, 5 a 1.2 x 1 quad, 6 a sign whose image is missing, 7 a
+ * poster whose image the file holds (a data URI). The floor's image (material 1) is named
+ * "../elsewhere/checks.png" and lies beside the file. */
 static void level_meshes(gltf *g)
 {
     memset(g, 0, sizeof *g);
@@ -174,13 +186,14 @@ static void level_meshes(gltf *g)
     static const float sign_pos[12] = { -0.5f, 0, 0, 0.5f, 0, 0, 0.5f, 1, 0, -0.5f, 1, 0 };
     static const float sign_uv[8] = { 0, 0, 1, 0, 1, 1, 0, 1 };
     add_mesh_uv(g, sign_pos, sign_uv, 2, 4, quad_idx, 2);
+    add_mesh_uv(g, sign_pos, sign_uv, 3, 4, quad_idx, 2);
 }
 
 #define Q_PLUS_X "\"rotation\": [0, 0.70710678, 0, 0.70710678]"
 #define Q_MINUS_X "\"rotation\": [0, -0.70710678, 0, 0.70710678]"
 
 static const char *level_nodes =
-    "{\"name\": \"level\", \"children\": [1, 2, 4, 5, 6, 7, 8, 9, 10]},\n"
+    "{\"name\": \"level\", \"children\": [1, 2, 4, 5, 6, 7, 8, 9, 10, 11]},\n"
     "{\"name\": \"floor\", \"mesh\": 0},\n"
     "{\"name\": \"room\", \"translation\": [1.5, 0, -1], \"children\": [3]},\n"
     "{\"name\": \"crate\", \"mesh\": 1, \"translation\": [0, 0.5, 0], \"scale\": [1, 1, 1]},\n"
@@ -194,7 +207,8 @@ static const char *level_nodes =
     "{\"name\": \"eye\", \"camera\": 0, \"translation\": [0.3, 1.6, 4.5]},\n"
     "{\"name\": \"lamp\", \"translation\": [0, 3, 2], \"extensions\": {\"KHR_lights_punctual\": "
     "{\"light\": 0}}},\n"
-    "{\"name\": \"sign\", \"mesh\": 6, \"translation\": [-1.5, 0, -2]}";
+    "{\"name\": \"sign\", \"mesh\": 6, \"translation\": [-1.5, 0, -2]},\n"
+    "{\"name\": \"poster\", \"mesh\": 7, \"translation\": [0.6, 0, -2.5]}";
 
 static limen_scene *new_scene(void)
 {
@@ -289,6 +303,8 @@ static void test_hierarchy(void)
     const limen_drawable *fl = &items[limen_drawables_find(d, find_below(s, group, "floor"))];
     CHECK(fl->texture && fl->texture->width == 8);
     CHECK(!items[limen_drawables_find(d, find_below(s, group, "sign"))].texture);
+    const limen_drawable *po = &items[limen_drawables_find(d, find_below(s, group, "poster"))];
+    CHECK(po->texture && po->texture->width == 8 && po->texture != fl->texture);
     limen_drawables_destroy(d);
     CHECK_OK(limen_node_get_color(s, find_below(s, group, "crate"), c));
     CHECK_NEAR(c[1], 0.7, 1e-6);

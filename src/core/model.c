@@ -50,6 +50,7 @@ typedef struct mnode {
     float color[3];             /* its first mesh's material's diffuse colour */
     char texture[256];          /* that material's base-colour image: a base name beside
                                  * the file, or "" */
+    int embedded;               /* or the file's own image of this index; -1 none */
     msurf surf;
 } mnode;
 
@@ -65,6 +66,7 @@ typedef struct mlight {
 } mlight;
 
 typedef struct model {
+    const struct aiScene *sc;   /* the file as assimp read it (its embedded images), or NULL */
     mnode *nodes;
     int n;
     mcamera *cams;
@@ -82,6 +84,8 @@ static void model_free(model *m)
         free(m->nodes[i].idx);
     }
     free(m->nodes);
+    if (m->sc)
+        aiReleaseImport(m->sc);
     free(m->cams);
     free(m->lights);
     memset(m, 0, sizeof *m);
@@ -212,10 +216,11 @@ static bool read_extras(const struct aiMetadata *md, msurf *sf, char *why, size_
 /* The base name of material mat's base-colour (or diffuse) image, or "": a file beside the
  * model (images held in the file, "*N", are not read here). Only the name is taken from a
  * path the file gives, so that a model reads nothing outside its own folder. */
-static void texture_name(const struct aiMaterial *mat, char out[256])
+static void texture_name(const struct aiMaterial *mat, char out[256], int *embedded)
 {
     struct aiString str;
     out[0] = '\0';
+    *embedded = -1;
     if (aiGetMaterialTexture(mat, aiTextureType_BASE_COLOR, 0, &str, NULL, NULL, NULL, NULL, NULL,
                              NULL) != aiReturn_SUCCESS &&
         aiGetMaterialTexture(mat, aiTextureType_DIFFUSE, 0, &str, NULL, NULL, NULL, NULL, NULL,
@@ -225,7 +230,14 @@ static void texture_name(const struct aiMaterial *mat, char out[256])
     for (const char *p = str.data; *p; p++)
         if (*p == '/' || *p == '\\')
             base = p + 1;
-    if (base[0] == '*' || !base[0] || strcmp(base, "..") == 0 || strcmp(base, ".") == 0 ||
+    if (str.data[0] == '*') {
+        char *end;
+        long k = strtol(str.data + 1, &end, 10);
+        if (end != str.data + 1 && !*end && k >= 0 && k < INT32_MAX)
+            *embedded = (int)k;
+        return;
+    }
+    if (!base[0] || strcmp(base, "..") == 0 || strcmp(base, ".") == 0 ||
         strlen(base) >= 256)
         return;
     snprintf(out, 256, "%s", base);
@@ -276,7 +288,7 @@ static bool node_meshes(const struct aiScene *sc, const struct aiNode *an, mnode
                     mn->color[i] = isfinite(rgb[i]) ? fminf(1, fmaxf(0, rgb[i])) : 1;
                 mn->has_color = true;
             }
-            texture_name(sc->mMaterials[m->mMaterialIndex], mn->texture);
+            texture_name(sc->mMaterials[m->mMaterialIndex], mn->texture, &mn->embedded);
         }
         for (unsigned i = 0; i < m->mNumVertices; i++) {
             memcpy(&mn->pos[(v0 + i) * 3], &m->mVertices[i], sizeof(float) * 3);
@@ -331,6 +343,7 @@ static limen_status add_nodes(limen_scene *s, const char *path, const struct aiS
     memset(mn, 0, sizeof *mn);
     mn->parent = parent;
     mn->surf.max_depth = -1;
+    mn->embedded = -1;
     copy_name(mn->name, an->mName.data);
     /* assimp's rows into limen's columns */
     const float *r = &an->mTransformation.a1;
@@ -520,7 +533,7 @@ static limen_status read_file(limen_scene *s, const char *path, model *m)
         return limen__fail(s, LIMEN_ERR_IO, "%s: cannot read it as a model: %s", path,
                            err[0] ? err : "unknown format");
     limen_status st = from_assimp(s, path, sc, m);
-    aiReleaseImport(sc);
+    m->sc = sc;     /* kept for its embedded images until the model is built */
     if (!st)
         light_ranges(path, m);
     if (st)
@@ -830,17 +843,30 @@ static limen_status build_eye_or_lamp(builder *b, int i, limen_node parent)
 /* The image named `name` beside the model on mesh node n, where it can be read within the
  * memory allowed; where it cannot, the node keeps its colour (a missing image never
  * rejects a model) and the scene's message is left as it was. */
-static void node_texture(builder *b, limen_node n, const char *name)
+static void node_texture(builder *b, limen_node n, const mnode *mn)
 {
     const char *slash = strrchr(b->path, '/');
     char full[4096], keep[sizeof b->s->err];
     int dir = slash ? (int)(slash - b->path + 1) : 0;
-    if (snprintf(full, sizeof full, "%.*s%s", dir, b->path, name) >= (int)sizeof full ||
-        b->bytes >= b->max_bytes)
+    if (b->bytes >= b->max_bytes)
         return;
     memcpy(keep, b->s->err, sizeof keep);
     size_t charged = 0;
-    if (limen__node_texture(b->s, n, full, b->max_bytes - b->bytes, &charged) == LIMEN_OK)
+    limen_status st = LIMEN_ERR_ARG;
+    const struct aiScene *sc = b->m->sc;
+    if (mn->embedded >= 0) {
+        /* a compressed image (PNG, JPEG, ...) held in the file: mHeight 0, mWidth bytes */
+        const struct aiTexture *at = sc && (unsigned)mn->embedded < sc->mNumTextures
+                                         ? sc->mTextures[mn->embedded] : NULL;
+        snprintf(full, sizeof full, "%s: image %d", b->path, mn->embedded);
+        if (at && at->mHeight == 0 && at->pcData && at->mWidth > 0)
+            st = limen__node_texture_bytes(b->s, n, (const unsigned char *)at->pcData,
+                                           at->mWidth, full, b->max_bytes - b->bytes, &charged);
+    } else if (snprintf(full, sizeof full, "%.*s%s", dir, b->path, mn->texture) <
+               (int)sizeof full) {
+        st = limen__node_texture(b->s, n, full, b->max_bytes - b->bytes, &charged);
+    }
+    if (st == LIMEN_OK)
         b->bytes += charged;
     memcpy(b->s->err, keep, sizeof keep);
 }
@@ -881,8 +907,8 @@ static limen_status build_node(builder *b, int i)
         return refail(b, st, "node", mn->name);
     if (mn->has_color && (st = limen_node_set_color(b->s, n, mn->color)))
         return st;
-    if (mn->has_uv && mn->texture[0])
-        node_texture(b, n, mn->texture);
+    if (mn->has_uv && (mn->texture[0] || mn->embedded >= 0))
+        node_texture(b, n, mn);
     limen_mesh_info info;
     if (!limen_mesh_get(b->s, n, &info))
         b->bytes += info.bytes;
