@@ -706,7 +706,10 @@ static float *node_worlds(const limen__import *b)
     return w;
 }
 
-static limen_status flatten(limen_scene *s, const limen__import *b, const char *path, flat *f)
+/* only: one node's parts in its own frame (a model's node: core/model.c), or
+ * LIMEN__IMPORT_NONE for every node's where the file places them. */
+static limen_status flatten(limen_scene *s, const limen__import *b, uint32_t only,
+                           const char *path, flat *f)
 {
     memset(f, 0, sizeof *f);
     const limen__import_node *ns = LIMEN__IMP(b, nodes, limen__import_node);
@@ -716,7 +719,8 @@ static limen_status flatten(limen_scene *s, const limen__import *b, const char *
     const uint32_t *ts = LIMEN__IMP(b, tris, uint32_t), *np = LIMEN__IMP(b, node_parts, uint32_t);
     uint64_t nv = 0, nt = 0;
     for (uint32_t n = 0; n < b->nnodes; n++)
-        for (uint32_t k = 0; k < ns[n].part_count; k++) {
+        for (uint32_t k = 0; k < ns[n].part_count && (only == LIMEN__IMPORT_NONE || n == only);
+             k++) {
             const limen__import_part *p = &ps[np[ns[n].first_part + k]];
             if (p->tri_count) {
                 nv += p->vertex_count;
@@ -747,7 +751,10 @@ static limen_status flatten(limen_scene *s, const limen__import *b, const char *
         const limen__import_material *mt = &ms[mi];
         uint32_t first = f->nt;
         for (uint32_t n = 0; n < b->nnodes; n++) {
-            const float *w = &world[n * 16];
+            if (only != LIMEN__IMPORT_NONE && n != only)
+                continue;
+            static const float own[16] = { 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1 };
+            const float *w = only == LIMEN__IMPORT_NONE ? &world[n * 16] : own;
             mat4 wm;
             mat3 nm;
             memcpy(wm, w, sizeof wm);
@@ -809,8 +816,9 @@ static limen_status flatten(limen_scene *s, const limen__import *b, const char *
     return LIMEN_OK;
 }
 
-/* The block's material index of the flattened mesh's material k (the k-th used). */
-static uint32_t used_material(const limen__import *b, uint32_t k)
+/* The block's material index of the flattened mesh's material k (the k-th used; by node
+ * `only`, or by any node where it is LIMEN__IMPORT_NONE). */
+static uint32_t used_material(const limen__import *b, uint32_t only, uint32_t k)
 {
     const limen__import_node *ns = LIMEN__IMP(b, nodes, limen__import_node);
     const limen__import_part *ps = LIMEN__IMP(b, parts, limen__import_part);
@@ -818,7 +826,8 @@ static uint32_t used_material(const limen__import *b, uint32_t k)
     for (uint32_t mi = 0; mi < b->nmaterials; mi++) {
         bool used = false;
         for (uint32_t n = 0; n < b->nnodes && !used; n++)
-            for (uint32_t j = 0; j < ns[n].part_count && !used; j++) {
+            for (uint32_t j = 0; j < ns[n].part_count && !used &&
+                                 (only == LIMEN__IMPORT_NONE || n == only); j++) {
                 const limen__import_part *p = &ps[np[ns[n].first_part + j]];
                 used = p->material == mi && p->tri_count;
             }
@@ -829,8 +838,8 @@ static uint32_t used_material(const limen__import *b, uint32_t k)
 }
 
 /* The block's textures onto the mesh's materials (each decoded image made once). */
-static limen_status mesh_textures(limen_scene *s, const limen__import *b, const char *path,
-                                  limen__mesh *m)
+static limen_status mesh_textures(limen_scene *s, const limen__import *b, uint32_t only,
+                                  const char *path, limen__mesh *m)
 {
     const limen__import_material *ms = LIMEN__IMP(b, materials, limen__import_material);
     const limen__import_texture *ts = LIMEN__IMP(b, textures, limen__import_texture);
@@ -839,7 +848,7 @@ static limen_status mesh_textures(limen_scene *s, const limen__import *b, const 
         return limen__fail(s, LIMEN_ERR_NOMEM, "%s: out of memory", path);
     limen_status st = LIMEN_OK;
     for (uint32_t k = 0; k < m->nmats && !st; k++) {
-        const limen__import_material *mt = &ms[used_material(b, k)];
+        const limen__import_material *mt = &ms[used_material(b, only, k)];
         uint32_t which[LIMEN__MAT_TEXTURES] = { mt->base_tex, mt->emissive_tex,
                                                 mt->metal_rough_tex, mt->normal_tex,
                                                 mt->occlusion_tex };
@@ -936,6 +945,9 @@ static bool ply_header_ok(FILE *f, uint64_t size, char *why, size_t why_size)
     return true;
 }
 
+static limen_status mesh_from_block(limen_scene *s, const limen__import *blk, uint32_t only,
+                                    const char *path, size_t max_bytes, limen__mesh **out);
+
 static limen_status load_file(limen_scene *s, const char *path, unsigned flags,
                               size_t max_bytes, limen__mesh **out)
 {
@@ -964,8 +976,22 @@ static limen_status load_file(limen_scene *s, const char *path, unsigned flags,
     limen_status st = limen__import_file(path, flags, max_bytes, &blk, ierr, sizeof ierr);
     if (st)
         return limen__fail(s, st, "%s", ierr);
+    st = mesh_from_block(s, blk, LIMEN__IMPORT_NONE, path, max_bytes, out);
+    if (!st)
+        keep_warnings(s, blk, path);
+    free(blk);
+    return st;
+}
+
+/* The block's meshes (every node's, or node only's: flatten) as a new mesh with its
+ * materials' textures, refused where it would hold more than max_bytes. */
+static limen_status mesh_from_block(limen_scene *s, const limen__import *blk, uint32_t only,
+                                    const char *path, size_t max_bytes, limen__mesh **out)
+{
+    *out = NULL;
     flat fl;
-    if (!(st = flatten(s, blk, path, &fl))) {
+    limen_status st;
+    if (!(st = flatten(s, blk, only, path, &fl))) {
         limen_mesh_data d = { .positions = fl.pos, .normals = fl.nrm, .uvs = fl.uv,
                               .vertex_count = (int)fl.nv, .indices = fl.idx,
                               .triangle_count = (int)fl.nt,
@@ -977,7 +1003,7 @@ static limen_status load_file(limen_scene *s, const char *path, unsigned flags,
         st = mesh_from_arrays(s, &d, path, max_bytes, out);
         flat_free(&fl);
     }
-    if (!st && (st = mesh_textures(s, blk, path, *out))) {
+    if (!st && (st = mesh_textures(s, blk, only, path, *out))) {
         mesh_free(s, *out);
         *out = NULL;
     }
@@ -988,9 +1014,6 @@ static limen_status load_file(limen_scene *s, const char *path, unsigned flags,
         st = limen__fail(s, LIMEN_ERR_NOMEM, "%s: needs more than the %.1f MiB allowed", path,
                          max_bytes / 1048576.0);
     }
-    if (!st)
-        keep_warnings(s, blk, path);
-    free(blk);
     return st;
 }
 
@@ -1046,6 +1069,25 @@ limen_status limen__mesh_load(limen_scene *s, limen_node n, const char *path, si
     if ((st = keep(s, m, path)))
         return st;
     attach(s, node, m);
+    *charged = m->bytes;
+    return LIMEN_OK;
+}
+
+limen_status limen__mesh_from_import(limen_scene *s, limen_node n, const limen__import *b,
+                                     uint32_t node, const char *path, size_t max_bytes,
+                                     size_t *charged)
+{
+    *charged = 0;
+    limen__node *nd = mesh_node(s, n, "model");
+    if (!nd)
+        return LIMEN_ERR_HANDLE;
+    limen__mesh *m;
+    limen_status st = mesh_from_block(s, b, node, path, max_bytes, &m);
+    if (!st)
+        st = keep(s, m, path);
+    if (st)
+        return st;
+    attach(s, nd, m);
     *charged = m->bytes;
     return LIMEN_OK;
 }

@@ -105,6 +105,13 @@ void limen__lod_set_async_above(uint32_t triangles);
 limen_status limen__mesh_load(limen_scene *s, limen_node n, const char *path, size_t max_bytes,
                               size_t *charged);
 /* Gives back a node's reference (the asset goes with its last). */
+/* Node `node` of an imported model (its parts in its own frame, with their materials and
+ * textures) as the mesh of mesh node n (core/model.c); refuses one holding more than
+ * max_bytes. *charged: the bytes it holds. */
+struct limen__import;
+limen_status limen__mesh_from_import(limen_scene *s, limen_node n, const struct limen__import *b,
+                                     uint32_t node, const char *path, size_t max_bytes,
+                                     size_t *charged);
 void limen__mesh_release(limen_scene *s, limen__mesh *m);
 /* Frees every asset of a scene (at its destruction). */
 void limen__meshes_destroy(limen_scene *s);
