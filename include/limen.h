@@ -594,10 +594,10 @@ LIMEN_API void limen_drawables_environment(const limen_drawables *d, float backg
 
 /* A model file's node hierarchy as limen nodes (limen_model_load): each file node becomes a
  * node under the group with the file's name and local matrix, parents before children: a
- * MESH holding its meshes' triangles (in its own frame; the first material's diffuse colour
- * as its colour, and its base-colour image where the mesh has texture coordinates: one the
- * file holds, or a file of that base name beside the model, never one elsewhere; a missing
- * image leaves the colour), or a GROUP where it has none. A node authored as a surface becomes a
+ * MESH holding its meshes' triangles in its own frame, a part in each one's material, read
+ * as limen_mesh_load reads a file's (colours, textures held in the file or found beside it,
+ * alpha, emission, vertex colours; a missing image leaves the colour, with a warning), or
+ * a GROUP where it has none. A node authored as a surface becomes a
  * MIRROR or PORTAL instead, through glTF extras (Blender exports an object's custom
  * properties as them):
  *     "extras": {"limen": {"mirror": {"max_depth": 4, "tint": [r, g, b]}}}

@@ -300,14 +300,23 @@ static void test_hierarchy(void)
     CHECK_OK(limen_drawables_build(d, s));
     const limen_drawable *items;
     limen_drawables_items(d, &items);
-    const limen_drawable *fl = &items[limen_drawables_find(d, find_below(s, group, "floor"))];
-    CHECK(fl->texture && fl->texture->width == 8);
-    CHECK(!items[limen_drawables_find(d, find_below(s, group, "sign"))].texture);
-    const limen_drawable *po = &items[limen_drawables_find(d, find_below(s, group, "poster"))];
-    CHECK(po->texture && po->texture->width == 8 && po->texture != fl->texture);
+    const limen_mesh_geometry *fl = items[limen_drawables_find(d, find_below(s, group,
+                                                                             "floor"))].mesh;
+    const limen_mesh_geometry *si = items[limen_drawables_find(d, find_below(s, group,
+                                                                             "sign"))].mesh;
+    const limen_mesh_geometry *po = items[limen_drawables_find(d, find_below(s, group,
+                                                                             "poster"))].mesh;
+    const limen_mesh_geometry *cr = items[limen_drawables_find(d, crate)].mesh;
+    CHECK(fl && fl->material_count == 1 && fl->materials[0].base_texture &&
+          fl->materials[0].base_texture->width == 8);
+    CHECK(si && si->material_count == 1 && !si->materials[0].base_texture);
+    CHECK(po && po->material_count == 1 && po->materials[0].base_texture &&
+          po->materials[0].base_texture->width == 8);
+    /* the crate's colour is its part's material's */
+    CHECK(cr && cr->material_count == 1);
+    if (cr && cr->material_count == 1)
+        CHECK_NEAR(cr->materials[0].base_color[1], 0.7, 1e-6);
     limen_drawables_destroy(d);
-    CHECK_OK(limen_node_get_color(s, find_below(s, group, "crate"), c));
-    CHECK_NEAR(c[1], 0.7, 1e-6);
     /* camera and lamp: the scene's camera now, at the file's place and lens */
     limen_node eye = limen_scene_get_camera(s);
     CHECK(eye.id && strcmp(limen_node_get_name(s, eye), "eye") == 0);
@@ -399,8 +408,9 @@ static void test_refusals(void)
           "node 'm': unknown mirror field \"depth\"" },
         { "{\"name\": \"m\", \"mesh\": 2, \"extras\": {\"limen\": \"mirror\"}}",
           "node 'm': its extras' \"limen\" is not an object" },
-        { "{\"name\": \"e-mirror\"}", "node 'e-mirror': a mirror must be one flat rectangle (a "
-          "polygon's bounding rectangle will do): it has no triangles" },
+        { "{\"name\": \"e-mirror\", \"children\": [1]}, {\"name\": \"f\", \"mesh\": 0}",
+          "node 'e-mirror': a mirror must be one flat rectangle (a polygon's bounding "
+          "rectangle will do): it has no triangles" },
         { "{\"name\": \"m\", \"mesh\": 2, \"extras\": {\"limen\": {\"mirror\": {\"max_depth\": "
           "300}}}}", "node 'm': max_depth must be an integer from 0 to 255" },
         { "{\"name\": \"m\", \"mesh\": 2, \"extras\": {\"limen\": {\"mirror\": {\"max_depth\": "

@@ -948,10 +948,8 @@ static bool ply_header_ok(FILE *f, uint64_t size, char *why, size_t why_size)
 static limen_status mesh_from_block(limen_scene *s, const limen__import *blk, uint32_t only,
                                     const char *path, size_t max_bytes, limen__mesh **out);
 
-static limen_status load_file(limen_scene *s, const char *path, unsigned flags,
-                              size_t max_bytes, limen__mesh **out)
+limen_status limen__mesh_file_check(limen_scene *s, const char *path, size_t max_bytes)
 {
-    *out = NULL;
     struct stat stt;
     FILE *f = fopen(path, "rb");
     if (!f)
@@ -971,6 +969,16 @@ static limen_status load_file(limen_scene *s, const char *path, unsigned flags,
     if ((uint64_t)stt.st_size > max_bytes && (s->mem_wanted = (uint64_t)stt.st_size))
         return limen__fail(s, LIMEN_ERR_NOMEM, "%s: a file of %.1f MiB, more than the %.1f MiB "
                            "allowed", path, stt.st_size / 1048576.0, max_bytes / 1048576.0);
+    return LIMEN_OK;
+}
+
+static limen_status load_file(limen_scene *s, const char *path, unsigned flags,
+                              size_t max_bytes, limen__mesh **out)
+{
+    *out = NULL;
+    limen_status cst = limen__mesh_file_check(s, path, max_bytes);
+    if (cst)
+        return cst;
     char ierr[700];
     limen__import *blk;
     limen_status st = limen__import_file(path, flags, max_bytes, &blk, ierr, sizeof ierr);

@@ -108,6 +108,9 @@ limen_status limen__mesh_load(limen_scene *s, limen_node n, const char *path, si
 /* Node `node` of an imported model (its parts in its own frame, with their materials and
  * textures) as the mesh of mesh node n (core/model.c); refuses one holding more than
  * max_bytes. *charged: the bytes it holds. */
+/* What is checked of a model file before the importer reads it: a regular file, not empty,
+ * within max_bytes, and a PLY header that assimp can read safely; the failure named. */
+limen_status limen__mesh_file_check(limen_scene *s, const char *path, size_t max_bytes);
 struct limen__import;
 limen_status limen__mesh_from_import(limen_scene *s, limen_node n, const struct limen__import *b,
                                      uint32_t node, const char *path, size_t max_bytes,

@@ -423,35 +423,6 @@ limen_status limen__node_texture(limen_scene *s, limen_node n, const char *path,
     return LIMEN_OK;
 }
 
-limen_status limen__node_texture_bytes(limen_scene *s, limen_node n, const unsigned char *buf,
-                                       size_t len, const char *name, size_t max_bytes,
-                                       size_t *charged)
-{
-    *charged = 0;
-    limen__node *node = limen__node_get(s, n);
-    if (!node || (node->kind != LIMEN_NODE_QUAD && node->kind != LIMEN_NODE_BOX &&
-                  node->kind != LIMEN_NODE_MESH))
-        return limen__fail(s, LIMEN_ERR_HANDLE, "texture: not a plane, box or mesh");
-    int w, h;
-    if (limen__image_info(buf, len, &w, &h) && (uint64_t)w * (uint64_t)h * 4 > max_bytes)
-        return limen__fail(s, LIMEN_ERR_NOMEM, "%s: %dx%d pixels need more memory than allowed",
-                           name, w, h);
-    limen__texture *t;
-    limen_status st = limen__texture_decode(s, buf, len, name, &t);
-    if (st)
-        return st;
-    if (t->bytes > max_bytes) {
-        texture_free(t);
-        return limen__fail(s, LIMEN_ERR_NOMEM, "%s: more memory than allowed", name);
-    }
-    if ((st = keep(s, t)))      /* listed (without a file key) so the scene frees it */
-        return st;
-    *charged = t->bytes;
-    limen__texture_release(s, node->texture);
-    node->texture = t;
-    return LIMEN_OK;
-}
-
 limen_status limen_node_set_texture(limen_scene *s, limen_node n, const char *path)
 {
     if (!s)

@@ -80,10 +80,4 @@ limen_status limen__node_texture(limen_scene *s, limen_node n, const char *path,
  * (0 if none was), and forgets them: a script host turns them into the cap that would do. */
 uint64_t limen__scene_take_wanted(limen_scene *s);
 
-/* Sets node n's texture to an image held in memory (a model's embedded one), decoded here
- * and not shared; refuses one that would hold more than max_bytes. */
-limen_status limen__node_texture_bytes(limen_scene *s, limen_node n, const unsigned char *buf,
-                                       size_t len, const char *name, size_t max_bytes,
-                                       size_t *charged);
-
 #endif
