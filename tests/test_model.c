@@ -310,6 +310,10 @@ static void test_hierarchy(void)
     CHECK(fl && fl->material_count == 1 && fl->materials[0].base_texture &&
           fl->materials[0].base_texture->width == 8);
     CHECK(si && si->material_count == 1 && !si->materials[0].base_texture);
+    bool warned = false;    /* the missing image is a warning of the scene's */
+    for (int i = 0; i < limen_scene_warning_count(s); i++)
+        warned |= strstr(limen_scene_warning(s, i), "gone.png") != NULL;
+    CHECK(warned);
     CHECK(po && po->material_count == 1 && po->materials[0].base_texture &&
           po->materials[0].base_texture->width == 8);
     /* the crate's colour is its part's material's */

@@ -894,7 +894,7 @@ static limen_status mesh_textures(limen_scene *s, const limen__import *b, uint32
 }
 
 /* The block's warnings into the scene's list, as "file: warning: text". */
-static void keep_warnings(limen_scene *s, const limen__import *b, const char *path)
+void limen__mesh_keep_warnings(limen_scene *s, const limen__import *b, const char *path)
 {
     const uint32_t *ws = LIMEN__IMP(b, warnings, uint32_t);
     for (uint32_t i = 0; i < b->nwarnings; i++) {
@@ -986,7 +986,7 @@ static limen_status load_file(limen_scene *s, const char *path, unsigned flags,
         return limen__fail(s, st, "%s", ierr);
     st = mesh_from_block(s, blk, LIMEN__IMPORT_NONE, path, max_bytes, out);
     if (!st)
-        keep_warnings(s, blk, path);
+        limen__mesh_keep_warnings(s, blk, path);
     free(blk);
     return st;
 }

@@ -104,17 +104,20 @@ void limen__lod_set_async_above(uint32_t triangles);
  * names the file. The node must be a mesh. */
 limen_status limen__mesh_load(limen_scene *s, limen_node n, const char *path, size_t max_bytes,
                               size_t *charged);
-/* Gives back a node's reference (the asset goes with its last). */
-/* Node `node` of an imported model (its parts in its own frame, with their materials and
- * textures) as the mesh of mesh node n (core/model.c); refuses one holding more than
- * max_bytes. *charged: the bytes it holds. */
-/* What is checked of a model file before the importer reads it: a regular file, not empty,
- * within max_bytes, and a PLY header that assimp can read safely; the failure named. */
+/* Model files (core/model.c). What is checked of one before the importer reads it: a
+ * regular file, not empty, within max_bytes, and a PLY header that assimp can read safely;
+ * the failure named. */
 limen_status limen__mesh_file_check(limen_scene *s, const char *path, size_t max_bytes);
 struct limen__import;
+/* Node `node` of an imported block (its parts in its own frame, with their materials and
+ * textures) as the mesh of mesh node n; refuses one holding more than max_bytes. *charged:
+ * the bytes it holds. */
 limen_status limen__mesh_from_import(limen_scene *s, limen_node n, const struct limen__import *b,
                                      uint32_t node, const char *path, size_t max_bytes,
                                      size_t *charged);
+/* The block's warnings into the scene's list, as "file: warning: text". */
+void limen__mesh_keep_warnings(limen_scene *s, const struct limen__import *b, const char *path);
+/* Gives back a node's reference (the asset goes with its last). */
 void limen__mesh_release(limen_scene *s, limen__mesh *m);
 /* Frees every asset of a scene (at its destruction). */
 void limen__meshes_destroy(limen_scene *s);

@@ -869,6 +869,8 @@ limen_status limen__model_load(limen_scene *s, limen_node group, const char *pat
     if (st)
         return st;
     st = build(s, group, path, &m, &d, max_bytes, charged);
+    if (!st)
+        limen__mesh_keep_warnings(s, m.blk, path);
     model_free(&m);
     return st;
 }
