@@ -236,6 +236,10 @@ limen_script *limen_cli_load(const limen_cli_run *o)
         limen_script_destroy(sc);
         return NULL;
     }
+    /* what loading its files noticed, each "file: warning: ..." */
+    limen_scene *s = limen_script_scene(sc);
+    for (int i = 0; i < limen_scene_warning_count(s); i++)
+        fprintf(stderr, "%s\n", limen_scene_warning(s, i));
     return sc;
 }
 

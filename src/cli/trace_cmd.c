@@ -79,9 +79,10 @@ int limen_cli_trace(int argc, char **argv)
     }
     if ((rc = limen_cli_run_check(&o, "trace")))
         return rc;
-    d.width = o.width ? o.width : 640;
-    d.height = o.height ? o.height : 480;
+    d.width = o.width;
+    d.height = o.height;
     d.limits = o.limits;
+    d = limen_trace_desc_defaults(&d);      /* the image size, for the buffer below */
 
     limen_script *sc = limen_cli_load(&o);
     if (!sc)

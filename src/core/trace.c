@@ -142,7 +142,9 @@ typedef struct tracer {
 
 /* Texture coordinates at a hit: u, v, then (meshes) how each changes with the unit-space
  * point, du/dpu and dv/dpu, for the pixel's footprint (flat shapes' follow from the face). */
-enum { UV_N = 8 };
+enum { UV_N = 11 };
+/* ... of which a mesh hit's barycentric coordinates and triangle (its material) */
+enum { UV_BU = 8, UV_BV = 9, UV_TRI = 10 };
 
 /* Where one path ended (for limen_ray_cast). */
 typedef struct record {
@@ -287,7 +289,7 @@ static void setup_prim(limen_scene *s, const limen__node *n, prim *p)
     copy3f(n->color, p->color);
     copy3f(n->checker_b, p->checker_b);
     if (n->kind == LIMEN_NODE_QUAD || n->kind == LIMEN_NODE_BOX || n->kind == LIMEN_NODE_MESH)
-        p->tex = n->texture ? n->texture : n->kind == LIMEN_NODE_MESH ? n->mesh->tex : NULL;
+        p->tex = n->texture;    /* a mesh's own are its materials' (limen__mesh_material_at) */
     p->repeat[0] = n->tex_repeat[0];
     p->repeat[1] = n->tex_repeat[1];
     p->filter = n->tex_filter;
@@ -576,6 +578,10 @@ static bool hit_mesh(const prim *p, const double o[3], const double d[3], double
                 v * m->uv[ix[2] * 2 + k];
     if (m->uv)
         uv_gradient(m, ix, uv + 2);
+    /* the material is found at shading from the triangle and the barycentric coordinates */
+    uv[UV_BU] = u;
+    uv[UV_BV] = v;
+    uv[UV_TRI] = tri;
     if (p->smooth) {
         double w[3] = { 1.0 - u - v, u, v };
         for (int a = 0; a < 3; a++)
@@ -761,10 +767,11 @@ static void uv_steps(const prim *p, const double nu[3], const double uv[UV_N],
  * the full image). */
 static void shade(const tracer *tr, const prim *p, const double albedo_a[3], const double pu[3],
                   const double nu[3], const double uv_in[UV_N], const double dpu[2][3],
-                  const double pw[3], const double n[3], double out[3])
+                  const double pw[3], const double n[3], double out[3], double *alpha)
 {
     const double *albedo = albedo_a;
-    double texel[3];
+    double texel[3], mat[3], emissive[3] = { 0, 0, 0 };
+    *alpha = 1;
     if (p->cell > 0) {
         double k = 0;
         int axes = p->kind == LIMEN_NODE_QUAD ? 2 : 3;
@@ -773,10 +780,21 @@ static void shade(const tracer *tr, const prim *p, const double albedo_a[3], con
         if (k - 2.0 * floor(k * 0.5) > 0.5)
             albedo = p->checker_b;
     }
-    if (p->tex) {
+    if (p->shape == SHAPE_MESH) {
+        /* base x texel (the node's texture in place of the file's) x vertex colour */
+        float rep[2] = { (float)p->repeat[0], (float)p->repeat[1] };
+        double duv[4];
+        if (dpu)
+            uv_steps(p, nu, uv_in, dpu, duv);
+        limen__mesh_material_at(p->mesh, p->tex, rep, p->filter, dpu ? duv : NULL,
+                                (uint32_t)uv_in[UV_TRI], uv_in[UV_BU], uv_in[UV_BV], mat, alpha,
+                                emissive);
+        for (int k = 0; k < 3; k++)
+            mat[k] *= albedo[k];
+        albedo = mat;
+    } else if (p->tex) {
         double uv[2] = { uv_in[0], uv_in[1] };
-        if (p->shape != SHAPE_MESH)
-            flat_uv(p, pu, nu, uv);
+        flat_uv(p, pu, nu, uv);
         double duv[4];
         if (dpu)
             uv_steps(p, nu, uv_in, dpu, duv);
@@ -803,6 +821,7 @@ static void shade(const tracer *tr, const prim *p, const double albedo_a[3], con
     }
     for (int k = 0; k < 3; k++) {
         double v = albedo[k] * (tr->ambient + (1.0 - tr->ambient) * light[k]);
+        v = (v < 0 ? 0 : v > 1 ? 1 : v) + emissive[k];
         out[k] = v < 0 ? 0 : v > 1 ? 1 : v;
     }
 }
@@ -876,8 +895,8 @@ static void follow(const tracer *tr, const double o_in[3], const double d_in[3],
     double len = sqrt(dot3(d, d));
     double tmin = tmin0 * len, tmin_surface = tmin_surface0 * len;
     normalize3(d);
-    int skip = -1, passed = 0;
-    double travelled = 0;
+    int skip = -1, passed = 0, layers = 0;
+    double travelled = 0, over[3] = { 0, 0, 0 }, cover = 1;   /* blended layers passed */
     const double *result = tr->background;
     double shaded[3];
     if (rec) {
@@ -910,9 +929,25 @@ static void follow(const tracer *tr, const double o_in[3], const double d_in[3],
                     for (int i = 0; i < 2; i++)
                         d_dir(p->minv, dp[i], dpu[i]);
                 }
+                double alpha;
                 shade(tr, p, surface ? p->back : p->color, pu, nu, uv, dd ? dpu : NULL, pw, n,
-                      shaded);
+                      shaded, &alpha);
                 result = shaded;
+                if (p->shape == SHAPE_MESH && layers < 64 &&
+                    p->mesh->mats[p->mesh->parts[p->mesh->tri_part[(uint32_t)uv[UV_TRI]]].material]
+                            .alpha_mode == LIMEN_ALPHA_BLEND) {
+                    /* blended: this over what lies behind, the ray going on past it */
+                    for (int k = 0; k < 3; k++)
+                        over[k] += cover * alpha * tint[k] * shaded[k];
+                    cover *= 1.0 - alpha;
+                    layers++;
+                    result = tr->background;
+                    memcpy(o, pw, sizeof o);
+                    skip = -1;
+                    tmin = 1e-9 * (1.0 + fmax(fabs(o[0]), fmax(fabs(o[1]), fabs(o[2]))));
+                    tmin_surface = tmin;
+                    continue;
+                }
             } else {
                 result = p->fill;
             }
@@ -951,7 +986,7 @@ static void follow(const tracer *tr, const double o_in[3], const double d_in[3],
             rec->distance = INFINITY;
     }
     for (int k = 0; k < 3; k++)
-        rgb[k] = tint[k] * result[k];
+        rgb[k] = over[k] + cover * tint[k] * result[k];
 }
 
 /* ------------------------------------------------------------------ public: rays */

@@ -43,8 +43,6 @@
 #define ERR_MAX 1024
 #define PRINT_MAX 1024         /* bytes of a printed line handed to the host, with its end */
 #define WHERE_MAX 256
-#define DEFAULT_BUDGET 50000000
-#define DEFAULT_MEMORY (64 << 20)
 #define HOOK_EVERY 1000         /* instructions between two calls of the count hook */
 #define CO_EVERY 100            /* ... at most, in a coroutine (what arming it costs) */
 #define ALLOC_BYTES 32          /* bytes allocated that cost one instruction */
@@ -827,11 +825,10 @@ static limen_status script_load(const char *path, const char *buf, size_t len,
         return fail(sc, LIMEN_ERR_ARG, "limen_script_load: no script path");
     if (!(sc->path = strdup(path)))
         return fail(sc, LIMEN_ERR_NOMEM, "out of memory");
-    int64_t budget = desc ? desc->instruction_budget : 0;
-    int64_t cap = desc ? desc->memory_cap : 0;
-    sc->budget = budget == 0 ? DEFAULT_BUDGET : budget < 0 ? -1 : budget;
-    sc->mem_cap = cap == 0 ? (size_t)DEFAULT_MEMORY : cap < 0 ? 0 :
-                  (uint64_t)cap > SIZE_MAX ? SIZE_MAX : (size_t)cap;
+    limen_script_desc filled = limen_script_desc_defaults(desc);
+    int64_t budget = filled.instruction_budget, cap = filled.memory_cap;
+    sc->budget = budget < 0 ? -1 : budget;
+    sc->mem_cap = cap < 0 ? 0 : (uint64_t)cap > SIZE_MAX ? SIZE_MAX : (size_t)cap;
     sc->hook_every = sc->budget >= 0 && sc->budget < HOOK_EVERY ? (int)(sc->budget + 1) :
                      HOOK_EVERY;
     sc->every = sc->hook_every;
