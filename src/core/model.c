@@ -263,11 +263,7 @@ static limen_status cameras_lights(limen_scene *s, const char *path, model *m)
             continue;
         memcpy(mc->look, cs[i].look, sizeof mc->look);
         memcpy(mc->up, cs[i].up, sizeof mc->up);
-        /* assimp 5.2's glTF reader gives the vertical field of view times the aspect as its
-         * "horizontal" one, which the block read as half the horizontal angle: undone here */
-        double a = cs[i].aspect, f = cs[i].fovy;
-        double hfov = a > 0 ? atan(tan(0.5 * f) * a) : 0.5 * f;
-        mc->fovy = (float)(a > 0 ? hfov / a : hfov);
+        mc->fovy = cs[i].fovy;     /* a glTF's own yfov replaces it (gltf_extras) */
         mc->znear = cs[i].znear;
         mc->zfar = cs[i].zfar;
         m->ncams++;
@@ -376,13 +372,15 @@ static char *gltf_json(const char *path, size_t *len)
     return text;
 }
 
-/* KHR_lights_punctual's ranges, which assimp does not keep: a light on the glTF node of the
- * same name takes its light's range. Files that are not glTF, or whose JSON cannot be read
- * here, keep their lights without. */
-static void light_ranges(const char *path, model *m)
+/* What a glTF says that assimp 5.2 does not pass on as written: KHR_lights_punctual's ranges
+ * (a light on the glTF node of the same name takes its light's range), and a perspective
+ * camera's yfov (assimp gives yfov x aspect as its horizontal angle, which the importer's
+ * block reads as half the horizontal one). Files that are not glTF, or whose JSON cannot be
+ * read here, keep what the importer gave. */
+static void gltf_extras(const char *path, model *m)
 {
     size_t len = 0;
-    char *text = m->nlights ? gltf_json(path, &len) : NULL;
+    char *text = m->nlights || m->ncams ? gltf_json(path, &len) : NULL;
     limen__json j;
     if (!text || !limen__json_parse(&j, text, len, 4 * 1024 * 1024)) {
         if (text)
@@ -392,9 +390,19 @@ static void light_ranges(const char *path, model *m)
     }
     int lights = limen__json_get(&j, limen__json_get(&j, limen__json_get(&j, 0, "extensions"),
                                                     "KHR_lights_punctual"), "lights");
-    int nodes = limen__json_get(&j, 0, "nodes");
+    int nodes = limen__json_get(&j, 0, "nodes"), cams = limen__json_get(&j, 0, "cameras");
     for (int k = 0, nd; (nd = limen__json_at(&j, nodes, k)) >= 0; k++) {
-        int name = limen__json_get(&j, nd, "name");
+        int name = limen__json_get(&j, nd, "name"), ci = limen__json_get(&j, nd, "camera");
+        int yfov = ci >= 0 && j.v[ci].type == LIMEN__JSON_NUMBER && j.v[ci].number >= 0 &&
+                           j.v[ci].number <= 1e6
+                       ? limen__json_get(&j, limen__json_get(&j, limen__json_at(&j, cams,
+                                                                                (int)j.v[ci].number),
+                                                             "perspective"), "yfov")
+                       : -1;
+        for (int i = 0; name >= 0 && yfov >= 0 && j.v[yfov].type == LIMEN__JSON_NUMBER &&
+                        i < m->ncams; i++)
+            if (limen__json_is(&j, name, m->nodes[m->cams[i].node].name))
+                m->cams[i].fovy = (float)j.v[yfov].number;
         int li = limen__json_get(&j, limen__json_get(&j, limen__json_get(&j, nd, "extensions"),
                                                     "KHR_lights_punctual"), "light");
         if (name < 0 || li < 0 || j.v[li].type != LIMEN__JSON_NUMBER || j.v[li].number < 0 ||
@@ -424,7 +432,7 @@ static limen_status read_file(limen_scene *s, const char *path, size_t max_bytes
         return limen__fail(s, st, "%s", why);
     st = from_import(s, path, blk, m);
     if (!st)
-        light_ranges(path, m);
+        gltf_extras(path, m);
     if (st)
         model_free(m);
     return st;
