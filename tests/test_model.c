@@ -321,6 +321,12 @@ static void test_hierarchy(void)
     if (cr && cr->material_count == 1)
         CHECK_NEAR(cr->materials[0].base_color[1], 0.7, 1e-6);
     limen_drawables_destroy(d);
+    /* the model is among the files the scene read (limen view watches them) */
+    char file[4096];
+    bool listed = false;
+    for (int i = 0; limen_scene_get_file(s, i, file, sizeof file) == LIMEN_OK; i++)
+        listed |= strlen(file) > 11 && strcmp(file + strlen(file) - 11, "/level.gltf") == 0;
+    CHECK(listed);
     /* camera and lamp: the scene's camera now, at the file's place and lens */
     limen_node eye = limen_scene_get_camera(s);
     CHECK(eye.id && strcmp(limen_node_get_name(s, eye), "eye") == 0);

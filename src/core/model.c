@@ -12,12 +12,14 @@
  * every node made is destroyed. */
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 
 #include "core/import.h"
 #include "core/internal.h"
 #include "core/json.h"
 #include "core/mesh.h"
 #include "core/model.h"
+#include "core/texture.h"
 
 #define MAX_NODES 100000        /* a file's nodes at most */
 #define MAX_SURFACE_TRIS 256    /* a mirror's or portal's polygon, in triangles at most */
@@ -586,6 +588,7 @@ typedef struct builder {
     int *cam_of, *light_of;     /* per model node: the camera, light it carries (asked
                                  * for), or -1 */
     size_t bytes, max_bytes;
+    bool keyed;                 /* a mesh carries the file's key */
 } builder;
 
 /* Fails with the scene's last message prefixed by the file and what it concerns ("node
@@ -773,6 +776,19 @@ static limen_status build_node(builder *b, int i)
                                       b->max_bytes - b->bytes, &charged)))
         return refail(b, st ? st : LIMEN_ERR_NOMEM, "node", mn->name);
     b->bytes += charged;
+    /* the first mesh carries the file's key, so that limen_scene_get_file lists the model
+     * (limen view reloads the script when it changes); its own key never matches a
+     * limen_mesh_load's, so it is never shared by one */
+    if (!b->keyed) {
+        limen__node *nd = limen__node_get(b->s, n);
+        struct stat stt;
+        char key[LIMEN__FILE_KEY];
+        if (nd && nd->mesh && !limen__file_key(b->s, b->path, key, &stt) &&
+            strlen(key) + 8 < sizeof nd->mesh->key) {
+            snprintf(nd->mesh->key, sizeof nd->mesh->key, "%s#model", key);
+            b->keyed = true;
+        }
+    }
     if (b->bytes > b->max_bytes)
         return limen__fail(b->s, LIMEN_ERR_NOMEM, "%s: its meshes need %.1f MiB, more than the "
                            "%.1f MiB allowed", b->path, b->bytes / 1048576.0,
