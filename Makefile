@@ -24,7 +24,7 @@ LIBS_NOLUA = $(DEP_LIBS_NOLUA) -lembree3 -lmeshoptimizer -lm -lpthread
 LIBS       = $(DEP_LIBS) -lembree3 -lmeshoptimizer -lm -lpthread
 
 # ------------------------------------------------------------------ objects
-CORE_SRC := src/core/error.c src/core/limits.c src/core/lmath.c src/core/scene.c src/core/surface.c src/core/move.c src/core/straddle.c src/core/bvh.c src/core/index.c src/core/rtc.c src/core/cull.c src/core/plan.c src/core/drawables.c src/core/trace.c src/core/image.c src/core/jpeg.c src/core/file.c src/core/mesh.c src/core/lod.c src/core/lod_target.c src/core/texture.c
+CORE_SRC := src/core/error.c src/core/limits.c src/core/lmath.c src/core/scene.c src/core/surface.c src/core/move.c src/core/straddle.c src/core/bvh.c src/core/index.c src/core/rtc.c src/core/cull.c src/core/plan.c src/core/drawables.c src/core/trace.c src/core/image.c src/core/jpeg.c src/core/file.c src/core/confine.c src/core/contain.c src/core/mesh.c src/core/lod.c src/core/lod_target.c src/core/texture.c
 GL_SRC   := src/gl/render.c src/gl/views.c src/gl/stencil.c src/gl/shader.c src/gl/mesh.c src/gl/assets.c src/gl/batch.c src/gl/ctx_osmesa.c \
             src/gl/ctx_egl.c src/gl/ctx_host.c
 LUA_SRC  := src/lua/l_fields.c src/lua/l_node.c src/lua/l_scene.c src/lua/l_render.c src/lua/script.c src/lua/safe.c src/lua/guards.c

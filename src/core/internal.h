@@ -88,6 +88,8 @@ struct limen_scene {
     int nmeshes, mesh_cap;
     void **textures;            /* limen__texture *: each shared by the nodes that use it */
     int ntextures, texture_cap;
+    struct limen__load *load;   /* while a script loads a file: its folder and limits
+                                 * (core/confine.h); NULL: trusted, no limits */
     char err[LIMEN__ERR_MAX];
 };
 

@@ -5,6 +5,7 @@
  * Shading follows the file: where it has normals they are interpolated across each triangle;
  * where it has none, each triangle shows its face normal, unless the node asks for smooth
  * shading, which interpolates area-weighted vertex normals (computed here once per asset). */
+#include <ctype.h>
 #include <errno.h>
 #include <limits.h>
 #include <pthread.h>
@@ -13,11 +14,14 @@
 #include <string.h>
 #include <sys/stat.h>
 
+#include <assimp/cfileio.h>
 #include <assimp/cimport.h>
 #include <assimp/material.h>
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
 
+#include "core/confine.h"
+#include "core/contain.h"
 #include "core/internal.h"
 #include "core/mesh.h"
 #include "core/texture.h"
@@ -298,6 +302,7 @@ static void mesh_free(limen_scene *s, limen__mesh *m)
     free(m->bvh);
     free(m->tri_order);
     free(m->lods);
+    free(m->files);
     free(m);
 }
 
@@ -387,7 +392,9 @@ static limen_status mesh_from_arrays(limen_scene *s, const limen_mesh_data *d, c
             m->lo[a] = fmin(m->lo[a], m->pos[v * 3 + a]);
             m->hi[a] = fmax(m->hi[a], m->pos[v * 3 + a]);
         }
-    if (!limen__mesh_bvh(m) || !limen__mesh_lods_build(m)) {
+    /* a contained import's child hands the arrays back: the host builds the rest */
+    bool child = s->load && s->load->inside;
+    if (!child && (!limen__mesh_bvh(m) || !limen__mesh_lods_build(m))) {
         mesh_free(s, m);
         return limen__fail(s, LIMEN_ERR_NOMEM, "%s: out of memory", what);
     }
@@ -577,81 +584,255 @@ static limen_status file_texture(limen_scene *s, const struct aiScene *sc, const
     return limen__texture_load(s, full, max_bytes, charged, &m->tex);
 }
 
-/* A PLY header, checked before assimp reads it: assimp 5.2 loops forever on one that never
- * ends, and allocates what the header declares before it finds the data missing (a few
- * bytes declaring ten million faces would take gigabytes outside any cap). Every element
- * takes at least a byte of the file, so no more may be declared than it has bytes. Writes
- * why into why and returns false if the file is refused; true for other formats. */
-static bool ply_header_ok(FILE *f, uint64_t size, char *why, size_t why_size)
+/* ------------------------------------------------------------------ the importer's way in */
+
+/* assimp opens every file it reads (the mesh file, an OBJ's mtllib, a glTF's buffers)
+ * through these callbacks (aiFileIO), so through the scene's one way in
+ * (core/confine.c): beneath the scene's folder in safe mode, never blocking, the bytes
+ * counted. Each file is read whole on opening; reads and seeks are then in memory. */
+
+typedef struct io_file {
+    struct aiFile f;
+    unsigned char *data;
+    size_t len, at;
+} io_file;
+
+typedef struct io_ctx {
+    struct aiFileIO io;
+    limen_scene *s;
+    char why[LIMEN__ERR_MAX];   /* the first file that could not be opened, and why */
+    limen__block files;         /* the paths read, each ended by a NUL */
+} io_ctx;
+
+static size_t io_read(struct aiFile *f, char *buf, size_t size, size_t count)
 {
-    char head[4096 + 1];
-    size_t n = fread(head, 1, sizeof head - 1, f);
-    head[n] = '\0';
-    if (n < 3 || memcmp(head, "ply", 3) != 0)
-        return true;
-    char *end = memmem(head, n, "end_header", 10);
-    if (!end) {
-        snprintf(why, why_size, "a PLY header with no end_header in its first 4 KiB");
+    io_file *x = (io_file *)f->UserData;
+    if (size == 0 || x->at >= x->len)
+        return 0;
+    size_t n = (x->len - x->at) / size;
+    n = n < count ? n : count;
+    memcpy(buf, x->data + x->at, n * size);
+    x->at += n * size;
+    return n;
+}
+
+static size_t io_write(struct aiFile *f, const char *buf, size_t size, size_t count)
+{
+    return 0;
+}
+
+static size_t io_tell(struct aiFile *f)
+{
+    return ((io_file *)f->UserData)->at;
+}
+
+static size_t io_size(struct aiFile *f)
+{
+    return ((io_file *)f->UserData)->len;
+}
+
+static enum aiReturn io_seek(struct aiFile *f, size_t off, enum aiOrigin origin)
+{
+    io_file *x = (io_file *)f->UserData;
+    size_t base = origin == aiOrigin_SET ? 0 : origin == aiOrigin_CUR ? x->at : x->len;
+    if (off > x->len || base > x->len - off)
+        return aiReturn_FAILURE;
+    x->at = base + off;
+    return aiReturn_SUCCESS;
+}
+
+static void io_flush(struct aiFile *f)
+{
+}
+
+static bool io_listed(const limen__block *b, const char *path)
+{
+    for (size_t at = 0; at < b->len; at += strlen((const char *)b->data + at) + 1)
+        if (strcmp((const char *)b->data + at, path) == 0)
+            return true;
+    return false;
+}
+
+static struct aiFile *io_open(struct aiFileIO *io, const char *path, const char *mode)
+{
+    io_ctx *c = (io_ctx *)io->UserData;
+    if (!path || strpbrk(mode, "wa+"))
+        return NULL;
+    io_file *x = calloc(1, sizeof *x);
+    struct stat st;
+    if (!x || limen__file_read(c->s, path, &x->data, &x->len, &st)) {
+        if (!c->why[0])
+            snprintf(c->why, sizeof c->why, "%s", x ? c->s->err : "out of memory");
+        free(x);
+        return NULL;
+    }
+    if (!io_listed(&c->files, path))
+        limen__block_put(&c->files, path, strlen(path) + 1);
+    x->f = (struct aiFile){ .ReadProc = io_read, .WriteProc = io_write, .TellProc = io_tell,
+                            .FileSizeProc = io_size, .SeekProc = io_seek, .FlushProc = io_flush,
+                            .UserData = (aiUserData)x };
+    return &x->f;
+}
+
+static void io_close(struct aiFileIO *io, struct aiFile *f)
+{
+    io_ctx *c = (io_ctx *)io->UserData;
+    io_file *x = (io_file *)f->UserData;
+    if (c->s->load)
+        c->s->load->read_bytes -= x->len < c->s->load->read_bytes ? x->len
+                                                                    : c->s->load->read_bytes;
+    free(x->data);
+    free(x);
+}
+
+/* ------------------------------------------------------------------ what is read */
+
+/* The file name's extension, lower case, into ext ("" if none). */
+static void extension(const char *path, char *ext, size_t size)
+{
+    const char *slash = strrchr(path, '/'), *dot = strrchr(path, '.');
+    ext[0] = '\0';
+    if (!dot || (slash && dot < slash))
+        return;
+    size_t i = 0;
+    for (dot++; *dot && i + 1 < size; dot++)
+        ext[i++] = (char)tolower((unsigned char)*dot);
+    ext[i] = '\0';
+}
+
+/* Formats a safe scene may load, decided by the extension and the content agreeing: those
+ * fuzzed (make fuzz). Writes why and returns false for anything else. */
+static bool allowed_format(const char *path, const unsigned char *head, size_t n,
+                           uint64_t size, char *why, size_t why_size)
+{
+    char ext[8];
+    extension(path, ext, sizeof ext);
+    size_t i = 0;
+    while (i < n && isspace(head[i]))
+        i++;
+    bool ok = false;
+    if (strcmp(ext, "gltf") == 0)
+        ok = i < n && head[i] == '{';
+    else if (strcmp(ext, "glb") == 0)
+        ok = n >= 4 && memcmp(head, "glTF", 4) == 0;
+    else if (strcmp(ext, "obj") == 0)
+        ok = !memchr(head, '\0', n);
+    else if (strcmp(ext, "ply") == 0)
+        ok = n >= 4 && memcmp(head, "ply", 3) == 0 && (head[3] == '\n' || head[3] == '\r');
+    else if (strcmp(ext, "stl") == 0) {
+        uint32_t count = 0;
+        if (n >= 84)
+            memcpy(&count, head + 80, 4);
+        ok = (n >= 5 && memcmp(head, "solid", 5) == 0 && !memchr(head, '\0', n)) ||
+             (n >= 84 && size == 84 + 50 * (uint64_t)count);
+    } else {
+        snprintf(why, why_size, "a safe scene loads glTF (.gltf, .glb), OBJ (.obj, .mtl), PLY "
+                 "(.ply) and STL (.stl) meshes, not .%s files", ext[0] ? ext : "(none)");
         return false;
     }
-    *end = '\0';
+    if (!ok)
+        snprintf(why, why_size, "its content is not a %s file (a safe scene loads glTF, OBJ, "
+                 "PLY and STL meshes, each in a file of its own extension)", ext);
+    return ok;
+}
+
+/* Counts a header declares, checked against the file's size before the importer sees it:
+ * every element a format's header declares takes at least a byte of the file (a vertex or
+ * face), so a few bytes cannot declare gigabytes. Writes why and returns
+ * false if the file is refused. */
+static bool header_ok(const unsigned char *data, size_t size, char *why, size_t why_size)
+{
+    char head[4096 + 1];
+    size_t n = size < sizeof head - 1 ? size : sizeof head - 1;
+    memcpy(head, data, n);
+    head[n] = '\0';
+    for (size_t i = 0; i < n; i++)
+        if (head[i] == '\0')
+            head[i] = ' ';
     uint64_t declared = 0;
-    for (char *p = strstr(head, "element "); p; p = strstr(p + 8, "element ")) {
-        char name[32];
-        unsigned long long count = 0;
-        if (sscanf(p + 8, "%31s %llu", name, &count) == 2)
-            declared += count > size ? size + 1 : count;
+    if (n >= 3 && memcmp(head, "ply", 3) == 0) {
+        /* assimp 5.2 loops for ever on a header that never ends or ends "end_headerX" */
+        char *end = strstr(head, "end_header");
+        if (!end || (end[10] != '\n' && end[10] != '\r')) {
+            snprintf(why, why_size, "a PLY header with no end_header line in its first 4 KiB");
+            return false;
+        }
+        *end = '\0';
+        /* words apart by any white space ("element\tvertex 9" is a declaration too) */
+        for (char *line = head; line && *line;) {
+            char *next = strpbrk(line, "\r\n");
+            if (next)
+                *next++ = '\0';
+            char word[16], name[32];
+            unsigned long long count = 0;
+            if (sscanf(line, "%15s %31s %llu", word, name, &count) == 3 &&
+                strcmp(word, "element") == 0)
+                declared += count > size ? size + 1 : count;
+            line = next;
+        }
+    } else if (n >= 3 && memcmp(head, "OFF", 3) == 0) {
+        unsigned long long nv = 0, nf = 0;
+        char *p = head + 3;
+        while (*p && *p != '\n')
+            p++;
+        /* OFF, then (after comments) the vertex and face counts */
+        while (*p) {
+            while (isspace((unsigned char)*p))
+                p++;
+            if (*p != '#')
+                break;
+            while (*p && *p != '\n')
+                p++;
+        }
+        if (sscanf(head + 3, "%llu %llu", &nv, &nf) == 2 || sscanf(p, "%llu %llu", &nv, &nf) == 2)
+            declared = (nv > size ? size + 1 : nv) + (nf > size ? size + 1 : nf);
     }
     if (declared > size) {
-        snprintf(why, why_size, "its PLY header declares more elements than the file has "
-                 "bytes (%llu)", (unsigned long long)size);
+        snprintf(why, why_size, "its header declares more elements than the file has bytes "
+                 "(%llu)", (unsigned long long)size);
         return false;
     }
     return true;
 }
 
-static limen_status load_file(limen_scene *s, const char *path, size_t max_bytes,
-                              limen__mesh **out)
+/* ------------------------------------------------------------------ importing */
+
+#define IMPORT_FLAGS (aiProcess_Triangulate | aiProcess_JoinIdenticalVertices | \
+                      aiProcess_PreTransformVertices | aiProcess_SortByPType | \
+                      aiProcess_ValidateDataStructure)
+
+/* Imports path in this process: geometry and texture into *out, the files read into files. */
+static limen_status import_here(limen_scene *s, const char *path, size_t max_bytes,
+                                limen__mesh **out, limen__block *files)
 {
     *out = NULL;
-    struct stat stt;
-    FILE *f = fopen(path, "rb");
-    if (!f)
-        return limen__fail(s, LIMEN_ERR_IO, "%s: cannot open: %s", path, strerror(errno));
-    char why[128] = "";
-    int fst = fstat(fileno(f), &stt);
-    bool ok = fst == 0 && S_ISREG(stt.st_mode) &&
-              ply_header_ok(f, (uint64_t)stt.st_size, why, sizeof why);
-    fclose(f);
-    if (fst != 0 || !S_ISREG(stt.st_mode))
-        return limen__fail(s, LIMEN_ERR_IO, "%s: not a regular file", path);
-    if (stt.st_size == 0)
-        return limen__fail(s, LIMEN_ERR_IO, "%s: empty file", path);
-    if (!ok)
-        return limen__fail(s, LIMEN_ERR_IO, "%s: %s", path, why);
-    /* the importer holds at least the file's bytes while it reads */
-    if ((uint64_t)stt.st_size > max_bytes)
-        return limen__fail(s, LIMEN_ERR_NOMEM, "%s: a file of %.1f MiB, more than the %.1f MiB "
-                           "allowed", path, stt.st_size / 1048576.0, max_bytes / 1048576.0);
+    io_ctx c = { .io = { io_open, io_close, NULL }, .s = s };
+    c.io.UserData = (aiUserData)&c;
     /* assimp's C interface keeps the last error in one string for the whole process: an
      * import and the reading of its error go together, one thread at a time, so that
      * scenes on different threads stay independent (limen.h, THREADS) */
     static pthread_mutex_t importing = PTHREAD_MUTEX_INITIALIZER;
     char err[301] = "";
     pthread_mutex_lock(&importing);
-    const struct aiScene *sc =
-        aiImportFile(path, aiProcess_Triangulate | aiProcess_JoinIdenticalVertices |
-                               aiProcess_PreTransformVertices | aiProcess_SortByPType |
-                               aiProcess_ValidateDataStructure);
+    const struct aiScene *sc = aiImportFileEx(path, IMPORT_FLAGS, &c.io);
     if (!sc) {
         const char *e = aiGetErrorString();
         snprintf(err, sizeof err, "%s", e ? e : "");
     }
     pthread_mutex_unlock(&importing);
-    if (!sc)
-        return limen__fail(s, LIMEN_ERR_IO, "%s: cannot read it as a mesh: %s", path,
-                           err[0] ? err : "unknown format");
     limen_status st = LIMEN_OK;
+    if (!sc) {
+        size_t pl = strlen(path);
+        if (c.why[0] && strncmp(c.why, path, pl) == 0 && c.why[pl] == ':')
+            st = limen__fail(s, LIMEN_ERR_IO, "%s", c.why);
+        else if (c.why[0])
+            st = limen__fail(s, LIMEN_ERR_IO, "%s: %s", path, c.why);
+        else
+            st = limen__fail(s, LIMEN_ERR_IO, "%s: cannot read it as a mesh: %s", path,
+                             err[0] ? err : "unknown format");
+        limen__block_free(&c.files);
+        return st;
+    }
     if (sc->mFlags & AI_SCENE_FLAGS_INCOMPLETE)
         st = limen__fail(s, LIMEN_ERR_IO, "%s: incomplete (no meshes in it)", path);
     else
@@ -664,7 +845,215 @@ static limen_status load_file(limen_scene *s, const char *path, size_t max_bytes
     if (!st)
         (*out)->bytes += tex_bytes;
     aiReleaseImport(sc);
+    if (st)
+        limen__block_free(&c.files);
+    else
+        *files = c.files;
     return st;
+}
+
+typedef struct importing {
+    limen_scene *s;
+    const char *path;
+    size_t max_bytes;
+} importing;
+
+static void put_string(limen__block *b, const char *str, size_t len)
+{
+    uint32_t n = (uint32_t)len;
+    limen__block_put(b, &n, sizeof n);
+    limen__block_put(b, str, len);
+}
+
+/* In the child: the import, handed back as [counts][flags][arrays][texture][files]. */
+static int import_child(void *arg, limen__block *out, char *why, size_t why_size)
+{
+    importing *im = arg;
+    limen_scene *s = im->s;
+    s->load->inside = true;
+    limen__mesh *m;
+    limen__block files = { 0 };
+    limen_status st = import_here(s, im->path, im->max_bytes, &m, &files);
+    if (st) {
+        snprintf(why, why_size, "%s", s->err);
+        return (int)st;
+    }
+    uint32_t head[2] = { m->nverts, m->ntris };
+    uint8_t flags = (m->file_normals ? 1 : 0) | (m->uv ? 2 : 0) | (m->tex ? 4 : 0);
+    limen__block_put(out, head, sizeof head);
+    limen__block_put(out, &flags, 1);
+    limen__block_put(out, m->pos, sizeof(float) * 3 * m->nverts);
+    if (m->file_normals)
+        limen__block_put(out, m->nrm, sizeof(float) * 3 * m->nverts);
+    if (m->uv)
+        limen__block_put(out, m->uv, sizeof(float) * 2 * m->nverts);
+    limen__block_put(out, m->idx, sizeof(uint32_t) * 3 * m->ntris);
+    if (m->tex) {
+        const limen__texture *t = m->tex;
+        put_string(out, t->key, strlen(t->key));
+        put_string(out, t->name, strlen(t->name));
+        int32_t wh[2] = { t->w, t->h };
+        limen__block_put(out, wh, sizeof wh);
+        limen__block_put(out, t->rgb, (size_t)t->w * (size_t)t->h * 3);
+    }
+    put_string(out, (const char *)files.data, files.len);
+    return 0;
+}
+
+static const char *get_string(limen__block *b, char *out, size_t size)
+{
+    uint32_t n;
+    const char *p;
+    if (!limen__block_get(b, &n, sizeof n) || n >= size || !(p = limen__block_take(b, n)))
+        return NULL;
+    memcpy(out, p, n);
+    out[n] = '\0';
+    return out;
+}
+
+/* The child's answer into *out, checked as any arrays are. */
+static limen_status unpack(limen_scene *s, limen__block *b, const char *path, size_t max_bytes,
+                           limen__mesh **out)
+{
+    uint32_t head[2];
+    uint8_t flags = 0;
+    const void *pos = NULL, *nrm = NULL, *uv = NULL, *idx = NULL;
+    bool ok = limen__block_get(b, head, sizeof head) && limen__block_get(b, &flags, 1) &&
+              head[0] <= MAX_TRIS && head[1] <= MAX_TRIS &&
+              (pos = limen__block_take(b, sizeof(float) * 3 * (size_t)head[0])) &&
+              (!(flags & 1) || (nrm = limen__block_take(b, sizeof(float) * 3 * (size_t)head[0]))) &&
+              (!(flags & 2) || (uv = limen__block_take(b, sizeof(float) * 2 * (size_t)head[0]))) &&
+              (idx = limen__block_take(b, sizeof(uint32_t) * 3 * (size_t)head[1]));
+    if (!ok)
+        return limen__fail(s, LIMEN_ERR_IO, "the importer handed back a broken answer reading %s",
+                           path);
+    /* the block's bytes are not aligned for floats: copies */
+    size_t nv = head[0], nt = head[1];
+    float *p = malloc(sizeof(float) * 3 * nv + 1), *n = nrm ? malloc(sizeof(float) * 3 * nv) : NULL;
+    float *u = uv ? malloc(sizeof(float) * 2 * nv) : NULL;
+    uint32_t *ix = malloc(sizeof(uint32_t) * 3 * nt + 1);
+    limen_status st = LIMEN_OK;
+    if (!p || !ix || (nrm && !n) || (uv && !u)) {
+        st = limen__fail(s, LIMEN_ERR_NOMEM, "%s: out of memory", path);
+        goto done;
+    }
+    memcpy(p, pos, sizeof(float) * 3 * nv);
+    memcpy(ix, idx, sizeof(uint32_t) * 3 * nt);
+    if (n)
+        memcpy(n, nrm, sizeof(float) * 3 * nv);
+    if (u)
+        memcpy(u, uv, sizeof(float) * 2 * nv);
+    limen_mesh_data d = { .positions = p, .normals = n, .uvs = u, .vertex_count = (int)nv,
+                          .indices = ix, .triangle_count = (int)nt };
+    if ((st = mesh_from_arrays(s, &d, path, max_bytes, out)))
+        goto done;
+    limen__mesh *m = *out;
+    if (flags & 4) {
+        char key[LIMEN__FILE_KEY], name[512];
+        int32_t wh[2];
+        const unsigned char *rgb = NULL;
+        unsigned char *copy = NULL;
+        if (get_string(b, key, sizeof key) && get_string(b, name, sizeof name) &&
+            limen__block_get(b, wh, sizeof wh) && wh[0] > 0 && wh[1] > 0 && wh[0] <= 16384 &&
+            wh[1] <= 16384)
+            rgb = limen__block_take(b, (size_t)wh[0] * (size_t)wh[1] * 3);
+        if (rgb && (copy = malloc((size_t)wh[0] * (size_t)wh[1] * 3)))
+            memcpy(copy, rgb, (size_t)wh[0] * (size_t)wh[1] * 3);
+        size_t charged = 0;
+        st = !rgb ? limen__fail(s, LIMEN_ERR_IO, "the importer handed back a broken texture "
+                                "reading %s", path)
+             : !copy ? limen__fail(s, LIMEN_ERR_NOMEM, "%s: out of memory", path)
+             : limen__texture_adopt(s, key, name, copy, wh[0], wh[1], &charged, &m->tex);
+        if (!st && charged > max_bytes - (m->bytes < max_bytes ? m->bytes : max_bytes))
+            st = limen__fail(s, LIMEN_ERR_NOMEM, "%s: its texture needs more memory than "
+                             "allowed", path);
+        m->bytes += charged;
+    }
+    uint32_t flen;
+    const char *fl;
+    if (!st && limen__block_get(b, &flen, sizeof flen) && (fl = limen__block_take(b, flen)) &&
+        flen && fl[flen - 1] == '\0' && (m->files = malloc(flen))) {
+        memcpy(m->files, fl, flen);
+        m->files_len = flen;
+    }
+    if (st) {
+        mesh_free(s, m);
+        *out = NULL;
+    }
+done:
+    free(p);
+    free(n);
+    free(u);
+    free(ix);
+    return st;
+}
+
+/* Imports path in a child under what the script has left (core/contain.c). */
+static limen_status import_contained(limen_scene *s, const char *path, size_t max_bytes,
+                                     limen__mesh **out)
+{
+    limen__load *ld = s->load;
+    importing im = { s, path, max_bytes };
+    limen__contain_limits lim = { max_bytes, ld->cpu_left };
+    limen__block b;
+    char why[LIMEN__ERR_MAX];
+    double cpu;
+    int rc = limen__contain_run(import_child, &im, &lim, &b, why, sizeof why, &cpu);
+    ld->cpu_spent += cpu;
+    ld->cpu_left = ld->cpu_left > 0 ? (ld->cpu_left > cpu ? ld->cpu_left - cpu : 1e-9) : 0;
+    switch (rc) {
+    case LIMEN__CONTAIN_OK:
+        break;
+    case LIMEN__CONTAIN_FAILED:
+        return limen__fail(s, (limen_status)limen__contain_code(), "%s", why);
+    case LIMEN__CONTAIN_CRASHED:
+        return limen__fail(s, LIMEN_ERR_IO, "the importer crashed reading %s (%s; it may have "
+                           "run out of the %.1f MiB left)", path, why, max_bytes / 1048576.0);
+    case LIMEN__CONTAIN_TIME:
+        return limen__fail(s, LIMEN_ERR_IO, "the importer ran out of time reading %s (%.1f s of "
+                           "processor time left)", path, lim.cpu_seconds);
+    case LIMEN__CONTAIN_MEMORY:
+        return limen__fail(s, LIMEN_ERR_NOMEM, "the importer handed back more than the %.1f MiB "
+                           "left reading %s", max_bytes / 1048576.0, path);
+    default:
+        return limen__fail(s, LIMEN_ERR_IO, "%s: %s", path, why);
+    }
+    limen_status st = unpack(s, &b, path, max_bytes, out);
+    limen__block_free(&b);
+    return st;
+}
+
+static limen_status load_file(limen_scene *s, const char *path, size_t max_bytes,
+                              limen__mesh **out)
+{
+    *out = NULL;
+    unsigned char *data;
+    size_t len;
+    struct stat st_file;
+    limen_status st = limen__file_read(s, path, &data, &len, &st_file);
+    if (st)
+        return st;
+    char why[300] = "";
+    bool ok = (!s->load || !s->load->safe ||
+               allowed_format(path, data, len < 4096 ? len : 4096, len, why, sizeof why)) &&
+              header_ok(data, len, why, sizeof why);
+    free(data);
+    if (s->load)
+        s->load->read_bytes -= len;
+    if (!ok)
+        return limen__fail(s, LIMEN_ERR_IO, "%s: %s", path, why);
+    /* the importer holds at least the file's bytes while it reads */
+    if ((uint64_t)len > max_bytes)
+        return limen__fail(s, LIMEN_ERR_NOMEM, "%s: a file of %.1f MiB, more than the %.1f MiB "
+                           "allowed", path, len / 1048576.0, max_bytes / 1048576.0);
+    if (limen__load_contained(s))
+        return import_contained(s, path, max_bytes, out);
+    limen__block files = { 0 };
+    if ((st = import_here(s, path, max_bytes, out, &files)))
+        return st;
+    (*out)->files = (char *)files.data;
+    (*out)->files_len = files.len;
+    return LIMEN_OK;
 }
 
 /* ------------------------------------------------------------------ API */

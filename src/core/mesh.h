@@ -40,6 +40,8 @@ typedef struct limen__mesh {
     limen_mesh_lod *lods;       /* levels of detail, lods[0] the full mesh (idx) */
     uint32_t nlods;
     limen_mesh_geometry pub;    /* what limen_drawable.mesh shows of it */
+    char *files;                /* every file its import read ("a\0b\0"), for watching */
+    size_t files_len;
 } limen__mesh;
 
 /* Bytes a mesh of this size may hold (geometry, levels of detail, hierarchy and

@@ -30,6 +30,11 @@ limen_status limen__texture_load(limen_scene *s, const char *path, size_t max_by
 /* An image held in memory (a mesh file's embedded texture), not shared. */
 limen_status limen__texture_decode(limen_scene *s, const unsigned char *buf, size_t len,
                                    const char *name, limen__texture **out);
+/* A texture decoded elsewhere (a contained import): rgb (taken, w x h) under key, or the
+ * scene's texture of that key if it has one; key "" for an embedded one, not shared. */
+limen_status limen__texture_adopt(limen_scene *s, const char *key, const char *name,
+                                  unsigned char *rgb, int w, int h, size_t *charged,
+                                  limen__texture **out);
 void limen__texture_release(limen_scene *s, limen__texture *t);
 void limen__textures_destroy(limen_scene *s);
 /* Bilinear, repeating, no mipmaps, texel centres at ((i + 0.5) / w, (j + 0.5) / h) with v

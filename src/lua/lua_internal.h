@@ -60,6 +60,18 @@ int limen__lua_print(lua_State *L, const char *text, size_t len);
 int limen__lua_hold(lua_State *L, ptrdiff_t bytes);
 /* Bytes the cap of the script running in L leaves (SIZE_MAX without a cap or a script). */
 size_t limen__lua_mem_left(lua_State *L);
+/* Files and limits (core/confine.h). The folder a safe script reads beneath, fixed when
+ * the top-level script was loaded; NULL for a trusted script or no script. */
+struct limen__confine;
+struct limen__load;
+const struct limen__confine *limen__lua_box(lua_State *L);
+/* Around a load into s on behalf of the script in L: begin points s at ld, filled with the
+ * script's folder and what its limits leave; end detaches it and charges the processor
+ * time children spent to the time limit. Then limen__lua_check_time raises if a limit was
+ * hit (call it after cleaning up). */
+void limen__lua_load_begin(lua_State *L, limen_scene *s, struct limen__load *ld);
+void limen__lua_load_end(lua_State *L, limen_scene *s, struct limen__load *ld);
+void limen__lua_check_time(lua_State *L);
 /* Notes the calling script line as the place of a memory error that may follow (Lua gives
  * memory errors no place, and no message handler runs for them). */
 void limen__lua_note_line(lua_State *L);
