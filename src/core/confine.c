@@ -79,7 +79,7 @@ static const char *reason(int err)
     switch (err) {
     case ENOENT: return "not found";
     case EXDEV: return "a safe script reads files only under its own folder (it leads out of it)";
-    case ELOOP: return "a link (a safe scene follows no links out of its folder)";
+    case ELOOP: return "a link (a safe script reads files only under its own folder)";
     case ENOTDIR: return "a folder on the way is not a folder";
     case EACCES: case EPERM: return "not readable";
     case EISDIR: return "a folder, not a file";

@@ -10,6 +10,7 @@
  * blocking, core/confine.c), and reaps it with wait4 to learn its processor time. Nothing the
  * child allocated outlives it. */
 #include <errno.h>
+#include <math.h>
 #include <fcntl.h>
 #include <poll.h>
 #include <signal.h>
@@ -25,7 +26,7 @@
 
 #include "core/contain.h"
 
-#define ALLOWANCE ((size_t)256 << 20)   /* the importer's code, stacks and its own tables */
+#define ALLOWANCE ((size_t)64 << 20)    /* the importer's stacks, heap slack and its tables */
 
 #if defined(__SANITIZE_ADDRESS__)
 #define NO_AS_LIMIT 1   /* the sanitizer's shadow memory is terabytes of address space */
@@ -137,7 +138,7 @@ static void child(int fd, limen__contained_fn fn, void *arg, const limen__contai
     struct rlimit no_core = { 0, 0 };
     setrlimit(RLIMIT_CORE, &no_core);
     if (lim->cpu_seconds > 0) {
-        rlim_t s = (rlim_t)lim->cpu_seconds + 1;    /* whole seconds, rounded up */
+        rlim_t s = (rlim_t)ceil(lim->cpu_seconds);  /* whole seconds, rounded up */
         struct rlimit cpu = { s, s + 1 };           /* SIGXCPU, then SIGKILL a second later */
         setrlimit(RLIMIT_CPU, &cpu);
     }

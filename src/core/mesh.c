@@ -333,6 +333,10 @@ static limen_status mesh_from_arrays(limen_scene *s, const limen_mesh_data *d, c
         return limen__fail(s, LIMEN_ERR_ARG, "%s: needs positions and indices", what);
     if (d->triangle_count < 1)
         return limen__fail(s, LIMEN_ERR_ARG, "%s: no triangles", what);
+    if (d->vertex_count < 3 && d->vertex_count > 0)
+        return limen__fail(s, LIMEN_ERR_ARG, "%s: triangle 0 is degenerate, as is every other "
+                           "(%d vertices, fewer than a triangle needs; a vertex that is not a "
+                           "number is dropped)", what, d->vertex_count);
     if (d->vertex_count < 3)
         return limen__fail(s, LIMEN_ERR_ARG, "%s: %d vertices, fewer than a triangle needs "
                            "(a vertex that is not a number is dropped)", what, d->vertex_count);
@@ -359,6 +363,24 @@ static limen_status mesh_from_arrays(limen_scene *s, const limen_mesh_data *d, c
             return limen__fail(s, LIMEN_ERR_ARG,
                                "%s: triangle %u uses vertex %u, out of range (%u vertices)",
                                what, i / 3, d->indices[i], nv);
+    uint32_t flat = 0;      /* triangles with no area, before the first that has one */
+    while (flat < nt) {
+        const uint32_t *ix = &d->indices[flat * 3];
+        const float *a = &d->positions[ix[0] * 3], *b = &d->positions[ix[1] * 3],
+                    *c = &d->positions[ix[2] * 3];
+        double e1[3], e2[3];
+        for (int k = 0; k < 3; k++) {
+            e1[k] = (double)b[k] - a[k];
+            e2[k] = (double)c[k] - a[k];
+        }
+        if (e1[1] * e2[2] - e1[2] * e2[1] != 0 || e1[2] * e2[0] - e1[0] * e2[2] != 0 ||
+            e1[0] * e2[1] - e1[1] * e2[0] != 0)
+            break;
+        flat++;
+    }
+    if (flat == nt)
+        return limen__fail(s, LIMEN_ERR_ARG, "%s: triangle 0 is degenerate (its corners meet or "
+                           "lie on a line) and so is every other: no triangle has an area", what);
     limen__mesh *m = calloc(1, sizeof *m);
     if (!m)
         return limen__fail(s, LIMEN_ERR_NOMEM, "%s: out of memory", what);
@@ -827,6 +849,9 @@ static limen_status import_here(limen_scene *s, const char *path, size_t max_byt
             st = limen__fail(s, LIMEN_ERR_IO, "%s", c.why);
         else if (c.why[0])
             st = limen__fail(s, LIMEN_ERR_IO, "%s: %s", path, c.why);
+        else if (strstr(err, "bad_alloc"))
+            st = limen__fail(s, LIMEN_ERR_NOMEM, "%s: the importer ran out of memory reading it "
+                             "(%.1f MiB left)", path, max_bytes / 1048576.0);
         else
             st = limen__fail(s, LIMEN_ERR_IO, "%s: cannot read it as a mesh: %s", path,
                              err[0] ? err : "unknown format");

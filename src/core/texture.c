@@ -371,16 +371,28 @@ limen_status limen_scene_get_file(const limen_scene *s, int i, char *path, size_
         return LIMEN_ERR_ARG;
     int n = 0;
     for (int k = 0; k < s->nmeshes + s->ntextures; k++) {
-        const char *key = k < s->nmeshes ? ((const limen__mesh *)s->meshes[k])->key
-                                         : ((const limen__texture *)s->textures[k - s->nmeshes])->key;
+        const limen__mesh *m = k < s->nmeshes ? s->meshes[k] : NULL;
+        const char *key = m ? m->key : ((const limen__texture *)s->textures[k - s->nmeshes])->key;
         size_t len;
-        if (!key_path(key, &len) || n++ != i)
+        if (!key_path(key, &len))
             continue;
-        if (len >= size)
-            return LIMEN_ERR_ARG;
-        memcpy(path, key, len);
-        path[len] = '\0';
-        return LIMEN_OK;
+        /* the file itself, then the others its import read (an OBJ's .mtl, glTF buffers) */
+        const char *f = key;
+        for (size_t at = 0;;) {
+            size_t flen = f == key ? len : strlen(f);
+            if ((f == key || flen != len || strncmp(f, key, len) != 0) && n++ == i) {
+                if (flen >= size)
+                    return LIMEN_ERR_ARG;
+                memcpy(path, f, flen);
+                path[flen] = '\0';
+                return LIMEN_OK;
+            }
+            if (f != key)
+                at += flen + 1;
+            if (!m || !m->files || at >= m->files_len)
+                break;
+            f = m->files + at;
+        }
     }
     return LIMEN_ERR_ARG;
 }
