@@ -200,7 +200,7 @@ BENCH      ?= quick
 # libembree-dev: bench/embree.c measures Embree 3 against core/bvh.c for the tracer's job
 BENCH_DEBS := gnuplot-nox libembree-dev
 BENCH_C    := bench/bench.c bench/matrices.c bench/scale.c bench/embree.c bench/speed.c bench/lod.c \
-              bench/lod_build.c
+              bench/lod_build.c bench/safe_load.c
 BENCH_BIN  := $(BENCH_C:bench/%.c=$(B)/bench/%)
 # the floor and the classic stencil recursion that bench/speed measures limen against
 BENCH_BASE := bench/baseline.c

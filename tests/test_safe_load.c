@@ -348,7 +348,7 @@ static void test_shared_mesh_bomb(void)
     put_gltf(at(dir, "many.gltf"), "many.bin", 3000, tris);
     outcome o = run("many.lua", "local limen = require 'limen' local s = limen.scene{}\n"
                     "local ok, e = pcall(s.mesh, s, { name = 'm', file = 'many.gltf' })\n"
-                    "assert(not ok and e:find('many.gltf'), e)\n"
+                    "assert(not ok and e:find('many.gltf') and e:find('out of memory'), e)\n"
                     "return s\n", 0, 32 << 20);
     CHECK_MSG(!o.st, "%s", o.msg);
 }

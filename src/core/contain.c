@@ -192,7 +192,8 @@ int limen__contain_run(limen__contained_fn fn, void *arg, const limen__contain_l
     }
     close(p[1]);
     /* what the child may hand back: its header and at most the memory allowed */
-    size_t most = lim->mem_bytes ? lim->mem_bytes + 65536 : SIZE_MAX;
+    size_t most = lim->mem_bytes && lim->mem_bytes < SIZE_MAX - 65536 ? lim->mem_bytes + 65536
+                                                                      : SIZE_MAX;
     double deadline = lim->cpu_seconds > 0 ? now() + 4 * lim->cpu_seconds + 5 : 0;
     limen__block raw = { 0 };
     int outcome = LIMEN__CONTAIN_OK;
