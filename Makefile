@@ -274,10 +274,11 @@ sweep-charts:
 # and LLVM allocate themselves (tests/sanitize.supp), and is off in lua5.4, which unloads
 # limen.so and Mesa before it runs, so that it could not tell their memory from limen's.
 # `make fuzz` (not part of make test): libFuzzer (clang), FUZZ_TIME seconds (60 by default)
-# for each of three targets, crashes and hangs written to $(B)/fuzz/: the scene loader
+# for each target, crashes and hangs written to $(B)/fuzz/: the scene loader
 # (tests/fuzz/fuzz_scene.c, corpus seeded from scenes/ and tests/malformed/); the C API
 # (fuzz_api.c: a scene built from byte-coded calls, then planned, written as JSON, traced,
-# cast into and moved); PNG reading (fuzz_png.c, corpus seeded from the project's PNGs).
+# cast into and moved); PNG reading (fuzz_png.c, corpus seeded from the project's PNGs);
+# and the mesh loader once per format a safe scene loads (fuzz_mesh.c, contained imports).
 SAN_B      ?= $(B)/asan
 SAN_CC     ?= gcc -fsanitize=address,undefined -fno-sanitize-recover=all
 SAN_CFLAGS ?= -O2 -g -fno-omit-frame-pointer
@@ -287,6 +288,9 @@ SAN_ENV     = ASAN_OPTIONS=halt_on_error=1:detect_leaks=1:verify_asan_link_order
               PATH="$(abspath $(SAN_B))/sanbin:$$PATH"
 FUZZ_TIME  ?= 60
 FUZZ_TARGETS := scene api png
+# the mesh loader, one target per format a safe scene may load (tests/fuzz/fuzz_mesh.c,
+# seeds in tests/fuzz/mesh/); FUZZ_TRUSTED=1 imports in the process instead of a child
+FUZZ_MESH  := obj ply stl gltf glb
 FUZZ_B     := $(B)/fuzz
 FUZZ_CC    ?= clang
 FUZZ_DEBS  := clang libclang-rt-14-dev
@@ -312,6 +316,10 @@ fuzz: fuzz-deps $(B)/config.mk
 	@for t in $(FUZZ_TARGETS); do \
 	  $(FUZZ_CC) $(FUZZ_SAN) -fsanitize=fuzzer -O1 -g -Iinclude -o $(FUZZ_B)/fuzz_$$t \
 	    tests/fuzz/fuzz_$$t.c $(FUZZ_B)/liblimen.a $(LIBS) || exit 1; done
+	@for f in $(FUZZ_MESH); do \
+	  $(FUZZ_CC) $(FUZZ_SAN) -fsanitize=fuzzer -O1 -g -Iinclude -DFUZZ_EXT='"'$$f'"' \
+	    -o $(FUZZ_B)/fuzz_mesh_$$f tests/fuzz/fuzz_mesh.c $(FUZZ_B)/liblimen.a $(LIBS) || exit 1; \
+	  mkdir -p $(FUZZ_B)/corpus_$$f && cp tests/fuzz/mesh/*.$$f $(FUZZ_B)/corpus_$$f/; done
 	@mkdir -p $(FUZZ_B)/corpus $(FUZZ_B)/corpus_api $(FUZZ_B)/corpus_png && \
 	  cp scenes/*.lua tests/malformed/*.lua $(FUZZ_B)/corpus/ && \
 	  find bench/charts tests -name '*.png' -size -64k -exec cp {} $(FUZZ_B)/corpus_png/ \;
@@ -323,3 +331,6 @@ fuzz: fuzz-deps $(B)/config.mk
 	$(FUZZ_B)/fuzz_png -max_total_time=$(FUZZ_TIME) -timeout=10 -max_len=65536 \
 	  -dict=tests/fuzz/png.dict -artifact_prefix=$(FUZZ_B)/png- -print_final_stats=1 \
 	  $(FUZZ_B)/corpus_png
+	@for f in $(FUZZ_MESH); do \
+	  $(FUZZ_B)/fuzz_mesh_$$f -max_total_time=$(FUZZ_TIME) -timeout=20 -max_len=65536 \
+	    -artifact_prefix=$(FUZZ_B)/mesh-$$f- -print_final_stats=1 $(FUZZ_B)/corpus_$$f || exit 1; done
