@@ -28,14 +28,6 @@
 
 #define ALLOWANCE ((size_t)64 << 20)    /* the importer's stacks, heap slack and its tables */
 
-#if defined(__SANITIZE_ADDRESS__)
-#define NO_AS_LIMIT 1   /* the sanitizer's shadow memory is terabytes of address space */
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer) || __has_feature(memory_sanitizer)
-#define NO_AS_LIMIT 1
-#endif
-#endif
-
 bool limen__block_put(limen__block *b, const void *p, size_t n)
 {
     if (b->failed)
@@ -142,16 +134,14 @@ static void child(int fd, limen__contained_fn fn, void *arg, const limen__contai
         struct rlimit cpu = { s, s + 1 };           /* SIGXCPU, then SIGKILL a second later */
         setrlimit(RLIMIT_CPU, &cpu);
     }
-#ifndef NO_AS_LIMIT
+    /* relative to what is mapped already: under a sanitizer that includes its shadow
+     * reservations, so the limit still holds what the child maps anew */
     if (lim->mem_bytes && base) {
         size_t as = base + ALLOWANCE;
         as = lim->mem_bytes > SIZE_MAX - as ? SIZE_MAX : as + lim->mem_bytes;
         struct rlimit r = { (rlim_t)as, (rlim_t)as };
         setrlimit(RLIMIT_AS, &r);
     }
-#else
-    (void)base;
-#endif
     limen__block out = { 0 };
     char why[512] = "";
     int32_t rc = fn(arg, &out, why, sizeof why);
