@@ -21,7 +21,8 @@
  *      (w_i the light's range falloff, limen.h) with per-pixel true normals for spheres and
  *      cylinders, the normal turned towards the view's eye, the checker of
  *      limen_node_get_checker in node-local units, and albedo times the texel of the
- *      node's texture (bilinear, repeating, as limen_node_set_texture says). Triangle
+ *      node's texture (repeating, over the image's mipmap levels as the drawable's
+ *      texture_filter says: limen_node_set_texture_filter). Triangle
  *      meshes (limen_drawable.mesh) and images (limen_drawable.texture) are uploaded once
  *      each, keyed on their id; a mesh is drawn at the level of detail limen_view_mesh_lod
  *      picks for the view.
@@ -125,6 +126,7 @@ typedef struct item {
     const limen_drawable *src;          /* what limen says of it (for the level of detail) */
     GLuint tex;                         /* albedo texture, or 0 */
     float repeat[2];                    /* its coordinates scaled by these (tiling) */
+    limen_texture_filter filter;        /* how it is sampled */
     float model[16];                    /* world matrix times the mesh's scale */
     float scale[3];                     /* unit mesh -> node-local units (for the checker) */
     float color[3], color_b[3], cell;   /* albedo, or checker colours a and b */
@@ -480,8 +482,8 @@ static const gpu_mesh *mesh_upload(game *g, const limen_mesh_geometry *m)
     return gm;
 }
 
-/* The GPU copy of an image: bilinear, repeating, no mipmaps (limen_node_set_texture). 0 if
- * out of memory. */
+/* The GPU copy of an image with its mipmap levels, repeating (limen_node_set_texture); the
+ * filter is set where it is drawn. 0 if out of memory. */
 static GLuint image_upload(game *g, const limen_image *im)
 {
     for (int i = 0; i < g->nimages; i++)
@@ -496,10 +498,11 @@ static GLuint image_upload(game *g, const limen_image *im)
     glGenTextures(1, &gi->tex);
     glBindTexture(GL_TEXTURE_2D, gi->tex);
     glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
-    glTexImage2D(GL_TEXTURE_2D, 0, GL_RGB8, im->width, im->height, 0, GL_RGB, GL_UNSIGNED_BYTE,
-                 im->rgb);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    /* limen's own levels, so that the texels are the ones its ray tracer reads */
+    for (int k = 0; k < im->level_count; k++)
+        glTexImage2D(GL_TEXTURE_2D, k, GL_RGB8, im->levels[k].width, im->levels[k].height, 0,
+                     GL_RGB, GL_UNSIGNED_BYTE, im->levels[k].rgb);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAX_LEVEL, im->level_count - 1);
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_REPEAT);
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_REPEAT);
     return gi->tex;
@@ -590,6 +593,7 @@ static int read_item(game *g, const limen_drawable *d, item *it)
     memcpy(it->back, d->back, sizeof it->back);
     memcpy(it->fill, d->fill, sizeof it->fill);
     memcpy(it->repeat, d->texture_repeat, sizeof it->repeat);
+    it->filter = d->texture_filter;
     if (d->texture && (it->tex = image_upload(g, d->texture)))
         it->uv = it->kind == LIMEN_NODE_MESH ? UV_MESH : it->kind == LIMEN_NODE_BOX ? UV_BOX : UV_PLANE;
     return 1;
@@ -686,6 +690,12 @@ static void draw_item(game *g, const item *it, int flat, const float albedo[3])
     glUniform1i(g->u.textured, !flat && it->tex);
     if (!flat && it->tex) {
         glBindTexture(GL_TEXTURE_2D, it->tex);
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER,
+                        it->filter == LIMEN_FILTER_NEAREST ? GL_NEAREST
+                        : it->filter == LIMEN_FILTER_LINEAR ? GL_LINEAR
+                                                            : GL_LINEAR_MIPMAP_LINEAR);
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER,
+                        it->filter == LIMEN_FILTER_NEAREST ? GL_NEAREST : GL_LINEAR);
         glUniform2fv(g->u.repeat, 1, it->repeat);
     }
     /* mirrors and portals are not cut by the near plane; closed shapes cull back faces (a

@@ -74,7 +74,30 @@ extern "C" {
 #define LIMEN_API
 #endif
 
-#define LIMEN_VERSION "0.1.0"
+/* ---------------------------------------------------------------- version */
+
+/* The version, written here alone: the Makefile reads these three lines for the shared
+ * library's file name and soname (liblimen.so.MAJOR), the pkg-config file, the CMake
+ * package (find_package(limen X.Y)) and the LuaRocks rockspec (make rockspec). */
+#define LIMEN_VERSION_MAJOR 0
+#define LIMEN_VERSION_MINOR 1
+#define LIMEN_VERSION_PATCH 0
+/* One number that grows with every release: MAJOR * 10000 + MINOR * 100 + PATCH (0.1.0 ->
+ * 100), for #if LIMEN_VERSION_NUMBER >= 100. */
+#define LIMEN_VERSION_NUMBER \
+    (LIMEN_VERSION_MAJOR * 10000 + LIMEN_VERSION_MINOR * 100 + LIMEN_VERSION_PATCH)
+#define LIMEN__STR(x) #x                                         /* (internal) */
+#define LIMEN__XSTR(x) LIMEN__STR(x)                             /* (internal) */
+/* "MAJOR.MINOR.PATCH" of the header: "0.1.0". */
+#define LIMEN_VERSION                                                                      \
+    LIMEN__XSTR(LIMEN_VERSION_MAJOR) "." LIMEN__XSTR(LIMEN_VERSION_MINOR) "."              \
+    LIMEN__XSTR(LIMEN_VERSION_PATCH)
+
+/* The version of the library linked in, which may differ from the header's LIMEN_VERSION
+ * when a program runs against a newer shared library: "0.1.0". */
+LIMEN_API const char *limen_version(void);
+/* The same as LIMEN_VERSION_NUMBER counts it, for the library linked in. */
+LIMEN_API int limen_version_number(void);
 
 /* ---------------------------------------------------------------- errors */
 
@@ -298,8 +321,9 @@ typedef struct limen_mesh_info {
 /* Textures on planes (QUAD), boxes and meshes: albedo = texel * colour (the checker's
  * colours where it has one). A PNG or JPEG file, its bytes taken as linear RGB (no gamma,
  * like every colour here); one copy per scene however many nodes use the file. Sampling,
- * the same in the renderer and the ray tracer: bilinear between the four nearest texels,
- * repeating (u and v wrap), no mipmaps; texel (i, j) has its centre at ((i + 0.5) / width,
+ * the same in the renderer and the ray tracer: as limen_node_set_texture_filter says
+ * (trilinear over mipmap levels by default), repeating (u and v wrap); texel (i, j) of a
+ * level width x height has its centre at ((i + 0.5) / width,
  * (j + 0.5) / height), j counting rows from the image's bottom (v = 0) up (v = 1). Texture
  * coordinates: a plane's (x/w + 0.5, y/h + 0.5) over its extent; a box face's two other
  * axes in order (face x: (y, z), face y: (z, x), face z: (x, y)), each mapped from
@@ -316,6 +340,28 @@ LIMEN_API limen_status limen_node_set_texture_repeat(limen_scene *s, limen_node 
                                                      const float repeat[2]);
 LIMEN_API limen_status limen_node_get_texture_repeat(const limen_scene *s, limen_node n,
                                                      float repeat[2]);
+
+/* Texture filtering: how a node's texture is sampled, the same in the renderer and the ray
+ * tracer. Every image gets mipmap levels when it is read: each level half the one above
+ * (width and height divided by 2, rounded down, at least 1) down to 1 x 1, each texel the
+ * box-filtered (area-weighted) average of the texels above it, rounded to 8 bits
+ * (limen_image.levels). The level of detail of a pixel is lambda = log2(rho), rho the longer
+ * of the steps that the texture coordinates (times repeat, in texels of the full image) take
+ * to the next pixel across and up: OpenGL's rule. The ray tracer finds those steps from each
+ * pixel's ray differentials, carried through mirror reflections and portal transforms. */
+typedef enum limen_texture_filter {
+    LIMEN_FILTER_TRILINEAR = 0, /* default: lambda <= 0, bilinear in the full image; else
+                                 * bilinear in levels floor(lambda) and the next, blended by
+                                 * its fraction (GL_LINEAR_MIPMAP_LINEAR); past the last, it */
+    LIMEN_FILTER_LINEAR,        /* bilinear between the four nearest texels of the full image */
+    LIMEN_FILTER_NEAREST        /* the full image's texel that holds the point (GL_NEAREST) */
+} limen_texture_filter;
+/* Any node may carry it; it shows where the node has a texture. Lua: filter = "trilinear",
+ * "linear" or "nearest". */
+LIMEN_API limen_status limen_node_set_texture_filter(limen_scene *s, limen_node n,
+                                                     limen_texture_filter filter);
+LIMEN_API limen_status limen_node_get_texture_filter(const limen_scene *s, limen_node n,
+                                                     limen_texture_filter *filter);
 
 /* Loads a file through assimp (OBJ, glTF 2.0 .gltf/.glb, PLY, FBX, STL, ...): polygons are
  * triangulated, the file's node transforms applied, all its meshes merged. */
@@ -409,12 +455,20 @@ typedef struct limen_mesh_geometry {
     const limen_mesh_lod *lods; /* coarser as k grows, errors growing */
 } limen_mesh_geometry;
 
+/* One mipmap level of an image: 8-bit RGB, top row first. */
+typedef struct limen_image_level {
+    int width, height;
+    const unsigned char *rgb;
+} limen_image_level;
+
 /* An image for a texture (limen_drawable.texture): 8-bit RGB, top row first, sampled as
  * limen_node_set_texture says; valid while a node uses it. */
 typedef struct limen_image {
     uint64_t id;                /* unique in the process: key a GPU copy on it */
     int width, height;
     const unsigned char *rgb;
+    int level_count;            /* mipmap levels (limen_node_set_texture_filter), down to */
+    const limen_image_level *levels;  /* 1 x 1; levels[0] is the image itself */
 } limen_image;
 
 typedef struct limen_drawable {
@@ -441,6 +495,7 @@ typedef struct limen_drawable {
                                  * where the node names none), or NULL */
     float texture_repeat[2];    /* limen_node_set_texture_repeat: scales the texture
                                  * coordinates before sampling */
+    limen_texture_filter texture_filter;  /* limen_node_set_texture_filter */
 } limen_drawable;
 
 typedef struct limen_drawables limen_drawables;
@@ -546,12 +601,21 @@ typedef struct limen_frame_budget {
                                  * 0 -> 64 x width x height */
     int64_t surface_tests;      /* views x mirrors and portals: each view tests (and a
                                  * renderer may draw) every visible surface; 0 -> 131072 */
+    int64_t triangles;          /* mesh triangles over every view, each mesh at the level of
+                                 * detail the view draws it at (limen_view_mesh_lod), counted
+                                 * over limen_plan_view_things; 0 -> LIMEN_BUDGET_TRIANGLES_DEFAULT.
+                                 * The camera's view is always drawn: where it alone holds more,
+                                 * the renderer draws its meshes in order up to the budget and
+                                 * drops the rest (counted as one truncation) */
 } limen_frame_budget;
+
+#define LIMEN_BUDGET_TRIANGLES_DEFAULT ((int64_t)8 << 20)   /* 8 Mi triangles a frame */
 
 enum {                          /* limen_plan_work.budgets_hit */
     LIMEN_BUDGET_VIEWS = 1,             /* max_views */
     LIMEN_BUDGET_VIEW_PIXELS = 2,
-    LIMEN_BUDGET_SURFACE_TESTS = 4
+    LIMEN_BUDGET_SURFACE_TESTS = 4,
+    LIMEN_BUDGET_TRIANGLES = 8          /* budget.triangles */
 };
 
 typedef struct limen_limits {
@@ -645,6 +709,7 @@ typedef struct limen_plan_work {
     int64_t view_pixels;        /* sum of the views' scissor areas */
     int64_t surface_tests;      /* view x surface tests made */
     unsigned budgets_hit;       /* LIMEN_BUDGET_* bits of the budgets that stopped a view */
+    int64_t triangles;          /* mesh triangles of the views kept (budget.triangles' count) */
 } limen_plan_work;
 LIMEN_API void limen_plan_get_work(const limen_plan *p, limen_plan_work *out);
 /* Writes the plan as JSON ({"views": [...]}); returns LIMEN_ERR_IO if it cannot. Each view
@@ -689,7 +754,13 @@ typedef enum limen_backend {
  *   polygons, and unbinds samplers and pixel buffers from what it uses.
  *   Two things it cannot give back: errors pending in glGetError when limen is called are
  *   read and dropped (so that limen reports only its own), and the game must not have an
- *   occlusion or pipeline-statistics query active during a frame (limen counts with them). */
+ *   occlusion or pipeline-statistics query active during a frame (limen counts with them).
+ *   Whose context: the renderer belongs to the context current at create (a context below
+ *   3.3 is refused there: "needs OpenGL 3.3 core, this context is 2.1"). Any later call made
+ *   while another context is current is refused with a message that says so and touches
+ *   nothing in that context; limen_renderer_destroy then frees limen's memory only and
+ *   leaves its GL objects to its own context, which frees them when the game destroys it
+ *   (destroy the renderer with its context current to free them sooner). */
 typedef void *(*limen_gl_loader)(const char *name);
 
 typedef struct limen_renderer_desc {
@@ -722,7 +793,7 @@ LIMEN_API limen_status limen_renderer_create(const limen_renderer_desc *desc,
  * OSMesa and EGL renderers make their own context current only within a call: afterwards
  * the context that was current on the thread before (of the same API) is current again. */
 LIMEN_API void limen_renderer_destroy(limen_renderer *r);              /* NULL is fine */
-LIMEN_API const char *limen_renderer_error(const limen_renderer *r);   /* "" when none */
+LIMEN_API const char *limen_renderer_error(const limen_renderer *r);   /* "" after a successful call */
 LIMEN_API const char *limen_renderer_gl_info(const limen_renderer *r); /* GL_RENDERER, GL_VERSION */
 LIMEN_API void limen_renderer_get_size(const limen_renderer *r, int *width, int *height);
 typedef enum limen_method {

@@ -2,13 +2,19 @@
  * flat grid made here), that the error each carries bounds its true distance from the full
  * mesh (checked by brute force, independently of the library's measure), and which level a
  * view picks (limen_view_mesh_lod), through a scaled portal too. No GL. */
+#include <dirent.h>
+#include <fcntl.h>
 #include <stdbool.h>
 #include <stdint.h>
+#include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include "bumpy.h"
 #include "check.h"
+#include "core/lod_target.h"
 #include "limen.h"
 
 #define HEIGHT 480
@@ -741,6 +747,248 @@ static void test_lod_pixels(void)
     close_scene(&f);
 }
 
+/* Degenerate input costs what other input does: 80,000 copies of one triangle (half of them
+ * wound the other way), then 80,000 of one with no area (three corners on a line). The
+ * edges' pairing (core/lod_target.c) looks at a few slots a half-edge, not at every copy
+ * before it (which took 24 s for the first); the copies wound opposite ways pair up, those
+ * wound alike cannot. The whole build then makes the mesh and its levels. */
+static void test_degenerate(void)
+{
+    enum { COPIES = 80000 };
+    float pos[12] = { 0, 0, 0, 1, 0, 0, 0, 1, 0, 2, 0, 0 };
+    uint32_t *idx = malloc(sizeof(uint32_t) * 3 * COPIES);
+    if (!idx) {
+        CHECK(idx);
+        return;
+    }
+    for (int flat = 0; flat < 2; flat++) {
+        uint32_t c = flat ? 3 : 2;      /* (0,0,0) (1,0,0) (2,0,0): on a line */
+        for (int t = 0; t < COPIES; t++) {
+            idx[t * 3] = 0;
+            idx[t * 3 + 1] = t % 2 ? c : 1;
+            idx[t * 3 + 2] = t % 2 ? 1 : c;
+        }
+        limen__mesh m = { .nverts = 4, .ntris = COPIES, .pos = pos, .idx = idx };
+        limen__lod_target tg = { 0 };
+        CHECK(limen__lod_target_make(&tg, &m, NULL));
+        uint64_t half_edges = 3ull * COPIES;
+        CHECK_MSG(tg.probes <= 4 * half_edges, "%s: %llu probes for %llu half-edges",
+                  flat ? "flat" : "copies", (unsigned long long)tg.probes,
+                  (unsigned long long)half_edges);
+        /* each copy wound one way pairs each edge with a copy wound the other */
+        uint32_t paired = 0;
+        for (uint32_t t = 0; tg.across && t < COPIES; t++)
+            for (int e = 0; e < 3; e++)
+                if (tg.across[t][e] != UINT32_MAX) {
+                    paired++;
+                    CHECK(tg.across[t][e] % 2 != t % 2);
+                    CHECK(tg.across[tg.across[t][e]][0] == t ||
+                          tg.across[tg.across[t][e]][1] == t ||
+                          tg.across[tg.across[t][e]][2] == t);
+                }
+        CHECK_MSG(paired == 3u * COPIES, "%u of %u edges paired", paired, 3u * COPIES);
+        limen__lod_target_free(&tg);
+        fixture f = open_scene((float[3]){ 0, 0, 5 }, (float[3]){ 0, 0, 0 });
+        CHECK_OK(limen_mesh_set_triangles(f.s, f.mesh, &(limen_mesh_data){
+            .positions = pos, .vertex_count = 4, .indices = idx, .triangle_count = COPIES }));
+        const limen_drawable *d = item(&f);
+        CHECK(d && d->mesh->lod_count >= 1 && d->mesh->triangle_count == COPIES);
+        close_scene(&f);
+    }
+    free(idx);
+}
+
+/* ------------------------------------------------------------------ the cache */
+
+/* The levels of a bumpy sphere of u * v * 2 triangles, made in a scene of their own: their
+ * counts, errors and indices, one after another, into *out (malloc'd); returns the levels. */
+static int sphere_levels(int u, int v, float **out, size_t *len)
+{
+    int nv = (u + 1) * (v + 1), nt = u * v * 2;
+    float *pos = malloc(sizeof(float) * 3 * (size_t)nv);
+    uint32_t *idx = malloc(sizeof(uint32_t) * 3 * (size_t)nt);
+    *out = NULL;
+    *len = 0;
+    int levels = 0;
+    if (pos && idx) {
+        bumpy_sphere(u, v, pos, idx);
+        fixture f = open_scene((float[3]){ 0, 0, 5 }, (float[3]){ 0, 0, 0 });
+        CHECK_OK(limen_mesh_set_triangles(f.s, f.mesh, &(limen_mesh_data){
+            .positions = pos, .vertex_count = nv, .indices = idx, .triangle_count = nt }));
+        const limen_drawable *d = item(&f);
+        if (d) {
+            const limen_mesh_geometry *g = d->mesh;
+            size_t n = 0;
+            for (int k = 0; k < g->lod_count; k++)
+                n += 2 + 3 * (size_t)g->lods[k].triangle_count;
+            *out = malloc(sizeof(float) * n);
+            for (int k = 0; *out && k < g->lod_count; k++) {
+                (*out)[(*len)++] = (float)g->lods[k].triangle_count;
+                (*out)[(*len)++] = g->lods[k].error;
+                for (int i = 0; i < 3 * g->lods[k].triangle_count; i++)
+                    (*out)[(*len)++] = (float)g->lods[k].indices[i];
+            }
+            levels = g->lod_count;
+        }
+        close_scene(&f);
+    }
+    free(pos);
+    free(idx);
+    return levels;
+}
+
+/* The cache folder's entries: how many, and the path of the last found. */
+static int entries(const char *dir, char *path, size_t size)
+{
+    DIR *d = opendir(dir);
+    int n = 0;
+    for (struct dirent *e; d && (e = readdir(d));)
+        if (!strncmp(e->d_name, "lod-", 4) && strstr(e->d_name, ".bin") &&
+            !strstr(e->d_name, ".tmp")) {
+            snprintf(path, size, "%s/%s", dir, e->d_name);
+            n++;
+        }
+    if (d)
+        closedir(d);
+    return n;
+}
+
+static long long mtime_ns(const char *path)
+{
+    struct stat st;
+    return lstat(path, &st) ? -1 : st.st_mtim.tv_sec * 1000000000ll + st.st_mtim.tv_nsec;
+}
+
+static void set_old(const char *path, long sec)
+{
+    struct timespec t[2] = { { .tv_sec = sec }, { .tv_sec = sec } };
+    utimensat(AT_FDCWD, path, t, AT_SYMLINK_NOFOLLOW);
+}
+
+static bool same_levels(const float *a, size_t na, const float *b, size_t nb)
+{
+    return a && b && na == nb && !memcmp(a, b, sizeof *a * na);
+}
+
+/* Levels kept between runs (core/lod_cache.c): the first load of a mesh stores one entry;
+ * the next reads it (the entry is touched: used) and gets the same levels; an entry that is
+ * damaged (a byte flipped, cut short, emptied), a link or a pipe is ignored (no hang, the
+ * levels made again, the same), and a damaged one replaced by a whole one; LIMEN_CACHE=off
+ * writes nothing; over the size limit the entry used least recently goes. */
+static void test_cache(void)
+{
+    char dir[] = "/tmp/limen_lod_cacheXXXXXX", path[4200], other[4200];
+    if (!mkdtemp(dir)) {
+        CHECK(!"no temporary folder");
+        return;
+    }
+    setenv("LIMEN_CACHE_DIR", dir, 1);
+    unsetenv("LIMEN_CACHE");
+    float *made, *again;
+    size_t nmade, nagain;
+    int levels = sphere_levels(40, 40, &made, &nmade);
+    CHECK_MSG(levels >= 4, "%d levels", levels);
+    CHECK(entries(dir, path, sizeof path) == 1);
+    unsigned char whole[1 << 16];
+    FILE *f = fopen(path, "rb");
+    size_t size = f ? fread(whole, 1, sizeof whole, f) : 0;
+    if (f)
+        fclose(f);
+    CHECK(size > 64 && size < sizeof whole);
+
+    /* read back: the same levels, and the entry used */
+    set_old(path, 1000000);
+    sphere_levels(40, 40, &again, &nagain);
+    CHECK(same_levels(made, nmade, again, nagain));
+    CHECK(mtime_ns(path) > 1000000 * 1000000000ll);
+    free(again);
+
+    /* damaged: ignored, made again, and replaced by a whole entry */
+    for (int damage = 0; damage < 4; damage++) {
+        f = fopen(path, "wb");
+        if (f) {
+            size_t at = 48 + 8 * (size_t)levels + 4 * 100;
+            if (damage == 0) {                  /* an index moved to its neighbour */
+                whole[at] ^= 0x01;
+                fwrite(whole, 1, size, f);
+                whole[at] ^= 0x01;
+            } else if (damage == 1) {           /* cut short */
+                fwrite(whole, 1, size - 9, f);
+            } else if (damage == 2) {           /* a level's count raised, past the others */
+                unsigned char bad[sizeof whole];
+                memcpy(bad, whole, size);
+                bad[8 + 40 + 8] ^= 0xff;
+                fwrite(bad, 1, size, f);
+            }                                   /* else empty */
+            fclose(f);
+        }
+        set_old(path, 1000000);
+        sphere_levels(40, 40, &again, &nagain);
+        CHECK_MSG(same_levels(made, nmade, again, nagain), "damage %d", damage);
+        free(again);
+        unsigned char back[sizeof whole];
+        f = fopen(path, "rb");
+        size_t nback = f ? fread(back, 1, sizeof back, f) : 0;
+        if (f)
+            fclose(f);
+        CHECK_MSG(nback == size && !memcmp(back, whole, size), "damage %d: not replaced",
+                  damage);
+    }
+
+    /* a pipe (which a careless open would wait on forever) and a link: left alone */
+    unlink(path);
+    CHECK(mkfifo(path, 0600) == 0);
+    sphere_levels(40, 40, &again, &nagain);
+    CHECK(same_levels(made, nmade, again, nagain));
+    free(again);
+    struct stat st;
+    CHECK(lstat(path, &st) == 0 && S_ISFIFO(st.st_mode));
+    unlink(path);
+    snprintf(other, sizeof other, "%s/elsewhere", dir);
+    f = fopen(other, "wb");
+    if (f) {
+        fwrite(whole, 1, size, f);
+        fclose(f);
+    }
+    CHECK(symlink(other, path) == 0);
+    set_old(other, 1000000);
+    sphere_levels(40, 40, &again, &nagain);
+    CHECK(same_levels(made, nmade, again, nagain));
+    free(again);
+    CHECK(lstat(path, &st) == 0 && S_ISLNK(st.st_mode));
+    CHECK(mtime_ns(other) == 1000000 * 1000000000ll);  /* not read through the link */
+    unlink(path);
+    unlink(other);
+
+    /* off: nothing written */
+    setenv("LIMEN_CACHE", "off", 1);
+    sphere_levels(40, 40, &again, &nagain);
+    free(again);
+    CHECK(entries(dir, path, sizeof path) == 0);
+    unsetenv("LIMEN_CACHE");
+
+    /* the size limit: room for one entry; the one used least recently goes */
+    char limit[32];
+    snprintf(limit, sizeof limit, "%.6f", (double)size * 1.5 / 1048576.0);
+    setenv("LIMEN_CACHE_MB", limit, 1);
+    sphere_levels(40, 40, &again, &nagain);
+    free(again);
+    CHECK(entries(dir, path, sizeof path) == 1);
+    set_old(path, 1000000);
+    snprintf(other, sizeof other, "%s", path);
+    sphere_levels(40, 41, &again, &nagain);
+    free(again);
+    CHECK(entries(dir, path, sizeof path) == 1);
+    CHECK(strcmp(path, other) != 0);
+    unlink(path);
+    unsetenv("LIMEN_CACHE_MB");
+
+    free(made);
+    rmdir(dir);
+    setenv("LIMEN_CACHE", "off", 1);
+    unsetenv("LIMEN_CACHE_DIR");
+}
+
 static const check_case cases[] = {
     { "bunny_levels", test_bunny_levels },
     { "error_bounds", test_error_bounds },
@@ -751,10 +999,14 @@ static const check_case cases[] = {
     { "pick_scaled_portal", test_pick_scaled_portal },
     { "plan_json", test_plan_json },
     { "lod_pixels", test_lod_pixels },
+    { "degenerate", test_degenerate },
+    { "cache", test_cache },
     { 0 },
 };
 
 int main(int argc, char **argv)
 {
+    /* the levels checked are the ones made here, not ones kept from an earlier build */
+    setenv("LIMEN_CACHE", "off", 1);
     return check_run(argc, argv, cases);
 }

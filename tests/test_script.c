@@ -174,6 +174,30 @@ static void test_surfaces(void)
     limen_script_destroy(sc);
 }
 
+/* Texture filters: read back as their names, assignable, and the C getter agrees. */
+static void test_filter(void)
+{
+    const char *path = script("filter.lua", HEAD
+                              "local p = s:plane { name = \"p\", filter = \"linear\" }\n"
+                              "local b = s:box { name = \"b\" }\n"
+                              "assert(p.filter == \"linear\" and b.filter == \"trilinear\")\n"
+                              "b.filter = \"nearest\"\n"
+                              "assert(b.filter == \"nearest\")\n"
+                              "return s\n");
+    limen_script *sc = NULL;
+    CHECK_OK(limen_script_load(path, NULL, &sc));
+    CHECK_MSG(strcmp(limen_script_error(sc), "") == 0, "%s", limen_script_error(sc));
+    limen_scene *s = limen_script_scene(sc);
+    if (s) {
+        limen_texture_filter f = LIMEN_FILTER_TRILINEAR;
+        CHECK_OK(limen_node_get_texture_filter(s, find(s, "p"), &f));
+        CHECK(f == LIMEN_FILTER_LINEAR);
+        CHECK_OK(limen_node_get_texture_filter(s, find(s, "b"), &f));
+        CHECK(f == LIMEN_FILTER_NEAREST);
+    }
+    limen_script_destroy(sc);
+}
+
 /* Labels say where the script made each node, for messages found at render time. */
 static void test_labels(void)
 {
@@ -284,6 +308,11 @@ static const bad_script bad[] = {
     { "stale_parent", HEAD "local b = s:sphere { name = \"b\" }\nb:destroy()\n"
       "s:box { parent = b }\nreturn s\n", 5,
       "box: field 'parent' is a destroyed node (sphere 'b')", LIMEN_ERR_SCRIPT, 0 },
+    { "bad_filter", HEAD "s:plane { filter = \"bilinear\" }\nreturn s\n", 3,
+      "plane: field 'filter' must be \"trilinear\", \"linear\" or \"nearest\" (got "
+      "\"bilinear\")", LIMEN_ERR_SCRIPT, 0 },
+    { "filter_on_sphere", HEAD "s:sphere { filter = \"linear\" }\nreturn s\n", 3,
+      "sphere: field 'filter' does not apply to a sphere", LIMEN_ERR_SCRIPT, 0 },
     { "read_only", HEAD "local b = s:sphere { name = \"b\" }\nb.kind = \"box\"\nreturn s\n", 4,
       "sphere 'b': field 'kind' is read-only", LIMEN_ERR_SCRIPT, 0 },
     { "camera_lens", HEAD "s:camera { fov = 0 }\nreturn s\n", 3,
@@ -423,6 +452,7 @@ static const check_case cases[] = {
     { "still_scene", test_still_scene },
     { "surfaces", test_surfaces },
     { "labels", test_labels },
+    { "filter", test_filter },
     { "update_error", test_update_error },
     { "malformed", test_malformed },
     { "missing_file", test_missing_file },

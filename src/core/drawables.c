@@ -77,6 +77,7 @@ void limen__drawable_read(const limen_scene *s, int slot, limen_drawable *it)
                 n->kind == LIMEN_NODE_MESH))
         it->texture = &tex->pub;
     memcpy(it->texture_repeat, n->tex_repeat, sizeof it->texture_repeat);
+    it->texture_filter = n->tex_filter;
 }
 
 /* Room for the scene's slots and its live nodes (the list's size is bounded by both). */

@@ -54,6 +54,7 @@ typedef struct limen__node {
     bool smooth;                /* meshes: interpolate vertex normals */
     struct limen__texture *texture;  /* quads, boxes, meshes: albedo = texel * colour */
     float tex_repeat[2];        /* texture coordinates are scaled by these (1, 1) */
+    limen_texture_filter tex_filter;  /* LIMEN_FILTER_TRILINEAR (0) unless set */
 } limen__node;
 
 struct limen_scene {
@@ -107,8 +108,9 @@ limen_status limen__limits_resolve(limen_scene *s, const char *who, const limen_
 /* The deepest view a surface whose own max_depth is surface_max may have under resolved
  * limits: a view of depth d through it exists only if d <= this. */
 int limen__limits_depth(const limen_limits *l, int surface_max);
-/* lod.c: limen_limits.lod_pixels with its default filled in (0 -> 1 pixel); the one place
- * that default lives, for limen__limits_resolve and limen_view_mesh_lod. */
+/* lod.c: limen_limits.lod_pixels with its default filled in (0 -> LIMEN_LOD_DEFAULT, an
+ * eighth of a pixel); the one place that default lives, for limen__limits_resolve and
+ * limen_view_mesh_lod. */
 float limen__lod_pixels(float pixels);
 
 /* jpeg.c: writes 8-bit RGB as a JPEG of the given quality (1 to 100); IO if it cannot. */

@@ -20,7 +20,7 @@ limen_status limen__limits_resolve(limen_scene *s, const char *who, const limen_
                            l.depth);
     if (l.max_views < 0)
         return limen__fail(s, LIMEN_ERR_ARG, "%s: view budget must be positive", who);
-    if (l.budget.view_pixels < 0 || l.budget.surface_tests < 0)
+    if (l.budget.view_pixels < 0 || l.budget.surface_tests < 0 || l.budget.triangles < 0)
         return limen__fail(s, LIMEN_ERR_ARG, "%s: frame budget must not be negative", who);
     if (!(l.adaptive >= 0 && l.adaptive <= 1))
         return limen__fail(s, LIMEN_ERR_ARG, "%s: adaptive threshold must be in [0, 1]", who);

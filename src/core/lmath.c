@@ -434,7 +434,7 @@ limen_status limen__oblique(const mat4 proj, const vec4 c_view, limen_depth_rang
 
     /* The corner signs come from the plane in clip space, (P^-1)^T C, as in Lengyel's paper;
      * for any perspective with positive x and y scales (off-centre ones included) they
-     * equal the signs of C.x and C.y in view space that DESIGN.md writes. */
+     * equal the signs of C.x and C.y in view space that docs/DESIGN.md writes. */
     double cc[2];
     for (int j = 0; j < 2; j++)
         cc[j] = inv[j * 4] * c[0] + inv[j * 4 + 1] * c[1] + inv[j * 4 + 2] * c[2] +

@@ -26,10 +26,14 @@
 #include <meshoptimizer.h>
 
 #include "core/internal.h"
+#include "core/lod_cache.h"
 #include "core/lod_target.h"
 #include "core/mesh.h"
 
 #define MAX_LEVELS 12           /* the full mesh and up to 11 coarser ones */
+#define LOD_VERSION 1           /* of how levels are made and measured: levels kept between
+                                 * runs (core/lod_cache.c) are keyed by it, so change it with
+                                 * anything that changes a level or its error */
 #define MIN_TRIS 16             /* a level this small gets no halved successor */
 #define SOURCE_STEP 3           /* a level is simplified from the one this many before */
 #define REL_TOL 0.1             /* a piece's bound may exceed the largest distance found by this */
@@ -674,7 +678,68 @@ static bool seam_sides(const limen__mesh *m, const uint32_t *shadow, uint32_t *i
     return ok;
 }
 
+/* Gives m the levels in block (room for MAX_LEVELS limen_mesh_lod, then the coarse levels'
+ * indices, `used` of them, each level's at at[k]), shrunk to fit. */
+static void install(limen__mesh *m, unsigned char *block, uint32_t nlods, const size_t *at,
+                    size_t used)
+{
+    size_t head = sizeof(limen_mesh_lod) * MAX_LEVELS;
+    unsigned char *fit = realloc(block, head + sizeof(uint32_t) * used);
+    if (fit)
+        block = fit;
+    limen_mesh_lod *lods = (limen_mesh_lod *)block;
+    uint32_t *store = (uint32_t *)(block + head);
+    lods[0].indices = m->idx;
+    for (uint32_t k = 1; k < nlods; k++)
+        lods[k].indices = store + at[k];
+    free(m->lods);
+    m->lods = lods;
+    m->nlods = nlods;
+    /* limen__mesh_bytes counted the levels as one more copy of the indices */
+    m->bytes = m->bytes - sizeof(uint32_t) * 3 * m->ntris + head + sizeof(uint32_t) * used;
+}
+
+/* The levels kept from an earlier run (core/lod_cache.c), where there are some for m. */
+static bool from_cache(limen__mesh *m, const limen__lod_key *key)
+{
+    limen_mesh_lod lv[MAX_LEVELS];
+    uint32_t n, *idx;
+    if (!limen__lod_cache_load(key, m->nverts, m->ntris, lv, MAX_LEVELS, &n, &idx))
+        return false;
+    size_t head = sizeof(limen_mesh_lod) * MAX_LEVELS, at[MAX_LEVELS] = { 0 }, used = 0;
+    for (uint32_t k = 1; k < n; k++) {
+        at[k] = used;
+        used += (size_t)lv[k].triangle_count * 3;
+    }
+    unsigned char *block = malloc(head + sizeof(uint32_t) * (used ? used : 1));
+    if (!block) {
+        free(idx);
+        return false;
+    }
+    memcpy(block, lv, sizeof *lv * n);
+    if (used)
+        memcpy(block + head, idx, sizeof(uint32_t) * used);
+    free(idx);
+    install(m, block, n, at, used);
+    return true;
+}
+
+static bool lods_make(limen__mesh *m);
+
 bool limen__mesh_lods_build(limen__mesh *m)
+{
+    limen__lod_key key;
+    limen__lod_cache_key(m, LOD_VERSION, &key);
+    if (from_cache(m, &key))
+        return true;
+    if (!lods_make(m))
+        return false;
+    limen__lod_cache_store(&key, m->nverts, m->ntris, m->lods, m->nlods);
+    return true;
+}
+
+/* Makes m's levels (see the top of the file). */
+static bool lods_make(limen__mesh *m)
 {
     size_t n0 = (size_t)m->ntris * 3, cap = n0;     /* the coarse levels' indices, in all */
     size_t head = sizeof(limen_mesh_lod) * MAX_LEVELS;
@@ -762,19 +827,7 @@ bool limen__mesh_lods_build(limen__mesh *m)
         free(block);
         return false;
     }
-    unsigned char *fit = realloc(block, head + sizeof(uint32_t) * used);
-    if (fit)
-        block = fit;
-    lods = (limen_mesh_lod *)block;
-    store = (uint32_t *)(block + head);
-    lods[0].indices = m->idx;
-    for (uint32_t k = 1; k < nlods; k++)
-        lods[k].indices = store + at[k];
-    free(m->lods);
-    m->lods = lods;
-    m->nlods = nlods;
-    /* limen__mesh_bytes counted the levels as one more copy of the indices */
-    m->bytes = m->bytes - sizeof(uint32_t) * n0 + head + sizeof(uint32_t) * used;
+    install(m, block, nlods, at, used);
     return true;
 }
 

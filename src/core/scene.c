@@ -856,6 +856,28 @@ limen_status limen_node_get_texture_repeat(const limen_scene *s, limen_node n, f
     return LIMEN_OK;
 }
 
+limen_status limen_node_set_texture_filter(limen_scene *s, limen_node n,
+                                          limen_texture_filter filter)
+{
+    GET(node, s, n);
+    if (filter != LIMEN_FILTER_TRILINEAR && filter != LIMEN_FILTER_LINEAR &&
+        filter != LIMEN_FILTER_NEAREST)
+        return limen__fail(s, LIMEN_ERR_ARG, "texture filter: %d is not one of "
+                           "LIMEN_FILTER_TRILINEAR, LINEAR, NEAREST", (int)filter);
+    node->tex_filter = filter;
+    return LIMEN_OK;
+}
+
+limen_status limen_node_get_texture_filter(const limen_scene *s, limen_node n,
+                                          limen_texture_filter *filter)
+{
+    GET_CONST(node, s, n);
+    if (!filter)
+        return LIMEN_ERR_ARG;
+    *filter = node->tex_filter;
+    return LIMEN_OK;
+}
+
 limen_status limen_node_get_checker(const limen_scene *s, limen_node n, float a[3], float b[3],
                                     float *cell)
 {

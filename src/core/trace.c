@@ -1,5 +1,5 @@
 /* trace.c - the reference ray tracer: the ground truth that the rasterizer is measured
- * against (DESIGN.md, "Ground truth"). Every rule below copies what the planner
+ * against (docs/DESIGN.md, "Ground truth"). Every rule below copies what the planner
  * (core/plan.c) and the renderer (gl/views.c, gl/render.c) do, so that a difference between
  * the two pictures is an error of the rasterizing method, not of the rules.
  *
@@ -37,6 +37,18 @@
  * turned to face the incoming ray (the shader turns it towards the view's eye, which
  * lies on the ray's line behind its origin). Checker: c = floor(unit point * scale / cell),
  * k = c.x + c.y (+ c.z except for QUAD nodes), odd k -> checker_b, even -> colour.
+ *
+ * Textures (limen_node_set_texture_filter): a pixel's ray carries its differentials, how its
+ * origin and unit direction change to the next pixel's ray across and up (d(dir) from the
+ * lens, 2 tan(fovy/2) aspect / W and 2 tan(fovy/2) / H along the camera's axes). At a hit
+ * they give the point's steps on the tangent plane (the hit's normal), and through the
+ * unit-space point the steps of the texture coordinates (a face's axes, or a triangle's
+ * texture-coordinate gradient), from which the level is picked by OpenGL's rule. A mirror
+ * or portal maps the point's steps and the direction's by its matrix (the direction then
+ * renormalised), so a floor seen in a mirror or through a scaled portal takes the level
+ * the renderer's pixels do. OpenGL takes its steps between the pixels of a 2x2 quad, the
+ * tracer at the pixel itself: the levels differ by a fraction where the steps change
+ * quickly, well inside the bound.
  *
  * Surfaces. A mirror or a paired portal S is entered from its front (the ray moving against
  * its +Z normal; equivalent to the planner's "eye in front" test). Passing it: a mirror
@@ -95,6 +107,7 @@ typedef struct prim {
     bool smooth;                /* meshes: interpolated vertex normals */
     const limen__texture *tex;  /* albedo = texel * colour, or NULL */
     double repeat[2];           /* texture coordinates scaled by these */
+    limen_texture_filter filter;
     double color[3], checker_b[3], cell;
     /* mirrors and portals */
     double plane[4];            /* world, front = +Z side */
@@ -125,6 +138,10 @@ typedef struct tracer {
     double (*spheres)[4];       /* per prim: bc, br, packed for the ray's first test */
     int nbase;                  /* prims [nbase, n) are copies of straddlers, not indexed */
 } tracer;
+
+/* Texture coordinates at a hit: u, v, then (meshes) how each changes with the unit-space
+ * point, du/dpu and dv/dpu, for the pixel's footprint (flat shapes' follow from the face). */
+enum { UV_N = 8 };
 
 /* Where one path ended (for limen_ray_cast). */
 typedef struct record {
@@ -272,6 +289,7 @@ static void setup_prim(limen_scene *s, const limen__node *n, prim *p)
         p->tex = n->texture ? n->texture : n->kind == LIMEN_NODE_MESH ? n->mesh->tex : NULL;
     p->repeat[0] = n->tex_repeat[0];
     p->repeat[1] = n->tex_repeat[1];
+    p->filter = n->tex_filter;
     p->cell = n->checker_cell;
     if (limen__is_surface(n)) {
         limen__surface_plane_d(n, p->plane);
@@ -509,11 +527,34 @@ static bool hit_flat(const double o[3], const double d[3], double tmin, double t
     return true;
 }
 
+/* How a triangle's texture coordinates change with a point moving in its plane (a move off
+ * the plane counts as its projection): du/dpu into g[0..2], dv/dpu into g[3..5]. The
+ * barycentric weights of a move dp are the least-squares (b1, b2) of b1 e1 + b2 e2 = dp. */
+static void uv_gradient(const limen__mesh *m, const uint32_t *ix, double g[6])
+{
+    double e1[3], e2[3];
+    for (int a = 0; a < 3; a++) {
+        e1[a] = (double)m->pos[ix[1] * 3 + a] - m->pos[ix[0] * 3 + a];
+        e2[a] = (double)m->pos[ix[2] * 3 + a] - m->pos[ix[0] * 3 + a];
+    }
+    double a11 = dot3(e1, e1), a12 = dot3(e1, e2), a22 = dot3(e2, e2);
+    double det = a11 * a22 - a12 * a12;
+    if (!(det > 0))
+        return;
+    for (int k = 0; k < 2; k++) {
+        double d1 = (double)m->uv[ix[1] * 2 + k] - m->uv[ix[0] * 2 + k];
+        double d2 = (double)m->uv[ix[2] * 2 + k] - m->uv[ix[0] * 2 + k];
+        for (int a = 0; a < 3; a++)
+            g[k * 3 + a] = (d1 * (a22 * e1[a] - a12 * e2[a]) + d2 * (a11 * e2[a] - a12 * e1[a])) /
+                           det;
+    }
+}
+
 /* The nearest triangle of a mesh prim (both sides; with a cut, hits behind it do not count,
  * as the renderer clips them without culling) and its unit-space normal: the face's, or the
  * vertex normals interpolated where the mesh is smooth. */
 static bool hit_mesh(const prim *p, const double o[3], const double d[3], double tmin,
-                     double tmax, double *t, double nu[3], double uv[2])
+                     double tmax, double *t, double nu[3], double uv[UV_N])
 {
     const limen__mesh *m = p->mesh;
     double cut[4], *cutp = NULL;
@@ -528,10 +569,12 @@ static bool hit_mesh(const prim *p, const double o[3], const double d[3], double
     if (tri < 0)
         return false;
     const uint32_t *ix = &m->idx[tri * 3];
-    uv[0] = uv[1] = 0;
+    memset(uv, 0, sizeof(double) * UV_N);
     for (int k = 0; m->uv && k < 2; k++)
         uv[k] = (1.0 - u - v) * m->uv[ix[0] * 2 + k] + u * m->uv[ix[1] * 2 + k] +
                 v * m->uv[ix[2] * 2 + k];
+    if (m->uv)
+        uv_gradient(m, ix, uv + 2);
     if (p->smooth) {
         double w[3] = { 1.0 - u - v, u, v };
         for (int a = 0; a < 3; a++)
@@ -557,7 +600,7 @@ typedef struct search {
     double tmin_shape, tmin_surface;
     int skip;
     int best;
-    double tbest, pu[3], nu[3], uv[2];
+    double tbest, pu[3], nu[3], uv[UV_N];
 } search;
 
 /* Tests prim i against the search's segment, keeping the nearest hit; between hits at the
@@ -585,7 +628,7 @@ static void test_prim(search *q, int i)
                                                                                 : q->tmin_shape;
     if (tc + p->br <= tmin)
         return;
-    double ou[3], du[3], t, n[3], uv[2] = { 0, 0 };
+    double ou[3], du[3], t, n[3], uv[UV_N] = { 0 };
     limen__d_point(p->minv, o, ou);
     d_dir(p->minv, d, du);
     bool hit;
@@ -638,7 +681,7 @@ static void test_prim_bvh(void *ctx, int item, double *tmax)
  * the unit-space normal of the hit. */
 static int nearest(const tracer *tr, const double o[3], const double d[3], double tmin_shape,
                    double tmin_surface, int skip, double *t_out, double pu[3], double nu[3],
-                   double uv_out[2])
+                   double uv_out[UV_N])
 {
     search q = { .tr = tr, .o = o, .d = d, .tmin_shape = tmin_shape,
                  .tmin_surface = tmin_surface, .skip = skip, .best = -1, .tbest = INFINITY };
@@ -692,9 +735,32 @@ static void flat_uv(const prim *p, const double pu[3], const double nu[3], doubl
     uv[1] = pu[(a + 2) % 3] + 0.5;
 }
 
+/* The steps of a hit's texture coordinates (times repeat) to the next pixel across and up,
+ * (du/dx, dv/dx, du/dy, dv/dy), from the unit-space point's steps dpu. */
+static void uv_steps(const prim *p, const double nu[3], const double uv[UV_N],
+                     const double dpu[2][3], double duv[4])
+{
+    int a = 2;
+    if (p->kind == LIMEN_NODE_BOX)
+        a = fabs(nu[0]) > 0.5 ? 0 : fabs(nu[1]) > 0.5 ? 1 : 2;
+    for (int i = 0; i < 2; i++) {
+        if (p->shape == SHAPE_MESH) {
+            duv[2 * i] = dot3(uv + 2, dpu[i]);
+            duv[2 * i + 1] = dot3(uv + 5, dpu[i]);
+        } else {
+            duv[2 * i] = dpu[i][(a + 1) % 3];
+            duv[2 * i + 1] = dpu[i][(a + 2) % 3];
+        }
+        duv[2 * i] *= p->repeat[0];
+        duv[2 * i + 1] *= p->repeat[1];
+    }
+}
+
+/* dpu: the unit-space point's steps to the next pixel across and up, or NULL (a lone ray:
+ * the full image). */
 static void shade(const tracer *tr, const prim *p, const double albedo_a[3], const double pu[3],
-                  const double nu[3], const double uv_in[2], const double pw[3],
-                  const double n[3], double out[3])
+                  const double nu[3], const double uv_in[UV_N], const double dpu[2][3],
+                  const double pw[3], const double n[3], double out[3])
 {
     const double *albedo = albedo_a;
     double texel[3];
@@ -710,7 +776,11 @@ static void shade(const tracer *tr, const prim *p, const double albedo_a[3], con
         double uv[2] = { uv_in[0], uv_in[1] };
         if (p->shape != SHAPE_MESH)
             flat_uv(p, pu, nu, uv);
-        limen__texture_sample(p->tex, uv[0] * p->repeat[0], uv[1] * p->repeat[1], texel);
+        double duv[4];
+        if (dpu)
+            uv_steps(p, nu, uv_in, dpu, duv);
+        limen__texture_filter(p->tex, p->filter, uv[0] * p->repeat[0], uv[1] * p->repeat[1],
+                              dpu ? duv : NULL, texel);
         for (int k = 0; k < 3; k++)
             texel[k] *= albedo[k];
         albedo = texel;
@@ -738,16 +808,70 @@ static void shade(const tracer *tr, const prim *p, const double albedo_a[3], con
 
 /* ------------------------------------------------------------------ paths */
 
+/* ------------------------------------------------------------------ ray differentials */
+
+/* A pixel's footprint: how its ray's origin and unit direction change to the next pixel
+ * across and up (0: across, 1: up), carried along the path as first-order differentials
+ * (a mirror and a portal map both by their matrix, which is affine). */
+typedef struct footprint {
+    double o[2][3], d[2][3];
+} footprint;
+
+/* The change of normalize(v) for a change dv of v. */
+static void unit_change(const double v[3], const double dv[3], double out[3])
+{
+    double len = sqrt(dot3(v, v)), u[3] = { v[0] / len, v[1] / len, v[2] / len };
+    double c = dot3(u, dv);
+    for (int k = 0; k < 3; k++)
+        out[k] = (dv[k] - c * u[k]) / len;
+}
+
+/* The hit point's steps dp on a plane of normal nrm met at distance t along unit d. */
+static void footprint_at(const footprint *f, const double d[3], double t, const double nrm[3],
+                         double dp[2][3])
+{
+    double dn = dot3(d, nrm);
+    for (int i = 0; i < 2; i++) {
+        for (int k = 0; k < 3; k++)
+            dp[i][k] = f->o[i][k] + t * f->d[i][k];
+        double dt = -dot3(dp[i], nrm) / dn;     /* edge on: not finite, the coarsest level */
+        for (int k = 0; k < 3; k++)
+            dp[i][k] += dt * d[k];
+    }
+}
+
+/* Through surface matrix x from a hit whose steps are dp, the ray's direction d (unit)
+ * becoming normalize(x d). */
+static void footprint_pass(footprint *f, const double x[16], const double dp[2][3],
+                           const double d[3])
+{
+    double xd[3];
+    d_dir(x, d, xd);
+    for (int i = 0; i < 2; i++) {
+        double xdd[3];
+        d_dir(x, dp[i], f->o[i]);
+        d_dir(x, f->d[i], xdd);
+        unit_change(xd, xdd, f->d[i]);
+    }
+}
+
+/* ------------------------------------------------------------------ paths */
+
 /* Follows one path from o along d (any length) with hits before tmin (in units of |d|)
- * skipped on the first segment. lim: resolved limits (their depth fields). rgb gets the colour;
- * rec, if not NULL, where it ended. */
-static void follow(const tracer *tr, const double o_in[3], const double d_in[3], double tmin0,
-                   double tmin_surface0, const limen_limits *lim, double rgb[3],
-                   record *rec)
+ * skipped on the first segment. lim: resolved limits (their depth fields). dd: how d
+ * changes to the next pixel across and up (textures pick their level from it), or NULL.
+ * rgb gets the colour; rec, if not NULL, where it ended. */
+static void follow(const tracer *tr, const double o_in[3], const double d_in[3],
+                   const double dd[2][3], double tmin0, double tmin_surface0,
+                   const limen_limits *lim, double rgb[3], record *rec)
 {
     double o[3], d[3], tint[3] = { 1, 1, 1 };
     memcpy(o, o_in, sizeof o);
     memcpy(d, d_in, sizeof d);
+    footprint fp;
+    memset(&fp, 0, sizeof fp);
+    for (int i = 0; dd && i < 2; i++)
+        unit_change(d_in, dd[i], fp.d[i]);
     double len = sqrt(dot3(d, d));
     double tmin = tmin0 * len, tmin_surface = tmin_surface0 * len;
     normalize3(d);
@@ -760,7 +884,7 @@ static void follow(const tracer *tr, const double o_in[3], const double d_in[3],
         rec->prim = -1;
     }
     for (;;) {
-        double t, pu[3] = { 0, 0, 0 }, nu[3] = { 0, 0, 0 }, uv[2] = { 0, 0 };
+        double t, pu[3] = { 0, 0, 0 }, nu[3] = { 0, 0, 0 }, uv[UV_N] = { 0 };
         int hi = nearest(tr, o, d, tmin, tmin_surface, skip, &t, pu, nu, uv);
         if (rec) {
             memcpy(rec->seg_o, o, sizeof o);
@@ -779,7 +903,14 @@ static void follow(const tracer *tr, const double o_in[3], const double d_in[3],
             double n[3];
             world_normal(p, nu, d, n);
             if (matte) {
-                shade(tr, p, surface ? p->back : p->color, pu, nu, uv, pw, n, shaded);
+                double dp[2][3], dpu[2][3];
+                if (dd) {
+                    footprint_at(&fp, d, t, n, dp);
+                    for (int i = 0; i < 2; i++)
+                        d_dir(p->minv, dp[i], dpu[i]);
+                }
+                shade(tr, p, surface ? p->back : p->color, pu, nu, uv, dd ? dpu : NULL, pw, n,
+                      shaded);
                 result = shaded;
             } else {
                 result = p->fill;
@@ -800,6 +931,11 @@ static void follow(const tracer *tr, const double o_in[3], const double d_in[3],
         if (p->kind == LIMEN_NODE_MIRROR)
             for (int k = 0; k < 3; k++)
                 tint[k] *= p->tint[k];
+        if (dd) {
+            double dp[2][3];
+            footprint_at(&fp, d, t, p->plane, dp);
+            footprint_pass(&fp, p->x, dp, d);
+        }
         limen__d_point(p->x, pw, o);
         d_dir(p->x, d, d);
         if (!normalize3(d))
@@ -848,7 +984,7 @@ limen_status limen_ray_cast(limen_scene *s, const float origin[3], const float d
         return st;
     record rec;
     double rgb[3];
-    follow(&tr, o, d, 0.0, 0.0, &lim, rgb, &rec);
+    follow(&tr, o, d, NULL, 0.0, 0.0, &lim, rgb, &rec);
     memset(out, 0, sizeof *out);
     out->hit = rec.hit;
     out->distance = (float)rec.distance;
@@ -902,10 +1038,16 @@ static void *trace_rows(void *arg)
             double de[3] = { nx * j->tx, ny * j->ty, -1.0 }, d[3], rgb[3];
             for (int k = 0; k < 3; k++)
                 d[k] = j->cam[k] * de[0] + j->cam[4 + k] * de[1] + j->cam[8 + k] * de[2];
+            /* the rays through the next pixel across and up differ by these */
+            double dd[2][3];
+            for (int k = 0; k < 3; k++) {
+                dd[0][k] = j->cam[k] * 2.0 * j->tx / j->width;
+                dd[1][k] = j->cam[4 + k] * 2.0 * j->ty / j->height;
+            }
             /* from the eye: shapes count from the near plane on (the rasterizer's near clip),
              * mirrors and portals from the eye on (the renderer draws them depth-clamped);
              * eye-space z = -near is t = near in units of d */
-            follow(j->tr, j->eye, d, j->znear, 1e-12, &j->limits, rgb, NULL);
+            follow(j->tr, j->eye, d, dd, j->znear, 1e-12, &j->limits, rgb, NULL);
             for (int k = 0; k < 3; k++)
                 dst[3 * x + k] = to_byte(rgb[k]);
         }

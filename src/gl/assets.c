@@ -24,6 +24,15 @@
 #ifndef GL_UNPACK_ALIGNMENT
 #define GL_UNPACK_ALIGNMENT 0x0CF5
 #endif
+#ifndef GL_TEXTURE_MAX_LEVEL
+#define GL_TEXTURE_MAX_LEVEL 0x813D
+#endif
+#ifndef GL_NEAREST
+#define GL_NEAREST 0x2600
+#endif
+#ifndef GL_LINEAR_MIPMAP_LINEAR
+#define GL_LINEAR_MIPMAP_LINEAR 0x2703
+#endif
 
 enum { CORNER_FLOATS = 11, AT_FLAT = 3, AT_SMOOTH = 6, AT_UV = 9 };
 enum { GPU_LODS = 16 };         /* levels kept; a coarser one asked for gets the last */
@@ -37,6 +46,7 @@ struct limen__gpu_asset {
     GLint sfirst[GPU_LODS];     /* each level's first index and indices */
     GLsizei scount[GPU_LODS];
     bool used;                  /* by the frame being drawn */
+    int filter;                 /* textures: the limen_texture_filter last set, + 1 */
 };
 
 static struct limen__gpu_asset *find(limen_renderer *r, uint64_t serial)
@@ -257,7 +267,35 @@ bool limen__gpu_mesh_bind(limen_renderer *r, const limen_mesh_geometry *m, bool 
     return true;
 }
 
-GLuint limen__gpu_texture(limen_renderer *r, const limen_image *t)
+/* Uploads image t with its mipmap levels (limen_image.levels: the texels the ray tracer
+ * samples, rows bottom first: GL's t = 0 is the image's bottom row, as v = 0 is). */
+static bool upload_texture(limen_renderer *r, const limen_image *t, struct limen__gpu_asset *a)
+{
+    unsigned char *flip = upload_alloc(r, (size_t)t->width * (size_t)t->height * 3);
+    if (!flip)
+        return false;
+    GL(GenTextures)(1, &a->tex);
+    GL(BindTexture)(GL_TEXTURE_2D, a->tex);
+    GL(PixelStorei)(GL_UNPACK_ALIGNMENT, 1);
+    int nlevels = t->levels && t->level_count > 0 ? t->level_count : 1;
+    for (int k = 0; k < nlevels; k++) {
+        limen_image_level l = t->levels ? t->levels[k]
+                                        : (limen_image_level){ t->width, t->height, t->rgb };
+        size_t row = (size_t)l.width * 3;
+        for (int j = 0; j < l.height; j++)
+            memcpy(flip + (size_t)j * row, l.rgb + (size_t)(l.height - 1 - j) * row, row);
+        GL(TexImage2D)(GL_TEXTURE_2D, k, GL_RGB8, l.width, l.height, 0, GL_RGB,
+                       GL_UNSIGNED_BYTE, flip);
+    }
+    GL(PixelStorei)(GL_UNPACK_ALIGNMENT, 4);
+    free(flip);
+    GL(TexParameteri)(GL_TEXTURE_2D, GL_TEXTURE_MAX_LEVEL, nlevels - 1);
+    GL(TexParameteri)(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_REPEAT);
+    GL(TexParameteri)(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_REPEAT);
+    return true;
+}
+
+GLuint limen__gpu_texture(limen_renderer *r, const limen_image *t, limen_texture_filter filter)
 {
     struct limen__gpu_asset *a = find(r, t->id);
     if (!a) {
@@ -268,28 +306,21 @@ GLuint limen__gpu_texture(limen_renderer *r, const limen_image *t)
     GL(ActiveTexture)(GL_TEXTURE1);
     if (a->tex)
         GL(BindTexture)(GL_TEXTURE_2D, a->tex);
-    if (!a->tex) {
-        /* rows bottom first: GL's t = 0 is the image's bottom row, as v = 0 is */
-        unsigned char *flip = upload_alloc(r, (size_t)t->width * (size_t)t->height * 3);
-        if (!flip) {
-            limen__draw_fail(r, LIMEN_ERR_NOMEM, "out of memory uploading a %dx%d texture (it "
-                             "is not drawn)", t->width, t->height);
-            GL(ActiveTexture)(GL_TEXTURE0);
-            return 0;
-        }
-        size_t row = (size_t)t->width * 3;
-        for (int j = 0; j < t->height; j++)
-            memcpy(flip + (size_t)j * row, t->rgb + (size_t)(t->height - 1 - j) * row, row);
-        GL(GenTextures)(1, &a->tex);
-        GL(BindTexture)(GL_TEXTURE_2D, a->tex);
-        GL(PixelStorei)(GL_UNPACK_ALIGNMENT, 1);
-        GL(TexImage2D)(GL_TEXTURE_2D, 0, GL_RGB8, t->width, t->height, 0, GL_RGB, GL_UNSIGNED_BYTE, flip);
-        GL(PixelStorei)(GL_UNPACK_ALIGNMENT, 4);
-        free(flip);
-        GL(TexParameteri)(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
-        GL(TexParameteri)(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-        GL(TexParameteri)(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_REPEAT);
-        GL(TexParameteri)(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_REPEAT);
+    else if (!upload_texture(r, t, a)) {
+        limen__draw_fail(r, LIMEN_ERR_NOMEM, "out of memory uploading a %dx%d texture (it "
+                         "is not drawn)", t->width, t->height);
+        GL(ActiveTexture)(GL_TEXTURE0);
+        return 0;
+    }
+    /* the sampling state lives in the texture object: set where the draw wants another */
+    if (a->filter != (int)filter + 1) {
+        GLint min = filter == LIMEN_FILTER_NEAREST ? GL_NEAREST
+                    : filter == LIMEN_FILTER_LINEAR ? GL_LINEAR
+                                                    : GL_LINEAR_MIPMAP_LINEAR;
+        GL(TexParameteri)(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, min);
+        GL(TexParameteri)(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER,
+                          filter == LIMEN_FILTER_NEAREST ? GL_NEAREST : GL_LINEAR);
+        a->filter = (int)filter + 1;
     }
     GL(ActiveTexture)(GL_TEXTURE0);
     return a->tex;

@@ -24,6 +24,7 @@ struct limen__batch_item {
     const limen_mesh_geometry *mesh;
     const limen_image *texture;
     float repeat[2];            /* the texture's (limen_drawable.texture_repeat) */
+    int filter;                 /* and its limen_drawable.texture_filter */
     int lod, smooth, solo;      /* solo: a checker's colours are uniforms, so it goes alone */
     int k;                      /* where it stands in the view's order */
     int node;                   /* its drawable */
@@ -57,6 +58,8 @@ static int by_batch(const void *pa, const void *pb)
     for (int i = 0; i < 2 && !c; i++)
         c = (a->repeat[i] > b->repeat[i]) - (a->repeat[i] < b->repeat[i]);
     if (!c)
+        c = cmp_int(a->filter, b->filter);
+    if (!c)
         c = cmp_int(a->solo ? a->k : -1, b->solo ? b->k : -1);
     return c ? c : cmp_int(a->k, b->k);
 }
@@ -65,7 +68,7 @@ static bool same_batch(const struct limen__batch_item *a, const struct limen__ba
 {
     return a->mesh == b->mesh && a->lod == b->lod && a->smooth == b->smooth &&
            a->texture == b->texture && a->repeat[0] == b->repeat[0] &&
-           a->repeat[1] == b->repeat[1] && !a->solo && !b->solo;
+           a->repeat[1] == b->repeat[1] && a->filter == b->filter && !a->solo && !b->solo;
 }
 
 static int by_first(const void *pa, const void *pb, void *ctx)
@@ -105,6 +108,7 @@ int limen__batches_plan(limen_renderer *r, const limen_view *v, const limen_draw
         r->batch_items[m++] = (struct limen__batch_item){
             .mesh = d->mesh, .texture = d->texture, .smooth = d->smooth != 0,
             .repeat = { d->texture ? d->texture_repeat[0] : 1, d->texture ? d->texture_repeat[1] : 1 },
+            .filter = d->texture ? (int)d->texture_filter : 0,
             .solo = d->cell > 0, .k = k, .node = i,
             .lod = limen_view_mesh_lod(v, r->height, d, r->opts.limits.lod_pixels),
         };
@@ -162,11 +166,17 @@ static void draw_instances(limen_renderer *r, const limen_view *v, const limen_d
     bool indexed;
     if (!limen__gpu_mesh_bind(r, d->mesh, d->smooth, lod, &first, &count, &indexed))
         return;
+    /* the frame's triangle budget: the planner kept only the views that fit, but the
+     * camera's own view is always drawn, so its meshes stop here at the budget */
+    uint64_t per = (uint64_t)(count / 3);
+    if (per * (uint64_t)n > r->mesh_tris_left)
+        n = per ? (int)(r->mesh_tris_left / per) : n;
+    r->mesh_tris_left -= per * (uint64_t)n;
     int checker = d->cell > 0 ? 2 : 0;
-    int textured = d->texture && limen__gpu_texture(r, d->texture) ? LIMEN__UV_MESH
+    int textured = d->texture && limen__gpu_texture(r, d->texture, d->texture_filter) ? LIMEN__UV_MESH
                                                                    : LIMEN__UV_NONE;
     r->instanced = true;
-    bool ok = limen__variant_use(r, LIMEN__MODE_LIT, d->smooth ? LIMEN__SHAPE_SMOOTH : 0,
+    bool ok = n > 0 && limen__variant_use(r, LIMEN__MODE_LIT, d->smooth ? LIMEN__SHAPE_SMOOTH : 0,
                                  checker, textured);
     r->instanced = false;
     if (ok) {

@@ -51,6 +51,11 @@ struct limen__ctx {
     limen_gl_loader load;
     saved st;
     int depth;                  /* enter/leave nesting: only the outermost saves */
+    /* A fence made in the context the renderer was created in. GL names are per context
+     * (another context has its own program 1), but a sync object is a pointer that
+     * glIsSync finds only in the context (and share group) that made it, without a flush:
+     * it tells, on every call, whether the current context is the renderer's. */
+    GLsync mark;
 };
 
 static limen__ctx *host_create(const limen_renderer_desc *d, char *err, size_t errsize)
@@ -232,10 +237,19 @@ static int host_enter(limen__ctx *c, const limen__gl *gl, char *err, size_t errs
                                "current before calling limen)");
         return -1;
     }
+    if (c->mark && !gl->IsSync(c->mark)) {
+        c->depth = 0;
+        snprintf(err, errsize, "host: the current OpenGL context is not the one this renderer "
+                               "was created in (make that one current; limen draws into and "
+                               "deletes from no other)");
+        return -1;
+    }
     while (gl->GetError() != GL_NO_ERROR)
         ;
     save(gl, &c->st);
     neutral(gl);
+    if (!c->mark)
+        c->mark = gl->FenceSync(GL_SYNC_GPU_COMMANDS_COMPLETE, 0);
     return 0;
 }
 
@@ -251,6 +265,13 @@ static void host_destroy(limen__ctx *c)
     free(c);
 }
 
+static void host_release(limen__ctx *c, const limen__gl *gl)
+{
+    if (c->mark)
+        gl->DeleteSync(c->mark);
+    c->mark = NULL;
+}
+
 const limen__ctx_ops limen__ctx_host = {
-    "host", host_create, host_enter, host_leave, host_getproc, host_destroy,
+    "host", host_create, host_enter, host_leave, host_getproc, host_destroy, host_release,
 };

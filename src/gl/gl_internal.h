@@ -64,6 +64,7 @@ struct limen_renderer {
     int depth_bits;                         /* 24: DEPTH24_STENCIL8, 32: DEPTH32F_STENCIL8 */
     bool has_fragment_stats;
     bool ready;                             /* set up completely */
+    bool loaded;                            /* gl holds every required entry point */
     char err[512];
     char info[256];
 
@@ -105,6 +106,7 @@ struct limen_renderer {
     limen_scene *scene;                     /* the scene of the frame being drawn */
     int draw_calls;                         /* this frame's (limen_frame_stats) */
     uint64_t triangles;
+    uint64_t mesh_tris_left;                /* of the frame's budget.triangles */
     bool instanced;                         /* variants read the model from instances */
     GLuint inst_vbo;                        /* per-instance values (gl/batch.c) */
     struct limen__instance *inst;
@@ -254,7 +256,7 @@ bool limen__unit_mesh(limen_renderer *r, const vec4 *view, float px_scale, const
  * dropping what it did not use; everything, at the end. */
 bool limen__gpu_mesh_bind(limen_renderer *r, const limen_mesh_geometry *m, bool smooth, int lod,
                           GLint *first, GLsizei *count, bool *indexed);
-GLuint limen__gpu_texture(limen_renderer *r, const limen_image *t);
+GLuint limen__gpu_texture(limen_renderer *r, const limen_image *t, limen_texture_filter filter);
 void limen__gpu_assets_sweep(limen_renderer *r);
 void limen__gpu_assets_free(limen_renderer *r);
 

@@ -186,7 +186,7 @@ static void draw_node_at(limen_renderer *r, const rview *v, const limen_drawable
                                                                  : 2;
     /* an albedo texture, bound on unit 1, its coordinates as limen.h says */
     int textured = LIMEN__UV_NONE;
-    if (node->texture && mode == MODE_LIT && limen__gpu_texture(r, node->texture))
+    if (node->texture && mode == MODE_LIT && limen__gpu_texture(r, node->texture, node->texture_filter))
         textured = node->kind == LIMEN_NODE_QUAD ? LIMEN__UV_PLANE : LIMEN__UV_BOX;
     /* In an oblique view the near plane is the exit plane, and clamping (below) would keep
      * what of a surface lies beyond it (a neighbour poking through a mirror shows its back

@@ -244,6 +244,12 @@ int limen__lua_node_index(lua_State *L)
         limen_node_get_texture_repeat(s, n, v);
         limen__lua_push_vec(L, v, 2, 1);
         return 1;
+    case F_FILTER: {
+        limen_texture_filter tf = LIMEN_FILTER_TRILINEAR;
+        limen_node_get_texture_filter(s, n, &tf);
+        lua_pushstring(L, limen__lua_filter_names[tf]);
+        return 1;
+    }
     case F_SMOOTH: {
         limen_mesh_info mi;
         limen_mesh_get(s, n, &mi);
