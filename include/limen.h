@@ -946,6 +946,12 @@ LIMEN_API int limen_script_animated(const limen_script *sc);           /* 1 if i
 /* Calls the scene's update(t), t in seconds; a no-op for a still scene. An error leaves the
  * script usable (the next update may succeed), except one from a limit (see above). */
 LIMEN_API limen_status limen_script_update(limen_script *sc, double t);
+/* The files a script read: 0 is the script itself, then the modules a safe script required
+ * from its folder, in the order first required (a host watches them with
+ * limen_scene_get_file's, as `limen view` does). Copies the i-th into path; LIMEN_ERR_ARG
+ * past the last, or where it does not fit in size bytes. */
+LIMEN_API limen_status limen_script_get_file(const limen_script *sc, int i, char *path,
+                                             size_t size);
 
 /* ---------------------------------------------------------------- images */
 

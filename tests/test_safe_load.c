@@ -101,6 +101,8 @@ static outcome run(const char *name, const char *text, int trusted, int64_t cap)
     size_t len = 0;
     for (int i = 0; s && !limen_scene_get_file(s, i, f, sizeof f); i++)
         len += (size_t)snprintf(o.files + len, sizeof o.files - len, "%s\n", f);
+    for (int i = 1; !limen_script_get_file(sc, i, f, sizeof f); i++)     /* modules */
+        len += (size_t)snprintf(o.files + len, sizeof o.files - len, "%s\n", f);
     limen_script_destroy(sc);
     return o;
 }
@@ -373,6 +375,9 @@ static void test_require(void)
                     "assert(not ok and e:find(\"module 'nothere' is not available\"), e)\n"
                     "return s\n", 0, 0);
     CHECK_MSG(!o.st, "%s", o.msg);
+    /* the modules are listed for watching (limen view reloads when one changes) */
+    CHECK_MSG(strstr(o.files, "/props.lua\n") && strstr(o.files, "/parts/door.lua\n") &&
+              !strstr(o.files, "evil"), "%s", o.files);
 }
 
 /* Messages: a degenerate triangle is called so, with the file and the triangle; an image

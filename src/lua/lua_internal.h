@@ -65,6 +65,8 @@ size_t limen__lua_mem_left(lua_State *L);
 struct limen__confine;
 struct limen__load;
 const struct limen__confine *limen__lua_box(lua_State *L);
+/* Notes a file the script read (a module), for limen_script_get_file. */
+void limen__lua_note_file(lua_State *L, const char *path);
 /* Around a load into s on behalf of the script in L: begin points s at ld, filled with the
  * script's folder and what its limits leave; end detaches it and charges the processor
  * time children spent to the time limit. Then limen__lua_check_time raises if a limit was

@@ -129,6 +129,7 @@ static int l_safe_searcher(lua_State *L)
         return luaL_error(L, "module '%s' is not available to a safe scene script: %s: %s",
                           name, path, why);
     }
+    limen__lua_note_file(L, path);     /* watched for hot reload, as the script is */
     const char *chunk = lua_pushfstring(L, "@%s", path);
     int rc = limen__lua_load_string(L, (const char *)data, len, chunk, "t");
     free(data);

@@ -91,6 +91,8 @@ struct limen_script {
     char line[WHERE_MAX];       /* "file:line" last seen by the line hook */
     char err[ERR_MAX];
     limen__confine box;         /* where a safe script reads: its own folder (core/confine.c) */
+    char *files;                /* the modules it required from its folder ("a\0b\0") */
+    size_t files_len;
     double extra_cpu;           /* processor time spent in children (contained imports) */
 };
 
@@ -590,6 +592,40 @@ int limen__lua_hold(lua_State *L, ptrdiff_t bytes)
     return 1;
 }
 
+void limen__lua_note_file(lua_State *L, const char *path)
+{
+    limen_script *sc = script_of(L);
+    if (!sc)
+        return;
+    size_t n = strlen(path) + 1;
+    for (size_t at = 0; at < sc->files_len; at += strlen(sc->files + at) + 1)
+        if (strcmp(sc->files + at, path) == 0)
+            return;
+    char *more = realloc(sc->files, sc->files_len + n);
+    if (!more)
+        return;     /* not watched: the script itself still is */
+    memcpy(more + sc->files_len, path, n);
+    sc->files = more;
+    sc->files_len += n;
+}
+
+limen_status limen_script_get_file(const limen_script *sc, int i, char *path, size_t size)
+{
+    if (!sc || !path || i < 0)
+        return LIMEN_ERR_ARG;
+    const char *f = sc->path;
+    for (size_t at = 0; i > 0; i--) {
+        if (at >= sc->files_len)
+            return LIMEN_ERR_ARG;
+        f = sc->files + at;
+        at += strlen(f) + 1;
+    }
+    if (!f || strlen(f) >= size)
+        return LIMEN_ERR_ARG;
+    memcpy(path, f, strlen(f) + 1);
+    return LIMEN_OK;
+}
+
 const limen__confine *limen__lua_box(lua_State *L)
 {
     limen_script *sc = script_of(L);
@@ -947,6 +983,7 @@ void limen_script_destroy(limen_script *sc)
     if (sc->L)
         lua_close(sc->L);   /* collects the scene userdata, which destroys the scene */
     limen__confine_close(&sc->box);
+    free(sc->files);
     free(sc->path);
     free(sc);
 }
