@@ -29,6 +29,7 @@
 #define LEAF_TRIS 4
 #define MAX_TRIS (UINT32_MAX / 3u - 1u)
 #define STACK_MAX 64
+#define GLTF_DEPTH_MAX 256      /* nodes nested deeper overflow the importer's stack */
 
 size_t limen__mesh_bytes(uint64_t nverts, uint64_t ntris, bool uvs)
 {
@@ -1062,6 +1063,31 @@ static limen_status load_file(limen_scene *s, const char *path, size_t max_bytes
     bool ok = (!s->load || !s->load->safe ||
                allowed_format(path, data, len < 4096 ? len : 4096, len, why, sizeof why)) &&
               header_ok(data, len, why, sizeof why);
+    /* glTF: what its nodes place, before the importer copies a mesh into each of them */
+    uint64_t gv = 0, gt = 0;
+    int depth = 0;
+    size_t i = 0;
+    while (i < len && isspace(data[i]))
+        i++;
+    bool gltf = ok && ((i < len && data[i] == '{') || (len >= 4 && memcmp(data, "glTF", 4) == 0));
+    if (gltf && limen__gltf_cost(data, len, max_bytes, &gv, &gt, &depth)) {
+        size_t need = limen__mesh_bytes(gv, gt, true);
+        if (depth > GLTF_DEPTH_MAX) {
+            ok = false;
+            snprintf(why, sizeof why, "its nodes nest %s%d deep (%d at most)",
+                     depth == INT32_MAX ? "in a cycle, endlessly " : "",
+                     depth == INT32_MAX ? 0 : depth, GLTF_DEPTH_MAX);
+            if (depth == INT32_MAX)
+                snprintf(why, sizeof why, "its nodes form a cycle");
+        } else if (need > max_bytes) {
+            free(data);
+            if (s->load)
+                s->load->read_bytes -= len;
+            return limen__fail(s, LIMEN_ERR_NOMEM, "%s: its nodes place %llu triangles, which "
+                               "need %.1f MiB, more than the %.1f MiB allowed", path,
+                               (unsigned long long)gt, need / 1048576.0, max_bytes / 1048576.0);
+        }
+    }
     free(data);
     if (s->load)
         s->load->read_bytes -= len;

@@ -71,4 +71,11 @@ int limen__mesh_intersect(const limen__mesh *m, const double o[3], const double 
                           double tmin, double tmax, const double *cut, double *t, double *bu,
                           double *bv);
 
+/* gltf_cost.c: what a glTF (.gltf text or .glb) file places once imported, from its JSON:
+ * vertices and triangles of its meshes times the node instances that use them, and how
+ * deep its nodes nest (INT32_MAX: a cycle). Returns 0 where the JSON cannot be read within
+ * a quarter of max_bytes (the importer then says why). */
+int limen__gltf_cost(const unsigned char *data, size_t len, size_t max_bytes, uint64_t *verts,
+                     uint64_t *tris, int *depth);
+
 #endif
