@@ -375,6 +375,46 @@ static void test_shared_mesh_bomb(void)
     CHECK_MSG(o.st && strstr(o.msg, "deep.gltf: its nodes nest"), "%s", o.msg);
 }
 
+/* A PLY that make fuzz found (287 bytes) on which the importer fails an assertion and aborts
+ * the process it runs in: contained, it is one line naming the file, and the script (and
+ * this test) go on. */
+static const char *ply_abort =
+    "ply\n"
+    "format ascii 1.0\n"
+    "element vertex 4\n"
+    "property float x\n"
+    "property float y\n"
+    "propert{ ]loat z\n"
+    "ele1ent face 4\n"
+    "property liroperty float x\n"
+    "property float y\n"
+    "property float z\n"
+    "element face 4\n"
+    "property list uchar int vertex_indices\n"
+    "end_header\n"
+    "0 0 0\n"
+    "1 0 0\n"
+    "0 1 0\n"
+    "0 0 1\n"
+    "3 0 2x 4\n"
+    " 0 1 3\n"
+    "\n"
+    "3 0 3 2\n"
+    "3 1 2 3\n";
+
+static void test_importer_crash(void)
+{
+    put_text(at(dir, "abort.ply"), ply_abort);
+    put_text(at(dir, "tri.stl"), "solid t\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\n"
+             "vertex 1 0 0\nvertex 0 1 0\nendloop\nendfacet\nendsolid t\n");
+    outcome o = run("abort.lua", "local limen = require 'limen' local s = limen.scene{}\n"
+                    "local ok, e = pcall(s.mesh, s, { file = 'abort.ply' })\n"
+                    "assert(not ok and e:find('the importer crashed reading .*abort.ply'), e)\n"
+                    "s:mesh{ name = 'm', file = 'tri.stl' }\n"
+                    "return s\n", 0, 0);
+    CHECK_MSG(!o.st && o.tris == 1, "%s", o.msg);
+}
+
 /* A safe require finds modules of the script's folder and below, through the same way in:
  * not one that a link leads out of. */
 static void test_require(void)
@@ -501,6 +541,7 @@ static const check_case cases[] = {
     { "header_bombs", test_header_bombs },
     { "formats", test_formats },
     { "shared_mesh_bomb", test_shared_mesh_bomb },
+    { "importer_crash", test_importer_crash },
     { "require", test_require },
     { "messages", test_messages },
     { "contain", test_contain },
