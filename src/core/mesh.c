@@ -835,14 +835,19 @@ static limen_status import_here(limen_scene *s, const char *path, size_t max_byt
      * import and the reading of its error go together, one thread at a time, so that
      * scenes on different threads stay independent (limen.h, THREADS) */
     static pthread_mutex_t importing = PTHREAD_MUTEX_INITIALIZER;
+    /* a contained import's child has one thread, and the lock as some other thread of the
+     * host may have held it when the child was forked: it takes none */
+    bool lock = !(s->load && s->load->inside);
     char err[301] = "";
-    pthread_mutex_lock(&importing);
+    if (lock)
+        pthread_mutex_lock(&importing);
     const struct aiScene *sc = aiImportFileEx(path, IMPORT_FLAGS, &c.io);
     if (!sc) {
         const char *e = aiGetErrorString();
         snprintf(err, sizeof err, "%s", e ? e : "");
     }
-    pthread_mutex_unlock(&importing);
+    if (lock)
+        pthread_mutex_unlock(&importing);
     limen_status st = LIMEN_OK;
     if (!sc) {
         size_t pl = strlen(path);
