@@ -4,6 +4,7 @@
  * view picks (limen_view_mesh_lod), through a scaled portal too. No GL. */
 #include <dirent.h>
 #include <fcntl.h>
+#include <pthread.h>
 #include <stdbool.h>
 #include <stdint.h>
 #include <stdio.h>
@@ -13,6 +14,7 @@
 #include <unistd.h>
 
 #include "bumpy.h"
+#include "charted.h"
 #include "check.h"
 #include "core/lod_target.h"
 #include "limen.h"
@@ -498,7 +500,9 @@ static void test_flat_grid(void)
 }
 
 /* A fold: two flat grids at a right angle, their vertices on the ridge doubled with each
- * side's own normal. Every level's corners keep the normal of their own side. */
+ * side's own normal. The ridge does not hold the simplifier back: the fold comes down to
+ * its two rectangles, four triangles with no error. Every level's corners keep the normal
+ * of their own side. */
 static void test_seam_sides(void)
 {
     enum { N = 8, SIDE = (N + 1) * (N + 1) };
@@ -535,7 +539,10 @@ static void test_seam_sides(void)
     const limen_drawable *d = item(&f);
     if (d) {
         const limen_mesh_geometry *g = d->mesh;
-        CHECK_MSG(g->lod_count >= 3, "%d levels", g->lod_count);
+        const limen_mesh_lod *last = &g->lods[g->lod_count - 1];
+        CHECK_MSG(g->lod_count >= 2 && last->triangle_count <= 4 && last->error <= 1e-5 * N,
+                  "%d levels, the coarsest %d triangles off by %g", g->lod_count,
+                  last->triangle_count, last->error);
         for (int l = 1; l < g->lod_count; l++)
             for (int t = 0; t < g->lods[l].triangle_count; t++) {
                 const uint32_t *ix = &g->lods[l].indices[t * 3];
@@ -798,6 +805,79 @@ static void test_degenerate(void)
     free(idx);
 }
 
+/* ------------------------------------------------------------------ assets */
+
+/* A textured asset of 16,000 triangles, as an exporter makes one (tests/charted.h): texture
+ * charts of tile x tile squares, so seams along every edge between them (one position, two
+ * texture coordinates), and an open side (a border). The seams and the border do not stop
+ * the simplifier: at least five levels, the coarsest at most 1/16 of the triangles, each
+ * with an error that bounds a brute force's largest distance. Where charts are larger than
+ * the coarsest level's triangles (keep_charts), no triangle of any level takes its corners
+ * from two charts: the texture is not smeared across a seam, each corner's texture
+ * coordinate is its own position's on the full mesh. */
+static void asset_levels(int tile, bool keep_charts)
+{
+    enum { N = 40, NT = 5 * N * N * 2 };
+    int nv = charted_verts(N, tile);
+    float *pos = malloc(sizeof(float) * 3 * nv), *nrm = malloc(sizeof(float) * 3 * nv),
+          *uv = malloc(sizeof(float) * 2 * nv);
+    uint32_t *idx = malloc(sizeof(uint32_t) * 3 * NT);
+    if (!pos || !nrm || !uv || !idx) {
+        CHECK(!"out of memory");
+        goto done;
+    }
+    charted_ball(N, tile, pos, nrm, uv, idx);
+    fixture f = open_scene((float[3]){ 0, 0, 5 }, (float[3]){ 0, 0, 0 });
+    CHECK_OK(limen_mesh_set_triangles(f.s, f.mesh, &(limen_mesh_data){
+        .positions = pos, .normals = nrm, .uvs = uv, .vertex_count = nv, .indices = idx,
+        .triangle_count = NT }));
+    const limen_drawable *d = item(&f);
+    tri_box *ft = d ? boxes_of(d->mesh, &d->mesh->lods[0]) : NULL;
+    grid full = { 0 };
+    if (ft && grid_make(&full, ft, d->mesh->triangle_count)) {
+        const limen_mesh_geometry *g = d->mesh;
+        int last = g->lods[g->lod_count - 1].triangle_count;
+        CHECK_MSG(g->lod_count >= 6 && last * 16 <= NT,
+                  "charts of %d: %d levels, the coarsest %d triangles", tile, g->lod_count, last);
+        for (int k = 1; k < g->lod_count; k++) {
+            const limen_mesh_lod *lv = &g->lods[k];
+            int mixed = 0;
+            for (int t = 0; t < lv->triangle_count; t++) {
+                int c = charted_chart(tile, lv->indices[t * 3]);
+                mixed += charted_chart(tile, lv->indices[t * 3 + 1]) != c ||
+                         charted_chart(tile, lv->indices[t * 3 + 2]) != c;
+            }
+            CHECK_MSG(!keep_charts || mixed == 0, "level %d: %d of %d triangles across charts", k, mixed,
+                      lv->triangle_count);
+            /* a lattice on every triangle: the largest distance lies where the charts meet
+             * as often as anywhere */
+            double found = brute_sampled(g, &full, k, 1, 4, 400);
+            CHECK_MSG(found <= lv->error * (1 + 1e-5), "level %d: error %g, found %g", k,
+                      lv->error, found);
+            CHECK(found > 0);
+        }
+    } else {
+        CHECK(!"no mesh, or no memory for the brute force");
+    }
+    grid_free(&full);
+    free(ft);
+    close_scene(&f);
+done:
+    free(pos);
+    free(nrm);
+    free(uv);
+    free(idx);
+}
+
+/* One chart a face; and 500 charts of 4 x 4 squares, whose corners (where four charts meet)
+ * the simplifier cannot move, so the coarse levels are made by clustering (meshoptimizer's
+ * sloppy simplifier), which moves seams and borders. */
+static void test_asset_levels(void)
+{
+    asset_levels(40, true);
+    asset_levels(4, false);
+}
+
 /* ------------------------------------------------------------------ the cache */
 
 /* The levels of a bumpy sphere of u * v * 2 triangles, made in a scene of their own: their
@@ -989,6 +1069,106 @@ static void test_cache(void)
     unsetenv("LIMEN_CACHE_DIR");
 }
 
+/* ------------------------------------------------------------------ on another thread */
+
+typedef struct reader {
+    const limen_scene *s;
+    limen_node mesh;
+    int odd;                    /* level counts other than one seen */
+} reader;
+
+/* Reads the mesh (const calls, as limen.h's THREADS allows beside one another) while its
+ * levels are made. */
+static void *read_mesh(void *arg)
+{
+    reader *r = arg;
+    for (int i = 0; i < 2000; i++) {
+        limen_mesh_info info;
+        if (limen_mesh_get(r->s, r->mesh, &info) != LIMEN_OK || info.lod_count != 1)
+            r->odd++;
+    }
+    return NULL;
+}
+
+/* A mesh's levels made on another thread (limen__mesh_lods_start, for a mesh above the size
+ * set): the mesh is there at once with its full level alone, and stays so, to every reader,
+ * until the scene's thread takes the levels (at a refresh, which every call that reads the
+ * world makes): then they are the same levels, counts, errors and indices, as made on the
+ * scene's thread, under a new id (the renderer uploads them). A scene destroyed while its
+ * levels are made stops the thread and frees everything (the sanitizer build checks). */
+static void test_async(void)
+{
+    enum { U = 100, V = 60, NV = (U + 1) * (V + 1), NT = U * V * 2 };
+    float *pos = malloc(sizeof(float) * 3 * NV), *made = NULL;
+    uint32_t *idx = malloc(sizeof(uint32_t) * 3 * NT);
+    if (!pos || !idx) {
+        CHECK(!"out of memory");
+        free(pos);
+        free(idx);
+        return;
+    }
+    bumpy_sphere(U, V, pos, idx);
+    limen_mesh_data data = { .positions = pos, .vertex_count = NV, .indices = idx,
+                             .triangle_count = NT };
+    size_t nmade = 0;
+    int levels = sphere_levels(U, V, &made, &nmade);
+    CHECK(levels >= 4);
+
+    limen__lod_set_async_above(1000);
+    fixture f = open_scene((float[3]){ 0, 0, 5 }, (float[3]){ 0, 0, 0 });
+    CHECK_OK(limen_mesh_set_triangles(f.s, f.mesh, &data));
+    limen_mesh_info info;
+    CHECK_OK(limen_mesh_get(f.s, f.mesh, &info));
+    CHECK_MSG(info.lod_count == 1, "%d levels before the hand-over", info.lod_count);
+    reader rd[2] = { { f.s, f.mesh, 0 }, { f.s, f.mesh, 0 } };
+    pthread_t th[2];
+    for (int i = 0; i < 2; i++)
+        CHECK(pthread_create(&th[i], NULL, read_mesh, &rd[i]) == 0);
+    for (int i = 0; i < 2; i++)
+        pthread_join(th[i], NULL);
+    CHECK(rd[0].odd == 0 && rd[1].odd == 0);
+    const limen_drawable *d = item(&f);
+    uint64_t id = d ? d->mesh->id : 0;
+    bool waited = d && d->mesh->lod_count == 1;
+    /* each refresh (here the drawables' build) takes the levels once they are made: waited
+     * for, not timed (a second's work, given minutes on a busy machine) */
+    for (int i = 0; i < 30000 && d && d->mesh->lod_count == 1; i++) {
+        usleep(10000);
+        d = item(&f);
+    }
+    if (d) {
+        const limen_mesh_geometry *g = d->mesh;
+        size_t n = 0;
+        bool same = g->lod_count == levels;
+        for (int k = 0; same && k < g->lod_count; k++) {
+            same = n + 2 + 3 * (size_t)g->lods[k].triangle_count <= nmade &&
+                   made[n] == (float)g->lods[k].triangle_count && made[n + 1] == g->lods[k].error;
+            n += 2;
+            for (int i = 0; same && i < 3 * g->lods[k].triangle_count; i++)
+                same = made[n++] == (float)g->lods[k].indices[i];
+        }
+        CHECK_MSG(same && n == nmade, "%d levels handed over, %d made here", g->lod_count, levels);
+        CHECK(!waited || g->id != id);
+    }
+    close_scene(&f);
+
+    /* destroyed while the levels are made */
+    for (int i = 0; i < 3; i++) {
+        limen_scene *s;
+        limen_node n;
+        CHECK_OK(limen_scene_create(NULL, &s));
+        CHECK_OK(limen_node_create(s, LIMEN_NODE_MESH, "m", &n));
+        CHECK_OK(limen_mesh_set_triangles(s, n, &data));
+        if (i == 2)
+            usleep(20000);
+        limen_scene_destroy(s);
+    }
+    limen__lod_set_async_above(LIMEN__LOD_ASYNC_TRIS);
+    free(made);
+    free(pos);
+    free(idx);
+}
+
 static const check_case cases[] = {
     { "bunny_levels", test_bunny_levels },
     { "error_bounds", test_error_bounds },
@@ -1001,6 +1181,8 @@ static const check_case cases[] = {
     { "lod_pixels", test_lod_pixels },
     { "degenerate", test_degenerate },
     { "cache", test_cache },
+    { "asset_levels", test_asset_levels },
+    { "async", test_async },
     { 0 },
 };
 

@@ -508,7 +508,7 @@ static void test_contain(void)
     limen__block b;
     char why[256];
     double cpu;
-    limen__contain_limits lim = { 64 << 20, 1 };
+    limen__contain_limits lim = { 64 << 20, 1, 0 };
     CHECK(limen__contain_run(answer, NULL, &lim, &b, why, sizeof why, &cpu) == LIMEN__CONTAIN_OK);
     CHECK(b.len == 5 && memcmp(b.data, "hello", 5) == 0);
     limen__block_free(&b);

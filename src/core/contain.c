@@ -1,8 +1,8 @@
 /* contain.c - a callback run in a child process under limits (core/contain.h).
  *
  * The child is forked from the calling thread and gets setrlimit limits before it runs the
- * callback: RLIMIT_AS the address space already mapped plus the memory allowed plus a fixed
- * allowance for the importer's own code and stacks, RLIMIT_CPU the processor time allowed,
+ * callback: RLIMIT_AS the address space already mapped plus twice the memory allowed plus a
+ * fixed allowance (256 MiB) for the importer's own code, stacks and heap slack, RLIMIT_CPU the processor time allowed,
  * RLIMIT_CORE 0 (a crash leaves no core file). It writes [status][why][length][bytes] into a
  * pipe and exits with _exit, running no handler of the host's. The parent reads the pipe to
  * its end, kills the child if it hands back more than allowed or runs past four times its
@@ -26,7 +26,7 @@
 
 #include "core/contain.h"
 
-#define ALLOWANCE ((size_t)64 << 20)    /* the importer's stacks, heap slack and its tables */
+#define ALLOWANCE ((size_t)256 << 20)   /* the importer's code, stacks, heap slack and tables */
 
 bool limen__block_put(limen__block *b, const void *p, size_t n)
 {
@@ -153,8 +153,10 @@ static void child(int fd, limen__contained_fn fn, void *arg, const limen__contai
     /* relative to what is mapped already: under a sanitizer that includes its shadow
      * reservations, so the limit still holds what the child maps anew */
     if (lim->mem_bytes && base) {
+        /* twice what is allowed: an importer holds its own scene and the copy it hands
+         * back at once */
         size_t as = base + ALLOWANCE;
-        as = lim->mem_bytes > SIZE_MAX - as ? SIZE_MAX : as + lim->mem_bytes;
+        as = lim->mem_bytes > (SIZE_MAX - as) / 2 ? SIZE_MAX : as + 2 * lim->mem_bytes;
         struct rlimit r = { (rlim_t)as, (rlim_t)as };
         setrlimit(RLIMIT_AS, &r);
     }
@@ -198,8 +200,9 @@ int limen__contain_run(limen__contained_fn fn, void *arg, const limen__contain_l
     }
     close(p[1]);
     /* what the child may hand back: its header and at most the memory allowed */
-    size_t most = lim->mem_bytes && lim->mem_bytes < SIZE_MAX - 65536 ? lim->mem_bytes + 65536
-                                                                      : SIZE_MAX;
+    size_t most = lim->answer_bytes ? lim->answer_bytes
+                  : lim->mem_bytes && lim->mem_bytes < SIZE_MAX - 65536 ? lim->mem_bytes + 65536
+                                                                        : SIZE_MAX;
     double deadline = lim->cpu_seconds > 0 ? now() + 4 * lim->cpu_seconds + 5 : 0;
     limen__block raw = { 0 };
     int outcome = LIMEN__CONTAIN_OK;

@@ -30,6 +30,7 @@ typedef struct limen__contain_limits {
     size_t mem_bytes;           /* memory the child may take beyond what the host has mapped
                                  * (an allowance for the importer's own is added); 0: none */
     double cpu_seconds;         /* processor time; 0: none */
+    size_t answer_bytes;        /* the most the child may hand back; 0: mem_bytes (+ 64 KiB) */
 } limen__contain_limits;
 
 enum {

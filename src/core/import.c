@@ -104,8 +104,13 @@ static bool charge(builder *b, size_t n)
 
 /* ------------------------------------------------------------------ textures */
 
+_Thread_local const limen__import_files *limen__import_files_hook;
+
 static unsigned char *read_whole(const char *path, size_t max, size_t *len)
 {
+    const limen__import_files *hook = limen__import_files_hook;
+    if (hook)
+        return hook->read(hook->ctx, path, max, len);
     struct stat st;
     FILE *f = fopen(path, "rb");
     if (!f)
@@ -125,6 +130,9 @@ static unsigned char *read_whole(const char *path, size_t max, size_t *len)
 
 static bool is_file(const char *path)
 {
+    const limen__import_files *hook = limen__import_files_hook;
+    if (hook)
+        return hook->exists(hook->ctx, path);
     struct stat st;
     return stat(path, &st) == 0 && S_ISREG(st.st_mode);
 }
@@ -342,8 +350,11 @@ static void material(builder *b, const struct aiMaterial *m, limen__import_mater
     out->name = aiGetMaterialString(m, AI_MATKEY_NAME, &str) == aiReturn_SUCCESS
                     ? str_add(b, str.data) : NONE;
     out->base[0] = out->base[1] = out->base[2] = out->base[3] = 1;
-    if (aiGetMaterialColor(m, AI_MATKEY_BASE_COLOR, &c) == aiReturn_SUCCESS ||
-        aiGetMaterialColor(m, AI_MATKEY_COLOR_DIFFUSE, &c) == aiReturn_SUCCESS) {
+    /* the material assimp makes for a file that names none is white here (its grey would
+     * darken every model without materials) */
+    bool made_up = out->name != NONE && strcmp(str.data, AI_DEFAULT_MATERIAL_NAME) == 0;
+    if (!made_up && (aiGetMaterialColor(m, AI_MATKEY_BASE_COLOR, &c) == aiReturn_SUCCESS ||
+                     aiGetMaterialColor(m, AI_MATKEY_COLOR_DIFFUSE, &c) == aiReturn_SUCCESS)) {
         out->base[0] = c.r;
         out->base[1] = c.g;
         out->base[2] = c.b;
@@ -431,13 +442,11 @@ static void material(builder *b, const struct aiMaterial *m, limen__import_mater
 static void mesh(builder *b, const struct aiMesh *am, limen__import_part *p)
 {
     p->first_vertex = (uint32_t)b->verts.n;
-    p->first_tri = (uint32_t)b->tris.n;
+    p->first_tri = (uint32_t)(b->tris.n / 3);
     p->material = am->mMaterialIndex < b->sc->mNumMaterials ? am->mMaterialIndex : 0;
     p->has_normals = am->mNormals != NULL;
     p->name = am->mName.length ? str_add(b, am->mName.data) : NONE;
-    if (!charge(b, (size_t)am->mNumVertices * sizeof(limen__import_vertex) +
-                       (size_t)am->mNumFaces * 12))
-        return;
+    /* geometry is charged where it is kept (core/mesh.c), textures here */
     limen__import_vertex *v = arr_push(&b->verts, am->mNumVertices);
     if (!v) {
         b->nomem = true;
@@ -775,15 +784,20 @@ limen_status limen__import_file(const char *path, unsigned flags, size_t max_byt
      * scenes on different threads stay independent (limen.h, THREADS) */
     static pthread_mutex_t importing = PTHREAD_MUTEX_INITIALIZER;
     char err[301] = "";
-    pthread_mutex_lock(&importing);
+    const limen__import_files *hook = limen__import_files_hook;
+    bool lock = !hook || !hook->inside;     /* (a child's copy of the lock may be held) */
+    if (lock)
+        pthread_mutex_lock(&importing);
     const struct aiScene *sc =
-        aiImportFile(path, aiProcess_Triangulate | aiProcess_JoinIdenticalVertices |
-                               aiProcess_SortByPType | aiProcess_ValidateDataStructure);
+        aiImportFileEx(path, aiProcess_Triangulate | aiProcess_JoinIdenticalVertices |
+                                 aiProcess_SortByPType | aiProcess_ValidateDataStructure,
+                       hook ? hook->io : NULL);
     if (!sc) {
         const char *e = aiGetErrorString();
         snprintf(err, sizeof err, "%s", e ? e : "");
     }
-    pthread_mutex_unlock(&importing);
+    if (lock)
+        pthread_mutex_unlock(&importing);
     if (!sc) {
         snprintf(why, why_size, "%s: cannot read it as a mesh: %s", path,
                  err[0] ? err : "unknown format");

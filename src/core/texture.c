@@ -48,6 +48,7 @@ static void texture_free(limen__texture *t)
     if (!t)
         return;
     free(t->rgb);
+    free(t->alpha);
     free(t->mips);
     free(t);
 }
@@ -197,7 +198,7 @@ static unsigned char *decode_in_child(limen_scene *s, const unsigned char *buf, 
 {
     limen__load *ld = s->load;
     decoding d = { buf, len };
-    limen__contain_limits lim = { ld->max_bytes, ld->cpu_left };
+    limen__contain_limits lim = { ld->max_bytes, ld->cpu_left, 0 };
     limen__block b;
     char why[512];
     double cpu;
@@ -274,39 +275,55 @@ limen_status limen__texture_decode(limen_scene *s, const unsigned char *buf, siz
     return texture_new(s, rgb, w, h, name, out);
 }
 
+limen_status limen__texture_from_rgba(limen_scene *s, const unsigned char *rgba, int w, int h,
+                                      const char *name, limen__texture **out)
+{
+    *out = NULL;
+    size_t n = (size_t)w * (size_t)h;
+    bool opaque = true;
+    for (size_t i = 0; i < n && opaque; i++)
+        opaque = rgba[i * 4 + 3] == 255;
+    limen__texture *t = calloc(1, sizeof *t);
+    unsigned char *rgb = malloc(n * 3), *alpha = opaque ? NULL : malloc(n);
+    if (!t || !rgb || (!opaque && !alpha)) {
+        free(t);
+        free(rgb);
+        free(alpha);
+        return limen__fail(s, LIMEN_ERR_NOMEM, "%s: out of memory", name);
+    }
+    for (size_t i = 0; i < n; i++) {
+        memcpy(rgb + i * 3, rgba + i * 4, 3);
+        if (alpha)
+            alpha[i] = rgba[i * 4 + 3];
+    }
+    t->w = w;
+    t->h = h;
+    t->rgb = rgb;
+    t->alpha = alpha;
+    /* mipmap levels for an opaque image; one with alpha keeps only its own (its alpha has
+     * no levels: the renderer and the tracer both sample the full image) */
+    t->levels[0] = (limen_image_level){ w, h, rgb };
+    t->nlevels = 1;
+    if (!alpha && !make_levels(t)) {
+        texture_free(t);
+        return limen__fail(s, LIMEN_ERR_NOMEM, "%s: out of memory for its mipmap levels", name);
+    }
+    t->bytes = sizeof *t + n * (alpha ? 4 : 3) + (alpha ? 0 : n);
+    t->serial = limen__next_serial();
+    t->pub = (limen_image){ .id = t->serial, .width = w, .height = h, .rgb = rgb, .alpha = alpha,
+                            .level_count = t->nlevels, .levels = t->levels };
+    t->refs = 1;
+    snprintf(t->name, sizeof t->name, "%s", name);
+    *out = t;
+    return LIMEN_OK;
+}
+
 static limen_status keep(limen_scene *s, limen__texture *t)
 {
     if (limen__assets_add(&s->textures, &s->ntextures, &s->texture_cap, t))
         return LIMEN_OK;
     texture_free(t);
     return limen__fail(s, LIMEN_ERR_NOMEM, "texture: out of memory");
-}
-
-limen_status limen__texture_adopt(limen_scene *s, const char *key, const char *name,
-                                  unsigned char *rgb, int w, int h, size_t *charged,
-                                  limen__texture **out)
-{
-    *charged = 0;
-    *out = NULL;
-    for (int i = 0; key[0] && i < s->ntextures; i++) {
-        limen__texture *t = s->textures[i];
-        if (strcmp(t->key, key) == 0) {
-            free(rgb);
-            t->refs++;
-            *out = t;
-            return LIMEN_OK;
-        }
-    }
-    limen__texture *t;
-    limen_status rc = texture_new(s, rgb, w, h, name, &t);
-    if (rc)
-        return rc;
-    snprintf(t->key, sizeof t->key, "%s", key);
-    if (key[0] && (rc = keep(s, t)))
-        return rc;
-    *charged = t->bytes;
-    *out = t;
-    return LIMEN_OK;
 }
 
 limen_status limen__texture_load(limen_scene *s, const char *path, size_t max_bytes,
@@ -329,10 +346,14 @@ limen_status limen__texture_load(limen_scene *s, const char *path, size_t max_by
     }
     unsigned char *buf;
     size_t got;
-    if ((rc = limen__file_read(s, path, &buf, &got, &st)))
+    if ((rc = limen__file_read(s, path, &buf, &got, &st))) {
+        if (rc == LIMEN_ERR_NOMEM)
+            s->mem_wanted = (uint64_t)st.st_size;   /* what --memory would allow */
         return rc;
+    }
     int w, h;
     if (limen__image_info(buf, got, &w, &h) && (uint64_t)w * (uint64_t)h * 3 > max_bytes) {
+        s->mem_wanted = (uint64_t)w * (uint64_t)h * 3;
         free(buf);
         if (s->load)
             s->load->read_bytes -= got;
@@ -453,6 +474,24 @@ void limen__texture_filter(const limen__texture *t, limen_texture_filter f, doub
     bilinear(&t->levels[a + 1], u, v, hi);
     for (int k = 0; k < 3; k++)
         out[k] = lo[k] + fr * (hi[k] - lo[k]);
+}
+
+double limen__texture_sample_alpha(const limen__texture *t, double u, double v)
+{
+    if (!t || !t->alpha)
+        return 1.0;
+    double x = u * t->w - 0.5, y = v * t->h - 0.5;
+    if (!isfinite(x) || !isfinite(y) || fabs(x) > 1e15 || fabs(y) > 1e15)
+        x = y = 0;
+    double fx0 = floor(x), fy0 = floor(y);
+    double fx = x - fx0, fy = y - fy0;
+    int i0 = wrap((long)fx0, t->w), i1 = wrap((long)fx0 + 1, t->w);
+    int j0 = wrap((long)fy0, t->h), j1 = wrap((long)fy0 + 1, t->h);
+    const unsigned char *r0 = t->alpha + (size_t)(t->h - 1 - j0) * (size_t)t->w;
+    const unsigned char *r1 = t->alpha + (size_t)(t->h - 1 - j1) * (size_t)t->w;
+    double a = r0[i0] + fx * (r0[i1] - r0[i0]);
+    double b = r1[i0] + fx * (r1[i1] - r1[i0]);
+    return (a + fy * (b - a)) / 255.0;
 }
 
 /* ------------------------------------------------------------------ API */

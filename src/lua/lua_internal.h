@@ -74,6 +74,9 @@ void limen__lua_note_file(lua_State *L, const char *path);
 void limen__lua_load_begin(lua_State *L, limen_scene *s, struct limen__load *ld);
 void limen__lua_load_end(lua_State *L, limen_scene *s, struct limen__load *ld);
 void limen__lua_check_time(lua_State *L);
+/* After a load refused for the memory left: the script running in L would have needed
+ * `bytes` more than it holds (limen_script_memory_needed). */
+void limen__lua_want(lua_State *L, uint64_t bytes);
 /* Notes the calling script line as the place of a memory error that may follow (Lua gives
  * memory errors no place, and no message handler runs for them). */
 void limen__lua_note_line(lua_State *L);
