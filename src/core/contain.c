@@ -96,6 +96,31 @@ static double now(void)
     return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
 }
 
+/* Reads n bytes: 0, or 1 at the end of the pipe (the child gone), 2 past the deadline. */
+static int read_exact(int fd, void *p, size_t n, double deadline)
+{
+    unsigned char *c = p;
+    while (n) {
+        if (deadline) {
+            double left = deadline - now();
+            struct pollfd pf = { .fd = fd, .events = POLLIN };
+            int r = left > 0 ? poll(&pf, 1, (int)(left * 1000) + 1) : 0;
+            if (r < 0 && errno == EINTR)
+                continue;
+            if (r == 0)
+                return 2;
+        }
+        ssize_t got = read(fd, c, n);
+        if (got < 0 && errno == EINTR)
+            continue;
+        if (got <= 0)
+            return 1;
+        c += got;
+        n -= (size_t)got;
+    }
+    return 0;
+}
+
 static bool write_all(int fd, const void *p, size_t n)
 {
     const unsigned char *c = p;
@@ -199,40 +224,33 @@ int limen__contain_run(limen__contained_fn fn, void *arg, const limen__contain_l
         child(p[1], fn, arg, lim, base);
     }
     close(p[1]);
-    /* what the child may hand back: its header and at most the memory allowed */
+    /* what the child may hand back: at most the memory allowed (or answer_bytes) */
     size_t most = lim->answer_bytes ? lim->answer_bytes
                   : lim->mem_bytes && lim->mem_bytes < SIZE_MAX - 65536 ? lim->mem_bytes + 65536
                                                                         : SIZE_MAX;
     double deadline = lim->cpu_seconds > 0 ? now() + 4 * lim->cpu_seconds + 5 : 0;
-    limen__block raw = { 0 };
-    int outcome = LIMEN__CONTAIN_OK;
-    unsigned char buf[65536];
-    for (;;) {
-        if (deadline) {
-            double left = deadline - now();
-            struct pollfd pf = { .fd = p[0], .events = POLLIN };
-            int r = left > 0 ? poll(&pf, 1, (int)(left * 1000) + 1) : 0;
-            if (r < 0 && errno == EINTR)
-                continue;
-            if (r == 0) {
-                outcome = LIMEN__CONTAIN_TIME;
-                break;
-            }
-        }
-        ssize_t n = read(p[0], buf, sizeof buf);
-        if (n < 0 && errno == EINTR)
-            continue;
-        if (n <= 0)
-            break;
-        if (raw.len + (size_t)n > most) {
-            outcome = LIMEN__CONTAIN_MEMORY;
-            break;
-        }
-        if (!limen__block_put(&raw, buf, (size_t)n)) {
-            outcome = LIMEN__CONTAIN_MEMORY;
-            break;
-        }
+    int outcome = LIMEN__CONTAIN_OK, got;
+    int32_t rc = 0;
+    uint32_t wl = 0;
+    uint64_t len = 0;
+    char w[4096];
+    unsigned char *data = NULL;
+    /* header, reason, length, then the answer straight into a buffer of its size */
+    if ((got = read_exact(p[0], &rc, sizeof rc, deadline)) == 0 &&
+        (got = read_exact(p[0], &wl, sizeof wl, deadline)) == 0) {
+        if (wl >= sizeof w)
+            got = 1;
+        else if ((got = read_exact(p[0], w, wl, deadline)) == 0)
+            got = read_exact(p[0], &len, sizeof len, deadline);
     }
+    if (got == 0 && !rc && len) {
+        if (len > most || !(data = malloc((size_t)len)))
+            outcome = LIMEN__CONTAIN_MEMORY;
+        else
+            got = read_exact(p[0], data, (size_t)len, deadline);
+    }
+    if (got == 2)
+        outcome = LIMEN__CONTAIN_TIME;
     close(p[0]);
     if (outcome != LIMEN__CONTAIN_OK)
         kill(pid, SIGKILL);
@@ -250,35 +268,19 @@ int limen__contain_run(limen__contained_fn fn, void *arg, const limen__contain_l
         if (outcome == LIMEN__CONTAIN_CRASHED)
             snprintf(why, why_size, "%s", strsignal(sig));
     }
-    int32_t rc = 0;
-    uint32_t wl = 0;
-    uint64_t len = 0;
-    if (outcome == LIMEN__CONTAIN_OK &&
-        (!limen__block_get(&raw, &rc, sizeof rc) || !limen__block_get(&raw, &wl, sizeof wl) ||
-         wl > raw.len)) {
+    if (outcome == LIMEN__CONTAIN_OK && got == 1) {
         outcome = LIMEN__CONTAIN_CRASHED;
-        snprintf(why, why_size, "it exited without an answer");
+        snprintf(why, why_size, "it exited without a whole answer");
+    }
+    if (outcome == LIMEN__CONTAIN_OK && rc) {
+        outcome = LIMEN__CONTAIN_FAILED;
+        last_code = rc;
+        snprintf(why, why_size, "%.*s", (int)wl, w);
     }
     if (outcome == LIMEN__CONTAIN_OK) {
-        const char *w = limen__block_take(&raw, wl);
-        snprintf(why, why_size, "%.*s", w ? (int)wl : 0, w ? w : "");
-        if (rc) {
-            outcome = LIMEN__CONTAIN_FAILED;
-            last_code = rc;
-        }
-        else if (!limen__block_get(&raw, &len, sizeof len) || len != raw.len - raw.at) {
-            outcome = LIMEN__CONTAIN_CRASHED;
-            snprintf(why, why_size, "it handed back a short answer");
-        }
-    }
-    if (outcome == LIMEN__CONTAIN_OK) {
-        /* the answer in place: the bytes after the header */
-        memmove(raw.data, raw.data + raw.at, (size_t)len);
-        raw.len = (size_t)len;
-        raw.at = 0;
-        *out = raw;
+        *out = (limen__block){ .data = data, .len = (size_t)len, .cap = (size_t)len };
         return outcome;
     }
-    limen__block_free(&raw);
+    free(data);
     return outcome;
 }

@@ -23,7 +23,9 @@ bool limen__block_get(limen__block *b, void *p, size_t n);
 const void *limen__block_take(limen__block *b, size_t n);
 void limen__block_free(limen__block *b);
 
-/* Runs in the child: fills out, or returns nonzero (a code for the caller) with why. */
+/* Runs in the child: fills out (with limen__block_put, or by handing it a malloc'd buffer as
+ * data, len and cap: nothing is copied), or returns nonzero (a code for the caller) with
+ * why. */
 typedef int (*limen__contained_fn)(void *arg, limen__block *out, char *why, size_t why_size);
 
 typedef struct limen__contain_limits {
@@ -42,7 +44,8 @@ enum {
     LIMEN__CONTAIN_SYSTEM       /* no child could be made (fork, pipe): why says */
 };
 
-/* Runs fn(arg) in a child under lim and hands back its block (the caller frees it). Returns
+/* Runs fn(arg) in a child under lim and hands back its block (the caller frees it; its data
+ * is one malloc'd buffer of exactly len bytes, read straight from the pipe). Returns
  * LIMEN__CONTAIN_*; *cpu_spent gets the child's processor time, whatever the outcome. */
 int limen__contain_run(limen__contained_fn fn, void *arg, const limen__contain_limits *lim,
                        limen__block *out, char *why, size_t why_size, double *cpu_spent);

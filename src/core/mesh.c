@@ -1223,7 +1223,7 @@ typedef struct importing {
     size_t max_bytes;
 } importing;
 
-/* In the child: [block size][the block][size of the file list][the files read]. */
+/* In the child: [the block][the files read, each ended by a NUL]. */
 static int import_child(void *arg, limen__block *out, char *why, size_t why_size)
 {
     importing *im = arg;
@@ -1236,10 +1236,9 @@ static int import_child(void *arg, limen__block *out, char *why, size_t why_size
         snprintf(why, why_size, "%s", s->err);
         return (int)st;
     }
-    uint64_t size = blk->size, flen = files.len;
-    limen__block_put(out, &size, sizeof size);
-    limen__block_put(out, blk, (size_t)size);
-    limen__block_put(out, &flen, sizeof flen);
+    /* the block itself becomes the answer (no copy), the files read after it */
+    *out = (limen__block){ .data = (unsigned char *)blk, .len = (size_t)blk->size,
+                           .cap = (size_t)blk->size };
     limen__block_put(out, files.data, files.len);
     return 0;
 }
@@ -1280,28 +1279,21 @@ static limen_status import_contained(limen_scene *s, const char *path, unsigned 
     default:
         return limen__fail(s, LIMEN_ERR_IO, "%s: %s", path, why);
     }
-    uint64_t size = 0, flen = 0;
-    const void *p = NULL, *fl = NULL;
+    /* the answer is one malloc'd buffer: the block in place (aligned as malloc aligns),
+     * checked before anything reads it, then the files */
+    limen__import *got = (limen__import *)b.data;
     limen_status st = LIMEN_OK;
-    if (!limen__block_get(&b, &size, sizeof size) || size > SIZE_MAX ||
-        !(p = limen__block_take(&b, (size_t)size)) || !limen__block_get(&b, &flen, sizeof flen) ||
-        flen > SIZE_MAX || !(fl = limen__block_take(&b, (size_t)flen)))
-        st = limen__fail(s, LIMEN_ERR_IO, "the importer handed back a broken answer reading %s",
+    if (b.len < sizeof *got || got->size > b.len || !limen__import_valid(got, (size_t)got->size))
+        st = limen__fail(s, LIMEN_ERR_IO, "the importer handed back a broken block reading %s",
                          path);
-    /* a copy, aligned as malloc aligns, checked before anything reads it */
-    if (!st && !(*blk = malloc((size_t)size ? (size_t)size : 1)))
-        st = limen__fail(s, LIMEN_ERR_NOMEM, "%s: out of memory", path);
     if (!st) {
-        memcpy(*blk, p, (size_t)size);
-        if (!limen__import_valid(*blk, (size_t)size)) {
-            free(*blk);
-            *blk = NULL;
-            st = limen__fail(s, LIMEN_ERR_IO, "the importer handed back a broken block reading "
-                             "%s", path);
-        }
+        size_t flen = b.len - (size_t)got->size;
+        const char *fl = (const char *)b.data + got->size;
+        if (flen && fl[flen - 1] == '\0')
+            limen__block_put(files, fl, flen);
+        *blk = got;     /* the buffer is the block's: free(*blk) releases it */
+        return LIMEN_OK;
     }
-    if (!st && flen && ((const char *)fl)[flen - 1] == '\0')
-        limen__block_put(files, fl, (size_t)flen);
     limen__block_free(&b);
     return st;
 }
