@@ -758,8 +758,9 @@ typedef struct limen_limits {
 #define LIMEN_LOD_FULL (-1.0f)  /* limen_limits.lod_pixels: no levels of detail */
 /* The default bound, an eighth of a pixel: a coarser level moves the surface by less than
  * that, but it also shades with fewer normals than the full mesh, and the picture's error
- * grows with the bound (README: 2.6% of a 320x240 frame of the hall of mirrors off the
- * tracer at 1 pixel, 0.15% at this one). */
+ * grows with the bound. Chosen against the area-averaged truth (README: 1,000 bunnies at
+ * 640x480 are 0.48% off the 16-sample truth at this bound, 2.5% at 1/4 pixel; at msaa 4,
+ * 0.83% off the 4-sample truth): the coarsest bound within 1% of both. */
 #define LIMEN_LOD_DEFAULT 0.125f
 
 /* Which surfaces a view keeps. */
@@ -1162,6 +1163,88 @@ LIMEN_API limen_render_opts limen_render_opts_defaults(const limen_render_opts *
 LIMEN_API limen_trace_desc limen_trace_desc_defaults(const limen_trace_desc *desc);
 /* instruction_budget and memory_cap (0 -> the defaults above; < 0, none, stays). */
 LIMEN_API limen_script_desc limen_script_desc_defaults(const limen_script_desc *desc);
+/* ---------------------------------------------------------------- collision */
+
+/* Bodies that collide: a sphere (a centre and a radius) or a capsule (a segment and a
+ * radius) swept along a straight path through the scene, and nodes that collide and slide.
+ *   - What collides: visible boxes (their six faces), spheres, cylinders (capped), planes,
+ *     mesh triangles (found through the spatial index and each mesh's hierarchy), mirrors
+ *     (both sides: mirrors are walls) and closed portals (unpaired, partner hidden, or past
+ *     the depth limit: walls like mirrors). Spheres and cylinders collide as the shape of
+ *     their largest world scale (exact under uniform scale). Lights, cameras and groups
+ *     do not collide.
+ *   - Portals: where the body's centre (a capsule's midpoint) passes through an open portal's
+ *     rectangle from its front, the sweep goes on from the partner, the path, the radius and
+ *     the segment carried by the portal matrix (scaled by unequal portals), up to the
+ *     limits' depth (limen_limits, depth fields; zero: each portal's own max_depth).
+ *   - HOLES. While the body's centre is in front of an open portal P (paired, partner
+ *     visible, within the depth limit), the prism behind P's rectangle (every point behind
+ *     P's plane that lies over the rectangle) is not solid for it: the polygons of boxes,
+ *     planes, mirrors and meshes are cut there, so the wall a portal is placed on (a
+ *     millimetre in front) does not stop a body entering the opening, while the wall around
+ *     the rectangle (the frame) still stops one too wide for it. Spheres and cylinders are
+ *     never cut. And what lies in front of P's partner Q within Q's rectangle's prism (the
+ *     polygons cut to it; spheres and cylinders whose centre lies in it) collides with the
+ *     body carried through P (the part that has gone through), which is how a body halfway
+ *     through collides on both sides. One level: the carried body is not cut again.
+ *   - A body that already touches something at the start collides with it only if it moves
+ *     further in (so that it can slide along it or leave it). */
+typedef struct limen_sweep_opts {
+    limen_node ignore;          /* this node and its descendants do not collide (zero: none) */
+    limen_limits limits;        /* depth fields only; zero: each portal's own max_depth */
+} limen_sweep_opts;
+
+typedef struct limen_sweep_result {
+    int hit;                    /* 1 if the body touches something on its way */
+    float fraction;             /* of the path travelled at the contact (1 when no hit) */
+    float centre[3];            /* the body's centre there (in the room it has reached) */
+    float point[3];             /* the contact point (same room), 0 when no hit */
+    float normal[3];            /* unit, from the point towards the centre, 0 when no hit */
+    limen_node node;            /* what it touched (zero when no hit) */
+    int portals;                /* portals passed before the contact or the end */
+    limen_node portal;          /* the last portal passed (zero if none) */
+    float matrix[16];           /* product of their matrices (identity if none): carries
+                                 * velocities with its 3x3 part */
+    float radius;               /* the radius there (unequal portals scale it) */
+    float segment[3];           /* capsules: b - a there (portals turn it); 0 for a sphere */
+} limen_sweep_result;
+
+/* Sweeps a sphere of the radius from `from` to `to` (world). opts may be NULL. NaN, Inf or
+ * coordinates past 1e9, a radius outside [1e-9, 1e9], NULL -> ARG with a message. */
+LIMEN_API limen_status limen_sweep_sphere(limen_scene *s, const float from[3], const float to[3],
+                                          float radius, const limen_sweep_opts *opts,
+                                          limen_sweep_result *out);
+/* Sweeps the capsule of segment a-b and the radius by the displacement d (world). */
+LIMEN_API limen_status limen_sweep_capsule(limen_scene *s, const float a[3], const float b[3],
+                                           float radius, const float d[3],
+                                           const limen_sweep_opts *opts,
+                                           limen_sweep_result *out);
+
+typedef struct limen_slide_result {
+    float moved[3];             /* the displacement made, in the frame where it began */
+    int contacts;               /* contacts met (each turned the rest of the motion) */
+    float normal[3];            /* the last contact's normal (its room), 0 if none */
+    int crossed;                /* portals passed */
+    limen_node portal;          /* the last one (zero if none) */
+    float matrix[16];           /* their product (identity if none): carry velocities */
+    float radius;               /* the body's radius at the end (unequal portals scale it) */
+    float segment[3];           /* capsules: the segment at the end (portals turn it) */
+} limen_slide_result;
+
+/* Collide and slide (Fauerby): moves node n by the world displacement d as a sphere of the
+ * radius (world units at its current scale) centred on its origin; at a contact it stops a
+ * hair short (1e-4 of the radius), removes the rest's part into the contact plane and goes
+ * on, at most 5 times. Continuous: no speed tunnels through a wall or skips a portal.
+ * Portals carry it as limen_node_move does (position, orientation, scale). n and its
+ * descendants do not collide with it. out may be NULL. */
+LIMEN_API limen_status limen_node_slide(limen_scene *s, limen_node n, const float d[3],
+                                        float radius, limen_slide_result *out);
+/* The same for a capsule: the segment from the node's origin to origin + segment (world,
+ * e.g. {0, -0.8, 0} from a person's eyes towards the knees) with the radius. Portals are
+ * passed by the origin, as limen_node_move passes them, and turn the segment. */
+LIMEN_API limen_status limen_node_slide_capsule(limen_scene *s, limen_node n, const float d[3],
+                                                float radius, const float segment[3],
+                                                limen_slide_result *out);
 
 /* ---------------------------------------------------------------- deprecated names */
 

@@ -455,6 +455,7 @@ const luaL_Reg limen__lua_node_methods[] = {
     { "link", l_node_link },
     { "move", l_node_move },
     { "find", l_node_find },
+    { "slide", limen__lua_node_slide },
     { NULL, NULL }
 };
 

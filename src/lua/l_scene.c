@@ -432,6 +432,7 @@ static const luaL_Reg scene_methods[] = {
     { "nodes", l_scene_nodes },
     { "render", limen__lua_scene_render },
     { "warnings", l_scene_warnings },
+    { "sweep", limen__lua_scene_sweep },
     { NULL, NULL }
 };
 
