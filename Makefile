@@ -204,6 +204,7 @@ BENCH      ?= quick
 BENCH_DEBS := gnuplot-nox libembree-dev
 BENCH_C    := bench/bench.c bench/matrices.c bench/scale.c bench/embree.c bench/speed.c bench/lod.c \
               bench/lod_build.c
+BENCH_C    += bench/collide.c
 BENCH_BIN  := $(BENCH_C:bench/%.c=$(B)/bench/%)
 # the floor and the classic stencil recursion that bench/speed measures limen against
 BENCH_BASE := bench/baseline.c

@@ -616,6 +616,9 @@ static bool gate_make(limen_scene *s, int slot, double reach, gate *g)
     const limen__node *n = &s->nodes[slot], *p = &s->nodes[n->pair - 1];
     if (!limen__surface_matrix_d(s, n, g->x) || !limen__d_inv(g->x, g->xinv))
         return false;
+    for (int i = 0; i < 16; i++)
+        if (!isfinite(g->x[i]) || !isfinite(g->xinv[i]))
+            return false;
     g->slot = slot;
     g->partner = (int)n->pair - 1;
     g->k = sqrt(g->x[0] * g->x[0] + g->x[1] * g->x[1] + g->x[2] * g->x[2]);
@@ -880,9 +883,17 @@ static limen_status sweep_run(limen_scene *s, const char *who, body bd, int igno
     limen_status st = limen__limits_resolve(s, who, limits, &w.lim);
     if (st)
         return st;
-    st = limen__scene_check(s);
-    if (st)
-        return st;
+    /* not limen__scene_check, which walks every node to check the scales of cameras and
+     * surfaces: a sweep costs what its path meets (a portal whose matrix is not finite is
+     * a wall, gate_make) */
+    limen__scene_refresh(s);
+    if (s->dirty)
+        return limen__fail(s, LIMEN_ERR_NOMEM, "%s: out of memory", who);
+    int bad = limen__scene_bad_world(s);
+    if (bad >= 0)
+        return limen__fail(s, LIMEN_ERR_ARG, "%s: '%s': its world transform is not finite (the "
+                           "scales along its parent chain multiply past what a float holds)",
+                           who, limen__node_title(&s->nodes[bad]));
     w.idx = limen__scene_index(s);
     if (!w.idx)
         return limen__fail(s, LIMEN_ERR_NOMEM, "%s: out of memory", who);
