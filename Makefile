@@ -15,6 +15,8 @@ DEBS     := pkg-config libosmesa6-dev libegl-dev libegl1-mesa-dev libgl-dev libl
             libmeshoptimizer-dev
 # ... and what the viewer's test needs: an X server, key presses, Mesa's GLX.
 TEST_DEBS := xvfb xdotool libgl1-mesa-dri libglx-mesa0
+# ... and what tests/sh/package.sh needs: a CMake project and LuaRocks build against limen.
+TEST_DEBS += cmake luarocks
 
 ALL_CFLAGS = -std=c11 -D_GNU_SOURCE -fPIC -fvisibility=hidden $(WARN) -Iinclude -Isrc \
              $(DEP_CFLAGS) $(CFLAGS)
@@ -23,26 +25,42 @@ ALL_CFLAGS = -std=c11 -D_GNU_SOURCE -fPIC -fvisibility=hidden $(WARN) -Iinclude 
 LIBS_NOLUA = $(DEP_LIBS_NOLUA) -lembree3 -lmeshoptimizer -lm -lpthread
 LIBS       = $(DEP_LIBS) -lembree3 -lmeshoptimizer -lm -lpthread
 
+# The version, read from include/limen.h (its one source): the shared library's file name
+# and soname, limen.pc, the CMake package and the rockspec all take it from here.
+VERSION_PART = $(shell sed -n 's/^\#define LIMEN_VERSION_$(1) \([0-9]*\).*/\1/p' include/limen.h)
+VERSION_MAJOR := $(call VERSION_PART,MAJOR)
+VERSION  := $(VERSION_MAJOR).$(call VERSION_PART,MINOR).$(call VERSION_PART,PATCH)
+SONAME   := liblimen.so.$(VERSION_MAJOR)
+
 # ------------------------------------------------------------------ objects
-CORE_SRC := src/core/error.c src/core/limits.c src/core/lmath.c src/core/scene.c src/core/surface.c src/core/move.c src/core/straddle.c src/core/bvh.c src/core/index.c src/core/rtc.c src/core/cull.c src/core/plan.c src/core/drawables.c src/core/trace.c src/core/image.c src/core/jpeg.c src/core/file.c src/core/mesh.c src/core/lod.c src/core/lod_target.c src/core/texture.c
+CORE_SRC := src/core/error.c src/core/limits.c src/core/lmath.c src/core/scene.c src/core/surface.c src/core/move.c src/core/straddle.c src/core/bvh.c src/core/index.c src/core/rtc.c src/core/cull.c src/core/plan.c src/core/drawables.c src/core/trace.c src/core/image.c src/core/jpeg.c src/core/file.c src/core/mesh.c src/core/lod.c src/core/lod_target.c src/core/lod_cache.c src/core/texture.c
+# the library's own version (limen_version)
+CORE_SRC += src/core/version.c
+CORE_SRC += src/core/import.c
+# levels of detail: the weld the simplifier is given (core/lod_weld.c)
+CORE_SRC += src/core/lod_weld.c
+CORE_SRC += src/core/model.c
 GL_SRC   := src/gl/render.c src/gl/views.c src/gl/stencil.c src/gl/shader.c src/gl/mesh.c src/gl/assets.c src/gl/batch.c src/gl/ctx_osmesa.c \
             src/gl/ctx_egl.c src/gl/ctx_host.c
 LUA_SRC  := src/lua/l_fields.c src/lua/l_node.c src/lua/l_scene.c src/lua/l_render.c src/lua/script.c src/lua/safe.c src/lua/guards.c
-LIB_SRC  := $(CORE_SRC) $(GL_SRC) $(LUA_SRC)
+# sorted: a file listed twice (two branches adding it) is built once
+LIB_SRC  := $(sort $(CORE_SRC) $(GL_SRC) $(LUA_SRC))
 CLI_SRC  := src/cli/main.c src/cli/common.c src/cli/trace_cmd.c src/cli/pose.c src/cli/view.c
-TEST_C   := tests/test_host.c tests/test_math.c tests/test_mesh.c tests/test_lod.c tests/test_projection.c tests/test_scene.c tests/test_plan.c tests/test_render.c tests/test_script.c tests/test_script_limits.c tests/test_trace.c tests/test_gallery.c tests/test_threads.c tests/test_truth.c tests/test_example_game.c tests/test_crossing.c tests/test_sweep_approach.c tests/test_sweep_grazing.c tests/test_sweep_depth.c tests/test_sweep_recursion.c tests/test_sweep_matrix.c tests/test_sweep_odd.c tests/test_scale.c
-# collision (sweeps, slides): core/collide.c, the Lua binding l_collide.c, test_collide
+TEST_C   := tests/test_host.c tests/test_math.c tests/test_mesh.c tests/test_lod.c tests/test_projection.c tests/test_scene.c tests/test_plan.c tests/test_render.c tests/test_script.c tests/test_script_limits.c tests/test_trace.c tests/test_gallery.c tests/test_threads.c tests/test_truth.c tests/test_example_game.c tests/test_crossing.c tests/test_sweep_approach.c tests/test_sweep_grazing.c tests/test_sweep_depth.c tests/test_sweep_recursion.c tests/test_sweep_matrix.c tests/test_sweep_odd.c tests/test_scale.c tests/test_model.c
+TEST_C   += tests/test_materials.c
 LIB_SRC  += src/core/collide.c src/lua/l_collide.c
 TEST_C   += tests/test_collide.c
 
+# the API as a user meets it: version, defaults
+TEST_C   += tests/test_api.c
 LUA_KIT  := lua/limen/kit.lua
 LIB_OBJ  := $(LIB_SRC:%.c=$(B)/obj/%.o) $(B)/obj/lua_kit.o
 CLI_OBJ  := $(CLI_SRC:%.c=$(B)/obj/%.o)
-TEST_BIN := $(TEST_C:tests/%.c=$(B)/tests/%)
+TEST_BIN := $(sort $(TEST_C:tests/%.c=$(B)/tests/%))
 ALL_OBJ  := $(LIB_OBJ) $(CLI_OBJ) $(TEST_C:%.c=$(B)/obj/%.o)
 
 .PHONY: all lib demo test install uninstall clean deps test-deps examples
-all: lib $(B)/limen $(B)/limen.so $(B)/limen.pc
+all: lib $(B)/limen $(B)/limen.so $(B)/limen.pc $(B)/cmake/limenConfig.cmake
 lib: $(B)/liblimen.a $(B)/liblimen.so
 
 # ------------------------------------------------------------------ dependencies
@@ -110,9 +128,11 @@ $(B)/liblimen.a: $(LIB_OBJ)
 	@rm -f $@
 	ar rcs $@ $^
 
+# liblimen.so.X.Y.Z, with soname liblimen.so.X (the major version) and links to it
 $(B)/liblimen.so: $(LIB_OBJ)
-	$(CC) -shared -Wl,-soname,liblimen.so.0 -o $@.0 $^ $(LIBS)
-	ln -sf liblimen.so.0 $@
+	$(CC) -shared -Wl,-soname,$(SONAME) -o $@.$(VERSION) $^ $(LIBS)
+	ln -sf liblimen.so.$(VERSION) $(B)/$(SONAME)
+	ln -sf $(SONAME) $@
 
 # The Lua module takes Lua's symbols from the interpreter that loads it.
 $(B)/limen.so: $(LIB_OBJ)
@@ -129,7 +149,7 @@ $(B)/limen.pc: Makefile
 	@{ echo "prefix=$(abspath $(B))"; echo "includedir=$(abspath include)"; \
 	   echo "libdir=$(abspath $(B))"; echo; \
 	   echo "Name: limen"; echo "Description: portal-and-mirror scene graph"; \
-	   echo "Version: 0.1.0"; echo "Requires.private: $(PKGS)"; \
+	   echo "Version: $(VERSION)"; echo "Requires.private: $(PKGS)"; \
 	   echo "Cflags: -I\$${includedir}"; \
 	   echo "Libs: -L\$${libdir} -Wl,-rpath,\$${libdir} -llimen"; \
 	   echo "Libs.private: -lembree3 -lmeshoptimizer -lm -lpthread"; } > $@
@@ -174,8 +194,9 @@ install: all
 	  $(DESTDIR)$(PREFIX)/bin $(DESTDIR)$(PREFIX)/lib/lua/5.4
 	install -m 644 include/limen.h $(DESTDIR)$(PREFIX)/include/
 	install -m 644 $(B)/liblimen.a $(DESTDIR)$(PREFIX)/lib/
-	install -m 755 $(B)/liblimen.so.0 $(DESTDIR)$(PREFIX)/lib/liblimen.so.0
-	ln -sf liblimen.so.0 $(DESTDIR)$(PREFIX)/lib/liblimen.so
+	install -m 755 $(B)/liblimen.so.$(VERSION) $(DESTDIR)$(PREFIX)/lib/
+	ln -sf liblimen.so.$(VERSION) $(DESTDIR)$(PREFIX)/lib/$(SONAME)
+	ln -sf $(SONAME) $(DESTDIR)$(PREFIX)/lib/liblimen.so
 	install -m 755 $(B)/limen.so $(DESTDIR)$(PREFIX)/lib/lua/5.4/limen.so
 	install -d $(DESTDIR)$(PREFIX)/share/lua/5.4/limen
 	install -m 644 $(LUA_KIT) $(DESTDIR)$(PREFIX)/share/lua/5.4/limen/kit.lua
@@ -183,15 +204,51 @@ install: all
 	sed -e 's|^prefix=.*|prefix=$(PREFIX)|' -e 's|^includedir=.*|includedir=$${prefix}/include|' \
 	    -e 's|^libdir=.*|libdir=$${prefix}/lib|' $(B)/limen.pc \
 	    > $(DESTDIR)$(PREFIX)/lib/pkgconfig/limen.pc
+	install -d $(DESTDIR)$(PREFIX)/lib/cmake/limen
+	install -m 644 $(B)/cmake/limenConfig.cmake $(B)/cmake/limenConfigVersion.cmake \
+	  $(DESTDIR)$(PREFIX)/lib/cmake/limen/
 
 uninstall:
 	rm -f $(DESTDIR)$(PREFIX)/include/limen.h $(DESTDIR)$(PREFIX)/lib/liblimen.* \
 	  $(DESTDIR)$(PREFIX)/lib/lua/5.4/limen.so $(DESTDIR)$(PREFIX)/bin/limen \
 	  $(DESTDIR)$(PREFIX)/share/lua/5.4/limen/kit.lua \
-	  $(DESTDIR)$(PREFIX)/lib/pkgconfig/limen.pc
+	  $(DESTDIR)$(PREFIX)/lib/pkgconfig/limen.pc \
+	  $(DESTDIR)$(PREFIX)/lib/cmake/limen/limenConfig.cmake \
+	  $(DESTDIR)$(PREFIX)/lib/cmake/limen/limenConfigVersion.cmake
 
 clean:
 	rm -rf $(B)
+
+# ---- packages for CMake and LuaRocks ------------------------------------------------------
+# CMake: make install puts lib/cmake/limen/limenConfig.cmake beside the libraries, so that
+# find_package(limen) gives the imported targets limen::limen (shared) and
+# limen::limen_static, with their dependencies (tests/cmake/ builds a program with each).
+# The config finds its prefix from its own place, so a DESTDIR install can be moved.
+$(B)/cmake/limenConfig.cmake: packaging/limenConfig.cmake.in packaging/limenConfigVersion.cmake.in \
+                              include/limen.h Makefile
+	@mkdir -p $(dir $@)
+	@sed -e 's|@VERSION@|$(VERSION)|g' -e 's|@SONAME@|$(SONAME)|g' -e 's|@PKGS@|$(PKGS)|g' \
+	     packaging/limenConfig.cmake.in > $@
+	@sed -e 's|@VERSION@|$(VERSION)|g' packaging/limenConfigVersion.cmake.in \
+	     > $(B)/cmake/limenConfigVersion.cmake
+
+# LuaRocks: limen-scm-1.rockspec (build type make) builds the Lua module with this Makefile
+# and installs it with install-rock; `make rockspec` writes the release's rockspec,
+# $(B)/limen-$(VERSION)-1.rockspec, from it.
+.PHONY: lua-module install-rock rockspec
+lua-module: $(B)/limen.so
+ROCK_CDIR ?= $(PREFIX)/lib/lua/5.4
+ROCK_LDIR ?= $(PREFIX)/share/lua/5.4
+install-rock: $(B)/limen.so
+	install -d $(ROCK_CDIR) $(ROCK_LDIR)/limen
+	install -m 755 $(B)/limen.so $(ROCK_CDIR)/limen.so
+	install -m 644 $(LUA_KIT) $(ROCK_LDIR)/limen/kit.lua
+
+rockspec: $(B)/limen-$(VERSION)-1.rockspec
+$(B)/limen-$(VERSION)-1.rockspec: limen-scm-1.rockspec include/limen.h
+	@mkdir -p $(B)
+	sed -e 's|^version = .*|version = "$(VERSION)-1"|' \
+	    -e 's|^\(  *\)branch = .*|\1tag = "v$(VERSION)",|' limen-scm-1.rockspec > $@
 
 # ---- benchmarks ---------------------------------------------------------------------------
 # `make bench` (quick, a few minutes) or `BENCH=full make bench` (the whole sweep): speed

@@ -12,9 +12,12 @@
 #define EGL_EGLEXT_PROTOTYPES
 #include <EGL/egl.h>
 #include <EGL/eglext.h>
+#include <fcntl.h>
+#include <spawn.h>
 #include <stdbool.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/wait.h>
 
 #include "limen.h"
 #include "check.h"
@@ -559,6 +562,160 @@ static void egl_leaves_context(void)
     limen_script_destroy(sc);
 }
 
+/* ------------------------------------------------------------------ contexts not limen's */
+
+/* Objects of the game's own, many of each, so that the names limen uses in its context
+ * (1, 2, 3, ...) are names of the game's too. */
+#define MANY 48
+typedef struct objects {
+    GLuint prog[MANY], buf[MANY], vao[MANY], tex[MANY], fbo[MANY];
+} objects;
+
+static void objects_make(objects *o)
+{
+    for (int i = 0; i < MANY; i++)
+        o->prog[i] = glCreateProgram();
+    glGenBuffers(MANY, o->buf);
+    glGenVertexArrays(MANY, o->vao);
+    glGenTextures(MANY, o->tex);
+    glGenFramebuffers(MANY, o->fbo);
+    for (int i = 0; i < MANY; i++) {        /* a name is an object once bound */
+        glBindBuffer(GL_ARRAY_BUFFER, o->buf[i]);
+        glBindVertexArray(o->vao[i]);
+        glBindTexture(GL_TEXTURE_2D, o->tex[i]);
+        glBindFramebuffer(GL_FRAMEBUFFER, o->fbo[i]);
+    }
+    glBindBuffer(GL_ARRAY_BUFFER, 0);
+    glBindVertexArray(0);
+    glBindTexture(GL_TEXTURE_2D, 0);
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+}
+
+static int objects_missing(const objects *o)
+{
+    int missing = 0;
+    for (int i = 0; i < MANY; i++)
+        missing += !glIsProgram(o->prog[i]) + !glIsBuffer(o->buf[i]) +
+                   !glIsVertexArray(o->vao[i]) + !glIsTexture(o->tex[i]) +
+                   !glIsFramebuffer(o->fbo[i]);
+    return missing;
+}
+
+/* A renderer made in the game's context A, called while the game's other context B is
+ * current: the frame is refused and says why, nothing in B changes (its state, pixels,
+ * objects, errors), and destroying the renderer there deletes none of B's objects. Back in
+ * A the renderer draws, and that success clears the refusal's message. */
+static void host_other_context(void)
+{
+    limen_script *sc = check_load_script("scenes/mirror_room.lua");
+    if (!sc)
+        return;
+    limen_scene *s = limen_script_scene(sc);
+    game a, b;
+    CHECK_OK(game_create(&a, W, H, 8));
+    CHECK_OK(game_create(&b, W, H, 8));
+    limen_renderer_desc d = { .backend = LIMEN_BACKEND_HOST, .width = W, .height = H,
+                              .gl_loader = loader };
+    for (int round = 0; round < 2; round++) {
+        CHECK_OK(game_current(&a));
+        limen_renderer *r = NULL;
+        CHECK_OK(limen_renderer_create(&d, &r));
+        /* the texture method: targets, framebuffers and textures of limen's own in A */
+        CHECK_OK(limen_render_frame(r, s, &(limen_render_opts){ .method = LIMEN_METHOD_TEXTURE },
+                                    NULL));
+        CHECK_OK(game_current(&b));
+        objects o;
+        objects_make(&o);
+        glClearColor(0, 1, 0, 1);
+        glClear(GL_COLOR_BUFFER_BIT);
+        glFinish();
+        CHECK(objects_missing(&o) == 0);
+        odd_state(&b, 0);
+        snapshot before, after;
+        take(&before);
+        if (round == 0) {
+            limen_status st = limen_render_frame(r, s, NULL, NULL);
+            CHECK(st != LIMEN_OK);
+            CHECK_MSG(strstr(limen_renderer_error(r), "not the one this renderer was created in"),
+                      "message: %s", limen_renderer_error(r));
+            CHECK(limen_renderer_read_rgb(r, (unsigned char[W * H * 3]){ 0 }) != LIMEN_OK);
+            CHECK(glGetError() == GL_NO_ERROR);
+            take(&after);
+            CHECK(same_state(&before, &after));
+            glFinish();
+            int touched = 0;
+            for (int i = 0; i < W * H; i++)
+                touched += b.buf[4 * i] != 0 || b.buf[4 * i + 1] != 255 || b.buf[4 * i + 2] != 0;
+            CHECK_MSG(touched == 0, "%d of the game's pixels drawn over in its other context",
+                      touched);
+            /* back in A: it draws, and the old message is gone */
+            CHECK_OK(game_current(&a));
+            CHECK_OK(limen_render_frame(r, s, NULL, NULL));
+            CHECK_MSG(limen_renderer_error(r)[0] == '\0', "after a good frame: %s",
+                      limen_renderer_error(r));
+            CHECK(off_reference(&a, r, s, LIMEN_METHOD_STENCIL) == 0);
+            CHECK_OK(game_current(&b));
+        }
+        limen_renderer_destroy(r);      /* B current: limen's objects live in A */
+        CHECK(glGetError() == GL_NO_ERROR);
+        CHECK_MSG(objects_missing(&o) == 0, "%d of the game's objects deleted by limen",
+                  objects_missing(&o));
+        take(&after);
+        CHECK(same_state(&before, &after));
+        CHECK(OSMesaGetCurrentContext() == b.ctx);
+    }
+    game_destroy(&b);
+    game_destroy(&a);
+    limen_script_destroy(sc);
+}
+
+/* An OpenGL 2.1 context (Mesa's version override, set for a child process of this test
+ * since Mesa reads it once) is refused by name and version, with no GL error left. */
+static void host_old_context(void)
+{
+    if (getenv("LIMEN_TEST_OLD_GL")) {     /* the child: its context is 2.1 */
+        OSMesaContext c = OSMesaCreateContextExt(OSMESA_RGBA, 24, 8, 0, NULL);
+        unsigned char *buf = calloc(W * H, 4);
+        CHECK(c && buf && OSMesaMakeCurrent(c, buf, GL_UNSIGNED_BYTE, W, H));
+        CHECK_MSG(strncmp((const char *)glGetString(GL_VERSION), "2.1", 3) == 0, "version %s",
+                  (const char *)glGetString(GL_VERSION));
+        limen_renderer *r = NULL;
+        limen_renderer_desc d = { .backend = LIMEN_BACKEND_HOST, .width = W, .height = H,
+                                  .gl_loader = loader };
+        CHECK(limen_renderer_create(&d, &r) == LIMEN_ERR_UNSUPPORTED);
+        CHECK_MSG(strstr(limen_renderer_error(r), "needs OpenGL 3.3 core, this context is 2.1"),
+                  "message: %s", limen_renderer_error(r));
+        CHECK_MSG(glGetError() == GL_NO_ERROR, "a GL error left pending");
+        limen_renderer_destroy(r);
+        CHECK(glGetError() == GL_NO_ERROR);
+        OSMesaMakeCurrent(NULL, NULL, GL_UNSIGNED_BYTE, 0, 0);
+        OSMesaDestroyContext(c);
+        free(buf);
+        return;
+    }
+    extern char **environ;
+    int n = 0;
+    while (environ[n])
+        n++;
+    char **env = calloc((size_t)n + 3, sizeof *env);
+    if (!env)
+        return;
+    memcpy(env, environ, sizeof *env * (size_t)n);
+    env[n] = "MESA_GL_VERSION_OVERRIDE=2.1";
+    env[n + 1] = "LIMEN_TEST_OLD_GL=1";
+    char *argv[] = { "test_host", "host_old_context", NULL };
+    pid_t pid;
+    int status = -1;
+    posix_spawn_file_actions_t fa;      /* the child's summary line is not this run's */
+    posix_spawn_file_actions_init(&fa);
+    posix_spawn_file_actions_addopen(&fa, 1, "/dev/null", O_WRONLY, 0);
+    CHECK(posix_spawn(&pid, "/proc/self/exe", &fa, NULL, argv, env) == 0 &&
+          waitpid(pid, &status, 0) == pid);
+    posix_spawn_file_actions_destroy(&fa);
+    CHECK_MSG(WIFEXITED(status) && WEXITSTATUS(status) == 0, "the 2.1 context's run failed");
+    free(env);
+}
+
 static const check_case cases[] = {
     { "host_frames", host_frames },
     { "host_without_stencil", host_without_stencil },
@@ -566,6 +723,8 @@ static const check_case cases[] = {
     { "host_resize", host_resize },
     { "osmesa_leaves_context", osmesa_leaves_context },
     { "egl_leaves_context", egl_leaves_context },
+    { "host_other_context", host_other_context },
+    { "host_old_context", host_old_context },
     { 0 },
 };
 

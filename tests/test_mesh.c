@@ -213,7 +213,7 @@ static void test_bad_files(void)
     expect_refused(s, m, write_text("junk.ply", "ply\nformat ascii 1.0\nelement vertex 9\n"),
                    "no end_header");
     expect_refused(s, m, write_text("lines.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nl 1 2 3\n"),
-                   "has points or lines");
+                   "no triangles in it (points and lines are skipped)");
     expect_refused(s, m, write_text("far.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nf 1 2 9\n"),
                    "vertex index out of range");
     expect_refused(s, m, write_text("inf.obj", "v 0 0 0\nv 1e999 0 0\nv 1 1 0\nf 1 2 3\n"),
@@ -602,6 +602,64 @@ static void test_texture_repeat(void)
     limen_scene_destroy(s);
 }
 
+/* Mipmap levels (limen_image.levels): halved (rounded down, at least 1) to 1 x 1, each
+ * texel the area-weighted average of those above it, so that at an odd size a texel of the
+ * level above splits between two below; and the filter's setter, getter and refusals. */
+static void test_texture_levels(void)
+{
+    enum { W = 5, H = 4 };
+    unsigned char px[W * H * 3];
+    for (int i = 0; i < W * H * 3; i++)
+        px[i] = (unsigned char)((i * 37 + i / 3 * 11) % 256);
+    char path[128];
+    snprintf(path, sizeof path, "%s/odd.png", dir);
+    CHECK_OK(limen_write_png(path, W, H, px));
+    limen_scene *s = new_scene();
+    limen_node q;
+    CHECK_OK(limen_node_create(s, LIMEN_NODE_QUAD, "q", &q));
+    CHECK_OK(limen_node_set_texture(s, q, path));
+    limen_texture_filter f = LIMEN_FILTER_NEAREST;
+    CHECK_OK(limen_node_get_texture_filter(s, q, &f));
+    CHECK(f == LIMEN_FILTER_TRILINEAR);
+    CHECK_OK(limen_node_set_texture_filter(s, q, LIMEN_FILTER_NEAREST));
+    CHECK(limen_node_set_texture_filter(s, q, (limen_texture_filter)7) == LIMEN_ERR_ARG);
+    CHECK(strstr(limen_scene_error(s), "texture filter: 7") != NULL);
+    CHECK(limen_node_set_texture_filter(s, (limen_node){ 0 }, LIMEN_FILTER_LINEAR) ==
+          LIMEN_ERR_HANDLE);
+    CHECK(limen_node_get_texture_filter(s, q, NULL) == LIMEN_ERR_ARG);
+    limen_drawables *d = NULL;
+    CHECK_OK(limen_drawables_create(&d));
+    CHECK_OK(limen_drawables_build(d, s));
+    const limen_drawable *items;
+    limen_drawables_items(d, &items);
+    const limen_drawable *it = &items[limen_drawables_find(d, q)];
+    CHECK(it->texture_filter == LIMEN_FILTER_NEAREST);  /* refused values leave it as it was */
+    const limen_image *im = it->texture;
+    CHECK(im && im->level_count == 3);
+    if (im && im->level_count == 3) {
+        CHECK(im->levels[0].rgb == im->rgb && im->levels[0].width == W);
+        CHECK(im->levels[1].width == 2 && im->levels[1].height == 2);
+        CHECK(im->levels[2].width == 1 && im->levels[2].height == 1);
+        /* level 1's texel (1, 0) (top right): columns 2.5 to 5 of rows 0 and 1, the middle
+         * column counting half */
+        for (int c = 0; c < 3; c++) {
+            double sum = 0;
+            for (int y = 0; y < 2; y++)
+                for (int x = 2; x < 5; x++)
+                    sum += (x == 2 ? 0.5 : 1.0) * px[(y * W + x) * 3 + c];
+            CHECK(abs(im->levels[1].rgb[3 + c] - (int)lround(sum / 5)) == 0);
+        }
+        /* level 2: the mean of level 1's bytes */
+        for (int c = 0; c < 3; c++) {
+            const unsigned char *l1 = im->levels[1].rgb;
+            int mean = (int)lround((l1[c] + l1[3 + c] + l1[6 + c] + l1[9 + c]) / 4.0);
+            CHECK(im->levels[2].rgb[c] == mean);
+        }
+    }
+    limen_drawables_destroy(d);
+    limen_scene_destroy(s);
+}
+
 /* An OBJ's map_Kd is used with the file's texture coordinates. */
 static void test_mesh_texture(void)
 {
@@ -622,11 +680,20 @@ static void test_mesh_texture(void)
     CHECK_NEAR(c[0], 0.5, 1e-6);
     CHECK_NEAR(c[2], 1, 1e-6);
     /* a missing texture is named with the mesh */
-    write_text("gone.mtl", "newmtl paint\nmap_Kd nothere.png\n");
+    write_text("gone.mtl", "newmtl paint\nKd 0.5 0.25 1\nmap_Kd nothere.png\n");
     const char *p2 = write_text("gone.obj", "mtllib gone.mtl\nv -1 -1 0\nv 1 -1 0\nv 1 1 0\n"
                                 "vt 0 0\nvt 1 0\nvt 1 1\nusemtl paint\nf 1/1 2/2 3/3\n");
-    CHECK(limen_mesh_load(s, m, p2) == LIMEN_ERR_IO);
-    CHECK_MSG(strstr(limen_scene_error(s), "nothere.png: cannot open"), "%s", limen_scene_error(s));
+    CHECK_OK(limen_mesh_load(s, m, p2));       /* kept, untextured, with a warning */
+    CHECK(limen_scene_warning_count(s) == 1);
+    const char *w = limen_scene_warning(s, 0);
+    CHECK_MSG(w && strncmp(w, p2, strlen(p2)) == 0 && strstr(w, ": warning: ") &&
+              strstr(w, "nothere.png") && strstr(w, "not found"), "%s", w ? w : "(none)");
+    albedo_at(s, 0.5f, -0.5f, c);             /* its own colour, Kd */
+    CHECK_NEAR(c[0], 0.5, 1e-6);
+    CHECK_NEAR(c[1], 0.25, 1e-6);
+    CHECK_NEAR(c[2], 1, 1e-6);
+    limen_scene_clear_warnings(s);
+    CHECK(limen_scene_warning_count(s) == 0 && !limen_scene_warning(s, 0));
     limen_scene_destroy(s);
 }
 
@@ -742,6 +809,7 @@ static const check_case cases[] = {
     { "light_range", test_light_range },
     { "texture_sampling", test_texture_sampling },
     { "texture_repeat", test_texture_repeat },
+    { "texture_levels", test_texture_levels },
     { "mesh_texture", test_mesh_texture },
     { "script", test_script },
     { "script_safety", test_script_safety },

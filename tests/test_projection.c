@@ -399,7 +399,7 @@ static void test_oblique_refused(void)
     }
 }
 
-/* The mirror case end to end (DESIGN.md): camera at the origin looking down -Z (V = I), a
+/* The mirror case end to end (docs/DESIGN.md): camera at the origin looking down -Z (V = I), a
  * mirror facing it; the virtual view is V' = V X^-1 = M (a reflection is its own inverse),
  * the clip plane in its space C_view = (V'^-1)^T C_world has the virtual eye behind it, and
  * the oblique projection keeps exactly the world in front of the mirror. */

@@ -1,4 +1,4 @@
-/* test_render.c - the plain renderer: shading against the formula of DESIGN.md, the
+/* test_render.c - the plain renderer: shading against the formula of docs/DESIGN.md, the
  * background, both backends, depth conventions, MSAA, statistics and errors. */
 #include <stdlib.h>
 
@@ -74,7 +74,7 @@ static void pixel_ray(limen_scene *s, int x, int y, double o[3], double d[3])
     }
 }
 
-/* DESIGN.md's shading formula at point p with normal n, in 8-bit. */
+/* docs/DESIGN.md's shading formula at point p with normal n, in 8-bit. */
 static void shade(const double p[3], const double n[3], const float albedo[3], int out[3])
 {
     double l[3] = { LIGHT[0] - p[0], LIGHT[1] - p[1], LIGHT[2] - p[2] };
@@ -309,6 +309,99 @@ static void test_upload_failure(void)
     }
 }
 
+/* A grid of G x G squares (2 G^2 triangles) over [-0.5, 0.5]^2 in z = 0. */
+#define G 16
+static limen_status grid_mesh(limen_scene *s, limen_node n)
+{
+    static float pos[(G + 1) * (G + 1) * 3];
+    static uint32_t idx[G * G * 6];
+    for (int y = 0; y <= G; y++)
+        for (int x = 0; x <= G; x++) {
+            float *p = &pos[(y * (G + 1) + x) * 3];
+            p[0] = (float)x / G - 0.5f, p[1] = (float)y / G - 0.5f, p[2] = 0;
+        }
+    int k = 0;
+    for (int y = 0; y < G; y++)
+        for (int x = 0; x < G; x++) {
+            uint32_t a = (uint32_t)(y * (G + 1) + x), b = a + 1, c = a + G + 1, d = c + 1;
+            uint32_t t[6] = { a, b, d, a, d, c };
+            for (int j = 0; j < 6; j++)
+                idx[k++] = t[j];
+        }
+    return limen_mesh_set_triangles(s, n, &(limen_mesh_data){ .positions = pos,
+                                                              .vertex_count = (G + 1) * (G + 1),
+                                                              .indices = idx,
+                                                              .triangle_count = G * G * 2 });
+}
+
+/* The frame budget's triangles: eight grids of 512 triangles before a mirror that shows
+ * them all again. Room for both views draws both; room for one and a half drops the
+ * mirror's view (truncated, LIMEN_BUDGET_TRIANGLES); room for half the camera's own view
+ * keeps that view (always drawn) but draws only half its meshes; a negative budget is
+ * refused. */
+static void test_triangle_budget(void)
+{
+    enum { N = 8, T = G * G * 2 };
+    limen_scene *s = NULL;
+    limen_renderer *r = NULL;
+    CHECK_OK(limen_scene_create(NULL, &s));
+    CHECK_OK(limen_renderer_create(&(limen_renderer_desc){ .width = W, .height = H }, &r));
+    if (!s || !r) {
+        limen_scene_destroy(s);
+        limen_renderer_destroy(r);
+        return;
+    }
+    limen_node cam, light, mirror, m;
+    CHECK_OK(limen_node_create(s, LIMEN_NODE_CAMERA, "eye", &cam));
+    CHECK_OK(limen_scene_set_camera(s, cam));
+    CHECK_OK(limen_node_look_at(s, cam, (float[3]){ 0, 0, 4 }, (float[3]){ 0, 0, 0 },
+                                (float[3]){ 0, 1, 0 }));
+    CHECK_OK(limen_node_create(s, LIMEN_NODE_LIGHT, "lamp", &light));
+    CHECK_OK(limen_node_set_position(s, light, (float[3]){ 0, 2, 4 }));
+    CHECK_OK(limen_node_create(s, LIMEN_NODE_MIRROR, "mirror", &mirror));
+    CHECK_OK(limen_node_set_position(s, mirror, (float[3]){ 0, 0, -2 }));
+    CHECK_OK(limen_node_set_dims(s, mirror, (float[3]){ 8, 8, 0 }));
+    for (int i = 0; i < N; i++) {
+        CHECK_OK(limen_node_create(s, LIMEN_NODE_MESH, NULL, &m));
+        CHECK_OK(grid_mesh(s, m));
+        CHECK_OK(limen_node_set_position(s, m, (float[3]){ (float)(i % 4) - 1.5f,
+                                                          i < 4 ? 0.6f : -0.6f, 0 }));
+        CHECK_OK(limen_node_set_scale(s, m, (float[3]){ 0.5f, 0.5f, 0.5f }));
+    }
+    static const int64_t budgets[3] = { 4 * N * T, 3 * N * T / 2, N * T / 2 };
+    for (int k = 0; k < 3; k++) {
+        limen_render_opts o = { .limits = { .lod_pixels = LIMEN_LOD_FULL } };
+        o.limits.budget.triangles = budgets[k];
+        limen_frame_stats st = { 0 };
+        CHECK_OK(limen_render_frame(r, s, &o, &st));
+        limen_plan_work w;
+        limen_plan_get_work(limen_renderer_plan(r), &w);
+        /* the mirror's quad is the frame's one other drawing: 2 triangles a view at most */
+        uint64_t mesh_tris = st.triangles - (st.triangles % T);
+        if (k == 0) {
+            CHECK(st.views == 2 && st.truncated == 0 && w.budgets_hit == 0);
+            CHECK_MSG(w.triangles == 2 * N * T, "plan counted %lld", (long long)w.triangles);
+            CHECK_MSG(mesh_tris == 2 * N * T, "drew %llu", (unsigned long long)st.triangles);
+        } else if (k == 1) {
+            CHECK_MSG(st.views == 1 && st.truncated == 1, "views %d truncated %d", st.views,
+                      st.truncated);
+            CHECK(w.budgets_hit == LIMEN_BUDGET_TRIANGLES);
+            CHECK(w.triangles == N * T);
+            CHECK_MSG(mesh_tris == N * T, "drew %llu", (unsigned long long)st.triangles);
+        } else {
+            CHECK_MSG(st.views == 1 && st.truncated == 2, "views %d truncated %d", st.views,
+                      st.truncated);
+            CHECK(w.budgets_hit == LIMEN_BUDGET_TRIANGLES);
+            CHECK_MSG(mesh_tris == N * T / 2, "drew %llu", (unsigned long long)st.triangles);
+        }
+    }
+    limen_render_opts bad = { 0 };
+    bad.limits.budget.triangles = -1;
+    CHECK(limen_render_frame(r, s, &bad, NULL) == LIMEN_ERR_ARG);
+    limen_renderer_destroy(r);
+    limen_scene_destroy(s);
+}
+
 static const check_case cases[] = {
     { "sphere_and_background", test_sphere_and_background },
     { "floor_checker", test_floor_checker },
@@ -318,6 +411,7 @@ static const check_case cases[] = {
     { "moving_node_changes_frame", test_moving_node_changes_frame },
     { "errors", test_errors },
     { "upload_failure", test_upload_failure },
+    { "triangle_budget", test_triangle_budget },
     { 0 },
 };
 

@@ -276,7 +276,7 @@ static limen_scene *build_scene(const config *c, const double g[16], double cam_
     return s;
 }
 
-/* X of a surface from the scene's float world matrices, in double, by DESIGN.md's formulas
+/* X of a surface from the scene's float world matrices, in double, by docs/DESIGN.md's formulas
  * (the reflection about the plane W^-T (0,0,1,0); W_B R_y(180) W_A^-1 for a portal). */
 static void lib_x(limen_scene *s, limen_node n, limen_node partner, int mirror, double x[16])
 {

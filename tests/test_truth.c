@@ -18,7 +18,7 @@
 static const char *const scenes[] = {
     "plain", "mirror_room", "corridor", "kaleidoscope", "periscope", "water", "portals",
     "tunnel", "portal_mirror", "portal_sizes", "moving_portal", "flythrough",
-    "hall_of_mirrors", "portal_rooms", "portal_statue", NULL,
+    "hall_of_mirrors", "portal_rooms", "portal_statue", "level", NULL,
 };
 
 static double now_ms(void)
@@ -201,6 +201,121 @@ static void test_texture_repeat(void)
     limen_scene_destroy(s);
 }
 
+/* Mean absolute difference of two RGB images over every channel, in 8-bit steps. */
+static double mean_error(const unsigned char *a, const unsigned char *b, size_t n)
+{
+    double sum = 0;
+    for (size_t i = 0; i < n * 3; i++)
+        sum += abs((int)a[i] - (int)b[i]);
+    return sum / (double)(n * 3);
+}
+
+/* Filter f on test_mipmaps' floor and wall. */
+static void floor_filter(limen_scene *s, limen_node floor, limen_texture_filter f)
+{
+    CHECK_OK(limen_node_set_texture_filter(s, floor, f));
+    limen_node wall;
+    if (limen_node_find(s, "wall", &wall) == LIMEN_OK)
+        CHECK_OK(limen_node_set_texture_filter(s, wall, f));
+}
+
+/* Mipmaps (limen_node_set_texture_filter): a distant tiled floor and a sloping mesh wall,
+ * directly, in a mirror and through a scaled portal. With every filter both methods stay within the bound of the
+ * truth (the tracer picks each pixel's level from its ray differentials as OpenGL does from
+ * its neighbours). Against an area-averaged truth (a trace at 4 x 4 the pixels with the full
+ * image, box-filtered down), the trilinear frames, traced and rendered, are at least twice
+ * as close as the frames without mipmaps, which speckle in the distance. */
+static void test_mipmaps(void)
+{
+    const int w = 320, h = 240, k = 4;
+    limen_scene *s = NULL;
+    limen_renderer *r = NULL;
+    limen_node cam, lamp, floor, mirror, a, b;
+    if (!stage(w, h, &s, &r, &cam, &lamp, LIMEN_NODE_QUAD, "floor", &floor, LIMEN_NODE_MIRROR,
+               "mirror", &mirror))
+        return;
+    CHECK_OK(limen_node_create(s, LIMEN_NODE_PORTAL, "a", &a));
+    CHECK_OK(limen_node_create(s, LIMEN_NODE_PORTAL, "b", &b));
+    /* looking down on it from 10 m: the tiles shrink to a few pixels and less */
+    CHECK_OK(limen_node_look_at(s, cam, (float[3]){ 0, 10, 4 }, (float[3]){ 0.3f, 0, -8 },
+                                (float[3]){ 0, 1, 0 }));
+    CHECK_OK(limen_node_set_position(s, lamp, (float[3]){ 0, 6, 0 }));
+    CHECK_OK(limen_node_set_rotation(s, floor, (float[3]){ -1.5707963f, 0, 0 }));
+    CHECK_OK(limen_node_set_position(s, floor, (float[3]){ 0, 0, -20 }));
+    CHECK_OK(limen_node_set_dims(s, floor, (float[3]){ 60, 60, 0 }));
+    CHECK_OK(limen_node_set_texture(s, floor, "scenes/data/tiles.png"));
+    CHECK_OK(limen_node_set_texture_repeat(s, floor, (float[2]){ 80, 80 }));
+    /* the mirror's front (+Z) away from the point it "looks at" */
+    CHECK_OK(limen_node_look_at(s, mirror, (float[3]){ 2.6f, 1.4f, -3 }, (float[3]){ 3.6f, 1.6f, -5 },
+                                (float[3]){ 0, 1, 0 }));
+    CHECK_OK(limen_node_set_dims(s, mirror, (float[3]){ 2.2f, 2, 0 }));
+    CHECK_OK(limen_node_look_at(s, a, (float[3]){ -2.2f, 1.1f, -1 }, (float[3]){ -2.2f, 1.1f, -9 },
+                                (float[3]){ 0, 1, 0 }));
+    CHECK_OK(limen_node_set_dims(s, a, (float[3]){ 1.6f, 1.6f, 0 }));
+    CHECK_OK(limen_node_look_at(s, b, (float[3]){ 4, 2.5f, -14 }, (float[3]){ 2, 3.5f, -10 },
+                                (float[3]){ 0, 1, 0 }));
+    CHECK_OK(limen_node_set_dims(s, b, (float[3]){ 3.2f, 3.2f, 0 }));
+    CHECK_OK(limen_portal_link(s, a, b));
+    /* a wall of triangles with texture coordinates of their own, sloping away: its level
+     * comes from the triangle's texture-coordinate gradient */
+    limen_node wall;
+    CHECK_OK(limen_node_create(s, LIMEN_NODE_MESH, "wall", &wall));
+    static const float wall_pos[] = { 0, 0, 0, 12, 0, -14, 12, 3, -14, 0, 2, 0 };
+    static const float wall_uv[] = { 0, 0, 6, 0, 6, 1.5f, 0, 1 };
+    static const uint32_t wall_idx[] = { 0, 1, 2, 0, 2, 3 };
+    CHECK_OK(limen_mesh_set_triangles(s, wall, &(limen_mesh_data){
+        .positions = wall_pos, .uvs = wall_uv, .vertex_count = 4, .indices = wall_idx,
+        .triangle_count = 2 }));
+    CHECK_OK(limen_node_set_position(s, wall, (float[3]){ -9, 0, -1 }));
+    CHECK_OK(limen_node_set_texture(s, wall, "scenes/data/bricks.png"));
+    CHECK_OK(limen_node_set_texture_repeat(s, wall, (float[2]){ 4, 4 }));
+    /* the area-averaged truth */
+    floor_filter(s, floor, LIMEN_FILTER_LINEAR);
+    unsigned char *big = malloc((size_t)w * h * k * k * 3), *area = malloc((size_t)w * h * 3);
+    CHECK_OK(limen_trace_image(s, &(limen_trace_desc){ .width = w * k, .height = h * k }, big));
+    for (int y = 0; y < h; y++)
+        for (int x = 0; x < w; x++)
+            for (int c = 0; c < 3; c++) {
+                int sum = 0;
+                for (int j = 0; j < k; j++)
+                    for (int i = 0; i < k; i++)
+                        sum += big[(((size_t)(y * k + j) * w * k) + (size_t)(x * k + i)) * 3 + c];
+                area[((size_t)y * w + x) * 3 + c] = (unsigned char)((sum + k * k / 2) / (k * k));
+            }
+    free(big);
+    const limen_texture_filter filters[3] = { LIMEN_FILTER_TRILINEAR, LIMEN_FILTER_LINEAR,
+                                              LIMEN_FILTER_NEAREST };
+    const char *names[3] = { "trilinear", "linear", "nearest" };
+    double err[3][3];   /* filter; trace, stencil, texture */
+    unsigned char *rgb = malloc((size_t)w * h * 3);
+    for (int f = 0; f < 3; f++) {
+        floor_filter(s, floor, filters[f]);
+        double ms;
+        unsigned char *truth = trace(s, w, h, -1, &ms);
+        err[f][0] = mean_error(truth, area, (size_t)w * h);
+        for (int m = 0; m < 2; m++) {
+            double d = bad_share(r, s, (limen_render_opts){ .method = m }, truth, w, h, NULL);
+            CHECK_MSG(d <= BOUND, "%s, %s: %.3f%% of pixels off", names[f],
+                      m ? "texture" : "stencil", 100 * d);
+            limen_render_frame(r, s, &(limen_render_opts){ .method = m }, NULL);
+            CHECK_OK(limen_renderer_read_rgb(r, rgb));
+            err[f][1 + m] = mean_error(rgb, area, (size_t)w * h);
+            printf("     tiled floor, %s, %s: %.3f%% of pixels off the trace; mean error to "
+                   "the area average: trace %.2f, render %.2f\n", names[f],
+                   m ? "texture" : "stencil", 100 * d, err[f][0], err[f][1 + m]);
+        }
+        free(truth);
+    }
+    for (int i = 0; i < 3; i++)
+        CHECK_MSG(2 * err[0][i] <= err[1][i],
+                  "%s: trilinear %.2f from the area average, linear %.2f (not twice as far)",
+                  i == 0 ? "trace" : i == 1 ? "stencil" : "texture", err[0][i], err[1][i]);
+    free(rgb);
+    free(area);
+    limen_renderer_destroy(r);
+    limen_scene_destroy(s);
+}
+
 /* Meshes are not convex: drawn first in a view that sees no surface (the camera's here, and
  * the mirror's), a bunny must still hide its own far side. Its levels of detail, picked per
  * view under a pixel of error, stay within the bound of the full mesh's truth. */
@@ -372,6 +487,7 @@ static const check_case cases[] = {
     { "gallery_640x480", test_gallery_640x480 },
     { "statue", test_statue },
     { "texture_repeat", test_texture_repeat },
+    { "mipmaps", test_mipmaps },
     { "field", test_field },
     { "metric_has_teeth", test_metric_has_teeth },
     { 0 },

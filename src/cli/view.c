@@ -305,7 +305,8 @@ static void reload(viewer *v, int keep)
         st = limen_script_update(next, v->t);
     if (st) {
         v->said[0] = '\0';
-        say_error(v, next ? limen_script_error(next) : limen_status_string(st));
+        char msg[1400];
+        say_error(v, limen_cli_script_error(next, st, msg, sizeof msg));
         fprintf(stderr, "limen: keeping the last good scene\n");
         limen_script_destroy(next);
         return;
@@ -584,7 +585,7 @@ int limen_cli_view(int argc, char **argv)
     viewer v = { .speed = 2.0 };
     /* the viewer's own options; the rest are render's */
     char **rest = calloc((size_t)argc + 1, sizeof *rest);
-    int nrest = 0, trusted = 0;
+    int nrest = 0;
     limen_cli_pose pose = { 0 };
     limen_renderer_desc rd;
     if (!rest)
@@ -613,7 +614,7 @@ int limen_cli_view(int argc, char **argv)
             rest[nrest++] = argv[i];
         }
     }
-    int rc = limen_cli_render_options(nrest, rest, &v.path, &rd, &v.ro, &trusted, &pose);
+    int rc = limen_cli_render_options(nrest, rest, &v.path, &rd, &v.ro, &v.desc, &pose);
     free(rest);
     if (rc)
         return rc;
@@ -627,13 +628,13 @@ int limen_cli_view(int argc, char **argv)
     size_t n = strlen(v.name);
     if (n > 4 && !strcmp(v.name + n - 4, ".lua"))
         v.name[n - 4] = '\0';
-    v.desc.trusted = trusted;
     file_changed(&v);
     limen_status st = limen_script_load(v.path, &v.desc, &v.sc);
     if (!st && limen_script_animated(v.sc))
         st = limen_script_update(v.sc, 0);
     if (st) {
-        fprintf(stderr, "limen: %s\n", v.sc ? limen_script_error(v.sc) : limen_status_string(st));
+        char msg[1400];
+        fprintf(stderr, "limen: %s\n", limen_cli_script_error(v.sc, st, msg, sizeof msg));
         limen_script_destroy(v.sc);
         return 1;
     }

@@ -93,6 +93,26 @@ int limen__plan_surface_slots(limen_scene *s, const int **out)
     return x ? limen__index_surface_slots(x, out) : s->cap;
 }
 
+/* The shapes of the index whose boxes meet view v's region, as node slots in *hits (grown
+ * as needed); their count, or -1 when out of memory. */
+static int query_shapes(const limen_plan *p, limen__spatial *x, const limen__pview *v,
+                        int **hits, int *cap)
+{
+    const limen__bvh *b = limen__index_shapes(x);
+    double planes[5][4];
+    int np = view_planes(p, v, planes), n = 0;
+    if (limen__bvh_query_planes(b, (const double(*)[4])planes, np, slack_for(b, v), hits, &n,
+                                cap, NULL) < 0)
+        return -1;
+    return n;
+}
+
+int limen__plan_view_shapes(limen_plan *p, limen_scene *s, const limen__pview *v)
+{
+    limen__spatial *x = limen__scene_index(s);
+    return x ? query_shapes(p, x, v, &p->shape_hits, &p->shape_hits_cap) : -1;
+}
+
 int limen_plan_view_things(const limen_plan *p, limen_scene *s, int i, limen_node *out, int max)
 {
     if (!p || !s || i < 0 || i >= p->count || max < 0 || (max > 0 && !out)) {
@@ -106,11 +126,9 @@ int limen_plan_view_things(const limen_plan *p, limen_scene *s, int i, limen_nod
         return -1;
     }
     const limen__pview *v = &p->pv[p->dfs_to_bfs[i]];
-    const limen__bvh *b = limen__index_shapes(x);
-    double planes[5][4];
-    int np = view_planes(p, v, planes), n = 0, cap = 0, *hits = NULL;
-    if (limen__bvh_query_planes(b, (const double(*)[4])planes, np, slack_for(b, v), &hits, &n,
-                                &cap, NULL) < 0) {
+    int cap = 0, *hits = NULL;
+    int n = query_shapes(p, x, v, &hits, &cap);
+    if (n < 0) {
         free(hits);
         limen__fail(s, LIMEN_ERR_NOMEM, "plan_view_things: out of memory");
         return -1;

@@ -1,13 +1,14 @@
 /* image.c - PNG in and out, JPEG out (stb_image, stb_image_write) and image comparison. */
 #include <limits.h>
+#include <pthread.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
 #define STB_IMAGE_IMPLEMENTATION
 #define STB_IMAGE_STATIC
-#define STBI_ONLY_PNG
-#define STBI_ONLY_JPEG
+/* every format stb_image reads (PNG, JPEG, TGA, BMP, PSD, GIF, HDR, PIC, PNM): model files
+ * name textures in all of them */
 #include "core/stb_quiet.h"
 LIMEN__STB_BEGIN
 #include <stb_image.h>
@@ -149,6 +150,23 @@ unsigned char *limen__image_decode(const unsigned char *buf, size_t len, int *w,
     if (len > INT_MAX)
         return NULL;
     return stbi_load_from_memory(buf, (int)len, w, h, &n, 3);
+}
+
+static void hdr_linear(void)
+{
+    stbi_hdr_to_ldr_gamma(1.0f);
+    stbi_hdr_to_ldr_scale(1.0f);
+}
+
+unsigned char *limen__image_decode_rgba(const unsigned char *buf, size_t len, int *w, int *h)
+{
+    int n = 0;
+    if (len > INT_MAX)
+        return NULL;
+    /* HDR: linear values clamped to [0, 1], no tone curve (colours are linear here) */
+    static pthread_once_t once = PTHREAD_ONCE_INIT;
+    pthread_once(&once, hdr_linear);
+    return stbi_load_from_memory(buf, (int)len, w, h, &n, 4);
 }
 
 bool limen__image_info(const unsigned char *buf, size_t len, int *w, int *h)

@@ -191,6 +191,7 @@ static bool refresh_walk(limen_scene *s, bool all)
 
 void limen__scene_refresh(limen_scene *s)
 {
+    limen__meshes_settle(s, false);     /* levels of detail made on another thread */
     if (!s->dirty)
         return;
     bool all = s->all_stale || !s->world_valid, deep = all;

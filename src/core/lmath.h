@@ -2,7 +2,7 @@
  * Not part of the public API (the public wrappers over float[16] live in limen.h). No GL,
  * no Lua.
  *
- * Conventions (DESIGN.md): right-handed world, +Y up, cameras look down local -Z. cglm
+ * Conventions (docs/DESIGN.md): right-handed world, +Y up, cameras look down local -Z. cglm
  * matrices: column-major, column vectors, v' = M v, element (row i, column j) is m[j][i].
  * A plane is (n.x, n.y, n.z, d) with |n| = 1, n.p + d = 0 on it, n.p + d > 0 its front;
  * planes transform as covectors, C' = (M^-1)^T C. Angles are radians.
@@ -80,7 +80,7 @@ limen_status limen__look_at(const vec3 eye, const vec3 center, const vec3 up, ma
  * 0 < n < f, all finite, else ARG. NO maps near/far to -1/1, ZO to 0/1, ZO_REVERSED to 1/0. */
 limen_status limen__perspective(float fovy, float aspect, float n, float f,
                                 limen_depth_range range, mat4 out);
-/* Oblique near-plane projection (Lengyel 2005; DESIGN.md's three formulas): the near plane
+/* Oblique near-plane projection (Lengyel 2005; docs/DESIGN.md's three formulas): the near plane
  * of proj becomes c_view (view space, front = what stays visible) and the far plane is
  * tilted through the far corner Q = P^-1 (sgn C.x, sgn C.y, z_far, 1), which keeps the
  * original far face inside. Refusals, out untouched:

@@ -21,16 +21,27 @@
  * its distances, are core/lod_target.c's. */
 #include <float.h>
 #include <math.h>
+#include <pthread.h>
+#include <stdatomic.h>
 #include <string.h>
 
 #include <meshoptimizer.h>
 
 #include "core/internal.h"
+#include "core/lod_cache.h"
 #include "core/lod_target.h"
+#include "core/lod_weld.h"
 #include "core/mesh.h"
+#include "core/texture.h"
 
 #define MAX_LEVELS 12           /* the full mesh and up to 11 coarser ones */
+#define LOD_VERSION 3           /* of how levels are made and measured: levels kept between
+                                 * runs (core/lod_cache.c) are keyed by it, so change it with
+                                 * anything that changes a level or its error */
 #define MIN_TRIS 16             /* a level this small gets no halved successor */
+#define STUCK_ABOVE 32          /* the simplifier stuck above this fraction of the full mesh's
+                                 * triangles lets the seams go, then clusters (below, the
+                                 * levels end: both would mix the texture's charts) */
 #define SOURCE_STEP 3           /* a level is simplified from the one this many before */
 #define REL_TOL 0.1             /* a piece's bound may exceed the largest distance found by this */
 #define MAX_DEPTH 4             /* pieces per triangle: at most 4^4 */
@@ -76,6 +87,8 @@ typedef struct side {
     uint32_t seen_mask, nseen;
     bool nomem;
     uint32_t *marks, mark;      /* per triangle of to: the last cover_bound that met it */
+    const atomic_bool *stop;    /* where not NULL and set: give up (a build no longer wanted) */
+    bool stopped;
 } side;
 
 /* q's nearest triangle and distance (the largest found raises lower and the floor). */
@@ -568,9 +581,14 @@ static bool side_corners(side *sd)
 static double side_bound(side *sd)
 {
     const limen__mesh *from = sd->from;
-    for (uint32_t t = 0; t < from->ntris; t++)
+    for (uint32_t t = 0; t < from->ntris; t++) {
+        if (sd->stop && t % 1024 == 0 && atomic_load_explicit(sd->stop, memory_order_relaxed)) {
+            sd->stopped = true;
+            break;
+        }
         piece(sd, &sd->pts[from->idx[t * 3]], &sd->pts[from->idx[t * 3 + 1]],
               &sd->pts[from->idx[t * 3 + 2]], 0);
+    }
     free(sd->pts);
     sd->pts = NULL;
     return fmax(sd->lower, *sd->upper);
@@ -579,9 +597,9 @@ static double side_bound(side *sd)
 /* A bound on the two-sided distance between a level (idx, a mesh over the full mesh's
  * vertices, welded: per corner of the full mesh, weld names its vertex at the same position)
  * and the full mesh, or floor where the distance is no more than floor; NAN when out of
- * memory. */
+ * memory or stopped (stop, where not NULL, set). */
 static double level_error(const target *full, const uint32_t *weld, const uint32_t *idx,
-                          uint32_t ntris, double floor)
+                          uint32_t ntris, double floor, const atomic_bool *stop)
 {
     const limen__mesh *m = full->m;
     limen__mesh lv = { .nverts = m->nverts, .ntris = ntris, .pos = m->pos,
@@ -597,13 +615,15 @@ static double level_error(const target *full, const uint32_t *weld, const uint32
          * both find their corners' distances before cutting */
         double upper = 0;
         side there = { .from = &lv, .to = full, .floor = &floor, .upper = &upper,
-                       .abs_tol = tol };
+                       .abs_tol = tol, .stop = stop };
         side back = { .from = m, .to = &level, .weld = weld, .floor = &floor,
-                      .upper = &upper, .abs_tol = tol };
+                      .upper = &upper, .abs_tol = tol, .stop = stop };
         there.marks = calloc(full->m->ntris, sizeof *there.marks);
         back.marks = calloc(ntris, sizeof *back.marks);
-        if (there.marks && back.marks && side_corners(&there) && side_corners(&back))
-            e = fmax(fmax(side_bound(&there), side_bound(&back)), floor);
+        if (there.marks && back.marks && side_corners(&there) && side_corners(&back)) {
+            double a = side_bound(&there), b = there.stopped ? 0 : side_bound(&back);
+            e = there.stopped || back.stopped ? NAN : fmax(fmax(a, b), floor);
+        }
         free(there.pts);
         free(back.pts);
         free(there.seen);
@@ -619,69 +639,222 @@ static double level_error(const target *full, const uint32_t *weld, const uint32
 
 /* ------------------------------------------------------------------ building */
 
-/* The simplifier names, at each corner, the first vertex at its position (the weld). Where
- * several share the position (a seam: a crease in the normals, an edge of the texture),
- * each corner takes instead the one whose normal is nearest its triangle's own, the side
- * of the seam the triangle lies on. False when out of memory (the corners stay). */
-static bool seam_sides(const limen__mesh *m, const uint32_t *shadow, uint32_t *idx, size_t n)
+/* Levels made: a block with room for MAX_LEVELS limen_mesh_lod, then the coarse levels'
+ * indices, `used` of them, level k's from at[k]. */
+typedef struct made {
+    unsigned char *block;
+    uint32_t nlods;
+    size_t at[MAX_LEVELS], used;
+} made;
+
+#define HEAD (sizeof(limen_mesh_lod) * MAX_LEVELS)
+
+/* What m's levels hold, as m->bytes counts them: before any are made, limen__mesh_bytes
+ * counted them as one more copy of the indices. */
+static size_t lods_bytes(const limen__mesh *m)
 {
-    uint32_t nv = m->nverts;
-    uint32_t *weld = malloc(sizeof *weld * nv), *first = calloc(nv + 1, sizeof *first),
-             *members = malloc(sizeof *members * nv);
-    bool ok = weld && first && members;
-    for (uint32_t v = 0; ok && v < nv; v++)
-        weld[v] = UINT32_MAX;
-    for (size_t i = 0; ok && i < (size_t)m->ntris * 3; i++)
-        weld[m->idx[i]] = shadow[i];
-    for (uint32_t v = 0; ok && v < nv; v++)
-        if (weld[v] != UINT32_MAX)
-            first[weld[v] + 1]++;
-    for (uint32_t v = 0; ok && v < nv; v++)
-        first[v + 1] += first[v];
-    for (uint32_t v = 0, *fill = first; ok && v < nv; v++)
-        if (weld[v] != UINT32_MAX)
-            members[fill[weld[v]]++] = v;
-    /* the fill moved each group's start to the next one's: shift back */
-    for (uint32_t v = nv; ok && v > 0; v--)
-        first[v] = first[v - 1];
-    if (ok)
-        first[0] = 0;
-    for (size_t t = 0; ok && t < n / 3; t++) {
-        const float *a = &m->pos[idx[t * 3] * 3], *b = &m->pos[idx[t * 3 + 1] * 3],
-                    *c = &m->pos[idx[t * 3 + 2] * 3];
-        double e1[3] = { b[0] - a[0], b[1] - a[1], b[2] - a[2] },
-               e2[3] = { c[0] - a[0], c[1] - a[1], c[2] - a[2] }, fn[3];
-        fn[0] = e1[1] * e2[2] - e1[2] * e2[1];
-        fn[1] = e1[2] * e2[0] - e1[0] * e2[2];
-        fn[2] = e1[0] * e2[1] - e1[1] * e2[0];
-        for (int k = 0; k < 3; k++) {
-            uint32_t w = idx[t * 3 + k], best = w;
-            double best_dot = -INFINITY;
-            for (uint32_t j = first[w]; j < first[w + 1]; j++) {
-                const float *nr = &m->nrm[members[j] * 3];
-                double d = fn[0] * nr[0] + fn[1] * nr[1] + fn[2] * nr[2];
-                if (d > best_dot) {
-                    best_dot = d;
-                    best = members[j];
-                }
-            }
-            idx[t * 3 + k] = best;
-        }
-    }
-    free(weld);
-    free(first);
-    free(members);
-    return ok;
+    if (!m->lods)
+        return sizeof(uint32_t) * 3 * (size_t)m->ntris;
+    size_t n = 0;
+    for (uint32_t k = 1; k < m->nlods; k++)
+        n += (size_t)m->lods[k].triangle_count * 3;
+    return HEAD + sizeof(uint32_t) * n;
 }
+
+/* Gives m the levels in mk (taken), shrunk to fit. */
+static void install(limen__mesh *m, made *mk)
+{
+    unsigned char *fit = realloc(mk->block, HEAD + sizeof(uint32_t) * mk->used);
+    unsigned char *block = fit ? fit : mk->block;
+    limen_mesh_lod *lods = (limen_mesh_lod *)block;
+    uint32_t *store = (uint32_t *)(block + HEAD);
+    lods[0].indices = m->idx;
+    for (uint32_t k = 1; k < mk->nlods; k++)
+        lods[k].indices = store + mk->at[k];
+    size_t before = lods_bytes(m);
+    free(m->lods);
+    m->lods = lods;
+    m->nlods = mk->nlods;
+    m->bytes = m->bytes - before + lods_bytes(m);
+    mk->block = NULL;
+}
+
+/* The levels kept from an earlier run (core/lod_cache.c), where there are some for m. */
+static bool from_cache(limen__mesh *m, const limen__lod_key *key)
+{
+    limen_mesh_lod lv[MAX_LEVELS];
+    uint32_t n, *idx;
+    if (!limen__lod_cache_load(key, m->nverts, m->ntris, lv, MAX_LEVELS, &n, &idx))
+        return false;
+    made mk = { .nlods = n };
+    for (uint32_t k = 1; k < n; k++) {
+        mk.at[k] = mk.used;
+        mk.used += (size_t)lv[k].triangle_count * 3;
+    }
+    mk.block = malloc(HEAD + sizeof(uint32_t) * (mk.used ? mk.used : 1));
+    if (!mk.block) {
+        free(idx);
+        return false;
+    }
+    memcpy(mk.block, lv, sizeof *lv * n);
+    if (mk.used)
+        memcpy(mk.block + HEAD, idx, sizeof(uint32_t) * mk.used);
+    free(idx);
+    install(m, &mk);
+    return true;
+}
+
+/* Stores the levels in mk (made for m) in the cache under key. */
+static void to_cache(const limen__mesh *m, const limen__lod_key *key, const made *mk)
+{
+    limen_mesh_lod lv[MAX_LEVELS];
+    memcpy(lv, mk->block, sizeof *lv * mk->nlods);
+    lv[0].indices = m->idx;
+    for (uint32_t k = 1; k < mk->nlods; k++)
+        lv[k].indices = (const uint32_t *)(mk->block + HEAD) + mk->at[k];
+    limen__lod_cache_store(key, m->nverts, m->ntris, lv, mk->nlods);
+}
+
+static bool lods_make(const limen__mesh *m, const atomic_bool *stop, made *out);
 
 bool limen__mesh_lods_build(limen__mesh *m)
 {
+    limen__lod_key key;
+    limen__lod_cache_key(m, LOD_VERSION, &key);
+    if (from_cache(m, &key))
+        return true;
+    made mk;
+    if (!lods_make(m, NULL, &mk))
+        return false;
+    to_cache(m, &key, &mk);
+    install(m, &mk);
+    return true;
+}
+
+/* ------------------------------------------------------------------ on another thread */
+
+/* A level build running beside the scene's thread. The thread only reads the mesh (its
+ * geometry and hierarchy, which nothing changes once it is made) and writes only here; the
+ * scene's thread takes the levels from here (limen__meshes_settle) once `done`, joining the
+ * thread first, so that everything it wrote is seen. */
+struct limen__lod_job {
+    pthread_t thread;
+    const limen__mesh *m;
+    limen__lod_key key;
+    atomic_bool stop;           /* set by the scene's thread: the mesh is going */
+    atomic_bool done;           /* set by the build's thread, last */
+    bool ok;
+    made mk;
+};
+
+static uint32_t async_above = LIMEN__LOD_ASYNC_TRIS;
+
+void limen__lod_set_async_above(uint32_t triangles)
+{
+    async_above = triangles;
+}
+
+static void *job_run(void *arg)
+{
+    struct limen__lod_job *j = arg;
+    j->ok = lods_make(j->m, &j->stop, &j->mk);
+    if (j->ok)
+        to_cache(j->m, &j->key, &j->mk);
+    atomic_store(&j->done, true);
+    return NULL;
+}
+
+bool limen__mesh_lods_start(limen__mesh *m)
+{
+    limen__lod_key key;
+    limen__lod_cache_key(m, LOD_VERSION, &key);
+    if (from_cache(m, &key))
+        return true;
+    if (m->ntris < async_above) {
+        made mk;
+        if (!lods_make(m, NULL, &mk))
+            return false;
+        to_cache(m, &key, &mk);
+        install(m, &mk);
+        return true;
+    }
+    /* the full mesh alone until the levels come */
+    made one = { .block = malloc(HEAD), .nlods = 1 };
+    struct limen__lod_job *j = calloc(1, sizeof *j);
+    if (!one.block || !j) {
+        free(one.block);
+        free(j);
+        return false;
+    }
+    *(limen_mesh_lod *)one.block = (limen_mesh_lod){ .triangle_count = (int)m->ntris };
+    install(m, &one);
+    j->m = m;
+    j->key = key;
+    atomic_init(&j->stop, false);
+    atomic_init(&j->done, false);
+    if (pthread_create(&j->thread, NULL, job_run, j) != 0) {
+        free(j);
+        return limen__mesh_lods_build(m);   /* no thread: made here and now */
+    }
+    m->lod_job = j;
+    return true;
+}
+
+/* Ends m's build (stopping it first where stop), and gives m its levels where it made
+ * them; true where it did. */
+static bool job_end(limen__mesh *m, bool stop)
+{
+    struct limen__lod_job *j = m->lod_job;
+    if (stop)
+        atomic_store(&j->stop, true);
+    pthread_join(j->thread, NULL);
+    bool got = j->ok && !stop;
+    if (got)
+        install(m, &j->mk);
+    free(j->mk.block);
+    free(j);
+    m->lod_job = NULL;
+    return got;
+}
+
+void limen__mesh_lods_stop(limen__mesh *m)
+{
+    if (m && m->lod_job)
+        job_end(m, true);
+}
+
+bool limen__mesh_lods_settle(limen__mesh *m, bool wait)
+{
+    if (!m->lod_job || (!wait && !atomic_load(&m->lod_job->done)))
+        return false;
+    if (!job_end(m, false) || !limen__mesh_lod_parts(m))
+        return false;
+    /* new levels: a new asset to the renderer, which uploads it again */
+    m->serial = limen__next_serial();
+    m->pub.id = m->serial;
+    m->pub.lods = m->lods;
+    m->pub.lod_count = (int)m->nlods;
+    return true;
+}
+
+void limen__meshes_settle(limen_scene *s, bool wait)
+{
+    for (int i = 0; s && i < s->nmeshes; i++)
+        limen__mesh_lods_settle(s->meshes[i], wait);
+}
+
+/* Makes m's levels (see the top of the file) into *out, reading m only; false when out of
+ * memory or stopped (stop, where not NULL, set). */
+static bool lods_make(const limen__mesh *m, const atomic_bool *stop, made *out)
+{
     size_t n0 = (size_t)m->ntris * 3, cap = n0;     /* the coarse levels' indices, in all */
-    size_t head = sizeof(limen_mesh_lod) * MAX_LEVELS;
+    size_t head = HEAD;
     unsigned char *block = malloc(head + sizeof(uint32_t) * cap);
     uint32_t *shadow = malloc(sizeof(uint32_t) * n0), *scratch = malloc(sizeof(uint32_t) * n0);
+    uint32_t *attr = m->uv ? malloc(sizeof(uint32_t) * n0) : shadow;
     target full = { 0 };
-    bool ok = block && shadow && scratch;
+    limen__lod_welded pk_attr = { 0 }, pk_pos = { 0 };
+    bool ok = block && shadow && scratch && attr;
     limen_mesh_lod *lods = (limen_mesh_lod *)block;
     uint32_t *store = (uint32_t *)(block + head);
     size_t at[MAX_LEVELS] = { 0 }, used = 0;
@@ -692,11 +865,22 @@ bool limen__mesh_lods_build(limen__mesh *m)
          * simplifier back; each weld keeps one of the original vertices */
         meshopt_generateShadowIndexBuffer(shadow, m->idx, n0, m->pos, m->nverts,
                                           sizeof(float) * 3, sizeof(float) * 3);
-        ok = limen__lod_target_make(&full, m, shadow);
+        /* what the simplifier is given: welded by position where the attributes allow
+         * (texture coordinates the same; normals are chosen after, by seam_sides), so that a
+         * seam in the texture stays one, which the simplifier moves along without tearing */
+        if (attr != shadow) {
+            struct meshopt_Stream streams[2] = { { m->pos, sizeof(float) * 3, sizeof(float) * 3 },
+                                                 { m->uv, sizeof(float) * 2, sizeof(float) * 2 } };
+            meshopt_generateShadowIndexBufferMulti(attr, m->idx, n0, m->nverts, streams, 2);
+        }
+        ok = limen__lod_target_make(&full, m, shadow) && limen__lod_pack(&pk_attr, m, attr);
     }
     size_t cur_n = n0;
     float scale = ok ? meshopt_simplifyScale(m->pos, m->nverts, sizeof(float) * 3) : 0;
     double prev = 0;
+    /* how levels are made: seams kept; once the simplifier is stuck on them, let go; once
+     * it is stuck even so, by clustering */
+    enum { SEAMS, NO_SEAMS, CLUSTERED } mode = SEAMS;
     while (ok && nlods < MAX_LEVELS && cur_n >= 6) {
         /* half the triangles of the last level while there is much to halve; then once only
          * what costs (next to) nothing, which takes a flat patch down to its outline. Each
@@ -706,11 +890,38 @@ bool limen__mesh_lods_build(limen__mesh *m)
          * worse) */
         bool halve = cur_n / 3 >= MIN_TRIS;
         float err = 0;
-        const uint32_t *src = nlods <= SOURCE_STEP ? shadow : store + at[nlods - SOURCE_STEP];
-        size_t src_n = nlods <= SOURCE_STEP ? n0
-                                            : (size_t)lods[nlods - SOURCE_STEP].triangle_count * 3;
-        size_t n = meshopt_simplify(scratch, src, src_n, m->pos, m->nverts, sizeof(float) * 3,
-                                    halve ? cur_n / 6 * 3 : 0, halve ? FLT_MAX : 1e-5f, 0, &err);
+        bool from_full = nlods <= SOURCE_STEP || mode != SEAMS;
+        const uint32_t *src = from_full ? NULL : store + at[nlods - SOURCE_STEP];
+        size_t src_n = from_full ? n0 : (size_t)lods[nlods - SOURCE_STEP].triangle_count * 3;
+        size_t n = 0;
+        if (mode < CLUSTERED)
+            n = limen__lod_simplify(mode == SEAMS ? &pk_attr : &pk_pos, from_full ? NULL : src, src_n, false,
+                         halve ? cur_n / 6 * 3 : 0, halve ? FLT_MAX : 1e-5f, &err, scratch);
+        if (halve && (n == 0 || n * 4 > cur_n * 3) && mode == SEAMS && attr != shadow &&
+            cur_n > n0 / STUCK_ABOVE) {
+            /* the simplifier is stuck on the seams (where many charts meet) while the levels
+             * are still fine: from here on the seams are let go (welded by position alone,
+             * each triangle then taking its corners' sides by pick_charts) */
+            mode = NO_SEAMS;
+            if (!limen__lod_pack(&pk_pos, m, shadow)) {
+                ok = false;
+                break;
+            }
+            n = limen__lod_simplify(&pk_pos, NULL, n0, false, cur_n / 6 * 3, FLT_MAX, &err, scratch);
+        }
+        if (halve && (n == 0 || n * 4 > cur_n * 3) && mode != CLUSTERED &&
+            cur_n > n0 / STUCK_ABOVE) {
+            /* stuck still (borders, parts): the rest of the levels are made by clustering the
+             * full mesh, which moves seams and borders; its own estimate is not a bound's
+             * floor (the level before is) */
+            mode = CLUSTERED;
+            n = limen__lod_simplify(&pk_attr, NULL, n0, true, cur_n / 6 * 3, FLT_MAX, NULL, scratch);
+            err = 0;
+        }
+        if (n > 0 && mode != SEAMS && attr != shadow && !limen__lod_pick_charts(m, shadow, attr, scratch, n)) {
+            ok = false;
+            break;
+        }
         if (n == 0 || n * 4 > cur_n * 3 || used + n > cap)
             break;
         memcpy(store + used, scratch, sizeof(uint32_t) * n);
@@ -718,8 +929,8 @@ bool limen__mesh_lods_build(limen__mesh *m)
          * halving, the level before (a coarser level no better than a finer one takes its
          * place, below): what lies below them needs no measuring */
         double estimate = (double)err * scale;
-        double e = level_error(&full, shadow, store + used, (uint32_t)(n / 3),
-                               halve ? fmax(estimate, prev) : estimate);
+        double e = level_error(&full, attr, store + used, (uint32_t)(n / 3),
+                               halve ? fmax(estimate, prev) : estimate, stop);
         if (isnan(e)) {
             ok = false;
             break;
@@ -754,27 +965,22 @@ bool limen__mesh_lods_build(limen__mesh *m)
     nlods = kept;
     used = packed;
     if (ok)
-        seam_sides(m, shadow, store, used);
+        limen__lod_seam_sides(m, attr, store, used);
+    if (attr != shadow)
+        free(attr);
     free(shadow);
+    limen__lod_welded_free(&pk_attr);
+    limen__lod_welded_free(&pk_pos);
     free(scratch);
     limen__lod_target_free(&full);
     if (!ok) {
         free(block);
         return false;
     }
-    unsigned char *fit = realloc(block, head + sizeof(uint32_t) * used);
-    if (fit)
-        block = fit;
-    lods = (limen_mesh_lod *)block;
-    store = (uint32_t *)(block + head);
-    lods[0].indices = m->idx;
-    for (uint32_t k = 1; k < nlods; k++)
-        lods[k].indices = store + at[k];
-    free(m->lods);
-    m->lods = lods;
-    m->nlods = nlods;
-    /* limen__mesh_bytes counted the levels as one more copy of the indices */
-    m->bytes = m->bytes - sizeof(uint32_t) * n0 + head + sizeof(uint32_t) * used;
+    out->block = block;
+    out->nlods = nlods;
+    out->used = used;
+    memcpy(out->at, at, sizeof at);
     return true;
 }
 

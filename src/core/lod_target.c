@@ -81,50 +81,70 @@ static uint32_t corner_vertex(const limen__lod_target *t, const uint32_t *weld, 
     return weld ? weld[i] : t->m->idx[i];
 }
 
-/* t->across: edges paired through a table of half-edges keyed on their two (welded)
- * vertices. An edge of more than two triangles pairs some of them; what a pairing misses,
- * the walks over the surface below do without (they only ever find less). False when out
- * of memory. */
+/* t->across: edges paired through a table keyed on directed edges (two welded vertices, in
+ * the order a triangle runs them), each holding the half-edges of its key not yet paired.
+ * A half-edge a->b pairs with one waiting under b->a (where the two run the edge opposite
+ * ways, their windings agree), else waits under a->b. The table holds each directed edge
+ * once, however many triangles repeat it, so its probes stay near one a half-edge
+ * (t->probes counts them): repeated and zero-area triangles cost what others do. An edge of
+ * more than two triangles pairs some of them; what a pairing misses, the walks over the
+ * surface below do without (they only ever find less). False when out of memory. */
 static bool pair_edges(limen__lod_target *t, const uint32_t *weld)
 {
     size_t n = (size_t)t->m->ntris * 3, size = 16;
     while (size < 2 * n)
         size *= 2;
-    uint32_t *slot = malloc(sizeof *slot * size);
+    uint64_t *key = malloc(sizeof *key * size);
+    uint32_t *head = malloc(sizeof *head * size), *next = malloc(sizeof *next * (n ? n : 1));
     t->across = malloc(sizeof *t->across * t->m->ntris);
-    if (!slot || !t->across) {
-        free(slot);
+    if (!key || !head || !next || !t->across) {
+        free(key);
+        free(head);
+        free(next);
         return false;
     }
-    memset(slot, 0xff, sizeof *slot * size);
+    memset(head, 0xff, sizeof *head * size);
     memset(t->across, 0xff, sizeof *t->across * t->m->ntris);
+    t->probes = 0;
     for (size_t h = 0; h < n; h++) {
         size_t base = h - h % 3;
         uint32_t a = corner_vertex(t, weld, h), b = corner_vertex(t, weld, base + (h + 1) % 3);
         if (a == b)
             continue;
-        uint64_t key = a < b ? (uint64_t)a << 32 | b : (uint64_t)b << 32 | a;
-        size_t at = (size_t)((key * 0x9e3779b97f4a7c15ull) >> 20) & (size - 1);
+        /* the opposite direction first: a half-edge waiting there pairs with this one */
+        uint64_t want = (uint64_t)b << 32 | a, mine = (uint64_t)a << 32 | b;
+        size_t at = (size_t)((want * 0x9e3779b97f4a7c15ull) >> 20) & (size - 1);
         for (;; at = (at + 1) & (size - 1)) {
-            uint32_t o = slot[at];
-            if (o == UINT32_MAX) {
-                slot[at] = (uint32_t)h;
+            t->probes++;
+            if (head[at] == UINT32_MAX || key[at] == want)
                 break;
-            }
-            size_t obase = o - o % 3;
-            uint32_t oa = corner_vertex(t, weld, o),
-                     ob = corner_vertex(t, weld, obase + (o + 1) % 3);
-            uint64_t okey = oa < ob ? (uint64_t)oa << 32 | ob : (uint64_t)ob << 32 | oa;
-            /* paired only where the two run the edge opposite ways (their windings agree) */
-            if (okey != key || oa != b || t->across[o / 3][o % 3] != UINT32_MAX)
-                continue;
+        }
+        if (head[at] != UINT32_MAX && key[at] == want && head[at] != UINT32_MAX - 1) {
+            uint32_t o = head[at];
+            head[at] = next[o] == UINT32_MAX ? UINT32_MAX - 1 : next[o];
             t->across[o / 3][o % 3] = (uint32_t)(h / 3);
             t->across[h / 3][h % 3] = o / 3;
-            slot[at] = (uint32_t)h;     /* a third triangle pairs with this one, if any */
-            break;
+            continue;
         }
+        /* else it waits under its own direction (a slot emptied by pairing keeps its key:
+         * UINT32_MAX - 1 marks it empty but taken, so the probes past it still find theirs) */
+        at = (size_t)((mine * 0x9e3779b97f4a7c15ull) >> 20) & (size - 1);
+        for (;; at = (at + 1) & (size - 1)) {
+            t->probes++;
+            if (head[at] == UINT32_MAX || key[at] == mine)
+                break;
+        }
+        if (head[at] == UINT32_MAX) {
+            key[at] = mine;
+            next[h] = UINT32_MAX;
+        } else {
+            next[h] = head[at] == UINT32_MAX - 1 ? UINT32_MAX : head[at];
+        }
+        head[at] = (uint32_t)h;
     }
-    free(slot);
+    free(key);
+    free(head);
+    free(next);
     return true;
 }
 

@@ -18,6 +18,7 @@ typedef struct limen__lod_target {
     uint32_t (*across)[3];      /* per triangle and edge (corners k, k + 1): the triangle on
                                  * its other side, or UINT32_MAX */
     double mean_area;           /* of its triangles */
+    uint64_t probes;            /* slots the edges' pairing looked at (a measure of its work) */
 } limen__lod_target;
 
 static inline void limen__sub3(const double a[3], const double b[3], double out[3])

@@ -40,7 +40,36 @@ typedef struct limen__mesh {
     limen_mesh_lod *lods;       /* levels of detail, lods[0] the full mesh (idx) */
     uint32_t nlods;
     limen_mesh_geometry pub;    /* what limen_drawable.mesh shows of it */
+    struct limen__lod_job *lod_job;     /* its levels being made on another thread, or NULL */
+    /* materials (see limen_material) */
+    float *col;                 /* nverts * 4 RGBA vertex colours, or NULL (white) */
+    uint32_t nparts, nmats;
+    limen_mesh_part *parts;     /* nparts ranges of idx, in triangle order */
+    limen_mesh_part *lod_parts; /* nlods * nparts: each level's ranges */
+    uint32_t *tri_part;         /* ntris: the part of each triangle of idx */
+    limen_material *mats;       /* nmats; their textures point at texs' images */
+    struct limen__texture **texs;   /* nmats * 5: base, emissive, metallic-roughness, normal,
+                                 * occlusion of each, or NULL */
+    char *mat_names;            /* the names' storage */
+    bool has_mask, has_blend;
 } limen__mesh;
+
+enum { LIMEN__MAT_BASE, LIMEN__MAT_EMISSIVE, LIMEN__MAT_MR, LIMEN__MAT_NORMAL,
+       LIMEN__MAT_OCCLUSION, LIMEN__MAT_TEXTURES };
+
+/* Whether the hit (u, v on triangle tri's vertices 1 and 2) is cut away by its part's alpha
+ * mask. */
+/* Each level's triangles grouped by part, and the parts' ranges in it (lod_parts, each
+ * level's .parts): again whenever the levels change (limen__mesh_lods_settle). */
+bool limen__mesh_lod_parts(limen__mesh *m);
+bool limen__mesh_masked(const limen__mesh *m, uint32_t tri, double u, double v);
+/* The material at a hit: albedo (base x texel x vertex colour; the node's texture, if not
+ * NULL, in place of the base texture), alpha, and emissive. Textures are sampled with filter
+ * over the footprint duv (limen__texture_filter; NULL: the full image). */
+void limen__mesh_material_at(const limen__mesh *m, const struct limen__texture *node_tex,
+                             const float repeat[2], limen_texture_filter filter,
+                             const double *duv, uint32_t tri, double u, double v,
+                             double albedo[3], double *alpha, double emissive[3]);
 
 /* Bytes a mesh of this size may hold (geometry, levels of detail, hierarchy and
  * bookkeeping): an upper bound, known before any of it is made. */
@@ -51,6 +80,24 @@ bool limen__mesh_bvh(limen__mesh *m);
 /* Builds m's levels of detail (lods, nlods; core/lod.c) from pos and idx with the hierarchy
  * made, and sets bytes to what they hold; false when out of memory. */
 bool limen__mesh_lods_build(limen__mesh *m);
+
+/* ---- levels made on another thread (core/lod.c) */
+#define LIMEN__LOD_ASYNC_TRIS 100000    /* a mesh this big makes its levels on another thread */
+/* As limen__mesh_lods_build, but for a mesh of at least LIMEN__LOD_ASYNC_TRIS triangles
+ * whose levels are not in the cache: m gets the full mesh alone as its one level, and a
+ * thread makes the rest (reading m's geometry and hierarchy, which must not change), which
+ * limen__mesh_lods_settle hands over. Before m->pub is made. */
+bool limen__mesh_lods_start(limen__mesh *m);
+/* Where m's levels are made (waiting for them where wait), gives them to m, with a new
+ * serial and m->pub to match; true where it did. On the scene's thread. */
+bool limen__mesh_lods_settle(limen__mesh *m, bool wait);
+/* limen__mesh_lods_settle for every mesh of s: the scene's refresh calls it (wait false). */
+void limen__meshes_settle(limen_scene *s, bool wait);
+/* Stops m's build, if any, and waits for its thread (before m is freed). */
+void limen__mesh_lods_stop(limen__mesh *m);
+/* Tests only: the size from which levels are made on another thread (default
+ * LIMEN__LOD_ASYNC_TRIS); not for use while meshes are being made. */
+void limen__lod_set_async_above(uint32_t triangles);
 
 /* Loads path (or finds it already loaded in the scene), refusing one that would hold more
  * than max_bytes; *charged gets the bytes newly held (0 when shared). On failure the message

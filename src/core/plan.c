@@ -17,8 +17,6 @@
 #include "core/reserve.h"
 #include "core/testing.h"
 
-#define DEFAULT_VIEW_SCREENS 64         /* view_pixels: 64 full screens */
-#define DEFAULT_SURFACE_TESTS 131072
 #define MAX_POLY 12
 
 /* ------------------------------------------------------------------ storage */
@@ -46,6 +44,7 @@ void limen_plan_destroy(limen_plan *p)
     free(p->clone_of);
     free(p->surf_of);
     free(p->cand);
+    free(p->shape_hits);
     free(p);
 }
 
@@ -76,6 +75,33 @@ void limen_plan_get_work(const limen_plan *p, limen_plan_work *out)
     out->view_pixels = p->view_pixels;
     out->surface_tests = p->surface_tests;
     out->budgets_hit = p->budgets_hit;
+    out->triangles = p->triangles;
+}
+
+static void fill_public(limen__pview *v, limen_scene *s, const limen_plan *p);
+
+/* The mesh triangles view v draws: each mesh the index finds in its region at the level of
+ * detail the view picks (as a renderer does); -1 when out of memory. Only scenes with
+ * meshes pay for the query. */
+static int64_t view_triangles(limen_plan *p, limen_scene *s, limen__pview *v)
+{
+    if (!s->nmeshes)
+        return 0;
+    fill_public(v, s, p);       /* the matrices the level is chosen with */
+    int n = limen__plan_view_shapes(p, s, v);
+    if (n < 0)
+        return -1;
+    int64_t tris = 0;
+    for (int k = 0; k < n; k++) {
+        const limen__node *node = &s->nodes[p->shape_hits[k]];
+        if (!node->visible || node->kind != LIMEN_NODE_MESH || !node->mesh)
+            continue;
+        limen_drawable d;
+        limen__drawable_read(s, p->shape_hits[k], &d);
+        int lod = limen_view_mesh_lod(&v->pub, p->height, &d, p->limits.lod_pixels);
+        tris += d.mesh->lods[lod].triangle_count;
+    }
+    return tris;
 }
 
 /* Which frame budget (LIMEN_BUDGET_* bit) is spent before a view is looked into; 0 if none.
@@ -423,24 +449,21 @@ limen_status limen_plan_build(limen_plan *p, limen_scene *s, const limen_plan_de
     limen_status cst = limen__scene_check(s);
     if (cst)
         return cst;
-    limen_plan_desc d = desc ? *desc : (limen_plan_desc){ 0 };
-    p->width = d.width > 0 ? d.width : 640;
-    p->height = d.height > 0 ? d.height : 480;
-    if ((unsigned)d.range > LIMEN_DEPTH_ZO_REVERSED || (unsigned)d.cull > LIMEN_CULL_FRUSTUM)
+    limen_plan_desc d = limen_plan_desc_defaults(desc);
+    p->width = d.width;
+    p->height = d.height;
+    if ((unsigned)d.range >= LIMEN_DEPTH_RANGE_COUNT || (unsigned)d.cull >= LIMEN_CULL_COUNT)
         return limen__fail(s, LIMEN_ERR_ARG, "plan: unknown depth range or cull rule");
     limen_status lst = limen__limits_resolve(s, "plan", &d.limits, &p->limits);
     if (lst)
         return lst;
-    p->budget.view_pixels = p->limits.budget.view_pixels
-                                ? p->limits.budget.view_pixels
-                                : (int64_t)DEFAULT_VIEW_SCREENS * p->width * p->height;
-    p->budget.surface_tests = p->limits.budget.surface_tests ? p->limits.budget.surface_tests
-                                                             : DEFAULT_SURFACE_TESTS;
+    p->budget = p->limits.budget;
     p->range = d.range;
     p->cull = d.cull;
     p->nviews = p->nvsurf = p->count = p->truncated = 0;
     p->view_pixels = p->surface_tests = 0;
     p->budgets_hit = 0;
+    p->triangles = 0;
 
     float view_f[16];
     limen_status st = limen_camera_matrices(s, (float)p->width / (float)p->height, p->range,
@@ -478,6 +501,20 @@ limen_status limen_plan_build(limen_plan *p, limen_scene *s, const limen_plan_de
             drop_view(p, v, spent);
             continue;
         }
+        /* triangles: a view that would take the frame over is dropped like the others; the
+         * root always stays (the renderer cuts its meshes at the budget) */
+        int64_t tris = view_triangles(p, s, v);
+        if (tris < 0)
+            return limen__fail(s, LIMEN_ERR_NOMEM, "plan: out of memory");
+        if (vi && tris > p->budget.triangles - p->triangles) {
+            drop_view(p, v, LIMEN_BUDGET_TRIANGLES);
+            continue;
+        }
+        if (!vi && tris > p->budget.triangles) {
+            p->truncated++;
+            p->budgets_hit |= LIMEN_BUDGET_TRIANGLES;
+        }
+        p->triangles += tris;
         p->view_pixels += (int64_t)v->pub.scissor[2] * v->pub.scissor[3];
         /* the surfaces the index finds in the view's region, or all of them */
         int ncand = s->brute_force ? -1 : limen__plan_candidates(p, s, v);
@@ -745,7 +782,7 @@ static void json_clones(FILE *f, const limen_plan *p, const limen_scene *s)
     fprintf(f, "%s]", n ? "\n" : "");
 }
 
-limen_status limen_plan_write_json(const limen_plan *p, const limen_scene *s, const char *path)
+limen_status limen_plan_write_json(const limen_plan *p, limen_scene *s, const char *path)
 {
     if (!p || !s || !path)
         return LIMEN_ERR_ARG;
@@ -792,8 +829,7 @@ limen_status limen_plan_write_json(const limen_plan *p, const limen_scene *s, co
         fprintf(f, ", \"tint\": ");
         json_floats(f, v->tint, 3);
         json_view_surfaces(f, p, s, i);
-        /* the index may need refreshing: it is the scene's cache, not its state */
-        if (!json_view_meshes(f, p, (limen_scene *)s, i)) {
+        if (!json_view_meshes(f, p, s, i)) {
             limen__out_abort(&out);
             return LIMEN_ERR_NOMEM;
         }

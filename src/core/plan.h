@@ -72,6 +72,9 @@ struct limen_plan {
     int64_t view_pixels;
     int64_t surface_tests;          /* exact surface-in-view tests made (tests read it) */
     unsigned budgets_hit;
+    int64_t triangles;              /* mesh triangles of the views looked into so far */
+    int *shape_hits;                /* scratch of the triangle count: the shapes of a view */
+    int shape_hits_cap;
     /* the spatial index's part (core/cull.c) */
     int *surf_of, surf_of_cap;      /* per node slot: index in surf, or -1 */
     int *cand, cand_cap;            /* one view's candidate surfaces */
@@ -81,6 +84,9 @@ struct limen_plan {
 /* The surfaces (indices in p->surf, ascending) whose boxes meet view v's narrowed region,
  * left in p->cand; their count, or -1 when out of memory. */
 int limen__plan_candidates(limen_plan *p, limen_scene *s, const limen__pview *v);
+/* The shapes (node slots) whose boxes meet view v's region, as limen_plan_view_things finds
+ * them, left in p->shape_hits; their count, or -1 when out of memory. */
+int limen__plan_view_shapes(limen_plan *p, limen_scene *s, const limen__pview *v);
 /* The slots of the scene's mirrors and portals, ascending, from its index; or *out = NULL
  * and s->cap (every slot) without the index. */
 int limen__plan_surface_slots(limen_scene *s, const int **out);

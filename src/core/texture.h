@@ -11,6 +11,7 @@
 #include "limen.h"
 
 #define LIMEN__FILE_KEY_SIZE 4160
+#define LIMEN__MAX_LEVELS 16     /* mipmap levels of a 16384-texel side, and one spare */
 
 typedef struct limen__texture {
     int refs;                   /* nodes and meshes using it */
@@ -18,6 +19,10 @@ typedef struct limen__texture {
     char name[512];             /* the path as given, for messages */
     int w, h;
     unsigned char *rgb;         /* w * h * 3, top row first (as the file) */
+    unsigned char *alpha;       /* w * h, or NULL: opaque (a model's own textures) */
+    unsigned char *mips;        /* levels 1 on, one block (limen__texture_levels) */
+    int nlevels;                /* levels[0] is rgb itself */
+    limen_image_level levels[LIMEN__MAX_LEVELS];
     size_t bytes;
     uint64_t serial;            /* unique in the process: the renderer keys its copy on it */
     limen_image pub;            /* what limen_drawable.texture shows of it */
@@ -30,15 +35,32 @@ limen_status limen__texture_load(limen_scene *s, const char *path, size_t max_by
 /* An image held in memory (a mesh file's embedded texture), not shared. */
 limen_status limen__texture_decode(limen_scene *s, const unsigned char *buf, size_t len,
                                    const char *name, limen__texture **out);
+/* A model's texture from decoded RGBA8 texels (core/import.h), not shared; the alpha plane
+ * is kept only where some texel is not opaque. */
+limen_status limen__texture_from_rgba(limen_scene *s, const unsigned char *rgba, int w, int h,
+                                      const char *name, limen__texture **out);
 void limen__texture_release(limen_scene *s, limen__texture *t);
 void limen__textures_destroy(limen_scene *s);
-/* Bilinear, repeating, no mipmaps, texel centres at ((i + 0.5) / w, (j + 0.5) / h) with v
- * from the bottom row up: what GL_LINEAR with GL_REPEAT does. In [0, 1]. */
+/* Bilinear, repeating, in the full image, texel centres at ((i + 0.5) / w, (j + 0.5) / h)
+ * with v from the bottom row up: what GL_LINEAR with GL_REPEAT does. In [0, 1]. */
 void limen__texture_sample(const limen__texture *t, double u, double v, double out[3]);
+/* The level of detail OpenGL picks for a pixel whose texture coordinates change by
+ * duv = (du/dx, dv/dx, du/dy, dv/dy) from one pixel to the next: log2 of the longer of the
+ * two steps measured in texels of the full image; +inf where they are not finite. */
+double limen__texture_lod(const limen__texture *t, const double duv[4]);
+/* Sampling as limen_texture_filter says (GL_NEAREST, GL_LINEAR, or GL_LINEAR_MIPMAP_LINEAR
+ * over t's levels at limen__texture_lod's level); duv NULL: the full image (level 0). */
+void limen__texture_filter(const limen__texture *t, limen_texture_filter f, double u, double v,
+                           const double duv[4], double out[3]);
+
+/* The alpha plane, sampled as limen__texture_sample samples colour; 1 where there is none. */
+double limen__texture_sample_alpha(const limen__texture *t, double u, double v);
 
 /* image.c: stb_image on a buffer (RGB), and why it failed. */
 unsigned char *limen__image_decode(const unsigned char *buf, size_t len, int *w, int *h);
 const char *limen__image_why(void);
+/* The same, RGBA (every format stb reads; HDR clamped to [0, 1] linearly). */
+unsigned char *limen__image_decode_rgba(const unsigned char *buf, size_t len, int *w, int *h);
 /* Size from the header alone; false if it is not an image stb reads. */
 bool limen__image_info(const unsigned char *buf, size_t len, int *w, int *h);
 
@@ -53,5 +75,9 @@ uint64_t limen__next_serial(void);
 /* Sets (path) or clears (NULL) a node's texture; as limen__texture_load. */
 limen_status limen__node_texture(limen_scene *s, limen_node n, const char *path,
                                  size_t max_bytes, size_t *charged);
+
+/* The bytes the last mesh or texture load refused for the memory allowed would have taken
+ * (0 if none was), and forgets them: a script host turns them into the cap that would do. */
+uint64_t limen__scene_take_wanted(limen_scene *s);
 
 #endif

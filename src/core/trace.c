@@ -1,10 +1,11 @@
 /* trace.c - the reference ray tracer: the ground truth that the rasterizer is measured
- * against (DESIGN.md, "Ground truth"). Every rule below copies what the planner
+ * against (docs/DESIGN.md, "Ground truth"). Every rule below copies what the planner
  * (core/plan.c) and the renderer (gl/views.c, gl/render.c) do, so that a difference between
  * the two pictures is an error of the rasterizing method, not of the rules.
  *
  * Camera. limen_camera_matrices(s, W/H, NO): pixel column x, GL row y (0 = bottom; PNG row
- * r is GL row H-1-r) is sampled at its centre, NDC ((x+0.5)*2/W-1, (y+0.5)*2/H-1). The ray
+ * r is GL row H-1-r) is sampled at its centre, NDC ((x+0.5)*2/W-1, (y+0.5)*2/H-1), or at
+ * limen_trace_desc.samples points (x+sx, y+sy) averaged with equal weights. The ray
  * runs from the eye along camera_world * (nx tan(fovy/2) aspect, ny tan(fovy/2), -1), in
  * double (not through a float projection, whose far point is lost when far/near is large,
  * nor through the far plane at all, which the tracer does not model). Shapes count only from the near
@@ -37,6 +38,18 @@
  * turned to face the incoming ray (the shader turns it towards the view's eye, which
  * lies on the ray's line behind its origin). Checker: c = floor(unit point * scale / cell),
  * k = c.x + c.y (+ c.z except for QUAD nodes), odd k -> checker_b, even -> colour.
+ *
+ * Textures (limen_node_set_texture_filter): a pixel's ray carries its differentials, how its
+ * origin and unit direction change to the next pixel's ray across and up (d(dir) from the
+ * lens, 2 tan(fovy/2) aspect / W and 2 tan(fovy/2) / H along the camera's axes). At a hit
+ * they give the point's steps on the tangent plane (the hit's normal), and through the
+ * unit-space point the steps of the texture coordinates (a face's axes, or a triangle's
+ * texture-coordinate gradient), from which the level is picked by OpenGL's rule. A mirror
+ * or portal maps the point's steps and the direction's by its matrix (the direction then
+ * renormalised), so a floor seen in a mirror or through a scaled portal takes the level
+ * the renderer's pixels do. OpenGL takes its steps between the pixels of a 2x2 quad, the
+ * tracer at the pixel itself: the levels differ by a fraction where the steps change
+ * quickly, well inside the bound.
  *
  * Surfaces. A mirror or a paired portal S is entered from its front (the ray moving against
  * its +Z normal; equivalent to the planner's "eye in front" test). Passing it: a mirror
@@ -95,6 +108,7 @@ typedef struct prim {
     bool smooth;                /* meshes: interpolated vertex normals */
     const limen__texture *tex;  /* albedo = texel * colour, or NULL */
     double repeat[2];           /* texture coordinates scaled by these */
+    limen_texture_filter filter;
     double color[3], checker_b[3], cell;
     /* mirrors and portals */
     double plane[4];            /* world, front = +Z side */
@@ -125,6 +139,12 @@ typedef struct tracer {
     double (*spheres)[4];       /* per prim: bc, br, packed for the ray's first test */
     int nbase;                  /* prims [nbase, n) are copies of straddlers, not indexed */
 } tracer;
+
+/* Texture coordinates at a hit: u, v, then (meshes) how each changes with the unit-space
+ * point, du/dpu and dv/dpu, for the pixel's footprint (flat shapes' follow from the face). */
+enum { UV_N = 11 };
+/* ... of which a mesh hit's barycentric coordinates and triangle (its material) */
+enum { UV_BU = 8, UV_BV = 9, UV_TRI = 10 };
 
 /* Where one path ended (for limen_ray_cast). */
 typedef struct record {
@@ -269,9 +289,10 @@ static void setup_prim(limen_scene *s, const limen__node *n, prim *p)
     copy3f(n->color, p->color);
     copy3f(n->checker_b, p->checker_b);
     if (n->kind == LIMEN_NODE_QUAD || n->kind == LIMEN_NODE_BOX || n->kind == LIMEN_NODE_MESH)
-        p->tex = n->texture ? n->texture : n->kind == LIMEN_NODE_MESH ? n->mesh->tex : NULL;
+        p->tex = n->texture;    /* a mesh's own are its materials' (limen__mesh_material_at) */
     p->repeat[0] = n->tex_repeat[0];
     p->repeat[1] = n->tex_repeat[1];
+    p->filter = n->tex_filter;
     p->cell = n->checker_cell;
     if (limen__is_surface(n)) {
         limen__surface_plane_d(n, p->plane);
@@ -509,11 +530,34 @@ static bool hit_flat(const double o[3], const double d[3], double tmin, double t
     return true;
 }
 
+/* How a triangle's texture coordinates change with a point moving in its plane (a move off
+ * the plane counts as its projection): du/dpu into g[0..2], dv/dpu into g[3..5]. The
+ * barycentric weights of a move dp are the least-squares (b1, b2) of b1 e1 + b2 e2 = dp. */
+static void uv_gradient(const limen__mesh *m, const uint32_t *ix, double g[6])
+{
+    double e1[3], e2[3];
+    for (int a = 0; a < 3; a++) {
+        e1[a] = (double)m->pos[ix[1] * 3 + a] - m->pos[ix[0] * 3 + a];
+        e2[a] = (double)m->pos[ix[2] * 3 + a] - m->pos[ix[0] * 3 + a];
+    }
+    double a11 = dot3(e1, e1), a12 = dot3(e1, e2), a22 = dot3(e2, e2);
+    double det = a11 * a22 - a12 * a12;
+    if (!(det > 0))
+        return;
+    for (int k = 0; k < 2; k++) {
+        double d1 = (double)m->uv[ix[1] * 2 + k] - m->uv[ix[0] * 2 + k];
+        double d2 = (double)m->uv[ix[2] * 2 + k] - m->uv[ix[0] * 2 + k];
+        for (int a = 0; a < 3; a++)
+            g[k * 3 + a] = (d1 * (a22 * e1[a] - a12 * e2[a]) + d2 * (a11 * e2[a] - a12 * e1[a])) /
+                           det;
+    }
+}
+
 /* The nearest triangle of a mesh prim (both sides; with a cut, hits behind it do not count,
  * as the renderer clips them without culling) and its unit-space normal: the face's, or the
  * vertex normals interpolated where the mesh is smooth. */
 static bool hit_mesh(const prim *p, const double o[3], const double d[3], double tmin,
-                     double tmax, double *t, double nu[3], double uv[2])
+                     double tmax, double *t, double nu[3], double uv[UV_N])
 {
     const limen__mesh *m = p->mesh;
     double cut[4], *cutp = NULL;
@@ -528,10 +572,16 @@ static bool hit_mesh(const prim *p, const double o[3], const double d[3], double
     if (tri < 0)
         return false;
     const uint32_t *ix = &m->idx[tri * 3];
-    uv[0] = uv[1] = 0;
+    memset(uv, 0, sizeof(double) * UV_N);
     for (int k = 0; m->uv && k < 2; k++)
         uv[k] = (1.0 - u - v) * m->uv[ix[0] * 2 + k] + u * m->uv[ix[1] * 2 + k] +
                 v * m->uv[ix[2] * 2 + k];
+    if (m->uv)
+        uv_gradient(m, ix, uv + 2);
+    /* the material is found at shading from the triangle and the barycentric coordinates */
+    uv[UV_BU] = u;
+    uv[UV_BV] = v;
+    uv[UV_TRI] = tri;
     if (p->smooth) {
         double w[3] = { 1.0 - u - v, u, v };
         for (int a = 0; a < 3; a++)
@@ -557,7 +607,7 @@ typedef struct search {
     double tmin_shape, tmin_surface;
     int skip;
     int best;
-    double tbest, pu[3], nu[3], uv[2];
+    double tbest, pu[3], nu[3], uv[UV_N];
 } search;
 
 /* Tests prim i against the search's segment, keeping the nearest hit; between hits at the
@@ -585,7 +635,7 @@ static void test_prim(search *q, int i)
                                                                                 : q->tmin_shape;
     if (tc + p->br <= tmin)
         return;
-    double ou[3], du[3], t, n[3], uv[2] = { 0, 0 };
+    double ou[3], du[3], t, n[3], uv[UV_N] = { 0 };
     limen__d_point(p->minv, o, ou);
     d_dir(p->minv, d, du);
     bool hit;
@@ -638,7 +688,7 @@ static void test_prim_bvh(void *ctx, int item, double *tmax)
  * the unit-space normal of the hit. */
 static int nearest(const tracer *tr, const double o[3], const double d[3], double tmin_shape,
                    double tmin_surface, int skip, double *t_out, double pu[3], double nu[3],
-                   double uv_out[2])
+                   double uv_out[UV_N])
 {
     search q = { .tr = tr, .o = o, .d = d, .tmin_shape = tmin_shape,
                  .tmin_surface = tmin_surface, .skip = skip, .best = -1, .tbest = INFINITY };
@@ -692,12 +742,36 @@ static void flat_uv(const prim *p, const double pu[3], const double nu[3], doubl
     uv[1] = pu[(a + 2) % 3] + 0.5;
 }
 
+/* The steps of a hit's texture coordinates (times repeat) to the next pixel across and up,
+ * (du/dx, dv/dx, du/dy, dv/dy), from the unit-space point's steps dpu. */
+static void uv_steps(const prim *p, const double nu[3], const double uv[UV_N],
+                     const double dpu[2][3], double duv[4])
+{
+    int a = 2;
+    if (p->kind == LIMEN_NODE_BOX)
+        a = fabs(nu[0]) > 0.5 ? 0 : fabs(nu[1]) > 0.5 ? 1 : 2;
+    for (int i = 0; i < 2; i++) {
+        if (p->shape == SHAPE_MESH) {
+            duv[2 * i] = dot3(uv + 2, dpu[i]);
+            duv[2 * i + 1] = dot3(uv + 5, dpu[i]);
+        } else {
+            duv[2 * i] = dpu[i][(a + 1) % 3];
+            duv[2 * i + 1] = dpu[i][(a + 2) % 3];
+        }
+        duv[2 * i] *= p->repeat[0];
+        duv[2 * i + 1] *= p->repeat[1];
+    }
+}
+
+/* dpu: the unit-space point's steps to the next pixel across and up, or NULL (a lone ray:
+ * the full image). */
 static void shade(const tracer *tr, const prim *p, const double albedo_a[3], const double pu[3],
-                  const double nu[3], const double uv_in[2], const double pw[3],
-                  const double n[3], double out[3])
+                  const double nu[3], const double uv_in[UV_N], const double dpu[2][3],
+                  const double pw[3], const double n[3], double out[3], double *alpha)
 {
     const double *albedo = albedo_a;
-    double texel[3];
+    double texel[3], mat[3], emissive[3] = { 0, 0, 0 };
+    *alpha = 1;
     if (p->cell > 0) {
         double k = 0;
         int axes = p->kind == LIMEN_NODE_QUAD ? 2 : 3;
@@ -706,11 +780,26 @@ static void shade(const tracer *tr, const prim *p, const double albedo_a[3], con
         if (k - 2.0 * floor(k * 0.5) > 0.5)
             albedo = p->checker_b;
     }
-    if (p->tex) {
+    if (p->shape == SHAPE_MESH) {
+        /* base x texel (the node's texture in place of the file's) x vertex colour */
+        float rep[2] = { (float)p->repeat[0], (float)p->repeat[1] };
+        double duv[4];
+        if (dpu)
+            uv_steps(p, nu, uv_in, dpu, duv);
+        limen__mesh_material_at(p->mesh, p->tex, rep, p->filter, dpu ? duv : NULL,
+                                (uint32_t)uv_in[UV_TRI], uv_in[UV_BU], uv_in[UV_BV], mat, alpha,
+                                emissive);
+        for (int k = 0; k < 3; k++)
+            mat[k] *= albedo[k];
+        albedo = mat;
+    } else if (p->tex) {
         double uv[2] = { uv_in[0], uv_in[1] };
-        if (p->shape != SHAPE_MESH)
-            flat_uv(p, pu, nu, uv);
-        limen__texture_sample(p->tex, uv[0] * p->repeat[0], uv[1] * p->repeat[1], texel);
+        flat_uv(p, pu, nu, uv);
+        double duv[4];
+        if (dpu)
+            uv_steps(p, nu, uv_in, dpu, duv);
+        limen__texture_filter(p->tex, p->filter, uv[0] * p->repeat[0], uv[1] * p->repeat[1],
+                              dpu ? duv : NULL, texel);
         for (int k = 0; k < 3; k++)
             texel[k] *= albedo[k];
         albedo = texel;
@@ -732,27 +821,82 @@ static void shade(const tracer *tr, const prim *p, const double albedo_a[3], con
     }
     for (int k = 0; k < 3; k++) {
         double v = albedo[k] * (tr->ambient + (1.0 - tr->ambient) * light[k]);
+        v = (v < 0 ? 0 : v > 1 ? 1 : v) + emissive[k];
         out[k] = v < 0 ? 0 : v > 1 ? 1 : v;
     }
 }
 
 /* ------------------------------------------------------------------ paths */
 
+/* ------------------------------------------------------------------ ray differentials */
+
+/* A pixel's footprint: how its ray's origin and unit direction change to the next pixel
+ * across and up (0: across, 1: up), carried along the path as first-order differentials
+ * (a mirror and a portal map both by their matrix, which is affine). */
+typedef struct footprint {
+    double o[2][3], d[2][3];
+} footprint;
+
+/* The change of normalize(v) for a change dv of v. */
+static void unit_change(const double v[3], const double dv[3], double out[3])
+{
+    double len = sqrt(dot3(v, v)), u[3] = { v[0] / len, v[1] / len, v[2] / len };
+    double c = dot3(u, dv);
+    for (int k = 0; k < 3; k++)
+        out[k] = (dv[k] - c * u[k]) / len;
+}
+
+/* The hit point's steps dp on a plane of normal nrm met at distance t along unit d. */
+static void footprint_at(const footprint *f, const double d[3], double t, const double nrm[3],
+                         double dp[2][3])
+{
+    double dn = dot3(d, nrm);
+    for (int i = 0; i < 2; i++) {
+        for (int k = 0; k < 3; k++)
+            dp[i][k] = f->o[i][k] + t * f->d[i][k];
+        double dt = -dot3(dp[i], nrm) / dn;     /* edge on: not finite, the coarsest level */
+        for (int k = 0; k < 3; k++)
+            dp[i][k] += dt * d[k];
+    }
+}
+
+/* Through surface matrix x from a hit whose steps are dp, the ray's direction d (unit)
+ * becoming normalize(x d). */
+static void footprint_pass(footprint *f, const double x[16], const double dp[2][3],
+                           const double d[3])
+{
+    double xd[3];
+    d_dir(x, d, xd);
+    for (int i = 0; i < 2; i++) {
+        double xdd[3];
+        d_dir(x, dp[i], f->o[i]);
+        d_dir(x, f->d[i], xdd);
+        unit_change(xd, xdd, f->d[i]);
+    }
+}
+
+/* ------------------------------------------------------------------ paths */
+
 /* Follows one path from o along d (any length) with hits before tmin (in units of |d|)
- * skipped on the first segment. lim: resolved limits (their depth fields). rgb gets the colour;
- * rec, if not NULL, where it ended. */
-static void follow(const tracer *tr, const double o_in[3], const double d_in[3], double tmin0,
-                   double tmin_surface0, const limen_limits *lim, double rgb[3],
-                   record *rec)
+ * skipped on the first segment. lim: resolved limits (their depth fields). dd: how d
+ * changes to the next pixel across and up (textures pick their level from it), or NULL.
+ * rgb gets the colour; rec, if not NULL, where it ended. */
+static void follow(const tracer *tr, const double o_in[3], const double d_in[3],
+                   const double dd[2][3], double tmin0, double tmin_surface0,
+                   const limen_limits *lim, double rgb[3], record *rec)
 {
     double o[3], d[3], tint[3] = { 1, 1, 1 };
     memcpy(o, o_in, sizeof o);
     memcpy(d, d_in, sizeof d);
+    footprint fp;
+    memset(&fp, 0, sizeof fp);
+    for (int i = 0; dd && i < 2; i++)
+        unit_change(d_in, dd[i], fp.d[i]);
     double len = sqrt(dot3(d, d));
     double tmin = tmin0 * len, tmin_surface = tmin_surface0 * len;
     normalize3(d);
-    int skip = -1, passed = 0;
-    double travelled = 0;
+    int skip = -1, passed = 0, layers = 0;
+    double travelled = 0, over[3] = { 0, 0, 0 }, cover = 1;   /* blended layers passed */
     const double *result = tr->background;
     double shaded[3];
     if (rec) {
@@ -760,7 +904,7 @@ static void follow(const tracer *tr, const double o_in[3], const double d_in[3],
         rec->prim = -1;
     }
     for (;;) {
-        double t, pu[3] = { 0, 0, 0 }, nu[3] = { 0, 0, 0 }, uv[2] = { 0, 0 };
+        double t, pu[3] = { 0, 0, 0 }, nu[3] = { 0, 0, 0 }, uv[UV_N] = { 0 };
         int hi = nearest(tr, o, d, tmin, tmin_surface, skip, &t, pu, nu, uv);
         if (rec) {
             memcpy(rec->seg_o, o, sizeof o);
@@ -779,8 +923,31 @@ static void follow(const tracer *tr, const double o_in[3], const double d_in[3],
             double n[3];
             world_normal(p, nu, d, n);
             if (matte) {
-                shade(tr, p, surface ? p->back : p->color, pu, nu, uv, pw, n, shaded);
+                double dp[2][3], dpu[2][3];
+                if (dd) {
+                    footprint_at(&fp, d, t, n, dp);
+                    for (int i = 0; i < 2; i++)
+                        d_dir(p->minv, dp[i], dpu[i]);
+                }
+                double alpha;
+                shade(tr, p, surface ? p->back : p->color, pu, nu, uv, dd ? dpu : NULL, pw, n,
+                      shaded, &alpha);
                 result = shaded;
+                if (p->shape == SHAPE_MESH && layers < 64 &&
+                    p->mesh->mats[p->mesh->parts[p->mesh->tri_part[(uint32_t)uv[UV_TRI]]].material]
+                            .alpha_mode == LIMEN_ALPHA_BLEND) {
+                    /* blended: this over what lies behind, the ray going on past it */
+                    for (int k = 0; k < 3; k++)
+                        over[k] += cover * alpha * tint[k] * shaded[k];
+                    cover *= 1.0 - alpha;
+                    layers++;
+                    result = tr->background;
+                    memcpy(o, pw, sizeof o);
+                    skip = -1;
+                    tmin = 1e-9 * (1.0 + fmax(fabs(o[0]), fmax(fabs(o[1]), fabs(o[2]))));
+                    tmin_surface = tmin;
+                    continue;
+                }
             } else {
                 result = p->fill;
             }
@@ -800,6 +967,11 @@ static void follow(const tracer *tr, const double o_in[3], const double d_in[3],
         if (p->kind == LIMEN_NODE_MIRROR)
             for (int k = 0; k < 3; k++)
                 tint[k] *= p->tint[k];
+        if (dd) {
+            double dp[2][3];
+            footprint_at(&fp, d, t, p->plane, dp);
+            footprint_pass(&fp, p->x, dp, d);
+        }
         limen__d_point(p->x, pw, o);
         d_dir(p->x, d, d);
         if (!normalize3(d))
@@ -814,7 +986,7 @@ static void follow(const tracer *tr, const double o_in[3], const double d_in[3],
             rec->distance = INFINITY;
     }
     for (int k = 0; k < 3; k++)
-        rgb[k] = tint[k] * result[k];
+        rgb[k] = over[k] + cover * tint[k] * result[k];
 }
 
 /* ------------------------------------------------------------------ public: rays */
@@ -848,7 +1020,7 @@ limen_status limen_ray_cast(limen_scene *s, const float origin[3], const float d
         return st;
     record rec;
     double rgb[3];
-    follow(&tr, o, d, 0.0, 0.0, &lim, rgb, &rec);
+    follow(&tr, o, d, NULL, 0.0, 0.0, &lim, rgb, &rec);
     memset(out, 0, sizeof *out);
     out->hit = rec.hit;
     out->distance = (float)rec.distance;
@@ -880,7 +1052,32 @@ typedef struct job {
     limen_limits limits;        /* resolved */
     int first, step;            /* rows first, first + step, ... (PNG order) */
     unsigned char *rgb;
+    int nsamples;
+    const double (*samples)[2]; /* positions in the pixel, from its lower-left corner */
 } job;
+
+/* The standard 4x MSAA pattern (GL window coordinates, y up), as llvmpipe reports it. */
+static const double msaa4[4][2] = {
+    { 0.375, 0.125 }, { 0.875, 0.375 }, { 0.125, 0.625 }, { 0.625, 0.875 }
+};
+#define MAX_SAMPLES 256
+
+/* Where a pixel's n samples lie (limen_trace_desc.samples); false if n is not allowed. */
+static bool sample_positions(int n, double out[][2])
+{
+    if (n == 4) {
+        memcpy(out, msaa4, sizeof msaa4);
+        return true;
+    }
+    int k = (int)lround(sqrt((double)n));
+    if (n < 1 || n > MAX_SAMPLES || k * k != n)
+        return false;
+    for (int i = 0; i < n; i++) {
+        out[i][0] = (i % k + 0.5) / k;
+        out[i][1] = (i / k + 0.5) / k;
+    }
+    return true;
+}
 
 static unsigned char to_byte(double c)
 {
@@ -891,23 +1088,37 @@ static unsigned char to_byte(double c)
 static void *trace_rows(void *arg)
 {
     const job *j = arg;
+    /* the rays through the next pixel across and up differ by these (a sample's footprint
+     * is the pixel's, as the rasterizer's derivatives are per pixel with every sample
+     * shaded) */
+    double dd[2][3];
+    for (int k = 0; k < 3; k++) {
+        dd[0][k] = j->cam[k] * 2.0 * j->tx / j->width;
+        dd[1][k] = j->cam[4 + k] * 2.0 * j->ty / j->height;
+    }
     for (int row = j->first; row < j->height; row += j->step) {
         int gy = j->height - 1 - row;
-        double ny = (gy + 0.5) * 2.0 / j->height - 1.0;
         unsigned char *dst = j->rgb + (size_t)row * (size_t)j->width * 3;
         for (int x = 0; x < j->width; x++) {
-            double nx = (x + 0.5) * 2.0 / j->width - 1.0;
-            /* the ray through the pixel centre, built from the lens in double: unprojecting
-             * points through a float projection lost the far point when far/near is large */
-            double de[3] = { nx * j->tx, ny * j->ty, -1.0 }, d[3], rgb[3];
+            double sum[3] = { 0, 0, 0 };
+            for (int si = 0; si < j->nsamples; si++) {
+                double nx = (x + j->samples[si][0]) * 2.0 / j->width - 1.0;
+                double ny = (gy + j->samples[si][1]) * 2.0 / j->height - 1.0;
+                /* the ray through the sample, built from the lens in double: unprojecting
+                 * points through a float projection lost the far point when far/near is
+                 * large */
+                double de[3] = { nx * j->tx, ny * j->ty, -1.0 }, d[3], rgb[3];
+                for (int k = 0; k < 3; k++)
+                    d[k] = j->cam[k] * de[0] + j->cam[4 + k] * de[1] + j->cam[8 + k] * de[2];
+                /* from the eye: shapes count from the near plane on (the rasterizer's near
+                 * clip), mirrors and portals from the eye on (the renderer draws them
+                 * depth-clamped); eye-space z = -near is t = near in units of d */
+                follow(j->tr, j->eye, d, dd, j->znear, 1e-12, &j->limits, rgb, NULL);
+                for (int k = 0; k < 3; k++)     /* each sample clamped, as stored */
+                    sum[k] += rgb[k] < 0 ? 0 : rgb[k] > 1 ? 1 : rgb[k];
+            }
             for (int k = 0; k < 3; k++)
-                d[k] = j->cam[k] * de[0] + j->cam[4 + k] * de[1] + j->cam[8 + k] * de[2];
-            /* from the eye: shapes count from the near plane on (the rasterizer's near clip),
-             * mirrors and portals from the eye on (the renderer draws them depth-clamped);
-             * eye-space z = -near is t = near in units of d */
-            follow(j->tr, j->eye, d, j->znear, 1e-12, &j->limits, rgb, NULL);
-            for (int k = 0; k < 3; k++)
-                dst[3 * x + k] = to_byte(rgb[k]);
+                dst[3 * x + k] = to_byte(sum[k] / j->nsamples);
         }
     }
     return NULL;
@@ -936,6 +1147,11 @@ limen_status limen_trace_image(limen_scene *s, const limen_trace_desc *desc, uns
     if (d.threads < 0)
         return limen__fail(s, LIMEN_ERR_ARG, "trace: thread count must be >= 0 (got %d)",
                            d.threads);
+    double samples[MAX_SAMPLES][2];
+    int nsamples = d.samples ? d.samples : 1;
+    if (!sample_positions(nsamples, samples))
+        return limen__fail(s, LIMEN_ERR_ARG, "trace: samples must be 1, 4 (the 4x MSAA pattern) "
+                           "or a square up to 256 (a grid: 9, 16, 25, ...), got %d", d.samples);
     int width = d.width ? d.width : 640, height = d.height ? d.height : 480;
     limen_status cst = limen__scene_check(s);
     if (cst)
@@ -947,7 +1163,8 @@ limen_status limen_trace_image(limen_scene *s, const limen_trace_desc *desc, uns
     float aspect = (float)width / (float)height;
     double ty = tan(0.5 * (double)cam->fovy);
     job base = { .width = width, .height = height, .rgb = rgb, .tx = ty * (double)aspect,
-                 .ty = ty, .znear = cam->znear, .limits = lim };
+                 .ty = ty, .znear = cam->znear, .limits = lim, .nsamples = nsamples,
+                 .samples = (const double(*)[2])samples };
     limen__d_from_f(&cam->world[0][0], base.cam);
     for (int k = 0; k < 3; k++)
         base.eye[k] = base.cam[12 + k];

@@ -175,5 +175,5 @@ static void egl_destroy(limen__ctx *c)
 }
 
 const limen__ctx_ops limen__ctx_egl = {
-    "egl", egl_create, egl_enter, egl_leave, egl_getproc, egl_destroy,
+    "egl", egl_create, egl_enter, egl_leave, egl_getproc, egl_destroy, NULL,
 };

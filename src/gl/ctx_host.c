@@ -25,11 +25,11 @@ static const GLenum caps[] = {
 /* Integer state: read with glGetIntegerv, put back by restore(). */
 enum {
     I_PROGRAM, I_VAO, I_ARRAY_BUFFER, I_DRAW_FB, I_READ_FB, I_RENDERBUFFER, I_ACTIVE_TEXTURE,
-    I_TEXTURE0, I_SAMPLER0, I_TEXTURE1, I_SAMPLER1, I_PACK_BUFFER, I_UNPACK_BUFFER,
+    I_TEXTURE0, I_SAMPLER0, I_TEXTURE1, I_SAMPLER1, I_TEXTURE2, I_SAMPLER2, I_PACK_BUFFER, I_UNPACK_BUFFER,
     I_PACK_ALIGNMENT, I_PACK_ROW_LENGTH, I_PACK_SKIP_ROWS, I_PACK_SKIP_PIXELS,
     I_UNPACK_ALIGNMENT, I_UNPACK_ROW_LENGTH, I_UNPACK_SKIP_ROWS, I_UNPACK_SKIP_PIXELS,
     I_UNPACK_IMAGE_HEIGHT, I_DEPTH_FUNC, I_CULL_MODE,
-    I_FRONT_FACE, I_STENCIL_CLEAR, I_CLIP_ORIGIN, I_CLIP_DEPTH, I_COUNT
+    I_FRONT_FACE, I_STENCIL_CLEAR, I_BLEND_SRC, I_BLEND_DST, I_CLIP_ORIGIN, I_CLIP_DEPTH, I_COUNT
 };
 
 /* GL_STENCIL_FUNC, _REF, _VALUE_MASK, _FAIL, _PASS_DEPTH_FAIL, _PASS_DEPTH_PASS, _WRITEMASK
@@ -51,6 +51,11 @@ struct limen__ctx {
     limen_gl_loader load;
     saved st;
     int depth;                  /* enter/leave nesting: only the outermost saves */
+    /* A fence made in the context the renderer was created in. GL names are per context
+     * (another context has its own program 1), but a sync object is a pointer that
+     * glIsSync finds only in the context (and share group) that made it, without a flush:
+     * it tells, on every call, whether the current context is the renderer's. */
+    GLsync mark;
 };
 
 static limen__ctx *host_create(const limen_renderer_desc *d, char *err, size_t errsize)
@@ -113,6 +118,7 @@ static void save(const limen__gl *gl, saved *sv)
         [I_UNPACK_IMAGE_HEIGHT] = GL_UNPACK_IMAGE_HEIGHT,
         [I_DEPTH_FUNC] = GL_DEPTH_FUNC, [I_CULL_MODE] = GL_CULL_FACE_MODE,
         [I_FRONT_FACE] = GL_FRONT_FACE, [I_STENCIL_CLEAR] = GL_STENCIL_CLEAR_VALUE,
+        [I_BLEND_SRC] = GL_BLEND_SRC_RGB, [I_BLEND_DST] = GL_BLEND_DST_RGB,
     };
     for (int k = 0; k < I_COUNT; k++)
         if (ints[k])
@@ -121,7 +127,11 @@ static void save(const limen__gl *gl, saved *sv)
         gl->GetIntegerv(GL_CLIP_ORIGIN, &sv->i[I_CLIP_ORIGIN]);
         gl->GetIntegerv(GL_CLIP_DEPTH_MODE, &sv->i[I_CLIP_DEPTH]);
     }
-    /* units 0 (views' images) and 1 (albedo textures) are the ones limen samples from */
+    /* units 0 (views' images), 1 (albedo textures) and 2 (emissive textures) are the ones
+     * limen samples from */
+    gl->ActiveTexture(GL_TEXTURE2);
+    gl->GetIntegerv(GL_TEXTURE_BINDING_2D, &sv->i[I_TEXTURE2]);
+    gl->GetIntegerv(GL_SAMPLER_BINDING, &sv->i[I_SAMPLER2]);
     gl->ActiveTexture(GL_TEXTURE1);
     gl->GetIntegerv(GL_TEXTURE_BINDING_2D, &sv->i[I_TEXTURE1]);
     gl->GetIntegerv(GL_SAMPLER_BINDING, &sv->i[I_SAMPLER1]);
@@ -156,6 +166,7 @@ static void neutral(const limen__gl *gl)
     gl->DepthRange(0.0, 1.0);
     gl->BindSampler(0, 0);
     gl->BindSampler(1, 0);
+    gl->BindSampler(2, 0);
     gl->BindBuffer(GL_PIXEL_PACK_BUFFER, 0);
     gl->BindBuffer(GL_PIXEL_UNPACK_BUFFER, 0);
     /* textures are uploaded as tightly packed rows */
@@ -182,6 +193,9 @@ static void restore(const limen__gl *gl, const saved *sv)
     gl->BindFramebuffer(GL_DRAW_FRAMEBUFFER, (GLuint)sv->i[I_DRAW_FB]);
     gl->BindFramebuffer(GL_READ_FRAMEBUFFER, (GLuint)sv->i[I_READ_FB]);
     gl->BindRenderbuffer(GL_RENDERBUFFER, (GLuint)sv->i[I_RENDERBUFFER]);
+    gl->ActiveTexture(GL_TEXTURE2);
+    gl->BindTexture(GL_TEXTURE_2D, (GLuint)sv->i[I_TEXTURE2]);
+    gl->BindSampler(2, (GLuint)sv->i[I_SAMPLER2]);
     gl->ActiveTexture(GL_TEXTURE1);
     gl->BindTexture(GL_TEXTURE_2D, (GLuint)sv->i[I_TEXTURE1]);
     gl->BindSampler(1, (GLuint)sv->i[I_SAMPLER1]);
@@ -205,6 +219,7 @@ static void restore(const limen__gl *gl, const saved *sv)
     for (size_t k = 0; k < NCAPS; k++)
         enable(gl, caps[k], sv->caps[k]);
     gl->DepthFunc((GLenum)sv->i[I_DEPTH_FUNC]);
+    gl->BlendFunc((GLenum)sv->i[I_BLEND_SRC], (GLenum)sv->i[I_BLEND_DST]);
     gl->DepthMask(sv->depth_mask);
     gl->ClearDepth(sv->depth_clear);
     gl->DepthRange(sv->depth_range[0], sv->depth_range[1]);
@@ -232,10 +247,19 @@ static int host_enter(limen__ctx *c, const limen__gl *gl, char *err, size_t errs
                                "current before calling limen)");
         return -1;
     }
+    if (c->mark && !gl->IsSync(c->mark)) {
+        c->depth = 0;
+        snprintf(err, errsize, "host: the current OpenGL context is not the one this renderer "
+                               "was created in (make that one current; limen draws into and "
+                               "deletes from no other)");
+        return -1;
+    }
     while (gl->GetError() != GL_NO_ERROR)
         ;
     save(gl, &c->st);
     neutral(gl);
+    if (!c->mark)
+        c->mark = gl->FenceSync(GL_SYNC_GPU_COMMANDS_COMPLETE, 0);
     return 0;
 }
 
@@ -251,6 +275,13 @@ static void host_destroy(limen__ctx *c)
     free(c);
 }
 
+static void host_release(limen__ctx *c, const limen__gl *gl)
+{
+    if (c->mark)
+        gl->DeleteSync(c->mark);
+    c->mark = NULL;
+}
+
 const limen__ctx_ops limen__ctx_host = {
-    "host", host_create, host_enter, host_leave, host_getproc, host_destroy,
+    "host", host_create, host_enter, host_leave, host_getproc, host_destroy, host_release,
 };

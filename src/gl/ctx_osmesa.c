@@ -96,4 +96,5 @@ static void osmesa_destroy(limen__ctx *c)
 
 const limen__ctx_ops limen__ctx_osmesa = {
     "osmesa", osmesa_create, osmesa_enter, osmesa_leave, osmesa_getproc, osmesa_destroy,
+    NULL,
 };

@@ -17,6 +17,9 @@
 #define LIMEN_GL_REQUIRED(X)                                                             \
     X(const GLubyte *, GetString, (GLenum name))                                         \
     X(const GLubyte *, GetStringi, (GLenum name, GLuint index))                          \
+    X(GLsync, FenceSync, (GLenum condition, GLbitfield flags))                          \
+    X(GLboolean, IsSync, (GLsync sync))                                                  \
+    X(void, DeleteSync, (GLsync sync))                                                   \
     X(void, GetIntegerv, (GLenum pname, GLint *data))                                    \
     X(GLenum, GetError, (void))                                                          \
     X(void, Enable, (GLenum cap))                                                        \
@@ -123,7 +126,9 @@
                                                   GLenum pname, GLint *v))
 
 /* May be missing (NULL): glClipControl needs GL 4.5 or ARB_clip_control. */
-#define LIMEN_GL_OPTIONAL(X) X(void, ClipControl, (GLenum origin, GLenum depth))
+#define LIMEN_GL_OPTIONAL(X)                                                             \
+    X(void, ClipControl, (GLenum origin, GLenum depth))                                  \
+    X(void, MinSampleShading, (GLfloat value))
 
 typedef struct limen__gl {
 #define LIMEN_GL_FIELD(ret, name, args) ret(APIENTRY *name) args;
@@ -161,6 +166,9 @@ typedef struct limen__ctx_ops {
     void (*leave)(limen__ctx *c, const limen__gl *gl);
     limen__glproc (*getproc)(limen__ctx *c, const char *name);
     void (*destroy)(limen__ctx *c);
+    /* Deletes what the context keeps in GL (between enter and leave, before destroy);
+     * NULL where it keeps nothing. */
+    void (*release)(limen__ctx *c, const limen__gl *gl);
 } limen__ctx_ops;
 
 extern const limen__ctx_ops limen__ctx_osmesa;

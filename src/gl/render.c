@@ -1,5 +1,5 @@
 /* render.c - the OpenGL renderer: context, shaders, meshes, framebuffers, and drawing the
- * scene for a view. Shading follows DESIGN.md exactly so that the ray tracer can match it
+ * scene for a view. Shading follows docs/DESIGN.md exactly so that the ray tracer can match it
  * pixel for pixel. */
 #include <stdarg.h>
 #include <stdio.h>
@@ -180,6 +180,27 @@ static void leave(limen_renderer *r)
     r->ops->leave(r->ctx, &r->gl);
 }
 
+/* The host's context must be OpenGL 3.3 or later. Read from GL_VERSION, the one query every
+ * version answers without an error (GL_MAJOR_VERSION is 3.0's), before limen saves any
+ * state or looks for entry points an older context lacks. No context current: LIMEN_OK,
+ * and enter says so. */
+static limen_status check_host_version(limen_renderer *r)
+{
+    if (!r->gl.GetString)
+        return LIMEN_OK;
+    const char *v = (const char *)r->gl.GetString(GL_VERSION);
+    if (!v)
+        return LIMEN_OK;
+    int major = 0, minor = 0;
+    if (sscanf(v, "%d.%d", &major, &minor) != 2)
+        return limen__rfail(r, LIMEN_ERR_UNSUPPORTED, "host: limen needs OpenGL 3.3 core, "
+                            "this context is '%.64s'", v);
+    if (major * 10 + minor < 33)
+        return limen__rfail(r, LIMEN_ERR_UNSUPPORTED, "host: limen needs OpenGL 3.3 core, "
+                            "this context is %d.%d", major, minor);
+    return LIMEN_OK;
+}
+
 static limen_status setup(limen_renderer *r, const limen_renderer_desc *d)
 {
     static const limen__ctx_ops *const backends[] = { &limen__ctx_osmesa, &limen__ctx_egl,
@@ -216,9 +237,15 @@ static limen_status setup(limen_renderer *r, const limen_renderer_desc *d)
     if (!r->ctx)
         return LIMEN_ERR_GL;
     const char *missing = limen__gl_load(&r->gl, r->ops->getproc, r->ctx);
+    if (r->host) {
+        limen_status vst = check_host_version(r);
+        if (vst)
+            return vst;
+    }
     if (missing)
         return limen__rfail(r, LIMEN_ERR_UNSUPPORTED, "%s: OpenGL entry point %s missing",
                      r->ops->name, missing);
+    r->loaded = true;
     limen_status st = enter(r);
     if (st)
         return st;
@@ -232,14 +259,6 @@ static limen_status setup(limen_renderer *r, const limen_renderer_desc *d)
 
 static limen_status setup_gl(limen_renderer *r)
 {
-    if (r->host) {
-        GLint major = 0, minor = 0;
-        GL(GetIntegerv)(GL_MAJOR_VERSION, &major);
-        GL(GetIntegerv)(GL_MINOR_VERSION, &minor);
-        if (major * 10 + minor < 33)
-            return limen__rfail(r, LIMEN_ERR_UNSUPPORTED, "host: the current context is OpenGL "
-                                "%d.%d; limen needs 3.3 or later", major, minor);
-    }
     snprintf(r->info, sizeof r->info, "%s: %s, OpenGL %s", r->ops->name,
              (const char *)GL(GetString)(GL_RENDERER), (const char *)GL(GetString)(GL_VERSION));
     if (r->msaa) {
@@ -290,7 +309,9 @@ void limen_renderer_destroy(limen_renderer *r)
 {
     if (!r)
         return;
-    if (r->ctx && r->fill_prog && !enter(r)) {
+    /* enter refuses a host context other than the renderer's: then limen touches no GL and
+     * its objects stay in its own context, which frees them when it is destroyed */
+    if (r->ctx && r->loaded && (r->fill_prog || r->host) && !enter(r)) {
         limen__variants_free(r);
         GL(DeleteProgram)(r->fill_prog);
         GL(DeleteBuffers)(1, &r->vbo);
@@ -320,6 +341,8 @@ void limen_renderer_destroy(limen_renderer *r)
             GL(DeleteFramebuffers)(1, &r->prev_fbo);
             GL(DeleteTextures)(1, &r->prev_tex);
         }
+        if (r->ops->release)
+            r->ops->release(r->ctx, &r->gl);
         leave(r);
     }
     limen_plan_destroy(r->plan);
@@ -425,6 +448,14 @@ static limen_status begin_frame(limen_renderer *r)
     GL(FrontFace)(GL_CCW);
     if (r->msaa)
         GL(Enable)(GL_MULTISAMPLE);
+    /* every sample shaded at its own position (GL 4.0), not once at the pixel's centre: a
+     * checker's or a texture's edges inside a surface are then averaged like the shapes'
+     * edges, as the tracer's samples at the same positions average them
+     * (limen_trace_desc.samples) */
+    if (r->msaa && r->gl.MinSampleShading) {
+        GL(Enable)(GL_SAMPLE_SHADING);
+        GL(MinSampleShading)(1.0f);
+    }
     return LIMEN_OK;
 }
 
@@ -530,6 +561,8 @@ limen_status limen_render_frame(limen_renderer *r, limen_scene *s, const limen_r
         return st;
     st = frame(r, s, stats);
     leave(r);
+    if (!st)
+        r->err[0] = '\0';     /* a successful call leaves no old failure behind */
     return st;
 }
 
@@ -556,6 +589,9 @@ static limen_status frame(limen_renderer *r, limen_scene *s, limen_frame_stats *
     r->draw_status = LIMEN_OK;
     r->draw_calls = 0;
     r->triangles = 0;
+    r->mesh_tris_left = (uint64_t)(r->opts.limits.budget.triangles > 0
+                                       ? r->opts.limits.budget.triangles
+                                       : LIMEN_BUDGET_TRIANGLES_DEFAULT);
     if (r->has_fragment_stats)
         GL(BeginQuery)(GL_FRAGMENT_SHADER_INVOCATIONS_ARB, r->q_fragments);
     r->scene = s;
@@ -646,8 +682,10 @@ limen_status limen_renderer_read_rgb(limen_renderer *r, unsigned char *rgb)
     }
     GLenum e = GL(GetError)();
     leave(r);
-    return e == GL_NO_ERROR ? LIMEN_OK
-                            : limen__rfail(r, LIMEN_ERR_GL, "OpenGL error 0x%x reading pixels", e);
+    if (e != GL_NO_ERROR)
+        return limen__rfail(r, LIMEN_ERR_GL, "OpenGL error 0x%x reading pixels", e);
+    r->err[0] = '\0';
+    return LIMEN_OK;
 }
 
 limen_status limen_renderer_write_png(limen_renderer *r, const char *path)
@@ -704,5 +742,6 @@ limen_status limen_renderer_set_viewport(limen_renderer *r, unsigned framebuffer
     r->origin[1] = y;
     r->width = width;
     r->height = height;
+    r->err[0] = '\0';
     return LIMEN_OK;
 }

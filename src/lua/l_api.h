@@ -60,7 +60,7 @@ enum field {
     F_NAME, F_PARENT, F_POS, F_ROTATE, F_SCALE, F_NORMAL, F_UP, F_VISIBLE, F_COLOR,
     F_SIZE, F_RADIUS, F_HEIGHT, F_CHECKER, F_LOOK_AT, F_FOV, F_NEAR, F_FAR,
     F_TINT, F_BACK, F_FILL, F_MAX_DEPTH, F_LINK, F_FILE, F_SMOOTH, F_RANGE, F_TEXTURE,
-    F_TEXTURE_REPEAT, F_COUNT
+    F_TEXTURE_REPEAT, F_FILTER, F_COUNT
 };
 
 #define BIT(f) (1u << (f))
@@ -86,11 +86,14 @@ typedef struct spec {
     float fov, znear, zfar, range, texture_repeat[2];
     float tint[3], back[3], fill[3];
     int max_depth, visible, smooth;
+    int filter;                 /* limen_texture_filter */
     const char *file;
     char texture[1200];         /* the image file to open (relative to the script's folder) */
 } spec;
 
 #define HAVE(sp, f) (((sp)->have & BIT(f)) != 0)
+
+extern const char *const limen__lua_filter_names[3];   /* by limen_texture_filter */
 
 #define RANGE_FINITE "a number from -1e9 to 1e9"
 #define RANGE_POSITIVE "a positive number from 1e-9 to 1e9"

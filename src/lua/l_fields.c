@@ -18,22 +18,27 @@ static const char *const field_names[F_COUNT] = {
     "name", "parent", "pos", "rotate", "scale", "normal", "up", "visible", "color",
     "size", "radius", "height", "checker", "look_at", "fov", "near", "far",
     "tint", "back", "fill", "max_depth", "link", "file", "smooth", "range", "texture",
-    "texture_repeat"
+    "texture_repeat", "filter"
 };
+
+/* limen_texture_filter's values by name, in the enum's order. */
+const char *const limen__lua_filter_names[3] = { "trilinear", "linear", "nearest" };
 
 /* Which constructor fields each kind takes. */
 const unsigned limen__lua_kind_fields[LIMEN_NODE_KIND_COUNT] = {
     [LIMEN_NODE_GROUP] = F_TRANSFORM,
-    [LIMEN_NODE_BOX] = F_SHAPE | BIT(F_SIZE) | BIT(F_TEXTURE) | BIT(F_TEXTURE_REPEAT),
+    [LIMEN_NODE_BOX] = F_SHAPE | BIT(F_SIZE) | BIT(F_TEXTURE) | BIT(F_TEXTURE_REPEAT) |
+                       BIT(F_FILTER),
     [LIMEN_NODE_SPHERE] = F_SHAPE | BIT(F_RADIUS),
     [LIMEN_NODE_CYLINDER] = F_SHAPE | BIT(F_RADIUS) | BIT(F_HEIGHT),
-    [LIMEN_NODE_QUAD] = F_SHAPE | BIT(F_SIZE) | BIT(F_TEXTURE) | BIT(F_TEXTURE_REPEAT),
+    [LIMEN_NODE_QUAD] = F_SHAPE | BIT(F_SIZE) | BIT(F_TEXTURE) | BIT(F_TEXTURE_REPEAT) |
+                        BIT(F_FILTER),
     [LIMEN_NODE_MIRROR] = F_SURFACE,
     [LIMEN_NODE_PORTAL] = F_SURFACE | BIT(F_LINK),
     [LIMEN_NODE_LIGHT] = F_TRANSFORM | BIT(F_COLOR) | BIT(F_RANGE),
     [LIMEN_NODE_CAMERA] = F_TRANSFORM | BIT(F_LOOK_AT) | BIT(F_FOV) | BIT(F_NEAR) | BIT(F_FAR),
     [LIMEN_NODE_MESH] = F_SHAPE | BIT(F_FILE) | BIT(F_SMOOTH) | BIT(F_TEXTURE) |
-                        BIT(F_TEXTURE_REPEAT),
+                        BIT(F_TEXTURE_REPEAT) | BIT(F_FILTER),
 };
 
 int limen__lua_field_index(const char *key)
@@ -438,6 +443,16 @@ void limen__lua_parse_field(lua_State *L, int v, int f, limen_node_kind kind, in
     case F_LINK:
         sp->link = limen__lua_read_node(L, v, scene_idx, ctx, what, LIMEN_NODE_PORTAL);
         break;
+    case F_FILTER: {
+        const char *name = lua_type(L, v) == LUA_TSTRING ? lua_tostring(L, v) : "";
+        sp->filter = -1;
+        for (int i = 0; i < 3; i++)
+            if (strcmp(name, limen__lua_filter_names[i]) == 0)
+                sp->filter = i;
+        if (sp->filter < 0)
+            limen__lua_bad(L, v, ctx, what, "\"trilinear\", \"linear\" or \"nearest\"");
+        break;
+    }
     case F_COUNT: break;
     }
     sp->have |= BIT(f);
@@ -537,6 +552,8 @@ limen_status limen__lua_apply_spec(limen_scene *s, limen_node n, const spec *sp)
         TRY(limen_light_set_range(s, n, sp->range));
     if (HAVE(sp, F_TEXTURE_REPEAT))
         TRY(limen_node_set_texture_repeat(s, n, sp->texture_repeat));
+    if (HAVE(sp, F_FILTER))
+        TRY(limen_node_set_texture_filter(s, n, (limen_texture_filter)sp->filter));
 #undef TRY
     return LIMEN_OK;
 }

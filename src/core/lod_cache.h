@@ -1,0 +1,42 @@
+/* lod_cache.h - levels of detail kept between runs (core/lod_cache.c), keyed by the mesh's
+ * content, in the user's cache folder. Not part of the public API. */
+#ifndef LIMEN_CORE_LOD_CACHE_H
+#define LIMEN_CORE_LOD_CACHE_H
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include "core/mesh.h"
+
+/* What the levels of a mesh are made from, hashed: its counts, positions, indices, normals
+ * and texture coordinates, and the version of the levels' making (version). */
+typedef struct limen__lod_key {
+    uint64_t h[2];
+} limen__lod_key;
+
+void limen__lod_cache_key(const limen__mesh *m, uint32_t version, limen__lod_key *key);
+
+/* The folder entries live in, into out (size bytes): $LIMEN_CACHE_DIR, else
+ * $XDG_CACHE_HOME/limen, else $HOME/.cache/limen; false where the cache is off
+ * (LIMEN_CACHE=off, 0 or no) or no folder is known. */
+bool limen__lod_cache_dir(char *out, size_t size);
+
+/* The levels stored under key for a mesh of nverts vertices and ntris triangles: *nlods
+ * levels (at most max_levels, the first the full mesh: indices NULL), their triangle counts
+ * and errors in lods, and the coarse levels' indices one after another in a block
+ * (*indices, malloc'd; the caller frees it), each checked (counts falling, every index
+ * below nverts, errors finite and growing, the whole entry's checksum). False where there
+ * is none, or it is not whole and valid (it is then ignored, and the next store replaces
+ * it), or memory is out. */
+bool limen__lod_cache_load(const limen__lod_key *key, uint32_t nverts, uint32_t ntris,
+                           limen_mesh_lod *lods, uint32_t max_levels, uint32_t *nlods,
+                           uint32_t **indices);
+
+/* Stores nlods levels (lods[k].indices for k >= 1) under key, written whole or not at all,
+ * then trims the folder to its size limit ($LIMEN_CACHE_MB, megabytes, fractions allowed; default 256), the entries used
+ * least recently first. Failures are silent: the cache is an aid, never a requirement. */
+void limen__lod_cache_store(const limen__lod_key *key, uint32_t nverts, uint32_t ntris,
+                            const limen_mesh_lod *lods, uint32_t nlods);
+
+#endif

@@ -1,0 +1,198 @@
+/* lod_weld.c - what the simplifier is given and what its levels' corners become (see
+ * lod_weld.h): core/lod.c makes levels over a mesh welded where the texture allows, then
+ * by position alone, then by clustering, and here each corner of a level then takes its
+ * side of a seam (in the normals, in the texture). */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <meshoptimizer.h>
+
+#include "core/lod_weld.h"
+
+/* The simplifier names, at each corner, the first vertex at its position (the weld). Where
+ * several share the position (a seam: a crease in the normals, an edge of the texture),
+ * each corner takes instead the one whose normal is nearest its triangle's own, the side
+ * of the seam the triangle lies on. False when out of memory (the corners stay). */
+bool limen__lod_seam_sides(const limen__mesh *m, const uint32_t *shadow, uint32_t *idx, size_t n)
+{
+    uint32_t nv = m->nverts;
+    uint32_t *weld = malloc(sizeof *weld * nv), *first = calloc(nv + 1, sizeof *first),
+             *members = malloc(sizeof *members * nv);
+    bool ok = weld && first && members;
+    for (uint32_t v = 0; ok && v < nv; v++)
+        weld[v] = UINT32_MAX;
+    for (size_t i = 0; ok && i < (size_t)m->ntris * 3; i++)
+        weld[m->idx[i]] = shadow[i];
+    for (uint32_t v = 0; ok && v < nv; v++)
+        if (weld[v] != UINT32_MAX)
+            first[weld[v] + 1]++;
+    for (uint32_t v = 0; ok && v < nv; v++)
+        first[v + 1] += first[v];
+    for (uint32_t v = 0, *fill = first; ok && v < nv; v++)
+        if (weld[v] != UINT32_MAX)
+            members[fill[weld[v]]++] = v;
+    /* the fill moved each group's start to the next one's: shift back */
+    for (uint32_t v = nv; ok && v > 0; v--)
+        first[v] = first[v - 1];
+    if (ok)
+        first[0] = 0;
+    for (size_t t = 0; ok && t < n / 3; t++) {
+        const float *a = &m->pos[idx[t * 3] * 3], *b = &m->pos[idx[t * 3 + 1] * 3],
+                    *c = &m->pos[idx[t * 3 + 2] * 3];
+        double e1[3] = { b[0] - a[0], b[1] - a[1], b[2] - a[2] },
+               e2[3] = { c[0] - a[0], c[1] - a[1], c[2] - a[2] }, fn[3];
+        fn[0] = e1[1] * e2[2] - e1[2] * e2[1];
+        fn[1] = e1[2] * e2[0] - e1[0] * e2[2];
+        fn[2] = e1[0] * e2[1] - e1[1] * e2[0];
+        for (int k = 0; k < 3; k++) {
+            uint32_t w = idx[t * 3 + k], best = w;
+            double best_dot = -INFINITY;
+            for (uint32_t j = first[w]; j < first[w + 1]; j++) {
+                const float *nr = &m->nrm[members[j] * 3];
+                double d = fn[0] * nr[0] + fn[1] * nr[1] + fn[2] * nr[2];
+                if (d > best_dot) {
+                    best_dot = d;
+                    best = members[j];
+                }
+            }
+            idx[t * 3 + k] = best;
+        }
+    }
+    free(weld);
+    free(first);
+    free(members);
+    return ok;
+}
+
+/* After clustering (the sloppy simplifier, which knows positions only), a triangle's
+ * corners may come from different charts of the texture: of the vertices at a corner's
+ * position (each with its own coordinates), each triangle takes the three whose coordinates
+ * lie nearest together (the least sum of squared edges in the texture), which keeps a
+ * triangle within one chart wherever its corners all lie on it. Positions do not change, so
+ * neither does the level's error. False when out of memory (the corners stay). */
+bool limen__lod_pick_charts(const limen__mesh *m, const uint32_t *shadow, const uint32_t *attr,
+                        uint32_t *idx, size_t n)
+{
+    enum { MAX_SIDES = 8 };
+    uint32_t nv = m->nverts;
+    uint32_t *prep = malloc(sizeof *prep * nv), *first = calloc((size_t)nv + 1, sizeof *first),
+             *members = malloc(sizeof *members * nv);
+    bool ok = prep && first && members;
+    for (uint32_t v = 0; ok && v < nv; v++)
+        prep[v] = UINT32_MAX;
+    for (size_t i = 0; ok && i < (size_t)m->ntris * 3; i++)
+        prep[attr[i]] = shadow[i];
+    for (uint32_t v = 0; ok && v < nv; v++)
+        if (prep[v] != UINT32_MAX)
+            first[prep[v] + 1]++;
+    for (uint32_t v = 0; ok && v < nv; v++)
+        first[v + 1] += first[v];
+    for (uint32_t v = 0, *fill = first; ok && v < nv; v++)
+        if (prep[v] != UINT32_MAX)
+            members[fill[prep[v]]++] = v;
+    for (uint32_t v = nv; ok && v > 0; v--)
+        first[v] = first[v - 1];
+    if (ok)
+        first[0] = 0;
+    for (size_t t = 0; ok && t < n / 3; t++) {
+        uint32_t *c = &idx[t * 3], from[3], count[3];
+        bool choice = false;
+        for (int k = 0; k < 3; k++) {
+            uint32_t g = prep[c[k]];
+            from[k] = g == UINT32_MAX ? 0 : first[g];
+            count[k] = g == UINT32_MAX ? 0 : first[g + 1] - first[g];
+            if (count[k] == 0 || count[k] > MAX_SIDES)
+                break;
+            choice |= count[k] > 1;
+        }
+        if (!choice || !count[0] || !count[1] || !count[2] || count[0] > MAX_SIDES ||
+            count[1] > MAX_SIDES || count[2] > MAX_SIDES)
+            continue;
+        double best = INFINITY;
+        uint32_t pick[3] = { c[0], c[1], c[2] };
+        for (uint32_t a = 0; a < count[0]; a++)
+            for (uint32_t b = 0; b < count[1]; b++)
+                for (uint32_t d = 0; d < count[2]; d++) {
+                    uint32_t v[3] = { members[from[0] + a], members[from[1] + b],
+                                      members[from[2] + d] };
+                    double sum = 0;
+                    for (int k = 0; k < 3; k++) {
+                        const float *p = &m->uv[v[k] * 2], *q = &m->uv[v[(k + 1) % 3] * 2];
+                        sum += ((double)p[0] - q[0]) * ((double)p[0] - q[0]) +
+                               ((double)p[1] - q[1]) * ((double)p[1] - q[1]);
+                    }
+                    if (sum < best) {
+                        best = sum;
+                        memcpy(pick, v, sizeof pick);
+                    }
+                }
+        memcpy(c, pick, sizeof pick);
+    }
+    free(prep);
+    free(first);
+    free(members);
+    return ok;
+}
+
+void limen__lod_welded_free(limen__lod_welded *pk)
+{
+    free(pk->pos);
+    free(pk->to);
+    free(pk->from);
+    free(pk->idx);
+    free(pk->tmp);
+    memset(pk, 0, sizeof *pk);
+}
+
+/* pk over m welded by weld; false when out of memory (pk freed). */
+bool limen__lod_pack(limen__lod_welded *pk, const limen__mesh *m, const uint32_t *weld)
+{
+    size_t n0 = (size_t)m->ntris * 3;
+    memset(pk, 0, sizeof *pk);
+    pk->to = malloc(sizeof *pk->to * m->nverts);
+    pk->from = malloc(sizeof *pk->from * m->nverts);
+    pk->idx = malloc(sizeof *pk->idx * n0);
+    pk->tmp = malloc(sizeof *pk->tmp * n0);
+    pk->pos = malloc(sizeof(float) * 3 * m->nverts);
+    if (!pk->to || !pk->from || !pk->idx || !pk->tmp || !pk->pos) {
+        limen__lod_welded_free(pk);
+        return false;
+    }
+    /* numbered in the mesh's order (the simplifier's choices between equals follow it) */
+    memset(pk->to, 0xff, sizeof *pk->to * m->nverts);
+    for (size_t i = 0; i < n0; i++)
+        pk->to[weld[i]] = 0;
+    for (uint32_t v = 0; v < m->nverts; v++)
+        if (pk->to[v] == 0) {
+            pk->to[v] = pk->n;
+            pk->from[pk->n] = v;
+            memcpy(&pk->pos[(size_t)pk->n * 3], &m->pos[(size_t)v * 3], sizeof(float) * 3);
+            pk->n++;
+        }
+    for (size_t i = 0; i < n0; i++)
+        pk->idx[i] = pk->to[weld[i]];
+    return true;
+}
+
+/* meshoptimizer's simplifier (sloppy: its clustering) over pk, from src (n indices into the
+ * mesh's vertices, every one a weld's; NULL: the whole mesh), into out in the mesh's
+ * vertices; returns the indices made. */
+size_t limen__lod_simplify(limen__lod_welded *pk, const uint32_t *src, size_t n, bool sloppy, size_t want,
+                       float target_error, float *err, uint32_t *out)
+{
+    const uint32_t *in = pk->idx;
+    if (src) {
+        for (size_t i = 0; i < n; i++)
+            pk->tmp[i] = pk->to[src[i]];
+        in = pk->tmp;
+    }
+    size_t made = sloppy ? meshopt_simplifySloppy(out, in, n, pk->pos, pk->n, sizeof(float) * 3,
+                                                  want, target_error, NULL)
+                         : meshopt_simplify(out, in, n, pk->pos, pk->n, sizeof(float) * 3, want,
+                                            target_error, 0, err);
+    for (size_t i = 0; i < made; i++)
+        out[i] = pk->from[out[i]];
+    return made;
+}
+

@@ -1,0 +1,46 @@
+/* lod_weld.h - what the simplifier is given and what its levels' corners become
+ * (core/lod_weld.c): a mesh welded for it, meshoptimizer's simplifiers over that, and each
+ * corner's choice among the vertices at its position (its side of a seam in the normals or
+ * the texture). Not part of the public API. */
+#ifndef LIMEN_CORE_LOD_WELD_H
+#define LIMEN_CORE_LOD_WELD_H
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include "core/mesh.h"
+
+/* A mesh the simplifier is given: the distinct vertices of a weld (each corner's vertex
+ * replaced by its weld's), their positions packed, numbered in the mesh's order. */
+typedef struct limen__lod_welded {
+    float *pos;                 /* per packed vertex */
+    uint32_t *to;               /* per vertex of the mesh: its packed vertex, or UINT32_MAX */
+    uint32_t *from;             /* per packed vertex: the mesh's */
+    uint32_t *idx;              /* per corner of the mesh: its weld's vertex, packed */
+    uint32_t *tmp;              /* a source mapped to packed vertices */
+    uint32_t n;
+} limen__lod_welded;
+
+/* pk over m welded by weld (per corner of m, a vertex); false when out of memory (pk
+ * freed). */
+bool limen__lod_pack(limen__lod_welded *pk, const limen__mesh *m, const uint32_t *weld);
+void limen__lod_welded_free(limen__lod_welded *pk);
+/* meshoptimizer's simplifier (sloppy: its clustering) over pk, from src (n indices into the
+ * mesh's vertices, each a vertex of the weld; NULL: the whole mesh) towards want indices
+ * and target_error, into out in the mesh's vertices; returns the indices made, *err the
+ * simplifier's relative error (not the sloppy one's: err may be NULL there). */
+size_t limen__lod_simplify(limen__lod_welded *pk, const uint32_t *src, size_t n, bool sloppy,
+                           size_t want, float target_error, float *err, uint32_t *out);
+/* The corners of a level (idx, n indices) that name a weld's vertex (shadow: per corner of
+ * m, the first vertex at its position) take instead, of the vertices there, the one whose
+ * normal is nearest their triangle's; false when out of memory (the corners stay). */
+bool limen__lod_seam_sides(const limen__mesh *m, const uint32_t *shadow, uint32_t *idx,
+                           size_t n);
+/* The corners of a clustered or seam-blind level (idx, n indices, each a vertex of the
+ * weld attr) take, of the vertices of attr at their position (shadow), the three whose
+ * texture coordinates lie nearest together; false when out of memory (the corners stay). */
+bool limen__lod_pick_charts(const limen__mesh *m, const uint32_t *shadow, const uint32_t *attr,
+                            uint32_t *idx, size_t n);
+
+#endif

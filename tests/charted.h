@@ -1,0 +1,105 @@
+/* charted.h - a textured asset made here, as a game's exporter makes one, for the levels of
+ * detail of assets (tests/test_lod.c, bench/lod_build.c): five faces of a cube blown up to a
+ * rippled ball (the sixth left open, a border), each face its own chart of the texture (its
+ * own tile of a 3 x 2 atlas), so every vertex on an edge between faces is there twice, at
+ * one position with two texture coordinates (a seam), and the normals are smooth across.
+ *
+ * charted_ball(n, tile, pos, nrm, uv, idx): n x n squares a face, 5 * n * n * 2 triangles,
+ * counter-clockwise from outside; each face cut into charts of tile x tile squares (tile = n:
+ * one chart a face; n a multiple of tile), each its own part of the texture, so seams run
+ * between all of them. pos and nrm hold charted_verts(n, tile) * 3 floats, uv * 2, idx
+ * 5 * n * n * 6 indices. charted_chart(tile, v): the chart vertex v belongs to. */
+#ifndef LIMEN_TESTS_CHARTED_H
+#define LIMEN_TESTS_CHARTED_H
+
+#include <math.h>
+#include <stddef.h>
+#include <stdint.h>
+
+static inline int charted_verts(int n, int tile)
+{
+    return 5 * (n / tile) * (n / tile) * (tile + 1) * (tile + 1);
+}
+
+static inline int charted_chart(int tile, uint32_t v)
+{
+    return (int)(v / (uint32_t)((tile + 1) * (tile + 1)));
+}
+
+/* The point of the ball in direction d (normalised here), and its normal (by a small step). */
+static inline void charted_point(const double d[3], double out[3])
+{
+    double l = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+    double x = d[0] / l, y = d[1] / l, z = d[2] / l;
+    double r = 1 + 0.04 * sin(5 * x + 1) * sin(4 * y) * cos(3 * z) + 0.02 * sin(11 * y + 7 * z);
+    out[0] = r * x;
+    out[1] = r * y;
+    out[2] = r * z;
+}
+
+static inline void charted_ball(int n, int tile, float *pos, float *nrm, float *uv,
+                                uint32_t *idx)
+{
+    /* each face: its centre direction and two axes across it (right-handed: a x b = c) */
+    static const int face[5][3][3] = {
+        { { 1, 0, 0 }, { 0, 1, 0 }, { 0, 0, 1 } },      /* +x: y, z */
+        { { -1, 0, 0 }, { 0, 0, 1 }, { 0, 1, 0 } },     /* -x: z, y */
+        { { 0, 1, 0 }, { 0, 0, 1 }, { 1, 0, 0 } },      /* +y: z, x */
+        { { 0, -1, 0 }, { 1, 0, 0 }, { 0, 0, 1 } },     /* -y: x, z */
+        { { 0, 0, 1 }, { 1, 0, 0 }, { 0, 1, 0 } },      /* +z: x, y (-z is open) */
+    };
+    int per = n / tile, charts = 5 * per * per, side = 1;
+    while (side * side < charts)
+        side++;                 /* the atlas: side x side cells, a chart in each */
+    size_t k = 0, v = 0;
+    for (int f = 0; f < 5; f++) {
+        const int(*c)[3] = face[f];
+        for (int cj = 0; cj < per; cj++)
+            for (int ci = 0; ci < per; ci++) {
+                int chart = (f * per + cj) * per + ci;
+                uint32_t first = (uint32_t)v;
+                for (int jj = 0; jj <= tile; jj++)
+                    for (int ii = 0; ii <= tile; ii++, v++) {
+                        int i = ci * tile + ii, j = cj * tile + jj;
+                        double s = -1 + 2.0 * i / n, t = -1 + 2.0 * j / n, d[3], p[3], q[3],
+                               r[3];
+                        for (int a = 0; a < 3; a++)
+                            d[a] = c[0][a] + s * c[1][a] + t * c[2][a];
+                        charted_point(d, p);
+                        /* the normal: across two small steps on the surface */
+                        double h = 1e-4, ds[3], dt[3], e1[3], e2[3];
+                        for (int a = 0; a < 3; a++) {
+                            ds[a] = d[a] + h * c[1][a];
+                            dt[a] = d[a] + h * c[2][a];
+                        }
+                        charted_point(ds, q);
+                        charted_point(dt, r);
+                        for (int a = 0; a < 3; a++) {
+                            e1[a] = q[a] - p[a];
+                            e2[a] = r[a] - p[a];
+                        }
+                        double nn[3] = { e1[1] * e2[2] - e1[2] * e2[1],
+                                         e1[2] * e2[0] - e1[0] * e2[2],
+                                         e1[0] * e2[1] - e1[1] * e2[0] };
+                        double l = sqrt(nn[0] * nn[0] + nn[1] * nn[1] + nn[2] * nn[2]);
+                        for (int a = 0; a < 3; a++) {
+                            pos[v * 3 + a] = (float)p[a];
+                            nrm[v * 3 + a] = (float)(nn[a] / l);
+                        }
+                        /* the chart's cell of the atlas, a margin inside it */
+                        uv[v * 2] = (float)((chart % side + 0.05 + 0.9 * ii / tile) / side);
+                        uv[v * 2 + 1] = (float)((chart / side + 0.05 + 0.9 * jj / tile) / side);
+                    }
+                for (int jj = 0; jj < tile; jj++)
+                    for (int ii = 0; ii < tile; ii++) {
+                        uint32_t a = first + (uint32_t)(jj * (tile + 1) + ii), b = a + 1,
+                                 cc = a + (uint32_t)tile + 1, e = cc + 1;
+                        uint32_t q[6] = { a, b, e, a, e, cc };
+                        for (int x = 0; x < 6; x++)
+                            idx[k++] = q[x];
+                    }
+            }
+    }
+}
+
+#endif
