@@ -30,6 +30,7 @@ enum { PIECE_POLY, PIECE_BALL, PIECE_CYL };
 typedef struct piece {
     int kind, node, nv;
     double v[MAXV][3];          /* polygon, convex, in order */
+    double n[3];                /* polygon: its normal (Newell's, not normalised; 0: no area) */
     double c[3], axis[3];       /* ball: centre; cylinder: base centre and unit axis */
     double r, h;                /* radius; cylinder height */
 } piece;
@@ -202,8 +203,7 @@ static bool poly_inside(const piece *pc, const double n[3], const double p[3])
 
 static double point_poly(const double p[3], const piece *pc, double q[3])
 {
-    double n[3];
-    poly_normal(pc, n);
+    const double *n = pc->n;
     double ln = len3(n);
     if (ln > 1e-300) {
         double u[3] = { n[0] / ln, n[1] / ln, n[2] / ln }, ap[3], f[3];
@@ -230,8 +230,7 @@ static double point_poly(const double p[3], const piece *pc, double q[3])
 static double seg_poly(const double a[3], const double b[3], const piece *pc, double pa[3],
                        double pq[3])
 {
-    double n[3];
-    poly_normal(pc, n);
+    const double *n = pc->n;
     double ln = len3(n);
     if (ln > 1e-300) {
         double da = dot3(n, a) - dot3(n, pc->v[0]), db = dot3(n, b) - dot3(n, pc->v[0]);
@@ -431,6 +430,7 @@ static void add_poly(sweeper *w, int node, const double (*v)[3], int n, const ga
         if (p) {
             memcpy(p->v, v, sizeof(double) * 3 * (size_t)n);
             p->nv = n;
+            poly_normal(p, p->n);
         }
         return;
     }
