@@ -23,6 +23,7 @@
 #define MAX_CROSSINGS 64    /* portals one sweep may pass, whatever the limits say */
 #define MAX_SPLITS 32       /* plane crossings that cut one segment */
 #define SLIDE_ITERATIONS 5  /* collide-and-slide rounds per step */
+#define FEW_SHAPES 32       /* a sweep's box with no more shapes is gathered in one go */
 #define PLANE_EPS 1e-7      /* scene units: a centre this near a portal's plane is on it */
 
 enum { PIECE_POLY, PIECE_BALL, PIECE_CYL };
@@ -820,47 +821,67 @@ static bool sweep_segment(sweeper *w, const body *bd, double t0, double t1, gate
         for (int i = 0; i < ngates && nfront < MAX_SPLITS; i++)
             if (limen__d_plane_dist(gates[i].plane, mid) > 0)
                 front[nfront++] = &gates[i];
-        limen__box q;
-        sweep_box(bd, ta, tb, reach, &q);
-        if (!gather(w, &q, NULL, front, nfront, passed))
-            return false;
-        closest_contact(bd, w->pc, w->npc, ta, tb, NULL, best);
-        /* the part of the body through each opening, in the partner's room */
-        for (int i = 0; i < nfront; i++) {
-            const gate *g = front[i];
-            body gb;
-            body_carry(g->x, g->k, bd, &gb);
-            limen__box gq, pq;
-            sweep_box(&gb, ta, tb, body_reach(&gb), &gq);
-            /* only the partner's front prism, as deep as the body reaches */
-            limen__node_box(&w->s->nodes[g->partner], &pq);
-            double pad = reach * g->k;
-            bool empty = false;
-            for (int k = 0; k < 3; k++) {
-                gq.lo[k] = fmax(gq.lo[k], pq.lo[k] - pad);
-                gq.hi[k] = fmin(gq.hi[k], pq.hi[k] + pad);
-                empty |= gq.lo[k] > gq.hi[k];
-            }
-            if (empty)
-                continue;
-            if (!gather(w, &gq, g, NULL, 0, passed))
+        /* a long stretch whose box holds many shapes goes in pieces a few reaches long,
+         * nearest first: the cost follows the path, not the box around it, and ends at the
+         * first contact (a box of few shapes is cheaper gathered once) */
+        double len = len3(bd->v) * (tb - ta), piece_len = 4 * reach;
+        int nch = len > piece_len ? (int)fmin(ceil(len / piece_len), 16) : 1;
+        if (nch > 1) {
+            limen__box all;
+            sweep_box(bd, ta, tb, reach, &all);
+            w->nhits = 0;
+            if (limen__bvh_query_box(limen__index_shapes(w->idx), &all, &w->hits, &w->nhits,
+                                     &w->hits_cap, NULL) < 0)
                 return false;
-            contact gc = { 0 };
-            gc.t = best->hit ? best->t : INFINITY;
-            closest_contact(&gb, w->pc, w->npc, ta, best->hit ? fmin(tb, best->t) : tb, g, &gc);
-            if (gc.node >= 0 && gc.hit && (!best->hit || gc.t < best->t)) {
-                best->hit = true;
-                best->t = gc.t;
-                best->node = gc.node;
-                limen__d_point(g->xinv, gc.point, best->point);
-                vec_d(g->xinv, gc.normal, best->normal);
-                double l = len3(best->normal);
-                for (int k = 0; k < 3; k++)
-                    best->normal[k] /= l;
-            }
+            if (w->nhits <= FEW_SHAPES)
+                nch = 1;
         }
-        if (best->hit)
-            return true;
+        for (int h = 0; h < nch; h++) {
+            double ca = ta + (tb - ta) * h / nch;
+            double cb = h + 1 == nch ? tb : ta + (tb - ta) * (h + 1) / nch;
+            limen__box q;
+            sweep_box(bd, ca, cb, reach, &q);
+            if (!gather(w, &q, NULL, front, nfront, passed))
+                return false;
+            closest_contact(bd, w->pc, w->npc, ca, cb, NULL, best);
+            /* the part of the body through each opening, in the partner's room */
+            for (int i = 0; i < nfront; i++) {
+                const gate *g = front[i];
+                body gb;
+                body_carry(g->x, g->k, bd, &gb);
+                limen__box gq, pq;
+                sweep_box(&gb, ca, cb, body_reach(&gb), &gq);
+                /* only the partner's front prism, as deep as the body reaches */
+                limen__node_box(&w->s->nodes[g->partner], &pq);
+                double pad = reach * g->k;
+                bool empty = false;
+                for (int k = 0; k < 3; k++) {
+                    gq.lo[k] = fmax(gq.lo[k], pq.lo[k] - pad);
+                    gq.hi[k] = fmin(gq.hi[k], pq.hi[k] + pad);
+                    empty |= gq.lo[k] > gq.hi[k];
+                }
+                if (empty)
+                    continue;
+                if (!gather(w, &gq, g, NULL, 0, passed))
+                    return false;
+                contact gc = { 0 };
+                gc.t = best->hit ? best->t : INFINITY;
+                closest_contact(&gb, w->pc, w->npc, ca, best->hit ? fmin(cb, best->t) : cb, g,
+                                &gc);
+                if (gc.node >= 0 && gc.hit && (!best->hit || gc.t < best->t)) {
+                    best->hit = true;
+                    best->t = gc.t;
+                    best->node = gc.node;
+                    limen__d_point(g->xinv, gc.point, best->point);
+                    vec_d(g->xinv, gc.normal, best->normal);
+                    double l = len3(best->normal);
+                    for (int k = 0; k < 3; k++)
+                        best->normal[k] /= l;
+                }
+            }
+            if (best->hit)
+                return true;
+        }
     }
     return true;
 }
