@@ -1096,7 +1096,8 @@ static void test_oracle(void)
                 fprintf(stderr, "  scene %d sweep %d: got hit %d at %.7f (%d portals), oracle %d "
                         "at %.7f (%d portals)\n", sc, i, got.hit, (double)got.fraction,
                         got.portals, want.hit, want.t, want.portals),
-                fprintf(stderr, "    from %.9g %.9g %.9g to %.9g %.9g %.9g r %.9g: %s / %s, portal %s\n",
+                fprintf(stderr, "    from %.9g %.9g %.9g to %.9g %.9g %.9g r %.9g: %s / %s, "
+                        "portal %s\n",
                         from[0], from[1], from[2], to[0], to[1], to[2], r,
                         got.node.id ? limen_node_get_name(s, got.node) : "-",
                         want.node.id ? limen_node_get_name(s, want.node) : "-",
@@ -1131,7 +1132,8 @@ static double oseg_seg(const double p0[3], const double p1[3], const double q0[3
             double w[3] = { a[0] - o[0], a[1] - o[1], a[2] - o[2] }, l2 = odot(dd, dd);
             double t = l2 > 0 ? odot(w, dd) / l2 : 0;
             t = t < 0 ? 0 : t > 1 ? 1 : t;
-            double q[3] = { o[0] + t * dd[0] - a[0], o[1] + t * dd[1] - a[1], o[2] + t * dd[2] - a[2] };
+            double q[3] = { o[0] + t * dd[0] - a[0], o[1] + t * dd[1] - a[1],
+                            o[2] + t * dd[2] - a[2] };
             best = fmin(best, sqrt(odot(q, q)));
         }
     }
@@ -1375,7 +1377,8 @@ static void test_bounce_loop(void)
         if (mr.crossed) {
             double v2[3];
             for (int k = 0; k < 3; k++)
-                v2[k] = mr.matrix[k] * vel[0] + mr.matrix[4 + k] * vel[1] + mr.matrix[8 + k] * vel[2];
+                v2[k] = mr.matrix[k] * vel[0] + mr.matrix[4 + k] * vel[1] +
+                        mr.matrix[8 + k] * vel[2];
             memcpy(vel, v2, sizeof v2);
         }
         if (r.hit && r.portals == mr.crossed) {
