@@ -10,7 +10,9 @@
  * truth and the frame at msaa 4 against the 4-sample truth stay beside it. The target, at
  * the default bound (LIMEN_LOD_DEFAULT):
  *   - 1,000 bunnies at msaa 4 within 1% of the 4-sample truth;
- * and the bound up to which the area-averaged error stays within 1%.
+ * and the bound up to which the area-averaged error stays within 1%, which the default is
+ * chosen by. (The ratio to the field of 10 is printed for information: its 4x target was
+ * withdrawn, as it measured llvmpipe's cost per triangle rather than limen.)
  * Times are processor time of the whole process per frame (llvmpipe's threads included;
  * steadier than wall time on a shared machine), medians; wall medians beside them.
  *
@@ -147,7 +149,12 @@ static void measure_error(field *f)
     if (limen_render_frame(g_ms, f->s, &o, NULL) || limen_renderer_read_rgb(g_ms, g_rgb))
         die(limen_renderer_error(g_ms));
     f->bad4 = off(g_rgb, f->truth4);
-    supersampled(f->s, &o);
+    /* the bound is in pixels of the frame drawn: 4x the size draws the same levels at 4x it */
+    limen_render_opts o4 = o;
+    if (o4.limits.lod_pixels >= 0)
+        o4.limits.lod_pixels = 4 * (o4.limits.lod_pixels ? o4.limits.lod_pixels
+                                                          : LIMEN_LOD_DEFAULT);
+    supersampled(f->s, &o4);
     f->bad16 = off(g_rgb, f->truth16);
 }
 
@@ -292,10 +299,10 @@ int main(int argc, char **argv)
         fprintf(ft, "lod: <= 1%% off the 16-sample truth holds up to a bound of %g pixels\n",
                 (double)(BOUNDS[area_k] == 0 ? LIMEN_LOD_DEFAULT : BOUNDS[area_k]));
     fprintf(ft, "lod: their frame %.2f ms against 10 bunnies %.2f ms (processor time; wall "
-            "%.2f against %.2f ms): %.2fx (target <= 4x): %s\n", med(d->cpu, d->runs),
+            "%.2f against %.2f ms): %.2fx (for information: the 4x target is withdrawn, it "
+            "measured llvmpipe's cost per triangle)\n", med(d->cpu, d->runs),
             med(fs[NB + at_default].cpu, fs[NB + at_default].runs), med(d->wall, d->runs),
-            med(fs[NB + at_default].wall, fs[NB + at_default].runs), ratio[at_default],
-            ratio[at_default] <= 4 ? "met" : "NOT met");
+            med(fs[NB + at_default].wall, fs[NB + at_default].runs), ratio[at_default]);
     fprintf(ft, "lod: draw calls %d against %d, triangles %llu against %llu\n", d->st.draw_calls,
             fs[NB + at_default].st.draw_calls, (unsigned long long)d->st.triangles,
             (unsigned long long)fs[NB + at_default].st.triangles);

@@ -758,8 +758,9 @@ typedef struct limen_limits {
 #define LIMEN_LOD_FULL (-1.0f)  /* limen_limits.lod_pixels: no levels of detail */
 /* The default bound, an eighth of a pixel: a coarser level moves the surface by less than
  * that, but it also shades with fewer normals than the full mesh, and the picture's error
- * grows with the bound (README: 2.6% of a 320x240 frame of the hall of mirrors off the
- * tracer at 1 pixel, 0.15% at this one). */
+ * grows with the bound. Chosen against the area-averaged truth (README: 1,000 bunnies at
+ * 640x480 are 0.48% off the 16-sample truth at this bound, 2.5% at 1/4 pixel; at msaa 4,
+ * 0.83% off the 4-sample truth): the coarsest bound within 1% of both. */
 #define LIMEN_LOD_DEFAULT 0.125f
 
 /* Which surfaces a view keeps. */
