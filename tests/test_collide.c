@@ -277,6 +277,57 @@ static void test_mesh(void)
     limen_scene_destroy(s);
 }
 
+/* A grid of 101 x 101 vertices over [-50, 50]^2, flat but for a bump at (40, 1, 40); with
+ * `whole` 0, only the cells around the bump. */
+static limen_node grid_mesh(limen_scene *s, int whole)
+{
+    static float pos[101 * 101 * 3];
+    static uint32_t idx[100 * 100 * 6];
+    for (int j = 0; j <= 100; j++)
+        for (int i = 0; i <= 100; i++) {
+            float *p = &pos[3 * (j * 101 + i)];
+            p[0] = (float)(i - 50);
+            p[1] = i == 90 && j == 90 ? 1.0f : 0.0f;
+            p[2] = (float)(j - 50);
+        }
+    int t = 0;
+    for (int j = 0; j < 100; j++)
+        for (int i = 0; i < 100; i++) {
+            if (!whole && (i < 88 || i > 91 || j < 88 || j > 91))
+                continue;
+            uint32_t a = (uint32_t)(j * 101 + i), b = a + 1, c = a + 101, d = a + 102;
+            uint32_t tri[6] = { a, c, b, b, c, d };
+            memcpy(&idx[3 * t], tri, sizeof tri);
+            t += 2;
+        }
+    limen_node m;
+    CHECK_OK(limen_node_create(s, LIMEN_NODE_MESH, "grid", &m));
+    CHECK_OK(limen_mesh_set_triangles(s, m, &(limen_mesh_data){ .positions = pos,
+                                      .vertex_count = 101 * 101, .indices = idx,
+                                      .triangle_count = t }));
+    return m;
+}
+
+/* A sweep across a mesh of 20,000 triangles, whose box holds all of them (tested a few
+ * thousand at a time), meets the bump where a mesh of its 32 neighbours alone does. */
+static void test_big_mesh(void)
+{
+    double f[2];
+    for (int whole = 0; whole < 2; whole++) {
+        limen_scene *s;
+        CHECK_OK(limen_scene_create(NULL, &s));
+        limen_node m = grid_mesh(s, whole);
+        limen_sweep_result r;
+        CHECK_OK(limen_sweep_sphere(s, (float[3]){ -45, 0.6f, -45 }, (float[3]){ 45, 0.6f, 45 },
+                                    0.5f, NULL, &r));
+        CHECK(r.hit && r.node.id == m.id);
+        CHECK(r.centre[0] > 38 && r.centre[0] < 40);
+        f[whole] = r.fraction;
+        limen_scene_destroy(s);
+    }
+    CHECK_NEAR(f[0], f[1], 1e-6);
+}
+
 /* Collide and slide: into a wall at 45 degrees, the node ends against it having slid along;
  * through a portal it comes out turned; it ignores itself and its children. */
 static void test_slide(void)
@@ -1409,6 +1460,7 @@ static const check_case cases[] = {
     { "both_sides", test_both_sides },
     { "unequal", test_unequal },
     { "mesh", test_mesh },
+    { "big_mesh", test_big_mesh },
     { "slide", test_slide },
     { "lua", test_lua },
     { "oracle", test_oracle },

@@ -21,6 +21,7 @@
 #define MAX_CROSSINGS 64    /* portals one sweep may pass, whatever the limits say */
 #define MAX_SPLITS 32       /* plane crossings that cut one segment */
 #define SLIDE_ITERATIONS 5  /* collide-and-slide rounds per step */
+#define FLUSH_PIECES 4096   /* pieces held at once while gathering */
 #define FEW_SHAPES 32       /* a sweep's box with no more shapes is gathered in one go */
 #define PLANE_EPS 1e-7      /* scene units: a centre this near a portal's plane is on it */
 
@@ -38,6 +39,12 @@ typedef struct gate {
     double k;                   /* scale of x */
 } gate;
 
+typedef struct contact {
+    bool hit;
+    double t, point[3], normal[3];
+    int node;
+} contact;
+
 typedef struct sweeper {
     limen_scene *s;
     limen__spatial *idx;
@@ -48,18 +55,26 @@ typedef struct sweeper {
     piece *pc;
     int npc, pc_cap;
     bool oom;
+    /* while gathering: the contacts the pieces gathered so far are tested for when there
+     * are FLUSH_PIECES of them (a long sweep across a big mesh holds no more) */
+    const body *fbd;
+    double fta, ftb;
+    const gate *fghost;
+    contact *fbest;
 } sweeper;
 
-typedef struct contact {
-    bool hit;
-    double t, point[3], normal[3];
-    int node;
-} contact;
 
 /* ------------------------------------------------------------------ pieces */
 
+static void closest_contact(const body *bd, const piece *pcs, int npc, double t0, double t1,
+                            const gate *ghost, contact *best);
+
 static piece *piece_add(sweeper *w, int kind, int node)
 {
+    if (w->npc >= FLUSH_PIECES && w->fbest) {
+        closest_contact(w->fbd, w->pc, w->npc, w->fta, w->ftb, w->fghost, w->fbest);
+        w->npc = 0;
+    }
     if (w->npc == w->pc_cap) {
         int c = w->pc_cap ? 2 * w->pc_cap : 64;
         piece *p = realloc(w->pc, sizeof *p * (size_t)c);
@@ -518,7 +533,14 @@ static bool sweep_segment(sweeper *w, const body *bd, double t0, double t1, gate
             double cb = h + 1 == nch ? tb : ta + (tb - ta) * (h + 1) / nch;
             limen__box q;
             sweep_box(bd, ca, cb, reach, &q);
-            if (!gather(w, &q, NULL, front, nfront, passed))
+            w->fbd = bd;
+            w->fta = ca;
+            w->ftb = cb;
+            w->fghost = NULL;
+            w->fbest = best;
+            bool ok = gather(w, &q, NULL, front, nfront, passed);
+            w->fbest = NULL;
+            if (!ok)
                 return false;
             closest_contact(bd, w->pc, w->npc, ca, cb, NULL, best);
             /* the part of the body through each opening, in the partner's room */
@@ -539,12 +561,19 @@ static bool sweep_segment(sweeper *w, const body *bd, double t0, double t1, gate
                 }
                 if (empty)
                     continue;
-                if (!gather(w, &gq, g, NULL, 0, passed))
-                    return false;
                 contact gc = { 0 };
                 gc.t = best->hit ? best->t : INFINITY;
-                closest_contact(&gb, w->pc, w->npc, ca, best->hit ? fmin(cb, best->t) : cb, g,
-                                &gc);
+                double gcb = best->hit ? fmin(cb, best->t) : cb;
+                w->fbd = &gb;
+                w->fta = ca;
+                w->ftb = gcb;
+                w->fghost = g;
+                w->fbest = &gc;
+                bool gok = gather(w, &gq, g, NULL, 0, passed);
+                w->fbest = NULL;
+                if (!gok)
+                    return false;
+                closest_contact(&gb, w->pc, w->npc, ca, gcb, g, &gc);
                 if (gc.node >= 0 && gc.hit && (!best->hit || gc.t < best->t)) {
                     best->hit = true;
                     best->t = gc.t;
