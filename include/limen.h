@@ -1174,11 +1174,10 @@ LIMEN_API limen_script_desc limen_script_desc_defaults(const limen_script_desc *
  *   - HOLES. While the body's centre (a capsule's midpoint; a sliding node's origin) is in
  *     front of an open portal P (paired, partner visible, within the depth limit), the
  *     prism behind P's rectangle (the points behind P's plane, over the rectangle, as deep
- *     as the body reaches from that centre) is not solid for
- *     it: the polygons of boxes, planes, mirrors and meshes that meet it are cut there, so
- *     the wall a portal is placed on (a millimetre in front) does not stop a body entering
- *     the opening, while the wall around the rectangle (the frame) still stops one too wide
- *     for it. Spheres and cylinders are never cut. And what lies in front of P's partner Q
+ *     as the body reaches from that centre) is not solid for it: the polygons of boxes,
+ *     planes, mirrors and meshes that meet it are cut there, so the wall a portal is placed
+ *     on (a millimetre in front) does not stop a body entering the opening, while the wall
+ *     around the rectangle (the frame) still stops one too wide for it. Spheres and cylinders are never cut. And what lies in front of P's partner Q
  *     within Q's rectangle's prism collides with the body carried through P (the part that
  *     has gone through): polygons cut to that prism, spheres and cylinders where the
  *     contact point lies in it. So a body halfway through collides on both sides. One
@@ -1212,7 +1211,8 @@ typedef struct limen_sweep_result {
 LIMEN_API limen_status limen_sweep_sphere(limen_scene *s, const float from[3], const float to[3],
                                           float radius, const limen_sweep_opts *opts,
                                           limen_sweep_result *out);
-/* Sweeps the capsule of segment a-b and the radius by the displacement d (world). */
+/* Sweeps the capsule of segment a-b and the radius by the displacement d (world); its
+ * centre is the segment's midpoint. */
 LIMEN_API limen_status limen_sweep_capsule(limen_scene *s, const float a[3], const float b[3],
                                            float radius, const float d[3],
                                            const limen_sweep_opts *opts,
