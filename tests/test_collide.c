@@ -228,6 +228,39 @@ static void test_both_sides(void)
     limen_scene_destroy(s);
 }
 
+/* A corridor that loops: "a" at z = -4 facing +z leads out of "b" at z = 0 facing -z. A
+ * step as long as two laps passes "a" twice, one of half a lap once, and each time the
+ * body comes out where it should. */
+static void test_twice(void)
+{
+    limen_scene *s;
+    CHECK_OK(limen_scene_create(NULL, &s));
+    limen_node a = make(s, LIMEN_NODE_PORTAL, "a", 0, 1, -4, 2, 2, 0);
+    limen_node b = make(s, LIMEN_NODE_PORTAL, "b", 0, 1, 0, 2, 2, 0);
+    face(s, b, 0, 0, -1);
+    CHECK_OK(limen_portal_link(s, a, b));
+    limen_sweep_result r;
+    CHECK_OK(limen_sweep_sphere(s, (float[3]){ 0, 1, -1 }, (float[3]){ 0, 1, -11 }, 0.3f, NULL,
+                                &r));
+    CHECK(!r.hit && r.portals == 2 && r.portal.id == a.id);
+    CHECK_NEAR(r.centre[2], -3, 1e-4);
+    CHECK_OK(limen_sweep_sphere(s, (float[3]){ 0, 1, -1 }, (float[3]){ 0, 1, -3 }, 0.3f, NULL,
+                                &r));
+    CHECK(!r.hit && r.portals == 0);
+    CHECK_OK(limen_sweep_sphere(s, (float[3]){ 0, 1, -1 }, (float[3]){ 0, 1, -5 }, 0.3f, NULL,
+                                &r));
+    CHECK(!r.hit && r.portals == 1);
+    CHECK_NEAR(r.centre[2], -1, 1e-4);
+    limen_node body = make(s, LIMEN_NODE_SPHERE, "body", 0, 1, -1, 0.3f, 0, 0);
+    limen_slide_result sr;
+    CHECK_OK(limen_node_slide(s, body, (float[3]){ 0, 0, -10 }, 0.3f, &sr));
+    CHECK(sr.crossed == 2 && sr.contacts == 0);
+    float p[3];
+    CHECK_OK(limen_node_get_position(s, body, p));
+    CHECK_NEAR(p[2], -3, 1e-4);
+    limen_scene_destroy(s);
+}
+
 /* Unequal portals scale the body: out of a portal twice as wide, the radius doubles. */
 static void test_unequal(void)
 {
@@ -1458,6 +1491,7 @@ static const check_case cases[] = {
     { "refuse", test_refuse },
     { "hole", test_hole },
     { "both_sides", test_both_sides },
+    { "twice", test_twice },
     { "unequal", test_unequal },
     { "mesh", test_mesh },
     { "big_mesh", test_big_mesh },
