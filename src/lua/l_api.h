@@ -237,7 +237,8 @@ int limen__lua_scene_cast(lua_State *L);
  * point, normal, node, portals, portal, matrix, radius } (docs/lua.md). */
 int limen__lua_scene_sweep(lua_State *L);
 
-/* node:slide { by, radius } -> { moved, contacts, normal, portals, portal, matrix, radius }. */
+/* node:slide { by, radius [, segment] } -> { moved, contacts, normal, portals, portal, matrix,
+ * radius }. */
 int limen__lua_node_slide(lua_State *L);
 
 #endif
