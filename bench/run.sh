@@ -2,7 +2,7 @@
 # run.sh BUILD [quick|full] - the benchmark behind `make bench`: the matrix constructions,
 # the speed-against-accuracy sweep and its targets, speed per pixel and per view against the
 # floor and the classic stencil recursion (bench/speed), what making a mesh costs
-# (bench/lod_build), then the charts. Everything goes to
+# (bench/lod_build), what a collision sweep costs (bench/collide), then the charts. Everything goes to
 # BUILD/bench/; the targets are printed last.
 set -e
 B=${1:-build}
@@ -23,6 +23,10 @@ echo "bench ($MODE): levels of detail and batches: the field of bunnies (progres
 "$B/bench/lod" --out "$OUT" 2> "$OUT/lod.log"
 echo "bench ($MODE): making meshes: the levels of detail and their measured errors"
 "$B/bench/lod_build" --out "$OUT" $([ "$MODE" = full ] && echo --full) 2> "$OUT/lod_build.log"
+echo "bench ($MODE): safe loading: what containing an import in a child costs"
+"$B/bench/safe_load" --out "$OUT" 2> "$OUT/safe_load.log"
+echo "bench ($MODE): sweeps against what the hall holds (collision; progress on stderr)"
+"$B/bench/collide" --out "$OUT" 2> "$OUT/collide.log"
 echo "bench ($MODE): speed per pixel and per view against the floor and the classic recursion"
 "$B/bench/speed" --"$MODE" --out "$OUT" > /dev/null
 # the one-wall frame against the floor with llvmpipe on two threads and on one (the count is
@@ -46,4 +50,4 @@ echo "runtime: $((end - start)) s" >> "$OUT/meta.txt"
 echo
 echo "bench ($MODE) done in $((end - start)) s: $OUT/points.csv, $OUT/matrices.csv, charts $OUT/*.png"
 cat "$OUT/targets.txt" "$OUT/speed.txt" "$OUT/scale_targets.txt" "$OUT/lod_targets.txt" "$OUT/embree.txt" \
-    "$OUT/lod_build.txt"
+    "$OUT/lod_build.txt" "$OUT/safe_load.txt" "$OUT/collide.txt"

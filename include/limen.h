@@ -1088,6 +1088,12 @@ LIMEN_API int limen_script_animated(const limen_script *sc);           /* 1 if i
 /* Calls the scene's update(t), t in seconds; a no-op for a still scene. An error leaves the
  * script usable (the next update may succeed), except one from a limit (see above). */
 LIMEN_API limen_status limen_script_update(limen_script *sc, double t);
+/* The files a script read: 0 is the script itself, then the modules a safe script required
+ * from its folder, in the order first required (a host watches them with
+ * limen_scene_get_file's, as `limen view` does). Copies the i-th into path; LIMEN_ERR_ARG
+ * past the last, or where it does not fit in size bytes. */
+LIMEN_API limen_status limen_script_get_file(const limen_script *sc, int i, char *path,
+                                             size_t size);
 /* After a load or update that failed on the memory cap (an allocation, or a mesh or image
  * the cap had no room for, refused from its header before it is read): the cap in bytes
  * that the refused request would have fitted in, what the script held then plus what it
@@ -1175,18 +1181,21 @@ LIMEN_API limen_script_desc limen_script_desc_defaults(const limen_script_desc *
  *     rectangle from its front, the sweep goes on from the partner, the path, the radius and
  *     the segment carried by the portal matrix (scaled by unequal portals), up to the
  *     limits' depth (limen_limits, depth fields; zero: each portal's own max_depth).
- *   - HOLES. While the body's centre is in front of an open portal P (paired, partner
- *     visible, within the depth limit), the prism behind P's rectangle (every point behind
- *     P's plane that lies over the rectangle) is not solid for it: the polygons of boxes,
- *     planes, mirrors and meshes are cut there, so the wall a portal is placed on (a
- *     millimetre in front) does not stop a body entering the opening, while the wall around
- *     the rectangle (the frame) still stops one too wide for it. Spheres and cylinders are
- *     never cut. And what lies in front of P's partner Q within Q's rectangle's prism (the
- *     polygons cut to it; spheres and cylinders whose centre lies in it) collides with the
- *     body carried through P (the part that has gone through), which is how a body halfway
- *     through collides on both sides. One level: the carried body is not cut again.
- *   - A body that already touches something at the start collides with it only if it moves
- *     further in (so that it can slide along it or leave it). */
+ *   - HOLES. While the body's centre (a capsule's midpoint; a sliding node's origin) is in
+ *     front of an open portal P (paired, partner visible, within the depth limit), the
+ *     prism behind P's rectangle (the points behind P's plane, over the rectangle, as deep
+ *     as the body reaches from that centre) is not solid for it: the polygons of boxes,
+ *     planes, mirrors and meshes that meet it are cut there, so the wall a portal is placed
+ *     on (a millimetre in front) does not stop a body entering the opening, while the wall
+ *     around the rectangle (the frame) still stops one too wide for it. Spheres and cylinders are never cut. And what lies in front of P's partner Q
+ *     within Q's rectangle's prism collides with the body carried through P (the part that
+ *     has gone through): polygons cut to that prism, spheres and cylinders where the
+ *     contact point lies in it. So a body halfway through collides on both sides. One
+ *     level: the carried body is not carried through a second portal.
+ *   - A body that already touches a piece (a face, a triangle, a sphere...) where a path or
+ *     a stretch of it between portal planes starts collides with it only if it moves
+ *     further in (so that it can slide along it or leave it). Colliders stand still during
+ *     a sweep (a node moved between sweeps collides where it now is). */
 typedef struct limen_sweep_opts {
     limen_node ignore;          /* this node and its descendants do not collide (zero: none) */
     limen_limits limits;        /* depth fields only; zero: each portal's own max_depth */
@@ -1212,7 +1221,8 @@ typedef struct limen_sweep_result {
 LIMEN_API limen_status limen_sweep_sphere(limen_scene *s, const float from[3], const float to[3],
                                           float radius, const limen_sweep_opts *opts,
                                           limen_sweep_result *out);
-/* Sweeps the capsule of segment a-b and the radius by the displacement d (world). */
+/* Sweeps the capsule of segment a-b and the radius by the displacement d (world); its
+ * centre is the segment's midpoint. */
 LIMEN_API limen_status limen_sweep_capsule(limen_scene *s, const float a[3], const float b[3],
                                            float radius, const float d[3],
                                            const limen_sweep_opts *opts,

@@ -228,6 +228,39 @@ static void test_both_sides(void)
     limen_scene_destroy(s);
 }
 
+/* A corridor that loops: "a" at z = -4 facing +z leads out of "b" at z = 0 facing -z. A
+ * step as long as two laps passes "a" twice, one of half a lap once, and each time the
+ * body comes out where it should. */
+static void test_twice(void)
+{
+    limen_scene *s;
+    CHECK_OK(limen_scene_create(NULL, &s));
+    limen_node a = make(s, LIMEN_NODE_PORTAL, "a", 0, 1, -4, 2, 2, 0);
+    limen_node b = make(s, LIMEN_NODE_PORTAL, "b", 0, 1, 0, 2, 2, 0);
+    face(s, b, 0, 0, -1);
+    CHECK_OK(limen_portal_link(s, a, b));
+    limen_sweep_result r;
+    CHECK_OK(limen_sweep_sphere(s, (float[3]){ 0, 1, -1 }, (float[3]){ 0, 1, -11 }, 0.3f, NULL,
+                                &r));
+    CHECK(!r.hit && r.portals == 2 && r.portal.id == a.id);
+    CHECK_NEAR(r.centre[2], -3, 1e-4);
+    CHECK_OK(limen_sweep_sphere(s, (float[3]){ 0, 1, -1 }, (float[3]){ 0, 1, -3 }, 0.3f, NULL,
+                                &r));
+    CHECK(!r.hit && r.portals == 0);
+    CHECK_OK(limen_sweep_sphere(s, (float[3]){ 0, 1, -1 }, (float[3]){ 0, 1, -5 }, 0.3f, NULL,
+                                &r));
+    CHECK(!r.hit && r.portals == 1);
+    CHECK_NEAR(r.centre[2], -1, 1e-4);
+    limen_node body = make(s, LIMEN_NODE_SPHERE, "body", 0, 1, -1, 0.3f, 0, 0);
+    limen_slide_result sr;
+    CHECK_OK(limen_node_slide(s, body, (float[3]){ 0, 0, -10 }, 0.3f, &sr));
+    CHECK(sr.crossed == 2 && sr.contacts == 0);
+    float p[3];
+    CHECK_OK(limen_node_get_position(s, body, p));
+    CHECK_NEAR(p[2], -3, 1e-4);
+    limen_scene_destroy(s);
+}
+
 /* Unequal portals scale the body: out of a portal twice as wide, the radius doubles. */
 static void test_unequal(void)
 {
@@ -275,6 +308,57 @@ static void test_mesh(void)
                                 NULL, &r));
     CHECK(!r.hit);
     limen_scene_destroy(s);
+}
+
+/* A grid of 101 x 101 vertices over [-50, 50]^2, flat but for a bump at (40, 1, 40); with
+ * `whole` 0, only the cells around the bump. */
+static limen_node grid_mesh(limen_scene *s, int whole)
+{
+    static float pos[101 * 101 * 3];
+    static uint32_t idx[100 * 100 * 6];
+    for (int j = 0; j <= 100; j++)
+        for (int i = 0; i <= 100; i++) {
+            float *p = &pos[3 * (j * 101 + i)];
+            p[0] = (float)(i - 50);
+            p[1] = i == 90 && j == 90 ? 1.0f : 0.0f;
+            p[2] = (float)(j - 50);
+        }
+    int t = 0;
+    for (int j = 0; j < 100; j++)
+        for (int i = 0; i < 100; i++) {
+            if (!whole && (i < 88 || i > 91 || j < 88 || j > 91))
+                continue;
+            uint32_t a = (uint32_t)(j * 101 + i), b = a + 1, c = a + 101, d = a + 102;
+            uint32_t tri[6] = { a, c, b, b, c, d };
+            memcpy(&idx[3 * t], tri, sizeof tri);
+            t += 2;
+        }
+    limen_node m;
+    CHECK_OK(limen_node_create(s, LIMEN_NODE_MESH, "grid", &m));
+    CHECK_OK(limen_mesh_set_triangles(s, m, &(limen_mesh_data){ .positions = pos,
+                                      .vertex_count = 101 * 101, .indices = idx,
+                                      .triangle_count = t }));
+    return m;
+}
+
+/* A sweep across a mesh of 20,000 triangles, whose box holds all of them (tested a few
+ * thousand at a time), meets the bump where a mesh of its 32 neighbours alone does. */
+static void test_big_mesh(void)
+{
+    double f[2];
+    for (int whole = 0; whole < 2; whole++) {
+        limen_scene *s;
+        CHECK_OK(limen_scene_create(NULL, &s));
+        limen_node m = grid_mesh(s, whole);
+        limen_sweep_result r;
+        CHECK_OK(limen_sweep_sphere(s, (float[3]){ -45, 0.6f, -45 }, (float[3]){ 45, 0.6f, 45 },
+                                    0.5f, NULL, &r));
+        CHECK(r.hit && r.node.id == m.id);
+        CHECK(r.centre[0] > 38 && r.centre[0] < 40);
+        f[whole] = r.fraction;
+        limen_scene_destroy(s);
+    }
+    CHECK_NEAR(f[0], f[1], 1e-6);
 }
 
 /* Collide and slide: into a wall at 45 degrees, the node ends against it having slid along;
@@ -360,6 +444,9 @@ static void test_lua(void)
         "local m = body:slide { by = {0, 0, -2}, radius = 0.2 }\n"
         "assert(m.portals == 1 and m.portal == a and m.contacts == 0, 'slide portal')\n"
         "assert(math.abs(body.pos[1] + 3) < 1e-4, 'slide pos')\n"
+        "local tall = s:sphere { pos = {3, 2, 3}, radius = 0.1 }\n"
+        "m = tall:slide { by = {0, -5, 0}, radius = 0.2, segment = {0, -1, 0} }\n"
+        "assert(m.contacts >= 1 and math.abs(tall.pos[2] - 1.2) < 1e-3, 'capsule slide')\n"
         "m = body:slide { by = {0, -5, 0}, radius = 0.2 }\n"
         "assert(m.contacts >= 1 and math.abs(body.pos[2] - 0.2) < 1e-3, 'slide floor')\n"
         "assert(math.abs(m.moved[2] + 0.8) < 1e-3 and m.normal[2] == 1, 'moved')\n"
@@ -1096,7 +1183,8 @@ static void test_oracle(void)
                 fprintf(stderr, "  scene %d sweep %d: got hit %d at %.7f (%d portals), oracle %d "
                         "at %.7f (%d portals)\n", sc, i, got.hit, (double)got.fraction,
                         got.portals, want.hit, want.t, want.portals),
-                fprintf(stderr, "    from %.9g %.9g %.9g to %.9g %.9g %.9g r %.9g: %s / %s, portal %s\n",
+                fprintf(stderr, "    from %.9g %.9g %.9g to %.9g %.9g %.9g r %.9g: %s / %s, "
+                        "portal %s\n",
                         from[0], from[1], from[2], to[0], to[1], to[2], r,
                         got.node.id ? limen_node_get_name(s, got.node) : "-",
                         want.node.id ? limen_node_get_name(s, want.node) : "-",
@@ -1110,6 +1198,159 @@ static void test_oracle(void)
            through, bad);
     CHECK(bad == 0);
     CHECK(hits > sweeps / 4 && through > sweeps / 50);
+}
+
+/* Distance between segments p0-p1 and q0-q1, by minimising over one parameter after
+ * the other (the distance is convex in each): the test's own, not the library's. */
+static double oseg_seg(const double p0[3], const double p1[3], const double q0[3],
+                       const double q1[3])
+{
+    double best = INFINITY;
+    double d1[3], d2[3];
+    for (int k = 0; k < 3; k++) {
+        d1[k] = p1[k] - p0[k];
+        d2[k] = q1[k] - q0[k];
+    }
+    /* the end points against the other segment, and the interior stationary point */
+    const double *pe[2] = { p0, p1 }, *qe[2] = { q0, q1 };
+    for (int e = 0; e < 2; e++) {
+        for (int side = 0; side < 2; side++) {
+            const double *a = side ? qe[e] : pe[e], *o = side ? p0 : q0, *dd = side ? d1 : d2;
+            double w[3] = { a[0] - o[0], a[1] - o[1], a[2] - o[2] }, l2 = odot(dd, dd);
+            double t = l2 > 0 ? odot(w, dd) / l2 : 0;
+            t = t < 0 ? 0 : t > 1 ? 1 : t;
+            double q[3] = { o[0] + t * dd[0] - a[0], o[1] + t * dd[1] - a[1],
+                            o[2] + t * dd[2] - a[2] };
+            best = fmin(best, sqrt(odot(q, q)));
+        }
+    }
+    double a = odot(d1, d1), b = odot(d1, d2), c = odot(d2, d2);
+    double r[3] = { p0[0] - q0[0], p0[1] - q0[1], p0[2] - q0[2] };
+    double dd = odot(d1, r), e = odot(d2, r), den = a * c - b * b;
+    if (den > 1e-12 * a * c) {
+        double sp = (b * e - c * dd) / den, tq = (a * e - b * dd) / den;
+        if (sp >= 0 && sp <= 1 && tq >= 0 && tq <= 1) {
+            double q[3];
+            for (int k = 0; k < 3; k++)
+                q[k] = p0[k] + sp * d1[k] - q0[k] - tq * d2[k];
+            best = fmin(best, sqrt(odot(q, q)));
+        }
+    }
+    return best;
+}
+
+/* Distance from segment a-b to a piece (0 where it passes through a polygon). */
+static double oseg_piece(const double a[3], const double b[3], const opiece *pc)
+{
+    if (pc->ball) {
+        double ab[3] = { b[0] - a[0], b[1] - a[1], b[2] - a[2] };
+        double w[3] = { pc->c[0] - a[0], pc->c[1] - a[1], pc->c[2] - a[2] };
+        double l2 = odot(ab, ab), t = l2 > 0 ? odot(w, ab) / l2 : 0;
+        t = t < 0 ? 0 : t > 1 ? 1 : t;
+        double q[3] = { a[0] + t * ab[0], a[1] + t * ab[1], a[2] + t * ab[2] };
+        return odist(q, pc);
+    }
+    double n[3];
+    onormal(pc, n);
+    double ln = sqrt(odot(n, n));
+    if (ln > 0) {
+        double da = 0, db = 0;
+        for (int k = 0; k < 3; k++) {
+            da += (a[k] - pc->v[0][k]) * n[k] / ln;
+            db += (b[k] - pc->v[0][k]) * n[k] / ln;
+        }
+        if ((da <= 0) != (db <= 0)) {
+            double t = da / (da - db), x[3];
+            for (int k = 0; k < 3; k++)
+                x[k] = a[k] + t * (b[k] - a[k]);
+            if (odist(x, pc) < 1e-12)
+                return 0;
+        }
+    }
+    double best = fmin(odist(a, pc), odist(b, pc));
+    for (int i = 0; i < pc->nv; i++)
+        best = fmin(best, oseg_seg(a, b, pc->v[i], pc->v[(i + 1) % pc->nv]));
+    return best;
+}
+
+static double ocapsule_dist(const oscene *os, const double a[3], const double b[3])
+{
+    double best = INFINITY;
+    for (int i = 0; i < os->n; i++)
+        best = fmin(best, oseg_piece(a, b, &os->p[i]));
+    return best;
+}
+
+/* Capsules, checked by distance (no portals here: they are hidden): 400 random sweeps in
+ * the random scenes; at the reported contact the capsule is its radius from the nearest
+ * piece, and at 40 times before it (or over the whole path, for a miss) no nearer. */
+static void test_capsule_oracle(void)
+{
+    rng_state = 4242;
+    oscene os = { 0 };
+    limen_drawables *dl;
+    CHECK_OK(limen_drawables_create(&dl));
+    int sweeps = 0, hits = 0, bad = 0;
+    for (int sc = 0; sc < 4; sc++) {
+        limen_node mover, p;
+        limen_scene *s = random_scene(&mover);
+        static const char *const names[4] = { "a", "b", "c", "d" };
+        for (int k = 0; k < 4; k++) {
+            CHECK_OK(limen_node_find(s, names[k], &p));
+            CHECK_OK(limen_node_set_visible(s, p, 0));
+        }
+        const limen_drawable *items;
+        CHECK_OK(limen_drawables_build(dl, s));
+        int count = limen_drawables_items(dl, &items);
+        ogather(s, items, count, 0, NULL, NULL, 0, &os);
+        for (int i = 0; i < 100; i++, sweeps++) {
+            double a[3], b[3], d[3], r;
+            do {
+                r = rnd_in(0.05, 0.6);
+                double len = rnd_in(0, 2), move = rnd_in(0.1, 8);
+                double u[3] = { rnd_in(-1, 1), rnd_in(-1, 1), rnd_in(-1, 1) };
+                double m[3] = { rnd_in(-1, 1), rnd_in(-1, 1), rnd_in(-1, 1) };
+                double lu = sqrt(odot(u, u)), lm = sqrt(odot(m, m));
+                for (int k = 0; k < 3; k++) {
+                    a[k] = (float)rnd_in(-6, 6);
+                    b[k] = (float)(a[k] + len * u[k] / lu);
+                    d[k] = (float)(move * m[k] / lm);
+                }
+            } while (ocapsule_dist(&os, a, b) <= r + 1e-6);
+            float fa[3] = { (float)a[0], (float)a[1], (float)a[2] };
+            float fb[3] = { (float)b[0], (float)b[1], (float)b[2] };
+            float fd[3] = { (float)d[0], (float)d[1], (float)d[2] };
+            limen_sweep_result got;
+            CHECK_OK(limen_sweep_capsule(s, fa, fb, (float)r, fd, NULL, &got));
+            hits += got.hit;
+            double f = got.hit ? got.fraction : 1;
+            bool ok = true;
+            for (int j = 0; j < 40 && ok; j++) {
+                double t = (f - 1e-5) * j / 39.0, pa[3], pb[3];
+                for (int k = 0; k < 3; k++) {
+                    pa[k] = a[k] + t * d[k];
+                    pb[k] = b[k] + t * d[k];
+                }
+                ok = ocapsule_dist(&os, pa, pb) > r - 1e-6;
+            }
+            if (got.hit) {
+                double pa[3], pb[3];
+                for (int k = 0; k < 3; k++) {
+                    pa[k] = a[k] + f * d[k];
+                    pb[k] = b[k] + f * d[k];
+                }
+                ok &= fabs(ocapsule_dist(&os, pa, pb) - r) < 1e-5;
+            }
+            if (!ok && bad++ < 5)
+                fprintf(stderr, "  scene %d capsule %d: hit %d at %.7f disagrees\n", sc, i,
+                        got.hit, f);
+        }
+        limen_scene_destroy(s);
+    }
+    limen_drawables_destroy(dl);
+    free(os.p);
+    printf("     capsules: %d sweeps, %d hits, %d disagree\n", sweeps, hits, bad);
+    CHECK(bad == 0 && hits > sweeps / 5);
 }
 
 /* ------------------------------------------------------------------ rooms */
@@ -1223,7 +1464,8 @@ static void test_bounce_loop(void)
         if (mr.crossed) {
             double v2[3];
             for (int k = 0; k < 3; k++)
-                v2[k] = mr.matrix[k] * vel[0] + mr.matrix[4 + k] * vel[1] + mr.matrix[8 + k] * vel[2];
+                v2[k] = mr.matrix[k] * vel[0] + mr.matrix[4 + k] * vel[1] +
+                        mr.matrix[8 + k] * vel[2];
             memcpy(vel, v2, sizeof v2);
         }
         if (r.hit && r.portals == mr.crossed) {
@@ -1249,11 +1491,14 @@ static const check_case cases[] = {
     { "refuse", test_refuse },
     { "hole", test_hole },
     { "both_sides", test_both_sides },
+    { "twice", test_twice },
     { "unequal", test_unequal },
     { "mesh", test_mesh },
+    { "big_mesh", test_big_mesh },
     { "slide", test_slide },
     { "lua", test_lua },
     { "oracle", test_oracle },
+    { "capsule_oracle", test_capsule_oracle },
     { "no_tunnelling", test_no_tunnelling },
     { "bounce_loop", test_bounce_loop },
     { 0 }

@@ -4,43 +4,29 @@
  *
  * Every collider is cut into convex pieces: polygons (box faces, planes, mirrors, closed
  * portals, mesh triangles, and the parts of these that a portal's hole leaves), balls
- * (spheres) and capped cylinders. The distance from a moving body (a point or a segment
- * carried along a straight path) to a convex piece is a convex function of the path
- * parameter, so Newton's method started before the contact never passes it: the first
- * contact with a piece is found to rounding, at any speed, without steps to tunnel
- * between. A path is cut where the body's centre crosses a portal's rectangle (it goes on
+ * (spheres) and capped cylinders, whose first contact with the moving body core/contact.c
+ * finds exactly. A path is cut where the body's centre crosses a portal's rectangle (it goes on
  * from the partner, turned and scaled), and where it crosses an open portal's plane (the
  * holes and the partner's side, which the rule in limen.h ties to that side, change there). */
 #include <stdlib.h>
 #include <string.h>
 
+#include "core/contact.h"
 #include "core/dmath.h"
 #include "core/index.h"
 #include "core/internal.h"
 #include "core/mesh.h"
 
-#define MAXV 24             /* a triangle or quad cut by two portals' holes stays below */
+#define MAXV LIMEN__PIECE_MAXV
 #define MAX_CROSSINGS 64    /* portals one sweep may pass, whatever the limits say */
 #define MAX_SPLITS 32       /* plane crossings that cut one segment */
 #define SLIDE_ITERATIONS 5  /* collide-and-slide rounds per step */
+#define FLUSH_PIECES 4096   /* pieces held at once while gathering */
+#define FEW_SHAPES 32       /* a sweep's box with no more shapes is gathered in one go */
 #define PLANE_EPS 1e-7      /* scene units: a centre this near a portal's plane is on it */
 
-enum { PIECE_POLY, PIECE_BALL, PIECE_CYL };
-
-typedef struct piece {
-    int kind, node, nv;
-    double v[MAXV][3];          /* polygon, convex, in order */
-    double c[3], axis[3];       /* ball: centre; cylinder: base centre and unit axis */
-    double r, h;                /* radius; cylinder height */
-} piece;
-
-/* A body: the segment a-b (a point for a sphere) with radius r, at a + t v, b + t v. Its
- * reference point (which passes portals, and whose side of a portal opens its hole) is the
- * midpoint, or a for a node that slides (its origin, as limen_node_move carries it). */
-typedef struct body {
-    double a[3], b[3], v[3], r;
-    bool capsule, ref_a;
-} body;
+typedef limen__piece piece;
+typedef limen__body body;
 
 /* An open portal near a segment: its plane, side planes and matrix. */
 typedef struct gate {
@@ -53,6 +39,12 @@ typedef struct gate {
     double k;                   /* scale of x */
 } gate;
 
+typedef struct contact {
+    bool hit;
+    double t, point[3], normal[3];
+    int node;
+} contact;
+
 typedef struct sweeper {
     limen_scene *s;
     limen__spatial *idx;
@@ -63,327 +55,26 @@ typedef struct sweeper {
     piece *pc;
     int npc, pc_cap;
     bool oom;
+    /* while gathering: the contacts the pieces gathered so far are tested for when there
+     * are FLUSH_PIECES of them (a long sweep across a big mesh holds no more) */
+    const body *fbd;
+    double fta, ftb;
+    const gate *fghost;
+    contact *fbest;
 } sweeper;
 
-typedef struct contact {
-    bool hit;
-    double t, point[3], normal[3];
-    int node;
-} contact;
-
-/* ------------------------------------------------------------------ vectors */
-
-static inline double dot3(const double a[3], const double b[3])
-{
-    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-}
-
-static inline void sub3(const double a[3], const double b[3], double o[3])
-{
-    o[0] = a[0] - b[0];
-    o[1] = a[1] - b[1];
-    o[2] = a[2] - b[2];
-}
-
-static inline void mad3(const double a[3], double k, const double b[3], double o[3])
-{
-    o[0] = a[0] + k * b[0];
-    o[1] = a[1] + k * b[1];
-    o[2] = a[2] + k * b[2];
-}
-
-static inline void cross3(const double a[3], const double b[3], double o[3])
-{
-    double r[3] = { a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2],
-                    a[0] * b[1] - a[1] * b[0] };
-    memcpy(o, r, sizeof r);
-}
-
-static inline double len3(const double a[3])
-{
-    return sqrt(dot3(a, a));
-}
-
-static inline double dist3(const double a[3], const double b[3])
-{
-    double d[3];
-    sub3(a, b, d);
-    return len3(d);
-}
-
-static void vec_d(const double m[16], const double v[3], double o[3])
-{
-    double r[3];
-    for (int i = 0; i < 3; i++)
-        r[i] = m[i] * v[0] + m[4 + i] * v[1] + m[8 + i] * v[2];
-    memcpy(o, r, sizeof r);
-}
-
-static double clamp01(double x)
-{
-    return x < 0 ? 0 : x > 1 ? 1 : x;
-}
-
-/* ------------------------------------------------------------------ closest points */
-
-static void closest_on_segment(const double p[3], const double a[3], const double b[3],
-                               double q[3])
-{
-    double ab[3], ap[3];
-    sub3(b, a, ab);
-    sub3(p, a, ap);
-    double l2 = dot3(ab, ab);
-    double t = l2 > 0 ? clamp01(dot3(ap, ab) / l2) : 0;
-    mad3(a, t, ab, q);
-}
-
-/* Closest points of segments p0-p1 and q0-q1 (Ericson, Real-Time Collision Detection 5.1.9). */
-static void closest_segments(const double p0[3], const double p1[3], const double q0[3],
-                             const double q1[3], double cp[3], double cq[3])
-{
-    double d1[3], d2[3], r[3];
-    sub3(p1, p0, d1);
-    sub3(q1, q0, d2);
-    sub3(p0, q0, r);
-    double a = dot3(d1, d1), e = dot3(d2, d2), f = dot3(d2, r), s, t;
-    if (a <= 1e-300 && e <= 1e-300) {
-        s = t = 0;
-    } else if (a <= 1e-300) {
-        s = 0;
-        t = clamp01(f / e);
-    } else {
-        double c = dot3(d1, r);
-        if (e <= 1e-300) {
-            t = 0;
-            s = clamp01(-c / a);
-        } else {
-            double b = dot3(d1, d2), den = a * e - b * b;
-            s = den > 1e-300 ? clamp01((b * f - c * e) / den) : 0;
-            t = (b * s + f) / e;
-            if (t < 0) {
-                t = 0;
-                s = clamp01(-c / a);
-            } else if (t > 1) {
-                t = 1;
-                s = clamp01((b - c) / a);
-            }
-        }
-    }
-    mad3(p0, s, d1, cp);
-    mad3(q0, t, d2, cq);
-}
-
-/* Newell's normal of a polygon (not normalised; zero when it has no area). */
-static void poly_normal(const piece *pc, double n[3])
-{
-    n[0] = n[1] = n[2] = 0;
-    for (int i = 0; i < pc->nv; i++) {
-        const double *a = pc->v[i], *b = pc->v[(i + 1) % pc->nv];
-        n[0] += (a[1] - b[1]) * (a[2] + b[2]);
-        n[1] += (a[2] - b[2]) * (a[0] + b[0]);
-        n[2] += (a[0] - b[0]) * (a[1] + b[1]);
-    }
-}
-
-/* Whether p (on the polygon's plane) lies inside it. */
-static bool poly_inside(const piece *pc, const double n[3], const double p[3])
-{
-    for (int i = 0; i < pc->nv; i++) {
-        const double *a = pc->v[i], *b = pc->v[(i + 1) % pc->nv];
-        double e[3], ap[3], c[3];
-        sub3(b, a, e);
-        sub3(p, a, ap);
-        cross3(e, ap, c);
-        if (dot3(c, n) < 0)
-            return false;
-    }
-    return true;
-}
-
-static double point_poly(const double p[3], const piece *pc, double q[3])
-{
-    double n[3];
-    poly_normal(pc, n);
-    double ln = len3(n);
-    if (ln > 1e-300) {
-        double u[3] = { n[0] / ln, n[1] / ln, n[2] / ln }, ap[3], f[3];
-        sub3(p, pc->v[0], ap);
-        mad3(p, -dot3(ap, u), u, f);
-        if (poly_inside(pc, n, f)) {
-            memcpy(q, f, sizeof f);
-            return dist3(p, q);
-        }
-    }
-    double best = INFINITY;
-    for (int i = 0; i < pc->nv; i++) {
-        double c[3];
-        closest_on_segment(p, pc->v[i], pc->v[(i + 1) % pc->nv], c);
-        double d = dist3(p, c);
-        if (d < best) {
-            best = d;
-            memcpy(q, c, sizeof c);
-        }
-    }
-    return best;
-}
-
-static double seg_poly(const double a[3], const double b[3], const piece *pc, double pa[3],
-                       double pq[3])
-{
-    double n[3];
-    poly_normal(pc, n);
-    double ln = len3(n);
-    if (ln > 1e-300) {
-        double da = dot3(n, a) - dot3(n, pc->v[0]), db = dot3(n, b) - dot3(n, pc->v[0]);
-        if ((da <= 0 && db >= 0) || (da >= 0 && db <= 0)) {
-            if (da != db) {
-                double t = da / (da - db), x[3], ab[3];
-                sub3(b, a, ab);
-                mad3(a, t, ab, x);
-                if (poly_inside(pc, n, x)) {
-                    memcpy(pa, x, sizeof x);
-                    memcpy(pq, x, sizeof x);
-                    return 0;
-                }
-            }
-        }
-    }
-    double best = INFINITY, c[3], cq[3];
-    const double *ends[2] = { a, b };
-    for (int k = 0; k < 2; k++) {
-        double d = point_poly(ends[k], pc, c);
-        if (d < best) {
-            best = d;
-            memcpy(pa, ends[k], sizeof c);
-            memcpy(pq, c, sizeof c);
-        }
-    }
-    for (int i = 0; i < pc->nv; i++) {
-        closest_segments(a, b, pc->v[i], pc->v[(i + 1) % pc->nv], c, cq);
-        double d = dist3(c, cq);
-        if (d < best) {
-            best = d;
-            memcpy(pa, c, sizeof c);
-            memcpy(pq, cq, sizeof c);
-        }
-    }
-    return best;
-}
-
-/* Signed: inside the ball the distance is negative, so that moving in counts as moving in. */
-static double point_ball(const double p[3], const piece *pc, double q[3])
-{
-    double d[3];
-    sub3(p, pc->c, d);
-    double l = len3(d);
-    if (!(l > 1e-300)) {
-        memcpy(q, pc->c, sizeof d);
-        q[0] += pc->r;
-        return -pc->r;
-    }
-    mad3(pc->c, pc->r / l, d, q);
-    return l - pc->r;
-}
-
-static double point_cyl(const double p[3], const piece *pc, double q[3])
-{
-    double rel[3], rad[3];
-    sub3(p, pc->c, rel);
-    double y = dot3(rel, pc->axis);
-    mad3(rel, -y, pc->axis, rad);
-    double rho = len3(rad);
-    double yc = y < 0 ? 0 : y > pc->h ? pc->h : y;
-    double k = rho > pc->r ? pc->r / rho : 1;
-    for (int i = 0; i < 3; i++)
-        q[i] = pc->c[i] + yc * pc->axis[i] + k * rad[i];
-    return dist3(p, q);
-}
-
-/* The segment's closest point to a cylinder: the distance along the segment is convex, so
- * a golden-section search finds its least value. */
-static double seg_cyl(const double a[3], const double b[3], const piece *pc, double pa[3],
-                      double pq[3])
-{
-    double ab[3], lo = 0, hi = 1, p[3], q[3];
-    sub3(b, a, ab);
-    const double g = 0.6180339887498949;
-    for (int it = 0; it < 60 && hi - lo > 1e-13; it++) {
-        double m1 = hi - g * (hi - lo), m2 = lo + g * (hi - lo), p1[3], p2[3];
-        mad3(a, m1, ab, p1);
-        mad3(a, m2, ab, p2);
-        if (point_cyl(p1, pc, q) <= point_cyl(p2, pc, q))
-            hi = m2;
-        else
-            lo = m1;
-    }
-    mad3(a, 0.5 * (lo + hi), ab, p);
-    double d = point_cyl(p, pc, q);
-    memcpy(pa, p, sizeof p);
-    memcpy(pq, q, sizeof q);
-    return d;
-}
-
-/* Distance from the body at t to a piece, with the closest points (body side, piece side). */
-static double body_dist(const body *bd, double t, const piece *pc, double pb[3], double pk[3])
-{
-    double a[3];
-    mad3(bd->a, t, bd->v, a);
-    if (!bd->capsule) {
-        memcpy(pb, a, sizeof a);
-        switch (pc->kind) {
-        case PIECE_POLY: return point_poly(a, pc, pk);
-        case PIECE_BALL: return point_ball(a, pc, pk);
-        default: return point_cyl(a, pc, pk);
-        }
-    }
-    double b[3];
-    mad3(bd->b, t, bd->v, b);
-    switch (pc->kind) {
-    case PIECE_POLY: return seg_poly(a, b, pc, pb, pk);
-    case PIECE_BALL: {
-        closest_on_segment(pc->c, a, b, pb);
-        return point_ball(pb, pc, pk);
-    }
-    default: return seg_cyl(a, b, pc, pb, pk);
-    }
-}
-
-/* First t in [t0, t1] where the body touches the piece (distance = radius), by Newton's
- * method from t0: on a convex distance it approaches the first root from below. A body
- * already touching at t0 counts only if it is moving further in. */
-static bool piece_contact(const body *bd, const piece *pc, double t0, double t1, double *t_out)
-{
-    double t = t0, vlen = len3(bd->v), tol = 1e-10 * fmax(1.0, bd->r);
-    for (int it = 0; it < 200; it++) {
-        double pb[3], pk[3], dv[3];
-        double d = body_dist(bd, t, pc, pb, pk);
-        double f = d - bd->r, g;
-        sub3(pb, pk, dv);
-        g = fabs(d) > 1e-300 ? dot3(bd->v, dv) / d : -vlen;
-        if (f <= tol) {
-            if (it == 0 && !(g < -1e-9 * vlen))
-                return false;
-            *t_out = t;
-            return true;
-        }
-        if (!(g < 0))
-            return false;
-        double dt = -f / g;
-        t += dt;
-        if (!(t <= t1))
-            return false;
-        if (dt <= 1e-15 * fmax(1.0, t)) {
-            *t_out = t;
-            return true;
-        }
-    }
-    return false;
-}
 
 /* ------------------------------------------------------------------ pieces */
 
+static void closest_contact(const body *bd, const piece *pcs, int npc, double t0, double t1,
+                            const gate *ghost, contact *best);
+
 static piece *piece_add(sweeper *w, int kind, int node)
 {
+    if (w->npc >= FLUSH_PIECES && w->fbest) {
+        closest_contact(w->fbd, w->pc, w->npc, w->fta, w->ftb, w->fghost, w->fbest);
+        w->npc = 0;
+    }
     if (w->npc == w->pc_cap) {
         int c = w->pc_cap ? 2 * w->pc_cap : 64;
         piece *p = realloc(w->pc, sizeof *p * (size_t)c);
@@ -427,10 +118,11 @@ static void add_poly(sweeper *w, int node, const double (*v)[3], int n, const ga
                      int nholes)
 {
     if (nholes == 0) {
-        piece *p = piece_add(w, PIECE_POLY, node);
+        piece *p = piece_add(w, LIMEN__PIECE_POLY, node);
         if (p) {
             memcpy(p->v, v, sizeof(double) * 3 * (size_t)n);
             p->nv = n;
+            limen__piece_normal(p, p->n);
         }
         return;
     }
@@ -510,7 +202,8 @@ static void add_node(sweeper *w, int slot, const limen__box *q, const gate *ghos
         limen__d_point(m, o, c);
         if (n->kind == LIMEN_NODE_CYLINDER && !(ly > 0))
             return;
-        piece *p = piece_add(w, n->kind == LIMEN_NODE_SPHERE ? PIECE_BALL : PIECE_CYL, slot);
+        piece *p = piece_add(w, n->kind == LIMEN_NODE_SPHERE ? LIMEN__PIECE_BALL
+                                                             : LIMEN__PIECE_CYL, slot);
         if (!p)
             return;
         memcpy(p->c, c, sizeof c);
@@ -616,6 +309,9 @@ static bool gate_make(limen_scene *s, int slot, double reach, gate *g)
     const limen__node *n = &s->nodes[slot], *p = &s->nodes[n->pair - 1];
     if (!limen__surface_matrix_d(s, n, g->x) || !limen__d_inv(g->x, g->xinv))
         return false;
+    for (int i = 0; i < 16; i++)
+        if (!isfinite(g->x[i]) || !isfinite(g->xinv[i]))
+            return false;
     g->slot = slot;
     g->partner = (int)n->pair - 1;
     g->k = sqrt(g->x[0] * g->x[0] + g->x[1] * g->x[1] + g->x[2] * g->x[2]);
@@ -725,13 +421,13 @@ static void closest_contact(const body *bd, const piece *pcs, int npc, double t0
 {
     for (int i = 0; i < npc; i++) {
         double t;
-        if (!piece_contact(bd, &pcs[i], t0, best->hit ? fmin(t1, best->t) : t1, &t))
+        if (!limen__piece_contact(bd, &pcs[i], t0, best->hit ? fmin(t1, best->t) : t1, &t))
             continue;
         if (best->hit && t >= best->t)
             continue;
         double pb[3], pk[3];
-        body_dist(bd, t, &pcs[i], pb, pk);
-        if (ghost && pcs[i].kind != PIECE_POLY) {
+        limen__body_dist(bd, t, &pcs[i], pb, pk);
+        if (ghost && pcs[i].kind != LIMEN__PIECE_POLY) {
             bool in = true;
             for (int k = 0; k < 5; k++)
                 in &= limen__d_plane_dist(ghost->pside[k], pk) >= 0;
@@ -817,47 +513,81 @@ static bool sweep_segment(sweeper *w, const body *bd, double t0, double t1, gate
         for (int i = 0; i < ngates && nfront < MAX_SPLITS; i++)
             if (limen__d_plane_dist(gates[i].plane, mid) > 0)
                 front[nfront++] = &gates[i];
-        limen__box q;
-        sweep_box(bd, ta, tb, reach, &q);
-        if (!gather(w, &q, NULL, front, nfront, passed))
-            return false;
-        closest_contact(bd, w->pc, w->npc, ta, tb, NULL, best);
-        /* the part of the body through each opening, in the partner's room */
-        for (int i = 0; i < nfront; i++) {
-            const gate *g = front[i];
-            body gb;
-            body_carry(g->x, g->k, bd, &gb);
-            limen__box gq, pq;
-            sweep_box(&gb, ta, tb, body_reach(&gb), &gq);
-            /* only the partner's front prism, as deep as the body reaches */
-            limen__node_box(&w->s->nodes[g->partner], &pq);
-            double pad = reach * g->k;
-            bool empty = false;
-            for (int k = 0; k < 3; k++) {
-                gq.lo[k] = fmax(gq.lo[k], pq.lo[k] - pad);
-                gq.hi[k] = fmin(gq.hi[k], pq.hi[k] + pad);
-                empty |= gq.lo[k] > gq.hi[k];
-            }
-            if (empty)
-                continue;
-            if (!gather(w, &gq, g, NULL, 0, passed))
+        /* a long stretch whose box holds many shapes goes in pieces a few reaches long,
+         * nearest first: the cost follows the path, not the box around it, and ends at the
+         * first contact (a box of few shapes is cheaper gathered once) */
+        double len = len3(bd->v) * (tb - ta), piece_len = 4 * reach;
+        int nch = len > piece_len ? (int)fmin(ceil(len / piece_len), 16) : 1;
+        if (nch > 1) {
+            limen__box all;
+            sweep_box(bd, ta, tb, reach, &all);
+            w->nhits = 0;
+            if (limen__bvh_query_box(limen__index_shapes(w->idx), &all, &w->hits, &w->nhits,
+                                     &w->hits_cap, NULL) < 0)
                 return false;
-            contact gc = { 0 };
-            gc.t = best->hit ? best->t : INFINITY;
-            closest_contact(&gb, w->pc, w->npc, ta, best->hit ? fmin(tb, best->t) : tb, g, &gc);
-            if (gc.node >= 0 && gc.hit && (!best->hit || gc.t < best->t)) {
-                best->hit = true;
-                best->t = gc.t;
-                best->node = gc.node;
-                limen__d_point(g->xinv, gc.point, best->point);
-                vec_d(g->xinv, gc.normal, best->normal);
-                double l = len3(best->normal);
-                for (int k = 0; k < 3; k++)
-                    best->normal[k] /= l;
-            }
+            if (w->nhits <= FEW_SHAPES)
+                nch = 1;
         }
-        if (best->hit)
-            return true;
+        for (int h = 0; h < nch; h++) {
+            double ca = ta + (tb - ta) * h / nch;
+            double cb = h + 1 == nch ? tb : ta + (tb - ta) * (h + 1) / nch;
+            limen__box q;
+            sweep_box(bd, ca, cb, reach, &q);
+            w->fbd = bd;
+            w->fta = ca;
+            w->ftb = cb;
+            w->fghost = NULL;
+            w->fbest = best;
+            bool ok = gather(w, &q, NULL, front, nfront, passed);
+            w->fbest = NULL;
+            if (!ok)
+                return false;
+            closest_contact(bd, w->pc, w->npc, ca, cb, NULL, best);
+            /* the part of the body through each opening, in the partner's room */
+            for (int i = 0; i < nfront; i++) {
+                const gate *g = front[i];
+                body gb;
+                body_carry(g->x, g->k, bd, &gb);
+                limen__box gq, pq;
+                sweep_box(&gb, ca, cb, body_reach(&gb), &gq);
+                /* only the partner's front prism, as deep as the body reaches */
+                limen__node_box(&w->s->nodes[g->partner], &pq);
+                double pad = reach * g->k;
+                bool empty = false;
+                for (int k = 0; k < 3; k++) {
+                    gq.lo[k] = fmax(gq.lo[k], pq.lo[k] - pad);
+                    gq.hi[k] = fmin(gq.hi[k], pq.hi[k] + pad);
+                    empty |= gq.lo[k] > gq.hi[k];
+                }
+                if (empty)
+                    continue;
+                contact gc = { 0 };
+                gc.t = best->hit ? best->t : INFINITY;
+                double gcb = best->hit ? fmin(cb, best->t) : cb;
+                w->fbd = &gb;
+                w->fta = ca;
+                w->ftb = gcb;
+                w->fghost = g;
+                w->fbest = &gc;
+                bool gok = gather(w, &gq, g, NULL, 0, passed);
+                w->fbest = NULL;
+                if (!gok)
+                    return false;
+                closest_contact(&gb, w->pc, w->npc, ca, gcb, g, &gc);
+                if (gc.node >= 0 && gc.hit && (!best->hit || gc.t < best->t)) {
+                    best->hit = true;
+                    best->t = gc.t;
+                    best->node = gc.node;
+                    limen__d_point(g->xinv, gc.point, best->point);
+                    vec_d(g->xinv, gc.normal, best->normal);
+                    double l = len3(best->normal);
+                    for (int k = 0; k < 3; k++)
+                        best->normal[k] /= l;
+                }
+            }
+            if (best->hit)
+                return true;
+        }
     }
     return true;
 }
@@ -880,9 +610,17 @@ static limen_status sweep_run(limen_scene *s, const char *who, body bd, int igno
     limen_status st = limen__limits_resolve(s, who, limits, &w.lim);
     if (st)
         return st;
-    st = limen__scene_check(s);
-    if (st)
-        return st;
+    /* not limen__scene_check, which walks every node to check the scales of cameras and
+     * surfaces: a sweep costs what its path meets (a portal whose matrix is not finite is
+     * a wall, gate_make) */
+    limen__scene_refresh(s);
+    if (s->dirty)
+        return limen__fail(s, LIMEN_ERR_NOMEM, "%s: out of memory", who);
+    int bad = limen__scene_bad_world(s);
+    if (bad >= 0)
+        return limen__fail(s, LIMEN_ERR_ARG, "%s: '%s': its world transform is not finite (the "
+                           "scales along its parent chain multiply past what a float holds)",
+                           who, limen__node_title(&s->nodes[bad]));
     w.idx = limen__scene_index(s);
     if (!w.idx)
         return limen__fail(s, LIMEN_ERR_NOMEM, "%s: out of memory", who);

@@ -104,8 +104,13 @@ static bool charge(builder *b, size_t n)
 
 /* ------------------------------------------------------------------ textures */
 
+_Thread_local const limen__import_files *limen__import_files_hook;
+
 static unsigned char *read_whole(const char *path, size_t max, size_t *len)
 {
+    const limen__import_files *hook = limen__import_files_hook;
+    if (hook)
+        return hook->read(hook->ctx, path, max, len);
     struct stat st;
     FILE *f = fopen(path, "rb");
     if (!f)
@@ -125,6 +130,9 @@ static unsigned char *read_whole(const char *path, size_t max, size_t *len)
 
 static bool is_file(const char *path)
 {
+    const limen__import_files *hook = limen__import_files_hook;
+    if (hook)
+        return hook->exists(hook->ctx, path);
     struct stat st;
     return stat(path, &st) == 0 && S_ISREG(st.st_mode);
 }
@@ -776,15 +784,20 @@ limen_status limen__import_file(const char *path, unsigned flags, size_t max_byt
      * scenes on different threads stay independent (limen.h, THREADS) */
     static pthread_mutex_t importing = PTHREAD_MUTEX_INITIALIZER;
     char err[301] = "";
-    pthread_mutex_lock(&importing);
+    const limen__import_files *hook = limen__import_files_hook;
+    bool lock = !hook || !hook->inside;     /* (a child's copy of the lock may be held) */
+    if (lock)
+        pthread_mutex_lock(&importing);
     const struct aiScene *sc =
-        aiImportFile(path, aiProcess_Triangulate | aiProcess_JoinIdenticalVertices |
-                               aiProcess_SortByPType | aiProcess_ValidateDataStructure);
+        aiImportFileEx(path, aiProcess_Triangulate | aiProcess_JoinIdenticalVertices |
+                                 aiProcess_SortByPType | aiProcess_ValidateDataStructure,
+                       hook ? hook->io : NULL);
     if (!sc) {
         const char *e = aiGetErrorString();
         snprintf(err, sizeof err, "%s", e ? e : "");
     }
-    pthread_mutex_unlock(&importing);
+    if (lock)
+        pthread_mutex_unlock(&importing);
     if (!sc) {
         snprintf(why, why_size, "%s: cannot read it as a mesh: %s", path,
                  err[0] ? err : "unknown format");

@@ -40,6 +40,8 @@ typedef struct limen__mesh {
     limen_mesh_lod *lods;       /* levels of detail, lods[0] the full mesh (idx) */
     uint32_t nlods;
     limen_mesh_geometry pub;    /* what limen_drawable.mesh shows of it */
+    char *files;                /* every file its import read ("a\0b\0"), for watching */
+    size_t files_len;
     struct limen__lod_job *lod_job;     /* its levels being made on another thread, or NULL */
     /* materials (see limen_material) */
     float *col;                 /* nverts * 4 RGBA vertex colours, or NULL (white) */
@@ -104,10 +106,14 @@ void limen__lod_set_async_above(uint32_t triangles);
  * names the file. The node must be a mesh. */
 limen_status limen__mesh_load(limen_scene *s, limen_node n, const char *path, size_t max_bytes,
                               size_t *charged);
-/* Model files (core/model.c). What is checked of one before the importer reads it: a
- * regular file, not empty, within max_bytes, and a PLY header that assimp can read safely;
- * the failure named. */
-limen_status limen__mesh_file_check(limen_scene *s, const char *path, size_t max_bytes);
+/* Model files (core/model.c): path read and checked as limen__mesh_load reads a file (the
+ * scene's way in, a safe script's formats, glTF's cost, the importer contained where the
+ * scene asks) into the importer's block (*blk, free() it) and the files it read (*files). */
+struct limen__block;
+struct limen__import;
+limen_status limen__mesh_import_block(limen_scene *s, const char *path, unsigned flags,
+                                      size_t max_bytes, struct limen__import **blk,
+                                      struct limen__block *files);
 struct limen__import;
 /* Node `node` of an imported block (its parts in its own frame, with their materials and
  * textures) as the mesh of mesh node n; refuses one holding more than max_bytes. *charged:
@@ -128,5 +134,12 @@ void limen__meshes_destroy(limen_scene *s);
 int limen__mesh_intersect(const limen__mesh *m, const double o[3], const double d[3],
                           double tmin, double tmax, const double *cut, double *t, double *bu,
                           double *bv);
+
+/* gltf_cost.c: what a glTF (.gltf text or .glb) file places once imported, from its JSON:
+ * vertices and triangles of its meshes times the node instances that use them, and how
+ * deep its nodes nest (INT32_MAX: a cycle). Returns 0 where the JSON cannot be read within
+ * a quarter of max_bytes (the importer then says why). */
+int limen__gltf_cost(const unsigned char *data, size_t len, size_t max_bytes, uint64_t *verts,
+                     uint64_t *tris, int *depth);
 
 #endif

@@ -14,6 +14,8 @@
 #include <string.h>
 #include <sys/stat.h>
 
+#include "core/confine.h"
+#include "core/contain.h"
 #include "core/import.h"
 #include "core/internal.h"
 #include "core/json.h"
@@ -340,37 +342,36 @@ static limen_status from_import(limen_scene *s, const char *path, limen__import 
 
 #define MAX_JSON_BYTES (64u << 20)
 
-/* The JSON of a .gltf, or of a .glb's first chunk; NULL if the file is neither or is too
- * large. *len its length; free() it. */
-static char *gltf_json(const char *path, size_t *len)
+/* The JSON of a .gltf, or of a .glb's first chunk, read through the scene's way in (as the
+ * importer read it); NULL if the file is neither or is too large. *len its length; free()
+ * it. The scene's message is left as it was. */
+static char *gltf_json(limen_scene *s, const char *path, size_t *len)
 {
-    FILE *f = fopen(path, "rb");
-    if (!f)
+    unsigned char *data = NULL;
+    size_t n = 0;
+    struct stat st;
+    char keep[sizeof s->err];
+    memcpy(keep, s->err, sizeof keep);
+    limen_status rc = limen__file_read(s, path, &data, &n, &st);
+    memcpy(s->err, keep, sizeof keep);
+    if (rc)
         return NULL;
+    if (s->load)
+        s->load->read_bytes -= n;       /* held no longer than this call */
     char *text = NULL;
-    unsigned char head[20];
-    size_t got = fread(head, 1, sizeof head, f);
-    if (got == sizeof head && memcmp(head, "glTF", 4) == 0) {
-        uint32_t n = (uint32_t)head[12] | (uint32_t)head[13] << 8 | (uint32_t)head[14] << 16 |
-                     (uint32_t)head[15] << 24;
-        if (memcmp(head + 16, "JSON", 4) == 0 && n <= MAX_JSON_BYTES && (text = malloc(n + 1)) &&
-            fread(text, 1, n, f) == n) {
-            *len = n;
-        } else {
-            free(text);
-            text = NULL;
+    if (n >= 20 && memcmp(data, "glTF", 4) == 0) {
+        uint32_t c = (uint32_t)data[12] | (uint32_t)data[13] << 8 | (uint32_t)data[14] << 16 |
+                     (uint32_t)data[15] << 24;
+        if (memcmp(data + 16, "JSON", 4) == 0 && c <= MAX_JSON_BYTES && c <= n - 20 &&
+            (text = malloc(c + 1))) {
+            memcpy(text, data + 20, c);
+            *len = c;
         }
-    } else if (got > 0 && fseek(f, 0, SEEK_END) == 0) {
-        long size = ftell(f);
-        if (size > 0 && (unsigned long)size <= MAX_JSON_BYTES && fseek(f, 0, SEEK_SET) == 0 &&
-            (text = malloc((size_t)size + 1)) && fread(text, 1, (size_t)size, f) == (size_t)size) {
-            *len = (size_t)size;
-        } else {
-            free(text);
-            text = NULL;
-        }
+    } else if (n > 0 && n <= MAX_JSON_BYTES && (text = malloc(n + 1))) {
+        memcpy(text, data, n);
+        *len = n;
     }
-    fclose(f);
+    free(data);
     return text;
 }
 
@@ -379,10 +380,10 @@ static char *gltf_json(const char *path, size_t *len)
  * camera's yfov (assimp gives yfov x aspect as its horizontal angle, which the importer's
  * block reads as half the horizontal one). Files that are not glTF, or whose JSON cannot be
  * read here, keep what the importer gave. */
-static void gltf_extras(const char *path, model *m)
+static void gltf_extras(limen_scene *s, const char *path, model *m)
 {
     size_t len = 0;
-    char *text = m->nlights || m->ncams ? gltf_json(path, &len) : NULL;
+    char *text = m->nlights || m->ncams ? gltf_json(s, path, &len) : NULL;
     limen__json j;
     if (!text || !limen__json_parse(&j, text, len, 4 * 1024 * 1024)) {
         if (text)
@@ -423,18 +424,17 @@ static void gltf_extras(const char *path, model *m)
 
 static limen_status read_file(limen_scene *s, const char *path, size_t max_bytes, model *m)
 {
-    char why[700];
     limen__import *blk;
+    limen__block files = { 0 };
     memset(m, 0, sizeof *m);
-    limen_status st = limen__mesh_file_check(s, path, max_bytes);
+    /* read as s:mesh reads a file: the scene's way in, the importer contained where asked */
+    limen_status st = limen__mesh_import_block(s, path, 0, max_bytes, &blk, &files);
+    limen__block_free(&files);
     if (st)
         return st;
-    st = limen__import_file(path, 0, max_bytes, &blk, why, sizeof why);
-    if (st)
-        return limen__fail(s, st, "%s", why);
     st = from_import(s, path, blk, m);
     if (!st)
-        gltf_extras(path, m);
+        gltf_extras(s, path, m);
     if (st)
         model_free(m);
     return st;

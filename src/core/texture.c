@@ -10,7 +10,10 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
+#include <unistd.h>
 
+#include "core/confine.h"
+#include "core/contain.h"
 #include "core/internal.h"
 #include "core/mesh.h"
 #include "core/texture.h"
@@ -28,12 +31,14 @@ uint64_t limen__next_serial(void)
 limen_status limen__file_key(limen_scene *s, const char *path, char key[LIMEN__FILE_KEY],
                              struct stat *st)
 {
-    char real[PATH_MAX];
-    if (!realpath(path, real) || stat(real, st) != 0)
-        return limen__fail(s, LIMEN_ERR_IO, "%s: cannot open: %s", path, strerror(errno));
-    if (!S_ISREG(st->st_mode))
-        return limen__fail(s, LIMEN_ERR_IO, "%s: not a regular file", path);
-    snprintf(key, LIMEN__FILE_KEY, "%s@%lld.%ld", real, (long long)st->st_mtim.tv_sec,
+    /* decided on the descriptor the scene's way in opens (core/confine.c), never by name */
+    char why[160];
+    int fd = limen__confine_open(s->load ? s->load->box : NULL, path, st, why, sizeof why);
+    if (fd < 0)
+        return limen__fail(s, LIMEN_ERR_IO, "%s: cannot open: %s", path, why);
+    close(fd);
+    snprintf(key, LIMEN__FILE_KEY, "%s@%llx.%llx.%lld.%ld", path, (unsigned long long)st->st_dev,
+             (unsigned long long)st->st_ino, (long long)st->st_mtim.tv_sec,
              (long)st->st_mtim.tv_nsec);
     return LIMEN_OK;
 }
@@ -142,20 +147,26 @@ static bool make_levels(limen__texture *t)
     return true;
 }
 
-limen_status limen__texture_decode(limen_scene *s, const unsigned char *buf, size_t len,
-                                   const char *name, limen__texture **out)
+/* Why buf is no image stb reads: unknown, truncated or corrupt (stb's reason). */
+static void image_failure(const unsigned char *buf, size_t len, char *why, size_t size)
 {
-    *out = NULL;
-    int w = 0, h = 0;
-    unsigned char *rgb = limen__image_decode(buf, len, &w, &h);
-    if (!rgb)
-        return limen__fail(s, LIMEN_ERR_IO, "%s: cannot read it as an image (PNG or JPEG): %s",
-                           name, limen__image_why());
-    if (w < 1 || h < 1 || w > MAX_SIDE || h > MAX_SIDE) {
-        free(rgb);
-        return limen__fail(s, LIMEN_ERR_ARG, "%s: %dx%d pixels (1 to %d a side)", name, w, h,
-                           MAX_SIDE);
-    }
+    bool png = len >= 4 && memcmp(buf, "\x89PNG", 4) == 0;
+    bool jpeg = len >= 2 && buf[0] == 0xFF && buf[1] == 0xD8;
+    int w, h;
+    if (!png && !jpeg)
+        snprintf(why, size, "unknown format (PNG or JPEG only)");
+    else if (!limen__image_info(buf, len, &w, &h))
+        snprintf(why, size, "truncated or corrupt %s header (%s)", png ? "PNG" : "JPEG",
+                 limen__image_why());
+    else
+        snprintf(why, size, "truncated or corrupt %s data (%s)", png ? "PNG" : "JPEG",
+                 limen__image_why());
+}
+
+/* A texture over rgb (taken), w x h. */
+static limen_status texture_new(limen_scene *s, unsigned char *rgb, int w, int h,
+                                const char *name, limen__texture **out)
+{
     limen__texture *t = calloc(1, sizeof *t);
     if (!t) {
         free(rgb);
@@ -177,6 +188,111 @@ limen_status limen__texture_decode(limen_scene *s, const unsigned char *buf, siz
     snprintf(t->name, sizeof t->name, "%s", name);
     *out = t;
     return LIMEN_OK;
+}
+
+typedef struct decoding {
+    const unsigned char *buf;
+    size_t len;
+} decoding;
+
+/* In the child: [w][h][rgb], or why not. */
+static int decode_contained(void *arg, limen__block *out, char *why, size_t why_size)
+{
+    const decoding *d = arg;
+    int w = 0, h = 0;
+    unsigned char *rgb = limen__image_decode(d->buf, d->len, &w, &h);
+    if (!rgb) {
+        image_failure(d->buf, d->len, why, why_size);
+        return 1;
+    }
+    int32_t wh[2] = { w, h };
+    limen__block_put(out, wh, sizeof wh);
+    limen__block_put(out, rgb, (size_t)w * (size_t)h * 3);
+    free(rgb);
+    return 0;
+}
+
+/* Decodes buf in a child under what the script has left; a crash or a limit is a message. */
+static unsigned char *decode_in_child(limen_scene *s, const unsigned char *buf, size_t len,
+                                      const char *name, int *w, int *h, limen_status *st)
+{
+    limen__load *ld = s->load;
+    decoding d = { buf, len };
+    limen__contain_limits lim = { ld->max_bytes, ld->cpu_left, 0 };
+    limen__block b;
+    char why[512];
+    double cpu;
+    int rc = limen__contain_run(decode_contained, &d, &lim, &b, why, sizeof why, &cpu);
+    ld->cpu_spent += cpu;
+    ld->cpu_left = ld->cpu_left > 0 ? (ld->cpu_left > cpu ? ld->cpu_left - cpu : 1e-9) : 0;
+    int32_t wh[2];
+    const unsigned char *rgb = NULL;
+    if (rc == LIMEN__CONTAIN_OK && limen__block_get(&b, wh, sizeof wh) && wh[0] > 0 &&
+        wh[1] > 0 && wh[0] <= MAX_SIDE && wh[1] <= MAX_SIDE)
+        rgb = limen__block_take(&b, (size_t)wh[0] * (size_t)wh[1] * 3);
+    if (!rgb) {
+        limen__block_free(&b);
+        *st = rc == LIMEN__CONTAIN_FAILED
+                  ? limen__fail(s, LIMEN_ERR_IO, "%s: cannot read it as an image: %s", name, why)
+              : rc == LIMEN__CONTAIN_TIME
+                  ? limen__fail(s, LIMEN_ERR_IO, "%s: decoding it ran out of the time left", name)
+              : rc == LIMEN__CONTAIN_SYSTEM
+                  ? limen__fail(s, LIMEN_ERR_IO, "%s: %s", name, why)
+                  : limen__fail(s, LIMEN_ERR_NOMEM, "the image decoder crashed or ran out of "
+                                "memory reading %s", name);
+        return NULL;
+    }
+    unsigned char *copy = malloc((size_t)wh[0] * (size_t)wh[1] * 3);
+    if (copy)
+        memcpy(copy, rgb, (size_t)wh[0] * (size_t)wh[1] * 3);
+    limen__block_free(&b);
+    if (!copy) {
+        *st = limen__fail(s, LIMEN_ERR_NOMEM, "%s: out of memory", name);
+        return NULL;
+    }
+    *w = wh[0];
+    *h = wh[1];
+    return copy;
+}
+
+limen_status limen__texture_decode(limen_scene *s, const unsigned char *buf, size_t len,
+                                   const char *name, limen__texture **out)
+{
+    *out = NULL;
+    int w = 0, h = 0;
+    bool png = len >= 4 && memcmp(buf, "\x89PNG", 4) == 0;
+    bool jpeg = len >= 2 && buf[0] == 0xFF && buf[1] == 0xD8;
+    char why[300];
+    if (!png && !jpeg) {
+        image_failure(buf, len, why, sizeof why);
+        return limen__fail(s, LIMEN_ERR_IO, "%s: cannot read it as an image: %s", name, why);
+    }
+    /* the size from the header, before anything is decoded */
+    if (limen__image_info(buf, len, &w, &h)) {
+        if (w < 1 || h < 1 || w > MAX_SIDE || h > MAX_SIDE)
+            return limen__fail(s, LIMEN_ERR_ARG, "%s: too large: %dx%d pixels (1 to %d a side)",
+                               name, w, h, MAX_SIDE);
+        size_t max = s->load ? s->load->max_bytes : SIZE_MAX;
+        if ((uint64_t)w * (uint64_t)h * 3 > max)
+            return limen__fail(s, LIMEN_ERR_NOMEM, "%s: too large: %dx%d pixels need %.1f MiB, "
+                               "more than the %.1f MiB allowed", name, w, h,
+                               (double)w * h * 3 / 1048576.0, max / 1048576.0);
+    }
+    unsigned char *rgb;
+    if (limen__load_contained(s)) {
+        limen_status st = LIMEN_OK;
+        if (!(rgb = decode_in_child(s, buf, len, name, &w, &h, &st)))
+            return st;
+    } else if (!(rgb = limen__image_decode(buf, len, &w, &h))) {
+        image_failure(buf, len, why, sizeof why);
+        return limen__fail(s, LIMEN_ERR_IO, "%s: cannot read it as an image: %s", name, why);
+    }
+    if (w < 1 || h < 1 || w > MAX_SIDE || h > MAX_SIDE) {
+        free(rgb);
+        return limen__fail(s, LIMEN_ERR_ARG, "%s: too large: %dx%d pixels (1 to %d a side)",
+                           name, w, h, MAX_SIDE);
+    }
+    return texture_new(s, rgb, w, h, name, out);
 }
 
 limen_status limen__texture_from_rgba(limen_scene *s, const unsigned char *rgba, int w, int h,
@@ -248,33 +364,33 @@ limen_status limen__texture_load(limen_scene *s, const char *path, size_t max_by
             return LIMEN_OK;
         }
     }
-    if (st.st_size == 0)
-        return limen__fail(s, LIMEN_ERR_IO, "%s: empty file", path);
-    if ((uint64_t)st.st_size > max_bytes && (s->mem_wanted = (uint64_t)st.st_size))
-        return limen__fail(s, LIMEN_ERR_NOMEM, "%s: a file of %.1f MiB, more than the %.1f MiB "
-                           "allowed", path, st.st_size / 1048576.0, max_bytes / 1048576.0);
-    FILE *f = fopen(path, "rb");
-    unsigned char *buf = f ? malloc((size_t)st.st_size) : NULL;
-    size_t got = buf ? fread(buf, 1, (size_t)st.st_size, f) : 0;
-    if (f)
-        fclose(f);
-    if (!buf || got != (size_t)st.st_size) {
-        free(buf);
-        return limen__fail(s, LIMEN_ERR_IO, "%s: cannot read: %s", path,
-                           f ? "short read" : strerror(errno));
+    unsigned char *buf;
+    size_t got;
+    if ((rc = limen__file_read(s, path, &buf, &got, &st))) {
+        if (rc == LIMEN_ERR_NOMEM)
+            s->mem_wanted = (uint64_t)st.st_size;   /* what --memory would allow */
+        return rc;
     }
-    /* the decoded size, from the header, before decoding */
     int w, h;
     if (limen__image_info(buf, got, &w, &h) && (uint64_t)w * (uint64_t)h * 3 > max_bytes) {
         s->mem_wanted = (uint64_t)w * (uint64_t)h * 3;
         free(buf);
-        return limen__fail(s, LIMEN_ERR_NOMEM, "%s: %dx%d pixels need %.1f MiB, more than the "
-                           "%.1f MiB allowed", path, w, h, (double)w * h * 3 / 1048576.0,
-                           max_bytes / 1048576.0);
+        if (s->load)
+            s->load->read_bytes -= got;
+        return limen__fail(s, LIMEN_ERR_NOMEM, "%s: too large: %dx%d pixels need %.1f MiB, "
+                           "more than the %.1f MiB allowed", path, w, h,
+                           (double)w * h * 3 / 1048576.0, max_bytes / 1048576.0);
     }
+    size_t keep_max = s->load ? s->load->max_bytes : SIZE_MAX;
+    if (s->load)
+        s->load->max_bytes = max_bytes;     /* what decoding may take */
     limen__texture *t;
     rc = limen__texture_decode(s, buf, got, path, &t);
     free(buf);
+    if (s->load) {
+        s->load->max_bytes = keep_max;
+        s->load->read_bytes -= got;     /* the file's bytes are given back */
+    }
     if (rc)
         return rc;
     snprintf(t->key, sizeof t->key, "%s", key);
@@ -450,16 +566,28 @@ limen_status limen_scene_get_file(const limen_scene *s, int i, char *path, size_
         return LIMEN_ERR_ARG;
     int n = 0;
     for (int k = 0; k < s->nmeshes + s->ntextures; k++) {
-        const char *key = k < s->nmeshes ? ((const limen__mesh *)s->meshes[k])->key
-                                         : ((const limen__texture *)s->textures[k - s->nmeshes])->key;
+        const limen__mesh *m = k < s->nmeshes ? s->meshes[k] : NULL;
+        const char *key = m ? m->key : ((const limen__texture *)s->textures[k - s->nmeshes])->key;
         size_t len;
-        if (!key_path(key, &len) || n++ != i)
+        if (!key_path(key, &len))
             continue;
-        if (len >= size)
-            return LIMEN_ERR_ARG;
-        memcpy(path, key, len);
-        path[len] = '\0';
-        return LIMEN_OK;
+        /* the file itself, then the others its import read (an OBJ's .mtl, glTF buffers) */
+        const char *f = key;
+        for (size_t at = 0;;) {
+            size_t flen = f == key ? len : strlen(f);
+            if ((f == key || flen != len || strncmp(f, key, len) != 0) && n++ == i) {
+                if (flen >= size)
+                    return LIMEN_ERR_ARG;
+                memcpy(path, f, flen);
+                path[flen] = '\0';
+                return LIMEN_OK;
+            }
+            if (f != key)
+                at += flen + 1;
+            if (!m || !m->files || at >= m->files_len)
+                break;
+            f = m->files + at;
+        }
     }
     return LIMEN_ERR_ARG;
 }

@@ -145,10 +145,11 @@ void limen__lua_read_vec(lua_State *L, int idx, const char *ctx, const char *wha
 limen_node limen__lua_read_node(lua_State *L, int idx, int scene_idx, const char *ctx,
                                 const char *what, int kind);
 
-/* A mesh or image file named in the calling script: relative to the script's folder. A safe
- * script may read only files under that folder: no absolute path, no "..", and no link
- * that leads out of it (checked on the resolved path). Writes the path to open into out,
- * or raises. */
+/* A mesh or image file named in the calling script: relative to the script's folder (a safe
+ * script's: the top-level script's, fixed when it was loaded). A safe script may read only
+ * files under that folder: no absolute path, no "..", and no link that leads out of it
+ * (decided when the file is opened, core/confine.c). Writes the path to open into out, or
+ * raises. */
 void limen__lua_script_path(lua_State *L, const char *ctx, const char *file, char *out,
                             size_t size);
 
@@ -236,7 +237,8 @@ int limen__lua_scene_cast(lua_State *L);
  * point, normal, node, portals, portal, matrix, radius } (docs/lua.md). */
 int limen__lua_scene_sweep(lua_State *L);
 
-/* node:slide { by, radius } -> { moved, contacts, normal, portals, portal, matrix, radius }. */
+/* node:slide { by, radius [, segment] } -> { moved, contacts, normal, portals, portal, matrix,
+ * radius }. */
 int limen__lua_node_slide(lua_State *L);
 
 #endif

@@ -81,11 +81,11 @@ int limen__lua_scene_sweep(lua_State *L)
     return 1;
 }
 
-/* node:slide { by = {dx, dy, dz}, radius = r }
+/* node:slide { by = {dx, dy, dz}, radius = r [, segment = {x, y, z}] }
  * -> { moved, contacts, normal, portals, portal, matrix, radius } */
 int limen__lua_node_slide(lua_State *L)
 {
-    static const char *const keys[] = { "by", "radius" };
+    static const char *const keys[] = { "by", "radius", "segment" };
     lnode *nd = luaL_checkudata(L, 1, NODE_MT);
     luaL_checktype(L, 2, LUA_TTABLE);
     lua_settop(L, 2);
@@ -99,14 +99,19 @@ int limen__lua_node_slide(lua_State *L)
         return luaL_error(L, "%s has been destroyed", ctx);
     char what[CTX_LEN + 16];
     snprintf(what, sizeof what, "%s: slide", ctx);
-    limen__lua_check_keys(L, 2, what, keys, 2);
+    limen__lua_check_keys(L, 2, what, keys, 3);
     float by[3], radius;
     lua_getfield(L, 2, "by");
     limen__lua_read_vec(L, -1, what, "field 'by'", 3, ELEM_FINITE, by);
     lua_getfield(L, 2, "radius");
     radius = limen__lua_read_positive(L, -1, what, "field 'radius'");
+    float seg[3];
+    bool capsule = lua_getfield(L, 2, "segment") != LUA_TNIL;
+    if (capsule)
+        limen__lua_read_vec(L, -1, what, "field 'segment'", 3, ELEM_FINITE, seg);
     limen_slide_result r;
-    if (limen_node_slide(ls->s, nd->n, by, radius, &r))
+    if (capsule ? limen_node_slide_capsule(ls->s, nd->n, by, radius, seg, &r)
+                : limen_node_slide(ls->s, nd->n, by, radius, &r))
         return limen__lua_c_error(L, ls->s, ctx, nd->label);
     lua_createtable(L, 0, 7);
     limen__lua_push_vec(L, r.moved, 3, 1);

@@ -2,7 +2,7 @@
  * little program of byte-coded calls that builds a scene (nodes of every kind, transforms,
  * sizes, parents, portal links, lenses, local matrices, destroys); the scene is then planned
  * for a small image with a small budget, the plan written as JSON (and checked to hold no
- * inf or nan), the scene traced at 8x6, rays cast and nodes moved. Numbers come from one
+ * inf or nan), the scene traced at 8x6, rays cast, nodes moved, swept and slid. Numbers come from one
  * byte each: small steps most of the time, and now and then an extreme (0, 1e-9, 1e9, 1e38,
  * inf, nan, ...), which the setters must refuse or the rest must survive. */
 #include <math.h>
@@ -155,6 +155,23 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         limen_move_result mr;
         vec(&r, v);
         limen_node_move(s, nodes[i], v, &mr);
+    }
+    /* collisions: sweeps (spheres, capsules) and slides with fuzzed numbers */
+    for (int i = 0; i < count && r.n; i++) {
+        limen_sweep_result sr;
+        limen_slide_result lr;
+        float u[3];
+        vec(&r, v);
+        vec(&r, w);
+        vec(&r, u);
+        float rad = number(&r);
+        limen_sweep_opts o = { .ignore = byte(&r) & 1 ? nodes[i] : (limen_node){ 0 } };
+        limen_sweep_sphere(s, v, w, rad, &o, &sr);
+        limen_sweep_capsule(s, v, u, rad, w, NULL, &sr);
+        if (byte(&r) & 1)
+            limen_node_slide(s, nodes[i], w, rad, &lr);
+        else
+            limen_node_slide_capsule(s, nodes[i], w, rad, u, &lr);
     }
     limen_scene_destroy(s);
     return 0;

@@ -20,7 +20,7 @@ local function add(name, where)
 end
 
 for _, file in ipairs { "src/lua/l_fields.c", "src/lua/l_node.c", "src/lua/l_scene.c",
-                        "src/lua/l_render.c" } do
+                        "src/lua/l_render.c", "src/lua/l_collide.c" } do
   local src = read(file)
   -- luaL_Reg entries: { "name", function }
   for name in src:gmatch('{%s*"([%w_]+)",%s*[%w_]+%s*}') do add(name, file) end

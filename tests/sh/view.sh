@@ -150,6 +150,33 @@ render_pose() {
 }
 t_ok "render --eye/--look/--up gives the screenshot again; a bad or lone --eye is refused" render_pose
 
+# walking collides: W towards the north wall (a plane at z = -4) stops the eye a person's
+# width (0.25) in front of it; after N (free flight) W takes it through the wall
+pose_z() { echo "$POSE" | awk '{ split($2, e, ","); print e[3] }'; }
+stopped() { shot && p1=$POSE && shot && [ "$POSE" = "$p1" ]; }
+beyond() { shot && awk -v z="$(pose_z)" 'BEGIN { exit !(z < -4.3) }'; }
+collides() {
+    OUT="$TMP/view2.out" ERR="$TMP/view2.err"
+    "$LIMEN" view "$TMP/scene.lua" --size $SIZE --shots "$TMP" --eye -1,1.6,-2.5 \
+        --look -1,1.6,-5 > "$OUT" 2> "$ERR" &
+    VPID=$!
+    opens || return 1
+    xdotool keydown w || return 1
+    wait_for 60 stopped; rc=$?
+    xdotool keyup w
+    [ $rc -eq 0 ] || return 1
+    awk -v z="$(pose_z)" 'BEGIN { exit !(z > -3.76 && z < -3.7) }' ||
+        { echo "stopped at z = $(pose_z)"; return 1; }
+    n=$(lines '^flying')
+    xdotool key n && wait_for 30 more_lines '^flying' "$n" || return 1
+    xdotool keydown w || return 1
+    wait_for 60 beyond; rc=$?
+    xdotool keyup w
+    [ $rc -eq 0 ] && xdotool key Escape && wait_for 30 sh -c "! kill -0 $VPID" &&
+        wait "$VPID" && VPID=
+}
+t_ok "walking stops at a wall a person's width from it; N flies through it" collides
+
 example() {
     "$B/examples/walk" --frames 90 --autopilot --shot "$TMP/walk.png" > "$TMP/walk.out" &&
     grep -q "crossed portal blue" "$TMP/walk.out" &&
