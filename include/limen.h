@@ -594,8 +594,10 @@ LIMEN_API void limen_drawables_environment(const limen_drawables *d, float backg
 
 /* A model file's node hierarchy as limen nodes (limen_model_load): each file node becomes a
  * node under the group with the file's name and local matrix, parents before children: a
- * MESH holding its meshes' triangles (in its own frame; the first material's diffuse colour
- * as its colour), or a GROUP where it has none. A node authored as a surface becomes a
+ * MESH holding its meshes' triangles in its own frame, a part in each one's material, read
+ * as limen_mesh_load reads a file's (colours, textures held in the file or found beside it,
+ * alpha, emission, vertex colours; a missing image leaves the colour, with a warning), or
+ * a GROUP where it has none. A node authored as a surface becomes a
  * MIRROR or PORTAL instead, through glTF extras (Blender exports an object's custom
  * properties as them):
  *     "extras": {"limen": {"mirror": {"max_depth": 4, "tint": [r, g, b]}}}
@@ -607,7 +609,9 @@ LIMEN_API void limen_drawables_environment(const limen_drawables *d, float backg
  * triangles face counter-clockwise; its height runs along the rectangle's side nearer the
  * parent's +Y. Portals pair with the node named as partner, which must name them back. The
  * file's cameras (at their node, looking as the file says; the first becomes the scene's
- * camera where it has none) and point lights (colour times intensity) when asked. A node
+ * camera where it has none) and point lights (colour times intensity; a glTF light's range
+ * as limen_light_set_range) when asked: the file node that carries one becomes that CAMERA
+ * or LIGHT node (a GROUP where it is not asked for). A node
  * name that is not UTF-8 is dropped (the node is unnamed). Any problem (a file that cannot
  * be read, a surface that is not flat, a partner missing or one-sided, a bad extras field)
  * fails with a message naming the file and the node, and leaves the scene as it was. */

@@ -736,7 +736,10 @@ static float *node_worlds(const limen__import *b)
     return w;
 }
 
-static limen_status flatten(limen_scene *s, const limen__import *b, const char *path, flat *f)
+/* only: one node's parts in its own frame (a model's node: core/model.c), or
+ * LIMEN__IMPORT_NONE for every node's where the file places them. */
+static limen_status flatten(limen_scene *s, const limen__import *b, uint32_t only,
+                           const char *path, flat *f)
 {
     memset(f, 0, sizeof *f);
     const limen__import_node *ns = LIMEN__IMP(b, nodes, limen__import_node);
@@ -746,7 +749,8 @@ static limen_status flatten(limen_scene *s, const limen__import *b, const char *
     const uint32_t *ts = LIMEN__IMP(b, tris, uint32_t), *np = LIMEN__IMP(b, node_parts, uint32_t);
     uint64_t nv = 0, nt = 0;
     for (uint32_t n = 0; n < b->nnodes; n++)
-        for (uint32_t k = 0; k < ns[n].part_count; k++) {
+        for (uint32_t k = 0; k < ns[n].part_count && (only == LIMEN__IMPORT_NONE || n == only);
+             k++) {
             const limen__import_part *p = &ps[np[ns[n].first_part + k]];
             if (p->tri_count) {
                 nv += p->vertex_count;
@@ -777,7 +781,10 @@ static limen_status flatten(limen_scene *s, const limen__import *b, const char *
         const limen__import_material *mt = &ms[mi];
         uint32_t first = f->nt;
         for (uint32_t n = 0; n < b->nnodes; n++) {
-            const float *w = &world[n * 16];
+            if (only != LIMEN__IMPORT_NONE && n != only)
+                continue;
+            static const float own[16] = { 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1 };
+            const float *w = only == LIMEN__IMPORT_NONE ? &world[n * 16] : own;
             mat4 wm;
             mat3 nm;
             memcpy(wm, w, sizeof wm);
@@ -839,8 +846,9 @@ static limen_status flatten(limen_scene *s, const limen__import *b, const char *
     return LIMEN_OK;
 }
 
-/* The block's material index of the flattened mesh's material k (the k-th used). */
-static uint32_t used_material(const limen__import *b, uint32_t k)
+/* The block's material index of the flattened mesh's material k (the k-th used; by node
+ * `only`, or by any node where it is LIMEN__IMPORT_NONE). */
+static uint32_t used_material(const limen__import *b, uint32_t only, uint32_t k)
 {
     const limen__import_node *ns = LIMEN__IMP(b, nodes, limen__import_node);
     const limen__import_part *ps = LIMEN__IMP(b, parts, limen__import_part);
@@ -848,7 +856,8 @@ static uint32_t used_material(const limen__import *b, uint32_t k)
     for (uint32_t mi = 0; mi < b->nmaterials; mi++) {
         bool used = false;
         for (uint32_t n = 0; n < b->nnodes && !used; n++)
-            for (uint32_t j = 0; j < ns[n].part_count && !used; j++) {
+            for (uint32_t j = 0; j < ns[n].part_count && !used &&
+                                 (only == LIMEN__IMPORT_NONE || n == only); j++) {
                 const limen__import_part *p = &ps[np[ns[n].first_part + j]];
                 used = p->material == mi && p->tri_count;
             }
@@ -859,8 +868,8 @@ static uint32_t used_material(const limen__import *b, uint32_t k)
 }
 
 /* The block's textures onto the mesh's materials (each decoded image made once). */
-static limen_status mesh_textures(limen_scene *s, const limen__import *b, const char *path,
-                                  limen__mesh *m)
+static limen_status mesh_textures(limen_scene *s, const limen__import *b, uint32_t only,
+                                  const char *path, limen__mesh *m)
 {
     const limen__import_material *ms = LIMEN__IMP(b, materials, limen__import_material);
     const limen__import_texture *ts = LIMEN__IMP(b, textures, limen__import_texture);
@@ -869,7 +878,7 @@ static limen_status mesh_textures(limen_scene *s, const limen__import *b, const 
         return limen__fail(s, LIMEN_ERR_NOMEM, "%s: out of memory", path);
     limen_status st = LIMEN_OK;
     for (uint32_t k = 0; k < m->nmats && !st; k++) {
-        const limen__import_material *mt = &ms[used_material(b, k)];
+        const limen__import_material *mt = &ms[used_material(b, only, k)];
         uint32_t which[LIMEN__MAT_TEXTURES] = { mt->base_tex, mt->emissive_tex,
                                                 mt->metal_rough_tex, mt->normal_tex,
                                                 mt->occlusion_tex };
@@ -915,7 +924,7 @@ static limen_status mesh_textures(limen_scene *s, const limen__import *b, const 
 }
 
 /* The block's warnings into the scene's list, as "file: warning: text". */
-static void keep_warnings(limen_scene *s, const limen__import *b, const char *path)
+void limen__mesh_keep_warnings(limen_scene *s, const limen__import *b, const char *path)
 {
     const uint32_t *ws = LIMEN__IMP(b, warnings, uint32_t);
     for (uint32_t i = 0; i < b->nwarnings; i++) {
@@ -1298,10 +1307,14 @@ static limen_status import_contained(limen_scene *s, const char *path, unsigned 
     return st;
 }
 
-static limen_status load_file(limen_scene *s, const char *path, unsigned flags,
-                              size_t max_bytes, limen__mesh **out)
+static limen_status mesh_from_block(limen_scene *s, const limen__import *blk, uint32_t only,
+                                    const char *path, size_t max_bytes, limen__mesh **out);
+
+limen_status limen__mesh_import(limen_scene *s, const char *path, unsigned flags,
+                                size_t max_bytes, limen__import **blk, limen__block *files)
 {
-    *out = NULL;
+    *blk = NULL;
+    *files = (limen__block){ 0 };
     unsigned char *data;
     size_t len;
     struct stat st_file;
@@ -1350,15 +1363,40 @@ static limen_status load_file(limen_scene *s, const char *path, unsigned flags,
     if ((uint64_t)len > max_bytes && (s->mem_wanted = (uint64_t)len))
         return limen__fail(s, LIMEN_ERR_NOMEM, "%s: a file of %.1f MiB, more than the %.1f MiB "
                            "allowed", path, len / 1048576.0, max_bytes / 1048576.0);
+    return limen__load_contained(s) ? import_contained(s, path, flags, max_bytes, blk, files)
+                                    : import_here(s, path, flags, max_bytes, blk, files);
+}
+
+static limen_status load_file(limen_scene *s, const char *path, unsigned flags,
+                              size_t max_bytes, limen__mesh **out)
+{
+    *out = NULL;
     limen__import *blk;
-    limen__block files = { 0 };
-    st = limen__load_contained(s)
-             ? import_contained(s, path, flags, max_bytes, &blk, &files)
-             : import_here(s, path, flags, max_bytes, &blk, &files);
+    limen__block files;
+    limen_status st = limen__mesh_import(s, path, flags, max_bytes, &blk, &files);
     if (st)
         return st;
+    st = mesh_from_block(s, blk, LIMEN__IMPORT_NONE, path, max_bytes, out);
+    if (!st) {
+        limen__mesh_keep_warnings(s, blk, path);
+        (*out)->files = (char *)files.data;
+        (*out)->files_len = files.len;
+    } else {
+        limen__block_free(&files);
+    }
+    free(blk);
+    return st;
+}
+
+/* The block's meshes (every node's, or node only's: flatten) as a new mesh with its
+ * materials' textures, refused where it would hold more than max_bytes. */
+static limen_status mesh_from_block(limen_scene *s, const limen__import *blk, uint32_t only,
+                                    const char *path, size_t max_bytes, limen__mesh **out)
+{
+    *out = NULL;
     flat fl;
-    if (!(st = flatten(s, blk, path, &fl))) {
+    limen_status st;
+    if (!(st = flatten(s, blk, only, path, &fl))) {
         limen_mesh_data d = { .positions = fl.pos, .normals = fl.nrm, .uvs = fl.uv,
                               .vertex_count = (int)fl.nv, .indices = fl.idx,
                               .triangle_count = (int)fl.nt,
@@ -1370,7 +1408,7 @@ static limen_status load_file(limen_scene *s, const char *path, unsigned flags,
         st = mesh_from_arrays(s, &d, path, max_bytes, out);
         flat_free(&fl);
     }
-    if (!st && (st = mesh_textures(s, blk, path, *out))) {
+    if (!st && (st = mesh_textures(s, blk, only, path, *out))) {
         mesh_free(s, *out);
         *out = NULL;
     }
@@ -1381,14 +1419,6 @@ static limen_status load_file(limen_scene *s, const char *path, unsigned flags,
         st = limen__fail(s, LIMEN_ERR_NOMEM, "%s: needs more than the %.1f MiB allowed", path,
                          max_bytes / 1048576.0);
     }
-    if (!st) {
-        keep_warnings(s, blk, path);
-        (*out)->files = (char *)files.data;
-        (*out)->files_len = files.len;
-    } else {
-        limen__block_free(&files);
-    }
-    free(blk);
     return st;
 }
 
@@ -1444,6 +1474,25 @@ limen_status limen__mesh_load(limen_scene *s, limen_node n, const char *path, si
     if ((st = keep(s, m, path)))
         return st;
     attach(s, node, m);
+    *charged = m->bytes;
+    return LIMEN_OK;
+}
+
+limen_status limen__mesh_from_import(limen_scene *s, limen_node n, const limen__import *b,
+                                     uint32_t node, const char *path, size_t max_bytes,
+                                     size_t *charged)
+{
+    *charged = 0;
+    limen__node *nd = mesh_node(s, n, "model");
+    if (!nd)
+        return LIMEN_ERR_HANDLE;
+    limen__mesh *m;
+    limen_status st = mesh_from_block(s, b, node, path, max_bytes, &m);
+    if (!st)
+        st = keep(s, m, path);
+    if (st)
+        return st;
+    attach(s, nd, m);
     *charged = m->bytes;
     return LIMEN_OK;
 }

@@ -106,6 +106,24 @@ void limen__lod_set_async_above(uint32_t triangles);
  * names the file. The node must be a mesh. */
 limen_status limen__mesh_load(limen_scene *s, limen_node n, const char *path, size_t max_bytes,
                               size_t *charged);
+struct limen__import;
+struct limen__block;
+/* Imports a model file into a block (core/import.h) through the scene's one way in: read
+ * through its folder and limits, the safe formats only when a script loads safely, headers
+ * and glTF node counts checked against max_bytes before the importer runs, the import itself
+ * contained in a child process where the load is safe. *files: the files the import read
+ * (for hot reload); free both. The failure is the scene's message, naming the file. */
+limen_status limen__mesh_import(limen_scene *s, const char *path, unsigned flags,
+                                size_t max_bytes, struct limen__import **blk,
+                                struct limen__block *files);
+/* Node `node` of an imported block (its parts in its own frame, with their materials and
+ * textures) as the mesh of mesh node n; refuses one holding more than max_bytes. *charged:
+ * the bytes it holds. */
+limen_status limen__mesh_from_import(limen_scene *s, limen_node n, const struct limen__import *b,
+                                     uint32_t node, const char *path, size_t max_bytes,
+                                     size_t *charged);
+/* The block's warnings into the scene's list, as "file: warning: text". */
+void limen__mesh_keep_warnings(limen_scene *s, const struct limen__import *b, const char *path);
 /* Gives back a node's reference (the asset goes with its last). */
 void limen__mesh_release(limen_scene *s, limen__mesh *m);
 /* Frees every asset of a scene (at its destruction). */

@@ -55,22 +55,24 @@ static void texture_free(limen__texture *t)
 
 /* ------------------------------------------------------------------ mipmap levels */
 
-/* One axis of a box filter: n source samples (stride apart) onto m <= n, destination i
- * averaging the source interval [i n/m, (i + 1) n/m) weighted by overlap (a texel split
- * between two destinations counts half to each, as happens at odd sizes). */
-static void shrink_axis(const float *src, int n, size_t stride, float *dst, int m,
-                        size_t dstride)
+/* One axis of a box filter, n texels onto m <= n: destination i averages the source
+ * interval [i n/m, (i + 1) n/m) weighted by overlap (a texel split between two destinations
+ * counts to each by its share, as happens at odd sizes). Its first texel, and the weights
+ * (at most 4: the interval is at most 3 texels long) of it and those after. */
+typedef struct span {
+    int first, count;
+    double w[4];
+} span;
+
+static span span_of(int i, int n, int m)
 {
-    double r = (double)n / m;
-    for (int i = 0; i < m; i++) {
-        double a = i * r, b = (i + 1) * r, sum = 0;
-        for (int k = (int)floor(a); k < n && k < b; k++) {
-            double w = fmin(b, k + 1.0) - fmax(a, (double)k);
-            if (w > 0)
-                sum += w * src[(size_t)k * stride];
-        }
-        dst[(size_t)i * dstride] = (float)(sum / r);
+    double r = (double)n / m, a = i * r, b = (i + 1) * r;
+    span sp = { .first = (int)floor(a) };
+    for (int k = sp.first; k < n && k < b && sp.count < 4; k++) {
+        double w = fmin(b, k + 1.0) - fmax(a, (double)k);
+        sp.w[sp.count++] = w > 0 ? w / r : 0;
     }
+    return sp;
 }
 
 static int half(int n)
@@ -78,8 +80,35 @@ static int half(int n)
     return n > 1 ? n / 2 : 1;
 }
 
+/* Level `down` from level `up` (half its size), a row at a time: memory for one row of the
+ * smaller level. */
+static void shrink(const limen_image_level *up, const limen_image_level *down, const span *xs,
+                   double *acc)
+{
+    int W = up->width, H = up->height, w = down->width, h = down->height;
+    unsigned char *out = (unsigned char *)down->rgb;
+    for (int j = 0; j < h; j++) {
+        span ys = span_of(j, H, h);
+        memset(acc, 0, sizeof(double) * (size_t)w * 3);
+        for (int q = 0; q < ys.count; q++) {
+            const unsigned char *src = up->rgb + (size_t)(ys.first + q) * (size_t)W * 3;
+            for (int i = 0; i < w; i++)
+                for (int c = 0; c < 3; c++) {
+                    double sum = 0;
+                    for (int p = 0; p < xs[i].count; p++)
+                        sum += xs[i].w[p] * src[(size_t)(xs[i].first + p) * 3 + (size_t)c];
+                    acc[i * 3 + c] += ys.w[q] * sum;
+                }
+        }
+        for (int i = 0; i < w * 3; i++)
+            out[(size_t)j * (size_t)w * 3 + (size_t)i] =
+                (unsigned char)lrint(fmin(255.0, fmax(0.0, acc[i])));
+    }
+}
+
 /* Levels 1 on of t, each half the last (at least 1 texel), until 1 x 1: what GL calls a
- * complete mipmap. False: out of memory. */
+ * complete mipmap; each made from the bytes of the one above, as a renderer could. False:
+ * out of memory. */
 static bool make_levels(limen__texture *t)
 {
     size_t total = 0;
@@ -93,12 +122,13 @@ static bool make_levels(limen__texture *t)
     t->nlevels = n;
     if (n == 1)
         return true;
+    int wmax = half(t->w);
     t->mips = malloc(total);
-    float *row = malloc(sizeof(float) * (size_t)t->w * (size_t)t->h * 3);
-    float *col = malloc(sizeof(float) * (size_t)t->h * (size_t)t->w * 3);
-    if (!t->mips || !row || !col) {
-        free(row);
-        free(col);
+    span *xs = malloc(sizeof *xs * (size_t)wmax);
+    double *acc = malloc(sizeof(double) * (size_t)wmax * 3);
+    if (!t->mips || !xs || !acc) {
+        free(xs);
+        free(acc);
         free(t->mips);
         t->mips = NULL;
         return false;
@@ -106,24 +136,14 @@ static bool make_levels(limen__texture *t)
     unsigned char *at = t->mips;
     for (int k = 1; k < n; k++) {
         const limen_image_level *up = &t->levels[k - 1];
-        int w = half(up->width), h = half(up->height), W = up->width, H = up->height;
-        /* each level from the bytes of the one above, as the renderer could */
-        for (size_t i = 0; i < (size_t)W * H * 3; i++)
-            col[i] = up->rgb[i];
-        for (int y = 0; y < H; y++)
-            for (int c = 0; c < 3; c++)
-                shrink_axis(col + (size_t)y * W * 3 + c, W, 3, row + (size_t)y * w * 3 + c, w, 3);
-        for (int x = 0; x < w; x++)
-            for (int c = 0; c < 3; c++)
-                shrink_axis(row + (size_t)x * 3 + c, H, (size_t)w * 3, col + (size_t)x * 3 + c,
-                            h, (size_t)w * 3);
-        for (size_t i = 0; i < (size_t)w * h * 3; i++)
-            at[i] = (unsigned char)lrint(fmin(255.0, fmax(0.0, col[i])));
-        t->levels[k] = (limen_image_level){ w, h, at };
-        at += (size_t)w * h * 3;
+        t->levels[k] = (limen_image_level){ half(up->width), half(up->height), at };
+        for (int i = 0; i < t->levels[k].width; i++)
+            xs[i] = span_of(i, up->width, t->levels[k].width);
+        shrink(up, &t->levels[k], xs, acc);
+        at += (size_t)t->levels[k].width * (size_t)t->levels[k].height * 3;
     }
-    free(row);
-    free(col);
+    free(xs);
+    free(acc);
     return true;
 }
 
