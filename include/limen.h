@@ -436,6 +436,14 @@ LIMEN_API limen_status limen_camera_matrices(limen_scene *s, float aspect, limen
 /* A level of detail of a mesh: a simplified triangle list over the same vertices (so the
  * same normals and texture coordinates), made once when the mesh is created (meshoptimizer),
  * each level about half the triangles of the one before. */
+/* Levels of detail between runs and on another thread: the levels made are stored in the
+ * user's cache folder ($LIMEN_CACHE_DIR, else $XDG_CACHE_HOME/limen, else ~/.cache/limen;
+ * at most $LIMEN_CACHE_MB megabytes, 256 by default; LIMEN_CACHE=off stores and reads
+ * none), keyed by the mesh's content, and read back when the same mesh is made again. A
+ * mesh of 100,000 triangles or more whose levels are not stored has the full mesh as its
+ * only level at first: its levels are made on a thread of limen's own, which reads only the
+ * mesh, and appear at a later call on the scene that takes a non-const limen_scene * (with
+ * a new limen_mesh_geometry.id); a const call never sees them change. */
 typedef struct limen_mesh_lod {
     const uint32_t *indices;    /* triangle_count * 3, into the mesh's vertices */
     int triangle_count;
