@@ -442,8 +442,9 @@ LIMEN_API limen_status limen_camera_matrices(limen_scene *s, float aspect, limen
  * none), keyed by the mesh's content, and read back when the same mesh is made again. A
  * mesh of 100,000 triangles or more whose levels are not stored has the full mesh as its
  * only level at first: its levels are made on a thread of limen's own, which reads only the
- * mesh, and appear at a later call on the scene that takes a non-const limen_scene * (with
- * a new limen_mesh_geometry.id); a const call never sees them change. */
+ * mesh, and appear at a later call that reads the scene's world (rendering, planning,
+ * tracing, ray casts, limen_drawables_build, limen_scene_update), with a new
+ * limen_mesh_geometry.id; a const call never sees them change. */
 typedef struct limen_mesh_lod {
     const uint32_t *indices;    /* triangle_count * 3, into the mesh's vertices */
     int triangle_count;
