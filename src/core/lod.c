@@ -241,7 +241,8 @@ static double cover_bound(side *sd, const point *v[3], double goal)
     }
     for (int next = 0; next < nmet; next++) {
         uint32_t at = met[next];
-        const double *c = to->tri[at];
+        double c[9];
+        limen__lod_corners(to, at, c);
         bool apart = false;
         for (int a = 0; a < 3 && !apart; a++)
             apart = lesser(c[a], lesser(c[3 + a], c[6 + a])) > hi[a] ||

@@ -153,9 +153,8 @@ bool limen__lod_pack(limen__lod_welded *pk, const limen__mesh *m, const uint32_t
     pk->to = malloc(sizeof *pk->to * m->nverts);
     pk->from = malloc(sizeof *pk->from * m->nverts);
     pk->idx = malloc(sizeof *pk->idx * n0);
-    pk->tmp = malloc(sizeof *pk->tmp * n0);
     pk->pos = malloc(sizeof(float) * 3 * m->nverts);
-    if (!pk->to || !pk->from || !pk->idx || !pk->tmp || !pk->pos) {
+    if (!pk->to || !pk->from || !pk->idx || !pk->pos) {
         limen__lod_welded_free(pk);
         return false;
     }
@@ -182,6 +181,8 @@ size_t limen__lod_simplify(limen__lod_welded *pk, const uint32_t *src, size_t n,
                        float target_error, float *err, uint32_t *out)
 {
     const uint32_t *in = pk->idx;
+    if (src && !pk->tmp && !(pk->tmp = malloc(sizeof *pk->tmp * (n ? n : 1))))
+        return 0;
     if (src) {
         for (size_t i = 0; i < n; i++)
             pk->tmp[i] = pk->to[src[i]];
