@@ -681,11 +681,11 @@ static void install(limen__mesh *m, made *mk)
 }
 
 /* The levels kept from an earlier run (core/lod_cache.c), where there are some for m. */
-static bool from_cache(limen__mesh *m, const limen__lod_key *key)
+static bool from_cache(limen__mesh *m, const limen__lod_where *w, const limen__lod_key *key)
 {
     limen_mesh_lod lv[MAX_LEVELS];
     uint32_t n, *idx;
-    if (!limen__lod_cache_load(key, m->nverts, m->ntris, lv, MAX_LEVELS, &n, &idx))
+    if (!limen__lod_cache_load(w, key, m->nverts, m->ntris, lv, MAX_LEVELS, &n, &idx))
         return false;
     made mk = { .nlods = n };
     for (uint32_t k = 1; k < n; k++) {
@@ -705,15 +705,16 @@ static bool from_cache(limen__mesh *m, const limen__lod_key *key)
     return true;
 }
 
-/* Stores the levels in mk (made for m) in the cache under key. */
-static void to_cache(const limen__mesh *m, const limen__lod_key *key, const made *mk)
+/* Stores the levels in mk (made for m) in the cache w under key. */
+static void to_cache(const limen__mesh *m, const limen__lod_where *w, const limen__lod_key *key,
+                     const made *mk)
 {
     limen_mesh_lod lv[MAX_LEVELS];
     memcpy(lv, mk->block, sizeof *lv * mk->nlods);
     lv[0].indices = m->idx;
     for (uint32_t k = 1; k < mk->nlods; k++)
         lv[k].indices = (const uint32_t *)(mk->block + HEAD) + mk->at[k];
-    limen__lod_cache_store(key, m->nverts, m->ntris, lv, mk->nlods);
+    limen__lod_cache_store(w, key, m->nverts, m->ntris, lv, mk->nlods);
 }
 
 static bool lods_make(const limen__mesh *m, const atomic_bool *stop, made *out);
@@ -721,13 +722,15 @@ static bool lods_make(const limen__mesh *m, const atomic_bool *stop, made *out);
 bool limen__mesh_lods_build(limen__mesh *m)
 {
     limen__lod_key key;
+    limen__lod_where w;
+    limen__lod_cache_where(&w);
     limen__lod_cache_key(m, LOD_VERSION, &key);
-    if (from_cache(m, &key))
+    if (from_cache(m, &w, &key))
         return true;
     made mk;
     if (!lods_make(m, NULL, &mk))
         return false;
-    to_cache(m, &key, &mk);
+    to_cache(m, &w, &key, &mk);
     install(m, &mk);
     return true;
 }
@@ -742,6 +745,7 @@ struct limen__lod_job {
     pthread_t thread;
     const limen__mesh *m;
     limen__lod_key key;
+    limen__lod_where where;     /* the cache, as the scene's thread found it */
     atomic_bool stop;           /* set by the scene's thread: the mesh is going */
     atomic_bool done;           /* set by the build's thread, last */
     bool ok;
@@ -760,7 +764,7 @@ static void *job_run(void *arg)
     struct limen__lod_job *j = arg;
     j->ok = lods_make(j->m, &j->stop, &j->mk);
     if (j->ok)
-        to_cache(j->m, &j->key, &j->mk);
+        to_cache(j->m, &j->where, &j->key, &j->mk);
     atomic_store(&j->done, true);
     return NULL;
 }
@@ -768,14 +772,16 @@ static void *job_run(void *arg)
 bool limen__mesh_lods_start(limen__mesh *m)
 {
     limen__lod_key key;
+    limen__lod_where w;
+    limen__lod_cache_where(&w);
     limen__lod_cache_key(m, LOD_VERSION, &key);
-    if (from_cache(m, &key))
+    if (from_cache(m, &w, &key))
         return true;
     if (m->ntris < async_above) {
         made mk;
         if (!lods_make(m, NULL, &mk))
             return false;
-        to_cache(m, &key, &mk);
+        to_cache(m, &w, &key, &mk);
         install(m, &mk);
         return true;
     }
@@ -791,6 +797,7 @@ bool limen__mesh_lods_start(limen__mesh *m)
     install(m, &one);
     j->m = m;
     j->key = key;
+    j->where = w;
     atomic_init(&j->stop, false);
     atomic_init(&j->done, false);
     if (pthread_create(&j->thread, NULL, job_run, j) != 0) {

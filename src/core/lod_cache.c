@@ -107,31 +107,43 @@ static bool make_dir(const char *dir)
            S_ISDIR(st.st_mode);
 }
 
-bool limen__lod_cache_dir(char *out, size_t size)
+static uint64_t limit_bytes(void)
 {
+    const char *v = getenv("LIMEN_CACHE_MB");
+    char *end = NULL;
+    double mb = v && v[0] ? strtod(v, &end) : DEFAULT_MB;
+    if ((end && *end) || !(mb >= 0) || mb > 1e9)
+        mb = DEFAULT_MB;
+    return (uint64_t)(mb * 1048576.0);
+}
+
+void limen__lod_cache_where(limen__lod_where *w)
+{
+    memset(w, 0, sizeof *w);
     if (cache_off())
-        return false;
+        return;
     const char *own = getenv("LIMEN_CACHE_DIR"), *xdg = getenv("XDG_CACHE_HOME"),
                *home = getenv("HOME");
     int n;
     if (own && own[0] == '/')
-        n = snprintf(out, size, "%s", own);
+        n = snprintf(w->dir, sizeof w->dir, "%s", own);
     else if (xdg && xdg[0] == '/')
-        n = snprintf(out, size, "%s/limen", xdg);
+        n = snprintf(w->dir, sizeof w->dir, "%s/limen", xdg);
     else if (home && home[0] == '/')
-        n = snprintf(out, size, "%s/.cache/limen", home);
+        n = snprintf(w->dir, sizeof w->dir, "%s/.cache/limen", home);
     else
-        return false;
-    return n > 0 && (size_t)n < size - 64;
+        return;
+    w->on = n > 0 && (size_t)n < sizeof w->dir - 64;
+    w->limit = limit_bytes();
 }
 
-static bool entry_path(const limen__lod_key *key, char *out, size_t size)
+static bool entry_path(const limen__lod_where *w, const limen__lod_key *key, char *out,
+                       size_t size)
 {
-    char dir[4096];
-    if (!limen__lod_cache_dir(dir, sizeof dir))
+    if (!w->on)
         return false;
-    int n = snprintf(out, size, "%s/lod-%016llx%016llx.bin", dir, (unsigned long long)key->h[0],
-                     (unsigned long long)key->h[1]);
+    int n = snprintf(out, size, "%s/lod-%016llx%016llx.bin", w->dir,
+                     (unsigned long long)key->h[0], (unsigned long long)key->h[1]);
     return n > 0 && (size_t)n < size;
 }
 
@@ -161,14 +173,15 @@ static uint64_t checksum(const void *data, size_t len)
     return h.a ^ h.b;
 }
 
-bool limen__lod_cache_load(const limen__lod_key *key, uint32_t nverts, uint32_t ntris,
+bool limen__lod_cache_load(const limen__lod_where *w, const limen__lod_key *key,
+                           uint32_t nverts, uint32_t ntris,
                            limen_mesh_lod *lods, uint32_t max_levels, uint32_t *nlods,
                            uint32_t **indices)
 {
     *nlods = 0;
     *indices = NULL;
     char path[4200];
-    if (!entry_path(key, path, sizeof path))
+    if (!entry_path(w, key, path, sizeof path))
         return false;
     /* no link followed, and nothing that could block (a pipe, a device) */
     int fd = open(path, O_RDONLY | O_NOFOLLOW | O_NONBLOCK | O_CLOEXEC);
@@ -263,18 +276,8 @@ static int older_first(const void *pa, const void *pb)
     return strcmp(a->name, b->name);
 }
 
-static uint64_t limit_bytes(void)
-{
-    const char *v = getenv("LIMEN_CACHE_MB");
-    char *end = NULL;
-    double mb = v && v[0] ? strtod(v, &end) : DEFAULT_MB;
-    if ((end && *end) || !(mb >= 0) || mb > 1e9)
-        mb = DEFAULT_MB;
-    return (uint64_t)(mb * 1048576.0);
-}
-
-/* Removes the entries used least recently while the folder's entries exceed the limit. */
-static void trim(const char *dir)
+/* Removes the entries used least recently while the folder's entries exceed limit bytes. */
+static void trim(const char *dir, uint64_t limit)
 {
     DIR *d = opendir(dir);
     if (!d)
@@ -305,7 +308,6 @@ static void trim(const char *dir)
         total += (uint64_t)st.st_size;
         n++;
     }
-    uint64_t limit = limit_bytes();
     if (total > limit) {
         qsort(list, n, sizeof *list, older_first);
         for (size_t i = 0; i < n && total > limit; i++)
@@ -318,18 +320,19 @@ static void trim(const char *dir)
 
 /* ------------------------------------------------------------------ storing */
 
-void limen__lod_cache_store(const limen__lod_key *key, uint32_t nverts, uint32_t ntris,
-                            const limen_mesh_lod *lods, uint32_t nlods)
+void limen__lod_cache_store(const limen__lod_where *w, const limen__lod_key *key,
+                            uint32_t nverts, uint32_t ntris, const limen_mesh_lod *lods,
+                            uint32_t nlods)
 {
-    char dir[4096], path[4200];
-    if (nlods < 1 || !limen__lod_cache_dir(dir, sizeof dir) || !entry_path(key, path, sizeof path))
+    char path[4200];
+    if (nlods < 1 || !entry_path(w, key, path, sizeof path))
         return;
     uint64_t nidx = 0;
     for (uint32_t k = 1; k < nlods; k++)
         nidx += 3ull * (uint32_t)lods[k].triangle_count;
     size_t len = 8 + 4 * HEAD_WORDS + 8 * (size_t)nlods + 4 * (size_t)nidx + 8;
     /* an entry larger than the whole cache may be is not kept */
-    if (nidx > 3ull * ntris || len > limit_bytes() || !make_dir(dir))
+    if (nidx > 3ull * ntris || len > w->limit || !make_dir(w->dir))
         return;
     /* what is there already and is not a plain file (a link, a pipe) is left alone */
     struct stat st;
@@ -362,5 +365,5 @@ void limen__lod_cache_store(const limen__lod_key *key, uint32_t nverts, uint32_t
             limen__out_abort(&o);
     }
     free(buf);
-    trim(dir);
+    trim(w->dir, w->limit);
 }
