@@ -1113,13 +1113,24 @@ static void test_async(void)
     size_t nmade = 0;
     int levels = sphere_levels(U, V, &made, &nmade);
     CHECK(levels >= 4);
+    limen_mesh_info info;
+    size_t bytes = 0;           /* what the mesh holds with its levels made in place */
+    {
+        fixture g = open_scene((float[3]){ 0, 0, 5 }, (float[3]){ 0, 0, 0 });
+        CHECK_OK(limen_mesh_set_triangles(g.s, g.mesh, &data));
+        CHECK_OK(limen_mesh_get(g.s, g.mesh, &info));
+        bytes = info.bytes;
+        close_scene(&g);
+    }
 
     limen__lod_set_async_above(1000);
     fixture f = open_scene((float[3]){ 0, 0, 5 }, (float[3]){ 0, 0, 0 });
     CHECK_OK(limen_mesh_set_triangles(f.s, f.mesh, &data));
-    limen_mesh_info info;
     CHECK_OK(limen_mesh_get(f.s, f.mesh, &info));
     CHECK_MSG(info.lod_count == 1, "%d levels before the hand-over", info.lod_count);
+    /* counted (against a script's memory cap) at no less than it will hold */
+    CHECK_MSG(info.bytes >= bytes, "%zu bytes before the hand-over, %zu after", info.bytes,
+              bytes);
     reader rd[2] = { { f.s, f.mesh, 0 }, { f.s, f.mesh, 0 } };
     pthread_t th[2];
     for (int i = 0; i < 2; i++)
@@ -1149,6 +1160,8 @@ static void test_async(void)
         }
         CHECK_MSG(same && n == nmade, "%d levels handed over, %d made here", g->lod_count, levels);
         CHECK(!waited || g->id != id);
+        CHECK_OK(limen_mesh_get(f.s, f.mesh, &info));
+        CHECK_MSG(info.bytes == bytes, "%zu bytes, %zu made in place", info.bytes, bytes);
     }
     close_scene(&f);
 

@@ -794,7 +794,11 @@ bool limen__mesh_lods_start(limen__mesh *m)
         return false;
     }
     *(limen_mesh_lod *)one.block = (limen_mesh_lod){ .triangle_count = (int)m->ntris };
+    /* the levels to come stay counted as the estimate had them (what a script's memory cap
+     * was charged), not as the full level alone */
+    size_t counted = m->bytes;
     install(m, &one);
+    m->bytes = counted;
     j->m = m;
     j->key = key;
     j->where = w;
@@ -817,8 +821,11 @@ static bool job_end(limen__mesh *m, bool stop)
         atomic_store(&j->stop, true);
     pthread_join(j->thread, NULL);
     bool got = j->ok && !stop;
-    if (got)
+    if (got) {
+        /* counted as the estimate had them until now (limen__mesh_lods_start) */
+        m->bytes = m->bytes - lods_bytes(&(limen__mesh){ .ntris = m->ntris }) + HEAD;
         install(m, &j->mk);
+    }
     free(j->mk.block);
     free(j);
     m->lod_job = NULL;
