@@ -10,6 +10,8 @@
 
 #include "core/lod_weld.h"
 
+#define SIDES_LOOK 64           /* vertices at one position a corner chooses among */
+
 /* The simplifier names, at each corner, the first vertex at its position (the weld). Where
  * several share the position (a seam: a crease in the normals, an edge of the texture),
  * each corner takes instead the one whose normal is nearest its triangle's own, the side
@@ -48,7 +50,11 @@ bool limen__lod_seam_sides(const limen__mesh *m, const uint32_t *shadow, uint32_
         for (int k = 0; k < 3; k++) {
             uint32_t w = idx[t * 3 + k], best = w;
             double best_dot = -INFINITY;
-            for (uint32_t j = first[w]; j < first[w + 1]; j++) {
+            /* at most SIDES_LOOK of them: a position that thousands of vertices share (a
+             * fan exported as loose triangles) costs no more than a seam */
+            uint32_t end = first[w + 1] - first[w] > SIDES_LOOK ? first[w] + SIDES_LOOK
+                                                               : first[w + 1];
+            for (uint32_t j = first[w]; j < end; j++) {
                 const float *nr = &m->nrm[members[j] * 3];
                 double d = fn[0] * nr[0] + fn[1] * nr[1] + fn[2] * nr[2];
                 if (d > best_dot) {
