@@ -39,17 +39,24 @@ CORE_SRC += src/core/version.c
 CORE_SRC += src/core/import.c
 # levels of detail: the weld the simplifier is given (core/lod_weld.c)
 CORE_SRC += src/core/lod_weld.c
+CORE_SRC += src/core/model.c
 GL_SRC   := src/gl/render.c src/gl/views.c src/gl/stencil.c src/gl/shader.c src/gl/mesh.c src/gl/assets.c src/gl/batch.c src/gl/ctx_osmesa.c \
             src/gl/ctx_egl.c src/gl/ctx_host.c
 LUA_SRC  := src/lua/l_fields.c src/lua/l_node.c src/lua/l_scene.c src/lua/l_render.c src/lua/script.c src/lua/safe.c src/lua/guards.c
-LIB_SRC  := $(CORE_SRC) $(GL_SRC) $(LUA_SRC)
+# sorted: a file listed twice (two branches adding it) is built once
+LIB_SRC  := $(sort $(CORE_SRC) $(GL_SRC) $(LUA_SRC))
 CLI_SRC  := src/cli/main.c src/cli/common.c src/cli/trace_cmd.c src/cli/pose.c src/cli/view.c
-TEST_C   := tests/test_host.c tests/test_math.c tests/test_mesh.c tests/test_lod.c tests/test_projection.c tests/test_scene.c tests/test_plan.c tests/test_render.c tests/test_script.c tests/test_script_limits.c tests/test_trace.c tests/test_gallery.c tests/test_threads.c tests/test_truth.c tests/test_example_game.c tests/test_crossing.c tests/test_sweep_approach.c tests/test_sweep_grazing.c tests/test_sweep_depth.c tests/test_sweep_recursion.c tests/test_sweep_matrix.c tests/test_sweep_odd.c tests/test_scale.c
+TEST_C   := tests/test_host.c tests/test_math.c tests/test_mesh.c tests/test_lod.c tests/test_projection.c tests/test_scene.c tests/test_plan.c tests/test_render.c tests/test_script.c tests/test_script_limits.c tests/test_trace.c tests/test_gallery.c tests/test_threads.c tests/test_truth.c tests/test_example_game.c tests/test_crossing.c tests/test_sweep_approach.c tests/test_sweep_grazing.c tests/test_sweep_depth.c tests/test_sweep_recursion.c tests/test_sweep_matrix.c tests/test_sweep_odd.c tests/test_scale.c tests/test_model.c
+TEST_C   += tests/test_materials.c
+LIB_SRC  += src/core/collide.c src/lua/l_collide.c
+TEST_C   += tests/test_collide.c
 
+# the API as a user meets it: version, defaults
+TEST_C   += tests/test_api.c
 LUA_KIT  := lua/limen/kit.lua
 LIB_OBJ  := $(LIB_SRC:%.c=$(B)/obj/%.o) $(B)/obj/lua_kit.o
 CLI_OBJ  := $(CLI_SRC:%.c=$(B)/obj/%.o)
-TEST_BIN := $(TEST_C:tests/%.c=$(B)/tests/%)
+TEST_BIN := $(sort $(TEST_C:tests/%.c=$(B)/tests/%))
 ALL_OBJ  := $(LIB_OBJ) $(CLI_OBJ) $(TEST_C:%.c=$(B)/obj/%.o)
 
 .PHONY: all lib demo test install uninstall clean deps test-deps examples
@@ -220,7 +227,7 @@ clean:
 $(B)/cmake/limenConfig.cmake: packaging/limenConfig.cmake.in packaging/limenConfigVersion.cmake.in \
                               include/limen.h Makefile
 	@mkdir -p $(dir $@)
-	@sed -e 's|@VERSION@|$(VERSION)|g' -e 's|@SONAME@|$(SONAME)|g' \
+	@sed -e 's|@VERSION@|$(VERSION)|g' -e 's|@SONAME@|$(SONAME)|g' -e 's|@PKGS@|$(PKGS)|g' \
 	     packaging/limenConfig.cmake.in > $@
 	@sed -e 's|@VERSION@|$(VERSION)|g' packaging/limenConfigVersion.cmake.in \
 	     > $(B)/cmake/limenConfigVersion.cmake

@@ -25,6 +25,13 @@ echo "bench ($MODE): making meshes: the levels of detail and their measured erro
 "$B/bench/lod_build" --out "$OUT" $([ "$MODE" = full ] && echo --full) 2> "$OUT/lod_build.log"
 echo "bench ($MODE): speed per pixel and per view against the floor and the classic recursion"
 "$B/bench/speed" --"$MODE" --out "$OUT" > /dev/null
+# the one-wall frame against the floor with llvmpipe on two threads and on one (the count is
+# fixed when a process first makes a context, so each is a process of its own)
+for t in 2 1; do
+    mkdir -p "$OUT/threads$t"
+    LP_NUM_THREADS=$t "$B/bench/speed" --"$MODE" --only wall --out "$OUT/threads$t" > /dev/null
+    grep '^wall depth' "$OUT/threads$t/speed.txt" >> "$OUT/speed.txt"
+done
 echo "bench ($MODE): charts"
 # gnuplot warns about series the quick run leaves empty: keep its words in a log
 if ! gnuplot -e "dir='$OUT'" bench/plots.gp 2> "$OUT/gnuplot.log" ||

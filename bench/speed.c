@@ -10,6 +10,7 @@
  * kaleidoscope.lua (scenes). Writes DIR/speed.csv (every configuration: scene, renderer,
  * depth, median and quartiles, views, bad pixels against the tracer) and DIR/speed.txt (the
  * targets, also printed); the checked pictures go to DIR/speed_pictures/. */
+#include <dirent.h>
 #include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
@@ -180,6 +181,11 @@ static void csv_rows(FILE *f, const contender *c, int nc)
 
 static FILE *g_txt;
 
+static const char *verdict(int ok)
+{
+    return ok ? "pass" : "FAIL";
+}
+
 static void say(const char *fmt, ...)
 {
     va_list ap;
@@ -191,9 +197,73 @@ static void say(const char *fmt, ...)
     va_end(ap);
 }
 
-static const char *verdict(int ok)
+/* ------------------------------------------------------------------ threads */
+
+/* Processor time of each of llvmpipe's rasterizer threads in this process (Linux:
+ * /proc/self/task/TID/schedstat, nanoseconds on a processor), to tell a frame that keeps
+ * every thread busy from one that leaves all the work to one: shares of the work do not
+ * depend on what else the machine runs, unlike wall time. */
+enum { MAXT = 64 };
+typedef struct tsnap {
+    int n;
+    long tid[MAXT];
+    double ms[MAXT];
+} tsnap;
+
+static void tsnap_take(tsnap *t)
 {
-    return ok ? "pass" : "FAIL";
+    t->n = 0;
+    DIR *d = opendir("/proc/self/task");
+    if (!d)
+        return;
+    struct dirent *e;
+    while ((e = readdir(d)) && t->n < MAXT) {
+        char path[300], buf[128];
+        snprintf(path, sizeof path, "/proc/self/task/%s/comm", e->d_name);
+        FILE *f = fopen(path, "r");
+        size_t k = f ? fread(buf, 1, sizeof buf - 1, f) : 0;
+        if (f)
+            fclose(f);
+        buf[k] = '\0';
+        if (!strstr(buf, "llvmpipe"))
+            continue;
+        snprintf(path, sizeof path, "/proc/self/task/%s/schedstat", e->d_name);
+        unsigned long long ns = 0;
+        if (!(f = fopen(path, "r")))
+            continue;
+        if (fscanf(f, "%llu", &ns) == 1) {
+            t->tid[t->n] = atol(e->d_name);
+            t->ms[t->n++] = (double)ns * 1e-6;
+        }
+        fclose(f);
+    }
+    closedir(d);
+}
+
+/* Runs `frames` frames of c alone and says how its rasterizing spread over llvmpipe's
+ * threads: per thread, milliseconds of processor time a frame, and the busiest one's share. */
+static void thread_shares(contender *c, int frames, double *busiest_share)
+{
+    tsnap a, b;
+    tsnap_take(&a);
+    for (int i = 0; i < frames; i++)
+        run(c);
+    tsnap_take(&b);
+    double total = 0, most = 0;
+    say("    %s: llvmpipe threads, processor ms a frame:", KIND_NAMES[c->k]);
+    for (int j = 0; j < b.n; j++) {
+        double d = b.ms[j];
+        for (int i = 0; i < a.n; i++)
+            if (a.tid[i] == b.tid[j])
+                d -= a.ms[i];
+        if (d / frames < 0.05)
+            continue;   /* another context's threads */
+        say(" %.2f", d / frames);
+        total += d;
+        most = fmax(most, d);
+    }
+    *busiest_share = total > 0 ? most / total : 1;
+    say(" (the busiest %.0f%% of it)\n", 100 * *busiest_share);
 }
 
 int main(int argc, char **argv)
@@ -263,10 +333,18 @@ int main(int argc, char **argv)
         check(cw, 2, out, rgb, ref);
         interleave(cw, 2, wall_rounds);
         csv_rows(csv, cw, 2);
+        /* a game feels wall time; processor time beside it shows whether the frame used
+         * llvmpipe's threads (LP_NUM_THREADS, named here as the run set it) */
         double wr = cpu_median(&cw[0]) / cpu_median(&cw[1]);
-        say("wall depth 0 <= 1.3x the floor: %.2fx (limen %.1f ms, floor %.1f ms; %d rounds; "
-            "wall time %.2fx): %s\n", wr, cpu_median(&cw[0]), cpu_median(&cw[1]), wall_rounds,
-            wall_median(&cw[0]) / wall_median(&cw[1]), verdict(wr <= 1.3));
+        double ww = wall_median(&cw[0]) / wall_median(&cw[1]);
+        const char *lp = getenv("LP_NUM_THREADS");
+        say("wall depth 0 <= 1.3x the floor in wall time (LP_NUM_THREADS %s): %.2fx (limen "
+            "%.2f ms, floor %.2f ms wall; processor time %.2fx: %.2f against %.2f ms; %d "
+            "rounds): %s\n", lp ? lp : "unset", ww, wall_median(&cw[0]), wall_median(&cw[1]),
+            wr, cpu_median(&cw[0]), cpu_median(&cw[1]), wall_rounds, verdict(ww <= 1.3));
+        double share[2];
+        thread_shares(&cw[0], wall_rounds, &share[0]);
+        thread_shares(&cw[1], wall_rounds, &share[1]);
         bad_wall = cw[0].bad, bad_floor = cw[1].bad;
     }
     if (every || !strcmp(only, "room")) {

@@ -143,6 +143,7 @@ typedef struct game {
     struct {
         GLint model, view_proj, clip_plane, cut, scale, eye, albedo, albedo_b, cell, tint,
             ambient, shape, flat, uv, textured, tex, repeat, nlights, light_pos, light_col,
+            base, emissive, cutoff,
             light_inv_r2;
     } u;
     gpu_mesh *meshes_gpu;               /* the scene meshes and images uploaded so far */
@@ -219,14 +220,17 @@ static const char *vs_src =
     "layout(location = 0) in vec3 a_pos;\n"
     "layout(location = 1) in vec3 a_nrm;\n"
     "layout(location = 2) in vec2 a_uv;\n"
+    "layout(location = 3) in vec4 a_col;\n"      /* a mesh's vertex colours (else white) */
     "uniform mat4 u_model, u_view_proj;\n"
     "uniform vec3 u_scale;\n"
     "uniform vec4 u_clip_plane, u_cut;\n"
     "uniform int u_shape, u_uv;\n"
     "out vec3 v_world, v_local, v_normal;\n"
     "out vec2 v_uv;\n"
+    "out vec4 v_col;\n"
     "void main() {\n"
     "    vec4 w = u_model * vec4(a_pos, 1.0);\n"
+    "    v_col = a_col;\n"
     "    v_world = w.xyz; v_local = a_pos * u_scale;\n"
     "    vec3 n = a_nrm;\n"                                /* boxes, quads, cylinder caps */
     "    if (u_shape == 1) n = a_pos;\n"                   /* the true sphere's normal */
@@ -246,7 +250,11 @@ static const char *fs_src =
     "#version 330 core\n"
     "in vec3 v_world, v_local, v_normal;\n"
     "in vec2 v_uv;\n"
+    "in vec4 v_col;\n"
     "uniform vec3 u_eye, u_albedo, u_albedo_b, u_tint;\n"
+    "uniform vec4 u_base;\n"                     /* a mesh part's material (else white): */
+    "uniform vec3 u_emissive;\n"                 /* base colour, emission, and the mask's */
+    "uniform float u_cutoff;\n"                  /* cutoff (-1: none) */
     "uniform float u_cell, u_ambient;\n"
     "uniform int u_flat, u_nlights, u_shape, u_textured;\n"
     "uniform sampler2D u_tex;\n"
@@ -266,8 +274,14 @@ static const char *fs_src =
     "    }\n"
     /* tiled (limen_node_set_texture_repeat); rows were uploaded top first: v = 0 is the
      * image's bottom */
-    "    if (u_textured != 0)\n"
-    "        albedo *= texture(u_tex, vec2(0.0, 1.0) + vec2(1.0, -1.0) * v_uv * u_repeat).rgb;\n"
+    "    float alpha = u_base.a * v_col.a;\n"
+    "    albedo *= u_base.rgb * v_col.rgb;\n"
+    "    if (u_textured != 0) {\n"
+    "        vec4 t = texture(u_tex, vec2(0.0, 1.0) + vec2(1.0, -1.0) * v_uv * u_repeat);\n"
+    "        albedo *= t.rgb;\n"
+    "        alpha *= t.a;\n"
+    "    }\n"
+    "    if (alpha < u_cutoff) discard;\n"
     "    vec3 light = vec3(0.0);\n"
     "    for (int i = 0; i < u_nlights; i++) {\n"
     "        vec3 d = u_light_pos[i] - v_world;\n"
@@ -276,7 +290,8 @@ static const char *fs_src =
     "        light += u_light_col[i] * w * w * max(0.0, dot(n, normalize(d)));\n"
     "    }\n"
     "    vec3 c = clamp(albedo * (u_ambient + (1.0 - u_ambient) * light), 0.0, 1.0);\n"
-    "    o_color = vec4(c * u_tint, 1.0);\n"
+    "    c = clamp(c + u_emissive, 0.0, 1.0);\n"     /* emission, after shading */
+    "    o_color = vec4(c * u_tint, alpha);\n"
     "}\n";
 
 static int program_create(game *g)
@@ -308,9 +323,16 @@ static int program_create(game *g)
     U(textured, "u_textured"); U(tex, "u_tex"); U(repeat, "u_repeat");
     U(nlights, "u_nlights"); U(light_pos, "u_light_pos"); U(light_col, "u_light_col");
     U(light_inv_r2, "u_light_inv_r2");
+    U(base, "u_base"); U(emissive, "u_emissive"); U(cutoff, "u_cutoff");
 #undef U
     glUseProgram(g->prog);
     glUniform1i(g->u.tex, 0);                   /* texture unit 0 */
+    /* what a part's material leaves as it is: white, no emission, no mask */
+    glUniform4f(g->u.base, 1, 1, 1, 1);
+    glUniform3f(g->u.emissive, 0, 0, 0);
+    glUniform1f(g->u.cutoff, -1);
+    glVertexAttrib4f(3, 1, 1, 1, 1);            /* the colour of vertices without one */
+    glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
     glUniform4f(g->u.cut, 0, 0, 0, 1);
     return ok ? 0 : -1;
 }
@@ -440,7 +462,7 @@ static const gpu_mesh *mesh_upload(game *g, const limen_mesh_geometry *m)
     int levels = m->lod_count < 16 ? m->lod_count : 16;
     for (int k = 0; k < levels; k++)
         ni += 3 * (size_t)m->lods[k].triangle_count;
-    float *v = malloc(sizeof(float) * 8 * nv);
+    float *v = malloc(sizeof(float) * 12 * nv);
     GLuint *idx = malloc(sizeof(GLuint) * ni);
     if (!v || !idx) {
         free(v);
@@ -448,10 +470,12 @@ static const gpu_mesh *mesh_upload(game *g, const limen_mesh_geometry *m)
         return NULL;
     }
     for (size_t i = 0; i < nv; i++) {
-        memcpy(v + 8 * i, m->positions + 3 * i, sizeof(float) * 3);
-        memcpy(v + 8 * i + 3, m->normals + 3 * i, sizeof(float) * 3);
-        v[8 * i + 6] = m->uvs ? m->uvs[2 * i] : 0.0f;
-        v[8 * i + 7] = m->uvs ? m->uvs[2 * i + 1] : 0.0f;
+        memcpy(v + 12 * i, m->positions + 3 * i, sizeof(float) * 3);
+        memcpy(v + 12 * i + 3, m->normals + 3 * i, sizeof(float) * 3);
+        v[12 * i + 6] = m->uvs ? m->uvs[2 * i] : 0.0f;
+        v[12 * i + 7] = m->uvs ? m->uvs[2 * i + 1] : 0.0f;
+        for (int c = 0; c < 4; c++)             /* vertex colours, white where none */
+            v[12 * i + 8 + c] = m->colors ? m->colors[4 * i + c] : 1.0f;
     }
     gpu_mesh *gm = &g->meshes_gpu[g->nmeshes_gpu++];
     memset(gm, 0, sizeof *gm);
@@ -467,14 +491,14 @@ static const gpu_mesh *mesh_upload(game *g, const limen_mesh_geometry *m)
     glBindVertexArray(gm->vao);
     glGenBuffers(1, &gm->vbo);
     glBindBuffer(GL_ARRAY_BUFFER, gm->vbo);
-    glBufferData(GL_ARRAY_BUFFER, (GLsizeiptr)(sizeof(float) * 8 * nv), v, GL_STATIC_DRAW);
+    glBufferData(GL_ARRAY_BUFFER, (GLsizeiptr)(sizeof(float) * 12 * nv), v, GL_STATIC_DRAW);
     glGenBuffers(1, &gm->ibo);
     glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, gm->ibo);
     glBufferData(GL_ELEMENT_ARRAY_BUFFER, (GLsizeiptr)(sizeof(GLuint) * ni), idx, GL_STATIC_DRAW);
-    for (GLuint a = 0; a < 3; a++) {
+    for (GLuint a = 0; a < 4; a++) {
         glEnableVertexAttribArray(a);
-        glVertexAttribPointer(a, a == 2 ? 2 : 3, GL_FLOAT, GL_FALSE, 8 * sizeof(float),
-                              (void *)(sizeof(float) * 3 * a));
+        glVertexAttribPointer(a, a == 2 ? 2 : a == 3 ? 4 : 3, GL_FLOAT, GL_FALSE,
+                              12 * sizeof(float), (void *)(sizeof(float) * (a == 3 ? 8 : 3 * a)));
     }
     glBindVertexArray(g->vao);
     free(v);
@@ -498,11 +522,22 @@ static GLuint image_upload(game *g, const limen_image *im)
     glGenTextures(1, &gi->tex);
     glBindTexture(GL_TEXTURE_2D, gi->tex);
     glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
-    /* limen's own levels, so that the texels are the ones its ray tracer reads */
-    for (int k = 0; k < im->level_count; k++)
+    /* limen's own levels, so that the texels are the ones its ray tracer reads; an image
+     * with alpha (a mesh material's) has only its own level, and goes up RGBA */
+    int levels = im->alpha ? 1 : im->level_count;
+    unsigned char *rgba = im->alpha ? malloc((size_t)im->width * (size_t)im->height * 4) : NULL;
+    for (size_t i = 0; rgba && i < (size_t)im->width * (size_t)im->height; i++) {
+        memcpy(rgba + 4 * i, im->rgb + 3 * i, 3);
+        rgba[4 * i + 3] = im->alpha[i];
+    }
+    if (rgba)
+        glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, im->width, im->height, 0, GL_RGBA,
+                     GL_UNSIGNED_BYTE, rgba);
+    for (int k = 0; !im->alpha && k < levels; k++)
         glTexImage2D(GL_TEXTURE_2D, k, GL_RGB8, im->levels[k].width, im->levels[k].height, 0,
                      GL_RGB, GL_UNSIGNED_BYTE, im->levels[k].rgb);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAX_LEVEL, im->level_count - 1);
+    free(rgba);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAX_LEVEL, levels - 1);
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_REPEAT);
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_REPEAT);
     return gi->tex;
@@ -676,6 +711,60 @@ static void use_view(game *g, const limen_view *v)
     g->cut = v->depth > 0 && clip == LIMEN_CLIP_OBLIQUE ? v->clip_plane : NULL;
 }
 
+/* Sets texture tex (0: none) for the next draw, sampled as the item says. */
+static void use_texture(game *g, const item *it, GLuint tex)
+{
+    glUniform1i(g->u.textured, tex != 0);
+    if (!tex)
+        return;
+    glBindTexture(GL_TEXTURE_2D, tex);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER,
+                    it->filter == LIMEN_FILTER_NEAREST ? GL_NEAREST
+                    : it->filter == LIMEN_FILTER_LINEAR ? GL_LINEAR
+                                                        : GL_LINEAR_MIPMAP_LINEAR);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER,
+                    it->filter == LIMEN_FILTER_NEAREST ? GL_NEAREST : GL_LINEAR);
+    glUniform2fv(g->u.repeat, 1, it->repeat);
+}
+
+/* A scene mesh at level k, part by part, each in its material (limen_material): base colour,
+ * base texture (the node's own replaces it), alpha mask, emission; the blended parts last,
+ * over the rest (a game would sort them with the other transparent things of the view). */
+static void draw_parts(game *g, const item *it, int flat, int k)
+{
+    const limen_mesh_geometry *m = it->src->mesh;
+    const limen_mesh_part *parts = m->lods[k].parts ? m->lods[k].parts : m->parts;
+    for (int pass = 0; pass < 2; pass++) {
+        for (int p = 0; p < m->part_count; p++) {
+            const limen_material *mt = &m->materials[parts[p].material];
+            if ((mt->alpha_mode == LIMEN_ALPHA_BLEND) != pass || parts[p].triangle_count < 1)
+                continue;
+            if (!flat) {
+                const limen_image *im = it->src->texture ? it->src->texture : mt->base_texture;
+                use_texture(g, it, im ? image_upload(g, im) : 0);
+                glUniform4fv(g->u.base, 1, mt->base_color);
+                glUniform3fv(g->u.emissive, 1, mt->emissive);
+                glUniform1f(g->u.cutoff, mt->alpha_mode == LIMEN_ALPHA_MASK ? mt->alpha_cutoff
+                                                                              : -1.0f);
+            }
+            if (pass && !flat) {
+                glEnable(GL_BLEND);
+                glDepthMask(GL_FALSE);
+            }
+            glDrawElements(GL_TRIANGLES, 3 * parts[p].triangle_count, GL_UNSIGNED_INT,
+                           (void *)(sizeof(GLuint) *
+                                    (size_t)(it->geo->first[k] + 3 * parts[p].first_triangle)));
+            if (pass && !flat) {
+                glDisable(GL_BLEND);
+                glDepthMask(GL_TRUE);
+            }
+        }
+    }
+    glUniform4f(g->u.base, 1, 1, 1, 1);
+    glUniform3f(g->u.emissive, 0, 0, 0);
+    glUniform1f(g->u.cutoff, -1);
+}
+
 /* One node; flat: unlit colour `albedo` (masks, seals, fills). */
 static void draw_item(game *g, const item *it, int flat, const float albedo[3])
 {
@@ -713,8 +802,7 @@ static void draw_item(game *g, const item *it, int flat, const float albedo[3])
         if (k < 0 || k >= it->geo->levels)
             k = 0;
         glBindVertexArray(it->geo->vao);
-        glDrawElements(GL_TRIANGLES, it->geo->count[k], GL_UNSIGNED_INT,
-                       (void *)(sizeof(GLuint) * (size_t)it->geo->first[k]));
+        draw_parts(g, it, flat, k);
         glBindVertexArray(g->vao);
     } else {
         const mesh *m = &g->meshes[it->mesh];

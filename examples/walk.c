@@ -4,8 +4,9 @@
  * and a renderer created with LIMEN_BACKEND_HOST, which draws the planned view tree (mirror
  * and portals included) into the window's framebuffer and gives the GL state back, so that
  * the game draws on top with its own GL (here a crosshair). The scene is built in C, and
- * the player walks with limen_node_move, which carries the camera through a portal exactly
- * as it would carry any object.
+ * the player walks as a body of a person's size (limen_node_slide_capsule: a capsule from
+ * the eyes down) that stops at walls and shapes, slides along them, and passes through a
+ * portal exactly as any object would.
  *
  *     make examples && build/examples/walk
  *     W A S D walk, drag the mouse or use the arrows to look, Escape quits.
@@ -101,7 +102,8 @@ static void look(world *w, float yaw, float pitch)
     limen_node_look_at(w->s, w->cam, eye, target, (float[3]){ 0, 1, 0 });
 }
 
-/* Walks along the ground; limen_node_move takes the camera through any portal on the way. */
+/* Walks along the ground as a person: a capsule of radius 0.25 from the eyes 0.8 down,
+ * which collides and slides, and passes through any portal on the way. */
 static void walk(world *w, float fwd, float side)
 {
     float m[16];
@@ -109,8 +111,9 @@ static void walk(world *w, float fwd, float side)
     float f[3] = { -m[8], 0, -m[10] }, r[3] = { m[0], 0, m[2] };
     float fl = sqrtf(f[0] * f[0] + f[2] * f[2]), rl = sqrtf(r[0] * r[0] + r[2] * r[2]);
     float d[3] = { fwd * f[0] / fl + side * r[0] / rl, 0, fwd * f[2] / fl + side * r[2] / rl };
-    limen_move_result res;
-    if (!limen_node_move(w->s, w->cam, d, &res) && res.crossed) {
+    limen_slide_result res;
+    if (!limen_node_slide_capsule(w->s, w->cam, d, 0.25f, (float[3]){ 0, -0.8f, 0 }, &res) &&
+        res.crossed) {
         printf("crossed portal %s\n", limen_node_get_name(w->s, res.portal));
         fflush(stdout);
     }

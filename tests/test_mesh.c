@@ -213,7 +213,7 @@ static void test_bad_files(void)
     expect_refused(s, m, write_text("junk.ply", "ply\nformat ascii 1.0\nelement vertex 9\n"),
                    "no end_header");
     expect_refused(s, m, write_text("lines.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nl 1 2 3\n"),
-                   "has points or lines");
+                   "no triangles in it (points and lines are skipped)");
     expect_refused(s, m, write_text("far.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nf 1 2 9\n"),
                    "vertex index out of range");
     expect_refused(s, m, write_text("inf.obj", "v 0 0 0\nv 1e999 0 0\nv 1 1 0\nf 1 2 3\n"),
@@ -680,11 +680,20 @@ static void test_mesh_texture(void)
     CHECK_NEAR(c[0], 0.5, 1e-6);
     CHECK_NEAR(c[2], 1, 1e-6);
     /* a missing texture is named with the mesh */
-    write_text("gone.mtl", "newmtl paint\nmap_Kd nothere.png\n");
+    write_text("gone.mtl", "newmtl paint\nKd 0.5 0.25 1\nmap_Kd nothere.png\n");
     const char *p2 = write_text("gone.obj", "mtllib gone.mtl\nv -1 -1 0\nv 1 -1 0\nv 1 1 0\n"
                                 "vt 0 0\nvt 1 0\nvt 1 1\nusemtl paint\nf 1/1 2/2 3/3\n");
-    CHECK(limen_mesh_load(s, m, p2) == LIMEN_ERR_IO);
-    CHECK_MSG(strstr(limen_scene_error(s), "nothere.png: cannot open"), "%s", limen_scene_error(s));
+    CHECK_OK(limen_mesh_load(s, m, p2));       /* kept, untextured, with a warning */
+    CHECK(limen_scene_warning_count(s) == 1);
+    const char *w = limen_scene_warning(s, 0);
+    CHECK_MSG(w && strncmp(w, p2, strlen(p2)) == 0 && strstr(w, ": warning: ") &&
+              strstr(w, "nothere.png") && strstr(w, "not found"), "%s", w ? w : "(none)");
+    albedo_at(s, 0.5f, -0.5f, c);             /* its own colour, Kd */
+    CHECK_NEAR(c[0], 0.5, 1e-6);
+    CHECK_NEAR(c[1], 0.25, 1e-6);
+    CHECK_NEAR(c[2], 1, 1e-6);
+    limen_scene_clear_warnings(s);
+    CHECK(limen_scene_warning_count(s) == 0 && !limen_scene_warning(s, 0));
     limen_scene_destroy(s);
 }
 

@@ -379,7 +379,7 @@ static void test_oblique_fallback(void)
 }
 
 /* The plan's JSON, through a temporary file, into buf (cut at size - 1 bytes). */
-static void plan_json(const limen_plan *p, const limen_scene *s, char *buf, size_t size)
+static void plan_json(const limen_plan *p, limen_scene *s, char *buf, size_t size)
 {
     char path[] = "/tmp/limen-plan-XXXXXX";
     int fd = mkstemp(path);

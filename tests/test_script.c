@@ -198,6 +198,47 @@ static void test_filter(void)
     limen_script_destroy(sc);
 }
 
+static const char *small_gltf =
+    "{\"asset\":{\"version\":\"2.0\"},\"scene\":0,\"scenes\":[{\"nodes\":[0]}],\"nodes\":[{\"na"
+    "me\":\"room\",\"children\":[1,2]},{\"name\":\"tile\",\"mesh\":0,\"translation\":[0,0,-1]},"
+    "{\"name\":\"m-mirror\",\"mesh\":0,\"translation\":[0,1,-2]}],\"meshes\":[{\"primitives\":["
+    "{\"attributes\":{\"POSITION\":0},\"indices\":1}]}],\"buffers\":[{\"byteLength\":60,\"uri\""
+    ":\"data:application/octet-stream;base64,AAAAvwAAAL8AAAAAAAAAPwAAAL8AAAAAAAAAPwAAAD8AAAAAAA"
+    "AAvwAAAD8AAAAAAAABAAIAAAACAAMA\"}],\"bufferViews\":[{\"buffer\":0,\"byteOffset\":0,\"byteL"
+    "ength\":48},{\"buffer\":0,\"byteOffset\":48,\"byteLength\":12}],\"accessors\":[{\"bufferVi"
+    "ew\":0,\"componentType\":5126,\"count\":4,\"type\":\"VEC3\",\"min\":[-0.5,-0.5,0],\"max\":"
+    "[0.5,0.5,0]},{\"bufferView\":1,\"componentType\":5123,\"count\":6,\"type\":\"SCALAR\"}]}";
+
+/* s:model: a glTF's hierarchy under a placed group, found by name from the scene and from a
+ * node, measured (bounds, triangles), its mirror by name; every node in s:nodes(). */
+static void test_model(void)
+{
+    script("quad.gltf", small_gltf);
+    const char *path = script("model.lua", HEAD
+        "local g = s:model { file = \"quad.gltf\", name = \"g\", pos = {1, 0, 0} }\n"
+        "assert(g.kind == \"group\" and g.name == \"g\")\n"
+        "local tile = g:find(\"tile\")\n"
+        "assert(tile.kind == \"mesh\" and tile.triangles == 2 and s:find(\"tile\") == tile)\n"
+        "local b = tile.bounds\n"
+        "assert(b.lo[1] == 0.5 and b.hi[1] == 1.5 and b.lo[3] == -1 and b.hi[3] == -1)\n"
+        "assert(g.bounds.hi[2] == 1.5)\n"
+        "assert(g:find(\"m-mirror\").kind == \"mirror\" and tile:find(\"room\") == nil)\n"
+        "assert(#s:nodes() == 4)\n"
+        "assert(s:light{}.bounds == nil)\n"
+        "return s\n");
+    limen_script *sc = NULL;
+    CHECK_OK(limen_script_load(path, NULL, &sc));
+    CHECK_MSG(strcmp(limen_script_error(sc), "") == 0, "%s", limen_script_error(sc));
+    limen_scene *s = limen_script_scene(sc);
+    if (s) {
+        float m[16];
+        CHECK_OK(limen_node_world_matrix(s, find(s, "m-mirror"), m));
+        CHECK_NEAR(m[12], 1, 1e-6);
+        CHECK_NEAR(m[14], -2, 1e-6);
+    }
+    limen_script_destroy(sc);
+}
+
 /* Labels say where the script made each node, for messages found at render time. */
 static void test_labels(void)
 {
@@ -313,6 +354,10 @@ static const bad_script bad[] = {
       "\"bilinear\")", LIMEN_ERR_SCRIPT, 0 },
     { "filter_on_sphere", HEAD "s:sphere { filter = \"linear\" }\nreturn s\n", 3,
       "sphere: field 'filter' does not apply to a sphere", LIMEN_ERR_SCRIPT, 0 },
+    { "model_no_file", HEAD "s:model { name = \"x\" }\nreturn s\n", 3,
+      "model: field 'file' is required", LIMEN_ERR_SCRIPT, 0 },
+    { "model_cameras", HEAD "s:model { file = \"x.glb\", cameras = 1 }\nreturn s\n", 3,
+      "model: field 'cameras' must be a boolean (got 1)", LIMEN_ERR_SCRIPT, 0 },
     { "read_only", HEAD "local b = s:sphere { name = \"b\" }\nb.kind = \"box\"\nreturn s\n", 4,
       "sphere 'b': field 'kind' is read-only", LIMEN_ERR_SCRIPT, 0 },
     { "camera_lens", HEAD "s:camera { fov = 0 }\nreturn s\n", 3,
@@ -453,6 +498,7 @@ static const check_case cases[] = {
     { "surfaces", test_surfaces },
     { "labels", test_labels },
     { "filter", test_filter },
+    { "model", test_model },
     { "update_error", test_update_error },
     { "malformed", test_malformed },
     { "missing_file", test_missing_file },

@@ -59,6 +59,8 @@ typedef struct limen_cli_run {
     long frames;
     int stats, trusted, help;
     limen_cli_pose pose;        /* --eye, --look, --up */
+    int64_t memory;             /* --memory: the script's cap in bytes; 0: the default,
+                                 * -1: none */
 } limen_cli_run;
 
 extern const limen_cli_option limen_cli_run_options[];
@@ -85,6 +87,12 @@ int limen_cli_frame_path(const char *out, long frame, long frames, char *buf, si
 limen_status limen_cli_write_image(const char *path, int w, int h, const unsigned char *rgb);
 /* Loads the scene script; NULL after printing why. */
 limen_script *limen_cli_load(const limen_cli_run *o);
+/* The script desc the run's options ask for (--trusted, --memory). */
+void limen_cli_script_desc(const limen_cli_run *o, limen_script_desc *d);
+/* The script's error, followed where the memory cap refused something by the --memory that
+ * would allow it ("... (needs 231.8 MiB: --memory 256)"); in buf. */
+const char *limen_cli_script_error(const limen_script *sc, limen_status st, char *buf,
+                                   size_t size);
 /* Runs update(t) for frame f of the run; 0, or 1 after printing the error followed by the
  * frame and time it happened at. newline: end a progress line first. */
 int limen_cli_update(limen_script *sc, const limen_cli_run *o, long f, double t, int newline);
@@ -95,7 +103,7 @@ int limen_cli_view(int argc, char **argv);
 /* The options of `limen render` (all but -o, --frames, --fps, --plan and --stats, which
  * `view` refuses) into rd, ro and the rest; returns 0, 1 after --help, or 2 after a message. */
 int limen_cli_render_options(int argc, char **argv, const char **scene,
-                             limen_renderer_desc *rd, limen_render_opts *ro, int *trusted,
-                             limen_cli_pose *pose);
+                             limen_renderer_desc *rd, limen_render_opts *ro,
+                             limen_script_desc *sd, limen_cli_pose *pose);
 
 #endif

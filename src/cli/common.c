@@ -55,6 +55,9 @@ const limen_cli_option limen_cli_run_options[] = {
     { "--up X,Y,Z", "with --eye and --look: which way is up (default +Y)" },
     { "--trusted", "run the script with the full Lua standard library (io, os, ...);\n"
                    "without it the script runs in safe mode" },
+    { "--memory MB", "the script's memory cap in MiB, meshes and images included (default\n"
+                     "64, trusted or not; `none`: no cap); a scene refused for memory\n"
+                     "says what --memory would allow it" },
     { "-h, --help", "print this and exit" },
     { NULL, NULL }
 };
@@ -85,7 +88,7 @@ int limen_cli_run_option(int argc, char **argv, int *i, limen_cli_run *o)
     }
     static const char *const valued[] = { "-o", "--output", "--size", "--depth",
                                           "--depth-override", "--time", "--frames", "--fps",
-                                          NULL };
+                                          "--memory", NULL };
     int takes = 0;
     for (int k = 0; valued[k]; k++)
         takes |= !strcmp(a, valued[k]);
@@ -123,6 +126,14 @@ int limen_cli_run_option(int argc, char **argv, int *i, limen_cli_run *o)
         o->stats = 1;
     } else if (!strcmp(a, "--trusted")) {
         o->trusted = 1;
+    } else if (!strcmp(a, "--memory")) {
+        if (!strcmp(v, "none"))
+            o->memory = -1;
+        else if (limen_cli_parse_long(v, 1, 1L << 24, &n))
+            return limen_cli_fail(2, "--memory: expected MiB from 1 to 16777216, or none, got "
+                                     "'%s'", v);
+        else
+            o->memory = (int64_t)n << 20;
     } else if (!strcmp(a, "-h") || !strcmp(a, "--help")) {
         o->help = 1;
     } else if (a[0] == '-' && a[1]) {
@@ -190,16 +201,45 @@ static void script_print(void *scene, const char *line)
     fprintf(stderr, "limen: %s: print: %s\n", (const char *)scene, line);
 }
 
+void limen_cli_script_desc(const limen_cli_run *o, limen_script_desc *d)
+{
+    *d = (limen_script_desc){ .trusted = o->trusted, .memory_cap = o->memory,
+                              .print = script_print, .print_user = (void *)o->scene };
+}
+
+const char *limen_cli_script_error(const limen_script *sc, limen_status st, char *buf,
+                                   size_t size)
+{
+    const char *msg = sc ? limen_script_error(sc) : limen_status_string(st);
+    int64_t need = limen_script_memory_needed(sc);
+    if (need <= 0) {
+        snprintf(buf, size, "%s", msg);
+        return buf;
+    }
+    /* rounded up to a multiple of 64 MiB, the default: room for a little more */
+    const int64_t step = (int64_t)64 << 20;
+    int64_t mb = (need + step - 1) / step * 64;
+    snprintf(buf, size, "%s (needs %.1f MiB: --memory %lld)", msg, (double)need / 1048576.0,
+             (long long)mb);
+    return buf;
+}
+
 limen_script *limen_cli_load(const limen_cli_run *o)
 {
     limen_script *sc = NULL;
-    limen_status st = limen_script_load(o->scene, &(limen_script_desc){
-        .trusted = o->trusted, .print = script_print, .print_user = (void *)o->scene }, &sc);
+    limen_script_desc d;
+    limen_cli_script_desc(o, &d);
+    limen_status st = limen_script_load(o->scene, &d, &sc);
     if (st) {
-        limen_cli_fail(1, "%s", sc ? limen_script_error(sc) : limen_status_string(st));
+        char msg[1400];
+        limen_cli_fail(1, "%s", limen_cli_script_error(sc, st, msg, sizeof msg));
         limen_script_destroy(sc);
         return NULL;
     }
+    /* what loading its files noticed, each "file: warning: ..." */
+    limen_scene *s = limen_script_scene(sc);
+    for (int i = 0; i < limen_scene_warning_count(s); i++)
+        fprintf(stderr, "%s\n", limen_scene_warning(s, i));
     return sc;
 }
 
@@ -209,6 +249,8 @@ int limen_cli_update(limen_script *sc, const limen_cli_run *o, long f, double t,
         return 0;
     if (newline)
         fputc('\n', stderr);
+    char msg[1400];
     return limen_cli_fail(1, "%s (in update at frame %ld of %ld, t = %g s)",
-                          limen_script_error(sc), f, o->frames, t);
+                          limen_cli_script_error(sc, LIMEN_ERR_SCRIPT, msg, sizeof msg), f,
+                          o->frames, t);
 }

@@ -251,8 +251,8 @@ static int parse_render(int argc, char **argv, options *o, int *done, int need_o
 }
 
 int limen_cli_render_options(int argc, char **argv, const char **scene,
-                             limen_renderer_desc *rd, limen_render_opts *ro, int *trusted,
-                             limen_cli_pose *pose)
+                             limen_renderer_desc *rd, limen_render_opts *ro,
+                             limen_script_desc *sd, limen_cli_pose *pose)
 {
     options o;
     int done = 0, rc = parse_render(argc, argv, &o, &done, 0);
@@ -263,7 +263,7 @@ int limen_cli_render_options(int argc, char **argv, const char **scene,
     *scene = o.run.scene;
     *rd = o.rd;
     *ro = o.ro;
-    *trusted = o.run.trusted;
+    limen_cli_script_desc(&o.run, sd);
     *pose = o.run.pose;
     return 0;
 }

@@ -1,5 +1,7 @@
 /* trace_cmd.c - `limen trace`: the ray-traced reference image of a scene. */
 #include <limits.h>
+#include <math.h>
+#include <stdbool.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -11,6 +13,9 @@ static const char *const synopsis = "limen trace SCENE.lua -o REF.png [options]"
 
 static const limen_cli_option trace_options[] = {
     { "--threads N", "worker threads (default: one per online CPU)" },
+    { "--samples N", "rays per pixel, averaged (a box filter): 1 (default) the centre, 4 the\n"
+                     "standard 4x MSAA positions (compare with render --msaa 4), 9, 16,\n"
+                     "25, ... a grid" },
     { "--stats", "one JSON line per frame: frame, time, ms, pixels" },
     { NULL, NULL }
 };
@@ -37,13 +42,22 @@ static int parse(int argc, char **argv, limen_cli_run *o, limen_trace_desc *d)
         if (r == 1)
             continue;
         long n;
-        if (strcmp(argv[i], "--threads"))
+        bool threads = !strcmp(argv[i], "--threads");
+        if (!threads && strcmp(argv[i], "--samples"))
             return limen_cli_fail(2, "unknown option '%s'", argv[i]);
         if (i + 1 >= argc)
-            return limen_cli_fail(2, "option --threads needs a value");
-        if (limen_cli_parse_long(argv[++i], 1, 256, &n))
-            return limen_cli_fail(2, "--threads: expected 1 to 256, got '%s'", argv[i]);
-        d->threads = (int)n;
+            return limen_cli_fail(2, "option %s needs a value", argv[i]);
+        const char *a = argv[i++];
+        bool bad = limen_cli_parse_long(argv[i], 1, 256, &n) != 0;
+        long k = bad ? 0 : lround(sqrt((double)n));
+        if (bad || (!threads && n != 4 && k * k != n))
+            return limen_cli_fail(2, "%s: expected %s, got '%s'", a,
+                                  threads ? "1 to 256" : "1, 4, 9, 16, ... (a square) up to 256",
+                                  argv[i]);
+        if (threads)
+            d->threads = (int)n;
+        else
+            d->samples = (int)n;
     }
     return 0;
 }
@@ -65,9 +79,10 @@ int limen_cli_trace(int argc, char **argv)
     }
     if ((rc = limen_cli_run_check(&o, "trace")))
         return rc;
-    d.width = o.width ? o.width : 640;
-    d.height = o.height ? o.height : 480;
+    d.width = o.width;
+    d.height = o.height;
     d.limits = o.limits;
+    d = limen_trace_desc_defaults(&d);      /* the image size, for the buffer below */
 
     limen_script *sc = limen_cli_load(&o);
     if (!sc)

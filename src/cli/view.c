@@ -1,7 +1,8 @@
 /* view.c - `limen view SCENE.lua`: a window to walk through the scene. It draws every frame
  * through the host backend (limen drawing into this program's own SDL window and context,
- * as a game would), moves the camera with limen_node_move so that it passes through portals
- * as objects do, and reloads the script whenever the file changes, keeping the camera where
+ * as a game would), moves the camera as a person (limen_node_slide_capsule: it stops at
+ * walls, slides along them and passes through portals as objects do; N toggles free flight
+ * with limen_node_move), and reloads the script whenever the file changes, keeping the camera where
  * the person stood and the last good scene while the script is broken. Lines on stdout say
  * what happened (ready, crossed, reloaded, screenshot), so that a person or a test can follow. */
 #include <SDL.h>
@@ -32,6 +33,7 @@ static const char *keys_help =
     "  E or Space           rise\n"
     "  Q or C               sink\n"
     "  Shift                run (4 times as fast)\n"
+    "  N                    walk as a person who collides (the default) or fly freely\n"
     "  P                    pause or resume the scene's update(t)\n"
     "  Backspace            back to the scene's own camera\n"
     "  F12                  screenshot: SCENE-0001.png, ... in the current folder or --shots\n"
@@ -42,6 +44,8 @@ static const char *keys_help =
     "script leaves the last good scene.\n";
 
 #define MAX_WATCHED 64
+#define PERSON_RADIUS 0.25f         /* the walking body: a capsule of this radius, ... */
+#define PERSON_BELOW_EYES 0.8f      /* ... from the eyes this far down */
 
 /* A file the scene was read from, as it was then. */
 typedef struct watched {
@@ -86,6 +90,7 @@ typedef struct viewer {
     int have_snapped;
     double t, speed;
     int paused, looking, shot;
+    int fly;                            /* N: free flight (no collisions) */
     float mouse_dx, mouse_dy;
     char said[1024];                    /* the last error printed (printed once) */
 } viewer;
@@ -162,14 +167,29 @@ static void look(viewer *v, float yaw, float pitch)
     turn(v->pose, right, e2 - e);
 }
 
-/* Moves the camera by d (world units) through whatever portal the path crosses. */
+/* Moves the camera by d (world units) through whatever portal the path crosses: as a person
+ * who collides and slides along what it meets, or (N) flying through everything. */
 static void walk(viewer *v, const float d[3])
 {
     limen_scene *s = scene(v);
     limen_node cam = limen_scene_get_camera(s);
     limen_move_result res;
     apply_pose(v);
-    if (limen_node_move(s, cam, d, &res)) {
+    limen_status st;
+    if (v->fly) {
+        st = limen_node_move(s, cam, d, &res);
+    } else {
+        /* a person: a capsule of radius 0.25 from the eyes 0.8 down, at the camera's scale */
+        float w[16];
+        limen_node_world_matrix(s, cam, w);
+        float k = sqrtf(w[0] * w[0] + w[1] * w[1] + w[2] * w[2]);
+        limen_slide_result sr;
+        st = limen_node_slide_capsule(s, cam, d, PERSON_RADIUS * k,
+                                      (float[3]){ 0, -PERSON_BELOW_EYES * k, 0 }, &sr);
+        res.crossed = sr.crossed;
+        res.portal = sr.portal;
+    }
+    if (st) {
         say_error(v, limen_scene_error(s));
         return;
     }
@@ -285,7 +305,8 @@ static void reload(viewer *v, int keep)
         st = limen_script_update(next, v->t);
     if (st) {
         v->said[0] = '\0';
-        say_error(v, next ? limen_script_error(next) : limen_status_string(st));
+        char msg[1400];
+        say_error(v, limen_cli_script_error(next, st, msg, sizeof msg));
         fprintf(stderr, "limen: keeping the last good scene\n");
         limen_script_destroy(next);
         return;
@@ -483,6 +504,11 @@ static int events(viewer *v, int *shot)
                 fputs(keys_help, stdout);
                 fflush(stdout);
                 break;
+            case SDLK_n:
+                v->fly = !v->fly;
+                printf("%s\n", v->fly ? "flying (no collisions)" : "walking (collisions)");
+                fflush(stdout);
+                break;
             case SDLK_p:
                 v->paused = !v->paused;
                 printf("%s at t = %.3f\n", v->paused ? "paused" : "resumed", v->t);
@@ -559,7 +585,7 @@ int limen_cli_view(int argc, char **argv)
     viewer v = { .speed = 2.0 };
     /* the viewer's own options; the rest are render's */
     char **rest = calloc((size_t)argc + 1, sizeof *rest);
-    int nrest = 0, trusted = 0;
+    int nrest = 0;
     limen_cli_pose pose = { 0 };
     limen_renderer_desc rd;
     if (!rest)
@@ -588,7 +614,7 @@ int limen_cli_view(int argc, char **argv)
             rest[nrest++] = argv[i];
         }
     }
-    int rc = limen_cli_render_options(nrest, rest, &v.path, &rd, &v.ro, &trusted, &pose);
+    int rc = limen_cli_render_options(nrest, rest, &v.path, &rd, &v.ro, &v.desc, &pose);
     free(rest);
     if (rc)
         return rc;
@@ -602,13 +628,13 @@ int limen_cli_view(int argc, char **argv)
     size_t n = strlen(v.name);
     if (n > 4 && !strcmp(v.name + n - 4, ".lua"))
         v.name[n - 4] = '\0';
-    v.desc.trusted = trusted;
     file_changed(&v);
     limen_status st = limen_script_load(v.path, &v.desc, &v.sc);
     if (!st && limen_script_animated(v.sc))
         st = limen_script_update(v.sc, 0);
     if (st) {
-        fprintf(stderr, "limen: %s\n", v.sc ? limen_script_error(v.sc) : limen_status_string(st));
+        char msg[1400];
+        fprintf(stderr, "limen: %s\n", limen_cli_script_error(v.sc, st, msg, sizeof msg));
         limen_script_destroy(v.sc);
         return 1;
     }

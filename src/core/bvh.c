@@ -192,20 +192,14 @@ static bool grow_ids(limen__bvh *b, int need)
 {
     if (need <= b->id_cap)
         return true;
-    int cap = b->id_cap > 16 ? b->id_cap : 16;
-    while (cap < need)
-        cap = cap > (1 << 29) ? need : 2 * cap;
-    limen__box *bx = realloc(b->boxes, sizeof *bx * (size_t)cap);
-    if (bx)
-        b->boxes = bx;
-    int *lf = realloc(b->leaf, sizeof *lf * (size_t)cap);
-    if (lf)
-        b->leaf = lf;
-    if (!bx || !lf)
+    /* the two arrays grow alike from id_cap; id_cap moves only when both have */
+    int box_cap = b->id_cap, leaf_cap = b->id_cap;
+    if (!limen__reserve((void **)&b->boxes, &box_cap, need, sizeof *b->boxes) ||
+        !limen__reserve((void **)&b->leaf, &leaf_cap, need, sizeof *b->leaf))
         return false;
-    for (int i = b->id_cap; i < cap; i++)
+    for (int i = b->id_cap; i < leaf_cap; i++)
         b->leaf[i] = -1;
-    b->id_cap = cap;
+    b->id_cap = leaf_cap;
     return true;
 }
 

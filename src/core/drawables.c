@@ -70,9 +70,8 @@ void limen__drawable_read(const limen_scene *s, int slot, limen_drawable *it)
         it->mesh = &n->mesh->pub;
         it->smooth = n->smooth || n->mesh->file_normals;
     }
+    /* a mesh's own textures are its materials' (limen_mesh_geometry.materials) */
     const limen__texture *tex = n->texture;
-    if (!tex && n->kind == LIMEN_NODE_MESH && n->mesh)
-        tex = n->mesh->tex;
     if (tex && (n->kind == LIMEN_NODE_QUAD || n->kind == LIMEN_NODE_BOX ||
                 n->kind == LIMEN_NODE_MESH))
         it->texture = &tex->pub;

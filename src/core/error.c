@@ -16,6 +16,7 @@ const char *limen_status_string(limen_status st)
     case LIMEN_ERR_GL: return "OpenGL error";
     case LIMEN_ERR_IO: return "input/output error";
     case LIMEN_ERR_UNSUPPORTED: return "unsupported";
+    case LIMEN_STATUS_COUNT: break;
     }
     return "unknown status";
 }

@@ -342,8 +342,11 @@ static void material(builder *b, const struct aiMaterial *m, limen__import_mater
     out->name = aiGetMaterialString(m, AI_MATKEY_NAME, &str) == aiReturn_SUCCESS
                     ? str_add(b, str.data) : NONE;
     out->base[0] = out->base[1] = out->base[2] = out->base[3] = 1;
-    if (aiGetMaterialColor(m, AI_MATKEY_BASE_COLOR, &c) == aiReturn_SUCCESS ||
-        aiGetMaterialColor(m, AI_MATKEY_COLOR_DIFFUSE, &c) == aiReturn_SUCCESS) {
+    /* the material assimp makes for a file that names none is white here (its grey would
+     * darken every model without materials) */
+    bool made_up = out->name != NONE && strcmp(str.data, AI_DEFAULT_MATERIAL_NAME) == 0;
+    if (!made_up && (aiGetMaterialColor(m, AI_MATKEY_BASE_COLOR, &c) == aiReturn_SUCCESS ||
+                     aiGetMaterialColor(m, AI_MATKEY_COLOR_DIFFUSE, &c) == aiReturn_SUCCESS)) {
         out->base[0] = c.r;
         out->base[1] = c.g;
         out->base[2] = c.b;
@@ -431,13 +434,11 @@ static void material(builder *b, const struct aiMaterial *m, limen__import_mater
 static void mesh(builder *b, const struct aiMesh *am, limen__import_part *p)
 {
     p->first_vertex = (uint32_t)b->verts.n;
-    p->first_tri = (uint32_t)b->tris.n;
+    p->first_tri = (uint32_t)(b->tris.n / 3);
     p->material = am->mMaterialIndex < b->sc->mNumMaterials ? am->mMaterialIndex : 0;
     p->has_normals = am->mNormals != NULL;
     p->name = am->mName.length ? str_add(b, am->mName.data) : NONE;
-    if (!charge(b, (size_t)am->mNumVertices * sizeof(limen__import_vertex) +
-                       (size_t)am->mNumFaces * 12))
-        return;
+    /* geometry is charged where it is kept (core/mesh.c), textures here */
     limen__import_vertex *v = arr_push(&b->verts, am->mNumVertices);
     if (!v) {
         b->nomem = true;

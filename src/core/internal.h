@@ -85,10 +85,14 @@ struct limen_scene {
     float ambient;
     uint32_t camera;            /* index + 1 */
     unsigned test_faults;       /* LIMEN_FAULT_* bits (core/testing.h); 0 */
+    uint64_t mem_wanted;        /* bytes the last load refused for the memory allowed it
+                                 * would have taken (a script's host says what cap would do) */
     void **meshes;              /* limen__mesh *: each shared by the nodes that load it */
     int nmeshes, mesh_cap;
     void **textures;            /* limen__texture *: each shared by the nodes that use it */
     int ntextures, texture_cap;
+    char **warnings;            /* what loading files noticed (core/mesh.c): "file: warning: ..." */
+    int nwarnings;
     char err[LIMEN__ERR_MAX];
 };
 
@@ -98,9 +102,10 @@ limen_status limen__fail(limen_scene *s, limen_status st, const char *fmt, ...)
 /* Writes into a fixed buffer (renderers, scripts). */
 void limen__vformat(char *buf, size_t size, const char *fmt, va_list ap);
 
-/* limits.c: checks in (NULL: all defaults) and fills out with its defaults (max_views
- * 1024, depth 0 under DEPTH_RULE_OWN); a bad field fails with a message that starts
- * "who: ". */
+/* limits.c: checks in (NULL: all defaults) and fills out with its defaults
+ * (limen_limits_defaults: max_views, lod_pixels, depth 0 under DEPTH_RULE_OWN, and a frame
+ * budget for a 640 x 480 image, where in has none: the planner fills its own size's first,
+ * through limen_plan_desc_defaults); a bad field fails with a message that starts "who: ". */
 limen_status limen__limits_resolve(limen_scene *s, const char *who, const limen_limits *in,
                                    limen_limits *out);
 /* The deepest view a surface whose own max_depth is surface_max may have under resolved
@@ -117,6 +122,19 @@ limen_status limen__write_jpeg(const char *path, int width, int height,
 
 /* Live node for a handle, or NULL. */
 limen__node *limen__node_get(const limen_scene *s, limen_node n);
+/* Bit of a node kind in a set of kinds (limen__node_lookup's kinds). */
+#define LIMEN__KIND(k) (1u << (unsigned)(k))
+/* The live node of handle n, looked up for an edit or a call that may write the scene:
+ * LIMEN_OK and *out; LIMEN_ERR_ARG without a scene; LIMEN_ERR_HANDLE for a null, stale or
+ * foreign handle, or a node whose kind is not in `kinds` (LIMEN__KIND bits; 0: any kind),
+ * with a message "fn: null node handle", "fn: stale or foreign node handle" or
+ * "fn: 'title' is not <what>". *out is NULL on failure. */
+limen_status limen__node_lookup(limen_scene *s, limen_node n, unsigned kinds, const char *what,
+                                const char *fn, limen__node **out);
+/* The same for const readers, which never write the scene (not even its message): only the
+ * status. */
+limen_status limen__node_lookup_const(const limen_scene *s, limen_node n, unsigned kinds,
+                                      const limen__node **out);
 /* Recomputes the world matrices of the nodes touched since the last call and of their
  * descendants (core/index.c). */
 void limen__scene_refresh(limen_scene *s);

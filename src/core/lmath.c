@@ -59,8 +59,7 @@ static bool dm_inverse(const double m[16], double inv[16])
 
 static bool range_valid(limen_depth_range range)
 {
-    return range == LIMEN_DEPTH_NO || range == LIMEN_DEPTH_ZO ||
-           range == LIMEN_DEPTH_ZO_REVERSED;
+    return (unsigned)range < LIMEN_DEPTH_RANGE_COUNT;
 }
 
 static bool mat_finite(const mat4 m)
@@ -356,6 +355,8 @@ limen_status limen__perspective(float fovy, float aspect, float n, float f,
         d[10] = dn / (df - dn);
         d[14] = dn * df / (df - dn);
         break;
+    case LIMEN_DEPTH_RANGE_COUNT:   /* refused above */
+        break;
     }
     if (!dm_finite(d))
         return LIMEN_ERR_ARG;
@@ -385,6 +386,8 @@ static bool dprojection_planes(const double p[16], limen_depth_range range, doub
         case LIMEN_DEPTH_ZO_REVERSED:
             np[c] = r4[c] - r3[c];
             fp[c] = r3[c];
+            break;
+        case LIMEN_DEPTH_RANGE_COUNT:   /* refused by the callers */
             break;
         }
     }
@@ -462,6 +465,7 @@ limen_status limen__oblique(const mat4 proj, const vec4 c_view, limen_depth_rang
         case LIMEN_DEPTH_NO:          row3[j] = a * c[j] - r4[j]; break;
         case LIMEN_DEPTH_ZO:          row3[j] = a * c[j]; break;
         case LIMEN_DEPTH_ZO_REVERSED: row3[j] = r4[j] - a * c[j]; break;
+        case LIMEN_DEPTH_RANGE_COUNT: break;  /* refused by the callers */
         }
     }
     for (int j = 0; j < 4; j++)

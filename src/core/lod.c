@@ -842,7 +842,7 @@ bool limen__mesh_lods_settle(limen__mesh *m, bool wait)
 {
     if (!m->lod_job || (!wait && !atomic_load(&m->lod_job->done)))
         return false;
-    if (!job_end(m, false))
+    if (!job_end(m, false) || !limen__mesh_lod_parts(m))
         return false;
     /* new levels: a new asset to the renderer, which uploads it again */
     m->serial = limen__next_serial();

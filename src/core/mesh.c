@@ -13,13 +13,10 @@
 #include <string.h>
 #include <sys/stat.h>
 
-#include <assimp/cimport.h>
-#include <assimp/material.h>
-#include <assimp/postprocess.h>
-#include <assimp/scene.h>
 
 #include "core/internal.h"
 #include "core/mesh.h"
+#include "core/import.h"
 #include "core/texture.h"
 
 #define LEAF_TRIS 4
@@ -269,6 +266,8 @@ int limen__mesh_intersect(const limen__mesh *m, const double o[3], const double 
             double t, u, v;
             if (!hit_tri(m, tri, o, d, &t, &u, &v) || !(t > tmin) || !(t < tmax))
                 continue;
+            if (m->has_mask && limen__mesh_masked(m, tri, u, v))
+                continue;
             if (cut) {
                 double w[3] = { o[0] + t * d[0], o[1] + t * d[1], o[2] + t * d[2] };
                 if (cut[0] * w[0] + cut[1] * w[1] + cut[2] * w[2] + cut[3] < 0)
@@ -299,6 +298,15 @@ static void mesh_free(limen_scene *s, limen__mesh *m)
     free(m->bvh);
     free(m->tri_order);
     free(m->lods);
+    free(m->col);
+    free(m->parts);
+    free(m->lod_parts);
+    free(m->tri_part);
+    for (uint32_t i = 0; m->texs && i < m->nmats * LIMEN__MAT_TEXTURES; i++)
+        limen__texture_release(s, m->texs[i]);
+    free(m->texs);
+    free(m->mats);
+    free(m->mat_names);
     free(m);
 }
 
@@ -320,6 +328,209 @@ static void vertex_normals(limen__mesh *m)
         glm_vec3_normalize(&m->nrm[v * 3]);
 }
 
+/* ------------------------------------------------------------------ parts and materials */
+
+/* Parts must follow one another from triangle 0 to the last, each in a material given. */
+static limen_status check_parts(limen_scene *s, const limen_mesh_data *d, const char *what)
+{
+    if (d->part_count < 0 || d->material_count < 0 || (d->part_count && !d->parts) ||
+        (d->material_count && !d->materials))
+        return limen__fail(s, LIMEN_ERR_ARG, "%s: parts or materials counted but not given",
+                           what);
+    int next = 0;
+    for (int p = 0; p < d->part_count; p++) {
+        const limen_mesh_part *pt = &d->parts[p];
+        if (pt->first_triangle != next || pt->triangle_count < 0 ||
+            pt->triangle_count > d->triangle_count - next)
+            return limen__fail(s, LIMEN_ERR_ARG, "%s: part %d covers triangles %d to %d; parts "
+                               "must follow one another from triangle 0", what, p,
+                               pt->first_triangle, pt->first_triangle + pt->triangle_count);
+        int nmats = d->material_count ? d->material_count : 1;
+        if (pt->material < 0 || pt->material >= nmats)
+            return limen__fail(s, LIMEN_ERR_ARG, "%s: part %d uses material %d of %d", what, p,
+                               pt->material, nmats);
+        next += pt->triangle_count;
+    }
+    if (d->part_count && next != d->triangle_count)
+        return limen__fail(s, LIMEN_ERR_ARG, "%s: the parts cover %d of %d triangles", what,
+                           next, d->triangle_count);
+    for (int i = 0; i < d->material_count; i++) {
+        const limen_material *mt = &d->materials[i];
+        const float *f[] = { mt->base_color, mt->emissive };
+        for (int k = 0; k < 7; k++)
+            if (!isfinite(k < 4 ? f[0][k] : f[1][k - 4]))
+                return limen__fail(s, LIMEN_ERR_ARG, "%s: material %d has a colour that is not "
+                                   "finite", what, i);
+        if ((unsigned)mt->alpha_mode > LIMEN_ALPHA_BLEND || !isfinite(mt->alpha_cutoff))
+            return limen__fail(s, LIMEN_ERR_ARG, "%s: material %d has an unknown alpha mode or "
+                               "cutoff", what, i);
+    }
+    return LIMEN_OK;
+}
+
+static const limen_material white_material = {
+    .name = "", .base_color = { 1, 1, 1, 1 }, .base_transform = { 1, 0, 0, 1, 0, 0 },
+    .alpha_cutoff = 0.5f, .metallic = 1, .roughness = 1, .normal_scale = 1,
+    .occlusion_strength = 1,
+};
+
+/* The colours, parts and materials of d into m (textures none); false when out of memory. */
+static bool copy_materials(limen__mesh *m, const limen_mesh_data *d)
+{
+    uint32_t nv = m->nverts, nt = m->ntris;
+    m->nparts = d->part_count ? (uint32_t)d->part_count : 1;
+    m->nmats = d->material_count ? (uint32_t)d->material_count : 1;
+    size_t names = 0;
+    for (uint32_t i = 0; i < (uint32_t)d->material_count; i++)
+        names += strlen(d->materials[i].name ? d->materials[i].name : "") + 1;
+    m->col = d->colors ? malloc(sizeof(float) * 4 * nv) : NULL;
+    m->parts = malloc(sizeof *m->parts * m->nparts);
+    m->tri_part = malloc(sizeof *m->tri_part * nt);
+    m->mats = malloc(sizeof *m->mats * m->nmats);
+    m->texs = calloc((size_t)m->nmats * LIMEN__MAT_TEXTURES, sizeof *m->texs);
+    m->mat_names = malloc(names + 1);
+    if ((d->colors && !m->col) || !m->parts || !m->tri_part || !m->mats || !m->texs ||
+        !m->mat_names)
+        return false;
+    if (d->colors)
+        memcpy(m->col, d->colors, sizeof(float) * 4 * nv);
+    if (d->part_count)
+        memcpy(m->parts, d->parts, sizeof *m->parts * m->nparts);
+    else
+        m->parts[0] = (limen_mesh_part){ 0, (int)nt, 0 };
+    for (uint32_t p = 0; p < m->nparts; p++)
+        for (int t = 0; t < m->parts[p].triangle_count; t++)
+            m->tri_part[m->parts[p].first_triangle + t] = p;
+    char *at = m->mat_names;
+    for (uint32_t i = 0; i < m->nmats; i++) {
+        limen_material mt = d->material_count ? d->materials[i] : white_material;
+        const char *name = mt.name ? mt.name : "";
+        size_t len = strlen(name) + 1;
+        memcpy(at, name, len);
+        mt.name = at;
+        at += len;
+        mt.base_texture = mt.emissive_texture = NULL;
+        mt.metallic_roughness_texture = mt.normal_texture = mt.occlusion_texture = NULL;
+        m->mats[i] = mt;
+        m->has_mask = m->has_mask || mt.alpha_mode == LIMEN_ALPHA_MASK;
+        m->has_blend = m->has_blend || mt.alpha_mode == LIMEN_ALPHA_BLEND;
+    }
+    return true;
+}
+
+/* Each level's triangles grouped by part (stably), and the parts' ranges in it. A level's
+ * triangle belongs to the part of its first corner in the full mesh: the simplifier only
+ * joins vertices along edges, and a file's parts share no vertices, so a level's triangle
+ * never spans two of them. */
+bool limen__mesh_lod_parts(limen__mesh *m)
+{
+    free(m->lod_parts);
+    uint32_t np = m->nparts, nl = m->nlods ? m->nlods : 1;
+    m->lod_parts = malloc(sizeof *m->lod_parts * np * nl);
+    uint32_t *vpart = malloc(sizeof *vpart * m->nverts);
+    uint32_t *start = malloc(sizeof *start * (np + 1));
+    uint32_t maxt = 0;
+    for (uint32_t k = 0; k < m->nlods; k++)
+        maxt = (uint32_t)m->lods[k].triangle_count > maxt ? (uint32_t)m->lods[k].triangle_count
+                                                          : maxt;
+    uint32_t *tmp = np > 1 ? malloc(sizeof *tmp * 3 * (size_t)(maxt ? maxt : 1)) : NULL;
+    bool ok = m->lod_parts && vpart && start && (np == 1 || tmp);
+    if (ok) {
+        for (uint32_t t = 0; t < m->ntris; t++)
+            for (int c = 0; c < 3; c++)
+                vpart[m->idx[t * 3 + c]] = m->tri_part[t];
+        for (uint32_t k = 0; k < nl; k++) {
+            limen_mesh_part *lp = &m->lod_parts[k * np];
+            if (!m->nlods || m->lods[k].indices == m->idx) {
+                memcpy(lp, m->parts, sizeof *lp * np);
+            } else {
+                uint32_t n = (uint32_t)m->lods[k].triangle_count;
+                uint32_t *ix = (uint32_t *)m->lods[k].indices;
+                memset(start, 0, sizeof *start * (np + 1));
+                for (uint32_t t = 0; t < n; t++)
+                    start[vpart[ix[t * 3]] + 1]++;
+                for (uint32_t p = 0; p < np; p++) {
+                    lp[p] = (limen_mesh_part){ (int)start[p], (int)start[p + 1],
+                                               m->parts[p].material };
+                    start[p + 1] += start[p];
+                }
+                if (np > 1) {
+                    for (uint32_t t = 0; t < n; t++)
+                        memcpy(&tmp[start[vpart[ix[t * 3]]]++ * 3], &ix[t * 3],
+                               sizeof(uint32_t) * 3);
+                    memcpy(ix, tmp, sizeof(uint32_t) * 3 * n);
+                }
+            }
+            if (m->nlods)
+                m->lods[k].parts = lp;
+        }
+    }
+    free(vpart);
+    free(start);
+    free(tmp);
+    return ok;
+}
+
+static void mat_texel(const limen__texture *t, const float repeat[2], limen_texture_filter f,
+                      const double *duv, double u, double v, double c[3], double *a)
+{
+    if (!t)
+        return;
+    double x[3];
+    double su = u * (repeat ? repeat[0] : 1), sv = v * (repeat ? repeat[1] : 1);
+    limen__texture_filter(t, f, su, sv, duv, x);
+    for (int k = 0; k < 3; k++)
+        c[k] *= x[k];
+    if (a)
+        *a *= limen__texture_sample_alpha(t, su, sv);
+}
+
+void limen__mesh_material_at(const limen__mesh *m, const limen__texture *node_tex,
+                             const float repeat[2], limen_texture_filter filter,
+                             const double *duv, uint32_t tri, double u, double v,
+                             double albedo[3], double *alpha, double emissive[3])
+{
+    const uint32_t *ix = &m->idx[tri * 3];
+    double w[3] = { 1.0 - u - v, u, v }, uv[2] = { 0, 0 };
+    for (int k = 0; m->uv && k < 2; k++)
+        uv[k] = w[0] * m->uv[ix[0] * 2 + k] + w[1] * m->uv[ix[1] * 2 + k] +
+                w[2] * m->uv[ix[2] * 2 + k];
+    uint32_t mi = (uint32_t)m->parts[m->tri_part[tri]].material;
+    const limen_material *mt = &m->mats[mi];
+    double a = mt->base_color[3];
+    for (int k = 0; k < 3; k++)
+        albedo[k] = mt->base_color[k];
+    if (node_tex)
+        mat_texel(node_tex, repeat, filter, duv, uv[0], uv[1], albedo, NULL);
+    else
+        mat_texel(m->texs[mi * LIMEN__MAT_TEXTURES + LIMEN__MAT_BASE], repeat, filter, duv,
+                  uv[0], uv[1], albedo, &a);
+    if (m->col)
+        for (int k = 0; k < 4; k++) {
+            double c = w[0] * m->col[ix[0] * 4 + k] + w[1] * m->col[ix[1] * 4 + k] +
+                       w[2] * m->col[ix[2] * 4 + k];
+            if (k < 3)
+                albedo[k] *= c;
+            else
+                a *= c;
+        }
+    *alpha = a;
+    for (int k = 0; k < 3; k++)
+        emissive[k] = mt->emissive[k];
+    mat_texel(m->texs[mi * LIMEN__MAT_TEXTURES + LIMEN__MAT_EMISSIVE], repeat, filter, duv,
+              uv[0], uv[1], emissive, NULL);
+}
+
+bool limen__mesh_masked(const limen__mesh *m, uint32_t tri, double u, double v)
+{
+    const limen_material *mt = &m->mats[m->parts[m->tri_part[tri]].material];
+    if (mt->alpha_mode != LIMEN_ALPHA_MASK)
+        return false;
+    double c[3], a, e[3];
+    limen__mesh_material_at(m, NULL, NULL, LIMEN_FILTER_LINEAR, NULL, tri, u, v, c, &a, e);
+    return a < mt->alpha_cutoff;
+}
+
 /* Checks and copies arrays into a new asset. what names the source in messages. */
 static limen_status mesh_from_arrays(limen_scene *s, const limen_mesh_data *d, const char *what,
                                      size_t max_bytes, limen__mesh **out)
@@ -337,7 +548,7 @@ static limen_status mesh_from_arrays(limen_scene *s, const limen_mesh_data *d, c
                            d->triangle_count);
     size_t bytes = limen__mesh_bytes((uint64_t)d->vertex_count, (uint64_t)d->triangle_count,
                                      d->uvs != NULL);
-    if (bytes > max_bytes)
+    if (bytes > max_bytes && (s->mem_wanted = bytes))
         return limen__fail(s, LIMEN_ERR_NOMEM,
                            "%s: %d triangles need %.1f MiB, more than the %.1f MiB allowed", what,
                            d->triangle_count, bytes / 1048576.0, max_bytes / 1048576.0);
@@ -355,6 +566,13 @@ static limen_status mesh_from_arrays(limen_scene *s, const limen_mesh_data *d, c
             return limen__fail(s, LIMEN_ERR_ARG,
                                "%s: triangle %u uses vertex %u, out of range (%u vertices)",
                                what, i / 3, d->indices[i], nv);
+    for (uint32_t i = 0; d->colors && i < nv * 4; i++)
+        if (!isfinite(d->colors[i]))
+            return limen__fail(s, LIMEN_ERR_ARG, "%s: vertex %u has a colour that is not finite",
+                               what, i / 4);
+    limen_status pst = check_parts(s, d, what);
+    if (pst)
+        return pst;
     limen__mesh *m = calloc(1, sizeof *m);
     if (!m)
         return limen__fail(s, LIMEN_ERR_NOMEM, "%s: out of memory", what);
@@ -365,7 +583,7 @@ static limen_status mesh_from_arrays(limen_scene *s, const limen_mesh_data *d, c
     m->nrm = malloc(sizeof(float) * 3 * nv);
     m->uv = d->uvs ? malloc(sizeof(float) * 2 * nv) : NULL;
     m->idx = malloc(sizeof(uint32_t) * 3 * nt);
-    if (!m->pos || !m->nrm || (d->uvs && !m->uv) || !m->idx) {
+    if (!m->pos || !m->nrm || (d->uvs && !m->uv) || !m->idx || !copy_materials(m, d)) {
         mesh_free(s, m);
         return limen__fail(s, LIMEN_ERR_NOMEM, "%s: out of memory", what);
     }
@@ -388,15 +606,21 @@ static limen_status mesh_from_arrays(limen_scene *s, const limen_mesh_data *d, c
             m->lo[a] = fmin(m->lo[a], m->pos[v * 3 + a]);
             m->hi[a] = fmax(m->hi[a], m->pos[v * 3 + a]);
         }
-    if (!limen__mesh_bvh(m) || !limen__mesh_lods_start(m)) {
+    if (!limen__mesh_bvh(m) || !limen__mesh_lods_start(m) || !limen__mesh_lod_parts(m)) {
         mesh_free(s, m);
         return limen__fail(s, LIMEN_ERR_NOMEM, "%s: out of memory", what);
     }
+    m->bytes += sizeof(float) * 4 * (d->colors ? nv : 0) + sizeof(uint32_t) * nt +
+                sizeof(limen_mesh_part) * m->nparts * (m->nlods + 1) +
+                sizeof(limen_material) * m->nmats;
     m->serial = limen__next_serial();
     m->pub = (limen_mesh_geometry){ .id = m->serial, .vertex_count = (int)nv,
                                     .triangle_count = (int)nt, .positions = m->pos,
                                     .normals = m->nrm, .uvs = m->uv, .indices = m->idx,
-                                    .lod_count = (int)m->nlods, .lods = m->lods };
+                                    .lod_count = (int)m->nlods, .lods = m->lods,
+                                    .colors = m->col, .part_count = (int)m->nparts,
+                                    .parts = m->parts, .material_count = (int)m->nmats,
+                                    .materials = m->mats, .has_blend = m->has_blend };
     snprintf(m->name, sizeof m->name, "%s", what);
     *out = m;
     return LIMEN_OK;
@@ -425,6 +649,7 @@ void limen__meshes_destroy(limen_scene *s)
     free(s->meshes);
     s->meshes = NULL;
     s->nmeshes = s->mesh_cap = 0;
+    limen_scene_clear_warnings(s);
 }
 
 static void attach(limen_scene *s, limen__node *node, limen__mesh *m)
@@ -438,144 +663,244 @@ static void attach(limen_scene *s, limen__node *node, limen__mesh *m)
 
 /* ------------------------------------------------------------------ files */
 
-/* The scene's triangles merged into one list, node transforms applied (assimp's
- * PreTransformVertices). */
-static limen_status from_scene(limen_scene *s, const struct aiScene *sc, const char *path,
-                               size_t max_bytes, limen__mesh **out)
+/* The file's meshes where its nodes place them, merged into one list of parts, one per
+ * material used (assimp's PreTransformVertices, done here so that the block keeps the
+ * hierarchy). Each part's texture coordinates are its base texture's set with its transform
+ * applied. */
+typedef struct flat {
+    float *pos, *nrm, *uv, *col;
+    uint32_t *idx;
+    limen_mesh_part *parts;
+    limen_material *mats;
+    uint32_t nv, nt, np;
+} flat;
+
+static void flat_free(flat *f)
 {
-    uint64_t nv = 0, nt = 0;
-    bool normals = true, uvs = true;
-    for (unsigned i = 0; i < sc->mNumMeshes; i++) {
-        const struct aiMesh *am = sc->mMeshes[i];
-        if (am->mPrimitiveTypes & (aiPrimitiveType_POINT | aiPrimitiveType_LINE))
-            return limen__fail(s, LIMEN_ERR_ARG, "%s: has points or lines (a mesh is made of "
-                               "triangles)", path);
-        nv += am->mNumVertices;
-        nt += am->mNumFaces;
-        normals = normals && am->mNormals;
-        uvs = uvs && am->mTextureCoords[0];
+    free(f->pos);
+    free(f->nrm);
+    free(f->uv);
+    free(f->col);
+    free(f->idx);
+    free(f->parts);
+    free(f->mats);
+}
+
+/* The world matrices of the block's nodes (parents come first). */
+static float *node_worlds(const limen__import *b)
+{
+    const limen__import_node *ns = LIMEN__IMP(b, nodes, limen__import_node);
+    float *w = malloc(sizeof(float) * 16 * (b->nnodes ? b->nnodes : 1));
+    for (uint32_t i = 0; w && i < b->nnodes; i++) {
+        /* cglm wants its matrices aligned: work on copies */
+        mat4 parent, local, out;
+        memcpy(local, ns[i].matrix, sizeof local);
+        if (ns[i].parent == LIMEN__IMPORT_NONE) {
+            glm_mat4_copy(local, out);
+        } else {
+            memcpy(parent, &w[ns[i].parent * 16], sizeof parent);
+            glm_mat4_mul(parent, local, out);
+        }
+        memcpy(&w[i * 16], out, sizeof out);
     }
+    return w;
+}
+
+static limen_status flatten(limen_scene *s, const limen__import *b, const char *path, flat *f)
+{
+    memset(f, 0, sizeof *f);
+    const limen__import_node *ns = LIMEN__IMP(b, nodes, limen__import_node);
+    const limen__import_part *ps = LIMEN__IMP(b, parts, limen__import_part);
+    const limen__import_material *ms = LIMEN__IMP(b, materials, limen__import_material);
+    const limen__import_vertex *vs = LIMEN__IMP(b, verts, limen__import_vertex);
+    const uint32_t *ts = LIMEN__IMP(b, tris, uint32_t), *np = LIMEN__IMP(b, node_parts, uint32_t);
+    uint64_t nv = 0, nt = 0;
+    for (uint32_t n = 0; n < b->nnodes; n++)
+        for (uint32_t k = 0; k < ns[n].part_count; k++) {
+            const limen__import_part *p = &ps[np[ns[n].first_part + k]];
+            if (p->tri_count) {
+                nv += p->vertex_count;
+                nt += p->tri_count;
+            }
+        }
     if (nt == 0)
-        return limen__fail(s, LIMEN_ERR_ARG, "%s: no triangles in it", path);
+        return limen__fail(s, LIMEN_ERR_ARG, "%s: no triangles in it (points and lines are "
+                           "skipped)", path);
     if (nt > MAX_TRIS || nv > MAX_TRIS)
         return limen__fail(s, LIMEN_ERR_ARG, "%s: %llu triangles, more than a mesh holds", path,
                            (unsigned long long)nt);
-    size_t bytes = limen__mesh_bytes(nv, nt, uvs);
-    if (bytes > max_bytes)
-        return limen__fail(s, LIMEN_ERR_NOMEM,
-                           "%s: %llu triangles need %.1f MiB, more than the %.1f MiB allowed",
-                           path, (unsigned long long)nt, bytes / 1048576.0,
-                           max_bytes / 1048576.0);
-    float *pos = malloc(sizeof(float) * 3 * nv), *nrm = normals ? malloc(sizeof(float) * 3 * nv)
-                                                                : NULL;
-    float *uv = uvs ? malloc(sizeof(float) * 2 * nv) : NULL;
-    uint32_t *idx = malloc(sizeof(uint32_t) * 3 * nt);
+    float *world = node_worlds(b);
+    f->pos = malloc(sizeof(float) * 3 * nv);
+    f->nrm = malloc(sizeof(float) * 3 * nv);
+    f->uv = malloc(sizeof(float) * 2 * nv);
+    f->col = malloc(sizeof(float) * 4 * nv);
+    f->idx = malloc(sizeof(uint32_t) * 3 * nt);
+    f->parts = malloc(sizeof *f->parts * b->nmaterials);
+    f->mats = malloc(sizeof *f->mats * b->nmaterials);
+    if (!world || !f->pos || !f->nrm || !f->uv || !f->col || !f->idx || !f->parts || !f->mats) {
+        free(world);
+        flat_free(f);
+        return limen__fail(s, LIMEN_ERR_NOMEM, "%s: out of memory", path);
+    }
+    bool normals = true;
+    for (uint32_t mi = 0; mi < b->nmaterials; mi++) {
+        const limen__import_material *mt = &ms[mi];
+        uint32_t first = f->nt;
+        for (uint32_t n = 0; n < b->nnodes; n++) {
+            const float *w = &world[n * 16];
+            mat4 wm;
+            mat3 nm;
+            memcpy(wm, w, sizeof wm);
+            glm_mat4_pick3(wm, nm);
+            glm_mat3_inv(nm, nm);
+            glm_mat3_transpose(nm);
+            bool flip = glm_mat4_det(wm) < 0;
+            for (uint32_t k = 0; k < ns[n].part_count; k++) {
+                const limen__import_part *p = &ps[np[ns[n].first_part + k]];
+                if (p->material != mi || !p->tri_count)
+                    continue;
+                normals = normals && p->has_normals;
+                uint32_t v0 = f->nv;
+                for (uint32_t v = 0; v < p->vertex_count; v++) {
+                    const limen__import_vertex *iv = &vs[p->first_vertex + v];
+                    vec4 q = { iv->pos[0], iv->pos[1], iv->pos[2], 1 };
+                    vec4 r;
+                    glm_mat4_mulv(wm, q, r);
+                    memcpy(&f->pos[f->nv * 3], r, sizeof(float) * 3);
+                    vec3 nn, n0 = { iv->nrm[0], iv->nrm[1], iv->nrm[2] };
+                    glm_mat3_mulv(nm, n0, nn);
+                    glm_vec3_normalize(nn);
+                    memcpy(&f->nrm[f->nv * 3], nn, sizeof nn);
+                    const float *uv = iv->uv[mt->base_uv], *x = mt->base_xform;
+                    f->uv[f->nv * 2] = x[0] * uv[0] + x[2] * uv[1] + x[4];
+                    f->uv[f->nv * 2 + 1] = x[1] * uv[0] + x[3] * uv[1] + x[5];
+                    memcpy(&f->col[f->nv * 4], iv->col, sizeof(float) * 4);
+                    f->nv++;
+                }
+                for (uint32_t t = 0; t < p->tri_count; t++, f->nt++) {
+                    const uint32_t *tri = &ts[(size_t)(p->first_tri + t) * 3];
+                    f->idx[f->nt * 3] = v0 + tri[0];
+                    f->idx[f->nt * 3 + 1] = v0 + (flip ? tri[2] : tri[1]);
+                    f->idx[f->nt * 3 + 2] = v0 + (flip ? tri[1] : tri[2]);
+                }
+            }
+        }
+        if (f->nt == first)
+            continue;
+        f->mats[f->np] = (limen_material){
+            .name = limen__import_string(b, mt->name),
+            .base_color = { mt->base[0], mt->base[1], mt->base[2], mt->base[3] },
+            .base_texcoord = (int)mt->base_uv, .alpha_mode = (limen_alpha_mode)mt->alpha_mode,
+            .alpha_cutoff = mt->alpha_cutoff,
+            .emissive = { mt->emissive[0], mt->emissive[1], mt->emissive[2] },
+            .double_sided = (int)mt->double_sided, .metallic = mt->metallic,
+            .roughness = mt->roughness, .normal_scale = mt->normal_scale,
+            .occlusion_strength = mt->occlusion_strength,
+        };
+        memcpy(f->mats[f->np].base_transform, mt->base_xform, sizeof mt->base_xform);
+        f->parts[f->np] = (limen_mesh_part){ (int)first, (int)(f->nt - first), (int)f->np };
+        f->np++;
+    }
+    free(world);
+    if (!normals) {
+        free(f->nrm);
+        f->nrm = NULL;
+    }
+    return LIMEN_OK;
+}
+
+/* The block's material index of the flattened mesh's material k (the k-th used). */
+static uint32_t used_material(const limen__import *b, uint32_t k)
+{
+    const limen__import_node *ns = LIMEN__IMP(b, nodes, limen__import_node);
+    const limen__import_part *ps = LIMEN__IMP(b, parts, limen__import_part);
+    const uint32_t *np = LIMEN__IMP(b, node_parts, uint32_t);
+    for (uint32_t mi = 0; mi < b->nmaterials; mi++) {
+        bool used = false;
+        for (uint32_t n = 0; n < b->nnodes && !used; n++)
+            for (uint32_t j = 0; j < ns[n].part_count && !used; j++) {
+                const limen__import_part *p = &ps[np[ns[n].first_part + j]];
+                used = p->material == mi && p->tri_count;
+            }
+        if (used && k-- == 0)
+            return mi;
+    }
+    return 0;
+}
+
+/* The block's textures onto the mesh's materials (each decoded image made once). */
+static limen_status mesh_textures(limen_scene *s, const limen__import *b, const char *path,
+                                  limen__mesh *m)
+{
+    const limen__import_material *ms = LIMEN__IMP(b, materials, limen__import_material);
+    const limen__import_texture *ts = LIMEN__IMP(b, textures, limen__import_texture);
+    limen__texture **made = calloc(b->ntextures ? b->ntextures : 1, sizeof *made);
+    if (!made)
+        return limen__fail(s, LIMEN_ERR_NOMEM, "%s: out of memory", path);
     limen_status st = LIMEN_OK;
-    if (!pos || (normals && !nrm) || (uvs && !uv) || !idx) {
-        st = limen__fail(s, LIMEN_ERR_NOMEM, "%s: out of memory", path);
-        goto done;
-    }
-    uint32_t v0 = 0, t0 = 0;
-    for (unsigned i = 0; i < sc->mNumMeshes; i++) {
-        const struct aiMesh *am = sc->mMeshes[i];
-        for (unsigned v = 0; v < am->mNumVertices; v++) {
-            uint32_t at = v0 + v;
-            pos[at * 3] = am->mVertices[v].x;
-            pos[at * 3 + 1] = am->mVertices[v].y;
-            pos[at * 3 + 2] = am->mVertices[v].z;
-            if (nrm) {
-                nrm[at * 3] = am->mNormals[v].x;
-                nrm[at * 3 + 1] = am->mNormals[v].y;
-                nrm[at * 3 + 2] = am->mNormals[v].z;
+    for (uint32_t k = 0; k < m->nmats && !st; k++) {
+        const limen__import_material *mt = &ms[used_material(b, k)];
+        uint32_t which[LIMEN__MAT_TEXTURES] = { mt->base_tex, mt->emissive_tex,
+                                                mt->metal_rough_tex, mt->normal_tex,
+                                                mt->occlusion_tex };
+        for (int j = 0; j < LIMEN__MAT_TEXTURES && !st; j++) {
+            uint32_t ti = which[j];
+            if (ti == LIMEN__IMPORT_NONE || !ts[ti].width)
+                continue;
+            if (!made[ti]) {
+                char what[700];
+                snprintf(what, sizeof what, "%.300s: texture %.300s", path,
+                         limen__import_string(b, ts[ti].name));
+                st = limen__texture_from_rgba(s, (const unsigned char *)b + ts[ti].texels,
+                                              (int)ts[ti].width, (int)ts[ti].height, what,
+                                              &made[ti]);
+                if (st)
+                    break;
+                m->bytes += made[ti]->bytes;
+            } else {
+                made[ti]->refs++;
             }
-            if (uv) {
-                uv[at * 2] = am->mTextureCoords[0][v].x;
-                uv[at * 2 + 1] = am->mTextureCoords[0][v].y;
-            }
+            m->texs[k * LIMEN__MAT_TEXTURES + j] = made[ti];
+            const limen_image *img = &made[ti]->pub;
+            limen_material *pm = &m->mats[k];
+            if (j == LIMEN__MAT_BASE)
+                pm->base_texture = img;
+            else if (j == LIMEN__MAT_EMISSIVE)
+                pm->emissive_texture = img;
+            else if (j == LIMEN__MAT_MR)
+                pm->metallic_roughness_texture = img;
+            else if (j == LIMEN__MAT_NORMAL)
+                pm->normal_texture = img;
+            else
+                pm->occlusion_texture = img;
         }
-        for (unsigned f = 0; f < am->mNumFaces; f++) {
-            const struct aiFace *face = &am->mFaces[f];
-            if (face->mNumIndices != 3) {
-                st = limen__fail(s, LIMEN_ERR_ARG, "%s: face %u has %u corners (a mesh is made "
-                                 "of triangles)", path, t0 + f, face->mNumIndices);
-                goto done;
-            }
-            for (int k = 0; k < 3; k++)
-                idx[(t0 + f) * 3 + k] = v0 + face->mIndices[k];
-        }
-        v0 += am->mNumVertices;
-        t0 += am->mNumFaces;
     }
-    limen_mesh_data d = { .positions = pos, .normals = nrm, .uvs = uv, .vertex_count = (int)nv,
-                          .indices = idx, .triangle_count = (int)nt };
-    st = mesh_from_arrays(s, &d, path, max_bytes, out);
-done:
-    free(pos);
-    free(nrm);
-    free(uv);
-    free(idx);
+    /* each image's first reference is the one made with it */
+    free(made);
+    if (!m->tex && m->nmats && m->texs[LIMEN__MAT_BASE]) {
+        m->tex = m->texs[LIMEN__MAT_BASE];
+        m->tex->refs++;
+    }
     return st;
 }
 
-/* The name of the first material's base-colour (or diffuse) texture, or "". */
-static void base_texture(const struct aiScene *sc, char *out, size_t size)
+/* The block's warnings into the scene's list, as "file: warning: text". */
+static void keep_warnings(limen_scene *s, const limen__import *b, const char *path)
 {
-    out[0] = '\0';
-    for (unsigned i = 0; i < sc->mNumMaterials; i++) {
-        struct aiString str;
-        const struct aiMaterial *mat = sc->mMaterials[i];
-        if (aiGetMaterialTexture(mat, aiTextureType_BASE_COLOR, 0, &str, NULL, NULL, NULL, NULL,
-                                 NULL, NULL) == aiReturn_SUCCESS ||
-            aiGetMaterialTexture(mat, aiTextureType_DIFFUSE, 0, &str, NULL, NULL, NULL, NULL,
-                                 NULL, NULL) == aiReturn_SUCCESS) {
-            size_t len = strnlen(str.data, size - 1);
-            memcpy(out, str.data, len);
-            out[len] = '\0';
+    const uint32_t *ws = LIMEN__IMP(b, warnings, uint32_t);
+    for (uint32_t i = 0; i < b->nwarnings; i++) {
+        char **w = realloc(s->warnings, sizeof *w * (size_t)(s->nwarnings + 1));
+        if (!w)
             return;
-        }
+        s->warnings = w;
+        const char *text = limen__import_string(b, ws[i]);
+        size_t len = strlen(path) + strlen(text) + 16;
+        char *line = malloc(len);
+        if (!line)
+            return;
+        snprintf(line, len, "%s: warning: %s", path, text);
+        s->warnings[s->nwarnings++] = line;
     }
-}
-
-/* The file's base-colour texture onto m (which must have texture coordinates): embedded
- * ("*N", a PNG or JPEG inside a .glb), or a file beside the mesh file, never above it (no
- * absolute path, no ".."). */
-static limen_status file_texture(limen_scene *s, const struct aiScene *sc, const char *path,
-                                 size_t max_bytes, size_t *charged, limen__mesh *m)
-{
-    char name[512];
-    *charged = 0;
-    base_texture(sc, name, sizeof name);
-    if (!name[0] || !m->uv)
-        return LIMEN_OK;
-    if (name[0] == '*') {
-        unsigned k = (unsigned)atoi(name + 1);
-        const struct aiTexture *at = k < sc->mNumTextures ? sc->mTextures[k] : NULL;
-        if (!at || at->mHeight != 0)
-            return limen__fail(s, LIMEN_ERR_IO, "%s: embedded texture %s is missing or not "
-                               "PNG/JPEG", path, name);
-        char what[600];
-        snprintf(what, sizeof what, "%.500s: texture %s", path, name);
-        limen_status st = limen__texture_decode(s, (const unsigned char *)at->pcData,
-                                                at->mWidth, what, &m->tex);
-        if (!st && m->tex->bytes > max_bytes) {
-            limen__texture_release(s, m->tex);
-            m->tex = NULL;
-            return limen__fail(s, LIMEN_ERR_NOMEM, "%s: its texture needs more memory than "
-                               "allowed", path);
-        }
-        if (!st)
-            *charged = m->tex->bytes;
-        return st;
-    }
-    for (char *c = name; *c; c++)
-        if (*c == '\\')
-            *c = '/';
-    if (name[0] == '/' || strstr(name, ".."))
-        return limen__fail(s, LIMEN_ERR_IO, "%s: its texture '%s' is not beside it", path, name);
-    const char *slash = strrchr(path, '/');
-    char full[1200];
-    snprintf(full, sizeof full, "%.*s%s", slash ? (int)(slash - path + 1) : 0, path, name);
-    return limen__texture_load(s, full, max_bytes, charged, &m->tex);
 }
 
 /* A PLY header, checked before assimp reads it: assimp 5.2 loops forever on one that never
@@ -611,8 +936,8 @@ static bool ply_header_ok(FILE *f, uint64_t size, char *why, size_t why_size)
     return true;
 }
 
-static limen_status load_file(limen_scene *s, const char *path, size_t max_bytes,
-                              limen__mesh **out)
+static limen_status load_file(limen_scene *s, const char *path, unsigned flags,
+                              size_t max_bytes, limen__mesh **out)
 {
     *out = NULL;
     struct stat stt;
@@ -631,40 +956,41 @@ static limen_status load_file(limen_scene *s, const char *path, size_t max_bytes
     if (!ok)
         return limen__fail(s, LIMEN_ERR_IO, "%s: %s", path, why);
     /* the importer holds at least the file's bytes while it reads */
-    if ((uint64_t)stt.st_size > max_bytes)
+    if ((uint64_t)stt.st_size > max_bytes && (s->mem_wanted = (uint64_t)stt.st_size))
         return limen__fail(s, LIMEN_ERR_NOMEM, "%s: a file of %.1f MiB, more than the %.1f MiB "
                            "allowed", path, stt.st_size / 1048576.0, max_bytes / 1048576.0);
-    /* assimp's C interface keeps the last error in one string for the whole process: an
-     * import and the reading of its error go together, one thread at a time, so that
-     * scenes on different threads stay independent (limen.h, THREADS) */
-    static pthread_mutex_t importing = PTHREAD_MUTEX_INITIALIZER;
-    char err[301] = "";
-    pthread_mutex_lock(&importing);
-    const struct aiScene *sc =
-        aiImportFile(path, aiProcess_Triangulate | aiProcess_JoinIdenticalVertices |
-                               aiProcess_PreTransformVertices | aiProcess_SortByPType |
-                               aiProcess_ValidateDataStructure);
-    if (!sc) {
-        const char *e = aiGetErrorString();
-        snprintf(err, sizeof err, "%s", e ? e : "");
+    char ierr[700];
+    limen__import *blk;
+    limen_status st = limen__import_file(path, flags, max_bytes, &blk, ierr, sizeof ierr);
+    if (st)
+        return limen__fail(s, st, "%s", ierr);
+    flat fl;
+    if (!(st = flatten(s, blk, path, &fl))) {
+        limen_mesh_data d = { .positions = fl.pos, .normals = fl.nrm, .uvs = fl.uv,
+                              .vertex_count = (int)fl.nv, .indices = fl.idx,
+                              .triangle_count = (int)fl.nt,
+                              .colors = (blk->vertex_flags & LIMEN__VERT_COLOURS) ? fl.col : NULL,
+                              .part_count = (int)fl.np, .parts = fl.parts,
+                              .material_count = (int)fl.np, .materials = fl.mats };
+        if (!(blk->vertex_flags & LIMEN__VERT_UV0))
+            d.uvs = NULL;
+        st = mesh_from_arrays(s, &d, path, max_bytes, out);
+        flat_free(&fl);
     }
-    pthread_mutex_unlock(&importing);
-    if (!sc)
-        return limen__fail(s, LIMEN_ERR_IO, "%s: cannot read it as a mesh: %s", path,
-                           err[0] ? err : "unknown format");
-    limen_status st = LIMEN_OK;
-    if (sc->mFlags & AI_SCENE_FLAGS_INCOMPLETE)
-        st = limen__fail(s, LIMEN_ERR_IO, "%s: incomplete (no meshes in it)", path);
-    else
-        st = from_scene(s, sc, path, max_bytes, out);
-    size_t tex_bytes = 0;
-    if (!st && (st = file_texture(s, sc, path, max_bytes - (*out)->bytes, &tex_bytes, *out))) {
+    if (!st && (st = mesh_textures(s, blk, path, *out))) {
         mesh_free(s, *out);
         *out = NULL;
     }
+    if (!st && (*out)->bytes > max_bytes) {
+        s->mem_wanted = (*out)->bytes;
+        mesh_free(s, *out);
+        *out = NULL;
+        st = limen__fail(s, LIMEN_ERR_NOMEM, "%s: needs more than the %.1f MiB allowed", path,
+                         max_bytes / 1048576.0);
+    }
     if (!st)
-        (*out)->bytes += tex_bytes;
-    aiReleaseImport(sc);
+        keep_warnings(s, blk, path);
+    free(blk);
     return st;
 }
 
@@ -701,6 +1027,10 @@ limen_status limen__mesh_load(limen_scene *s, limen_node n, const char *path, si
     limen_status st = limen__file_key(s, path, key, &st_key);
     if (st)
         return st;
+    /* a node with a texture of its own never shows the file's: they are not read */
+    unsigned flags = node->texture ? LIMEN__IMPORT_NO_TEXTURES : 0;
+    if (flags && strlen(key) + 8 < sizeof key)
+        strcat(key, "#notex");
     for (int i = 0; i < s->nmeshes; i++) {
         limen__mesh *m = s->meshes[i];
         if (strcmp(m->key, key) == 0) {
@@ -709,7 +1039,7 @@ limen_status limen__mesh_load(limen_scene *s, limen_node n, const char *path, si
         }
     }
     limen__mesh *m;
-    st = load_file(s, path, max_bytes, &m);
+    st = load_file(s, path, flags, max_bytes, &m);
     if (st)
         return st;
     snprintf(m->key, sizeof m->key, "%s", key);
@@ -776,4 +1106,27 @@ limen_status limen_mesh_get(const limen_scene *s, limen_node n, limen_mesh_info 
     out->lod_count = (int)m->nlods;
     out->bytes = m->bytes;
     return LIMEN_OK;
+}
+
+/* ------------------------------------------------------------------ warnings */
+
+int limen_scene_warning_count(const limen_scene *s)
+{
+    return s ? s->nwarnings : 0;
+}
+
+const char *limen_scene_warning(const limen_scene *s, int i)
+{
+    return s && i >= 0 && i < s->nwarnings ? s->warnings[i] : NULL;
+}
+
+void limen_scene_clear_warnings(limen_scene *s)
+{
+    if (!s)
+        return;
+    for (int i = 0; i < s->nwarnings; i++)
+        free(s->warnings[i]);
+    free(s->warnings);
+    s->warnings = NULL;
+    s->nwarnings = 0;
 }

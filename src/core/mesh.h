@@ -41,7 +41,35 @@ typedef struct limen__mesh {
     uint32_t nlods;
     limen_mesh_geometry pub;    /* what limen_drawable.mesh shows of it */
     struct limen__lod_job *lod_job;     /* its levels being made on another thread, or NULL */
+    /* materials (see limen_material) */
+    float *col;                 /* nverts * 4 RGBA vertex colours, or NULL (white) */
+    uint32_t nparts, nmats;
+    limen_mesh_part *parts;     /* nparts ranges of idx, in triangle order */
+    limen_mesh_part *lod_parts; /* nlods * nparts: each level's ranges */
+    uint32_t *tri_part;         /* ntris: the part of each triangle of idx */
+    limen_material *mats;       /* nmats; their textures point at texs' images */
+    struct limen__texture **texs;   /* nmats * 5: base, emissive, metallic-roughness, normal,
+                                 * occlusion of each, or NULL */
+    char *mat_names;            /* the names' storage */
+    bool has_mask, has_blend;
 } limen__mesh;
+
+enum { LIMEN__MAT_BASE, LIMEN__MAT_EMISSIVE, LIMEN__MAT_MR, LIMEN__MAT_NORMAL,
+       LIMEN__MAT_OCCLUSION, LIMEN__MAT_TEXTURES };
+
+/* Whether the hit (u, v on triangle tri's vertices 1 and 2) is cut away by its part's alpha
+ * mask. */
+/* Each level's triangles grouped by part, and the parts' ranges in it (lod_parts, each
+ * level's .parts): again whenever the levels change (limen__mesh_lods_settle). */
+bool limen__mesh_lod_parts(limen__mesh *m);
+bool limen__mesh_masked(const limen__mesh *m, uint32_t tri, double u, double v);
+/* The material at a hit: albedo (base x texel x vertex colour; the node's texture, if not
+ * NULL, in place of the base texture), alpha, and emissive. Textures are sampled with filter
+ * over the footprint duv (limen__texture_filter; NULL: the full image). */
+void limen__mesh_material_at(const limen__mesh *m, const struct limen__texture *node_tex,
+                             const float repeat[2], limen_texture_filter filter,
+                             const double *duv, uint32_t tri, double u, double v,
+                             double albedo[3], double *alpha, double emissive[3]);
 
 /* Bytes a mesh of this size may hold (geometry, levels of detail, hierarchy and
  * bookkeeping): an upper bound, known before any of it is made. */

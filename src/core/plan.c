@@ -17,8 +17,6 @@
 #include "core/reserve.h"
 #include "core/testing.h"
 
-#define DEFAULT_VIEW_SCREENS 64         /* view_pixels: 64 full screens */
-#define DEFAULT_SURFACE_TESTS 131072
 #define MAX_POLY 12
 
 /* ------------------------------------------------------------------ storage */
@@ -451,21 +449,15 @@ limen_status limen_plan_build(limen_plan *p, limen_scene *s, const limen_plan_de
     limen_status cst = limen__scene_check(s);
     if (cst)
         return cst;
-    limen_plan_desc d = desc ? *desc : (limen_plan_desc){ 0 };
-    p->width = d.width > 0 ? d.width : 640;
-    p->height = d.height > 0 ? d.height : 480;
-    if ((unsigned)d.range > LIMEN_DEPTH_ZO_REVERSED || (unsigned)d.cull > LIMEN_CULL_FRUSTUM)
+    limen_plan_desc d = limen_plan_desc_defaults(desc);
+    p->width = d.width;
+    p->height = d.height;
+    if ((unsigned)d.range >= LIMEN_DEPTH_RANGE_COUNT || (unsigned)d.cull >= LIMEN_CULL_COUNT)
         return limen__fail(s, LIMEN_ERR_ARG, "plan: unknown depth range or cull rule");
     limen_status lst = limen__limits_resolve(s, "plan", &d.limits, &p->limits);
     if (lst)
         return lst;
-    p->budget.view_pixels = p->limits.budget.view_pixels
-                                ? p->limits.budget.view_pixels
-                                : (int64_t)DEFAULT_VIEW_SCREENS * p->width * p->height;
-    p->budget.surface_tests = p->limits.budget.surface_tests ? p->limits.budget.surface_tests
-                                                             : DEFAULT_SURFACE_TESTS;
-    p->budget.triangles = p->limits.budget.triangles ? p->limits.budget.triangles
-                                                     : LIMEN_BUDGET_TRIANGLES_DEFAULT;
+    p->budget = p->limits.budget;
     p->range = d.range;
     p->cull = d.cull;
     p->nviews = p->nvsurf = p->count = p->truncated = 0;
@@ -790,7 +782,7 @@ static void json_clones(FILE *f, const limen_plan *p, const limen_scene *s)
     fprintf(f, "%s]", n ? "\n" : "");
 }
 
-limen_status limen_plan_write_json(const limen_plan *p, const limen_scene *s, const char *path)
+limen_status limen_plan_write_json(const limen_plan *p, limen_scene *s, const char *path)
 {
     if (!p || !s || !path)
         return LIMEN_ERR_ARG;
@@ -837,8 +829,7 @@ limen_status limen_plan_write_json(const limen_plan *p, const limen_scene *s, co
         fprintf(f, ", \"tint\": ");
         json_floats(f, v->tint, 3);
         json_view_surfaces(f, p, s, i);
-        /* the index may need refreshing: it is the scene's cache, not its state */
-        if (!json_view_meshes(f, p, (limen_scene *)s, i)) {
+        if (!json_view_meshes(f, p, s, i)) {
             limen__out_abort(&out);
             return LIMEN_ERR_NOMEM;
         }

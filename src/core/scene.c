@@ -5,6 +5,7 @@
 
 #include "core/internal.h"
 #include "core/mesh.h"
+#include "core/reserve.h"
 #include "core/texture.h"
 
 /* The pool grows by doubling up to this many slots (an index must fit a handle's low 32
@@ -36,34 +37,43 @@ limen__node *limen__node_get(const limen_scene *s, limen_node n)
     return node;
 }
 
+limen_status limen__node_lookup(limen_scene *s, limen_node n, unsigned kinds, const char *what,
+                                const char *fn, limen__node **out)
+{
+    *out = NULL;
+    if (!s)
+        return LIMEN_ERR_ARG;
+    limen__node *node = limen__node_get(s, n);
+    if (!node)
+        return limen__fail(s, LIMEN_ERR_HANDLE, "%s: %s node handle", fn,
+                           n.id ? "stale or foreign" : "null");
+    if (kinds && !(kinds & LIMEN__KIND(node->kind)))
+        return limen__fail(s, LIMEN_ERR_HANDLE, "%s: '%s' is not %s", fn, limen__node_title(node),
+                           what);
+    *out = node;
+    return LIMEN_OK;
+}
+
+limen_status limen__node_lookup_const(const limen_scene *s, limen_node n, unsigned kinds,
+                                      const limen__node **out)
+{
+    *out = NULL;
+    if (!s)
+        return LIMEN_ERR_ARG;
+    const limen__node *node = limen__node_get(s, n);
+    if (!node || (kinds && !(kinds & LIMEN__KIND(node->kind))))
+        return LIMEN_ERR_HANDLE;
+    *out = node;
+    return LIMEN_OK;
+}
+
+
 static const char *kind_name(limen_node_kind k)
 {
     static const char *names[] = { "group", "box", "sphere", "cylinder", "quad",
                                    "mirror", "portal", "light", "camera", "mesh" };
     return (unsigned)k < LIMEN_NODE_KIND_COUNT ? names[k] : "node";
 }
-
-/* Looks up a handle or leaves a message naming the caller. */
-static limen__node *get_or_fail(limen_scene *s, limen_node n, const char *fn)
-{
-    limen__node *node = limen__node_get(s, n);
-    if (!node && s)
-        limen__fail(s, LIMEN_ERR_HANDLE, "%s: %s node handle", fn,
-                    n.id ? "stale or foreign" : "null");
-    return node;
-}
-
-/* Const readers never write the scene, not even its message, so that any number of
- * threads may read one scene at once: a bad handle is only a status. */
-#define GET_CONST(node, s, n)                                                            \
-    const limen__node *node = limen__node_get((s), (n));                                 \
-    if (!node)                                                                           \
-    return (s) ? LIMEN_ERR_HANDLE : LIMEN_ERR_ARG
-
-#define GET(node, s, n)                                                                  \
-    limen__node *node = get_or_fail((s), (n), __func__);                                 \
-    if (!node)                                                                           \
-    return (s) ? LIMEN_ERR_HANDLE : LIMEN_ERR_ARG
 
 /* Message prefix for a node: "label: kind 'name'" ("label: kind" if it has no name). */
 static void node_desc(const limen__node *node, char *buf, size_t size)
@@ -140,7 +150,10 @@ float limen_scene_get_ambient(const limen_scene *s)
 
 limen_status limen_scene_set_camera(limen_scene *s, limen_node camera)
 {
-    GET(node, s, camera);
+    limen__node *node;
+    limen_status found = limen__node_lookup(s, camera, 0, NULL, __func__, &node);
+    if (found)
+        return found;
     if (node->kind != LIMEN_NODE_CAMERA)
         return limen__fail(s, LIMEN_ERR_HANDLE, "set_camera: node '%s' is a %s, not a camera",
                            limen__node_title(node), kind_name(node->kind));
@@ -178,13 +191,6 @@ int limen_scene_nodes(const limen_scene *s, limen_node *out, int max)
 
 /* ------------------------------------------------------------------ world matrices */
 
-/* "label: kind 'name'" of a node for messages. */
-static void node_title(const limen__node *n, char *buf, size_t size)
-{
-    snprintf(buf, size, "%s%s%s%s%s%s", n->label, n->label[0] ? ": " : "", kind_name(n->kind),
-             n->name[0] ? " '" : "", n->name, n->name[0] ? "'" : "");
-}
-
 /* The largest and smallest length of the world matrix's three axes. */
 static void world_scale(const limen__node *n, double *lo, double *hi)
 {
@@ -207,7 +213,7 @@ limen_status limen__scene_check(limen_scene *s)
     char title[256];
     int bad = limen__scene_bad_world(s);
     if (bad >= 0) {
-        node_title(&s->nodes[bad], title, sizeof title);
+        node_desc(&s->nodes[bad], title, sizeof title);
         return limen__fail(s, LIMEN_ERR_ARG,
                            "%s: its world transform is not finite (the scales along its "
                            "parent chain multiply past what a float holds)", title);
@@ -227,7 +233,7 @@ limen_status limen__scene_check(limen_scene *s)
         world_scale(n, &lo, &hi);
         if (lo >= LIMEN_MIN_SIZE * (1 - 1e-6) && hi <= LIMEN_MAX_MAGNITUDE * (1 + 1e-6))
             continue;
-        node_title(n, title, sizeof title);
+        node_desc(n, title, sizeof title);
         return limen__fail(s, LIMEN_ERR_ARG,
                            "%s: its world transform scales it by %g (the scales along its "
                            "parent chain must keep a camera, mirror or portal between 1e-9 and "
@@ -343,18 +349,10 @@ static void compact_live(limen_scene *s)
 
 static bool push_live(limen_scene *s, int index)
 {
-    if (s->live_len == s->live_cap) {
-        if (s->live_holes)
-            compact_live(s);
-        if (s->live_len == s->live_cap) {
-            int cap = s->live_cap ? s->live_cap * 2 : 64;
-            int *live = realloc(s->live, sizeof *live * (size_t)cap);
-            if (!live)
-                return false;
-            s->live = live;
-            s->live_cap = cap;
-        }
-    }
+    if (s->live_len == s->live_cap && s->live_holes)
+        compact_live(s);
+    if (!limen__reserve((void **)&s->live, &s->live_cap, s->live_len + 1, sizeof *s->live))
+        return false;
     s->nodes[index].live_at = s->live_len;
     s->live[s->live_len++] = index;
     return true;
@@ -397,7 +395,10 @@ limen_status limen_node_create(limen_scene *s, limen_node_kind kind, const char 
 
 limen_status limen_node_destroy(limen_scene *s, limen_node n)
 {
-    GET(node, s, n);
+    limen__node *node;
+    limen_status found = limen__node_lookup(s, n, 0, NULL, __func__, &node);
+    if (found)
+        return found;
     uint32_t self = (uint32_t)(node - s->nodes) + 1u;
     for (int k = 0; k < s->live_len && node->nchildren > 0; k++) {
         int i = s->live[k];
@@ -474,7 +475,10 @@ limen_node_kind limen_node_get_kind(const limen_scene *s, limen_node n)
 
 limen_status limen_node_set_label(limen_scene *s, limen_node n, const char *label)
 {
-    GET(node, s, n);
+    limen__node *node;
+    limen_status found = limen__node_lookup(s, n, 0, NULL, __func__, &node);
+    if (found)
+        return found;
     snprintf(node->label, sizeof node->label, "%s", label ? label : "");
     return LIMEN_OK;
 }
@@ -495,15 +499,18 @@ static void set_parent_slot(limen_scene *s, limen__node *node, uint32_t parent)
 
 limen_status limen_node_set_parent(limen_scene *s, limen_node n, limen_node parent)
 {
-    GET(node, s, n);
+    limen__node *node;
+    limen_status found = limen__node_lookup(s, n, 0, NULL, __func__, &node);
+    if (found)
+        return found;
     uint32_t self = (uint32_t)(node - s->nodes) + 1u;
     if (!parent.id) {
         set_parent_slot(s, node, 0);
         return LIMEN_OK;
     }
-    limen__node *p = get_or_fail(s, parent, "set_parent");
-    if (!p)
-        return LIMEN_ERR_HANDLE;
+    limen__node *p;
+    if ((found = limen__node_lookup(s, parent, 0, NULL, "set_parent", &p)))
+        return found;
     uint32_t pi = (uint32_t)(p - s->nodes) + 1u;
     for (uint32_t at = pi; at; at = s->nodes[at - 1].parent) {
         if (at == self) {
@@ -569,7 +576,10 @@ static void to_trs(limen_scene *s, limen__node *node)
 
 limen_status limen_node_set_position(limen_scene *s, limen_node n, const float p[3])
 {
-    GET(node, s, n);
+    limen__node *node;
+    limen_status found = limen__node_lookup(s, n, 0, NULL, __func__, &node);
+    if (found)
+        return found;
     CHECK_VEC(s, p, "position");
     glm_vec3_copy((float *)p, node->pos);
     to_trs(s, node);
@@ -578,7 +588,10 @@ limen_status limen_node_set_position(limen_scene *s, limen_node n, const float p
 
 limen_status limen_node_set_rotation(limen_scene *s, limen_node n, const float xyz[3])
 {
-    GET(node, s, n);
+    limen__node *node;
+    limen_status found = limen__node_lookup(s, n, 0, NULL, __func__, &node);
+    if (found)
+        return found;
     CHECK_VEC(s, xyz, "rotation");
     glm_vec3_copy((float *)xyz, node->euler);
     to_trs(s, node);
@@ -621,7 +634,10 @@ static limen_status facing_basis(limen_scene *s, const float normal[3], const fl
 limen_status limen_node_set_facing(limen_scene *s, limen_node n, const float normal[3],
                                    const float up[3])
 {
-    GET(node, s, n);
+    limen__node *node;
+    limen_status found = limen__node_lookup(s, n, 0, NULL, __func__, &node);
+    if (found)
+        return found;
     mat3 f;
     limen_status st = facing_basis(s, normal, up, f);
     if (st)
@@ -633,7 +649,10 @@ limen_status limen_node_set_facing(limen_scene *s, limen_node n, const float nor
 
 limen_status limen_node_set_scale(limen_scene *s, limen_node n, const float xyz[3])
 {
-    GET(node, s, n);
+    limen__node *node;
+    limen_status found = limen__node_lookup(s, n, 0, NULL, __func__, &node);
+    if (found)
+        return found;
     /* positive: a mirrored node would turn its faces inside out for the renderer's culling */
     limen_status st = check_sizes(s, xyz, 3, "scale");
     if (st)
@@ -645,7 +664,10 @@ limen_status limen_node_set_scale(limen_scene *s, limen_node n, const float xyz[
 
 limen_status limen_node_set_local_matrix(limen_scene *s, limen_node n, const float m[16])
 {
-    GET(node, s, n);
+    limen__node *node;
+    limen_status found = limen__node_lookup(s, n, 0, NULL, __func__, &node);
+    if (found)
+        return found;
     if (!m)
         return limen__fail(s, LIMEN_ERR_ARG, "local matrix: NULL");
     mat4 l;
@@ -672,7 +694,10 @@ limen_status limen_node_set_local_matrix(limen_scene *s, limen_node n, const flo
 limen_status limen_node_look_at(limen_scene *s, limen_node n, const float eye[3],
                                 const float target[3], const float up[3])
 {
-    GET(node, s, n);
+    limen__node *node;
+    limen_status found = limen__node_lookup(s, n, 0, NULL, __func__, &node);
+    if (found)
+        return found;
     CHECK_VEC(s, eye, "eye");
     CHECK_VEC(s, target, "target");
     vec3 back;
@@ -692,7 +717,10 @@ limen_status limen_node_look_at(limen_scene *s, limen_node n, const float eye[3]
 
 limen_status limen_node_get_position(const limen_scene *s, limen_node n, float p[3])
 {
-    GET_CONST(node, s, n);
+    const limen__node *node;
+    limen_status found = limen__node_lookup_const(s, n, 0, &node);
+    if (found)
+        return found;
     if (!p)
         return LIMEN_ERR_ARG;
     if (node->explicit_local)
@@ -704,7 +732,10 @@ limen_status limen_node_get_position(const limen_scene *s, limen_node n, float p
 
 limen_status limen_node_get_rotation(const limen_scene *s, limen_node n, float xyz[3])
 {
-    GET_CONST(node, s, n);
+    const limen__node *node;
+    limen_status found = limen__node_lookup_const(s, n, 0, &node);
+    if (found)
+        return found;
     if (!xyz)
         return LIMEN_ERR_ARG;
     memcpy(xyz, node->euler, sizeof(float) * 3);
@@ -713,7 +744,10 @@ limen_status limen_node_get_rotation(const limen_scene *s, limen_node n, float x
 
 limen_status limen_node_get_scale(const limen_scene *s, limen_node n, float xyz[3])
 {
-    GET_CONST(node, s, n);
+    const limen__node *node;
+    limen_status found = limen__node_lookup_const(s, n, 0, &node);
+    if (found)
+        return found;
     if (!xyz)
         return LIMEN_ERR_ARG;
     memcpy(xyz, node->scale, sizeof(float) * 3);
@@ -728,7 +762,10 @@ static void mat_out(mat4 m, float out[16])
 
 limen_status limen_node_get_local_matrix(limen_scene *s, limen_node n, float m[16])
 {
-    GET(node, s, n);
+    limen__node *node;
+    limen_status found = limen__node_lookup(s, n, 0, NULL, __func__, &node);
+    if (found)
+        return found;
     if (!m)
         return LIMEN_ERR_ARG;
     limen__node_compose_local(node);
@@ -738,7 +775,10 @@ limen_status limen_node_get_local_matrix(limen_scene *s, limen_node n, float m[1
 
 limen_status limen_node_world_matrix(limen_scene *s, limen_node n, float m[16])
 {
-    GET(node, s, n);
+    limen__node *node;
+    limen_status found = limen__node_lookup(s, n, 0, NULL, __func__, &node);
+    if (found)
+        return found;
     if (!m)
         return LIMEN_ERR_ARG;
     limen__scene_refresh(s);
@@ -752,7 +792,10 @@ limen_status limen_node_world_matrix(limen_scene *s, limen_node n, float m[16])
 
 limen_status limen_node_set_dims(limen_scene *s, limen_node n, const float dims[3])
 {
-    GET(node, s, n);
+    limen__node *node;
+    limen_status found = limen__node_lookup(s, n, 0, NULL, __func__, &node);
+    if (found)
+        return found;
     CHECK_VEC(s, dims, "dims");
     int used = 0;
     switch (node->kind) {
@@ -777,7 +820,10 @@ limen_status limen_node_set_dims(limen_scene *s, limen_node n, const float dims[
 
 limen_status limen_node_get_dims(const limen_scene *s, limen_node n, float dims[3])
 {
-    GET_CONST(node, s, n);
+    const limen__node *node;
+    limen_status found = limen__node_lookup_const(s, n, 0, &node);
+    if (found)
+        return found;
     if (!dims)
         return LIMEN_ERR_ARG;
     memcpy(dims, node->dims, sizeof(float) * 3);
@@ -796,7 +842,10 @@ static limen_status check_color(limen_scene *s, const float rgb[3], bool unit, c
 
 limen_status limen_node_set_color(limen_scene *s, limen_node n, const float rgb[3])
 {
-    GET(node, s, n);
+    limen__node *node;
+    limen_status found = limen__node_lookup(s, n, 0, NULL, __func__, &node);
+    if (found)
+        return found;
     limen_status st = check_color(s, rgb, node->kind != LIMEN_NODE_LIGHT, "color");
     if (st)
         return st;
@@ -806,7 +855,10 @@ limen_status limen_node_set_color(limen_scene *s, limen_node n, const float rgb[
 
 limen_status limen_node_get_color(const limen_scene *s, limen_node n, float rgb[3])
 {
-    GET_CONST(node, s, n);
+    const limen__node *node;
+    limen_status found = limen__node_lookup_const(s, n, 0, &node);
+    if (found)
+        return found;
     if (!rgb)
         return LIMEN_ERR_ARG;
     memcpy(rgb, node->color, sizeof(float) * 3);
@@ -816,7 +868,10 @@ limen_status limen_node_get_color(const limen_scene *s, limen_node n, float rgb[
 limen_status limen_node_set_checker(limen_scene *s, limen_node n, const float a[3],
                                     const float b[3], float cell)
 {
-    GET(node, s, n);
+    limen__node *node;
+    limen_status found = limen__node_lookup(s, n, 0, NULL, __func__, &node);
+    if (found)
+        return found;
     if (!(cell == 0 || (cell >= LIMEN_MIN_SIZE && cell <= LIMEN_MAX_MAGNITUDE)))
         return limen__fail(s, LIMEN_ERR_ARG, "checker: cell size must be 0 or a positive number "
                            "from 1e-9 to 1e9 (got %g)", cell);
@@ -837,7 +892,10 @@ limen_status limen_node_set_checker(limen_scene *s, limen_node n, const float a[
 
 limen_status limen_node_set_texture_repeat(limen_scene *s, limen_node n, const float repeat[2])
 {
-    GET(node, s, n);
+    limen__node *node;
+    limen_status found = limen__node_lookup(s, n, 0, NULL, __func__, &node);
+    if (found)
+        return found;
     limen_status st = check_sizes(s, repeat, 2, "texture repeat");
     if (st)
         return st;
@@ -848,7 +906,10 @@ limen_status limen_node_set_texture_repeat(limen_scene *s, limen_node n, const f
 
 limen_status limen_node_get_texture_repeat(const limen_scene *s, limen_node n, float repeat[2])
 {
-    GET_CONST(node, s, n);
+    const limen__node *node;
+    limen_status found = limen__node_lookup_const(s, n, 0, &node);
+    if (found)
+        return found;
     if (!repeat)
         return LIMEN_ERR_ARG;
     repeat[0] = node->tex_repeat[0];
@@ -859,7 +920,10 @@ limen_status limen_node_get_texture_repeat(const limen_scene *s, limen_node n, f
 limen_status limen_node_set_texture_filter(limen_scene *s, limen_node n,
                                           limen_texture_filter filter)
 {
-    GET(node, s, n);
+    limen__node *node;
+    limen_status found = limen__node_lookup(s, n, 0, NULL, __func__, &node);
+    if (found)
+        return found;
     if (filter != LIMEN_FILTER_TRILINEAR && filter != LIMEN_FILTER_LINEAR &&
         filter != LIMEN_FILTER_NEAREST)
         return limen__fail(s, LIMEN_ERR_ARG, "texture filter: %d is not one of "
@@ -871,7 +935,10 @@ limen_status limen_node_set_texture_filter(limen_scene *s, limen_node n,
 limen_status limen_node_get_texture_filter(const limen_scene *s, limen_node n,
                                           limen_texture_filter *filter)
 {
-    GET_CONST(node, s, n);
+    const limen__node *node;
+    limen_status found = limen__node_lookup_const(s, n, 0, &node);
+    if (found)
+        return found;
     if (!filter)
         return LIMEN_ERR_ARG;
     *filter = node->tex_filter;
@@ -881,7 +948,10 @@ limen_status limen_node_get_texture_filter(const limen_scene *s, limen_node n,
 limen_status limen_node_get_checker(const limen_scene *s, limen_node n, float a[3], float b[3],
                                     float *cell)
 {
-    GET_CONST(node, s, n);
+    const limen__node *node;
+    limen_status found = limen__node_lookup_const(s, n, 0, &node);
+    if (found)
+        return found;
     if (a)
         memcpy(a, node->color, sizeof(float) * 3);
     if (b)
@@ -893,7 +963,10 @@ limen_status limen_node_get_checker(const limen_scene *s, limen_node n, float a[
 
 limen_status limen_node_set_visible(limen_scene *s, limen_node n, int visible)
 {
-    GET(node, s, n);
+    limen__node *node;
+    limen_status found = limen__node_lookup(s, n, 0, NULL, __func__, &node);
+    if (found)
+        return found;
     node->visible = visible != 0;
     return LIMEN_OK;
 }
@@ -906,7 +979,10 @@ int limen_node_get_visible(const limen_scene *s, limen_node n)
 
 limen_status limen_light_set_range(limen_scene *s, limen_node n, float range)
 {
-    GET(node, s, n);
+    limen__node *node;
+    limen_status found = limen__node_lookup(s, n, 0, NULL, __func__, &node);
+    if (found)
+        return found;
     if (node->kind != LIMEN_NODE_LIGHT)
         return limen__fail(s, LIMEN_ERR_HANDLE, "range: '%s' is a %s, not a light",
                            limen__node_title(node), kind_name(node->kind));
@@ -928,7 +1004,10 @@ float limen_light_get_range(const limen_scene *s, limen_node n)
 limen_status limen_camera_set_lens(limen_scene *s, limen_node cam, float fovy, float znear,
                                    float zfar)
 {
-    GET(node, s, cam);
+    limen__node *node;
+    limen_status found = limen__node_lookup(s, cam, 0, NULL, __func__, &node);
+    if (found)
+        return found;
     if (node->kind != LIMEN_NODE_CAMERA)
         return limen__fail(s, LIMEN_ERR_HANDLE, "camera lens: '%s' is not a camera",
                            limen__node_title(node));
@@ -952,7 +1031,10 @@ limen_status limen_camera_set_lens(limen_scene *s, limen_node cam, float fovy, f
 limen_status limen_camera_get_lens(const limen_scene *s, limen_node cam, float *fovy,
                                    float *znear, float *zfar)
 {
-    GET_CONST(node, s, cam);
+    const limen__node *node;
+    limen_status found = limen__node_lookup_const(s, cam, 0, &node);
+    if (found)
+        return found;
     if (fovy)
         *fovy = node->fovy;
     if (znear)

@@ -5,29 +5,22 @@
 #include "core/dmath.h"
 #include "core/internal.h"
 
-static limen__node *surface_or_fail(limen_scene *s, limen_node n, const char *fn)
+#define SURFACES (LIMEN__KIND(LIMEN_NODE_MIRROR) | LIMEN__KIND(LIMEN_NODE_PORTAL))
+
+/* The mirror or portal of handle n, for fn (a message naming fn where it is not one). */
+static limen_status surface_lookup(limen_scene *s, limen_node n, const char *fn,
+                                   limen__node **out)
 {
-    limen__node *node = limen__node_get(s, n);
-    if (!node) {
-        if (s)
-            limen__fail(s, LIMEN_ERR_HANDLE, "%s: %s node handle", fn,
-                        n.id ? "stale or foreign" : "null");
-        return NULL;
-    }
-    if (!limen__is_surface(node)) {
-        limen__fail(s, LIMEN_ERR_HANDLE, "%s: '%s' is not a mirror or a portal", fn,
-                    limen__node_title(node));
-        return NULL;
-    }
-    return node;
+    return limen__node_lookup(s, n, SURFACES, "a mirror or a portal", fn, out);
 }
 
 static limen_status set_rgb(limen_scene *s, limen_node n, const float rgb[3], const char *what,
                             size_t offset)
 {
-    limen__node *node = surface_or_fail(s, n, what);
-    if (!node)
-        return s ? LIMEN_ERR_HANDLE : LIMEN_ERR_ARG;
+    limen__node *node;
+    limen_status found = surface_lookup(s, n, what, &node);
+    if (found)
+        return found;
     if (!rgb || !limen__finite3(rgb))
         return limen__fail(s, LIMEN_ERR_ARG, "%s: needs three finite numbers", what);
     for (int i = 0; i < 3; i++)
@@ -55,9 +48,10 @@ limen_status limen_surface_set_fill(limen_scene *s, limen_node n, const float rg
 
 limen_status limen_surface_set_max_depth(limen_scene *s, limen_node n, int max_depth)
 {
-    limen__node *node = surface_or_fail(s, n, "max_depth");
-    if (!node)
-        return s ? LIMEN_ERR_HANDLE : LIMEN_ERR_ARG;
+    limen__node *node;
+    limen_status found = surface_lookup(s, n, "max_depth", &node);
+    if (found)
+        return found;
     if (max_depth < 0 || max_depth > 255)
         return limen__fail(s, LIMEN_ERR_ARG, "max_depth: must be in [0, 255] (got %d)",
                            max_depth);
@@ -68,9 +62,10 @@ limen_status limen_surface_set_max_depth(limen_scene *s, limen_node n, int max_d
 limen_status limen_surface_get(const limen_scene *s, limen_node n, float tint[3], float back[3],
                                float fill[3], int *max_depth)
 {
-    const limen__node *node = limen__node_get(s, n);     /* a const reader never writes */
-    if (!node || !limen__is_surface(node))
-        return s ? LIMEN_ERR_HANDLE : LIMEN_ERR_ARG;
+    const limen__node *node;                            /* a const reader never writes */
+    limen_status found = limen__node_lookup_const(s, n, SURFACES, &node);
+    if (found)
+        return found;
     if (tint)
         memcpy(tint, node->tint, sizeof(float) * 3);
     if (back)
@@ -84,10 +79,10 @@ limen_status limen_surface_get(const limen_scene *s, limen_node n, float tint[3]
 
 limen_status limen_portal_link(limen_scene *s, limen_node a, limen_node b)
 {
-    limen__node *na = surface_or_fail(s, a, "portal_link");
-    limen__node *nb = na ? surface_or_fail(s, b, "portal_link") : NULL;
-    if (!na || !nb)
-        return s ? LIMEN_ERR_HANDLE : LIMEN_ERR_ARG;
+    limen__node *na, *nb;
+    limen_status found = surface_lookup(s, a, "portal_link", &na);
+    if (found || (found = surface_lookup(s, b, "portal_link", &nb)))
+        return found;
     if (na->kind != LIMEN_NODE_PORTAL || nb->kind != LIMEN_NODE_PORTAL)
         return limen__fail(s, LIMEN_ERR_ARG, "portal_link: '%s' is a mirror, not a portal",
                            limen__node_title(na->kind != LIMEN_NODE_PORTAL ? na : nb));
@@ -112,8 +107,8 @@ limen_status limen_portal_link(limen_scene *s, limen_node a, limen_node b)
 
 limen_node limen_portal_get_partner(const limen_scene *s, limen_node portal)
 {
-    limen__node *node = limen__node_get(s, portal);
-    if (!node || node->kind != LIMEN_NODE_PORTAL || !node->pair)
+    const limen__node *node;
+    if (limen__node_lookup_const(s, portal, LIMEN__KIND(LIMEN_NODE_PORTAL), &node) || !node->pair)
         return (limen_node){ 0 };
     return limen__node_handle(s, (int)node->pair - 1);
 }
@@ -179,9 +174,10 @@ bool limen__surface_matrix_d(limen_scene *s, const limen__node *n, double x[16])
 
 limen_status limen_surface_matrix(limen_scene *s, limen_node n, float m[16])
 {
-    limen__node *node = surface_or_fail(s, n, "surface_matrix");
-    if (!node)
-        return s ? LIMEN_ERR_HANDLE : LIMEN_ERR_ARG;
+    limen__node *node;
+    limen_status found = surface_lookup(s, n, "surface_matrix", &node);
+    if (found)
+        return found;
     if (!m)
         return LIMEN_ERR_ARG;
     limen__scene_refresh(s);

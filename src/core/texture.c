@@ -43,6 +43,7 @@ static void texture_free(limen__texture *t)
     if (!t)
         return;
     free(t->rgb);
+    free(t->alpha);
     free(t->mips);
     free(t);
 }
@@ -158,6 +159,49 @@ limen_status limen__texture_decode(limen_scene *s, const unsigned char *buf, siz
     return LIMEN_OK;
 }
 
+limen_status limen__texture_from_rgba(limen_scene *s, const unsigned char *rgba, int w, int h,
+                                      const char *name, limen__texture **out)
+{
+    *out = NULL;
+    size_t n = (size_t)w * (size_t)h;
+    bool opaque = true;
+    for (size_t i = 0; i < n && opaque; i++)
+        opaque = rgba[i * 4 + 3] == 255;
+    limen__texture *t = calloc(1, sizeof *t);
+    unsigned char *rgb = malloc(n * 3), *alpha = opaque ? NULL : malloc(n);
+    if (!t || !rgb || (!opaque && !alpha)) {
+        free(t);
+        free(rgb);
+        free(alpha);
+        return limen__fail(s, LIMEN_ERR_NOMEM, "%s: out of memory", name);
+    }
+    for (size_t i = 0; i < n; i++) {
+        memcpy(rgb + i * 3, rgba + i * 4, 3);
+        if (alpha)
+            alpha[i] = rgba[i * 4 + 3];
+    }
+    t->w = w;
+    t->h = h;
+    t->rgb = rgb;
+    t->alpha = alpha;
+    /* mipmap levels for an opaque image; one with alpha keeps only its own (its alpha has
+     * no levels: the renderer and the tracer both sample the full image) */
+    t->levels[0] = (limen_image_level){ w, h, rgb };
+    t->nlevels = 1;
+    if (!alpha && !make_levels(t)) {
+        texture_free(t);
+        return limen__fail(s, LIMEN_ERR_NOMEM, "%s: out of memory for its mipmap levels", name);
+    }
+    t->bytes = sizeof *t + n * (alpha ? 4 : 3) + (alpha ? 0 : n);
+    t->serial = limen__next_serial();
+    t->pub = (limen_image){ .id = t->serial, .width = w, .height = h, .rgb = rgb, .alpha = alpha,
+                            .level_count = t->nlevels, .levels = t->levels };
+    t->refs = 1;
+    snprintf(t->name, sizeof t->name, "%s", name);
+    *out = t;
+    return LIMEN_OK;
+}
+
 static limen_status keep(limen_scene *s, limen__texture *t)
 {
     if (limen__assets_add(&s->textures, &s->ntextures, &s->texture_cap, t))
@@ -186,7 +230,7 @@ limen_status limen__texture_load(limen_scene *s, const char *path, size_t max_by
     }
     if (st.st_size == 0)
         return limen__fail(s, LIMEN_ERR_IO, "%s: empty file", path);
-    if ((uint64_t)st.st_size > max_bytes)
+    if ((uint64_t)st.st_size > max_bytes && (s->mem_wanted = (uint64_t)st.st_size))
         return limen__fail(s, LIMEN_ERR_NOMEM, "%s: a file of %.1f MiB, more than the %.1f MiB "
                            "allowed", path, st.st_size / 1048576.0, max_bytes / 1048576.0);
     FILE *f = fopen(path, "rb");
@@ -202,6 +246,7 @@ limen_status limen__texture_load(limen_scene *s, const char *path, size_t max_by
     /* the decoded size, from the header, before decoding */
     int w, h;
     if (limen__image_info(buf, got, &w, &h) && (uint64_t)w * (uint64_t)h * 3 > max_bytes) {
+        s->mem_wanted = (uint64_t)w * (uint64_t)h * 3;
         free(buf);
         return limen__fail(s, LIMEN_ERR_NOMEM, "%s: %dx%d pixels need %.1f MiB, more than the "
                            "%.1f MiB allowed", path, w, h, (double)w * h * 3 / 1048576.0,
@@ -313,6 +358,24 @@ void limen__texture_filter(const limen__texture *t, limen_texture_filter f, doub
     bilinear(&t->levels[a + 1], u, v, hi);
     for (int k = 0; k < 3; k++)
         out[k] = lo[k] + fr * (hi[k] - lo[k]);
+}
+
+double limen__texture_sample_alpha(const limen__texture *t, double u, double v)
+{
+    if (!t || !t->alpha)
+        return 1.0;
+    double x = u * t->w - 0.5, y = v * t->h - 0.5;
+    if (!isfinite(x) || !isfinite(y) || fabs(x) > 1e15 || fabs(y) > 1e15)
+        x = y = 0;
+    double fx0 = floor(x), fy0 = floor(y);
+    double fx = x - fx0, fy = y - fy0;
+    int i0 = wrap((long)fx0, t->w), i1 = wrap((long)fx0 + 1, t->w);
+    int j0 = wrap((long)fy0, t->h), j1 = wrap((long)fy0 + 1, t->h);
+    const unsigned char *r0 = t->alpha + (size_t)(t->h - 1 - j0) * (size_t)t->w;
+    const unsigned char *r1 = t->alpha + (size_t)(t->h - 1 - j1) * (size_t)t->w;
+    double a = r0[i0] + fx * (r0[i1] - r0[i0]);
+    double b = r1[i0] + fx * (r1[i1] - r1[i0]);
+    return (a + fy * (b - a)) / 255.0;
 }
 
 /* ------------------------------------------------------------------ API */

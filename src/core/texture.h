@@ -19,6 +19,7 @@ typedef struct limen__texture {
     char name[512];             /* the path as given, for messages */
     int w, h;
     unsigned char *rgb;         /* w * h * 3, top row first (as the file) */
+    unsigned char *alpha;       /* w * h, or NULL: opaque (a model's own textures) */
     unsigned char *mips;        /* levels 1 on, one block (limen__texture_levels) */
     int nlevels;                /* levels[0] is rgb itself */
     limen_image_level levels[LIMEN__MAX_LEVELS];
@@ -34,6 +35,10 @@ limen_status limen__texture_load(limen_scene *s, const char *path, size_t max_by
 /* An image held in memory (a mesh file's embedded texture), not shared. */
 limen_status limen__texture_decode(limen_scene *s, const unsigned char *buf, size_t len,
                                    const char *name, limen__texture **out);
+/* A model's texture from decoded RGBA8 texels (core/import.h), not shared; the alpha plane
+ * is kept only where some texel is not opaque. */
+limen_status limen__texture_from_rgba(limen_scene *s, const unsigned char *rgba, int w, int h,
+                                      const char *name, limen__texture **out);
 void limen__texture_release(limen_scene *s, limen__texture *t);
 void limen__textures_destroy(limen_scene *s);
 /* Bilinear, repeating, in the full image, texel centres at ((i + 0.5) / w, (j + 0.5) / h)
@@ -47,6 +52,9 @@ double limen__texture_lod(const limen__texture *t, const double duv[4]);
  * over t's levels at limen__texture_lod's level); duv NULL: the full image (level 0). */
 void limen__texture_filter(const limen__texture *t, limen_texture_filter f, double u, double v,
                            const double duv[4], double out[3]);
+
+/* The alpha plane, sampled as limen__texture_sample samples colour; 1 where there is none. */
+double limen__texture_sample_alpha(const limen__texture *t, double u, double v);
 
 /* image.c: stb_image on a buffer (RGB), and why it failed. */
 unsigned char *limen__image_decode(const unsigned char *buf, size_t len, int *w, int *h);
@@ -67,5 +75,9 @@ uint64_t limen__next_serial(void);
 /* Sets (path) or clears (NULL) a node's texture; as limen__texture_load. */
 limen_status limen__node_texture(limen_scene *s, limen_node n, const char *path,
                                  size_t max_bytes, size_t *charged);
+
+/* The bytes the last mesh or texture load refused for the memory allowed would have taken
+ * (0 if none was), and forgets them: a script host turns them into the cap that would do. */
+uint64_t limen__scene_take_wanted(limen_scene *s);
 
 #endif

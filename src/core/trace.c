@@ -4,7 +4,8 @@
  * the two pictures is an error of the rasterizing method, not of the rules.
  *
  * Camera. limen_camera_matrices(s, W/H, NO): pixel column x, GL row y (0 = bottom; PNG row
- * r is GL row H-1-r) is sampled at its centre, NDC ((x+0.5)*2/W-1, (y+0.5)*2/H-1). The ray
+ * r is GL row H-1-r) is sampled at its centre, NDC ((x+0.5)*2/W-1, (y+0.5)*2/H-1), or at
+ * limen_trace_desc.samples points (x+sx, y+sy) averaged with equal weights. The ray
  * runs from the eye along camera_world * (nx tan(fovy/2) aspect, ny tan(fovy/2), -1), in
  * double (not through a float projection, whose far point is lost when far/near is large,
  * nor through the far plane at all, which the tracer does not model). Shapes count only from the near
@@ -141,7 +142,9 @@ typedef struct tracer {
 
 /* Texture coordinates at a hit: u, v, then (meshes) how each changes with the unit-space
  * point, du/dpu and dv/dpu, for the pixel's footprint (flat shapes' follow from the face). */
-enum { UV_N = 8 };
+enum { UV_N = 11 };
+/* ... of which a mesh hit's barycentric coordinates and triangle (its material) */
+enum { UV_BU = 8, UV_BV = 9, UV_TRI = 10 };
 
 /* Where one path ended (for limen_ray_cast). */
 typedef struct record {
@@ -286,7 +289,7 @@ static void setup_prim(limen_scene *s, const limen__node *n, prim *p)
     copy3f(n->color, p->color);
     copy3f(n->checker_b, p->checker_b);
     if (n->kind == LIMEN_NODE_QUAD || n->kind == LIMEN_NODE_BOX || n->kind == LIMEN_NODE_MESH)
-        p->tex = n->texture ? n->texture : n->kind == LIMEN_NODE_MESH ? n->mesh->tex : NULL;
+        p->tex = n->texture;    /* a mesh's own are its materials' (limen__mesh_material_at) */
     p->repeat[0] = n->tex_repeat[0];
     p->repeat[1] = n->tex_repeat[1];
     p->filter = n->tex_filter;
@@ -575,6 +578,10 @@ static bool hit_mesh(const prim *p, const double o[3], const double d[3], double
                 v * m->uv[ix[2] * 2 + k];
     if (m->uv)
         uv_gradient(m, ix, uv + 2);
+    /* the material is found at shading from the triangle and the barycentric coordinates */
+    uv[UV_BU] = u;
+    uv[UV_BV] = v;
+    uv[UV_TRI] = tri;
     if (p->smooth) {
         double w[3] = { 1.0 - u - v, u, v };
         for (int a = 0; a < 3; a++)
@@ -760,10 +767,11 @@ static void uv_steps(const prim *p, const double nu[3], const double uv[UV_N],
  * the full image). */
 static void shade(const tracer *tr, const prim *p, const double albedo_a[3], const double pu[3],
                   const double nu[3], const double uv_in[UV_N], const double dpu[2][3],
-                  const double pw[3], const double n[3], double out[3])
+                  const double pw[3], const double n[3], double out[3], double *alpha)
 {
     const double *albedo = albedo_a;
-    double texel[3];
+    double texel[3], mat[3], emissive[3] = { 0, 0, 0 };
+    *alpha = 1;
     if (p->cell > 0) {
         double k = 0;
         int axes = p->kind == LIMEN_NODE_QUAD ? 2 : 3;
@@ -772,10 +780,21 @@ static void shade(const tracer *tr, const prim *p, const double albedo_a[3], con
         if (k - 2.0 * floor(k * 0.5) > 0.5)
             albedo = p->checker_b;
     }
-    if (p->tex) {
+    if (p->shape == SHAPE_MESH) {
+        /* base x texel (the node's texture in place of the file's) x vertex colour */
+        float rep[2] = { (float)p->repeat[0], (float)p->repeat[1] };
+        double duv[4];
+        if (dpu)
+            uv_steps(p, nu, uv_in, dpu, duv);
+        limen__mesh_material_at(p->mesh, p->tex, rep, p->filter, dpu ? duv : NULL,
+                                (uint32_t)uv_in[UV_TRI], uv_in[UV_BU], uv_in[UV_BV], mat, alpha,
+                                emissive);
+        for (int k = 0; k < 3; k++)
+            mat[k] *= albedo[k];
+        albedo = mat;
+    } else if (p->tex) {
         double uv[2] = { uv_in[0], uv_in[1] };
-        if (p->shape != SHAPE_MESH)
-            flat_uv(p, pu, nu, uv);
+        flat_uv(p, pu, nu, uv);
         double duv[4];
         if (dpu)
             uv_steps(p, nu, uv_in, dpu, duv);
@@ -802,6 +821,7 @@ static void shade(const tracer *tr, const prim *p, const double albedo_a[3], con
     }
     for (int k = 0; k < 3; k++) {
         double v = albedo[k] * (tr->ambient + (1.0 - tr->ambient) * light[k]);
+        v = (v < 0 ? 0 : v > 1 ? 1 : v) + emissive[k];
         out[k] = v < 0 ? 0 : v > 1 ? 1 : v;
     }
 }
@@ -875,8 +895,8 @@ static void follow(const tracer *tr, const double o_in[3], const double d_in[3],
     double len = sqrt(dot3(d, d));
     double tmin = tmin0 * len, tmin_surface = tmin_surface0 * len;
     normalize3(d);
-    int skip = -1, passed = 0;
-    double travelled = 0;
+    int skip = -1, passed = 0, layers = 0;
+    double travelled = 0, over[3] = { 0, 0, 0 }, cover = 1;   /* blended layers passed */
     const double *result = tr->background;
     double shaded[3];
     if (rec) {
@@ -909,9 +929,25 @@ static void follow(const tracer *tr, const double o_in[3], const double d_in[3],
                     for (int i = 0; i < 2; i++)
                         d_dir(p->minv, dp[i], dpu[i]);
                 }
+                double alpha;
                 shade(tr, p, surface ? p->back : p->color, pu, nu, uv, dd ? dpu : NULL, pw, n,
-                      shaded);
+                      shaded, &alpha);
                 result = shaded;
+                if (p->shape == SHAPE_MESH && layers < 64 &&
+                    p->mesh->mats[p->mesh->parts[p->mesh->tri_part[(uint32_t)uv[UV_TRI]]].material]
+                            .alpha_mode == LIMEN_ALPHA_BLEND) {
+                    /* blended: this over what lies behind, the ray going on past it */
+                    for (int k = 0; k < 3; k++)
+                        over[k] += cover * alpha * tint[k] * shaded[k];
+                    cover *= 1.0 - alpha;
+                    layers++;
+                    result = tr->background;
+                    memcpy(o, pw, sizeof o);
+                    skip = -1;
+                    tmin = 1e-9 * (1.0 + fmax(fabs(o[0]), fmax(fabs(o[1]), fabs(o[2]))));
+                    tmin_surface = tmin;
+                    continue;
+                }
             } else {
                 result = p->fill;
             }
@@ -950,7 +986,7 @@ static void follow(const tracer *tr, const double o_in[3], const double d_in[3],
             rec->distance = INFINITY;
     }
     for (int k = 0; k < 3; k++)
-        rgb[k] = tint[k] * result[k];
+        rgb[k] = over[k] + cover * tint[k] * result[k];
 }
 
 /* ------------------------------------------------------------------ public: rays */
@@ -1016,7 +1052,32 @@ typedef struct job {
     limen_limits limits;        /* resolved */
     int first, step;            /* rows first, first + step, ... (PNG order) */
     unsigned char *rgb;
+    int nsamples;
+    const double (*samples)[2]; /* positions in the pixel, from its lower-left corner */
 } job;
+
+/* The standard 4x MSAA pattern (GL window coordinates, y up), as llvmpipe reports it. */
+static const double msaa4[4][2] = {
+    { 0.375, 0.125 }, { 0.875, 0.375 }, { 0.125, 0.625 }, { 0.625, 0.875 }
+};
+#define MAX_SAMPLES 256
+
+/* Where a pixel's n samples lie (limen_trace_desc.samples); false if n is not allowed. */
+static bool sample_positions(int n, double out[][2])
+{
+    if (n == 4) {
+        memcpy(out, msaa4, sizeof msaa4);
+        return true;
+    }
+    int k = (int)lround(sqrt((double)n));
+    if (n < 1 || n > MAX_SAMPLES || k * k != n)
+        return false;
+    for (int i = 0; i < n; i++) {
+        out[i][0] = (i % k + 0.5) / k;
+        out[i][1] = (i / k + 0.5) / k;
+    }
+    return true;
+}
 
 static unsigned char to_byte(double c)
 {
@@ -1027,29 +1088,37 @@ static unsigned char to_byte(double c)
 static void *trace_rows(void *arg)
 {
     const job *j = arg;
+    /* the rays through the next pixel across and up differ by these (a sample's footprint
+     * is the pixel's, as the rasterizer's derivatives are per pixel with every sample
+     * shaded) */
+    double dd[2][3];
+    for (int k = 0; k < 3; k++) {
+        dd[0][k] = j->cam[k] * 2.0 * j->tx / j->width;
+        dd[1][k] = j->cam[4 + k] * 2.0 * j->ty / j->height;
+    }
     for (int row = j->first; row < j->height; row += j->step) {
         int gy = j->height - 1 - row;
-        double ny = (gy + 0.5) * 2.0 / j->height - 1.0;
         unsigned char *dst = j->rgb + (size_t)row * (size_t)j->width * 3;
         for (int x = 0; x < j->width; x++) {
-            double nx = (x + 0.5) * 2.0 / j->width - 1.0;
-            /* the ray through the pixel centre, built from the lens in double: unprojecting
-             * points through a float projection lost the far point when far/near is large */
-            double de[3] = { nx * j->tx, ny * j->ty, -1.0 }, d[3], rgb[3];
-            for (int k = 0; k < 3; k++)
-                d[k] = j->cam[k] * de[0] + j->cam[4 + k] * de[1] + j->cam[8 + k] * de[2];
-            /* the rays through the next pixel across and up differ by these */
-            double dd[2][3];
-            for (int k = 0; k < 3; k++) {
-                dd[0][k] = j->cam[k] * 2.0 * j->tx / j->width;
-                dd[1][k] = j->cam[4 + k] * 2.0 * j->ty / j->height;
+            double sum[3] = { 0, 0, 0 };
+            for (int si = 0; si < j->nsamples; si++) {
+                double nx = (x + j->samples[si][0]) * 2.0 / j->width - 1.0;
+                double ny = (gy + j->samples[si][1]) * 2.0 / j->height - 1.0;
+                /* the ray through the sample, built from the lens in double: unprojecting
+                 * points through a float projection lost the far point when far/near is
+                 * large */
+                double de[3] = { nx * j->tx, ny * j->ty, -1.0 }, d[3], rgb[3];
+                for (int k = 0; k < 3; k++)
+                    d[k] = j->cam[k] * de[0] + j->cam[4 + k] * de[1] + j->cam[8 + k] * de[2];
+                /* from the eye: shapes count from the near plane on (the rasterizer's near
+                 * clip), mirrors and portals from the eye on (the renderer draws them
+                 * depth-clamped); eye-space z = -near is t = near in units of d */
+                follow(j->tr, j->eye, d, dd, j->znear, 1e-12, &j->limits, rgb, NULL);
+                for (int k = 0; k < 3; k++)     /* each sample clamped, as stored */
+                    sum[k] += rgb[k] < 0 ? 0 : rgb[k] > 1 ? 1 : rgb[k];
             }
-            /* from the eye: shapes count from the near plane on (the rasterizer's near clip),
-             * mirrors and portals from the eye on (the renderer draws them depth-clamped);
-             * eye-space z = -near is t = near in units of d */
-            follow(j->tr, j->eye, d, dd, j->znear, 1e-12, &j->limits, rgb, NULL);
             for (int k = 0; k < 3; k++)
-                dst[3 * x + k] = to_byte(rgb[k]);
+                dst[3 * x + k] = to_byte(sum[k] / j->nsamples);
         }
     }
     return NULL;
@@ -1078,6 +1147,11 @@ limen_status limen_trace_image(limen_scene *s, const limen_trace_desc *desc, uns
     if (d.threads < 0)
         return limen__fail(s, LIMEN_ERR_ARG, "trace: thread count must be >= 0 (got %d)",
                            d.threads);
+    double samples[MAX_SAMPLES][2];
+    int nsamples = d.samples ? d.samples : 1;
+    if (!sample_positions(nsamples, samples))
+        return limen__fail(s, LIMEN_ERR_ARG, "trace: samples must be 1, 4 (the 4x MSAA pattern) "
+                           "or a square up to 256 (a grid: 9, 16, 25, ...), got %d", d.samples);
     int width = d.width ? d.width : 640, height = d.height ? d.height : 480;
     limen_status cst = limen__scene_check(s);
     if (cst)
@@ -1089,7 +1163,8 @@ limen_status limen_trace_image(limen_scene *s, const limen_trace_desc *desc, uns
     float aspect = (float)width / (float)height;
     double ty = tan(0.5 * (double)cam->fovy);
     job base = { .width = width, .height = height, .rgb = rgb, .tx = ty * (double)aspect,
-                 .ty = ty, .znear = cam->znear, .limits = lim };
+                 .ty = ty, .znear = cam->znear, .limits = lim, .nsamples = nsamples,
+                 .samples = (const double(*)[2])samples };
     limen__d_from_f(&cam->world[0][0], base.cam);
     for (int k = 0; k < 3; k++)
         base.eye[k] = base.cam[12 + k];

@@ -21,6 +21,12 @@
 #ifndef GL_RGB8
 #define GL_RGB8 0x8051
 #endif
+#ifndef GL_RGBA8
+#define GL_RGBA8 0x8058
+#endif
+#ifndef GL_RGBA
+#define GL_RGBA 0x1908
+#endif
 #ifndef GL_UNPACK_ALIGNMENT
 #define GL_UNPACK_ALIGNMENT 0x0CF5
 #endif
@@ -34,7 +40,7 @@
 #define GL_LINEAR_MIPMAP_LINEAR 0x2703
 #endif
 
-enum { CORNER_FLOATS = 11, AT_FLAT = 3, AT_SMOOTH = 6, AT_UV = 9 };
+enum { CORNER_FLOATS = 15, AT_FLAT = 3, AT_SMOOTH = 6, AT_UV = 9, AT_COL = 11 };
 enum { GPU_LODS = 16 };         /* levels kept; a coarser one asked for gets the last */
 
 struct limen__gpu_asset {
@@ -97,6 +103,8 @@ static float *lay_corners(const limen_mesh_geometry *m, const uint32_t *ix, int 
             memcpy(buf + AT_SMOOTH, &m->normals[ix[k] * 3], sizeof(float) * 3);
             buf[AT_UV] = m->uvs ? m->uvs[ix[k] * 2] : 0.0f;
             buf[AT_UV + 1] = m->uvs ? m->uvs[ix[k] * 2 + 1] : 0.0f;
+            for (int c = 0; c < 4; c++)
+                buf[AT_COL + c] = m->colors ? m->colors[ix[k] * 4 + c] : 1.0f;
         }
     }
     return buf;
@@ -184,12 +192,16 @@ static bool upload_mesh(limen_renderer *r, const limen_mesh_geometry *m, struct 
     GL(EnableVertexAttribArray)(2);
     GL(VertexAttribPointer)(2, 2, GL_FLOAT, GL_FALSE, sizeof(float) * CORNER_FLOATS,
                             (void *)(sizeof(float) * AT_UV));
+    GL(EnableVertexAttribArray)(11);    /* vertex colours (materials) */
+    GL(VertexAttribPointer)(11, 4, GL_FLOAT, GL_FALSE, sizeof(float) * CORNER_FLOATS,
+                            (void *)(sizeof(float) * AT_COL));
     instance_arrays(r);
     GL(BindBuffer)(GL_ARRAY_BUFFER, a->vbo);
     return true;
 }
 
-enum { VERTEX_FLOATS = 8 };     /* smooth: position, vertex normal, texture coordinates */
+enum { VERTEX_FLOATS = 12 };    /* smooth: position, vertex normal, texture coordinates,
+                                 * colour */
 
 static bool upload_smooth(limen_renderer *r, const limen_mesh_geometry *m,
                           struct limen__gpu_asset *a)
@@ -208,6 +220,8 @@ static bool upload_smooth(limen_renderer *r, const limen_mesh_geometry *m,
         memcpy(c + 3, &m->normals[v * 3], sizeof(float) * 3);
         c[6] = m->uvs ? m->uvs[v * 2] : 0.0f;
         c[7] = m->uvs ? m->uvs[v * 2 + 1] : 0.0f;
+        for (int k = 0; k < 4; k++)
+            c[8 + k] = m->colors ? m->colors[v * 4 + k] : 1.0f;
     }
     for (int k = 0; k < levels(m); k++) {
         const uint32_t *ix;
@@ -230,6 +244,8 @@ static bool upload_smooth(limen_renderer *r, const limen_mesh_geometry *m,
         GL(VertexAttribPointer)((GLuint)i, i == 2 ? 2 : 3, GL_FLOAT, GL_FALSE, stride,
                                 (void *)(sizeof(float) * 3 * (size_t)i));
     }
+    GL(EnableVertexAttribArray)(11);
+    GL(VertexAttribPointer)(11, 4, GL_FLOAT, GL_FALSE, stride, (void *)(sizeof(float) * 8));
     instance_arrays(r);
     return true;
 }
@@ -267,25 +283,42 @@ bool limen__gpu_mesh_bind(limen_renderer *r, const limen_mesh_geometry *m, bool 
     return true;
 }
 
+int limen__gpu_mesh_level(const limen_mesh_geometry *m, int lod)
+{
+    int nlods = levels(m);
+    return lod < 0 ? 0 : lod >= nlods ? nlods - 1 : lod;
+}
+
 /* Uploads image t with its mipmap levels (limen_image.levels: the texels the ray tracer
  * samples, rows bottom first: GL's t = 0 is the image's bottom row, as v = 0 is). */
 static bool upload_texture(limen_renderer *r, const limen_image *t, struct limen__gpu_asset *a)
 {
-    unsigned char *flip = upload_alloc(r, (size_t)t->width * (size_t)t->height * 3);
+    /* an image with alpha (a model's own) goes up RGBA, at one level (it has no others) */
+    int ch = t->alpha ? 4 : 3;
+    unsigned char *flip = upload_alloc(r, (size_t)t->width * (size_t)t->height * (size_t)ch);
     if (!flip)
         return false;
     GL(GenTextures)(1, &a->tex);
     GL(BindTexture)(GL_TEXTURE_2D, a->tex);
     GL(PixelStorei)(GL_UNPACK_ALIGNMENT, 1);
-    int nlevels = t->levels && t->level_count > 0 ? t->level_count : 1;
+    int nlevels = t->levels && t->level_count > 0 && !t->alpha ? t->level_count : 1;
     for (int k = 0; k < nlevels; k++) {
         limen_image_level l = t->levels ? t->levels[k]
                                         : (limen_image_level){ t->width, t->height, t->rgb };
         size_t row = (size_t)l.width * 3;
-        for (int j = 0; j < l.height; j++)
+        for (int j = 0; j < l.height && ch == 3; j++)
             memcpy(flip + (size_t)j * row, l.rgb + (size_t)(l.height - 1 - j) * row, row);
-        GL(TexImage2D)(GL_TEXTURE_2D, k, GL_RGB8, l.width, l.height, 0, GL_RGB,
-                       GL_UNSIGNED_BYTE, flip);
+        for (int j = 0; j < l.height && ch == 4; j++) {
+            const unsigned char *src = l.rgb + (size_t)(l.height - 1 - j) * row;
+            const unsigned char *al = t->alpha + (size_t)(l.height - 1 - j) * (size_t)l.width;
+            unsigned char *dst = flip + (size_t)j * l.width * 4;
+            for (int i = 0; i < l.width; i++) {
+                memcpy(dst + i * 4, src + i * 3, 3);
+                dst[i * 4 + 3] = al[i];
+            }
+        }
+        GL(TexImage2D)(GL_TEXTURE_2D, k, ch == 4 ? GL_RGBA8 : GL_RGB8, l.width, l.height, 0,
+                       ch == 4 ? GL_RGBA : GL_RGB, GL_UNSIGNED_BYTE, flip);
     }
     GL(PixelStorei)(GL_UNPACK_ALIGNMENT, 4);
     free(flip);
@@ -297,13 +330,19 @@ static bool upload_texture(limen_renderer *r, const limen_image *t, struct limen
 
 GLuint limen__gpu_texture(limen_renderer *r, const limen_image *t, limen_texture_filter filter)
 {
+    return limen__gpu_texture_on(r, t, 1, filter);
+}
+
+GLuint limen__gpu_texture_on(limen_renderer *r, const limen_image *t, int unit,
+                             limen_texture_filter filter)
+{
     struct limen__gpu_asset *a = find(r, t->id);
     if (!a) {
         limen__draw_fail(r, LIMEN_ERR_NOMEM, "out of memory for the textures' list");
         return 0;
     }
     /* albedo textures live on unit 1 (unit 0 holds the texture method's view images) */
-    GL(ActiveTexture)(GL_TEXTURE1);
+    GL(ActiveTexture)(GL_TEXTURE0 + (GLenum)unit);
     if (a->tex)
         GL(BindTexture)(GL_TEXTURE_2D, a->tex);
     else if (!upload_texture(r, t, a)) {

@@ -156,30 +156,75 @@ static bool instances(limen_renderer *r, int n)
     return true;
 }
 
+/* Whether mesh g shades as before materials: one white opaque part without textures,
+ * emission or vertex colours (then it takes the variants without MATERIAL). */
+static bool plain(const limen_mesh_geometry *g)
+{
+    if (g->colors || g->part_count > 1 || !g->materials)
+        return !g->materials && !g->colors;
+    const limen_material *m = &g->materials[0];
+    return m->base_color[0] == 1 && m->base_color[1] == 1 && m->base_color[2] == 1 &&
+           m->base_color[3] == 1 && !m->base_texture && m->alpha_mode == LIMEN_ALPHA_OPAQUE &&
+           m->emissive[0] == 0 && m->emissive[1] == 0 && m->emissive[2] == 0;
+}
+
 /* Draws r->inst[0..n) as copies of mesh drawable d at level lod (d gives the normals, the
- * texture and the checker). */
+ * texture and the checker), part by part where it has materials: the opaque and masked ones,
+ * or in the blend pass (r->blend_pass) the blended ones. */
 static void draw_instances(limen_renderer *r, const limen_view *v, const limen_drawable *d,
                            int lod, int n)
 {
+    const limen_mesh_geometry *g = d->mesh;
+    bool simple = plain(g);
+    if (r->blend_pass && (simple || !g->has_blend))
+        return;
     GLint first;
     GLsizei count;
     bool indexed;
-    if (!limen__gpu_mesh_bind(r, d->mesh, d->smooth, lod, &first, &count, &indexed))
+    if (!limen__gpu_mesh_bind(r, g, d->smooth, lod, &first, &count, &indexed))
         return;
     /* the frame's triangle budget: the planner kept only the views that fit, but the
-     * camera's own view is always drawn, so its meshes stop here at the budget */
+     * camera's own view is always drawn, so its meshes stop here at the budget (counted
+     * once, in the pass of the opaque parts) */
     uint64_t per = (uint64_t)(count / 3);
-    if (per * (uint64_t)n > r->mesh_tris_left)
-        n = per ? (int)(r->mesh_tris_left / per) : n;
-    r->mesh_tris_left -= per * (uint64_t)n;
+    if (!r->blend_pass) {
+        if (per * (uint64_t)n > r->mesh_tris_left)
+            n = per ? (int)(r->mesh_tris_left / per) : n;
+        r->mesh_tris_left -= per * (uint64_t)n;
+    }
+    int level = limen__gpu_mesh_level(g, lod);
+    const limen_mesh_part *parts = g->lods && g->lod_count > 0 && g->lods[level].parts
+                                       ? g->lods[level].parts : g->parts;
+    int nparts = n <= 0 ? 0 : simple || !parts ? 1 : g->part_count;
     int checker = d->cell > 0 ? 2 : 0;
-    int textured = d->texture && limen__gpu_texture(r, d->texture, d->texture_filter) ? LIMEN__UV_MESH
-                                                                   : LIMEN__UV_NONE;
-    r->instanced = true;
-    bool ok = n > 0 && limen__variant_use(r, LIMEN__MODE_LIT, d->smooth ? LIMEN__SHAPE_SMOOTH : 0,
-                                 checker, textured);
-    r->instanced = false;
-    if (ok) {
+    if (limen__depth_clamped(v, false))
+        GL(Enable)(GL_DEPTH_CLAMP);
+    else
+        GL(Disable)(GL_DEPTH_CLAMP);
+    GL(Disable)(GL_CULL_FACE);      /* meshes need not be closed: both sides show */
+    bool uploaded = false;
+    for (int p = 0; p < nparts; p++) {
+        const limen_material *mt = simple ? NULL : &g->materials[parts[p].material];
+        if (mt && (mt->alpha_mode == LIMEN_ALPHA_BLEND) != r->blend_pass)
+            continue;
+        GLint pfirst = simple ? first : first + parts[p].first_triangle * 3;
+        GLsizei pcount = simple ? count : (GLsizei)parts[p].triangle_count * 3;
+        if (pcount <= 0)
+            continue;
+        /* the node's texture replaces the part's */
+        const limen_image *tex = d->texture ? d->texture : mt ? mt->base_texture : NULL;
+        int textured = tex && limen__gpu_texture(r, tex, d->texture_filter) ? LIMEN__UV_MESH
+                                                                           : LIMEN__UV_NONE;
+        bool glow = mt && textured && !d->texture && mt->emissive_texture &&
+                    limen__gpu_texture_on(r, mt->emissive_texture, 2, d->texture_filter);
+        r->instanced = true;
+        r->material = mt != NULL;
+        bool ok = limen__variant_use(r, LIMEN__MODE_LIT, d->smooth ? LIMEN__SHAPE_SMOOTH : 0,
+                                     checker, textured);
+        r->instanced = false;
+        r->material = false;
+        if (!ok)
+            continue;
         if (checker) {
             GL(Uniform3fv)(r->u.albedo_b, 1, d->checker);
             GL(Uniform1f)(r->u.cell, d->cell);
@@ -187,24 +232,29 @@ static void draw_instances(limen_renderer *r, const limen_view *v, const limen_d
         }
         if (textured)
             GL(Uniform2fv)(r->u.uv_repeat, 1, d->texture_repeat);
-        if (limen__depth_clamped(v, false))
-            GL(Enable)(GL_DEPTH_CLAMP);
-        else
-            GL(Disable)(GL_DEPTH_CLAMP);
-        GL(Disable)(GL_CULL_FACE);      /* meshes need not be closed: both sides show */
-        /* fresh storage each time: refilling the old one would wait for the draws queued
-         * on it (llvmpipe) */
-        GLsizeiptr size = (GLsizeiptr)(sizeof(limen__instance) * (size_t)n);
-        GL(BindBuffer)(GL_ARRAY_BUFFER, r->inst_vbo);
-        GL(BufferData)(GL_ARRAY_BUFFER, size, NULL, GL_STREAM_DRAW);
-        GL(BufferSubData)(GL_ARRAY_BUFFER, 0, size, r->inst);
+        if (mt) {
+            GL(Uniform4fv)(r->u.base, 1, mt->base_color);
+            GL(Uniform3fv)(r->u.emissive, 1, mt->emissive);
+            GL(Uniform1f)(r->u.cutoff, mt->alpha_mode == LIMEN_ALPHA_MASK ? mt->alpha_cutoff : -1.0f);
+            GL(Uniform1i)(r->u.emissive_on, glow);
+            GL(Uniform1i)(r->u.blend, mt->alpha_mode == LIMEN_ALPHA_BLEND);
+        }
+        if (!uploaded) {
+            /* fresh storage each time: refilling the old one would wait for the draws
+             * queued on it (llvmpipe) */
+            GLsizeiptr size = (GLsizeiptr)(sizeof(limen__instance) * (size_t)n);
+            GL(BindBuffer)(GL_ARRAY_BUFFER, r->inst_vbo);
+            GL(BufferData)(GL_ARRAY_BUFFER, size, NULL, GL_STREAM_DRAW);
+            GL(BufferSubData)(GL_ARRAY_BUFFER, 0, size, r->inst);
+            uploaded = true;
+        }
         if (indexed)
-            GL(DrawElementsInstanced)(GL_TRIANGLES, count, GL_UNSIGNED_INT,
-                                      (void *)(sizeof(uint32_t) * (size_t)first), n);
+            GL(DrawElementsInstanced)(GL_TRIANGLES, pcount, GL_UNSIGNED_INT,
+                                      (void *)(sizeof(uint32_t) * (size_t)pfirst), n);
         else
-            GL(DrawArraysInstanced)(GL_TRIANGLES, first, count, n);
+            GL(DrawArraysInstanced)(GL_TRIANGLES, pfirst, pcount, n);
         r->draw_calls++;
-        r->triangles += (uint64_t)(count / 3) * (uint64_t)n;
+        r->triangles += (uint64_t)(pcount / 3) * (uint64_t)n;
     }
     GL(BindVertexArray)(r->vao);
     GL(BindBuffer)(GL_ARRAY_BUFFER, r->vbo);

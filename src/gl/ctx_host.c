@@ -25,11 +25,11 @@ static const GLenum caps[] = {
 /* Integer state: read with glGetIntegerv, put back by restore(). */
 enum {
     I_PROGRAM, I_VAO, I_ARRAY_BUFFER, I_DRAW_FB, I_READ_FB, I_RENDERBUFFER, I_ACTIVE_TEXTURE,
-    I_TEXTURE0, I_SAMPLER0, I_TEXTURE1, I_SAMPLER1, I_PACK_BUFFER, I_UNPACK_BUFFER,
+    I_TEXTURE0, I_SAMPLER0, I_TEXTURE1, I_SAMPLER1, I_TEXTURE2, I_SAMPLER2, I_PACK_BUFFER, I_UNPACK_BUFFER,
     I_PACK_ALIGNMENT, I_PACK_ROW_LENGTH, I_PACK_SKIP_ROWS, I_PACK_SKIP_PIXELS,
     I_UNPACK_ALIGNMENT, I_UNPACK_ROW_LENGTH, I_UNPACK_SKIP_ROWS, I_UNPACK_SKIP_PIXELS,
     I_UNPACK_IMAGE_HEIGHT, I_DEPTH_FUNC, I_CULL_MODE,
-    I_FRONT_FACE, I_STENCIL_CLEAR, I_CLIP_ORIGIN, I_CLIP_DEPTH, I_COUNT
+    I_FRONT_FACE, I_STENCIL_CLEAR, I_BLEND_SRC, I_BLEND_DST, I_CLIP_ORIGIN, I_CLIP_DEPTH, I_COUNT
 };
 
 /* GL_STENCIL_FUNC, _REF, _VALUE_MASK, _FAIL, _PASS_DEPTH_FAIL, _PASS_DEPTH_PASS, _WRITEMASK
@@ -118,6 +118,7 @@ static void save(const limen__gl *gl, saved *sv)
         [I_UNPACK_IMAGE_HEIGHT] = GL_UNPACK_IMAGE_HEIGHT,
         [I_DEPTH_FUNC] = GL_DEPTH_FUNC, [I_CULL_MODE] = GL_CULL_FACE_MODE,
         [I_FRONT_FACE] = GL_FRONT_FACE, [I_STENCIL_CLEAR] = GL_STENCIL_CLEAR_VALUE,
+        [I_BLEND_SRC] = GL_BLEND_SRC_RGB, [I_BLEND_DST] = GL_BLEND_DST_RGB,
     };
     for (int k = 0; k < I_COUNT; k++)
         if (ints[k])
@@ -126,7 +127,11 @@ static void save(const limen__gl *gl, saved *sv)
         gl->GetIntegerv(GL_CLIP_ORIGIN, &sv->i[I_CLIP_ORIGIN]);
         gl->GetIntegerv(GL_CLIP_DEPTH_MODE, &sv->i[I_CLIP_DEPTH]);
     }
-    /* units 0 (views' images) and 1 (albedo textures) are the ones limen samples from */
+    /* units 0 (views' images), 1 (albedo textures) and 2 (emissive textures) are the ones
+     * limen samples from */
+    gl->ActiveTexture(GL_TEXTURE2);
+    gl->GetIntegerv(GL_TEXTURE_BINDING_2D, &sv->i[I_TEXTURE2]);
+    gl->GetIntegerv(GL_SAMPLER_BINDING, &sv->i[I_SAMPLER2]);
     gl->ActiveTexture(GL_TEXTURE1);
     gl->GetIntegerv(GL_TEXTURE_BINDING_2D, &sv->i[I_TEXTURE1]);
     gl->GetIntegerv(GL_SAMPLER_BINDING, &sv->i[I_SAMPLER1]);
@@ -161,6 +166,7 @@ static void neutral(const limen__gl *gl)
     gl->DepthRange(0.0, 1.0);
     gl->BindSampler(0, 0);
     gl->BindSampler(1, 0);
+    gl->BindSampler(2, 0);
     gl->BindBuffer(GL_PIXEL_PACK_BUFFER, 0);
     gl->BindBuffer(GL_PIXEL_UNPACK_BUFFER, 0);
     /* textures are uploaded as tightly packed rows */
@@ -187,6 +193,9 @@ static void restore(const limen__gl *gl, const saved *sv)
     gl->BindFramebuffer(GL_DRAW_FRAMEBUFFER, (GLuint)sv->i[I_DRAW_FB]);
     gl->BindFramebuffer(GL_READ_FRAMEBUFFER, (GLuint)sv->i[I_READ_FB]);
     gl->BindRenderbuffer(GL_RENDERBUFFER, (GLuint)sv->i[I_RENDERBUFFER]);
+    gl->ActiveTexture(GL_TEXTURE2);
+    gl->BindTexture(GL_TEXTURE_2D, (GLuint)sv->i[I_TEXTURE2]);
+    gl->BindSampler(2, (GLuint)sv->i[I_SAMPLER2]);
     gl->ActiveTexture(GL_TEXTURE1);
     gl->BindTexture(GL_TEXTURE_2D, (GLuint)sv->i[I_TEXTURE1]);
     gl->BindSampler(1, (GLuint)sv->i[I_SAMPLER1]);
@@ -210,6 +219,7 @@ static void restore(const limen__gl *gl, const saved *sv)
     for (size_t k = 0; k < NCAPS; k++)
         enable(gl, caps[k], sv->caps[k]);
     gl->DepthFunc((GLenum)sv->i[I_DEPTH_FUNC]);
+    gl->BlendFunc((GLenum)sv->i[I_BLEND_SRC], (GLenum)sv->i[I_BLEND_DST]);
     gl->DepthMask(sv->depth_mask);
     gl->ClearDepth(sv->depth_clear);
     gl->DepthRange(sv->depth_range[0], sv->depth_range[1]);

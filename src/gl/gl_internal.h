@@ -18,6 +18,7 @@
 typedef struct uniforms {
     GLint model, normal_mat, view_proj, eye, clip_plane, clip_plane2, albedo, albedo_b, cell,
         scale, tint, tex, tex_map, ambient, light_pos, light_col, light_inv_r2, uv_repeat;
+    GLint base, emissive, cutoff, emissive_on, blend;     /* materials (gl/batch.c) */
 } uniforms;
 
 /* Shader variants (shader.c): what a draw shades. */
@@ -108,6 +109,8 @@ struct limen_renderer {
     uint64_t triangles;
     uint64_t mesh_tris_left;                /* of the frame's budget.triangles */
     bool instanced;                         /* variants read the model from instances */
+    bool material;                          /* ... and a mesh part's material (gl/batch.c) */
+    bool blend_pass;                        /* mesh draws draw their blended parts only */
     GLuint inst_vbo;                        /* per-instance values (gl/batch.c) */
     struct limen__instance *inst;
     int inst_cap;
@@ -257,6 +260,16 @@ bool limen__unit_mesh(limen_renderer *r, const vec4 *view, float px_scale, const
 bool limen__gpu_mesh_bind(limen_renderer *r, const limen_mesh_geometry *m, bool smooth, int lod,
                           GLint *first, GLsizei *count, bool *indexed);
 GLuint limen__gpu_texture(limen_renderer *r, const limen_image *t, limen_texture_filter filter);
+/* The same on texture unit `unit` (2: a material's emissive texture). */
+GLuint limen__gpu_texture_on(limen_renderer *r, const limen_image *t, int unit,
+                             limen_texture_filter filter);
+/* The level limen__gpu_mesh_bind draws for `lod` (clamped to the levels it keeps). */
+int limen__gpu_mesh_level(const limen_mesh_geometry *m, int lod);
+/* gl/views.c: view v's meshes' blended parts, farthest first, over what it drew (both
+ * methods call it once a view's picture, its surfaces' included, is complete). */
+void limen__draw_blended(limen_renderer *r, const rview *v);
+/* Whether some visible mesh has blended parts (then the stencil method counts depth). */
+bool limen__scene_blends(const limen_renderer *r);
 void limen__gpu_assets_sweep(limen_renderer *r);
 void limen__gpu_assets_free(limen_renderer *r);
 

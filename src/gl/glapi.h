@@ -126,7 +126,9 @@
                                                   GLenum pname, GLint *v))
 
 /* May be missing (NULL): glClipControl needs GL 4.5 or ARB_clip_control. */
-#define LIMEN_GL_OPTIONAL(X) X(void, ClipControl, (GLenum origin, GLenum depth))
+#define LIMEN_GL_OPTIONAL(X)                                                             \
+    X(void, ClipControl, (GLenum origin, GLenum depth))                                  \
+    X(void, MinSampleShading, (GLfloat value))
 
 typedef struct limen__gl {
 #define LIMEN_GL_FIELD(ret, name, args) ret(APIENTRY *name) args;

@@ -448,6 +448,14 @@ static limen_status begin_frame(limen_renderer *r)
     GL(FrontFace)(GL_CCW);
     if (r->msaa)
         GL(Enable)(GL_MULTISAMPLE);
+    /* every sample shaded at its own position (GL 4.0), not once at the pixel's centre: a
+     * checker's or a texture's edges inside a surface are then averaged like the shapes'
+     * edges, as the tracer's samples at the same positions average them
+     * (limen_trace_desc.samples) */
+    if (r->msaa && r->gl.MinSampleShading) {
+        GL(Enable)(GL_SAMPLE_SHADING);
+        GL(MinSampleShading)(1.0f);
+    }
     return LIMEN_OK;
 }
 

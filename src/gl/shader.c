@@ -18,6 +18,10 @@ static const char *vs_body =
     "layout(location = 2) in vec2 a_uv;\n"
     "out vec2 v_uv;\n"
     "#endif\n"
+    "#if MATERIAL\n"
+    "layout(location = 11) in vec4 a_col;\n"
+    "out vec4 v_col;\n"
+    "#endif\n"
     "uniform mat4 u_model, u_view_proj;\n"
     "uniform vec4 u_clip_plane, u_clip_plane2;\n"
     "uniform mat3 u_normal_mat;\n"
@@ -43,6 +47,9 @@ static const char *vs_body =
     "#endif\n"
     "#if TEXTURED == 3\n"
     "    v_uv = a_uv;\n"
+    "#endif\n"
+    "#if MATERIAL\n"
+    "    v_col = a_col;\n"
     "#endif\n"
     "#if MODE == 0 && SHAPE == 0\n"
     "    v_face = normalize(NORMAL_MAT * a_nrm);\n"
@@ -90,6 +97,14 @@ static const char *fs_body =
     "#if TEXTURED == 3\n"
     "in vec2 v_uv;\n"
     "#endif\n"
+    "#if MATERIAL\n"
+    "in vec4 v_col;\n"
+    "uniform vec4 u_base;\n"                 /* the part's base colour factor, RGBA */
+    "uniform vec3 u_emissive;\n"
+    "uniform float u_cutoff;\n"              /* mask: below it nothing is drawn (-1: none) */
+    "uniform int u_emissive_on, u_blend;\n"  /* an emissive texture on unit 2; blended */
+    "uniform sampler2D u_emissive_tex;\n"
+    "#endif\n"
     "uniform sampler2D u_tex;\n"
     "uniform vec4 u_tex_map;\n"
     "out vec4 o_color;\n"
@@ -129,8 +144,22 @@ static const char *fs_body =
     "    vec3 ax = abs(v_nrm);\n"
     "    vec2 uv = (ax.x > 0.5 ? v_local.yz : ax.y > 0.5 ? v_local.zx : v_local.xy) + 0.5;\n"
     "    albedo *= texture(u_albedo_tex, uv * u_uv_repeat).rgb;\n"
-    "#elif TEXTURED == 3\n"
+    "#elif TEXTURED == 3 && !MATERIAL\n"
     "    albedo *= texture(u_albedo_tex, v_uv * u_uv_repeat).rgb;\n"
+    "#endif\n"
+    "#if MATERIAL\n"
+    "    float alpha = u_base.a * v_col.a;\n"
+    "    albedo *= u_base.rgb * v_col.rgb;\n"
+    "#if TEXTURED == 3\n"
+    "    vec4 tx = texture(u_albedo_tex, v_uv * u_uv_repeat);\n"
+    "    albedo *= tx.rgb;\n"
+    "    alpha *= tx.a;\n"
+    "#endif\n"
+    "    if (alpha < u_cutoff) discard;\n"
+    "    vec3 glow = u_emissive;\n"
+    "#if TEXTURED == 3\n"
+    "    if (u_emissive_on != 0) glow *= texture(u_emissive_tex, v_uv * u_uv_repeat).rgb;\n"
+    "#endif\n"
     "#endif\n"
     "    vec3 light = vec3(0.0);\n"
     "#if NLIGHTS > 0\n"
@@ -146,7 +175,12 @@ static const char *fs_body =
     "    }\n"
     "#endif\n"
     "    vec3 c3 = clamp(albedo * (u_ambient + (1.0 - u_ambient) * light), 0.0, 1.0);\n"
+    "#if MATERIAL\n"
+    "    c3 = clamp(c3 + glow, 0.0, 1.0);\n"
+    "    o_color = vec4(c3 TINTED, u_blend != 0 ? alpha : 1.0);\n"
+    "#else\n"
     "    o_color = vec4(c3 TINTED, 1.0);\n"
+    "#endif\n"
     "#endif\n"
     "}\n";
 
@@ -207,16 +241,16 @@ GLuint limen__gl_link(limen_renderer *r, const char *head, const char *vsrc, con
  * coordinates (2), light ranges (1), instanced (1: model, normal matrix and albedo per
  * instance, gl/batch.c) */
 static unsigned variant_key(int mode, int shape, int checker, int nlights, bool clip0, bool clip1,
-                            bool tint, int textured, bool ranged, bool instanced)
+                            bool tint, int textured, bool ranged, bool instanced, bool material)
 {
     if (mode != LIMEN__MODE_LIT)
-        shape = checker = nlights = textured = instanced = 0;
+        shape = checker = nlights = textured = instanced = material = 0;
     if (!nlights)
         ranged = false;
     return (unsigned)mode | (unsigned)shape << 2 | (unsigned)checker << 4 |
            (unsigned)nlights << 6 | (unsigned)clip0 << 10 | (unsigned)clip1 << 11 |
            (unsigned)tint << 12 | (unsigned)textured << 13 | (unsigned)ranged << 15 |
-           (unsigned)instanced << 16;
+           (unsigned)instanced << 16 | (unsigned)material << 17;
 }
 
 static limen__variant *variant_build(limen_renderer *r, unsigned key)
@@ -225,13 +259,13 @@ static limen__variant *variant_build(limen_renderer *r, unsigned key)
         limen__rfail(r, LIMEN_ERR_GL, "more than %d shader variants", LIMEN__MAX_VARIANTS);
         return NULL;
     }
-    char head[400];
+    char head[440];
     snprintf(head, sizeof head,
              "#version 330 core\n#define MODE %u\n#define SHAPE %u\n#define CHECKER %u\n"
              "#define NLIGHTS %u\n#define CLIP0 %u\n#define CLIP1 %u\n#define TINTED %s\n"
-             "#define TEXTURED %u\n#define RANGE %u\n#define INSTANCED %u\n",
+             "#define TEXTURED %u\n#define RANGE %u\n#define INSTANCED %u\n#define MATERIAL %u\n",
              key & 3, key >> 2 & 3, key >> 4 & 3, key >> 6 & 15, key >> 10 & 1, key >> 11 & 1,
-             key >> 12 & 1 ? "* u_tint" : "", key >> 13 & 3, key >> 15 & 1, key >> 16 & 1);
+             key >> 12 & 1 ? "* u_tint" : "", key >> 13 & 3, key >> 15 & 1, key >> 16 & 1, key >> 17 & 1);
     GLuint prog = limen__gl_link(r, head, vs_body, fs_body);
     if (!prog)
         return NULL;
@@ -258,10 +292,16 @@ static limen__variant *variant_build(limen_renderer *r, unsigned key)
     U(light_col, "u_light_col");
     U(light_inv_r2, "u_light_inv_r2");
     U(uv_repeat, "u_uv_repeat");
+    U(base, "u_base");
+    U(emissive, "u_emissive");
+    U(cutoff, "u_cutoff");
+    U(emissive_on, "u_emissive_on");
+    U(blend, "u_blend");
 #undef U
     GL(UseProgram)(prog);
     GL(Uniform1i)(v->u.tex, 0);
     GL(Uniform1i)(GL(GetUniformLocation)(prog, "u_albedo_tex"), 1);    /* unit 1: albedo */
+    GL(Uniform1i)(GL(GetUniformLocation)(prog, "u_emissive_tex"), 2);  /* unit 2: emissive */
     r->bound_prog = prog;
     return v;
 }
@@ -290,7 +330,8 @@ bool limen__variant_use(limen_renderer *r, int mode, int shape, int checker, int
     const float *t = r->shared.tint;
     bool tint = mode != LIMEN__MODE_TEXTURE && (t[0] != 1 || t[1] != 1 || t[2] != 1);
     unsigned key = variant_key(mode, shape, checker, r->shared.nlights, r->clip0_on,
-                               r->clip1_on, tint, textured, r->shared.ranged, r->instanced);
+                               r->clip1_on, tint, textured, r->shared.ranged, r->instanced,
+                               r->material);
     limen__variant *v = NULL;
     for (int i = 0; i < r->nvariants && !v; i++)
         if (r->variants[i].key == key)

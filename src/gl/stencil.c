@@ -310,12 +310,23 @@ static void stencil_view(limen_renderer *r, int index, const limen__spoly *reg, 
     if (reg)
         view_background(r, &v, reg, sv);
     GL(ColorMask)(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+    /* blended parts over the finished view (its surfaces sealed back to sv) */
+    if (limen__scene_blends(r)) {
+        set_scissor(r, rect);
+        limen__rview_apply(r, &v);
+        GL(Enable)(GL_STENCIL_TEST);
+        GL(StencilFunc)(GL_EQUAL, sv, 0xFF);
+        GL(StencilOp)(GL_KEEP, GL_KEEP, GL_KEEP);
+        limen__draw_blended(r, &v);
+    }
 }
 
 limen_status limen__draw_stencil(limen_renderer *r)
 {
     limen__lights_set(r);
-    stencil_ids ids = { .unique = limen_plan_count(r->plan) <= 255, .next = 1 };
+    /* blended parts are drawn over a view once its surfaces are sealed: depth counting */
+    stencil_ids ids = { .unique = limen_plan_count(r->plan) <= 255 && !limen__scene_blends(r),
+                        .next = 1 };
     area all;
     area_of_rect(limen_plan_view(r->plan, 0)->scissor, &all);
     stencil_view(r, 0, NULL, &all, 0, &ids);

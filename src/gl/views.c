@@ -572,6 +572,58 @@ static void draw_geometry(limen_renderer *r, const rview *v, bool fresh)
     }
 }
 
+/* ------------------------------------------------------------------ blended parts */
+
+bool limen__scene_blends(const limen_renderer *r)
+{
+    const limen_drawable *items;
+    int count = limen_drawables_items(r->draw, &items);
+    for (int i = 0; i < count; i++)
+        if (items[i].visible && items[i].kind == LIMEN_NODE_MESH && items[i].mesh &&
+            items[i].mesh->has_blend)
+            return true;
+    return false;
+}
+
+void limen__draw_blended(limen_renderer *r, const rview *v)
+{
+    if (!limen__scene_blends(r))
+        return;
+    const limen_drawable *items;
+    limen_drawables_items(r->draw, &items);
+    int n = view_order(r, v);
+    GL(Enable)(GL_BLEND);
+    GL(BlendFunc)(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
+    GL(DepthMask)(GL_FALSE);
+    r->blend_pass = true;
+    limen__samples_begin(r);
+    for (int k = n - 1; k >= 0; k--) {     /* farthest first */
+        int i = r->order[k].node;
+        if (items[i].kind == LIMEN_NODE_MESH && items[i].mesh && items[i].mesh->has_blend)
+            draw_thing(r, v, items, i);
+    }
+    const limen_clone *clones;
+    int nclones = limen_plan_clones(r->plan, &clones);
+    for (int c = 0; c < nclones; c++) {
+        const limen_clone *cl = &clones[c];
+        const limen_drawable *node = item_of(r, cl->node);
+        if (!node || node->kind != LIMEN_NODE_MESH || !node->mesh || !node->mesh->has_blend ||
+            outside(v, node, cl->matrix))
+            continue;
+        mat4 carry, own, world;
+        memcpy(carry, cl->matrix, sizeof carry);
+        memcpy(own, node->world, sizeof own);
+        glm_mat4_mul(carry, own, world);
+        set_cut(r, cl->copy_keep);
+        draw_node_at(r, v, node, world, MODE_LIT, node->color);
+        set_cut(r, NULL);
+    }
+    limen__samples_end(r);
+    r->blend_pass = false;
+    GL(DepthMask)(GL_TRUE);
+    GL(Disable)(GL_BLEND);
+}
+
 /* The previous frame's picture of a surface where recursion stops: the rectangle of the
  * shallowest view through it, stretched onto the surface's rectangle here. False where there
  * is no such picture. */
@@ -791,6 +843,10 @@ static bool texture_view(limen_renderer *r, int index, const placement *pl)
         limen__samples_end(r);
         GL(DepthFunc)(limen__depth_less(r));
     }
+    /* blended parts over the finished picture, the surfaces' images included */
+    bind_placement(r, pl);
+    limen__rview_apply(r, &v);
+    limen__draw_blended(r, &v);
     return true;
 }
 

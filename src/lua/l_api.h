@@ -230,4 +230,13 @@ int limen__lua_scene_render(lua_State *L);
  * the last segment } }. bounces: a limit on surfaces passed (default: their own limits). */
 int limen__lua_scene_cast(lua_State *L);
 
+/* ------------------------------------------------------------------ l_collide.c */
+
+/* s:sweep { from, to, radius [, segment] [, ignore] [, depth] } -> { hit, fraction, centre,
+ * point, normal, node, portals, portal, matrix, radius } (docs/lua.md). */
+int limen__lua_scene_sweep(lua_State *L);
+
+/* node:slide { by, radius } -> { moved, contacts, normal, portals, portal, matrix, radius }. */
+int limen__lua_node_slide(lua_State *L);
+
 #endif

@@ -119,8 +119,10 @@ limen_node limen__lua_create_node(lua_State *L, int scene_idx, limen_node_kind k
             limen__lua_hold(L, (ptrdiff_t)charged);
             ls->assets += charged;
         }
-        if (st)
+        if (st) {
+            limen__lua_want(L, limen__scene_take_wanted(ls->s));
             limen_node_destroy(ls->s, n);   /* leaves the message alone */
+        }
     }
     if (st) {
         if (also.id)
@@ -150,6 +152,23 @@ static int field_access_error(lua_State *L, const lnode *nd, const char *ctx, co
         return luaL_error(L, "%s: field '%s' does not apply to a %s", ctx, key,
                           limen__lua_kind_names[nd->kind]);
     return limen__lua_unknown_node_field(L, ctx, unknown, key, allowed);
+}
+
+/* node.bounds -> { lo = {x, y, z}, hi = {x, y, z} }: the world box of what it and the nodes
+ * below it show (limen_node_get_bounds), or nil where they show nothing. */
+static int push_bounds(lua_State *L, limen_scene *s, limen_node n)
+{
+    float lo[3], hi[3];
+    if (limen_node_get_bounds(s, n, lo, hi) != LIMEN_OK) {
+        lua_pushnil(L);
+        return 1;
+    }
+    lua_createtable(L, 0, 2);
+    limen__lua_push_vec(L, lo, 3, 1);
+    lua_setfield(L, -2, "lo");
+    limen__lua_push_vec(L, hi, 3, 1);
+    lua_setfield(L, -2, "hi");
+    return 1;
 }
 
 int limen__lua_node_index(lua_State *L)
@@ -186,6 +205,13 @@ int limen__lua_node_index(lua_State *L)
     float v[3] = { 0, 0, 0 };
     if (strcmp(key, "partner") == 0 && nd->kind == LIMEN_NODE_PORTAL) {
         limen__lua_push_node(L, 3, limen_portal_get_partner(s, n));
+        return 1;
+    }
+    if (strcmp(key, "bounds") == 0)
+        return push_bounds(L, s, n);
+    if (strcmp(key, "triangles") == 0 && nd->kind == LIMEN_NODE_MESH) {
+        limen_mesh_info mi;
+        lua_pushinteger(L, limen_mesh_get(s, n, &mi) == LIMEN_OK ? mi.triangle_count : 0);
         return 1;
     }
     if (f == F_CHECKER && (allowed & BIT(f)))
@@ -288,6 +314,21 @@ static int l_node_destroy(lua_State *L)
     lnode *nd = check_node(L, 1, &s);
     limen__lua_forget_node(L, 2, nd->n);
     return 0;
+}
+
+/* node:find(name) -> the first node of that name below it (limen_node_find_below), or nil. */
+static int l_node_find(lua_State *L)
+{
+    limen_scene *s;
+    lua_settop(L, 2);
+    check_node(L, 1, &s);   /* pushes the scene userdata at 3 */
+    lnode *nd = lua_touserdata(L, 1);
+    const char *name = luaL_checkstring(L, 2);
+    limen_node n;
+    if (limen_node_find_below(s, nd->n, name, &n) != LIMEN_OK)
+        n.id = 0;
+    limen__lua_push_node(L, 3, n);
+    return 1;
 }
 
 /* node:world() -> the 16 numbers of its world matrix, column-major. */
@@ -405,6 +446,8 @@ const luaL_Reg limen__lua_node_methods[] = {
     { "look_at", l_node_look_at },
     { "link", l_node_link },
     { "move", l_node_move },
+    { "find", l_node_find },
+    { "slide", limen__lua_node_slide },
     { NULL, NULL }
 };
 

@@ -7,6 +7,8 @@
 #include <string.h>
 
 #include "core/mesh.h"
+#include "core/texture.h"
+#include "core/model.h"
 #include "lua/l_api.h"
 
 /* ------------------------------------------------------------------ C-side memory */
@@ -97,11 +99,83 @@ static int l_scene_mesh(lua_State *L)
     size_t charged;
     limen_status st = limen__mesh_load(ls->s, n, path, limen__lua_mem_left(L), &charged);
     if (st) {
+        limen__lua_want(L, limen__scene_take_wanted(ls->s));
         limen__lua_forget_node(L, 1, n);
         return limen__lua_c_error(L, ls->s, "mesh", label);
     }
     limen__lua_hold(L, (ptrdiff_t)charged);   /* within what was left: never refused */
     ls->assets += charged;
+    return 1;
+}
+
+/* ------------------------------------------------------------------ models */
+
+/* s:model { file = "level.glb", cameras = false, lights = false, name, pos, rotate, scale,
+ * ... } -> a group holding the file's hierarchy (limen_model_load); its meshes' memory
+ * counted against the script's cap. */
+static int l_scene_model(lua_State *L)
+{
+    lscene *ls = limen__lua_check_scene(L, 1);
+    luaL_checktype(L, 2, LUA_TTABLE);
+    lua_settop(L, 2);
+    /* the model's own fields here; the rest, a group's, on a copy (3) */
+    const char *file = NULL;
+    limen_model_desc desc = { 0 };
+    lua_newtable(L);
+    lua_pushnil(L);
+    while (lua_next(L, 2)) {
+        const char *k = lua_type(L, -2) == LUA_TSTRING ? lua_tostring(L, -2) : "";
+        if (strcmp(k, "file") == 0) {
+            size_t len = 0;
+            file = lua_type(L, -1) == LUA_TSTRING ? lua_tolstring(L, -1, &len) : NULL;
+            if (!file || len == 0 || len > 1000 || strlen(file) != len)
+                luaL_error(L, "model: field 'file' must be a file name (1 to 1000 bytes, no "
+                              "zeros)");
+        } else if (strcmp(k, "cameras") == 0 || strcmp(k, "lights") == 0) {
+            if (!lua_isboolean(L, -1))
+                limen__lua_bad(L, -1, "model", k[0] == 'c' ? "field 'cameras'"
+                                                           : "field 'lights'", "a boolean");
+            *(k[0] == 'c' ? &desc.cameras : &desc.lights) = lua_toboolean(L, -1);
+        } else {
+            lua_pushvalue(L, -2);
+            lua_insert(L, -2);
+            lua_rawset(L, 3);
+            continue;
+        }
+        lua_pop(L, 1);
+    }
+    if (!file)
+        return luaL_error(L, "model: field 'file' is required");
+    spec sp;
+    limen__lua_read_ctor(L, 3, 1, LIMEN_NODE_GROUP, limen__lua_kind_fields[LIMEN_NODE_GROUP],
+                         "model", ls->s, &sp);
+    char path[1200], label[LABEL_LEN];
+    limen__lua_script_path(L, "model", file, path, sizeof path);
+    limen__lua_where(L, label);
+    limen_node group = limen__lua_create_node(L, 1, LIMEN_NODE_GROUP, &sp, "model", label,
+                                              (limen_node){ 0 });
+    int before = limen_scene_node_count(ls->s);
+    size_t charged;
+    limen_status st = limen__model_load(ls->s, group, path, &desc, limen__lua_mem_left(L),
+                                        &charged);
+    if (st) {
+        limen__lua_forget_node(L, 1, group);
+        return limen__lua_c_error(L, ls->s, "model", label);
+    }
+    limen__lua_hold(L, (ptrdiff_t)charged);   /* within what was left: never refused */
+    ls->assets += charged;
+    /* the new nodes (the last made) join the scene's table, labelled where the script asked */
+    int after = limen_scene_node_count(ls->s);
+    limen_node *all = lua_newuserdatauv(L, sizeof *all * (size_t)(after > 0 ? after : 1), 0);
+    int n = limen_scene_nodes(ls->s, all, after);
+    for (int i = before; i < n && i < after; i++) {
+        limen_node_set_label(ls->s, all[i], label);
+        limen__lua_push_node(L, 1, all[i]);
+        snprintf(((lnode *)lua_touserdata(L, -1))->label, LABEL_LEN, "%s", label);
+        lua_pop(L, 1);
+    }
+    lua_pop(L, 1);
+    limen__lua_hold_scene(L, ls, after);
     return 1;
 }
 
@@ -300,6 +374,19 @@ static int l_scene_len(lua_State *L)
     return 1;
 }
 
+/* s:warnings(): what loading its files noticed, a list of "file: warning: text" lines. */
+static int l_scene_warnings(lua_State *L)
+{
+    lscene *ls = limen__lua_check_scene(L, 1);
+    int n = limen_scene_warning_count(ls->s);
+    lua_createtable(L, n, 0);
+    for (int i = 0; i < n; i++) {
+        lua_pushstring(L, limen_scene_warning(ls->s, i));
+        lua_rawseti(L, -2, i + 1);
+    }
+    return 1;
+}
+
 static int l_scene_tostring(lua_State *L)
 {
     lscene *ls = luaL_checkudata(L, 1, SCENE_MT);
@@ -324,6 +411,7 @@ static int l_scene_gc(lua_State *L)
 static const luaL_Reg scene_methods[] = {
     { "cast", limen__lua_scene_cast },
     { "mesh", l_scene_mesh },
+    { "model", l_scene_model },
     { "group", l_scene_group },
     { "box", l_scene_box },
     { "sphere", l_scene_sphere },
@@ -337,6 +425,8 @@ static const luaL_Reg scene_methods[] = {
     { "find", l_scene_find },
     { "nodes", l_scene_nodes },
     { "render", limen__lua_scene_render },
+    { "warnings", l_scene_warnings },
+    { "sweep", limen__lua_scene_sweep },
     { NULL, NULL }
 };
 

@@ -60,6 +60,9 @@ int limen__lua_print(lua_State *L, const char *text, size_t len);
 int limen__lua_hold(lua_State *L, ptrdiff_t bytes);
 /* Bytes the cap of the script running in L leaves (SIZE_MAX without a cap or a script). */
 size_t limen__lua_mem_left(lua_State *L);
+/* After a load refused for the memory left: the script running in L would have needed
+ * `bytes` more than it holds (limen_script_memory_needed). */
+void limen__lua_want(lua_State *L, uint64_t bytes);
 /* Notes the calling script line as the place of a memory error that may follow (Lua gives
  * memory errors no place, and no message handler runs for them). */
 void limen__lua_note_line(lua_State *L);

@@ -43,8 +43,6 @@
 #define ERR_MAX 1024
 #define PRINT_MAX 1024         /* bytes of a printed line handed to the host, with its end */
 #define WHERE_MAX 256
-#define DEFAULT_BUDGET 50000000
-#define DEFAULT_MEMORY (64 << 20)
 #define HOOK_EVERY 1000         /* instructions between two calls of the count hook */
 #define CO_EVERY 100            /* ... at most, in a coroutine (what arming it costs) */
 #define ALLOC_BYTES 32          /* bytes allocated that cost one instruction */
@@ -80,6 +78,7 @@ struct limen_script {
     int64_t spent_at;
     int limit;                  /* LIMIT_*: the limit this call hit; it stops the script */
     int mem_refused;            /* the cap refused an allocation during this call */
+    uint64_t mem_wanted;        /* what this call's refused request would have held in all */
     int tracking;               /* line hook on: the state holds over half its cap */
     int stopped;                /* a limit stopped the script: update fails at once */
     const void *big[BIG_SLOTS]; /* the longest strings held (BIG_STRING bytes or more) */
@@ -391,6 +390,7 @@ static void *script_alloc(void *ud, void *ptr, size_t osize, size_t nsize)
         size_t grow = nsize - osize;
         if (sc->mem_cap && (grow > sc->mem_cap || sc->mem_used > sc->mem_cap - grow)) {
             sc->mem_refused = 1;
+            sc->mem_wanted = (uint64_t)sc->mem_used + grow;
             return NULL;
         }
         if (sc->running && sc->budget >= 0) {
@@ -580,10 +580,23 @@ int limen__lua_hold(lua_State *L, ptrdiff_t bytes)
     if (sc->mem_cap &&
         ((size_t)bytes > sc->mem_cap || sc->mem_used > sc->mem_cap - (size_t)bytes)) {
         sc->mem_refused = 1;
+        sc->mem_wanted = (uint64_t)sc->mem_used + (uint64_t)bytes;
         return 0;
     }
     sc->mem_used += (size_t)bytes;
     return 1;
+}
+
+void limen__lua_want(lua_State *L, uint64_t bytes)
+{
+    limen_script *sc = script_of(L);
+    if (sc && sc->mem_cap && bytes)
+        sc->mem_wanted = (uint64_t)sc->mem_used + bytes;
+}
+
+int64_t limen_script_memory_needed(const limen_script *sc)
+{
+    return sc && sc->mem_wanted <= INT64_MAX ? (int64_t)sc->mem_wanted : 0;
 }
 
 size_t limen__lua_mem_left(lua_State *L)
@@ -630,6 +643,7 @@ static void begin_call(limen_script *sc)
     sc->started_cpu = sc->time_limit > 0 ? thread_time() : 0;
     sc->cpu_check_at = sc->clock_at + sc->time_limit;
     sc->mem_refused = 0;
+    sc->mem_wanted = 0;
     sc->where[0] = '\0';
     sc->line[0] = '\0';
     sc->tracking = sc->mem_cap && sc->mem_used > sc->mem_cap / 2;
@@ -811,11 +825,10 @@ static limen_status script_load(const char *path, const char *buf, size_t len,
         return fail(sc, LIMEN_ERR_ARG, "limen_script_load: no script path");
     if (!(sc->path = strdup(path)))
         return fail(sc, LIMEN_ERR_NOMEM, "out of memory");
-    int64_t budget = desc ? desc->instruction_budget : 0;
-    int64_t cap = desc ? desc->memory_cap : 0;
-    sc->budget = budget == 0 ? DEFAULT_BUDGET : budget < 0 ? -1 : budget;
-    sc->mem_cap = cap == 0 ? (size_t)DEFAULT_MEMORY : cap < 0 ? 0 :
-                  (uint64_t)cap > SIZE_MAX ? SIZE_MAX : (size_t)cap;
+    limen_script_desc filled = limen_script_desc_defaults(desc);
+    int64_t budget = filled.instruction_budget, cap = filled.memory_cap;
+    sc->budget = budget < 0 ? -1 : budget;
+    sc->mem_cap = cap < 0 ? 0 : (uint64_t)cap > SIZE_MAX ? SIZE_MAX : (size_t)cap;
     sc->hook_every = sc->budget >= 0 && sc->budget < HOOK_EVERY ? (int)(sc->budget + 1) :
                      HOOK_EVERY;
     sc->every = sc->hook_every;

@@ -228,4 +228,15 @@ install_prefix() {
 }
 t_ok "make install PREFIX=... installs library, header, .pc and Lua module" install_prefix
 
+model_warnings() {   # a texture the model names but lacks: loaded, one warning on stderr, s:warnings()
+    mkdir -p "$TMP/wm" &&
+    printf 'newmtl paint\nKd 1 0.5 0.25\nmap_Kd D:/art/gone.png\n' > "$TMP/wm/m.mtl" &&
+    printf 'mtllib m.mtl\nv -1 -1 0\nv 1 -1 0\nv 1 1 0\nvt 0 0\nvt 1 0\nvt 1 1\nusemtl paint\nf 1/1 2/2 3/3\n' > "$TMP/wm/m.obj" &&
+    printf 'local limen = require "limen"\nlocal s = limen.scene {}\ns:mesh { file = "m.obj" }\nlocal w = s:warnings()\nassert(#w == 1 and w[1]:find("gone.png", 1, true), tostring(w[1]))\ns.active_camera = s:camera { pos = {0, 0, 3} }\nreturn s\n' > "$TMP/wm/s.lua" &&
+    "$LIMEN" render "$TMP/wm/s.lua" -o "$TMP/wm/x.png" --size 32x24 2> "$TMP/wm/e" &&
+    [ "$(grep -c ': warning: ' "$TMP/wm/e")" -eq 1 ] &&
+    grep -q "m.obj: warning: texture 'D:/art/gone.png'" "$TMP/wm/e" || { cat "$TMP/wm/e"; return 1; }
+}
+t_ok "a model's missing texture: loaded, 'file: warning: ...' on stderr, s:warnings() lists it" model_warnings
+
 t_done

@@ -33,15 +33,18 @@ install_destdir() {   # the versioned file, the soname link, the link for -llime
 t_ok "make install DESTDIR=... installs liblimen.so.$version, soname liblimen.so.$major, links" \
     install_destdir
 
+# CC may carry flags ("gcc -fsanitize=..."): CMake takes the compiler and its flags apart.
 # A sanitizer build's static library needs the sanitizer's runtime at link time.
-san_flags=""
+cc_bin=${CC:-cc}
+cc_flags=""
+case "$cc_bin" in *" "*) cc_flags=${cc_bin#* }; cc_bin=${cc_bin%% *} ;; esac
 if nm "$B/liblimen.a" 2>/dev/null | grep -q __asan_init; then
-    san_flags="-fsanitize=address,undefined"
+    cc_flags="$cc_flags -fsanitize=address,undefined"
 fi
 cmake_project() {
     command -v cmake > /dev/null || { echo "cmake is missing (make test-deps)"; return 1; }
     cmake -S tests/cmake -B "$TMP/cmake" -DCMAKE_PREFIX_PATH="$ROOT" \
-          -DCMAKE_C_COMPILER="${CC:-cc}" -DCMAKE_C_FLAGS="$san_flags" > "$TMP/cmake.log" 2>&1 &&
+          -DCMAKE_C_COMPILER="$cc_bin" -DCMAKE_C_FLAGS="$cc_flags" > "$TMP/cmake.log" 2>&1 &&
     cmake --build "$TMP/cmake" -j 2 >> "$TMP/cmake.log" 2>&1 || { cat "$TMP/cmake.log"; return 1; }
     # the shared one runs against the installed file, through the soname
     ldd "$TMP/cmake/user_shared" | grep -q "liblimen.so.$major => $ROOT/lib/liblimen.so.$major" &&
