@@ -749,6 +749,7 @@ struct limen__lod_job {
     atomic_bool stop;           /* set by the scene's thread: the mesh is going */
     atomic_bool done;           /* set by the build's thread, last */
     bool ok;
+    size_t extra;               /* counted in the mesh's bytes beyond the estimate meanwhile */
     made mk;
 };
 
@@ -795,18 +796,22 @@ bool limen__mesh_lods_start(limen__mesh *m)
     }
     *(limen_mesh_lod *)one.block = (limen_mesh_lod){ .triangle_count = (int)m->ntris };
     /* the levels to come stay counted as the estimate had them (what a script's memory cap
-     * was charged), not as the full level alone */
+     * was charged), not as the full level alone, and their headers and parts' ranges as
+     * many as there may be: no less than they will hold */
     size_t counted = m->bytes;
     install(m, &one);
-    m->bytes = counted;
+    j->extra = HEAD + sizeof(limen_mesh_part) * m->nparts * (MAX_LEVELS - 1);
+    m->bytes = counted + j->extra;
     j->m = m;
     j->key = key;
     j->where = w;
     atomic_init(&j->stop, false);
     atomic_init(&j->done, false);
     if (pthread_create(&j->thread, NULL, job_run, j) != 0) {
+        /* no thread: made here and now, over the full level alone as counted */
+        m->bytes = counted - lods_bytes(&(limen__mesh){ .ntris = m->ntris }) + HEAD;
         free(j);
-        return limen__mesh_lods_build(m);   /* no thread: made here and now */
+        return limen__mesh_lods_build(m);
     }
     m->lod_job = j;
     return true;
@@ -822,8 +827,9 @@ static bool job_end(limen__mesh *m, bool stop)
     pthread_join(j->thread, NULL);
     bool got = j->ok && !stop;
     if (got) {
-        /* counted as the estimate had them until now (limen__mesh_lods_start) */
-        m->bytes = m->bytes - lods_bytes(&(limen__mesh){ .ntris = m->ntris }) + HEAD;
+        /* counted as the estimate had them until now (limen__mesh_lods_start), now as the
+         * full level alone before the levels come */
+        m->bytes = m->bytes - j->extra - lods_bytes(&(limen__mesh){ .ntris = m->ntris }) + HEAD;
         install(m, &j->mk);
     }
     free(j->mk.block);
@@ -844,6 +850,9 @@ bool limen__mesh_lods_settle(limen__mesh *m, bool wait)
         return false;
     if (!job_end(m, false) || !limen__mesh_lod_parts(m))
         return false;
+    /* the parts' ranges of the levels come, as limen__mesh_bytes' caller counted them for
+     * the levels made in place */
+    m->bytes += sizeof(limen_mesh_part) * m->nparts * (m->nlods - 1);
     /* new levels: a new asset to the renderer, which uploads it again */
     m->serial = limen__next_serial();
     m->pub.id = m->serial;
