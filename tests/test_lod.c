@@ -878,6 +878,65 @@ static void test_asset_levels(void)
     asset_levels(4, false);
 }
 
+/* Parts are seams too: the ball of five faces again, its texture coordinates now the same
+ * on both sides of every edge between faces (no seam in the texture), but each face a part
+ * of its own (a material each). No level's triangle takes corners from two parts, so none
+ * is drawn in another part's material; without the parts in the weld, the simplifier joins
+ * across their borders. */
+static void test_part_seams(void)
+{
+    enum { N = 20, NV = 5 * (N + 1) * (N + 1), NT = 5 * N * N * 2 };
+    float *pos = malloc(sizeof(float) * 3 * NV), *nrm = malloc(sizeof(float) * 3 * NV),
+          *uv = malloc(sizeof(float) * 2 * NV);
+    uint32_t *idx = malloc(sizeof(uint32_t) * 3 * NT);
+    if (!pos || !nrm || !uv || !idx) {
+        CHECK(!"out of memory");
+        goto done;
+    }
+    charted_ball(N, N, pos, nrm, uv, idx);
+    for (int v = 0; v < NV; v++) {      /* the texture laid over the ball from the front */
+        uv[v * 2] = 0.5f + 0.5f * pos[v * 3];
+        uv[v * 2 + 1] = 0.5f + 0.5f * pos[v * 3 + 1];
+    }
+    limen_mesh_part parts[5];
+    limen_material mats[5];
+    memset(mats, 0, sizeof mats);
+    for (int p = 0; p < 5; p++) {
+        parts[p] = (limen_mesh_part){ p * N * N * 2, N * N * 2, p };
+        mats[p].name = "";
+        for (int c = 0; c < 4; c++)
+            mats[p].base_color[c] = 1;
+    }
+    fixture f = open_scene((float[3]){ 0, 0, 5 }, (float[3]){ 0, 0, 0 });
+    CHECK_OK(limen_mesh_set_triangles(f.s, f.mesh, &(limen_mesh_data){
+        .positions = pos, .normals = nrm, .uvs = uv, .vertex_count = NV, .indices = idx,
+        .triangle_count = NT, .part_count = 5, .parts = parts, .material_count = 5,
+        .materials = mats }));
+    const limen_drawable *d = item(&f);
+    if (d) {
+        const limen_mesh_geometry *g = d->mesh;
+        CHECK_MSG(g->lod_count >= 5, "%d levels", g->lod_count);
+        for (int k = 1; k < g->lod_count; k++) {
+            const limen_mesh_lod *lv = &g->lods[k];
+            int mixed = 0;
+            for (int t = 0; t < lv->triangle_count; t++) {
+                int c = charted_chart(N, lv->indices[t * 3]);
+                mixed += charted_chart(N, lv->indices[t * 3 + 1]) != c ||
+                         charted_chart(N, lv->indices[t * 3 + 2]) != c;
+            }
+            /* the simplifier keeps them apart; the coarsest, clustered, may not */
+            CHECK_MSG(mixed == 0 || lv->triangle_count * 32 < NT,
+                      "level %d: %d of %d triangles across parts", k, mixed, lv->triangle_count);
+        }
+    }
+    close_scene(&f);
+done:
+    free(pos);
+    free(nrm);
+    free(uv);
+    free(idx);
+}
+
 /* ------------------------------------------------------------------ the cache */
 
 /* The levels of a bumpy sphere of u * v * 2 triangles, made in a scene of their own: their
@@ -1195,6 +1254,7 @@ static const check_case cases[] = {
     { "degenerate", test_degenerate },
     { "cache", test_cache },
     { "asset_levels", test_asset_levels },
+    { "part_seams", test_part_seams },
     { "async", test_async },
     { 0 },
 };

@@ -35,7 +35,7 @@
 #include "core/texture.h"
 
 #define MAX_LEVELS 12           /* the full mesh and up to 11 coarser ones */
-#define LOD_VERSION 3           /* of how levels are made and measured: levels kept between
+#define LOD_VERSION 4           /* of how levels are made and measured: levels kept between
                                  * runs (core/lod_cache.c) are keyed by it, so change it with
                                  * anything that changes a level or its error */
 #define MIN_TRIS 16             /* a level this small gets no halved successor */
@@ -875,10 +875,13 @@ static bool lods_make(const limen__mesh *m, const atomic_bool *stop, made *out)
     size_t head = HEAD;
     unsigned char *block = malloc(head + sizeof(uint32_t) * cap);
     uint32_t *shadow = malloc(sizeof(uint32_t) * n0), *scratch = malloc(sizeof(uint32_t) * n0);
-    uint32_t *attr = m->uv ? malloc(sizeof(uint32_t) * n0) : shadow;
+    /* per vertex, its part (a file's parts share no vertices), where there are several */
+    uint32_t *vpart = m->nparts > 1 && m->tri_part ? malloc(sizeof(uint32_t) * m->nverts) : NULL;
+    bool attrs = m->uv || m->col || vpart;
+    uint32_t *attr = attrs ? malloc(sizeof(uint32_t) * n0) : shadow;
     target full = { 0 };
     limen__lod_welded pk_attr = { 0 }, pk_pos = { 0 };
-    bool ok = block && shadow && scratch && attr;
+    bool ok = block && shadow && scratch && attr && (vpart || m->nparts <= 1 || !m->tri_part);
     limen_mesh_lod *lods = (limen_mesh_lod *)block;
     uint32_t *store = (uint32_t *)(block + head);
     size_t at[MAX_LEVELS] = { 0 }, used = 0;
@@ -893,9 +896,23 @@ static bool lods_make(const limen__mesh *m, const atomic_bool *stop, made *out)
          * (texture coordinates the same; normals are chosen after, by seam_sides), so that a
          * seam in the texture stays one, which the simplifier moves along without tearing */
         if (attr != shadow) {
-            struct meshopt_Stream streams[2] = { { m->pos, sizeof(float) * 3, sizeof(float) * 3 },
-                                                 { m->uv, sizeof(float) * 2, sizeof(float) * 2 } };
-            meshopt_generateShadowIndexBufferMulti(attr, m->idx, n0, m->nverts, streams, 2);
+            /* texture coordinates, vertex colours and parts (a part's border is a seam) */
+            struct meshopt_Stream streams[4] = { { m->pos, sizeof(float) * 3, sizeof(float) * 3 } };
+            size_t ns = 1;
+            if (m->uv)
+                streams[ns++] = (struct meshopt_Stream){ m->uv, sizeof(float) * 2,
+                                                         sizeof(float) * 2 };
+            if (m->col)
+                streams[ns++] = (struct meshopt_Stream){ m->col, sizeof(float) * 4,
+                                                         sizeof(float) * 4 };
+            if (vpart) {
+                memset(vpart, 0, sizeof(uint32_t) * m->nverts);
+                for (size_t i = 0; i < n0; i++)
+                    vpart[m->idx[i]] = m->tri_part[i / 3];
+                streams[ns++] = (struct meshopt_Stream){ vpart, sizeof(uint32_t),
+                                                         sizeof(uint32_t) };
+            }
+            meshopt_generateShadowIndexBufferMulti(attr, m->idx, n0, m->nverts, streams, ns);
         }
         ok = limen__lod_target_make(&full, m, shadow) && limen__lod_pack(&pk_attr, m, attr);
     }
@@ -942,7 +959,8 @@ static bool lods_make(const limen__mesh *m, const atomic_bool *stop, made *out)
             n = limen__lod_simplify(&pk_attr, NULL, n0, true, cur_n / 6 * 3, FLT_MAX, NULL, scratch);
             err = 0;
         }
-        if (n > 0 && mode != SEAMS && attr != shadow && !limen__lod_pick_charts(m, shadow, attr, scratch, n)) {
+        if (n > 0 && mode != SEAMS && attr != shadow &&
+            !limen__lod_pick_charts(m, shadow, attr, vpart, scratch, n)) {
             ok = false;
             break;
         }
@@ -993,6 +1011,7 @@ static bool lods_make(const limen__mesh *m, const atomic_bool *stop, made *out)
     if (attr != shadow)
         free(attr);
     free(shadow);
+    free(vpart);
     limen__lod_welded_free(&pk_attr);
     limen__lod_welded_free(&pk_pos);
     free(scratch);

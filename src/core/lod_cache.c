@@ -69,7 +69,8 @@ static void hash_bytes(hasher *h, const void *data, size_t len)
 void limen__lod_cache_key(const limen__mesh *m, uint32_t version, limen__lod_key *key)
 {
     hasher h = { 0x243f6a8885a308d3ull, 0x13198a2e03707344ull };
-    uint32_t head[4] = { version, m->nverts, m->ntris, (m->uv ? 1u : 0u) };
+    uint32_t head[6] = { version, m->nverts, m->ntris, (m->uv ? 1u : 0u), (m->col ? 1u : 0u),
+                         m->nparts };
     hash_bytes(&h, head, sizeof head);
     hash_bytes(&h, m->pos, sizeof(float) * 3 * m->nverts);
     hash_bytes(&h, m->idx, sizeof(uint32_t) * 3 * m->ntris);
@@ -77,6 +78,10 @@ void limen__lod_cache_key(const limen__mesh *m, uint32_t version, limen__lod_key
         hash_bytes(&h, m->nrm, sizeof(float) * 3 * m->nverts);
     if (m->uv)
         hash_bytes(&h, m->uv, sizeof(float) * 2 * m->nverts);
+    if (m->col)
+        hash_bytes(&h, m->col, sizeof(float) * 4 * m->nverts);
+    if (m->nparts > 1 && m->tri_part)
+        hash_bytes(&h, m->tri_part, sizeof(uint32_t) * m->ntris);
     key->h[0] = h.a;
     key->h[1] = h.b;
 }

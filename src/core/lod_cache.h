@@ -9,8 +9,9 @@
 
 #include "core/mesh.h"
 
-/* What the levels of a mesh are made from, hashed: its counts, positions, indices, normals
- * and texture coordinates, and the version of the levels' making (version). */
+/* What the levels of a mesh are made from, hashed: its counts, positions, indices, normals,
+ * texture coordinates, vertex colours and parts, and the version of the levels' making
+ * (version). */
 typedef struct limen__lod_key {
     uint64_t h[2];
 } limen__lod_key;

@@ -78,7 +78,7 @@ bool limen__lod_seam_sides(const limen__mesh *m, const uint32_t *shadow, uint32_
  * triangle within one chart wherever its corners all lie on it. Positions do not change, so
  * neither does the level's error. False when out of memory (the corners stay). */
 bool limen__lod_pick_charts(const limen__mesh *m, const uint32_t *shadow, const uint32_t *attr,
-                        uint32_t *idx, size_t n)
+                            const uint32_t *vpart, uint32_t *idx, size_t n)
 {
     enum { MAX_SIDES = 8 };
     uint32_t nv = m->nverts;
@@ -124,7 +124,13 @@ bool limen__lod_pick_charts(const limen__mesh *m, const uint32_t *shadow, const 
                                       members[from[2] + d] };
                     double sum = 0;
                     for (int k = 0; k < 3; k++) {
-                        const float *p = &m->uv[v[k] * 2], *q = &m->uv[v[(k + 1) % 3] * 2];
+                        uint32_t x = v[k], y = v[(k + 1) % 3];
+                        /* a corner in another part costs more than any distance */
+                        if (vpart && vpart[x] != vpart[y])
+                            sum += 1e30;
+                        if (!m->uv)
+                            continue;
+                        const float *p = &m->uv[x * 2], *q = &m->uv[y * 2];
                         sum += ((double)p[0] - q[0]) * ((double)p[0] - q[0]) +
                                ((double)p[1] - q[1]) * ((double)p[1] - q[1]);
                     }

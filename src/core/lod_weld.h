@@ -40,9 +40,10 @@ size_t limen__lod_simplify(limen__lod_welded *pk, const uint32_t *src, size_t n,
 bool limen__lod_seam_sides(const limen__mesh *m, const uint32_t *shadow, uint32_t *idx,
                            size_t n);
 /* The corners of a clustered or seam-blind level (idx, n indices, each a vertex of the
- * weld attr) take, of the vertices of attr at their position (shadow), the three whose
- * texture coordinates lie nearest together; false when out of memory (the corners stay). */
+ * weld attr) take, of the vertices of attr at their position (shadow), the three of one
+ * part (vpart: per vertex, its part; NULL for one part) where they can, whose texture
+ * coordinates lie nearest together; false when out of memory (the corners stay). */
 bool limen__lod_pick_charts(const limen__mesh *m, const uint32_t *shadow, const uint32_t *attr,
-                            uint32_t *idx, size_t n);
+                            const uint32_t *vpart, uint32_t *idx, size_t n);
 
 #endif
