@@ -498,9 +498,6 @@ LIMEN_API limen_status limen_camera_matrices(limen_scene *s, float aspect, limen
 
 /* A mesh's triangles as a renderer reads them (limen_drawable.mesh): shared by every node
  * that shows the same file, valid while one does. */
-/* A level of detail of a mesh: a simplified triangle list over the same vertices (so the
- * same normals and texture coordinates), made once when the mesh is created (meshoptimizer),
- * each level about half the triangles of the one before. */
 /* Levels of detail between runs and on another thread: the levels made are stored in the
  * user's cache folder ($LIMEN_CACHE_DIR, else $XDG_CACHE_HOME/limen, else ~/.cache/limen;
  * at most $LIMEN_CACHE_MB megabytes, 256 by default; LIMEN_CACHE=off stores and reads
@@ -510,6 +507,9 @@ LIMEN_API limen_status limen_camera_matrices(limen_scene *s, float aspect, limen
  * mesh, and appear at a later call that reads the scene's world (rendering, planning,
  * tracing, ray casts, limen_drawables_build, limen_scene_update), with a new
  * limen_mesh_geometry.id; a const call never sees them change. */
+/* A level of detail of a mesh: a simplified triangle list over the same vertices (so the
+ * same normals and texture coordinates), made once when the mesh is created (meshoptimizer),
+ * each level about half the triangles of the one before. */
 typedef struct limen_mesh_lod {
     const uint32_t *indices;    /* triangle_count * 3, into the mesh's vertices */
     int triangle_count;
