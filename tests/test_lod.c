@@ -16,6 +16,7 @@
 #include "bumpy.h"
 #include "charted.h"
 #include "check.h"
+#include "core/lod_cache.h"
 #include "core/lod_target.h"
 #include "limen.h"
 
@@ -1042,8 +1043,10 @@ static void test_cache(void)
     CHECK(mtime_ns(path) > 1000000 * 1000000000ll);
     free(again);
 
-    /* damaged: ignored, made again, and replaced by a whole entry */
-    for (int damage = 0; damage < 4; damage++) {
+    /* damaged: ignored, made again, and replaced by a whole entry; the last three whole
+     * (their checksums made to match) but wrong: an index past the vertices, a level's count
+     * above the one before, an error below the one before */
+    for (int damage = 0; damage < 7; damage++) {
         f = fopen(path, "wb");
         if (f) {
             size_t at = 48 + 8 * (size_t)levels + 4 * 100;
@@ -1058,7 +1061,27 @@ static void test_cache(void)
                 memcpy(bad, whole, size);
                 bad[8 + 40 + 8] ^= 0xff;
                 fwrite(bad, 1, size, f);
-            }                                   /* else empty */
+            } else if (damage >= 4) {
+                unsigned char bad[sizeof whole];
+                memcpy(bad, whole, size);
+                size_t lv = 8 + 40;     /* the levels' counts and errors */
+                if (damage == 4) {
+                    uint32_t past = 40 * 40 * 2 * 3;
+                    memcpy(bad + lv + 8 * (size_t)levels + 4 * 7, &past, 4);
+                } else if (damage == 5) {
+                    uint32_t c;
+                    memcpy(&c, bad + lv + 8 * 1, 4);
+                    memcpy(bad + lv + 8 * 2, &c, 4);
+                } else {
+                    float e;
+                    memcpy(&e, bad + lv + 8 * 2 + 4, 4);
+                    e *= 0.5f;
+                    memcpy(bad + lv + 8 * 3 + 4, &e, 4);
+                }
+                uint64_t sum = limen__lod_cache_checksum(bad, size - 8);
+                memcpy(bad + size - 8, &sum, 8);
+                fwrite(bad, 1, size, f);
+            }                                   /* else (3) empty */
             fclose(f);
         }
         set_old(path, 1000000);

@@ -171,7 +171,7 @@ static void entry_head(uint32_t w[HEAD_WORDS], const limen__lod_key *key, uint32
     w[9] = 0;
 }
 
-static uint64_t checksum(const void *data, size_t len)
+uint64_t limen__lod_cache_checksum(const void *data, size_t len)
 {
     hasher h = { 0x452821e638d01377ull, 0xbe5466cf34e90c6cull };
     hash_bytes(&h, data, len);
@@ -223,7 +223,7 @@ bool limen__lod_cache_load(const limen__lod_where *w, const limen__lod_key *key,
     if (ok) {
         uint64_t sum;
         memcpy(&sum, buf + len - 8, 8);
-        ok = sum == checksum(buf, len - 8);
+        ok = sum == limen__lod_cache_checksum(buf, len - 8);
     }
     /* the levels: the first the full mesh; then falling counts, errors finite and growing,
      * their indices adding up to the total */
@@ -360,7 +360,7 @@ void limen__lod_cache_store(const limen__lod_where *w, const limen__lod_key *key
             ix += 12 * (size_t)count;
         }
     }
-    uint64_t sum = checksum(buf, len - 8);
+    uint64_t sum = limen__lod_cache_checksum(buf, len - 8);
     memcpy(buf + len - 8, &sum, 8);
     limen__out o;
     if (limen__out_open(&o, path) == LIMEN_OK) {

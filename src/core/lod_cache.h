@@ -50,4 +50,8 @@ void limen__lod_cache_store(const limen__lod_where *w, const limen__lod_key *key
                             uint32_t nverts, uint32_t ntris, const limen_mesh_lod *lods,
                             uint32_t nlods);
 
+/* An entry's checksum, of its bytes before the last 8 (which hold it); for tests that make
+ * entries whole but wrong. */
+uint64_t limen__lod_cache_checksum(const void *data, size_t len);
+
 #endif
