@@ -33,20 +33,22 @@ VERSION  := $(VERSION_MAJOR).$(call VERSION_PART,MINOR).$(call VERSION_PART,PATC
 SONAME   := liblimen.so.$(VERSION_MAJOR)
 
 # ------------------------------------------------------------------ objects
-CORE_SRC := src/core/error.c src/core/limits.c src/core/lmath.c src/core/scene.c src/core/surface.c src/core/move.c src/core/straddle.c src/core/bvh.c src/core/index.c src/core/rtc.c src/core/cull.c src/core/plan.c src/core/drawables.c src/core/trace.c src/core/image.c src/core/jpeg.c src/core/file.c src/core/mesh.c src/core/lod.c src/core/lod_target.c src/core/lod_cache.c src/core/texture.c
+CORE_SRC := src/core/error.c src/core/limits.c src/core/lmath.c src/core/scene.c src/core/surface.c src/core/move.c src/core/straddle.c src/core/bvh.c src/core/index.c src/core/rtc.c src/core/cull.c src/core/plan.c src/core/drawables.c src/core/trace.c src/core/image.c src/core/jpeg.c src/core/file.c src/core/confine.c src/core/contain.c src/core/gltf_cost.c src/core/mesh.c src/core/lod.c src/core/lod_target.c src/core/lod_cache.c src/core/texture.c
 # the library's own version (limen_version)
 CORE_SRC += src/core/version.c
 CORE_SRC += src/core/import.c
 # levels of detail: the weld the simplifier is given (core/lod_weld.c)
 CORE_SRC += src/core/lod_weld.c
-CORE_SRC += src/core/model.c
+# model files as scenes (limen_model_load), the JSON reader for what assimp drops, and
+# finding and measuring nodes below a node (limen_node_find_below, limen_node_get_bounds)
+CORE_SRC += src/core/model.c src/core/json.c src/core/find.c
 GL_SRC   := src/gl/render.c src/gl/views.c src/gl/stencil.c src/gl/shader.c src/gl/mesh.c src/gl/assets.c src/gl/batch.c src/gl/ctx_osmesa.c \
             src/gl/ctx_egl.c src/gl/ctx_host.c
 LUA_SRC  := src/lua/l_fields.c src/lua/l_node.c src/lua/l_scene.c src/lua/l_render.c src/lua/script.c src/lua/safe.c src/lua/guards.c
 # sorted: a file listed twice (two branches adding it) is built once
 LIB_SRC  := $(sort $(CORE_SRC) $(GL_SRC) $(LUA_SRC))
 CLI_SRC  := src/cli/main.c src/cli/common.c src/cli/trace_cmd.c src/cli/pose.c src/cli/view.c
-TEST_C   := tests/test_host.c tests/test_math.c tests/test_mesh.c tests/test_lod.c tests/test_projection.c tests/test_scene.c tests/test_plan.c tests/test_render.c tests/test_script.c tests/test_script_limits.c tests/test_trace.c tests/test_gallery.c tests/test_threads.c tests/test_truth.c tests/test_example_game.c tests/test_crossing.c tests/test_sweep_approach.c tests/test_sweep_grazing.c tests/test_sweep_depth.c tests/test_sweep_recursion.c tests/test_sweep_matrix.c tests/test_sweep_odd.c tests/test_scale.c tests/test_model.c
+TEST_C   := tests/test_host.c tests/test_math.c tests/test_mesh.c tests/test_lod.c tests/test_projection.c tests/test_scene.c tests/test_plan.c tests/test_render.c tests/test_script.c tests/test_script_limits.c tests/test_trace.c tests/test_gallery.c tests/test_threads.c tests/test_truth.c tests/test_example_game.c tests/test_crossing.c tests/test_sweep_approach.c tests/test_sweep_grazing.c tests/test_sweep_depth.c tests/test_sweep_recursion.c tests/test_sweep_matrix.c tests/test_sweep_odd.c tests/test_scale.c tests/test_model.c tests/test_safe_load.c
 TEST_C   += tests/test_materials.c
 LIB_SRC  += src/core/collide.c src/core/contact.c src/lua/l_collide.c
 TEST_C   += tests/test_collide.c
@@ -260,7 +262,7 @@ BENCH      ?= quick
 # libembree-dev: bench/embree.c measures Embree 3 against core/bvh.c for the tracer's job
 BENCH_DEBS := gnuplot-nox libembree-dev
 BENCH_C    := bench/bench.c bench/matrices.c bench/scale.c bench/embree.c bench/speed.c bench/lod.c \
-              bench/lod_build.c
+              bench/lod_build.c bench/safe_load.c
 BENCH_C    += bench/collide.c
 BENCH_BIN  := $(BENCH_C:bench/%.c=$(B)/bench/%)
 # the floor and the classic stencil recursion that bench/speed measures limen against
@@ -335,10 +337,11 @@ sweep-charts:
 # and LLVM allocate themselves (tests/sanitize.supp), and is off in lua5.4, which unloads
 # limen.so and Mesa before it runs, so that it could not tell their memory from limen's.
 # `make fuzz` (not part of make test): libFuzzer (clang), FUZZ_TIME seconds (60 by default)
-# for each of three targets, crashes and hangs written to $(B)/fuzz/: the scene loader
+# for each target, crashes and hangs written to $(B)/fuzz/: the scene loader
 # (tests/fuzz/fuzz_scene.c, corpus seeded from scenes/ and tests/malformed/); the C API
 # (fuzz_api.c: a scene built from byte-coded calls, then planned, written as JSON, traced,
-# cast into and moved); PNG reading (fuzz_png.c, corpus seeded from the project's PNGs).
+# cast into and moved); PNG reading (fuzz_png.c, corpus seeded from the project's PNGs);
+# and the mesh loader once per format a safe scene loads (fuzz_mesh.c, contained imports).
 SAN_B      ?= $(B)/asan
 SAN_CC     ?= gcc -fsanitize=address,undefined -fno-sanitize-recover=all
 SAN_CFLAGS ?= -O2 -g -fno-omit-frame-pointer
@@ -348,6 +351,9 @@ SAN_ENV     = ASAN_OPTIONS=halt_on_error=1:detect_leaks=1:verify_asan_link_order
               PATH="$(abspath $(SAN_B))/sanbin:$$PATH"
 FUZZ_TIME  ?= 60
 FUZZ_TARGETS := scene api png
+# the mesh loader, one target per format a safe scene may load (tests/fuzz/fuzz_mesh.c,
+# seeds in tests/fuzz/mesh/); FUZZ_TRUSTED=1 imports in the process instead of a child
+FUZZ_MESH  := obj ply stl gltf glb
 FUZZ_B     := $(B)/fuzz
 FUZZ_CC    ?= clang
 FUZZ_DEBS  := clang libclang-rt-14-dev
@@ -373,6 +379,10 @@ fuzz: fuzz-deps $(B)/config.mk
 	@for t in $(FUZZ_TARGETS); do \
 	  $(FUZZ_CC) $(FUZZ_SAN) -fsanitize=fuzzer -O1 -g -Iinclude -o $(FUZZ_B)/fuzz_$$t \
 	    tests/fuzz/fuzz_$$t.c $(FUZZ_B)/liblimen.a $(LIBS) || exit 1; done
+	@for f in $(FUZZ_MESH); do \
+	  $(FUZZ_CC) $(FUZZ_SAN) -fsanitize=fuzzer -O1 -g -Iinclude -DFUZZ_EXT='"'$$f'"' \
+	    -o $(FUZZ_B)/fuzz_mesh_$$f tests/fuzz/fuzz_mesh.c $(FUZZ_B)/liblimen.a $(LIBS) || exit 1; \
+	  mkdir -p $(FUZZ_B)/corpus_$$f && cp tests/fuzz/mesh/*.$$f $(FUZZ_B)/corpus_$$f/; done
 	@mkdir -p $(FUZZ_B)/corpus $(FUZZ_B)/corpus_api $(FUZZ_B)/corpus_png && \
 	  cp scenes/*.lua tests/malformed/*.lua $(FUZZ_B)/corpus/ && \
 	  find bench/charts tests -name '*.png' -size -64k -exec cp {} $(FUZZ_B)/corpus_png/ \;
@@ -384,3 +394,6 @@ fuzz: fuzz-deps $(B)/config.mk
 	$(FUZZ_B)/fuzz_png -max_total_time=$(FUZZ_TIME) -timeout=10 -max_len=65536 \
 	  -dict=tests/fuzz/png.dict -artifact_prefix=$(FUZZ_B)/png- -print_final_stats=1 \
 	  $(FUZZ_B)/corpus_png
+	@for f in $(FUZZ_MESH); do \
+	  $(FUZZ_B)/fuzz_mesh_$$f -max_total_time=$(FUZZ_TIME) -timeout=20 -max_len=65536 \
+	    -artifact_prefix=$(FUZZ_B)/mesh-$$f- -print_final_stats=1 $(FUZZ_B)/corpus_$$f || exit 1; done

@@ -23,6 +23,8 @@ echo "bench ($MODE): levels of detail and batches: the field of bunnies (progres
 "$B/bench/lod" --out "$OUT" 2> "$OUT/lod.log"
 echo "bench ($MODE): making meshes: the levels of detail and their measured errors"
 "$B/bench/lod_build" --out "$OUT" $([ "$MODE" = full ] && echo --full) 2> "$OUT/lod_build.log"
+echo "bench ($MODE): safe loading: what containing an import in a child costs"
+"$B/bench/safe_load" --out "$OUT" 2> "$OUT/safe_load.log"
 echo "bench ($MODE): sweeps against what the hall holds (collision; progress on stderr)"
 "$B/bench/collide" --out "$OUT" 2> "$OUT/collide.log"
 echo "bench ($MODE): speed per pixel and per view against the floor and the classic recursion"
@@ -48,4 +50,4 @@ echo "runtime: $((end - start)) s" >> "$OUT/meta.txt"
 echo
 echo "bench ($MODE) done in $((end - start)) s: $OUT/points.csv, $OUT/matrices.csv, charts $OUT/*.png"
 cat "$OUT/targets.txt" "$OUT/speed.txt" "$OUT/scale_targets.txt" "$OUT/lod_targets.txt" "$OUT/embree.txt" \
-    "$OUT/lod_build.txt" "$OUT/collide.txt"
+    "$OUT/lod_build.txt" "$OUT/safe_load.txt" "$OUT/collide.txt"

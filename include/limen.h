@@ -498,6 +498,15 @@ LIMEN_API limen_status limen_camera_matrices(limen_scene *s, float aspect, limen
 
 /* A mesh's triangles as a renderer reads them (limen_drawable.mesh): shared by every node
  * that shows the same file, valid while one does. */
+/* Levels of detail between runs and on another thread: the levels made are stored in the
+ * user's cache folder ($LIMEN_CACHE_DIR, else $XDG_CACHE_HOME/limen, else ~/.cache/limen;
+ * at most $LIMEN_CACHE_MB megabytes, 256 by default; LIMEN_CACHE=off stores and reads
+ * none), keyed by the mesh's content, and read back when the same mesh is made again. A
+ * mesh of 100,000 triangles or more whose levels are not stored has the full mesh as its
+ * only level at first: its levels are made on a thread of limen's own, which reads only the
+ * mesh, and appear at a later call that reads the scene's world (rendering, planning,
+ * tracing, ray casts, limen_drawables_build, limen_scene_update), with a new
+ * limen_mesh_geometry.id; a const call never sees them change. */
 /* A level of detail of a mesh: a simplified triangle list over the same vertices (so the
  * same normals and texture coordinates), made once when the mesh is created (meshoptimizer),
  * each level about half the triangles of the one before. */
@@ -594,8 +603,10 @@ LIMEN_API void limen_drawables_environment(const limen_drawables *d, float backg
 
 /* A model file's node hierarchy as limen nodes (limen_model_load): each file node becomes a
  * node under the group with the file's name and local matrix, parents before children: a
- * MESH holding its meshes' triangles (in its own frame; the first material's diffuse colour
- * as its colour), or a GROUP where it has none. A node authored as a surface becomes a
+ * MESH holding its meshes' triangles in its own frame, a part in each one's material, read
+ * as limen_mesh_load reads a file's (colours, textures held in the file or found beside it,
+ * alpha, emission, vertex colours; a missing image leaves the colour, with a warning), or
+ * a GROUP where it has none. A node authored as a surface becomes a
  * MIRROR or PORTAL instead, through glTF extras (Blender exports an object's custom
  * properties as them):
  *     "extras": {"limen": {"mirror": {"max_depth": 4, "tint": [r, g, b]}}}
@@ -607,7 +618,9 @@ LIMEN_API void limen_drawables_environment(const limen_drawables *d, float backg
  * triangles face counter-clockwise; its height runs along the rectangle's side nearer the
  * parent's +Y. Portals pair with the node named as partner, which must name them back. The
  * file's cameras (at their node, looking as the file says; the first becomes the scene's
- * camera where it has none) and point lights (colour times intensity) when asked. A node
+ * camera where it has none) and point lights (colour times intensity; a glTF light's range
+ * as limen_light_set_range) when asked: the file node that carries one becomes that CAMERA
+ * or LIGHT node (a GROUP where it is not asked for). A node
  * name that is not UTF-8 is dropped (the node is unnamed). Any problem (a file that cannot
  * be read, a surface that is not flat, a partner missing or one-sided, a bad extras field)
  * fails with a message naming the file and the node, and leaves the scene as it was. */
@@ -1084,6 +1097,12 @@ LIMEN_API int limen_script_animated(const limen_script *sc);           /* 1 if i
 /* Calls the scene's update(t), t in seconds; a no-op for a still scene. An error leaves the
  * script usable (the next update may succeed), except one from a limit (see above). */
 LIMEN_API limen_status limen_script_update(limen_script *sc, double t);
+/* The files a script read: 0 is the script itself, then the modules a safe script required
+ * from its folder, in the order first required (a host watches them with
+ * limen_scene_get_file's, as `limen view` does). Copies the i-th into path; LIMEN_ERR_ARG
+ * past the last, or where it does not fit in size bytes. */
+LIMEN_API limen_status limen_script_get_file(const limen_script *sc, int i, char *path,
+                                             size_t size);
 /* After a load or update that failed on the memory cap (an allocation, or a mesh or image
  * the cap had no room for, refused from its header before it is read): the cap in bytes
  * that the refused request would have fitted in, what the script held then plus what it

@@ -11,6 +11,7 @@
 
 #include "check.h"
 #include "limen.h"
+#include "core/json.h"
 
 #define BOUND 0.005
 
@@ -48,8 +49,10 @@ static int add_view(gltf *g, const void *data, size_t len, const char *accessor)
     return g->nviews++;
 }
 
-/* A mesh of nv points and nt triangles; returns its index. */
-static int add_mesh(gltf *g, const float *pos, int nv, const uint16_t *idx, int nt)
+/* A mesh of nv points and nt triangles in material mat, with texture coordinates uv (or
+ * NULL); returns its index. */
+static int add_mesh_uv(gltf *g, const float *pos, const float *uv, int mat, int nv,
+                       const uint16_t *idx, int nt)
 {
     float lo[3] = { INFINITY, INFINITY, INFINITY }, hi[3] = { -INFINITY, -INFINITY, -INFINITY };
     for (int i = 0; i < nv * 3; i++) {
@@ -64,9 +67,22 @@ static int add_mesh(gltf *g, const float *pos, int nv, const uint16_t *idx, int 
     snprintf(acc, sizeof acc, "\"componentType\": 5123, \"count\": %d, \"type\": \"SCALAR\"",
              nt * 3);
     int i = add_view(g, idx, sizeof(uint16_t) * 3 * (size_t)nt, acc);
+    char tex[64] = "";
+    if (uv) {
+        snprintf(acc, sizeof acc, "\"componentType\": 5126, \"count\": %d, \"type\": \"VEC2\"",
+                 nv);
+        snprintf(tex, sizeof tex, ", \"TEXCOORD_0\": %d",
+                 add_view(g, uv, sizeof(float) * 2 * (size_t)nv, acc));
+    }
     append(g->meshes, sizeof g->meshes, "%s{\"primitives\": [{\"attributes\": {\"POSITION\": "
-           "%d}, \"indices\": %d, \"material\": 0}]}", g->nmeshes ? ", " : "", p, i);
+           "%d%s}, \"indices\": %d, \"material\": %d}]}", g->nmeshes ? ", " : "", p, tex, i,
+           mat);
     return g->nmeshes++;
+}
+
+static int add_mesh(gltf *g, const float *pos, int nv, const uint16_t *idx, int nt)
+{
+    return add_mesh_uv(g, pos, NULL, 0, nv, idx, nt);
 }
 
 /* A w x h rectangle on z = 0 facing +Z (counter-clockwise seen from +Z). */
@@ -101,20 +117,35 @@ static const char *write_gltf(const char *name, const gltf *g, const char *roots
     snprintf(path, sizeof path, "%s/%s", dir, name);
     char *b64 = malloc(g->nbin * 2 + 8);
     base64(g->bin, g->nbin, b64);
+    /* the checks image again, held in the file as a data URI */
+    unsigned char png[4096];
+    char png64[6000] = "", pngpath[128];
+    snprintf(pngpath, sizeof pngpath, "%s/checks.png", dir);
+    FILE *pf = fopen(pngpath, "rb");
+    size_t npng = pf ? fread(png, 1, sizeof png, pf) : 0;
+    if (pf)
+        fclose(pf);
+    base64(png, npng, png64);
     FILE *f = fopen(path, "w");
     CHECK(f != NULL);
     if (f) {
         fprintf(f, "{\"asset\": {\"version\": \"2.0\"}, \"scene\": 0, \"scenes\": [{\"nodes\": "
                 "[%s]}],\n \"nodes\": [%s],\n \"meshes\": [%s],\n \"materials\": "
-                "[{\"pbrMetallicRoughness\": {\"baseColorFactor\": [0.8, 0.7, 0.6, 1]}}],\n"
+                "[{\"pbrMetallicRoughness\": {\"baseColorFactor\": [0.8, 0.7, 0.6, 1]}},\n"
+                "  {\"pbrMetallicRoughness\": {\"baseColorTexture\": {\"index\": 0}}},\n"
+                "  {\"pbrMetallicRoughness\": {\"baseColorTexture\": {\"index\": 1}}},\n"
+                "  {\"pbrMetallicRoughness\": {\"baseColorTexture\": {\"index\": 2}}}],\n"
+                " \"textures\": [{\"source\": 0}, {\"source\": 1}, {\"source\": 2}],\n"
+                " \"images\": [{\"uri\": \"../elsewhere/checks.png\"}, {\"uri\": \"gone.png\"},\n"
+                "  {\"uri\": \"data:image/png;base64,%s\"}],\n"
                 " \"cameras\": [{\"type\": \"perspective\", \"perspective\": {\"yfov\": 0.9, "
                 "\"aspectRatio\": 1.3333, \"znear\": 0.05, \"zfar\": 100}}],\n"
                 " \"extensionsUsed\": [\"KHR_lights_punctual\"],\n \"extensions\": "
                 "{\"KHR_lights_punctual\": {\"lights\": [{\"type\": \"point\", \"color\": [1, 1, "
-                "1], \"intensity\": 0.9}]}},\n \"bufferViews\": [%s],\n \"accessors\": [%s],\n"
+                "1], \"intensity\": 0.9, \"range\": 7.5}]}},\n \"bufferViews\": [%s],\n \"accessors\": [%s],\n"
                 " \"buffers\": [{\"byteLength\": %zu, \"uri\": "
                 "\"data:application/octet-stream;base64,%s\"}]}\n",
-                roots, nodes, g->meshes, g->views, g->accessors, g->nbin, b64);
+                roots, nodes, g->meshes, png64, g->views, g->accessors, g->nbin, b64);
         fclose(f);
     }
     free(b64);
@@ -123,13 +154,23 @@ static const char *write_gltf(const char *name, const gltf *g, const char *roots
 
 /* The level: a floor, a room group holding a crate, a mirror by extras and one by name, a
  * portal pair by extras, a camera and a lamp. Meshes: 0 floor, 1 crate, 2 a 2 x 1.5 quad,
- * 3 a 1 x 2 quad, 4 a bent quad, 5 a 1.2 x 1 quad. */
+ * 3 a 1 x 2 quad, 4 a bent quad, 5 a 1.2 x 1 quad, 6 a sign whose image is missing, 7 a
+ * poster whose image the file holds (a data URI). The floor's image (material 1) is named
+ * "../elsewhere/checks.png" and lies beside the file. */
 static void level_meshes(gltf *g)
 {
     memset(g, 0, sizeof *g);
+    unsigned char px[8 * 8 * 3];
+    for (int i = 0; i < 64; i++)
+        for (int c = 0; c < 3; c++)
+            px[i * 3 + c] = (unsigned char)(((i % 8) / 2 + (i / 16)) % 2 ? 230 : 60 + 40 * c);
+    char path[128];
+    snprintf(path, sizeof path, "%s/checks.png", dir);
+    CHECK_OK(limen_write_png(path, 8, 8, px));
     static const float floor_pos[12] = { -5, 0, 5, 5, 0, 5, 5, 0, -5, -5, 0, -5 };
+    static const float floor_uv[8] = { 0, 0, 5, 0, 5, 5, 0, 5 };
     static const uint16_t quad_idx[6] = { 0, 1, 2, 0, 2, 3 };
-    add_mesh(g, floor_pos, 4, quad_idx, 2);
+    add_mesh_uv(g, floor_pos, floor_uv, 1, 4, quad_idx, 2);
     static const float cube_pos[24] = { -0.5f, -0.5f, -0.5f, 0.5f, -0.5f, -0.5f, 0.5f, 0.5f, -0.5f,
                                         -0.5f, 0.5f, -0.5f, -0.5f, -0.5f, 0.5f, 0.5f, -0.5f, 0.5f,
                                         0.5f, 0.5f, 0.5f, -0.5f, 0.5f, 0.5f };
@@ -142,26 +183,32 @@ static void level_meshes(gltf *g)
                                         -0.5f, 0.5f, 0 };
     add_mesh(g, bent_pos, 4, quad_idx, 2);
     add_quad(g, 1.2f, 1);
+    static const float sign_pos[12] = { -0.5f, 0, 0, 0.5f, 0, 0, 0.5f, 1, 0, -0.5f, 1, 0 };
+    static const float sign_uv[8] = { 0, 0, 1, 0, 1, 1, 0, 1 };
+    add_mesh_uv(g, sign_pos, sign_uv, 2, 4, quad_idx, 2);
+    add_mesh_uv(g, sign_pos, sign_uv, 3, 4, quad_idx, 2);
 }
 
 #define Q_PLUS_X "\"rotation\": [0, 0.70710678, 0, 0.70710678]"
 #define Q_MINUS_X "\"rotation\": [0, -0.70710678, 0, 0.70710678]"
 
 static const char *level_nodes =
-    "{\"name\": \"level\", \"children\": [1, 2, 4, 5, 6, 7, 8, 9]},\n"
+    "{\"name\": \"level\", \"children\": [1, 2, 4, 5, 6, 7, 8, 9, 10, 11]},\n"
     "{\"name\": \"floor\", \"mesh\": 0},\n"
     "{\"name\": \"room\", \"translation\": [1.5, 0, -1], \"children\": [3]},\n"
     "{\"name\": \"crate\", \"mesh\": 1, \"translation\": [0, 0.5, 0], \"scale\": [1, 1, 1]},\n"
     "{\"name\": \"glass\", \"mesh\": 2, \"translation\": [0, 1.2, -3.5], \"extras\": "
     "{\"limen\": {\"mirror\": {\"max_depth\": 3, \"tint\": [0.9, 0.95, 1]}}}},\n"
     "{\"name\": \"side-mirror\", \"mesh\": 5, \"translation\": [-4.5, 1, -1], " Q_PLUS_X "},\n"
-    "{\"name\": \"blue\", \"mesh\": 3, \"translation\": [-2.5, 1, 1.5], " Q_PLUS_X ", \"extras\": "
+    "{\"name\": \"blue\", \"mesh\": 3, \"translation\": [-2.5, 1, -1.2], " Q_PLUS_X ", \"extras\": "
     "{\"limen\": {\"portal\": {\"partner\": \"orange\", \"max_depth\": 4}}}},\n"
-    "{\"name\": \"orange\", \"mesh\": 3, \"translation\": [3.5, 1, 1.5], " Q_MINUS_X ", \"extras\": "
+    "{\"name\": \"orange\", \"mesh\": 3, \"translation\": [3.2, 1, -1.2], " Q_MINUS_X ", \"extras\": "
     "{\"limen\": {\"portal\": {\"partner\": \"blue\"}}}},\n"
     "{\"name\": \"eye\", \"camera\": 0, \"translation\": [0.3, 1.6, 4.5]},\n"
     "{\"name\": \"lamp\", \"translation\": [0, 3, 2], \"extensions\": {\"KHR_lights_punctual\": "
-    "{\"light\": 0}}}";
+    "{\"light\": 0}}},\n"
+    "{\"name\": \"sign\", \"mesh\": 6, \"translation\": [-1.5, 0, -2]},\n"
+    "{\"name\": \"poster\", \"mesh\": 7, \"translation\": [0.6, 0, -2.5]}";
 
 static limen_scene *new_scene(void)
 {
@@ -246,8 +293,40 @@ static void test_hierarchy(void)
     limen_mesh_info mi;
     CHECK_OK(limen_mesh_get(s, crate, &mi));
     CHECK(mi.triangle_count == 12);
-    CHECK_OK(limen_node_get_color(s, find_below(s, group, "floor"), c));
-    CHECK_NEAR(c[1], 0.7, 1e-6);
+    /* the floor's image found beside the file by its base name; the sign's missing one
+     * leaves it untextured */
+    limen_drawables *d = NULL;
+    CHECK_OK(limen_drawables_create(&d));
+    CHECK_OK(limen_drawables_build(d, s));
+    const limen_drawable *items;
+    limen_drawables_items(d, &items);
+    const limen_mesh_geometry *fl = items[limen_drawables_find(d, find_below(s, group,
+                                                                             "floor"))].mesh;
+    const limen_mesh_geometry *si = items[limen_drawables_find(d, find_below(s, group,
+                                                                             "sign"))].mesh;
+    const limen_mesh_geometry *po = items[limen_drawables_find(d, find_below(s, group,
+                                                                             "poster"))].mesh;
+    const limen_mesh_geometry *cr = items[limen_drawables_find(d, crate)].mesh;
+    CHECK(fl && fl->material_count == 1 && fl->materials[0].base_texture &&
+          fl->materials[0].base_texture->width == 8);
+    CHECK(si && si->material_count == 1 && !si->materials[0].base_texture);
+    bool warned = false;    /* the missing image is a warning of the scene's */
+    for (int i = 0; i < limen_scene_warning_count(s); i++)
+        warned |= strstr(limen_scene_warning(s, i), "gone.png") != NULL;
+    CHECK(warned);
+    CHECK(po && po->material_count == 1 && po->materials[0].base_texture &&
+          po->materials[0].base_texture->width == 8);
+    /* the crate's colour is its part's material's */
+    CHECK(cr && cr->material_count == 1);
+    if (cr && cr->material_count == 1)
+        CHECK_NEAR(cr->materials[0].base_color[1], 0.7, 1e-6);
+    limen_drawables_destroy(d);
+    /* the model is among the files the scene read (limen view watches them) */
+    char file[4096];
+    bool listed = false;
+    for (int i = 0; limen_scene_get_file(s, i, file, sizeof file) == LIMEN_OK; i++)
+        listed |= strlen(file) > 11 && strcmp(file + strlen(file) - 11, "/level.gltf") == 0;
+    CHECK(listed);
     /* camera and lamp: the scene's camera now, at the file's place and lens */
     limen_node eye = limen_scene_get_camera(s);
     CHECK(eye.id && strcmp(limen_node_get_name(s, eye), "eye") == 0);
@@ -261,6 +340,7 @@ static void test_hierarchy(void)
     CHECK(limen_node_get_kind(s, lamp) == LIMEN_NODE_LIGHT);
     CHECK_OK(limen_node_get_color(s, lamp, c));
     CHECK_NEAR(c[0], 0.9, 1e-6);
+    CHECK_NEAR(limen_light_get_range(s, lamp), 7.5, 1e-6);  /* from the JSON: assimp drops it */
     /* asked for neither: no camera, no light */
     limen_scene *s2 = new_scene();
     limen_node g2;
@@ -338,8 +418,9 @@ static void test_refusals(void)
           "node 'm': unknown mirror field \"depth\"" },
         { "{\"name\": \"m\", \"mesh\": 2, \"extras\": {\"limen\": \"mirror\"}}",
           "node 'm': its extras' \"limen\" is not an object" },
-        { "{\"name\": \"e-mirror\"}", "node 'e-mirror': a mirror must be one flat rectangle (a "
-          "polygon's bounding rectangle will do): it has no triangles" },
+        { "{\"name\": \"e-mirror\", \"children\": [1]}, {\"name\": \"f\", \"mesh\": 0}",
+          "node 'e-mirror': a mirror must be one flat rectangle (a polygon's bounding "
+          "rectangle will do): it has no triangles" },
         { "{\"name\": \"m\", \"mesh\": 2, \"extras\": {\"limen\": {\"mirror\": {\"max_depth\": "
           "300}}}}", "node 'm': max_depth must be an integer from 0 to 255" },
         { "{\"name\": \"m\", \"mesh\": 2, \"extras\": {\"limen\": {\"mirror\": {\"max_depth\": "
@@ -391,7 +472,37 @@ static void test_refusals(void)
     limen_scene_destroy(s);
 }
 
+/* The JSON reader behind the light ranges, on hostile text: refused, never read past. */
+static void test_json(void)
+{
+    limen__json j;
+    const char *good = " {\"a\": [1, -2.5e1, true, null, \"x\\\"y\"], \"b\": {}} ";
+    CHECK(limen__json_parse(&j, good, strlen(good), 100));
+    int a = limen__json_get(&j, 0, "a");
+    CHECK(limen__json_at(&j, a, 1) >= 0 && j.v[limen__json_at(&j, a, 1)].number == -25);
+    CHECK(j.v[limen__json_at(&j, a, 2)].number == 1 && limen__json_at(&j, a, 5) < 0);
+    CHECK(limen__json_is(&j, limen__json_at(&j, a, 4), "x\\\"y"));
+    CHECK(limen__json_get(&j, a, "b") < 0 && limen__json_get(&j, 0, "c") < 0);
+    free(j.v);
+    static const char *const bad[] = { "", "{", "[1,]", "{\"a\" 1}", "\"abc", "01x", "[1] 2",
+                                       "{\"a\": tru}", "[\"\\", "1e999999999999999999999999"
+                                       "999999999999999999999999999999999999999999999999" };
+    for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
+        CHECK_MSG(!limen__json_parse(&j, bad[i], strlen(bad[i]), 100), "case %zu accepted", i);
+        free(j.v);
+    }
+    char deep[400];
+    memset(deep, '[', sizeof deep);
+    CHECK(!limen__json_parse(&j, deep, sizeof deep, 1000));     /* deeper than 64 */
+    free(j.v);
+    CHECK(!limen__json_parse(&j, "[1, 2, 3]", 9, 3));            /* more values than allowed */
+    free(j.v);
+    CHECK(limen__json_parse(&j, "[1, 2, 3]", 5, 10) == false);   /* cut short */
+    free(j.v);
+}
+
 static const check_case cases[] = {
+    { "json", test_json },
     { "hierarchy", test_hierarchy },
     { "render", test_render },
     { "refusals", test_refusals },

@@ -469,7 +469,7 @@ static void test_trusted(void)
                               "assert(not io and not debug and not dofile and not loadfile)\n"
                               "assert(os.clock and os.time and os.date and os.difftime)\n"
                               "assert(not os.getenv and not os.remove and not os.exit)\n"
-                              "assert(not package.loadlib and #package.searchers == 1)\n"
+                              "assert(not package.loadlib and #package.searchers == 2)\n"
                               "assert(string.format and table.concat and math.sin and utf8.char)\n"
                               "assert(coroutine.wrap and load(\"return 1\")() == 1)\n"
                               "assert(load(\"return ...\", \"c\", \"t\", {})(7) == 7)\n"

@@ -282,13 +282,22 @@ static int file_changed(viewer *v)
     return changed;
 }
 
-/* The files the scene read (limen_scene_get_file), to be watched from now on. */
+/* The files the scene read (limen_scene_get_file: meshes, the files they name, textures)
+ * and the modules the script required (limen_script_get_file, past the script itself), to
+ * be watched from now on. */
 static void watch_assets(viewer *v)
 {
     v->nfiles = 0;
     for (int i = 0; v->nfiles < MAX_WATCHED; i++) {
         watched *w = &v->files[v->nfiles];
         if (limen_scene_get_file(scene(v), i, w->path, sizeof w->path))
+            break;
+        if (!stat(w->path, &w->st))
+            v->nfiles++;
+    }
+    for (int i = 1; v->nfiles < MAX_WATCHED; i++) {
+        watched *w = &v->files[v->nfiles];
+        if (limen_script_get_file(v->sc, i, w->path, sizeof w->path))
             break;
         if (!stat(w->path, &w->st))
             v->nfiles++;

@@ -139,4 +139,18 @@ bool limen__import_valid(const limen__import *b, size_t size);
 #define LIMEN__IMP(b, field, type) ((type *)(void *)((unsigned char *)(b) + (b)->field))
 const char *limen__import_string(const limen__import *b, uint32_t off);    /* "" for NONE */
 
+/* The way in for every file an import reads (core/confine.c): while set (by core/mesh.c, on
+ * the importing thread), assimp opens files through io, and the textures a model names are
+ * read through read (the whole file, at most max bytes; NULL if refused) and looked for
+ * through exists. inside: the import runs in a contained child, one thread: no lock. */
+struct aiFileIO;
+typedef struct limen__import_files {
+    struct aiFileIO *io;
+    void *ctx;
+    unsigned char *(*read)(void *ctx, const char *path, size_t max, size_t *len);
+    bool (*exists)(void *ctx, const char *path);
+    bool inside;
+} limen__import_files;
+extern _Thread_local const limen__import_files *limen__import_files_hook;
+
 #endif

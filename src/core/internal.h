@@ -91,6 +91,8 @@ struct limen_scene {
     int nmeshes, mesh_cap;
     void **textures;            /* limen__texture *: each shared by the nodes that use it */
     int ntextures, texture_cap;
+    struct limen__load *load;   /* while a script loads a file: its folder and limits
+                                 * (core/confine.h); NULL: trusted, no limits */
     char **warnings;            /* what loading files noticed (core/mesh.c): "file: warning: ..." */
     int nwarnings;
     char err[LIMEN__ERR_MAX];

@@ -5,6 +5,7 @@
  * Shading follows the file: where it has normals they are interpolated across each triangle;
  * where it has none, each triangle shows its face normal, unless the node asks for smooth
  * shading, which interpolates area-weighted vertex normals (computed here once per asset). */
+#include <ctype.h>
 #include <errno.h>
 #include <limits.h>
 #include <pthread.h>
@@ -12,8 +13,13 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
+#include <unistd.h>
 
+#include <assimp/cfileio.h>
+#include <assimp/types.h>
 
+#include "core/confine.h"
+#include "core/contain.h"
 #include "core/internal.h"
 #include "core/mesh.h"
 #include "core/import.h"
@@ -22,6 +28,7 @@
 #define LEAF_TRIS 4
 #define MAX_TRIS (UINT32_MAX / 3u - 1u)
 #define STACK_MAX 64
+#define GLTF_DEPTH_MAX 256      /* nodes nested deeper overflow the importer's stack */
 
 size_t limen__mesh_bytes(uint64_t nverts, uint64_t ntris, bool uvs)
 {
@@ -298,6 +305,7 @@ static void mesh_free(limen_scene *s, limen__mesh *m)
     free(m->bvh);
     free(m->tri_order);
     free(m->lods);
+    free(m->files);
     free(m->col);
     free(m->parts);
     free(m->lod_parts);
@@ -540,6 +548,10 @@ static limen_status mesh_from_arrays(limen_scene *s, const limen_mesh_data *d, c
         return limen__fail(s, LIMEN_ERR_ARG, "%s: needs positions and indices", what);
     if (d->triangle_count < 1)
         return limen__fail(s, LIMEN_ERR_ARG, "%s: no triangles", what);
+    if (d->vertex_count < 3 && d->vertex_count > 0)
+        return limen__fail(s, LIMEN_ERR_ARG, "%s: triangle 0 is degenerate, as is every other "
+                           "(%d vertices, fewer than a triangle needs; a vertex that is not a "
+                           "number is dropped)", what, d->vertex_count);
     if (d->vertex_count < 3)
         return limen__fail(s, LIMEN_ERR_ARG, "%s: %d vertices, fewer than a triangle needs "
                            "(a vertex that is not a number is dropped)", what, d->vertex_count);
@@ -573,6 +585,24 @@ static limen_status mesh_from_arrays(limen_scene *s, const limen_mesh_data *d, c
     limen_status pst = check_parts(s, d, what);
     if (pst)
         return pst;
+    uint32_t flat = 0;      /* triangles with no area, before the first that has one */
+    while (flat < nt) {
+        const uint32_t *ix = &d->indices[flat * 3];
+        const float *a = &d->positions[ix[0] * 3], *b = &d->positions[ix[1] * 3],
+                    *c = &d->positions[ix[2] * 3];
+        double e1[3], e2[3];
+        for (int k = 0; k < 3; k++) {
+            e1[k] = (double)b[k] - a[k];
+            e2[k] = (double)c[k] - a[k];
+        }
+        if (e1[1] * e2[2] - e1[2] * e2[1] != 0 || e1[2] * e2[0] - e1[0] * e2[2] != 0 ||
+            e1[0] * e2[1] - e1[1] * e2[0] != 0)
+            break;
+        flat++;
+    }
+    if (flat == nt)
+        return limen__fail(s, LIMEN_ERR_ARG, "%s: triangle 0 is degenerate (its corners meet or "
+                           "lie on a line) and so is every other: no triangle has an area", what);
     limen__mesh *m = calloc(1, sizeof *m);
     if (!m)
         return limen__fail(s, LIMEN_ERR_NOMEM, "%s: out of memory", what);
@@ -706,7 +736,10 @@ static float *node_worlds(const limen__import *b)
     return w;
 }
 
-static limen_status flatten(limen_scene *s, const limen__import *b, const char *path, flat *f)
+/* only: one node's parts in its own frame (a model's node: core/model.c), or
+ * LIMEN__IMPORT_NONE for every node's where the file places them. */
+static limen_status flatten(limen_scene *s, const limen__import *b, uint32_t only,
+                           const char *path, flat *f)
 {
     memset(f, 0, sizeof *f);
     const limen__import_node *ns = LIMEN__IMP(b, nodes, limen__import_node);
@@ -716,7 +749,8 @@ static limen_status flatten(limen_scene *s, const limen__import *b, const char *
     const uint32_t *ts = LIMEN__IMP(b, tris, uint32_t), *np = LIMEN__IMP(b, node_parts, uint32_t);
     uint64_t nv = 0, nt = 0;
     for (uint32_t n = 0; n < b->nnodes; n++)
-        for (uint32_t k = 0; k < ns[n].part_count; k++) {
+        for (uint32_t k = 0; k < ns[n].part_count && (only == LIMEN__IMPORT_NONE || n == only);
+             k++) {
             const limen__import_part *p = &ps[np[ns[n].first_part + k]];
             if (p->tri_count) {
                 nv += p->vertex_count;
@@ -747,7 +781,10 @@ static limen_status flatten(limen_scene *s, const limen__import *b, const char *
         const limen__import_material *mt = &ms[mi];
         uint32_t first = f->nt;
         for (uint32_t n = 0; n < b->nnodes; n++) {
-            const float *w = &world[n * 16];
+            if (only != LIMEN__IMPORT_NONE && n != only)
+                continue;
+            static const float own[16] = { 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1 };
+            const float *w = only == LIMEN__IMPORT_NONE ? &world[n * 16] : own;
             mat4 wm;
             mat3 nm;
             memcpy(wm, w, sizeof wm);
@@ -809,8 +846,9 @@ static limen_status flatten(limen_scene *s, const limen__import *b, const char *
     return LIMEN_OK;
 }
 
-/* The block's material index of the flattened mesh's material k (the k-th used). */
-static uint32_t used_material(const limen__import *b, uint32_t k)
+/* The block's material index of the flattened mesh's material k (the k-th used; by node
+ * `only`, or by any node where it is LIMEN__IMPORT_NONE). */
+static uint32_t used_material(const limen__import *b, uint32_t only, uint32_t k)
 {
     const limen__import_node *ns = LIMEN__IMP(b, nodes, limen__import_node);
     const limen__import_part *ps = LIMEN__IMP(b, parts, limen__import_part);
@@ -818,7 +856,8 @@ static uint32_t used_material(const limen__import *b, uint32_t k)
     for (uint32_t mi = 0; mi < b->nmaterials; mi++) {
         bool used = false;
         for (uint32_t n = 0; n < b->nnodes && !used; n++)
-            for (uint32_t j = 0; j < ns[n].part_count && !used; j++) {
+            for (uint32_t j = 0; j < ns[n].part_count && !used &&
+                                 (only == LIMEN__IMPORT_NONE || n == only); j++) {
                 const limen__import_part *p = &ps[np[ns[n].first_part + j]];
                 used = p->material == mi && p->tri_count;
             }
@@ -829,8 +868,8 @@ static uint32_t used_material(const limen__import *b, uint32_t k)
 }
 
 /* The block's textures onto the mesh's materials (each decoded image made once). */
-static limen_status mesh_textures(limen_scene *s, const limen__import *b, const char *path,
-                                  limen__mesh *m)
+static limen_status mesh_textures(limen_scene *s, const limen__import *b, uint32_t only,
+                                  const char *path, limen__mesh *m)
 {
     const limen__import_material *ms = LIMEN__IMP(b, materials, limen__import_material);
     const limen__import_texture *ts = LIMEN__IMP(b, textures, limen__import_texture);
@@ -839,7 +878,7 @@ static limen_status mesh_textures(limen_scene *s, const limen__import *b, const 
         return limen__fail(s, LIMEN_ERR_NOMEM, "%s: out of memory", path);
     limen_status st = LIMEN_OK;
     for (uint32_t k = 0; k < m->nmats && !st; k++) {
-        const limen__import_material *mt = &ms[used_material(b, k)];
+        const limen__import_material *mt = &ms[used_material(b, only, k)];
         uint32_t which[LIMEN__MAT_TEXTURES] = { mt->base_tex, mt->emissive_tex,
                                                 mt->metal_rough_tex, mt->normal_tex,
                                                 mt->occlusion_tex };
@@ -885,7 +924,7 @@ static limen_status mesh_textures(limen_scene *s, const limen__import *b, const 
 }
 
 /* The block's warnings into the scene's list, as "file: warning: text". */
-static void keep_warnings(limen_scene *s, const limen__import *b, const char *path)
+void limen__mesh_keep_warnings(limen_scene *s, const limen__import *b, const char *path)
 {
     const uint32_t *ws = LIMEN__IMP(b, warnings, uint32_t);
     for (uint32_t i = 0; i < b->nwarnings; i++) {
@@ -903,69 +942,461 @@ static void keep_warnings(limen_scene *s, const limen__import *b, const char *pa
     }
 }
 
-/* A PLY header, checked before assimp reads it: assimp 5.2 loops forever on one that never
- * ends, and allocates what the header declares before it finds the data missing (a few
- * bytes declaring ten million faces would take gigabytes outside any cap). Every element
- * takes at least a byte of the file, so no more may be declared than it has bytes. Writes
- * why into why and returns false if the file is refused; true for other formats. */
-static bool ply_header_ok(FILE *f, uint64_t size, char *why, size_t why_size)
+/* ------------------------------------------------------------------ the importer's way in */
+
+/* assimp opens every file it reads (the mesh file, an OBJ's mtllib, a glTF's buffers)
+ * through these callbacks (aiFileIO), so through the scene's one way in
+ * (core/confine.c): beneath the scene's folder in safe mode, never blocking, the bytes
+ * counted. Each file is read whole on opening; reads and seeks are then in memory. */
+
+typedef struct io_file {
+    struct aiFile f;
+    unsigned char *data;
+    size_t len, at;
+} io_file;
+
+typedef struct io_ctx {
+    struct aiFileIO io;
+    limen_scene *s;
+    char why[LIMEN__ERR_MAX];   /* the first file that could not be opened, and why */
+    limen__block files;         /* the paths read, each ended by a NUL */
+} io_ctx;
+
+static size_t io_read(struct aiFile *f, char *buf, size_t size, size_t count)
 {
-    char head[4096 + 1];
-    size_t n = fread(head, 1, sizeof head - 1, f);
-    head[n] = '\0';
-    if (n < 3 || memcmp(head, "ply", 3) != 0)
-        return true;
-    char *end = memmem(head, n, "end_header", 10);
-    if (!end) {
-        snprintf(why, why_size, "a PLY header with no end_header in its first 4 KiB");
+    io_file *x = (io_file *)f->UserData;
+    if (size == 0 || x->at >= x->len)
+        return 0;
+    size_t n = (x->len - x->at) / size;
+    n = n < count ? n : count;
+    memcpy(buf, x->data + x->at, n * size);
+    x->at += n * size;
+    return n;
+}
+
+static size_t io_write(struct aiFile *f, const char *buf, size_t size, size_t count)
+{
+    return 0;
+}
+
+static size_t io_tell(struct aiFile *f)
+{
+    return ((io_file *)f->UserData)->at;
+}
+
+static size_t io_size(struct aiFile *f)
+{
+    return ((io_file *)f->UserData)->len;
+}
+
+static enum aiReturn io_seek(struct aiFile *f, size_t off, enum aiOrigin origin)
+{
+    io_file *x = (io_file *)f->UserData;
+    size_t base = origin == aiOrigin_SET ? 0 : origin == aiOrigin_CUR ? x->at : x->len;
+    if (off > x->len || base > x->len - off)
+        return aiReturn_FAILURE;
+    x->at = base + off;
+    return aiReturn_SUCCESS;
+}
+
+static void io_flush(struct aiFile *f)
+{
+}
+
+static bool io_listed(const limen__block *b, const char *path)
+{
+    for (size_t at = 0; at < b->len; at += strlen((const char *)b->data + at) + 1)
+        if (strcmp((const char *)b->data + at, path) == 0)
+            return true;
+    return false;
+}
+
+static struct aiFile *io_open(struct aiFileIO *io, const char *path, const char *mode)
+{
+    io_ctx *c = (io_ctx *)io->UserData;
+    if (!path || strpbrk(mode, "wa+"))
+        return NULL;
+    io_file *x = calloc(1, sizeof *x);
+    struct stat st;
+    if (!x || limen__file_read(c->s, path, &x->data, &x->len, &st)) {
+        if (!c->why[0])
+            snprintf(c->why, sizeof c->why, "%s", x ? c->s->err : "out of memory");
+        free(x);
+        return NULL;
+    }
+    if (!io_listed(&c->files, path))
+        limen__block_put(&c->files, path, strlen(path) + 1);
+    x->f = (struct aiFile){ .ReadProc = io_read, .WriteProc = io_write, .TellProc = io_tell,
+                            .FileSizeProc = io_size, .SeekProc = io_seek, .FlushProc = io_flush,
+                            .UserData = (aiUserData)x };
+    return &x->f;
+}
+
+static void io_close(struct aiFileIO *io, struct aiFile *f)
+{
+    io_ctx *c = (io_ctx *)io->UserData;
+    io_file *x = (io_file *)f->UserData;
+    if (c->s->load)
+        c->s->load->read_bytes -= x->len < c->s->load->read_bytes ? x->len
+                                                                    : c->s->load->read_bytes;
+    free(x->data);
+    free(x);
+}
+
+/* ------------------------------------------------------------------ what is read */
+
+/* The file name's extension, lower case, into ext ("" if none). */
+static void extension(const char *path, char *ext, size_t size)
+{
+    const char *slash = strrchr(path, '/'), *dot = strrchr(path, '.');
+    ext[0] = '\0';
+    if (!dot || (slash && dot < slash))
+        return;
+    size_t i = 0;
+    for (dot++; *dot && i + 1 < size; dot++)
+        ext[i++] = (char)tolower((unsigned char)*dot);
+    ext[i] = '\0';
+}
+
+/* Formats a safe scene may load, decided by the extension and the content agreeing: those
+ * fuzzed (make fuzz). Writes why and returns false for anything else. */
+static bool allowed_format(const char *path, const unsigned char *head, size_t n,
+                           uint64_t size, char *why, size_t why_size)
+{
+    char ext[8];
+    extension(path, ext, sizeof ext);
+    size_t i = 0;
+    while (i < n && isspace(head[i]))
+        i++;
+    bool ok = false;
+    if (strcmp(ext, "gltf") == 0)
+        ok = i < n && head[i] == '{';
+    else if (strcmp(ext, "glb") == 0)
+        ok = n >= 4 && memcmp(head, "glTF", 4) == 0;
+    else if (strcmp(ext, "obj") == 0)
+        ok = !memchr(head, '\0', n);
+    else if (strcmp(ext, "ply") == 0)
+        ok = n >= 4 && memcmp(head, "ply", 3) == 0 && (head[3] == '\n' || head[3] == '\r');
+    else if (strcmp(ext, "stl") == 0) {
+        uint32_t count = 0;
+        if (n >= 84)
+            memcpy(&count, head + 80, 4);
+        ok = (n >= 5 && memcmp(head, "solid", 5) == 0 && !memchr(head, '\0', n)) ||
+             (n >= 84 && size == 84 + 50 * (uint64_t)count);
+    } else {
+        snprintf(why, why_size, "a safe scene loads glTF (.gltf, .glb), OBJ (.obj, .mtl), PLY "
+                 "(.ply) and STL (.stl) meshes, not .%s files", ext[0] ? ext : "(none)");
         return false;
     }
-    *end = '\0';
+    if (!ok)
+        snprintf(why, why_size, "its content is not a %s file (a safe scene loads glTF, OBJ, "
+                 "PLY and STL meshes, each in a file of its own extension)", ext);
+    return ok;
+}
+
+/* Counts a header declares, checked against the file's size before the importer sees it:
+ * every element a format's header declares takes at least a byte of the file (a vertex or
+ * face), so a few bytes cannot declare gigabytes. Writes why and returns
+ * false if the file is refused. */
+static bool header_ok(const unsigned char *data, size_t size, char *why, size_t why_size)
+{
+    char head[4096 + 1];
+    size_t n = size < sizeof head - 1 ? size : sizeof head - 1;
+    memcpy(head, data, n);
+    head[n] = '\0';
+    for (size_t i = 0; i < n; i++)
+        if (head[i] == '\0')
+            head[i] = ' ';
     uint64_t declared = 0;
-    for (char *p = strstr(head, "element "); p; p = strstr(p + 8, "element ")) {
-        char name[32];
-        unsigned long long count = 0;
-        if (sscanf(p + 8, "%31s %llu", name, &count) == 2)
-            declared += count > size ? size + 1 : count;
+    if (n >= 3 && memcmp(head, "ply", 3) == 0) {
+        /* assimp 5.2 loops for ever on a header that never ends or ends "end_headerX" */
+        char *end = strstr(head, "end_header");
+        if (!end || (end[10] != '\n' && end[10] != '\r')) {
+            snprintf(why, why_size, "a PLY header with no end_header line in its first 4 KiB");
+            return false;
+        }
+        *end = '\0';
+        /* words apart by any white space ("element\tvertex 9" is a declaration too) */
+        for (char *line = head; line && *line;) {
+            char *next = strpbrk(line, "\r\n");
+            if (next)
+                *next++ = '\0';
+            char word[16], name[32];
+            unsigned long long count = 0;
+            if (sscanf(line, "%15s %31s %llu", word, name, &count) == 3 &&
+                strcmp(word, "element") == 0)
+                declared += count > size ? size + 1 : count;
+            line = next;
+        }
+    } else if (n >= 3 && memcmp(head, "OFF", 3) == 0) {
+        unsigned long long nv = 0, nf = 0;
+        char *p = head + 3;
+        while (*p && *p != '\n')
+            p++;
+        /* OFF, then (after comments) the vertex and face counts */
+        while (*p) {
+            while (isspace((unsigned char)*p))
+                p++;
+            if (*p != '#')
+                break;
+            while (*p && *p != '\n')
+                p++;
+        }
+        if (sscanf(head + 3, "%llu %llu", &nv, &nf) == 2 || sscanf(p, "%llu %llu", &nv, &nf) == 2)
+            declared = (nv > size ? size + 1 : nv) + (nf > size ? size + 1 : nf);
     }
     if (declared > size) {
-        snprintf(why, why_size, "its PLY header declares more elements than the file has "
-                 "bytes (%llu)", (unsigned long long)size);
+        snprintf(why, why_size, "its header declares more elements than the file has bytes "
+                 "(%llu)", (unsigned long long)size);
         return false;
     }
     return true;
+}
+
+/* ------------------------------------------------------------------ importing */
+
+/* The hooks import.c reads every file through (core/import.h): assimp's through io, the
+ * textures a model names through read and exists, all on the scene's one way in. */
+static unsigned char *hook_read(void *ctx, const char *path, size_t max, size_t *len)
+{
+    io_ctx *c = ctx;
+    unsigned char *data;
+    struct stat st;
+    size_t keep = 0;
+    limen__load *ld = c->s->load;
+    if (ld) {       /* a texture is held no longer than the import */
+        keep = ld->max_bytes;
+        ld->max_bytes = max < keep ? max + ld->read_bytes : keep;
+    }
+    limen_status rc = limen__file_read(c->s, path, &data, len, &st);
+    if (ld) {
+        ld->max_bytes = keep;
+        if (!rc)
+            ld->read_bytes -= *len;
+    }
+    if (rc)
+        return NULL;
+    if (!io_listed(&c->files, path))
+        limen__block_put(&c->files, path, strlen(path) + 1);
+    return data;
+}
+
+static bool hook_exists(void *ctx, const char *path)
+{
+    io_ctx *c = ctx;
+    char why[160];
+    struct stat st;
+    int fd = limen__confine_open(c->s->load ? c->s->load->box : NULL, path, &st, why, sizeof why);
+    if (fd >= 0)
+        close(fd);
+    return fd >= 0;
+}
+
+/* Imports path in this process into a block (core/import.h), every file through the scene's
+ * way in; the files read into files. */
+static limen_status import_here(limen_scene *s, const char *path, unsigned flags,
+                                size_t max_bytes, limen__import **blk, limen__block *files)
+{
+    *blk = NULL;
+    io_ctx c = { .io = { io_open, io_close, NULL }, .s = s };
+    c.io.UserData = (aiUserData)&c;
+    limen__import_files hooks = { .io = &c.io, .ctx = &c, .read = hook_read,
+                                  .exists = hook_exists,
+                                  .inside = s->load && s->load->inside };
+    char ierr[700];
+    limen__import_files_hook = &hooks;
+    limen_status st = limen__import_file(path, flags, max_bytes, blk, ierr, sizeof ierr);
+    limen__import_files_hook = NULL;
+    if (st) {
+        size_t pl = strlen(path);
+        if (c.why[0] && strncmp(c.why, path, pl) == 0 && c.why[pl] == ':')
+            st = limen__fail(s, LIMEN_ERR_IO, "%s", c.why);
+        else if (c.why[0] && strstr(ierr, "cannot read it as a mesh"))
+            st = limen__fail(s, LIMEN_ERR_IO, "%s: %s", path, c.why);
+        else if (strstr(ierr, "bad_alloc"))
+            st = limen__fail(s, LIMEN_ERR_NOMEM, "%s: the importer ran out of memory reading it "
+                             "(%.1f MiB left)", path, max_bytes / 1048576.0);
+        else
+            st = limen__fail(s, st, "%s", ierr);
+        limen__block_free(&c.files);
+        return st;
+    }
+    *files = c.files;
+    return LIMEN_OK;
+}
+
+typedef struct importing {
+    limen_scene *s;
+    const char *path;
+    unsigned flags;
+    size_t max_bytes;
+} importing;
+
+/* In the child: [the block][the files read, each ended by a NUL]. */
+static int import_child(void *arg, limen__block *out, char *why, size_t why_size)
+{
+    importing *im = arg;
+    limen_scene *s = im->s;
+    s->load->inside = true;
+    limen__import *blk;
+    limen__block files = { 0 };
+    limen_status st = import_here(s, im->path, im->flags, im->max_bytes, &blk, &files);
+    if (st) {
+        snprintf(why, why_size, "%s", s->err);
+        return (int)st;
+    }
+    /* the block itself becomes the answer (no copy), the files read after it */
+    *out = (limen__block){ .data = (unsigned char *)blk, .len = (size_t)blk->size,
+                           .cap = (size_t)blk->size };
+    limen__block_put(out, files.data, files.len);
+    return 0;
+}
+
+/* Imports path in a child under what the script has left (core/contain.c): the block comes
+ * back through a pipe and is checked as anything from elsewhere (limen__import_valid). */
+static limen_status import_contained(limen_scene *s, const char *path, unsigned flags,
+                                     size_t max_bytes, limen__import **blk,
+                                     limen__block *files)
+{
+    *blk = NULL;
+    limen__load *ld = s->load;
+    importing im = { s, path, flags, max_bytes };
+    /* the block holds each vertex whole (64 bytes) for the moment it takes to flatten it:
+     * a few times what the mesh will hold, in the host only while this call lasts */
+    limen__contain_limits lim = { max_bytes, ld->cpu_left,
+                                  max_bytes < SIZE_MAX / 8 ? max_bytes * 6 + (1u << 20) : 0 };
+    limen__block b;
+    char why[LIMEN__ERR_MAX];
+    double cpu;
+    int rc = limen__contain_run(import_child, &im, &lim, &b, why, sizeof why, &cpu);
+    ld->cpu_spent += cpu;
+    ld->cpu_left = ld->cpu_left > 0 ? (ld->cpu_left > cpu ? ld->cpu_left - cpu : 1e-9) : 0;
+    switch (rc) {
+    case LIMEN__CONTAIN_OK:
+        break;
+    case LIMEN__CONTAIN_FAILED:
+        return limen__fail(s, (limen_status)limen__contain_code(), "%s", why);
+    case LIMEN__CONTAIN_CRASHED:
+        return limen__fail(s, LIMEN_ERR_IO, "the importer crashed reading %s (%s; it may have "
+                           "run out of the %.1f MiB left)", path, why, max_bytes / 1048576.0);
+    case LIMEN__CONTAIN_TIME:
+        return limen__fail(s, LIMEN_ERR_IO, "the importer ran out of time reading %s (%.1f s of "
+                           "processor time left)", path, lim.cpu_seconds);
+    case LIMEN__CONTAIN_MEMORY:
+        return limen__fail(s, LIMEN_ERR_NOMEM, "the importer handed back more than the %.1f MiB "
+                           "left reading %s", max_bytes / 1048576.0, path);
+    default:
+        return limen__fail(s, LIMEN_ERR_IO, "%s: %s", path, why);
+    }
+    /* the answer is one malloc'd buffer: the block in place (aligned as malloc aligns),
+     * checked before anything reads it, then the files */
+    limen__import *got = (limen__import *)b.data;
+    limen_status st = LIMEN_OK;
+    if (b.len < sizeof *got || got->size > b.len || !limen__import_valid(got, (size_t)got->size))
+        st = limen__fail(s, LIMEN_ERR_IO, "the importer handed back a broken block reading %s",
+                         path);
+    if (!st) {
+        size_t flen = b.len - (size_t)got->size;
+        const char *fl = (const char *)b.data + got->size;
+        if (flen && fl[flen - 1] == '\0')
+            limen__block_put(files, fl, flen);
+        *blk = got;     /* the buffer is the block's: free(*blk) releases it */
+        return LIMEN_OK;
+    }
+    limen__block_free(&b);
+    return st;
+}
+
+static limen_status mesh_from_block(limen_scene *s, const limen__import *blk, uint32_t only,
+                                    const char *path, size_t max_bytes, limen__mesh **out);
+
+limen_status limen__mesh_import(limen_scene *s, const char *path, unsigned flags,
+                                size_t max_bytes, limen__import **blk, limen__block *files)
+{
+    *blk = NULL;
+    *files = (limen__block){ 0 };
+    unsigned char *data;
+    size_t len;
+    struct stat st_file;
+    limen_status st = limen__file_read(s, path, &data, &len, &st_file);
+    if (st) {
+        if (st == LIMEN_ERR_NOMEM)
+            s->mem_wanted = (uint64_t)st_file.st_size;
+        return st;
+    }
+    char why[300] = "";
+    bool ok = (!s->load || !s->load->safe ||
+               allowed_format(path, data, len < 4096 ? len : 4096, len, why, sizeof why)) &&
+              header_ok(data, len, why, sizeof why);
+    /* glTF: what its nodes place, before the importer copies a mesh into each of them */
+    uint64_t gv = 0, gt = 0;
+    int depth = 0;
+    size_t i = 0;
+    while (i < len && isspace(data[i]))
+        i++;
+    bool gltf = ok && ((i < len && data[i] == '{') || (len >= 4 && memcmp(data, "glTF", 4) == 0));
+    if (gltf && limen__gltf_cost(data, len, max_bytes, &gv, &gt, &depth)) {
+        size_t need = limen__mesh_bytes(gv, gt, true);
+        if (depth == INT32_MAX) {
+            ok = false;
+            snprintf(why, sizeof why, "its nodes form a cycle");
+        } else if (depth > GLTF_DEPTH_MAX) {
+            ok = false;
+            snprintf(why, sizeof why, "its nodes nest %d deep (%d at most)", depth,
+                     GLTF_DEPTH_MAX);
+        } else if (need > max_bytes) {
+            free(data);
+            if (s->load)
+                s->load->read_bytes -= len;
+            s->mem_wanted = need;
+            return limen__fail(s, LIMEN_ERR_NOMEM, "%s: its nodes place %llu triangles, which "
+                               "need %.1f MiB, more than the %.1f MiB allowed", path,
+                               (unsigned long long)gt, need / 1048576.0, max_bytes / 1048576.0);
+        }
+    }
+    free(data);
+    if (s->load)
+        s->load->read_bytes -= len;
+    if (!ok)
+        return limen__fail(s, LIMEN_ERR_IO, "%s: %s", path, why);
+    /* the importer holds at least the file's bytes while it reads */
+    if ((uint64_t)len > max_bytes && (s->mem_wanted = (uint64_t)len))
+        return limen__fail(s, LIMEN_ERR_NOMEM, "%s: a file of %.1f MiB, more than the %.1f MiB "
+                           "allowed", path, len / 1048576.0, max_bytes / 1048576.0);
+    return limen__load_contained(s) ? import_contained(s, path, flags, max_bytes, blk, files)
+                                    : import_here(s, path, flags, max_bytes, blk, files);
 }
 
 static limen_status load_file(limen_scene *s, const char *path, unsigned flags,
                               size_t max_bytes, limen__mesh **out)
 {
     *out = NULL;
-    struct stat stt;
-    FILE *f = fopen(path, "rb");
-    if (!f)
-        return limen__fail(s, LIMEN_ERR_IO, "%s: cannot open: %s", path, strerror(errno));
-    char why[128] = "";
-    int fst = fstat(fileno(f), &stt);
-    bool ok = fst == 0 && S_ISREG(stt.st_mode) &&
-              ply_header_ok(f, (uint64_t)stt.st_size, why, sizeof why);
-    fclose(f);
-    if (fst != 0 || !S_ISREG(stt.st_mode))
-        return limen__fail(s, LIMEN_ERR_IO, "%s: not a regular file", path);
-    if (stt.st_size == 0)
-        return limen__fail(s, LIMEN_ERR_IO, "%s: empty file", path);
-    if (!ok)
-        return limen__fail(s, LIMEN_ERR_IO, "%s: %s", path, why);
-    /* the importer holds at least the file's bytes while it reads */
-    if ((uint64_t)stt.st_size > max_bytes && (s->mem_wanted = (uint64_t)stt.st_size))
-        return limen__fail(s, LIMEN_ERR_NOMEM, "%s: a file of %.1f MiB, more than the %.1f MiB "
-                           "allowed", path, stt.st_size / 1048576.0, max_bytes / 1048576.0);
-    char ierr[700];
     limen__import *blk;
-    limen_status st = limen__import_file(path, flags, max_bytes, &blk, ierr, sizeof ierr);
+    limen__block files;
+    limen_status st = limen__mesh_import(s, path, flags, max_bytes, &blk, &files);
     if (st)
-        return limen__fail(s, st, "%s", ierr);
+        return st;
+    st = mesh_from_block(s, blk, LIMEN__IMPORT_NONE, path, max_bytes, out);
+    if (!st) {
+        limen__mesh_keep_warnings(s, blk, path);
+        (*out)->files = (char *)files.data;
+        (*out)->files_len = files.len;
+    } else {
+        limen__block_free(&files);
+    }
+    free(blk);
+    return st;
+}
+
+/* The block's meshes (every node's, or node only's: flatten) as a new mesh with its
+ * materials' textures, refused where it would hold more than max_bytes. */
+static limen_status mesh_from_block(limen_scene *s, const limen__import *blk, uint32_t only,
+                                    const char *path, size_t max_bytes, limen__mesh **out)
+{
+    *out = NULL;
     flat fl;
-    if (!(st = flatten(s, blk, path, &fl))) {
+    limen_status st;
+    if (!(st = flatten(s, blk, only, path, &fl))) {
         limen_mesh_data d = { .positions = fl.pos, .normals = fl.nrm, .uvs = fl.uv,
                               .vertex_count = (int)fl.nv, .indices = fl.idx,
                               .triangle_count = (int)fl.nt,
@@ -977,7 +1408,7 @@ static limen_status load_file(limen_scene *s, const char *path, unsigned flags,
         st = mesh_from_arrays(s, &d, path, max_bytes, out);
         flat_free(&fl);
     }
-    if (!st && (st = mesh_textures(s, blk, path, *out))) {
+    if (!st && (st = mesh_textures(s, blk, only, path, *out))) {
         mesh_free(s, *out);
         *out = NULL;
     }
@@ -988,9 +1419,6 @@ static limen_status load_file(limen_scene *s, const char *path, unsigned flags,
         st = limen__fail(s, LIMEN_ERR_NOMEM, "%s: needs more than the %.1f MiB allowed", path,
                          max_bytes / 1048576.0);
     }
-    if (!st)
-        keep_warnings(s, blk, path);
-    free(blk);
     return st;
 }
 
@@ -1046,6 +1474,25 @@ limen_status limen__mesh_load(limen_scene *s, limen_node n, const char *path, si
     if ((st = keep(s, m, path)))
         return st;
     attach(s, node, m);
+    *charged = m->bytes;
+    return LIMEN_OK;
+}
+
+limen_status limen__mesh_from_import(limen_scene *s, limen_node n, const limen__import *b,
+                                     uint32_t node, const char *path, size_t max_bytes,
+                                     size_t *charged)
+{
+    *charged = 0;
+    limen__node *nd = mesh_node(s, n, "model");
+    if (!nd)
+        return LIMEN_ERR_HANDLE;
+    limen__mesh *m;
+    limen_status st = mesh_from_block(s, b, node, path, max_bytes, &m);
+    if (!st)
+        st = keep(s, m, path);
+    if (st)
+        return st;
+    attach(s, nd, m);
     *charged = m->bytes;
     return LIMEN_OK;
 }

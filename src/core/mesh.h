@@ -40,6 +40,8 @@ typedef struct limen__mesh {
     limen_mesh_lod *lods;       /* levels of detail, lods[0] the full mesh (idx) */
     uint32_t nlods;
     limen_mesh_geometry pub;    /* what limen_drawable.mesh shows of it */
+    char *files;                /* every file its import read ("a\0b\0"), for watching */
+    size_t files_len;
     struct limen__lod_job *lod_job;     /* its levels being made on another thread, or NULL */
     /* materials (see limen_material) */
     float *col;                 /* nverts * 4 RGBA vertex colours, or NULL (white) */
@@ -104,6 +106,24 @@ void limen__lod_set_async_above(uint32_t triangles);
  * names the file. The node must be a mesh. */
 limen_status limen__mesh_load(limen_scene *s, limen_node n, const char *path, size_t max_bytes,
                               size_t *charged);
+struct limen__import;
+struct limen__block;
+/* Imports a model file into a block (core/import.h) through the scene's one way in: read
+ * through its folder and limits, the safe formats only when a script loads safely, headers
+ * and glTF node counts checked against max_bytes before the importer runs, the import itself
+ * contained in a child process where the load is safe. *files: the files the import read
+ * (for hot reload); free both. The failure is the scene's message, naming the file. */
+limen_status limen__mesh_import(limen_scene *s, const char *path, unsigned flags,
+                                size_t max_bytes, struct limen__import **blk,
+                                struct limen__block *files);
+/* Node `node` of an imported block (its parts in its own frame, with their materials and
+ * textures) as the mesh of mesh node n; refuses one holding more than max_bytes. *charged:
+ * the bytes it holds. */
+limen_status limen__mesh_from_import(limen_scene *s, limen_node n, const struct limen__import *b,
+                                     uint32_t node, const char *path, size_t max_bytes,
+                                     size_t *charged);
+/* The block's warnings into the scene's list, as "file: warning: text". */
+void limen__mesh_keep_warnings(limen_scene *s, const struct limen__import *b, const char *path);
 /* Gives back a node's reference (the asset goes with its last). */
 void limen__mesh_release(limen_scene *s, limen__mesh *m);
 /* Frees every asset of a scene (at its destruction). */
@@ -115,5 +135,12 @@ void limen__meshes_destroy(limen_scene *s);
 int limen__mesh_intersect(const limen__mesh *m, const double o[3], const double d[3],
                           double tmin, double tmax, const double *cut, double *t, double *bu,
                           double *bv);
+
+/* gltf_cost.c: what a glTF (.gltf text or .glb) file places once imported, from its JSON:
+ * vertices and triangles of its meshes times the node instances that use them, and how
+ * deep its nodes nest (INT32_MAX: a cycle). Returns 0 where the JSON cannot be read within
+ * a quarter of max_bytes (the importer then says why). */
+int limen__gltf_cost(const unsigned char *data, size_t len, size_t max_bytes, uint64_t *verts,
+                     uint64_t *tris, int *depth);
 
 #endif

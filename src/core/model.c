@@ -1,30 +1,32 @@
 /* model.c - a model file as a scene: its node hierarchy becomes limen nodes under a group
- * (names, local matrices, each node's meshes as one mesh node), its cameras and point lights
- * when asked, and nodes authored as mirrors and portals (glTF extras, as Blender exports an
- * object's custom properties: "limen": {"mirror": {...}} or {"portal": {...}}; or a name
- * ending in "-mirror") become surfaces whose rectangle is fitted to the node's flat mesh.
+ * (names, local matrices, each node's meshes as one mesh node of parts in their materials),
+ * its cameras and point lights when asked, and nodes authored as mirrors and portals (glTF
+ * extras, as Blender exports an object's custom properties: "limen": {"mirror": {...}} or
+ * {"portal": {...}}; or a name ending in "-mirror") become surfaces whose rectangle is fitted
+ * to the node's flat mesh.
  *
- * Two steps: the file is read into a description (`model`: nodes with their triangles in
- * their own frames, surfaces, cameras, lights), from assimp's aiScene here (from_assimp);
- * then the description is built into the scene (build). Only the first step knows where the
- * model came from. Building is all or nothing: on failure every node made is destroyed. */
-#include <assimp/cimport.h>
-#include <assimp/material.h>
-#include <assimp/metadata.h>
-#include <assimp/postprocess.h>
-#include <assimp/scene.h>
-#include <errno.h>
-#include <pthread.h>
+ * Two steps: the file is read by the importer (core/import.c) into its block, and the block
+ * into a description (`model`: the hierarchy, surfaces, cameras, lights; from_import); then
+ * the description is built into the scene (build), each mesh node's triangles, materials
+ * and textures made from the block by core/mesh.c. Building is all or nothing: on failure
+ * every node made is destroyed. */
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
 
+#include "core/confine.h"
+#include "core/contain.h"
+#include "core/import.h"
 #include "core/internal.h"
+#include "core/json.h"
+#include "core/mesh.h"
 #include "core/model.h"
+#include "core/texture.h"
 
 #define MAX_NODES 100000        /* a file's nodes at most */
 #define MAX_SURFACE_TRIS 256    /* a mirror's or portal's polygon, in triangles at most */
 #define FLAT_EPS 1e-4           /* off the plane, relative to the polygon's size */
+#define AI_LIGHT_POINT 2        /* assimp's aiLightSource_POINT (limen__import_light.type) */
 
 enum { SURF_NONE, SURF_MIRROR, SURF_PORTAL };
 
@@ -40,12 +42,11 @@ typedef struct msurf {
 typedef struct mnode {
     char name[LIMEN__NAME_MAX];
     int parent;                 /* index, -1 for a top node */
+    uint32_t bnode;             /* its node in the importer's block */
     float local[16];            /* column-major, relative to the parent */
-    float *pos, *nrm, *uv;      /* its meshes' vertices together, in its own frame */
-    uint32_t *idx;
-    int nverts, ntris;
-    bool has_nrm, has_uv, has_color;
-    float color[3];             /* its first mesh's material's diffuse colour */
+    int ntris;                  /* its meshes' triangles */
+    float *pos;                 /* surfaces: their vertices in the node's own frame, */
+    uint32_t *idx;              /* ... and triangles */
     msurf surf;
 } mnode;
 
@@ -57,9 +58,11 @@ typedef struct mcamera {
 typedef struct mlight {
     int node;
     float pos[3], color[3];
+    float range;                /* 0: none */
 } mlight;
 
 typedef struct model {
+    limen__import *blk;         /* the importer's block (meshes are made from it) */
     mnode *nodes;
     int n;
     mcamera *cams;
@@ -72,42 +75,40 @@ static void model_free(model *m)
 {
     for (int i = 0; i < m->n; i++) {
         free(m->nodes[i].pos);
-        free(m->nodes[i].nrm);
-        free(m->nodes[i].uv);
         free(m->nodes[i].idx);
     }
     free(m->nodes);
+    free(m->blk);
     free(m->cams);
     free(m->lights);
     memset(m, 0, sizeof *m);
 }
 
-/* ------------------------------------------------------------------ extras (assimp) */
+/* ------------------------------------------------------------------ names and extras */
 
-static bool utf8_ok(const char *p)
+static bool utf8_ok(const char *p, size_t n)
 {
-    const unsigned char *s = (const unsigned char *)p;
-    while (*s) {
-        int n = *s < 0x80 ? 0 : (*s & 0xe0) == 0xc0 ? 1 : (*s & 0xf0) == 0xe0 ? 2
+    const unsigned char *s = (const unsigned char *)p, *end = s + n;
+    while (s < end) {
+        int k = *s < 0x80 ? 0 : (*s & 0xe0) == 0xc0 ? 1 : (*s & 0xf0) == 0xe0 ? 2
                 : (*s & 0xf8) == 0xf0 ? 3 : -1;
-        if (n < 0)
+        if (k < 0 || !*s)
             return false;
         s++;
-        for (int k = 0; k < n; k++, s++)
-            if ((*s & 0xc0) != 0x80)
+        for (int j = 0; j < k; j++, s++)
+            if (s >= end || (*s & 0xc0) != 0x80)
                 return false;
     }
     return true;
 }
 
-/* A name as limen keeps it (LIMEN__NAME_MAX - 1 bytes at most, cut between characters);
- * "" for one that is not UTF-8. */
-static void copy_name(char out[LIMEN__NAME_MAX], const char *name)
+/* A name as limen keeps it (LIMEN__NAME_MAX - 1 bytes at most, cut between characters) from
+ * n bytes; "" for one that is not UTF-8. */
+static void copy_name(char out[LIMEN__NAME_MAX], const char *name, size_t n)
 {
     out[0] = '\0';
-    if (!utf8_ok(name))
+    if (!utf8_ok(name, n))
         return;
-    size_t n = strlen(name);
     if (n > LIMEN__NAME_MAX - 1) {
         n = LIMEN__NAME_MAX - 1;
         while (n > 0 && ((unsigned char)name[n] & 0xc0) == 0x80)
@@ -117,217 +118,122 @@ static void copy_name(char out[LIMEN__NAME_MAX], const char *name)
     out[n] = '\0';
 }
 
-static bool meta_number(const struct aiMetadataEntry *e, double *out)
+static bool json_number(const limen__json *j, int i, double *out)
 {
-    switch (e->mType) {
-    case AI_BOOL: *out = *(const bool *)e->mData; return true;
-    case AI_INT32: *out = *(const int32_t *)e->mData; return true;
-    case AI_UINT64: *out = (double)*(const uint64_t *)e->mData; return true;
-    case AI_FLOAT: *out = *(const float *)e->mData; return true;
-    case AI_DOUBLE: *out = *(const double *)e->mData; return true;
-    default: return false;
-    }
-}
-
-static const struct aiMetadataEntry *meta_get(const struct aiMetadata *md, const char *key)
-{
-    for (unsigned i = 0; md && i < md->mNumProperties; i++)
-        if (strcmp(md->mKeys[i].data, key) == 0)
-            return &md->mValues[i];
-    return NULL;
-}
-
-static const struct aiMetadata *meta_object(const struct aiMetadataEntry *e)
-{
-    return e && e->mType == AI_AIMETADATA ? e->mData : NULL;
-}
-
-/* The node's "limen" extras into *sf; false with a message in why where they are not as
- * docs say. */
-static bool read_extras(const struct aiMetadata *md, msurf *sf, char *why, size_t size)
-{
-    const struct aiMetadataEntry *le = meta_get(md, "limen");
-    if (!le)
-        return true;
-    const struct aiMetadata *l = meta_object(le);
-    if (!l) {
-        snprintf(why, size, "its extras' \"limen\" is not an object");
+    if (i < 0 || (j->v[i].type != LIMEN__JSON_NUMBER && j->v[i].type != LIMEN__JSON_BOOL))
         return false;
+    *out = j->v[i].number;
+    return true;
+}
+
+/* Three numbers from 0 to 1: an array, or an object of three members (the importer writes an
+ * array of the file's extras as an object whose members repeat its name). */
+static bool json_rgb(const limen__json *j, int i, float out[3])
+{
+    if (i < 0 || (j->v[i].type != LIMEN__JSON_ARRAY && j->v[i].type != LIMEN__JSON_OBJECT))
+        return false;
+    int k = 0;
+    for (int c = j->v[i].child; c >= 0; c = j->v[c].next, k++) {
+        double v;
+        if (k >= 3 || !json_number(j, c, &v) || !(v >= 0 && v <= 1))
+            return false;
+        out[k] = (float)v;
     }
-    const struct aiMetadata *mir = meta_object(meta_get(l, "mirror"));
-    const struct aiMetadata *por = meta_object(meta_get(l, "portal"));
-    if ((mir && por) || (!mir && !por)) {
+    return k == 3;
+}
+
+/* The node's "limen" extras (the importer's JSON) into *sf; false with a message in why where
+ * they are not as limen.h says. */
+static bool read_extras(const char *extras, msurf *sf, char *why, size_t size)
+{
+    limen__json j;
+    if (!extras[0] || !limen__json_parse(&j, extras, strlen(extras), 100000)) {
+        if (extras[0])
+            free(j.v);
+        return true;    /* none, or none readable: not ours */
+    }
+    bool ok = false;
+    int l = limen__json_get(&j, 0, "limen");
+    int mir = limen__json_get(&j, l, "mirror"), por = limen__json_get(&j, l, "portal");
+    if (l < 0) {
+        ok = true;
+        goto done;
+    }
+    if (j.v[l].type != LIMEN__JSON_OBJECT) {
+        snprintf(why, size, "its extras' \"limen\" is not an object");
+        goto done;
+    }
+    if (mir >= 0 && j.v[mir].type != LIMEN__JSON_OBJECT)
+        mir = -1;
+    if (por >= 0 && j.v[por].type != LIMEN__JSON_OBJECT)
+        por = -1;
+    if ((mir >= 0) == (por >= 0)) {
         snprintf(why, size, "its extras' \"limen\" must hold one object, \"mirror\" or "
                  "\"portal\"");
-        return false;
+        goto done;
     }
-    const struct aiMetadata *o = mir ? mir : por;
-    sf->kind = mir ? SURF_MIRROR : SURF_PORTAL;
-    for (unsigned i = 0; i < o->mNumProperties; i++) {
-        const char *k = o->mKeys[i].data;
-        const struct aiMetadataEntry *e = &o->mValues[i];
+    sf->kind = mir >= 0 ? SURF_MIRROR : SURF_PORTAL;
+    for (int c = j.v[mir >= 0 ? mir : por].child; c >= 0; c = j.v[c].next) {
+        const limen__json_value *e = &j.v[c];
         double v;
-        if (strcmp(k, "max_depth") == 0) {
-            if (!meta_number(e, &v) || !(v >= 0 && v <= 255) || v != floor(v)) {
+        if (e->klen == 9 && memcmp(e->key, "max_depth", 9) == 0) {
+            if (!json_number(&j, c, &v) || !(v >= 0 && v <= 255) || v != floor(v)) {
                 snprintf(why, size, "max_depth must be an integer from 0 to 255");
-                return false;
+                goto done;
             }
             sf->max_depth = (int)v;
-        } else if (strcmp(k, "tint") == 0 && mir) {
-            const struct aiMetadata *t = meta_object(e);
-            bool ok = t && t->mNumProperties == 3;
-            for (unsigned c = 0; ok && c < 3; c++)
-                ok = meta_number(&t->mValues[c], &v) && v >= 0 && v <= 1 &&
-                     (sf->tint[c] = (float)v, true);
-            if (!ok) {
+        } else if (e->klen == 4 && memcmp(e->key, "tint", 4) == 0 && mir >= 0) {
+            if (!json_rgb(&j, c, sf->tint)) {
                 snprintf(why, size, "tint must be [r, g, b], each from 0 to 1");
-                return false;
+                goto done;
             }
             sf->has_tint = true;
-        } else if (strcmp(k, "partner") == 0 && por) {
-            if (e->mType != AI_AISTRING || !((const struct aiString *)e->mData)->length) {
+        } else if (e->klen == 7 && memcmp(e->key, "partner", 7) == 0 && por >= 0) {
+            if (e->type != LIMEN__JSON_STRING || !e->len) {
                 snprintf(why, size, "partner must be a node's name");
-                return false;
+                goto done;
             }
-            copy_name(sf->partner, ((const struct aiString *)e->mData)->data);
+            copy_name(sf->partner, e->str, e->len);
         } else {
-            snprintf(why, size, "unknown %s field \"%.40s\"", mir ? "mirror" : "portal", k);
-            return false;
+            snprintf(why, size, "unknown %s field \"%.*s\"", mir >= 0 ? "mirror" : "portal",
+                     (int)(e->klen < 40 ? e->klen : 40), e->key);
+            goto done;
         }
     }
-    if (por && !sf->partner[0]) {
+    if (por >= 0 && !sf->partner[0]) {
         snprintf(why, size, "a portal needs \"partner\": the name of the other node");
-        return false;
+        goto done;
     }
-    return true;
+    ok = true;
+done:
+    free(j.v);
+    return ok;
 }
 
-/* ------------------------------------------------------------------ from assimp */
+/* ------------------------------------------------------------------ from the importer */
 
-/* The triangles of node an's meshes into node mn (in its own frame). */
-static bool node_meshes(const struct aiScene *sc, const struct aiNode *an, mnode *mn)
+/* A surface node's triangles (in its own frame) from the block. */
+static bool surface_triangles(const limen__import *b, uint32_t bn, mnode *mn)
 {
-    size_t nv = 0, nt = 0;
-    bool all_nrm = true, any_uv = false;
-    for (unsigned k = 0; k < an->mNumMeshes; k++) {
-        if (an->mMeshes[k] >= sc->mNumMeshes)
-            continue;
-        const struct aiMesh *m = sc->mMeshes[an->mMeshes[k]];
-        if (!(m->mPrimitiveTypes & aiPrimitiveType_TRIANGLE))
-            continue;
-        nv += m->mNumVertices;
-        for (unsigned f = 0; f < m->mNumFaces; f++)
-            nt += m->mFaces[f].mNumIndices == 3;
-        all_nrm &= m->mNormals != NULL;
-        any_uv |= m->mTextureCoords[0] != NULL;
-    }
-    if (!nt)
-        return true;
-    if (nv > INT32_MAX / 4 || nt > INT32_MAX / 4)
+    const limen__import_node *nd = &LIMEN__IMP(b, nodes, limen__import_node)[bn];
+    const limen__import_part *ps = LIMEN__IMP(b, parts, limen__import_part);
+    const limen__import_vertex *vs = LIMEN__IMP(b, verts, limen__import_vertex);
+    const uint32_t *ts = LIMEN__IMP(b, tris, uint32_t), *np = LIMEN__IMP(b, node_parts, uint32_t);
+    mn->pos = malloc(sizeof(float) * 9 * (size_t)(mn->ntris ? mn->ntris : 1));
+    mn->idx = malloc(sizeof(uint32_t) * 3 * (size_t)(mn->ntris ? mn->ntris : 1));
+    if (!mn->pos || !mn->idx)
         return false;
-    mn->pos = malloc(sizeof(float) * 3 * nv);
-    mn->nrm = all_nrm ? malloc(sizeof(float) * 3 * nv) : NULL;
-    mn->uv = any_uv ? calloc(nv * 2, sizeof(float)) : NULL;
-    mn->idx = malloc(sizeof(uint32_t) * 3 * nt);
-    if (!mn->pos || (all_nrm && !mn->nrm) || (any_uv && !mn->uv) || !mn->idx)
-        return false;
-    mn->has_nrm = all_nrm;
-    mn->has_uv = any_uv;
-    size_t v0 = 0, t = 0;
-    for (unsigned k = 0; k < an->mNumMeshes; k++) {
-        if (an->mMeshes[k] >= sc->mNumMeshes)
-            continue;
-        const struct aiMesh *m = sc->mMeshes[an->mMeshes[k]];
-        if (!(m->mPrimitiveTypes & aiPrimitiveType_TRIANGLE))
-            continue;
-        if (!mn->has_color && m->mMaterialIndex < sc->mNumMaterials) {
-            struct aiColor4D c;
-            if (aiGetMaterialColor(sc->mMaterials[m->mMaterialIndex], AI_MATKEY_COLOR_DIFFUSE,
-                                   &c) == aiReturn_SUCCESS) {
-                const float rgb[3] = { c.r, c.g, c.b };
-                for (int i = 0; i < 3; i++)
-                    mn->color[i] = isfinite(rgb[i]) ? fminf(1, fmaxf(0, rgb[i])) : 1;
-                mn->has_color = true;
+    uint32_t t = 0;
+    for (uint32_t k = 0; k < nd->part_count; k++) {
+        const limen__import_part *p = &ps[np[nd->first_part + k]];
+        for (uint32_t i = 0; i < p->tri_count; i++, t++)
+            for (int c = 0; c < 3; c++) {
+                const uint32_t v = ts[(size_t)(p->first_tri + i) * 3 + c];
+                memcpy(&mn->pos[(t * 3 + c) * 3], vs[p->first_vertex + v].pos, sizeof(float) * 3);
+                mn->idx[t * 3 + c] = t * 3 + (uint32_t)c;
             }
-        }
-        for (unsigned i = 0; i < m->mNumVertices; i++) {
-            memcpy(&mn->pos[(v0 + i) * 3], &m->mVertices[i], sizeof(float) * 3);
-            if (mn->nrm)
-                memcpy(&mn->nrm[(v0 + i) * 3], &m->mNormals[i], sizeof(float) * 3);
-            if (mn->uv && m->mTextureCoords[0]) {
-                mn->uv[(v0 + i) * 2] = m->mTextureCoords[0][i].x;
-                mn->uv[(v0 + i) * 2 + 1] = m->mTextureCoords[0][i].y;
-            }
-        }
-        for (unsigned f = 0; f < m->mNumFaces; f++) {
-            if (m->mFaces[f].mNumIndices != 3)
-                continue;
-            for (int c = 0; c < 3; c++)
-                mn->idx[t * 3 + c] = (uint32_t)(v0 + m->mFaces[f].mIndices[c]);
-            t++;
-        }
-        v0 += m->mNumVertices;
     }
-    mn->nverts = (int)nv;
-    mn->ntris = (int)t;
     return true;
-}
-
-static bool identity(const struct aiMatrix4x4 *a)
-{
-    const float *f = &a->a1;
-    for (int i = 0; i < 16; i++)
-        if (f[i] != (i % 5 == 0 ? 1.0f : 0.0f))
-            return false;
-    return true;
-}
-
-/* Appends node an (and below it) with parent index `parent`, depth first. */
-static limen_status add_nodes(limen_scene *s, const char *path, const struct aiScene *sc,
-                              const struct aiNode *an, int parent, int depth, model *m,
-                              int *cap)
-{
-    if (depth > 1000 || m->n >= MAX_NODES)
-        return limen__fail(s, LIMEN_ERR_ARG, "%s: more than %d nodes, or nested deeper than "
-                           "1000", path, MAX_NODES);
-    if (m->n == *cap) {
-        int nc = *cap ? *cap * 2 : 64;
-        mnode *p = realloc(m->nodes, sizeof *p * (size_t)nc);
-        if (!p)
-            return limen__fail(s, LIMEN_ERR_NOMEM, "%s: out of memory", path);
-        m->nodes = p;
-        *cap = nc;
-    }
-    int me = m->n++;
-    mnode *mn = &m->nodes[me];
-    memset(mn, 0, sizeof *mn);
-    mn->parent = parent;
-    mn->surf.max_depth = -1;
-    copy_name(mn->name, an->mName.data);
-    /* assimp's rows into limen's columns */
-    const float *r = &an->mTransformation.a1;
-    for (int i = 0; i < 4; i++)
-        for (int j = 0; j < 4; j++)
-            mn->local[j * 4 + i] = r[i * 4 + j];
-    for (int i = 0; i < 16; i++)
-        if (!isfinite(mn->local[i]))
-            return limen__fail(s, LIMEN_ERR_ARG, "%s: node '%s': its matrix is not finite",
-                               path, mn->name);
-    if (!node_meshes(sc, an, mn))
-        return limen__fail(s, LIMEN_ERR_NOMEM, "%s: node '%s': out of memory for its meshes",
-                           path, mn->name);
-    char why[160] = "";
-    if (!read_extras(an->mMetaData, &mn->surf, why, sizeof why))
-        return limen__fail(s, LIMEN_ERR_ARG, "%s: node '%s': %s", path, mn->name, why);
-    size_t len = strlen(mn->name);
-    if (mn->surf.kind == SURF_NONE && len >= 7 && strcmp(mn->name + len - 7, "-mirror") == 0)
-        mn->surf.kind = SURF_MIRROR;
-    for (unsigned c = 0; c < an->mNumChildren; c++) {
-        limen_status st = add_nodes(s, path, sc, an->mChildren[c], me, depth + 1, m, cap);
-        if (st)
-            return st;
-    }
-    return LIMEN_OK;
 }
 
 static int node_named(const model *m, const char *name)
@@ -338,88 +244,192 @@ static int node_named(const model *m, const char *name)
     return -1;
 }
 
-static limen_status cameras_lights(limen_scene *s, const char *path, const struct aiScene *sc,
-                                   model *m)
+static bool identity(const float *f)
 {
-    m->cams = calloc(sc->mNumCameras + 1, sizeof *m->cams);
-    m->lights = calloc(sc->mNumLights + 1, sizeof *m->lights);
+    for (int i = 0; i < 16; i++)
+        if (f[i] != (i % 5 == 0 ? 1.0f : 0.0f))
+            return false;
+    return true;
+}
+
+static limen_status cameras_lights(limen_scene *s, const char *path, model *m)
+{
+    const limen__import *b = m->blk;
+    const limen__import_camera *cs = LIMEN__IMP(b, cameras, limen__import_camera);
+    const limen__import_light *ls = LIMEN__IMP(b, lights, limen__import_light);
+    m->cams = calloc(b->ncameras + 1, sizeof *m->cams);
+    m->lights = calloc(b->nlights + 1, sizeof *m->lights);
     if (!m->cams || !m->lights)
         return limen__fail(s, LIMEN_ERR_NOMEM, "%s: out of memory", path);
-    for (unsigned i = 0; i < sc->mNumCameras; i++) {
-        const struct aiCamera *c = sc->mCameras[i];
+    for (uint32_t i = 0; i < b->ncameras; i++) {
         mcamera *mc = &m->cams[m->ncams];
-        if ((mc->node = node_named(m, c->mName.data)) < 0)
+        if ((mc->node = node_named(m, limen__import_string(b, cs[i].name))) < 0)
             continue;
-        memcpy(mc->look, &c->mLookAt, sizeof mc->look);
-        memcpy(mc->up, &c->mUp, sizeof mc->up);
-        /* assimp gives the horizontal field of view as the vertical one times the aspect */
-        mc->fovy = c->mAspect > 0 ? c->mHorizontalFOV / c->mAspect : c->mHorizontalFOV;
-        mc->znear = c->mClipPlaneNear;
-        mc->zfar = c->mClipPlaneFar;
+        memcpy(mc->look, cs[i].look, sizeof mc->look);
+        memcpy(mc->up, cs[i].up, sizeof mc->up);
+        mc->fovy = cs[i].fovy;     /* a glTF's own yfov replaces it (gltf_extras) */
+        mc->znear = cs[i].znear;
+        mc->zfar = cs[i].zfar;
         m->ncams++;
     }
-    for (unsigned i = 0; i < sc->mNumLights; i++) {
-        const struct aiLight *l = sc->mLights[i];
+    for (uint32_t i = 0; i < b->nlights; i++) {
         mlight *ml = &m->lights[m->nlights];
-        if (l->mType != aiLightSource_POINT || (ml->node = node_named(m, l->mName.data)) < 0)
+        if (ls[i].type != AI_LIGHT_POINT ||
+            (ml->node = node_named(m, limen__import_string(b, ls[i].name))) < 0)
             continue;
-        memcpy(ml->pos, &l->mPosition, sizeof ml->pos);
-        ml->color[0] = l->mColorDiffuse.r;
-        ml->color[1] = l->mColorDiffuse.g;
-        ml->color[2] = l->mColorDiffuse.b;
+        memcpy(ml->pos, ls[i].pos, sizeof ml->pos);
+        memcpy(ml->color, ls[i].colour, sizeof ml->color);
+        ml->range = ls[i].range;
         m->nlights++;
     }
     return LIMEN_OK;
 }
 
-static limen_status from_assimp(limen_scene *s, const char *path, const struct aiScene *sc,
-                                model *m)
+/* The block's hierarchy into m (which takes the block). */
+static limen_status from_import(limen_scene *s, const char *path, limen__import *b, model *m)
 {
     memset(m, 0, sizeof *m);
-    int cap = 0;
-    const struct aiNode *root = sc->mRootNode;
-    if (!root)
-        return limen__fail(s, LIMEN_ERR_IO, "%s: no nodes in it", path);
-    limen_status st = LIMEN_OK;
-    /* assimp's own root above a file's several top nodes is not one of the file's */
-    if (root->mNumMeshes == 0 && identity(&root->mTransformation) &&
-        strcmp(root->mName.data, "ROOT") == 0) {
-        for (unsigned c = 0; !st && c < root->mNumChildren; c++)
-            st = add_nodes(s, path, sc, root->mChildren[c], -1, 0, m, &cap);
-    } else {
-        st = add_nodes(s, path, sc, root, -1, 0, m, &cap);
+    m->blk = b;
+    const limen__import_node *ns = LIMEN__IMP(b, nodes, limen__import_node);
+    if (b->nnodes > MAX_NODES)
+        return limen__fail(s, LIMEN_ERR_ARG, "%s: more than %d nodes", path, MAX_NODES);
+    m->nodes = calloc(b->nnodes + 1, sizeof *m->nodes);
+    int *of = malloc(sizeof(int) * (b->nnodes + 1));
+    if (!m->nodes || !of) {
+        free(of);
+        return limen__fail(s, LIMEN_ERR_NOMEM, "%s: out of memory", path);
     }
+    const limen__import_part *ps = LIMEN__IMP(b, parts, limen__import_part);
+    const uint32_t *np = LIMEN__IMP(b, node_parts, uint32_t);
+    limen_status st = LIMEN_OK;
+    for (uint32_t i = 0; i < b->nnodes && !st; i++) {
+        const limen__import_node *nd = &ns[i];
+        const char *name = limen__import_string(b, nd->name);
+        of[i] = -1;
+        /* assimp's own root above a file's several top nodes is not one of the file's */
+        if (i == 0 && nd->part_count == 0 && identity(nd->matrix) && strcmp(name, "ROOT") == 0)
+            continue;
+        mnode *mn = &m->nodes[m->n];
+        of[i] = m->n++;
+        mn->parent = nd->parent < i ? of[nd->parent] : -1;
+        mn->bnode = i;
+        mn->surf.max_depth = -1;
+        copy_name(mn->name, name, strlen(name));
+        memcpy(mn->local, nd->matrix, sizeof mn->local);
+        for (int k = 0; k < 16; k++)
+            if (!isfinite(mn->local[k]))
+                st = limen__fail(s, LIMEN_ERR_ARG, "%s: node '%s': its matrix is not finite",
+                                 path, mn->name);
+        for (uint32_t k = 0; k < nd->part_count; k++)
+            mn->ntris += (int)ps[np[nd->first_part + k]].tri_count;
+        char why[160] = "";
+        if (!st && !read_extras(limen__import_string(b, nd->extras), &mn->surf, why, sizeof why))
+            st = limen__fail(s, LIMEN_ERR_ARG, "%s: node '%s': %s", path, mn->name, why);
+        size_t len = strlen(mn->name);
+        if (mn->surf.kind == SURF_NONE && len >= 7 && strcmp(mn->name + len - 7, "-mirror") == 0)
+            mn->surf.kind = SURF_MIRROR;
+        if (!st && mn->surf.kind != SURF_NONE && mn->ntris <= MAX_SURFACE_TRIS &&
+            !surface_triangles(b, i, mn))
+            st = limen__fail(s, LIMEN_ERR_NOMEM, "%s: out of memory", path);
+    }
+    free(of);
     if (!st)
-        st = cameras_lights(s, path, sc, m);
+        st = cameras_lights(s, path, m);
     return st;
 }
 
-static limen_status read_file(limen_scene *s, const char *path, model *m)
+/* ------------------------------------------------------------------ what assimp drops */
+
+#define MAX_JSON_BYTES (64u << 20)
+
+/* The JSON of a .gltf, or of a .glb's first chunk, read through the scene's one way in (the
+ * script's folder and limits when a script loads); NULL if the file is neither or is too
+ * large. *len its length; free() it. */
+static char *gltf_json(limen_scene *s, const char *path, size_t *len)
 {
-    struct stat stt;
-    if (stat(path, &stt) != 0)
-        return limen__fail(s, LIMEN_ERR_IO, "%s: cannot open: %s", path, strerror(errno));
-    if (!S_ISREG(stt.st_mode))
-        return limen__fail(s, LIMEN_ERR_IO, "%s: not a regular file", path);
-    if (stt.st_size == 0)
-        return limen__fail(s, LIMEN_ERR_IO, "%s: empty file", path);
-    static pthread_mutex_t importing = PTHREAD_MUTEX_INITIALIZER;
-    char err[301] = "";
-    pthread_mutex_lock(&importing);
-    const struct aiScene *sc = aiImportFile(path, aiProcess_Triangulate |
-                                                      aiProcess_JoinIdenticalVertices |
-                                                      aiProcess_SortByPType |
-                                                      aiProcess_ValidateDataStructure);
-    if (!sc) {
-        const char *e = aiGetErrorString();
-        snprintf(err, sizeof err, "%s", e ? e : "");
+    unsigned char *data;
+    size_t n;
+    struct stat st;
+    if (limen__file_read(s, path, &data, &n, &st) != LIMEN_OK)
+        return NULL;    /* the importer read it a moment ago: keep what it gave */
+    if (s->load)
+        s->load->read_bytes -= n;
+    char *text = NULL;
+    if (n >= 20 && memcmp(data, "glTF", 4) == 0) {
+        uint32_t jn = (uint32_t)data[12] | (uint32_t)data[13] << 8 | (uint32_t)data[14] << 16 |
+                      (uint32_t)data[15] << 24;
+        if (memcmp(data + 16, "JSON", 4) == 0 && jn <= MAX_JSON_BYTES && jn <= n - 20 &&
+            (text = malloc((size_t)jn + 1))) {
+            memcpy(text, data + 20, jn);
+            *len = jn;
+        }
+    } else if (n > 0 && n <= MAX_JSON_BYTES && (text = malloc(n + 1))) {
+        memcpy(text, data, n);
+        *len = n;
     }
-    pthread_mutex_unlock(&importing);
-    if (!sc)
-        return limen__fail(s, LIMEN_ERR_IO, "%s: cannot read it as a model: %s", path,
-                           err[0] ? err : "unknown format");
-    limen_status st = from_assimp(s, path, sc, m);
-    aiReleaseImport(sc);
+    free(data);
+    return text;
+}
+
+/* What a glTF says that assimp 5.2 does not pass on as written: KHR_lights_punctual's ranges
+ * (a light on the glTF node of the same name takes its light's range), and a perspective
+ * camera's yfov (assimp gives yfov x aspect as its horizontal angle, which the importer's
+ * block reads as half the horizontal one). Files that are not glTF, or whose JSON cannot be
+ * read here, keep what the importer gave. */
+static void gltf_extras(limen_scene *s, const char *path, model *m)
+{
+    size_t len = 0;
+    char *text = m->nlights || m->ncams ? gltf_json(s, path, &len) : NULL;
+    limen__json j;
+    if (!text || !limen__json_parse(&j, text, len, 4 * 1024 * 1024)) {
+        if (text)
+            free(j.v);
+        free(text);
+        return;
+    }
+    int lights = limen__json_get(&j, limen__json_get(&j, limen__json_get(&j, 0, "extensions"),
+                                                    "KHR_lights_punctual"), "lights");
+    int nodes = limen__json_get(&j, 0, "nodes"), cams = limen__json_get(&j, 0, "cameras");
+    for (int k = 0, nd; (nd = limen__json_at(&j, nodes, k)) >= 0; k++) {
+        int name = limen__json_get(&j, nd, "name"), ci = limen__json_get(&j, nd, "camera");
+        int yfov = ci >= 0 && j.v[ci].type == LIMEN__JSON_NUMBER && j.v[ci].number >= 0 &&
+                           j.v[ci].number <= 1e6
+                       ? limen__json_get(&j, limen__json_get(&j, limen__json_at(&j, cams,
+                                                                                (int)j.v[ci].number),
+                                                             "perspective"), "yfov")
+                       : -1;
+        for (int i = 0; name >= 0 && yfov >= 0 && j.v[yfov].type == LIMEN__JSON_NUMBER &&
+                        i < m->ncams; i++)
+            if (limen__json_is(&j, name, m->nodes[m->cams[i].node].name))
+                m->cams[i].fovy = (float)j.v[yfov].number;
+        int li = limen__json_get(&j, limen__json_get(&j, limen__json_get(&j, nd, "extensions"),
+                                                    "KHR_lights_punctual"), "light");
+        if (name < 0 || li < 0 || j.v[li].type != LIMEN__JSON_NUMBER || j.v[li].number < 0 ||
+            j.v[li].number > 1e6)
+            continue;
+        int range = limen__json_get(&j, limen__json_at(&j, lights, (int)j.v[li].number), "range");
+        if (range < 0 || j.v[range].type != LIMEN__JSON_NUMBER)
+            continue;
+        for (int i = 0; i < m->nlights; i++)
+            if (limen__json_is(&j, name, m->nodes[m->lights[i].node].name))
+                m->lights[i].range = (float)j.v[range].number;
+    }
+    free(j.v);
+    free(text);
+}
+
+static limen_status read_file(limen_scene *s, const char *path, size_t max_bytes, model *m)
+{
+    limen__import *blk;
+    memset(m, 0, sizeof *m);
+    limen__block files;
+    limen_status st = limen__mesh_import(s, path, 0, max_bytes, &blk, &files);
+    if (st)
+        return st;
+    limen__block_free(&files);
+    st = from_import(s, path, blk, m);
+    if (!st)
+        gltf_extras(s, path, m);
     if (st)
         model_free(m);
     return st;
@@ -573,6 +583,7 @@ typedef struct builder {
     int *cam_of, *light_of;     /* per model node: the camera, light it carries (asked
                                  * for), or -1 */
     size_t bytes, max_bytes;
+    bool keyed;                 /* a mesh carries the file's key */
 } builder;
 
 /* Fails with the scene's last message prefixed by the file and what it concerns ("node
@@ -716,7 +727,8 @@ static limen_status build_eye_or_lamp(builder *b, int i, limen_node parent)
         mat_mul(mn->local, frame, local);
         if ((st = make(b, LIMEN_NODE_LIGHT, mn->name, parent, &n)) ||
             (st = limen_node_set_local_matrix(b->s, n, local)) ||
-            (st = limen_node_set_color(b->s, n, col)))
+            (st = limen_node_set_color(b->s, n, col)) ||
+            (l->range > 0 && (st = limen_light_set_range(b->s, n, l->range))))
             return refail(b, st, "light", mn->name);
     }
     b->of[i] = n;
@@ -752,16 +764,26 @@ static limen_status build_node(builder *b, int i)
     b->of[i] = n;
     if (!mesh)
         return LIMEN_OK;
-    limen_mesh_data d = { .positions = mn->pos, .normals = mn->has_nrm ? mn->nrm : NULL,
-                          .uvs = mn->has_uv ? mn->uv : NULL, .vertex_count = mn->nverts,
-                          .indices = mn->idx, .triangle_count = mn->ntris };
-    if ((st = limen_mesh_set_triangles(b->s, n, &d)))
-        return refail(b, st, "node", mn->name);
-    if (mn->has_color && (st = limen_node_set_color(b->s, n, mn->color)))
-        return st;
-    limen_mesh_info info;
-    if (!limen_mesh_get(b->s, n, &info))
-        b->bytes += info.bytes;
+    /* its parts in their materials, with their textures, from the importer's block */
+    size_t charged = 0;
+    if (b->bytes >= b->max_bytes ||
+        (st = limen__mesh_from_import(b->s, n, b->m->blk, mn->bnode, b->path,
+                                      b->max_bytes - b->bytes, &charged)))
+        return refail(b, st ? st : LIMEN_ERR_NOMEM, "node", mn->name);
+    b->bytes += charged;
+    /* the first mesh carries the file's key, so that limen_scene_get_file lists the model
+     * (limen view reloads the script when it changes); its own key never matches a
+     * limen_mesh_load's, so it is never shared by one */
+    if (!b->keyed) {
+        limen__node *nd = limen__node_get(b->s, n);
+        struct stat stt;
+        char key[LIMEN__FILE_KEY];
+        if (nd && nd->mesh && !limen__file_key(b->s, b->path, key, &stt) &&
+            strlen(key) + 8 < sizeof nd->mesh->key) {
+            snprintf(nd->mesh->key, sizeof nd->mesh->key, "%s#model", key);
+            b->keyed = true;
+        }
+    }
     if (b->bytes > b->max_bytes)
         return limen__fail(b->s, LIMEN_ERR_NOMEM, "%s: its meshes need %.1f MiB, more than the "
                            "%.1f MiB allowed", b->path, b->bytes / 1048576.0,
@@ -862,10 +884,12 @@ limen_status limen__model_load(limen_scene *s, limen_node group, const char *pat
                            "be a live group");
     limen_model_desc d = desc ? *desc : (limen_model_desc){ 0 };
     model m;
-    limen_status st = read_file(s, path, &m);
+    limen_status st = read_file(s, path, max_bytes, &m);
     if (st)
         return st;
     st = build(s, group, path, &m, &d, max_bytes, charged);
+    if (!st)
+        limen__mesh_keep_warnings(s, m.blk, path);
     model_free(&m);
     return st;
 }
@@ -875,124 +899,4 @@ limen_status limen_model_load(limen_scene *s, limen_node group, const char *path
 {
     size_t charged;
     return limen__model_load(s, group, path, desc, SIZE_MAX, &charged);
-}
-
-/* ------------------------------------------------------------------ finding and measuring */
-
-static bool below(const limen_scene *s, limen_node n, limen_node root)
-{
-    for (int depth = 0; n.id && depth < 100000; depth++) {
-        n = limen_node_get_parent(s, n);
-        if (n.id == root.id)
-            return true;
-    }
-    return false;
-}
-
-limen_status limen_node_find_below(const limen_scene *s, limen_node root, const char *name,
-                                   limen_node *out)
-{
-    if (!s || !name || !out)
-        return LIMEN_ERR_ARG;
-    out->id = 0;
-    if (!limen_node_valid(s, root))
-        return LIMEN_ERR_HANDLE;
-    const limen__node *nodes = s->nodes;
-    for (int k = 0; k < s->live_len; k++) {
-        int i = s->live[k];
-        if (i < 0 || strcmp(nodes[i].name, name) != 0)
-            continue;
-        limen_node h = limen__node_handle(s, i);
-        if (below(s, h, root)) {
-            *out = h;
-            return LIMEN_OK;
-        }
-    }
-    return LIMEN_ERR_HANDLE;
-}
-
-/* Grows box lo/hi by the unit box [a, b] mapped through world matrix w. */
-static void grow_box(const float w[16], const float a[3], const float b[3], float lo[3],
-                     float hi[3])
-{
-    for (int c = 0; c < 8; c++) {
-        float p[3] = { c & 1 ? b[0] : a[0], c & 2 ? b[1] : a[1], c & 4 ? b[2] : a[2] };
-        for (int k = 0; k < 3; k++) {
-            float v = w[k] * p[0] + w[4 + k] * p[1] + w[8 + k] * p[2] + w[12 + k];
-            lo[k] = fminf(lo[k], v);
-            hi[k] = fmaxf(hi[k], v);
-        }
-    }
-}
-
-/* The local box of what node n shows; false for what shows nothing (groups, lights,
- * cameras, a mesh without triangles). */
-static bool shape_box(limen_scene *s, limen_node n, float a[3], float b[3])
-{
-    float d[3];
-    limen_node_get_dims(s, n, d);
-    switch (limen_node_get_kind(s, n)) {
-    case LIMEN_NODE_BOX:
-        for (int k = 0; k < 3; k++)
-            b[k] = -(a[k] = -0.5f * d[k]);
-        return true;
-    case LIMEN_NODE_SPHERE:
-        for (int k = 0; k < 3; k++)
-            b[k] = -(a[k] = -d[0]);
-        return true;
-    case LIMEN_NODE_CYLINDER:
-        memcpy(a, (float[3]){ -d[0], 0, -d[0] }, sizeof(float) * 3);
-        memcpy(b, (float[3]){ d[0], d[1], d[0] }, sizeof(float) * 3);
-        return true;
-    case LIMEN_NODE_QUAD:
-    case LIMEN_NODE_MIRROR:
-    case LIMEN_NODE_PORTAL:
-        memcpy(a, (float[3]){ -0.5f * d[0], -0.5f * d[1], 0 }, sizeof(float) * 3);
-        memcpy(b, (float[3]){ 0.5f * d[0], 0.5f * d[1], 0 }, sizeof(float) * 3);
-        return true;
-    case LIMEN_NODE_MESH: {
-        limen_mesh_info mi;
-        if (limen_mesh_get(s, n, &mi) || mi.triangle_count < 1)
-            return false;
-        memcpy(a, mi.lo, sizeof mi.lo);
-        memcpy(b, mi.hi, sizeof mi.hi);
-        return true;
-    }
-    default:
-        return false;
-    }
-}
-
-limen_status limen_node_get_bounds(limen_scene *s, limen_node n, float lo[3], float hi[3])
-{
-    if (!s || !lo || !hi)
-        return LIMEN_ERR_ARG;
-    if (!limen_node_valid(s, n))
-        return limen__fail(s, LIMEN_ERR_HANDLE, "bounds: %s node handle",
-                           n.id ? "stale or foreign" : "null");
-    limen_status st = limen_scene_update(s);
-    if (st)
-        return st;
-    for (int k = 0; k < 3; k++) {
-        lo[k] = INFINITY;
-        hi[k] = -INFINITY;
-    }
-    bool any = false;
-    for (int k = 0; k < s->live_len; k++) {
-        int i = s->live[k];
-        if (i < 0)
-            continue;
-        limen_node h = limen__node_handle(s, i);
-        float a[3], b[3], w[16];
-        if ((h.id != n.id && !below(s, h, n)) || !shape_box(s, h, a, b) ||
-            limen_node_world_matrix(s, h, w))
-            continue;
-        grow_box(w, a, b, lo, hi);
-        any = true;
-    }
-    if (!any)
-        return limen__fail(s, LIMEN_ERR_ARG, "bounds: '%s' shows nothing (no shape in it or "
-                           "below it)", limen_node_get_name(s, n)[0] ? limen_node_get_name(s, n)
-                                                                     : "the node");
-    return LIMEN_OK;
 }

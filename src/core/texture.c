@@ -10,7 +10,10 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
+#include <unistd.h>
 
+#include "core/confine.h"
+#include "core/contain.h"
 #include "core/internal.h"
 #include "core/mesh.h"
 #include "core/texture.h"
@@ -28,12 +31,14 @@ uint64_t limen__next_serial(void)
 limen_status limen__file_key(limen_scene *s, const char *path, char key[LIMEN__FILE_KEY],
                              struct stat *st)
 {
-    char real[PATH_MAX];
-    if (!realpath(path, real) || stat(real, st) != 0)
-        return limen__fail(s, LIMEN_ERR_IO, "%s: cannot open: %s", path, strerror(errno));
-    if (!S_ISREG(st->st_mode))
-        return limen__fail(s, LIMEN_ERR_IO, "%s: not a regular file", path);
-    snprintf(key, LIMEN__FILE_KEY, "%s@%lld.%ld", real, (long long)st->st_mtim.tv_sec,
+    /* decided on the descriptor the scene's way in opens (core/confine.c), never by name */
+    char why[160];
+    int fd = limen__confine_open(s->load ? s->load->box : NULL, path, st, why, sizeof why);
+    if (fd < 0)
+        return limen__fail(s, LIMEN_ERR_IO, "%s: cannot open: %s", path, why);
+    close(fd);
+    snprintf(key, LIMEN__FILE_KEY, "%s@%llx.%llx.%lld.%ld", path, (unsigned long long)st->st_dev,
+             (unsigned long long)st->st_ino, (long long)st->st_mtim.tv_sec,
              (long)st->st_mtim.tv_nsec);
     return LIMEN_OK;
 }
@@ -50,22 +55,24 @@ static void texture_free(limen__texture *t)
 
 /* ------------------------------------------------------------------ mipmap levels */
 
-/* One axis of a box filter: n source samples (stride apart) onto m <= n, destination i
- * averaging the source interval [i n/m, (i + 1) n/m) weighted by overlap (a texel split
- * between two destinations counts half to each, as happens at odd sizes). */
-static void shrink_axis(const float *src, int n, size_t stride, float *dst, int m,
-                        size_t dstride)
+/* One axis of a box filter, n texels onto m <= n: destination i averages the source
+ * interval [i n/m, (i + 1) n/m) weighted by overlap (a texel split between two destinations
+ * counts to each by its share, as happens at odd sizes). Its first texel, and the weights
+ * (at most 4: the interval is at most 3 texels long) of it and those after. */
+typedef struct span {
+    int first, count;
+    double w[4];
+} span;
+
+static span span_of(int i, int n, int m)
 {
-    double r = (double)n / m;
-    for (int i = 0; i < m; i++) {
-        double a = i * r, b = (i + 1) * r, sum = 0;
-        for (int k = (int)floor(a); k < n && k < b; k++) {
-            double w = fmin(b, k + 1.0) - fmax(a, (double)k);
-            if (w > 0)
-                sum += w * src[(size_t)k * stride];
-        }
-        dst[(size_t)i * dstride] = (float)(sum / r);
+    double r = (double)n / m, a = i * r, b = (i + 1) * r;
+    span sp = { .first = (int)floor(a) };
+    for (int k = sp.first; k < n && k < b && sp.count < 4; k++) {
+        double w = fmin(b, k + 1.0) - fmax(a, (double)k);
+        sp.w[sp.count++] = w > 0 ? w / r : 0;
     }
+    return sp;
 }
 
 static int half(int n)
@@ -73,8 +80,35 @@ static int half(int n)
     return n > 1 ? n / 2 : 1;
 }
 
+/* Level `down` from level `up` (half its size), a row at a time: memory for one row of the
+ * smaller level. */
+static void shrink(const limen_image_level *up, const limen_image_level *down, const span *xs,
+                   double *acc)
+{
+    int W = up->width, H = up->height, w = down->width, h = down->height;
+    unsigned char *out = (unsigned char *)down->rgb;
+    for (int j = 0; j < h; j++) {
+        span ys = span_of(j, H, h);
+        memset(acc, 0, sizeof(double) * (size_t)w * 3);
+        for (int q = 0; q < ys.count; q++) {
+            const unsigned char *src = up->rgb + (size_t)(ys.first + q) * (size_t)W * 3;
+            for (int i = 0; i < w; i++)
+                for (int c = 0; c < 3; c++) {
+                    double sum = 0;
+                    for (int p = 0; p < xs[i].count; p++)
+                        sum += xs[i].w[p] * src[(size_t)(xs[i].first + p) * 3 + (size_t)c];
+                    acc[i * 3 + c] += ys.w[q] * sum;
+                }
+        }
+        for (int i = 0; i < w * 3; i++)
+            out[(size_t)j * (size_t)w * 3 + (size_t)i] =
+                (unsigned char)lrint(fmin(255.0, fmax(0.0, acc[i])));
+    }
+}
+
 /* Levels 1 on of t, each half the last (at least 1 texel), until 1 x 1: what GL calls a
- * complete mipmap. False: out of memory. */
+ * complete mipmap; each made from the bytes of the one above, as a renderer could. False:
+ * out of memory. */
 static bool make_levels(limen__texture *t)
 {
     size_t total = 0;
@@ -88,12 +122,13 @@ static bool make_levels(limen__texture *t)
     t->nlevels = n;
     if (n == 1)
         return true;
+    int wmax = half(t->w);
     t->mips = malloc(total);
-    float *row = malloc(sizeof(float) * (size_t)t->w * (size_t)t->h * 3);
-    float *col = malloc(sizeof(float) * (size_t)t->h * (size_t)t->w * 3);
-    if (!t->mips || !row || !col) {
-        free(row);
-        free(col);
+    span *xs = malloc(sizeof *xs * (size_t)wmax);
+    double *acc = malloc(sizeof(double) * (size_t)wmax * 3);
+    if (!t->mips || !xs || !acc) {
+        free(xs);
+        free(acc);
         free(t->mips);
         t->mips = NULL;
         return false;
@@ -101,41 +136,37 @@ static bool make_levels(limen__texture *t)
     unsigned char *at = t->mips;
     for (int k = 1; k < n; k++) {
         const limen_image_level *up = &t->levels[k - 1];
-        int w = half(up->width), h = half(up->height), W = up->width, H = up->height;
-        /* each level from the bytes of the one above, as the renderer could */
-        for (size_t i = 0; i < (size_t)W * H * 3; i++)
-            col[i] = up->rgb[i];
-        for (int y = 0; y < H; y++)
-            for (int c = 0; c < 3; c++)
-                shrink_axis(col + (size_t)y * W * 3 + c, W, 3, row + (size_t)y * w * 3 + c, w, 3);
-        for (int x = 0; x < w; x++)
-            for (int c = 0; c < 3; c++)
-                shrink_axis(row + (size_t)x * 3 + c, H, (size_t)w * 3, col + (size_t)x * 3 + c,
-                            h, (size_t)w * 3);
-        for (size_t i = 0; i < (size_t)w * h * 3; i++)
-            at[i] = (unsigned char)lrint(fmin(255.0, fmax(0.0, col[i])));
-        t->levels[k] = (limen_image_level){ w, h, at };
-        at += (size_t)w * h * 3;
+        t->levels[k] = (limen_image_level){ half(up->width), half(up->height), at };
+        for (int i = 0; i < t->levels[k].width; i++)
+            xs[i] = span_of(i, up->width, t->levels[k].width);
+        shrink(up, &t->levels[k], xs, acc);
+        at += (size_t)t->levels[k].width * (size_t)t->levels[k].height * 3;
     }
-    free(row);
-    free(col);
+    free(xs);
+    free(acc);
     return true;
 }
 
-limen_status limen__texture_decode(limen_scene *s, const unsigned char *buf, size_t len,
-                                   const char *name, limen__texture **out)
+/* Why buf is no image stb reads: unknown, truncated or corrupt (stb's reason). */
+static void image_failure(const unsigned char *buf, size_t len, char *why, size_t size)
 {
-    *out = NULL;
-    int w = 0, h = 0;
-    unsigned char *rgb = limen__image_decode(buf, len, &w, &h);
-    if (!rgb)
-        return limen__fail(s, LIMEN_ERR_IO, "%s: cannot read it as an image (PNG or JPEG): %s",
-                           name, limen__image_why());
-    if (w < 1 || h < 1 || w > MAX_SIDE || h > MAX_SIDE) {
-        free(rgb);
-        return limen__fail(s, LIMEN_ERR_ARG, "%s: %dx%d pixels (1 to %d a side)", name, w, h,
-                           MAX_SIDE);
-    }
+    bool png = len >= 4 && memcmp(buf, "\x89PNG", 4) == 0;
+    bool jpeg = len >= 2 && buf[0] == 0xFF && buf[1] == 0xD8;
+    int w, h;
+    if (!png && !jpeg)
+        snprintf(why, size, "unknown format (PNG or JPEG only)");
+    else if (!limen__image_info(buf, len, &w, &h))
+        snprintf(why, size, "truncated or corrupt %s header (%s)", png ? "PNG" : "JPEG",
+                 limen__image_why());
+    else
+        snprintf(why, size, "truncated or corrupt %s data (%s)", png ? "PNG" : "JPEG",
+                 limen__image_why());
+}
+
+/* A texture over rgb (taken), w x h. */
+static limen_status texture_new(limen_scene *s, unsigned char *rgb, int w, int h,
+                                const char *name, limen__texture **out)
+{
     limen__texture *t = calloc(1, sizeof *t);
     if (!t) {
         free(rgb);
@@ -157,6 +188,111 @@ limen_status limen__texture_decode(limen_scene *s, const unsigned char *buf, siz
     snprintf(t->name, sizeof t->name, "%s", name);
     *out = t;
     return LIMEN_OK;
+}
+
+typedef struct decoding {
+    const unsigned char *buf;
+    size_t len;
+} decoding;
+
+/* In the child: [w][h][rgb], or why not. */
+static int decode_contained(void *arg, limen__block *out, char *why, size_t why_size)
+{
+    const decoding *d = arg;
+    int w = 0, h = 0;
+    unsigned char *rgb = limen__image_decode(d->buf, d->len, &w, &h);
+    if (!rgb) {
+        image_failure(d->buf, d->len, why, why_size);
+        return 1;
+    }
+    int32_t wh[2] = { w, h };
+    limen__block_put(out, wh, sizeof wh);
+    limen__block_put(out, rgb, (size_t)w * (size_t)h * 3);
+    free(rgb);
+    return 0;
+}
+
+/* Decodes buf in a child under what the script has left; a crash or a limit is a message. */
+static unsigned char *decode_in_child(limen_scene *s, const unsigned char *buf, size_t len,
+                                      const char *name, int *w, int *h, limen_status *st)
+{
+    limen__load *ld = s->load;
+    decoding d = { buf, len };
+    limen__contain_limits lim = { ld->max_bytes, ld->cpu_left, 0 };
+    limen__block b;
+    char why[512];
+    double cpu;
+    int rc = limen__contain_run(decode_contained, &d, &lim, &b, why, sizeof why, &cpu);
+    ld->cpu_spent += cpu;
+    ld->cpu_left = ld->cpu_left > 0 ? (ld->cpu_left > cpu ? ld->cpu_left - cpu : 1e-9) : 0;
+    int32_t wh[2];
+    const unsigned char *rgb = NULL;
+    if (rc == LIMEN__CONTAIN_OK && limen__block_get(&b, wh, sizeof wh) && wh[0] > 0 &&
+        wh[1] > 0 && wh[0] <= MAX_SIDE && wh[1] <= MAX_SIDE)
+        rgb = limen__block_take(&b, (size_t)wh[0] * (size_t)wh[1] * 3);
+    if (!rgb) {
+        limen__block_free(&b);
+        *st = rc == LIMEN__CONTAIN_FAILED
+                  ? limen__fail(s, LIMEN_ERR_IO, "%s: cannot read it as an image: %s", name, why)
+              : rc == LIMEN__CONTAIN_TIME
+                  ? limen__fail(s, LIMEN_ERR_IO, "%s: decoding it ran out of the time left", name)
+              : rc == LIMEN__CONTAIN_SYSTEM
+                  ? limen__fail(s, LIMEN_ERR_IO, "%s: %s", name, why)
+                  : limen__fail(s, LIMEN_ERR_NOMEM, "the image decoder crashed or ran out of "
+                                "memory reading %s", name);
+        return NULL;
+    }
+    unsigned char *copy = malloc((size_t)wh[0] * (size_t)wh[1] * 3);
+    if (copy)
+        memcpy(copy, rgb, (size_t)wh[0] * (size_t)wh[1] * 3);
+    limen__block_free(&b);
+    if (!copy) {
+        *st = limen__fail(s, LIMEN_ERR_NOMEM, "%s: out of memory", name);
+        return NULL;
+    }
+    *w = wh[0];
+    *h = wh[1];
+    return copy;
+}
+
+limen_status limen__texture_decode(limen_scene *s, const unsigned char *buf, size_t len,
+                                   const char *name, limen__texture **out)
+{
+    *out = NULL;
+    int w = 0, h = 0;
+    bool png = len >= 4 && memcmp(buf, "\x89PNG", 4) == 0;
+    bool jpeg = len >= 2 && buf[0] == 0xFF && buf[1] == 0xD8;
+    char why[300];
+    if (!png && !jpeg) {
+        image_failure(buf, len, why, sizeof why);
+        return limen__fail(s, LIMEN_ERR_IO, "%s: cannot read it as an image: %s", name, why);
+    }
+    /* the size from the header, before anything is decoded */
+    if (limen__image_info(buf, len, &w, &h)) {
+        if (w < 1 || h < 1 || w > MAX_SIDE || h > MAX_SIDE)
+            return limen__fail(s, LIMEN_ERR_ARG, "%s: too large: %dx%d pixels (1 to %d a side)",
+                               name, w, h, MAX_SIDE);
+        size_t max = s->load ? s->load->max_bytes : SIZE_MAX;
+        if ((uint64_t)w * (uint64_t)h * 3 > max)
+            return limen__fail(s, LIMEN_ERR_NOMEM, "%s: too large: %dx%d pixels need %.1f MiB, "
+                               "more than the %.1f MiB allowed", name, w, h,
+                               (double)w * h * 3 / 1048576.0, max / 1048576.0);
+    }
+    unsigned char *rgb;
+    if (limen__load_contained(s)) {
+        limen_status st = LIMEN_OK;
+        if (!(rgb = decode_in_child(s, buf, len, name, &w, &h, &st)))
+            return st;
+    } else if (!(rgb = limen__image_decode(buf, len, &w, &h))) {
+        image_failure(buf, len, why, sizeof why);
+        return limen__fail(s, LIMEN_ERR_IO, "%s: cannot read it as an image: %s", name, why);
+    }
+    if (w < 1 || h < 1 || w > MAX_SIDE || h > MAX_SIDE) {
+        free(rgb);
+        return limen__fail(s, LIMEN_ERR_ARG, "%s: too large: %dx%d pixels (1 to %d a side)",
+                           name, w, h, MAX_SIDE);
+    }
+    return texture_new(s, rgb, w, h, name, out);
 }
 
 limen_status limen__texture_from_rgba(limen_scene *s, const unsigned char *rgba, int w, int h,
@@ -228,33 +364,33 @@ limen_status limen__texture_load(limen_scene *s, const char *path, size_t max_by
             return LIMEN_OK;
         }
     }
-    if (st.st_size == 0)
-        return limen__fail(s, LIMEN_ERR_IO, "%s: empty file", path);
-    if ((uint64_t)st.st_size > max_bytes && (s->mem_wanted = (uint64_t)st.st_size))
-        return limen__fail(s, LIMEN_ERR_NOMEM, "%s: a file of %.1f MiB, more than the %.1f MiB "
-                           "allowed", path, st.st_size / 1048576.0, max_bytes / 1048576.0);
-    FILE *f = fopen(path, "rb");
-    unsigned char *buf = f ? malloc((size_t)st.st_size) : NULL;
-    size_t got = buf ? fread(buf, 1, (size_t)st.st_size, f) : 0;
-    if (f)
-        fclose(f);
-    if (!buf || got != (size_t)st.st_size) {
-        free(buf);
-        return limen__fail(s, LIMEN_ERR_IO, "%s: cannot read: %s", path,
-                           f ? "short read" : strerror(errno));
+    unsigned char *buf;
+    size_t got;
+    if ((rc = limen__file_read(s, path, &buf, &got, &st))) {
+        if (rc == LIMEN_ERR_NOMEM)
+            s->mem_wanted = (uint64_t)st.st_size;   /* what --memory would allow */
+        return rc;
     }
-    /* the decoded size, from the header, before decoding */
     int w, h;
     if (limen__image_info(buf, got, &w, &h) && (uint64_t)w * (uint64_t)h * 3 > max_bytes) {
         s->mem_wanted = (uint64_t)w * (uint64_t)h * 3;
         free(buf);
-        return limen__fail(s, LIMEN_ERR_NOMEM, "%s: %dx%d pixels need %.1f MiB, more than the "
-                           "%.1f MiB allowed", path, w, h, (double)w * h * 3 / 1048576.0,
-                           max_bytes / 1048576.0);
+        if (s->load)
+            s->load->read_bytes -= got;
+        return limen__fail(s, LIMEN_ERR_NOMEM, "%s: too large: %dx%d pixels need %.1f MiB, "
+                           "more than the %.1f MiB allowed", path, w, h,
+                           (double)w * h * 3 / 1048576.0, max_bytes / 1048576.0);
     }
+    size_t keep_max = s->load ? s->load->max_bytes : SIZE_MAX;
+    if (s->load)
+        s->load->max_bytes = max_bytes;     /* what decoding may take */
     limen__texture *t;
     rc = limen__texture_decode(s, buf, got, path, &t);
     free(buf);
+    if (s->load) {
+        s->load->max_bytes = keep_max;
+        s->load->read_bytes -= got;     /* the file's bytes are given back */
+    }
     if (rc)
         return rc;
     snprintf(t->key, sizeof t->key, "%s", key);
@@ -430,16 +566,28 @@ limen_status limen_scene_get_file(const limen_scene *s, int i, char *path, size_
         return LIMEN_ERR_ARG;
     int n = 0;
     for (int k = 0; k < s->nmeshes + s->ntextures; k++) {
-        const char *key = k < s->nmeshes ? ((const limen__mesh *)s->meshes[k])->key
-                                         : ((const limen__texture *)s->textures[k - s->nmeshes])->key;
+        const limen__mesh *m = k < s->nmeshes ? s->meshes[k] : NULL;
+        const char *key = m ? m->key : ((const limen__texture *)s->textures[k - s->nmeshes])->key;
         size_t len;
-        if (!key_path(key, &len) || n++ != i)
+        if (!key_path(key, &len))
             continue;
-        if (len >= size)
-            return LIMEN_ERR_ARG;
-        memcpy(path, key, len);
-        path[len] = '\0';
-        return LIMEN_OK;
+        /* the file itself, then the others its import read (an OBJ's .mtl, glTF buffers) */
+        const char *f = key;
+        for (size_t at = 0;;) {
+            size_t flen = f == key ? len : strlen(f);
+            if ((f == key || flen != len || strncmp(f, key, len) != 0) && n++ == i) {
+                if (flen >= size)
+                    return LIMEN_ERR_ARG;
+                memcpy(path, f, flen);
+                path[flen] = '\0';
+                return LIMEN_OK;
+            }
+            if (f != key)
+                at += flen + 1;
+            if (!m || !m->files || at >= m->files_len)
+                break;
+            f = m->files + at;
+        }
     }
     return LIMEN_ERR_ARG;
 }

@@ -15,6 +15,10 @@
 
 #include <lualib.h>
 
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include "core/confine.h"
 #include "lua/lua_internal.h"
 
 #define READER_SLOT 5           /* stack slot of load's reader keeping its last piece */
@@ -326,9 +330,17 @@ static const char *read_file_piece(lua_State *L, void *ud, size_t *size)
 int limen__lua_load_file(lua_State *L, const char *path, const char *name)
 {
     file_reader *r = lua_newuserdatauv(L, sizeof *r, 0);
-    r->f = fopen(path, "rb");
+    /* a safe script is read through its folder's way in, like every file it names */
+    char why[160];
+    struct stat file;
+    int fd = limen__confine_open(limen__lua_box(L), path, &file, why, sizeof why);
+    r->f = fd >= 0 ? fdopen(fd, "rb") : NULL;
     if (!r->f) {
-        lua_pushfstring(L, "cannot open %s: %s", path, strerror(errno));
+        if (fd >= 0) {
+            snprintf(why, sizeof why, "%s", strerror(errno));
+            close(fd);
+        }
+        lua_pushfstring(L, "cannot open %s: %s", path, why);
         return LUA_ERRFILE;
     }
     r->first = 1;

@@ -145,10 +145,11 @@ void limen__lua_read_vec(lua_State *L, int idx, const char *ctx, const char *wha
 limen_node limen__lua_read_node(lua_State *L, int idx, int scene_idx, const char *ctx,
                                 const char *what, int kind);
 
-/* A mesh or image file named in the calling script: relative to the script's folder. A safe
- * script may read only files under that folder: no absolute path, no "..", and no link
- * that leads out of it (checked on the resolved path). Writes the path to open into out,
- * or raises. */
+/* A mesh or image file named in the calling script: relative to the script's folder (a safe
+ * script's: the top-level script's, fixed when it was loaded). A safe script may read only
+ * files under that folder: no absolute path, no "..", and no link that leads out of it
+ * (decided when the file is opened, core/confine.c). Writes the path to open into out, or
+ * raises. */
 void limen__lua_script_path(lua_State *L, const char *ctx, const char *file, char *out,
                             size_t size);
 

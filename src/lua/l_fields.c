@@ -8,6 +8,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "core/confine.h"
 #include "lua/l_api.h"
 
 const char *const limen__lua_kind_names[LIMEN_NODE_KIND_COUNT] = {
@@ -658,6 +659,25 @@ void limen__lua_push_vec(lua_State *L, const float *v, int n, double k)
 void limen__lua_script_path(lua_State *L, const char *ctx, const char *file, char *out,
                             size_t size)
 {
+    /* a safe script's folder is fixed once, from the top-level script (core/confine.c):
+     * whatever chunk name a script invents, and whichever function calls here */
+    const limen__confine *box = limen__lua_box(L);
+    if (box) {
+        if (file[0] == '/')
+            luaL_error(L, "%s: %s: a safe script reads files only under its own folder (no "
+                          "absolute paths)", ctx, file);
+        for (const char *p = file; *p;) {
+            size_t n = strcspn(p, "/");
+            if (n == 2 && p[0] == '.' && p[1] == '.')
+                luaL_error(L, "%s: %s: a safe script reads files only under its own folder "
+                              "(no '..')", ctx, file);
+            p += n + (p[n] == '/');
+        }
+        /* links are followed only where they stay inside: decided when the file is opened */
+        if ((size_t)snprintf(out, size, "%s/%s", box->prefix, file) >= size)
+            luaL_error(L, "%s: %s: path too long", ctx, file);
+        return;
+    }
     lua_Debug ar;
     char folder[1024] = ".";
     if (lua_getstack(L, 1, &ar) && lua_getinfo(L, "S", &ar) && ar.source[0] == '@') {
@@ -667,32 +687,8 @@ void limen__lua_script_path(lua_State *L, const char *ctx, const char *file, cha
         if (slash == src)
             snprintf(folder, sizeof folder, "/");
     }
-    bool safe = lua_getfield(L, LUA_REGISTRYINDEX, LIMEN__LUA_SAFE) == LUA_TBOOLEAN &&
-                lua_toboolean(L, -1);
-    lua_pop(L, 1);
-    if (file[0] == '/') {
-        if (safe)
-            luaL_error(L, "%s: %s: a safe script reads files only under its own folder (no "
-                          "absolute paths)", ctx, file);
+    if (file[0] == '/')
         snprintf(out, size, "%s", file);
-        return;
-    }
-    if ((size_t)snprintf(out, size, "%s/%s", folder, file) >= size)
+    else if ((size_t)snprintf(out, size, "%s/%s", folder, file) >= size)
         luaL_error(L, "%s: %s: path too long", ctx, file);
-    if (!safe)
-        return;
-    for (const char *p = file; *p;) {
-        size_t n = strcspn(p, "/");
-        if (n == 2 && p[0] == '.' && p[1] == '.')
-            luaL_error(L, "%s: %s: a safe script reads files only under its own folder (no "
-                          "'..')", ctx, file);
-        p += n + (p[n] == '/');
-    }
-    char root[PATH_MAX], real[PATH_MAX];
-    if (!realpath(folder, root) || !realpath(out, real))
-        return;     /* the load names what is missing */
-    size_t rl = strlen(root);
-    if (strncmp(real, root, rl) != 0 || (real[rl] != '/' && rl > 1))
-        luaL_error(L, "%s: %s: a safe script reads files only under its own folder (it leads "
-                      "out of it)", ctx, file);
 }

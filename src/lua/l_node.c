@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "core/texture.h"
+#include "core/confine.h"
 #include "lua/l_api.h"
 
 /* "sphere 'ball'" or "sphere" for an unnamed node. */
@@ -114,10 +115,15 @@ limen_node limen__lua_create_node(lua_State *L, int scene_idx, limen_node_kind k
         if (!st && kind == LIMEN_NODE_CAMERA)
             st = limen_scene_set_camera(ls->s, n);
         size_t charged = 0;     /* an image, counted against the script's memory cap */
-        if (!st && sp->texture[0] &&
-            !(st = limen__node_texture(ls->s, n, sp->texture, limen__lua_mem_left(L), &charged))) {
-            limen__lua_hold(L, (ptrdiff_t)charged);
-            ls->assets += charged;
+        if (!st && sp->texture[0]) {
+            limen__load ld;     /* the script's folder and limits (core/confine.h) */
+            limen__lua_load_begin(L, ls->s, &ld);
+            st = limen__node_texture(ls->s, n, sp->texture, limen__lua_mem_left(L), &charged);
+            limen__lua_load_end(L, ls->s, &ld);
+            if (!st) {
+                limen__lua_hold(L, (ptrdiff_t)charged);
+                ls->assets += charged;
+            }
         }
         if (st) {
             limen__lua_want(L, limen__scene_take_wanted(ls->s));
@@ -127,8 +133,10 @@ limen_node limen__lua_create_node(lua_State *L, int scene_idx, limen_node_kind k
     if (st) {
         if (also.id)
             limen__lua_forget_node(L, scene_idx, also);
+        limen__lua_check_time(L);   /* a contained decode's time may have hit the limit */
         limen__lua_spec_error(L, ls->s, ctx, label, sp);
     }
+    limen__lua_check_time(L);
     limen__lua_push_node(L, scene_idx, n);
     lnode *nd = lua_touserdata(L, -1);
     snprintf(nd->label, sizeof nd->label, "%s", label);

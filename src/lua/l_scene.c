@@ -9,6 +9,7 @@
 #include "core/mesh.h"
 #include "core/texture.h"
 #include "core/model.h"
+#include "core/confine.h"
 #include "lua/l_api.h"
 
 /* ------------------------------------------------------------------ C-side memory */
@@ -97,12 +98,17 @@ static int l_scene_mesh(lua_State *L)
     limen_node n = limen__lua_create_node(L, 1, LIMEN_NODE_MESH, &sp, "mesh", label,
                                           (limen_node){ 0 });
     size_t charged;
+    limen__load ld;     /* the script's folder and limits (core/confine.h) */
+    limen__lua_load_begin(L, ls->s, &ld);
     limen_status st = limen__mesh_load(ls->s, n, path, limen__lua_mem_left(L), &charged);
+    limen__lua_load_end(L, ls->s, &ld);
     if (st) {
         limen__lua_want(L, limen__scene_take_wanted(ls->s));
         limen__lua_forget_node(L, 1, n);
+        limen__lua_check_time(L);
         return limen__lua_c_error(L, ls->s, "mesh", label);
     }
+    limen__lua_check_time(L);
     limen__lua_hold(L, (ptrdiff_t)charged);   /* within what was left: never refused */
     ls->assets += charged;
     return 1;
@@ -156,12 +162,18 @@ static int l_scene_model(lua_State *L)
                                               (limen_node){ 0 });
     int before = limen_scene_node_count(ls->s);
     size_t charged;
+    limen__load ld;     /* the script's folder and limits (core/confine.h), as for s:mesh */
+    limen__lua_load_begin(L, ls->s, &ld);
     limen_status st = limen__model_load(ls->s, group, path, &desc, limen__lua_mem_left(L),
                                         &charged);
+    limen__lua_load_end(L, ls->s, &ld);
     if (st) {
+        limen__lua_want(L, limen__scene_take_wanted(ls->s));
         limen__lua_forget_node(L, 1, group);
+        limen__lua_check_time(L);
         return limen__lua_c_error(L, ls->s, "model", label);
     }
+    limen__lua_check_time(L);
     limen__lua_hold(L, (ptrdiff_t)charged);   /* within what was left: never refused */
     ls->assets += charged;
     /* the new nodes (the last made) join the scene's table, labelled where the script asked */

@@ -60,6 +60,20 @@ int limen__lua_print(lua_State *L, const char *text, size_t len);
 int limen__lua_hold(lua_State *L, ptrdiff_t bytes);
 /* Bytes the cap of the script running in L leaves (SIZE_MAX without a cap or a script). */
 size_t limen__lua_mem_left(lua_State *L);
+/* Files and limits (core/confine.h). The folder a safe script reads beneath, fixed when
+ * the top-level script was loaded; NULL for a trusted script or no script. */
+struct limen__confine;
+struct limen__load;
+const struct limen__confine *limen__lua_box(lua_State *L);
+/* Notes a file the script read (a module), for limen_script_get_file. */
+void limen__lua_note_file(lua_State *L, const char *path);
+/* Around a load into s on behalf of the script in L: begin points s at ld, filled with the
+ * script's folder and what its limits leave; end detaches it and charges the processor
+ * time children spent to the time limit. Then limen__lua_check_time raises if a limit was
+ * hit (call it after cleaning up). */
+void limen__lua_load_begin(lua_State *L, limen_scene *s, struct limen__load *ld);
+void limen__lua_load_end(lua_State *L, limen_scene *s, struct limen__load *ld);
+void limen__lua_check_time(lua_State *L);
 /* After a load refused for the memory left: the script running in L would have needed
  * `bytes` more than it holds (limen_script_memory_needed). */
 void limen__lua_want(lua_State *L, uint64_t bytes);

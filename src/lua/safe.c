@@ -3,8 +3,8 @@
  * What it has: base without dofile/loadfile, with a load that takes text only (guards.c), a
  * setmetatable that refuses __gc, a print that reaches the host's callback only and a
  * tostring that shows no address (guards.c); string, table, math, utf8, coroutine;
- * os.clock/time/date/difftime; no io, no debug; require finds only "limen" (and what is
- * already loaded or in package.preload).
+ * os.clock/time/date/difftime; no io, no debug; require finds "limen", what is already
+ * loaded or in package.preload, and modules of the script's own folder and below.
  *
  * Why __gc is refused: Lua runs finalizers with hooks turned off, so a finalizer would run
  * outside the instruction budget (script.c), and a loop in one would hang the program.
@@ -28,6 +28,10 @@
 
 #include <lualib.h>
 
+#include <stdlib.h>
+#include <sys/stat.h>
+
+#include "core/confine.h"
 #include "lua/lua_internal.h"
 
 #define PATTERN_STEPS 4         /* worst-case pattern steps that cost one instruction */
@@ -91,15 +95,62 @@ static int l_safe_setmetatable(lua_State *L)
     return call_stock(L);
 }
 
-/* require(name) for modules already loaded or in package.preload; anything else is refused
- * in one line (the stock message lists every searcher, one line each). */
+/* package.searchers[2] of a safe script: module "a.b" is the file a/b.lua beneath the
+ * folder of the top-level script, read through the same way in as every file a scene reads
+ * (core/confine.c). Its files resolve against that folder too. What is not there is refused
+ * here in one line (the stock message lists every searcher, one line each). */
+static int l_safe_searcher(lua_State *L)
+{
+    const char *name = luaL_checkstring(L, 1);
+    const limen__confine *box = limen__lua_box(L);
+    bool ok = box && name[0] && name[0] != '.' && strlen(name) < 200;
+    for (const char *c = name; ok && *c; c++)
+        ok = isalnum((unsigned char)*c) || *c == '_' || *c == '-' ||
+             (*c == '.' && c[1] && c[1] != '.');
+    if (!ok)
+        return luaL_error(L, "module '%s' is not available to a safe scene script", name);
+    luaL_Buffer b;
+    luaL_buffinit(L, &b);
+    luaL_addstring(&b, box->prefix);
+    luaL_addchar(&b, '/');
+    for (const char *c = name; *c; c++)
+        luaL_addchar(&b, *c == '.' ? '/' : *c);
+    luaL_addstring(&b, ".lua");
+    luaL_pushresult(&b);
+    const char *path = lua_tostring(L, -1);
+    unsigned char *data;
+    size_t len;
+    struct stat st;
+    char why[160];
+    if (limen__confine_read(box, path, limen__lua_mem_left(L), &data, &len, &st, why,
+                            sizeof why)) {
+        if (strcmp(why, "not found") == 0)
+            return luaL_error(L, "module '%s' is not available to a safe scene script", name);
+        return luaL_error(L, "module '%s' is not available to a safe scene script: %s: %s",
+                          name, path, why);
+    }
+    limen__lua_note_file(L, path);     /* watched for hot reload, as the script is */
+    const char *chunk = lua_pushfstring(L, "@%s", path);
+    int rc = limen__lua_load_string(L, (const char *)data, len, chunk, "t");
+    free(data);
+    if (rc != LUA_OK) {
+        limen__lua_caught(L, rc);
+        return lua_error(L);
+    }
+    lua_pushvalue(L, -3);       /* the path: the loader's second argument */
+    return 2;
+}
+
+/* require(name) for modules already loaded, in package.preload, or files of the script's
+ * folder (l_safe_searcher). */
 static int l_safe_require(lua_State *L)
 {
     const char *name = luaL_checkstring(L, 1);
     lua_settop(L, 1);
     luaL_getsubtable(L, LUA_REGISTRYINDEX, LUA_LOADED_TABLE);
     luaL_getsubtable(L, LUA_REGISTRYINDEX, LUA_PRELOAD_TABLE);
-    if (lua_getfield(L, 2, name) == LUA_TNIL && lua_getfield(L, 3, name) == LUA_TNIL)
+    if (lua_getfield(L, 2, name) == LUA_TNIL && lua_getfield(L, 3, name) == LUA_TNIL &&
+        !limen__lua_box(L))
         return luaL_error(L, "module '%s' is not available to a safe scene script", name);
     lua_settop(L, 1);
     lua_pushvalue(L, lua_upvalueindex(1));   /* the stock require keeps an upvalue: call it */
@@ -576,13 +627,16 @@ int limen__lua_open_safe(lua_State *L)
     lua_setfield(L, -2, LUA_OSLIBNAME);
     lua_settop(L, g);
 
-    /* package: only package.preload (limen); no file or C searchers, no loadlib */
+    /* package: package.preload (limen) and the script's own folder (l_safe_searcher); no
+     * other file or C searchers, no loadlib */
     lua_getfield(L, g, LUA_LOADLIBNAME);
     int pkg = lua_gettop(L);
     lua_getfield(L, pkg, "searchers");
-    lua_createtable(L, 1, 0);
+    lua_createtable(L, 2, 0);
     lua_rawgeti(L, -2, 1);      /* the preload searcher */
     lua_rawseti(L, -2, 1);
+    lua_pushcfunction(L, l_safe_searcher);
+    lua_rawseti(L, -2, 2);
     lua_setfield(L, pkg, "searchers");
     lua_pop(L, 1);
     static const char *const pkg_out[] = { "loadlib", "searchpath", NULL };

@@ -38,6 +38,8 @@
 
 #include <lualib.h>
 
+#include "core/confine.h"
+#include "core/internal.h"
 #include "lua/lua_internal.h"
 
 #define ERR_MAX 1024
@@ -87,6 +89,10 @@ struct limen_script {
     char where[WHERE_MAX];      /* "file:line" where a limit was hit, if known */
     char line[WHERE_MAX];       /* "file:line" last seen by the line hook */
     char err[ERR_MAX];
+    limen__confine box;         /* where a safe script reads: its own folder (core/confine.c) */
+    char *files;                /* the modules it required from its folder ("a\0b\0") */
+    size_t files_len;
+    double extra_cpu;           /* processor time spent in children (contained imports) */
 };
 
 /* ------------------------------------------------------------------ messages */
@@ -436,7 +442,7 @@ static double look_at_clock(limen_script *sc)
     sc->spent_at = sc->spent;
     /* the thread's processor time runs no faster than the monotonic clock */
     if (t >= sc->cpu_check_at) {
-        double used = thread_time() - sc->started_cpu;
+        double used = thread_time() - sc->started_cpu + sc->extra_cpu;
         if (used > sc->time_limit)
             hit(sc, LIMIT_TIME);
         else
@@ -587,6 +593,83 @@ int limen__lua_hold(lua_State *L, ptrdiff_t bytes)
     return 1;
 }
 
+void limen__lua_note_file(lua_State *L, const char *path)
+{
+    limen_script *sc = script_of(L);
+    if (!sc)
+        return;
+    size_t n = strlen(path) + 1;
+    for (size_t at = 0; at < sc->files_len; at += strlen(sc->files + at) + 1)
+        if (strcmp(sc->files + at, path) == 0)
+            return;
+    char *more = realloc(sc->files, sc->files_len + n);
+    if (!more)
+        return;     /* not watched: the script itself still is */
+    memcpy(more + sc->files_len, path, n);
+    sc->files = more;
+    sc->files_len += n;
+}
+
+limen_status limen_script_get_file(const limen_script *sc, int i, char *path, size_t size)
+{
+    if (!sc || !path || i < 0)
+        return LIMEN_ERR_ARG;
+    const char *f = sc->path;
+    for (size_t at = 0; i > 0; i--) {
+        if (at >= sc->files_len)
+            return LIMEN_ERR_ARG;
+        f = sc->files + at;
+        at += strlen(f) + 1;
+    }
+    if (!f || strlen(f) >= size)
+        return LIMEN_ERR_ARG;
+    memcpy(path, f, strlen(f) + 1);
+    return LIMEN_OK;
+}
+
+const limen__confine *limen__lua_box(lua_State *L)
+{
+    limen_script *sc = script_of(L);
+    return sc && sc->box.on ? &sc->box : NULL;
+}
+
+void limen__lua_load_begin(lua_State *L, limen_scene *s, limen__load *ld)
+{
+    limen_script *sc = script_of(L);
+    memset(ld, 0, sizeof *ld);
+    ld->box = limen__lua_box(L);
+    ld->safe = ld->box != NULL;
+    ld->max_bytes = limen__lua_mem_left(L);
+    if (sc && sc->running && sc->time_limit > 0) {
+        double used = thread_time() - sc->started_cpu + sc->extra_cpu;
+        ld->cpu_left = used < sc->time_limit ? sc->time_limit - used : 1e-3;
+    }
+    s->load = ld;
+}
+
+void limen__lua_load_end(lua_State *L, limen_scene *s, limen__load *ld)
+{
+    limen_script *sc = script_of(L);
+    s->load = NULL;
+    if (sc && sc->running && ld->cpu_spent > 0) {
+        sc->extra_cpu += ld->cpu_spent;
+        sc->cpu_check_at = 0;   /* look at the clock at the next chance */
+    }
+}
+
+void limen__lua_check_time(lua_State *L)
+{
+    limen_script *sc = script_of(L);
+    if (!sc || !sc->running)
+        return;
+    if (!sc->limit) {
+        sc->cpu_check_at = 0;
+        look_at_clock(sc);
+    }
+    if (sc->limit)
+        raise_limit(L, sc);
+}
+
 void limen__lua_want(lua_State *L, uint64_t bytes)
 {
     limen_script *sc = script_of(L);
@@ -641,6 +724,7 @@ static void begin_call(limen_script *sc)
     sc->clock_at = now();
     sc->spent_at = 0;
     sc->started_cpu = sc->time_limit > 0 ? thread_time() : 0;
+    sc->extra_cpu = 0;
     sc->cpu_check_at = sc->clock_at + sc->time_limit;
     sc->mem_refused = 0;
     sc->mem_wanted = 0;
@@ -820,6 +904,7 @@ static limen_status script_load(const char *path, const char *buf, size_t len,
     *out = sc;
     if (!sc)
         return LIMEN_ERR_NOMEM;
+    sc->box.dir = -1;
     sc->scene_ref = LUA_NOREF;
     if (!path)
         return fail(sc, LIMEN_ERR_ARG, "limen_script_load: no script path");
@@ -846,6 +931,10 @@ static limen_status script_load(const char *path, const char *buf, size_t len,
         return fail(sc, LIMEN_ERR_NOMEM, msg);
     }
     int trusted = desc && desc->trusted;
+    if (trusted)
+        sc->box.dir = -1;
+    else
+        limen__confine_init(&sc->box, sc->path);
     lua_pushcfunction(L, trusted ? open_trusted : limen__lua_open_safe);
     int st = lua_pcall(L, 0, 0, 0);
     if (st == LUA_OK) {
@@ -906,6 +995,8 @@ void limen_script_destroy(limen_script *sc)
         return;
     if (sc->L)
         lua_close(sc->L);   /* collects the scene userdata, which destroys the scene */
+    limen__confine_close(&sc->box);
+    free(sc->files);
     free(sc->path);
     free(sc);
 }

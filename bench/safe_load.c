@@ -1,0 +1,151 @@
+/* safe_load.c - what containing an import costs (core/contain.c): a scene script loading a
+ * mesh in safe mode (the import and the texture decoding in a child process, the arrays
+ * handed back through a pipe) against the same script trusted (imported in the process).
+ * The bunny (scenes/data/bunny.glb) and a binary PLY of 100,000 triangles made here; wall
+ * and processor time (the process's and its children's), medians of runs that alternate
+ * the two modes, and the ratio measured in this one run.
+ *
+ *   safe_load [--out DIR] [--runs N]
+ *
+ * Writes DIR/safe_load.csv and DIR/safe_load.txt; a line per mesh on stderr. */
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/resource.h>
+#include <unistd.h>
+
+#include "limen.h"
+#include "timing.h"
+
+static void die(const char *what)
+{
+    fprintf(stderr, "safe_load: %s\n", what);
+    exit(1);
+}
+
+/* Processor time of this process and its reaped children, in milliseconds. */
+static double all_cpu_ms(void)
+{
+    struct rusage self, kids;
+    getrusage(RUSAGE_SELF, &self);
+    getrusage(RUSAGE_CHILDREN, &kids);
+    return (self.ru_utime.tv_sec + self.ru_stime.tv_sec + kids.ru_utime.tv_sec +
+            kids.ru_stime.tv_sec) * 1e3 +
+           (self.ru_utime.tv_usec + self.ru_stime.tv_usec + kids.ru_utime.tv_usec +
+            kids.ru_stime.tv_usec) * 1e-3;
+}
+
+static void copy_file(const char *from, const char *to)
+{
+    FILE *a = fopen(from, "rb"), *b = fopen(to, "wb");
+    if (!a || !b)
+        die("cannot copy the bunny");
+    char buf[65536];
+    size_t n;
+    while ((n = fread(buf, 1, sizeof buf, a)) > 0)
+        fwrite(buf, 1, n, b);
+    fclose(a);
+    fclose(b);
+}
+
+/* A strip of nt triangles as a binary PLY. */
+static void write_ply(const char *path, int nt)
+{
+    FILE *f = fopen(path, "wb");
+    if (!f)
+        die("cannot write the PLY");
+    int nv = nt + 2;
+    fprintf(f, "ply\nformat binary_little_endian 1.0\nelement vertex %d\nproperty float x\n"
+            "property float y\nproperty float z\nelement face %d\n"
+            "property list uchar int vertex_indices\nend_header\n", nv, nt);
+    for (int i = 0; i < nv; i++) {
+        float v[3] = { (float)(i / 2), (float)(i % 2), (float)((i * 7) % 13) * 0.01f };
+        fwrite(v, sizeof v, 1, f);
+    }
+    for (int i = 0; i < nt; i++) {
+        unsigned char three = 3;
+        int ix[3] = { i, i + 1 + (i % 2), i + 2 - (i % 2) };
+        fwrite(&three, 1, 1, f);
+        fwrite(ix, sizeof ix, 1, f);
+    }
+    fclose(f);
+}
+
+static void one_load(const char *script, int trusted, double *wall, double *cpu)
+{
+    limen_script *sc = NULL;
+    double w0 = now_ms(), c0 = all_cpu_ms();
+    limen_status st = limen_script_load(script, &(limen_script_desc){ .trusted = trusted,
+                                                                      .memory_cap = -1,
+                                                                      .instruction_budget = -1 },
+                                        &sc);
+    *wall = now_ms() - w0;
+    *cpu = all_cpu_ms() - c0;
+    if (st) {
+        fprintf(stderr, "%s\n", limen_script_error(sc));
+        die("the load failed");
+    }
+    limen_script_destroy(sc);
+}
+
+int main(int argc, char **argv)
+{
+    const char *out = "build/bench";
+    int runs = 7;
+    for (int i = 1; i < argc; i++) {
+        if (strcmp(argv[i], "--out") == 0 && i + 1 < argc)
+            out = argv[++i];
+        else if (strcmp(argv[i], "--runs") == 0 && i + 1 < argc)
+            runs = atoi(argv[++i]);
+    }
+    if (runs < 1 || runs > 99)
+        die("--runs: 1 to 99");
+    char dir[] = "/tmp/limen-safe-load.XXXXXX", path[256];
+    if (!mkdtemp(dir))
+        die("no temporary folder");
+    snprintf(path, sizeof path, "%s/bunny.glb", dir);
+    copy_file("scenes/data/bunny.glb", path);
+    snprintf(path, sizeof path, "%s/strip.ply", dir);
+    write_ply(path, 100000);
+    const char *meshes[2][2] = { { "bunny", "bunny.glb" }, { "100k", "strip.ply" } };
+    char csv[512], txt[512];
+    snprintf(csv, sizeof csv, "%s/safe_load.csv", out);
+    snprintf(txt, sizeof txt, "%s/safe_load.txt", out);
+    FILE *fc = fopen(csv, "w"), *ft = fopen(txt, "w");
+    if (!fc || !ft)
+        die("cannot write the results");
+    fprintf(fc, "mesh,trusted_wall_ms,trusted_cpu_ms,safe_wall_ms,safe_cpu_ms,wall_ratio,cpu_ratio\n");
+    for (int m = 0; m < 2; m++) {
+        char script[256], text[256];
+        snprintf(script, sizeof script, "%s/%s.lua", dir, meshes[m][0]);
+        snprintf(text, sizeof text, "local limen = require 'limen' local s = limen.scene{}\n"
+                 "s:mesh{ file = '%s' }\nreturn s\n", meshes[m][1]);
+        FILE *f = fopen(script, "w");
+        if (!f)
+            die("cannot write the script");
+        fputs(text, f);
+        fclose(f);
+        double tw[99], tc[99], sw[99], scpu[99], w, c;
+        one_load(script, 1, &w, &c);        /* warm the caches once */
+        for (int r = 0; r < runs; r++) {
+            one_load(script, 1, &tw[r], &tc[r]);
+            one_load(script, 0, &sw[r], &scpu[r]);
+        }
+        double a = median(tw, runs), b = median(tc, runs), x = median(sw, runs),
+               y = median(scpu, runs);
+        fprintf(fc, "%s,%.2f,%.2f,%.2f,%.2f,%.3f,%.3f\n", meshes[m][0], a, b, x, y, x / a, y / b);
+        fprintf(ft, "%s: trusted %.1f ms wall %.1f ms cpu, safe (contained) %.1f ms wall %.1f ms "
+                "cpu: x%.3f wall, x%.3f cpu\n", meshes[m][0], a, b, x, y, x / a, y / b);
+        fprintf(stderr, "%s: trusted %.1f ms wall %.1f ms cpu, safe (contained) %.1f ms wall "
+                "%.1f ms cpu: x%.3f wall, x%.3f cpu\n", meshes[m][0], a, b, x, y, x / a, y / b);
+        unlink(script);
+    }
+    fclose(fc);
+    fclose(ft);
+    snprintf(path, sizeof path, "%s/bunny.glb", dir);
+    unlink(path);
+    snprintf(path, sizeof path, "%s/strip.ply", dir);
+    unlink(path);
+    rmdir(dir);
+    return 0;
+}
