@@ -16,6 +16,7 @@
 #include "bumpy.h"
 #include "charted.h"
 #include "check.h"
+#include "core/lod_cache.h"
 #include "core/lod_target.h"
 #include "limen.h"
 
@@ -878,6 +879,65 @@ static void test_asset_levels(void)
     asset_levels(4, false);
 }
 
+/* Parts are seams too: the ball of five faces again, its texture coordinates now the same
+ * on both sides of every edge between faces (no seam in the texture), but each face a part
+ * of its own (a material each). No level's triangle takes corners from two parts, so none
+ * is drawn in another part's material; without the parts in the weld, the simplifier joins
+ * across their borders. */
+static void test_part_seams(void)
+{
+    enum { N = 20, NV = 5 * (N + 1) * (N + 1), NT = 5 * N * N * 2 };
+    float *pos = malloc(sizeof(float) * 3 * NV), *nrm = malloc(sizeof(float) * 3 * NV),
+          *uv = malloc(sizeof(float) * 2 * NV);
+    uint32_t *idx = malloc(sizeof(uint32_t) * 3 * NT);
+    if (!pos || !nrm || !uv || !idx) {
+        CHECK(!"out of memory");
+        goto done;
+    }
+    charted_ball(N, N, pos, nrm, uv, idx);
+    for (int v = 0; v < NV; v++) {      /* the texture laid over the ball from the front */
+        uv[v * 2] = 0.5f + 0.5f * pos[v * 3];
+        uv[v * 2 + 1] = 0.5f + 0.5f * pos[v * 3 + 1];
+    }
+    limen_mesh_part parts[5];
+    limen_material mats[5];
+    memset(mats, 0, sizeof mats);
+    for (int p = 0; p < 5; p++) {
+        parts[p] = (limen_mesh_part){ p * N * N * 2, N * N * 2, p };
+        mats[p].name = "";
+        for (int c = 0; c < 4; c++)
+            mats[p].base_color[c] = 1;
+    }
+    fixture f = open_scene((float[3]){ 0, 0, 5 }, (float[3]){ 0, 0, 0 });
+    CHECK_OK(limen_mesh_set_triangles(f.s, f.mesh, &(limen_mesh_data){
+        .positions = pos, .normals = nrm, .uvs = uv, .vertex_count = NV, .indices = idx,
+        .triangle_count = NT, .part_count = 5, .parts = parts, .material_count = 5,
+        .materials = mats }));
+    const limen_drawable *d = item(&f);
+    if (d) {
+        const limen_mesh_geometry *g = d->mesh;
+        CHECK_MSG(g->lod_count >= 5, "%d levels", g->lod_count);
+        for (int k = 1; k < g->lod_count; k++) {
+            const limen_mesh_lod *lv = &g->lods[k];
+            int mixed = 0;
+            for (int t = 0; t < lv->triangle_count; t++) {
+                int c = charted_chart(N, lv->indices[t * 3]);
+                mixed += charted_chart(N, lv->indices[t * 3 + 1]) != c ||
+                         charted_chart(N, lv->indices[t * 3 + 2]) != c;
+            }
+            /* the simplifier keeps them apart; the coarsest, clustered, may not */
+            CHECK_MSG(mixed == 0 || lv->triangle_count * 32 < NT,
+                      "level %d: %d of %d triangles across parts", k, mixed, lv->triangle_count);
+        }
+    }
+    close_scene(&f);
+done:
+    free(pos);
+    free(nrm);
+    free(uv);
+    free(idx);
+}
+
 /* ------------------------------------------------------------------ the cache */
 
 /* The levels of a bumpy sphere of u * v * 2 triangles, made in a scene of their own: their
@@ -983,8 +1043,10 @@ static void test_cache(void)
     CHECK(mtime_ns(path) > 1000000 * 1000000000ll);
     free(again);
 
-    /* damaged: ignored, made again, and replaced by a whole entry */
-    for (int damage = 0; damage < 4; damage++) {
+    /* damaged: ignored, made again, and replaced by a whole entry; the last three whole
+     * (their checksums made to match) but wrong: an index past the vertices, a level's count
+     * above the one before, an error below the one before */
+    for (int damage = 0; damage < 7; damage++) {
         f = fopen(path, "wb");
         if (f) {
             size_t at = 48 + 8 * (size_t)levels + 4 * 100;
@@ -999,7 +1061,27 @@ static void test_cache(void)
                 memcpy(bad, whole, size);
                 bad[8 + 40 + 8] ^= 0xff;
                 fwrite(bad, 1, size, f);
-            }                                   /* else empty */
+            } else if (damage >= 4) {
+                unsigned char bad[sizeof whole];
+                memcpy(bad, whole, size);
+                size_t lv = 8 + 40;     /* the levels' counts and errors */
+                if (damage == 4) {
+                    uint32_t past = 40 * 40 * 2 * 3;
+                    memcpy(bad + lv + 8 * (size_t)levels + 4 * 7, &past, 4);
+                } else if (damage == 5) {
+                    uint32_t c;
+                    memcpy(&c, bad + lv + 8 * 1, 4);
+                    memcpy(bad + lv + 8 * 2, &c, 4);
+                } else {
+                    float e;
+                    memcpy(&e, bad + lv + 8 * 2 + 4, 4);
+                    e *= 0.5f;
+                    memcpy(bad + lv + 8 * 3 + 4, &e, 4);
+                }
+                uint64_t sum = limen__lod_cache_checksum(bad, size - 8);
+                memcpy(bad + size - 8, &sum, 8);
+                fwrite(bad, 1, size, f);
+            }                                   /* else (3) empty */
             fclose(f);
         }
         set_old(path, 1000000);
@@ -1113,13 +1195,24 @@ static void test_async(void)
     size_t nmade = 0;
     int levels = sphere_levels(U, V, &made, &nmade);
     CHECK(levels >= 4);
+    limen_mesh_info info;
+    size_t bytes = 0;           /* what the mesh holds with its levels made in place */
+    {
+        fixture g = open_scene((float[3]){ 0, 0, 5 }, (float[3]){ 0, 0, 0 });
+        CHECK_OK(limen_mesh_set_triangles(g.s, g.mesh, &data));
+        CHECK_OK(limen_mesh_get(g.s, g.mesh, &info));
+        bytes = info.bytes;
+        close_scene(&g);
+    }
 
     limen__lod_set_async_above(1000);
     fixture f = open_scene((float[3]){ 0, 0, 5 }, (float[3]){ 0, 0, 0 });
     CHECK_OK(limen_mesh_set_triangles(f.s, f.mesh, &data));
-    limen_mesh_info info;
     CHECK_OK(limen_mesh_get(f.s, f.mesh, &info));
     CHECK_MSG(info.lod_count == 1, "%d levels before the hand-over", info.lod_count);
+    /* counted (against a script's memory cap) at no less than it will hold */
+    CHECK_MSG(info.bytes >= bytes, "%zu bytes before the hand-over, %zu after", info.bytes,
+              bytes);
     reader rd[2] = { { f.s, f.mesh, 0 }, { f.s, f.mesh, 0 } };
     pthread_t th[2];
     for (int i = 0; i < 2; i++)
@@ -1149,6 +1242,8 @@ static void test_async(void)
         }
         CHECK_MSG(same && n == nmade, "%d levels handed over, %d made here", g->lod_count, levels);
         CHECK(!waited || g->id != id);
+        CHECK_OK(limen_mesh_get(f.s, f.mesh, &info));
+        CHECK_MSG(info.bytes == bytes, "%zu bytes, %zu made in place", info.bytes, bytes);
     }
     close_scene(&f);
 
@@ -1182,6 +1277,7 @@ static const check_case cases[] = {
     { "degenerate", test_degenerate },
     { "cache", test_cache },
     { "asset_levels", test_asset_levels },
+    { "part_seams", test_part_seams },
     { "async", test_async },
     { 0 },
 };

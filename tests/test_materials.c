@@ -521,6 +521,67 @@ static void test_set_triangles(void)
     limen_scene_destroy(s);
 }
 
+/* A PLY stored as triangle strips loads whole (a restart, and every other triangle turned),
+ * in ASCII and in binary, with its vertex colours. */
+static void test_ply_strips(void)
+{
+    const char *ascii =
+        "ply\nformat ascii 1.0\nelement vertex 8\nproperty float x\nproperty float y\n"
+        "property float z\nproperty uchar red\nproperty uchar green\nproperty uchar blue\n"
+        "element tristrips 1\nproperty list int int vertex_indices\nend_header\n"
+        "0 0 0 255 0 0\n0 1 0 255 0 0\n1 0 0 255 0 0\n1 1 0 255 0 0\n2 0 0 0 0 255\n"
+        "2 1 0 0 0 255\n3 0 0 0 0 255\n3 1 0 0 0 255\n"
+        "9 0 1 2 3 -1 4 5 6 7\n";
+    write_bytes("strips.ply", ascii, strlen(ascii));
+    /* the same in binary, little endian */
+    const char *head =
+        "ply\nformat binary_little_endian 1.0\nelement vertex 8\nproperty float x\n"
+        "property float y\nproperty float z\nproperty uchar red\nproperty uchar green\n"
+        "property uchar blue\nelement tristrips 1\nproperty list int int vertex_indices\n"
+        "end_header\n";
+    unsigned char bin[1024];
+    size_t n = strlen(head);
+    memcpy(bin, head, n);
+    for (int v = 0; v < 8; v++) {
+        float p[3] = { (float)(v / 2), (float)(v % 2), 0 };
+        memcpy(bin + n, p, 12);
+        n += 12;
+        unsigned char c[3] = { v < 4 ? 255 : 0, 0, v < 4 ? 0 : 255 };
+        memcpy(bin + n, c, 3);
+        n += 3;
+    }
+    int list[10] = { 9, 0, 1, 2, 3, -1, 4, 5, 6, 7 };
+    memcpy(bin + n, list, sizeof list);
+    n += sizeof list;
+    write_bytes("strips_bin.ply", bin, n);
+    const char *files[2] = { "strips.ply", "strips_bin.ply" };
+    for (int f = 0; f < 2; f++) {
+        limen_scene *s;
+        CHECK_OK(limen_scene_create(&(limen_scene_desc){ 0 }, &s));
+        CHECK_OK(limen_scene_set_ambient(s, 1));
+        limen_node m;
+        CHECK_OK(limen_node_create(s, LIMEN_NODE_MESH, "m", &m));
+        limen_status st = limen_mesh_load(s, m, in_dir(files[f]));
+        CHECK_MSG(st == LIMEN_OK, "%s: %s", files[f], limen_scene_error(s));
+        limen_mesh_info mi;
+        CHECK_OK(limen_mesh_get(s, m, &mi));
+        CHECK_MSG(mi.triangle_count == 4, "%s: %d triangles", files[f], mi.triangle_count);
+        /* hits along the strip's length, red then blue */
+        float c[3];
+        colour_at(s, 0.25f, 0.5f, c);
+        CHECK(c[0] > 0.99f && c[2] < 0.01f);
+        colour_at(s, 0.75f, 0.6f, c);
+        CHECK(c[0] > 0.99f);
+        colour_at(s, 2.75f, 0.4f, c);
+        CHECK(c[2] > 0.99f && c[0] < 0.01f);
+        /* the gap the restart leaves: no triangle between x = 1 and 2 */
+        limen_hit h;
+        CHECK_OK(limen_ray_cast(s, (float[3]){ 1.5f, 0.5f, 5 }, (float[3]){ 0, 0, -1 }, NULL, &h));
+        CHECK(!h.hit);
+        limen_scene_destroy(s);
+    }
+}
+
 static const check_case cases[] = {
     { "gltf_materials", test_gltf_materials },
     { "gltf_truth", test_gltf_truth },
@@ -528,6 +589,7 @@ static const check_case cases[] = {
     { "spider", test_spider },
     { "vertex_colours", test_vertex_colours },
     { "set_triangles", test_set_triangles },
+    { "ply_strips", test_ply_strips },
     { 0 },
 };
 
@@ -544,7 +606,8 @@ int main(int argc, char **argv)
                                                            "spider_truth.png", "spider_stencil.png",
                                                            "spider_texture.png", "vertex_cube_truth.png",
                                                            "vertex_cube_stencil.png",
-                                                           "vertex_cube_texture.png", NULL };
+                                                           "vertex_cube_texture.png", "strips.ply",
+                                                           "strips_bin.ply", NULL };
              *f; f++)
             unlink(in_dir(*f));
     if (!getenv("LIMEN_KEEP"))

@@ -64,6 +64,7 @@ typedef struct builder {
     size_t max_bytes, bytes;
     arr verts, tris, parts, mats, texs, texels, nodes, node_parts, cams, lights, warns, strs;
     bool nomem, toobig;
+    bool uv0;                   /* a PLY read here: it had texture coordinates */
 } builder;
 
 static uint32_t str_add(builder *b, const char *s)
@@ -708,7 +709,9 @@ static limen__import *pack(builder *b)
         colours = vs[v].col[0] != 1 || vs[v].col[1] != 1 || vs[v].col[2] != 1 ||
                   vs[v].col[3] != 1;
     blk->vertex_flags = (normals ? LIMEN__VERT_NORMALS : 0) | (colours ? LIMEN__VERT_COLOURS : 0);
-    for (unsigned i = 0; i < b->sc->mNumMeshes; i++) {
+    if (b->uv0)
+        blk->vertex_flags |= LIMEN__VERT_UV0;
+    for (unsigned i = 0; b->sc && i < b->sc->mNumMeshes; i++) {
         if (b->sc->mMeshes[i]->mTextureCoords[0])
             blk->vertex_flags |= LIMEN__VERT_UV0;
         if (b->sc->mMeshes[i]->mTextureCoords[1])
@@ -723,6 +726,24 @@ static void builder_free(builder *b)
                    &b->node_parts, &b->cams, &b->lights, &b->warns, &b->texels, &b->strs };
     for (size_t i = 0; i < sizeof all / sizeof all[0]; i++)
         free(all[i]->p);
+}
+
+static void builder_elems(builder *b)
+{
+    b->verts.elem = sizeof(limen__import_vertex);
+    b->tris.elem = sizeof(uint32_t);
+    b->parts.elem = sizeof(limen__import_part);
+    b->mats.elem = sizeof(limen__import_material);
+    b->texs.elem = sizeof(limen__import_texture);
+    b->texels.elem = 1;
+    b->nodes.elem = sizeof(limen__import_node);
+    b->node_parts.elem = sizeof(uint32_t);
+    b->cams.elem = sizeof(limen__import_camera);
+    b->lights.elem = sizeof(limen__import_light);
+    b->warns.elem = sizeof(uint32_t);
+    b->strs.elem = 1;
+    const char *slash = strrchr(b->path, '/');
+    snprintf(b->dir, sizeof b->dir, "%.*s", slash ? (int)(slash - b->path + 1) : 0, b->path);
 }
 
 static limen_status convert(builder *b, limen__import **out, char *why, size_t why_size)
@@ -775,10 +796,338 @@ static limen_status convert(builder *b, limen__import **out, char *why, size_t w
     return LIMEN_OK;
 }
 
+/* ------------------------------------------------------------------ PLY triangle strips */
+
+/* assimp reads a PLY's `tristrips` element as one triangle; such a file is read here
+ * instead: its vertices (position, normal, colour, texture coordinates) and its strips
+ * (-1 restarts one; every other triangle turned to keep the winding) and faces (fans). */
+enum { PLY_PROPS = 32, PLY_ELEMS = 16 };
+
+typedef struct ply_prop {
+    char name[32];
+    int type, count_type;       /* sizes in bytes, negative for signed ints, 40/80 floats */
+    bool list;
+} ply_prop;
+
+typedef struct ply_elem {
+    char name[32];
+    uint64_t count;
+    int nprops;
+    ply_prop props[PLY_PROPS];
+} ply_elem;
+
+typedef struct ply_in {
+    const unsigned char *p, *end;
+    int format;                 /* 0 ascii, 1 little endian, 2 big endian */
+    bool bad;
+} ply_in;
+
+static int ply_type(const char *t)
+{
+    static const struct { const char *name; int type; } types[] = {
+        { "char", -1 }, { "int8", -1 }, { "uchar", 1 }, { "uint8", 1 }, { "short", -2 },
+        { "int16", -2 }, { "ushort", 2 }, { "uint16", 2 }, { "int", -4 }, { "int32", -4 },
+        { "uint", 4 }, { "uint32", 4 }, { "float", 40 }, { "float32", 40 }, { "double", 80 },
+        { "float64", 80 },
+    };
+    for (size_t i = 0; i < sizeof types / sizeof types[0]; i++)
+        if (strcmp(t, types[i].name) == 0)
+            return types[i].type;
+    return 0;
+}
+
+static double ply_value(ply_in *in, int type)
+{
+    if (in->bad)
+        return 0;
+    if (in->format == 0) {
+        while (in->p < in->end && isspace(*in->p))
+            in->p++;
+        char tok[64];
+        size_t n = 0;
+        while (in->p < in->end && !isspace(*in->p) && n < sizeof tok - 1)
+            tok[n++] = (char)*in->p++;
+        tok[n] = '\0';
+        char *e;
+        double v = strtod(tok, &e);
+        if (!n || *e)
+            in->bad = true;
+        return v;
+    }
+    int size = type == 40 ? 4 : type == 80 ? 8 : type < 0 ? -type : type;
+    if (in->end - in->p < size) {
+        in->bad = true;
+        return 0;
+    }
+    unsigned char b[8];
+    for (int i = 0; i < size; i++)
+        b[i] = in->p[in->format == 1 ? i : size - 1 - i];
+    in->p += size;
+    switch (type) {
+    case -1: return (int8_t)b[0];
+    case 1: return b[0];
+    case -2: { int16_t v; memcpy(&v, b, 2); return v; }
+    case 2: { uint16_t v; memcpy(&v, b, 2); return v; }
+    case -4: { int32_t v; memcpy(&v, b, 4); return v; }
+    case 4: { uint32_t v; memcpy(&v, b, 4); return v; }
+    case 40: { float v; memcpy(&v, b, 4); return v; }
+    default: { double v; memcpy(&v, b, 8); return v; }
+    }
+}
+
+/* The header; false if it is not one read here (then assimp reads the file). */
+static bool ply_header(const unsigned char *buf, size_t len, ply_in *in, ply_elem *el, int *nel)
+{
+    const char *end = memmem(buf, len, "end_header", 10);
+    if (len < 4 || memcmp(buf, "ply", 3) != 0 || !end)
+        return false;
+    const char *body = memchr(end, '\n', len - (size_t)((const unsigned char *)end - buf));
+    if (!body)
+        return false;
+    *nel = 0;
+    bool strips = false;
+    in->format = -1;
+    for (const char *line = (const char *)buf; line < end;) {
+        const char *nl = memchr(line, '\n', (size_t)(end - line));
+        size_t n = nl ? (size_t)(nl - line) : (size_t)(end - line);
+        char l[256], a[32], b2[32], c[32], d[32];
+        snprintf(l, sizeof l, "%.*s", (int)(n < 255 ? n : 255), line);
+        line += n + 1;
+        int k = sscanf(l, "%31s %31s %31s %31s %31s", a, b2, c, d, d);
+        if (k >= 2 && strcmp(a, "format") == 0)
+            in->format = strcmp(b2, "ascii") == 0 ? 0 : strcmp(b2, "binary_little_endian") == 0 ? 1
+                         : strcmp(b2, "binary_big_endian") == 0 ? 2 : -1;
+        else if (k >= 3 && strcmp(a, "element") == 0) {
+            if (*nel == PLY_ELEMS)
+                return false;
+            ply_elem *e = &el[(*nel)++];
+            memset(e, 0, sizeof *e);
+            snprintf(e->name, sizeof e->name, "%s", b2);
+            e->count = strtoull(c, NULL, 10);
+            strips = strips || strcmp(b2, "tristrips") == 0;
+        } else if (k >= 3 && strcmp(a, "property") == 0) {
+            if (!*nel || el[*nel - 1].nprops == PLY_PROPS)
+                return false;
+            ply_prop *pp = &el[*nel - 1].props[el[*nel - 1].nprops++];
+            memset(pp, 0, sizeof *pp);
+            if (strcmp(b2, "list") == 0) {
+                char name[32] = "";
+                if (sscanf(l, "%*s %*s %31s %31s %31s", c, d, name) != 3)
+                    return false;
+                pp->list = true;
+                pp->count_type = ply_type(c);
+                pp->type = ply_type(d);
+                snprintf(pp->name, sizeof pp->name, "%s", name);
+                if (!pp->count_type || pp->count_type == 40 || pp->count_type == 80)
+                    return false;
+            } else {
+                pp->type = ply_type(b2);
+                snprintf(pp->name, sizeof pp->name, "%s", c);
+            }
+            if (!pp->type)
+                return false;
+        }
+    }
+    in->p = (const unsigned char *)body + 1;
+    in->end = buf + len;
+    return strips && in->format >= 0;
+}
+
+static int prop_slot(const char *n)
+{
+    static const char *const names[] = { "x", "y", "z", "nx", "ny", "nz", "red", "green", "blue",
+                                         "alpha", "u", "v", "s", "t", "texture_u", "texture_v" };
+    for (int i = 0; i < 16; i++)
+        if (strcmp(n, names[i]) == 0)
+            return i;
+    return -1;
+}
+
+static void ply_tri(builder *b, uint64_t nv, int64_t i0, int64_t i1, int64_t i2, bool *oor)
+{
+    if (i0 == i1 || i1 == i2 || i0 == i2)
+        return;     /* a strip's degenerate joins */
+    if (i0 < 0 || i1 < 0 || i2 < 0 || (uint64_t)i0 >= nv || (uint64_t)i1 >= nv ||
+        (uint64_t)i2 >= nv) {
+        *oor = true;
+        return;
+    }
+    uint32_t *t = arr_push(&b->tris, 3);
+    if (!t) {
+        b->nomem = true;
+        return;
+    }
+    t[0] = (uint32_t)i0;
+    t[1] = (uint32_t)i1;
+    t[2] = (uint32_t)i2;
+}
+
+static limen_status ply_strips(builder *b, ply_in *in, ply_elem *el, int nel, char *why,
+                               size_t why_size)
+{
+    uint64_t nv = 0;
+    bool oor = false, colours = false;
+    size_t budget = (size_t)(in->end - in->p) + 1;
+    for (int e = 0; e < nel && !in->bad && !b->nomem; e++) {
+        bool vert = strcmp(el[e].name, "vertex") == 0;
+        bool strip = strcmp(el[e].name, "tristrips") == 0, face = strcmp(el[e].name, "face") == 0;
+        if (el[e].count > budget) {
+            in->bad = true;
+            break;
+        }
+        for (uint64_t i = 0; i < el[e].count && !in->bad && !b->nomem; i++) {
+            limen__import_vertex *v = NULL;
+            if (vert) {
+                if (!(v = arr_push(&b->verts, 1))) {
+                    b->nomem = true;
+                    break;
+                }
+                v->col[0] = v->col[1] = v->col[2] = v->col[3] = 1;
+                nv++;
+            }
+            for (int k = 0; k < el[e].nprops && !in->bad; k++) {
+                const ply_prop *pp = &el[e].props[k];
+                if (!pp->list) {
+                    double x = ply_value(in, pp->type);
+                    int slot = v ? prop_slot(pp->name) : -1;
+                    float f = (float)x, c = pp->type == 40 || pp->type == 80 ? f : f / 255.0f;
+                    if (slot >= 0 && slot < 3)
+                        v->pos[slot] = f;
+                    else if (slot >= 3 && slot < 6)
+                        v->nrm[slot - 3] = f;
+                    else if (slot >= 6 && slot < 10) {
+                        v->col[slot - 6] = c;
+                        colours = true;
+                    } else if (slot >= 10) {
+                        v->uv[0][(slot - 10) % 2] = f;
+                        b->uv0 = true;
+                    }
+                    continue;
+                }
+                double cnt = ply_value(in, pp->count_type);
+                if (!(cnt >= 0) || cnt > (double)budget) {
+                    in->bad = true;
+                    break;
+                }
+                bool idx = strcmp(pp->name, "vertex_indices") == 0 ||
+                           strcmp(pp->name, "vertex_index") == 0;
+                int64_t a = -1, bb = -1, first = -1;
+                int run = 0;
+                for (uint64_t j = 0; j < (uint64_t)cnt && !in->bad; j++) {
+                    int64_t ix = (int64_t)ply_value(in, pp->type);
+                    if (!idx || (!strip && !face))
+                        continue;
+                    if (strip) {
+                        if (ix < 0) {       /* restart */
+                            run = 0;
+                            continue;
+                        }
+                        if (run >= 2)
+                            (run % 2) ? ply_tri(b, nv, bb, a, ix, &oor)
+                                      : ply_tri(b, nv, a, bb, ix, &oor);
+                        a = bb;
+                        bb = ix;
+                        if (run == 0)
+                            a = -1, bb = ix;
+                        run++;
+                    } else {
+                        if (j == 0)
+                            first = ix;
+                        else if (j >= 2)
+                            ply_tri(b, nv, first, bb, ix, &oor);
+                        bb = ix;
+                    }
+                }
+            }
+        }
+    }
+    if (in->bad) {
+        snprintf(why, why_size, "%s: its PLY data ends early or does not match its header",
+                 b->path);
+        return LIMEN_ERR_IO;
+    }
+    if (oor)
+        warn(b, "triangles with a vertex out of range skipped");
+    (void)colours;
+    return LIMEN_OK;
+}
+
+/* A block from a PLY of strips: one part, one white material, one node. */
+static limen_status ply_block(builder *b, const unsigned char *buf, size_t len,
+                              limen__import **out, char *why, size_t why_size, bool *handled)
+{
+    ply_in in = { 0 };
+    ply_elem el[PLY_ELEMS];
+    int nel = 0;
+    *handled = ply_header(buf, len, &in, el, &nel);
+    if (!*handled)
+        return LIMEN_OK;
+    limen_status st = ply_strips(b, &in, el, nel, why, why_size);
+    if (st)
+        return st;
+    limen__import_material *m = arr_push(&b->mats, 1);
+    limen__import_part *p = m ? arr_push(&b->parts, 1) : NULL;
+    limen__import_node *n = p ? arr_push(&b->nodes, 1) : NULL;
+    uint32_t *np = n ? arr_push(&b->node_parts, 1) : NULL;
+    if (!np || b->nomem) {
+        snprintf(why, why_size, "%s: out of memory", b->path);
+        return LIMEN_ERR_NOMEM;
+    }
+    *(limen__import_material *)b->mats.p = (limen__import_material){
+        .name = NONE, .base = { 1, 1, 1, 1 }, .base_tex = NONE, .base_xform = { 1, 0, 0, 1, 0, 0 },
+        .alpha_cutoff = 0.5f, .emissive_tex = NONE, .metal_rough_tex = NONE, .normal_tex = NONE,
+        .occlusion_tex = NONE, .metallic = 1, .roughness = 1, .normal_scale = 1,
+        .occlusion_strength = 1 };
+    bool normals = false;
+    for (size_t i = 0; i < b->verts.n && !normals; i++) {
+        const float *q = ((limen__import_vertex *)b->verts.p)[i].nrm;
+        normals = q[0] != 0 || q[1] != 0 || q[2] != 0;
+    }
+    *(limen__import_part *)b->parts.p = (limen__import_part){
+        .vertex_count = (uint32_t)b->verts.n, .tri_count = (uint32_t)(b->tris.n / 3),
+        .has_normals = normals, .name = NONE };
+    uint32_t root = str_add(b, "root");
+    limen__import_node *nd = (limen__import_node *)b->nodes.p;
+    *nd = (limen__import_node){ .name = root, .parent = NONE, .part_count = 1, .extras = NONE };
+    for (int i = 0; i < 4; i++)
+        nd->matrix[i * 5] = 1;
+    *(uint32_t *)b->node_parts.p = 0;
+    if (b->nomem || !(*out = pack(b))) {
+        snprintf(why, why_size, "%s: out of memory", b->path);
+        return LIMEN_ERR_NOMEM;
+    }
+    return LIMEN_OK;
+}
+
 limen_status limen__import_file(const char *path, unsigned flags, size_t max_bytes,
                                 limen__import **out, char *why, size_t why_size)
 {
     *out = NULL;
+    {
+        /* a PLY of triangle strips: read here (assimp takes it for one triangle) */
+        size_t len = 0;
+        unsigned char *buf = NULL;
+        FILE *f = fopen(path, "rb");
+        char head[4] = "";
+        if (f) {
+            size_t got = fread(head, 1, 3, f);
+            fclose(f);
+            if (got == 3 && memcmp(head, "ply", 3) == 0)
+                buf = read_whole(path, max_bytes, &len);
+        }
+        if (buf && memmem(buf, len < 65536 ? len : 65536, "tristrips", 9)) {
+            builder b = { .path = path, .flags = flags, .max_bytes = max_bytes };
+            builder_elems(&b);
+            bool handled = false;
+            limen_status st = ply_block(&b, buf, len, out, why, why_size, &handled);
+            builder_free(&b);
+            free(buf);
+            if (handled || st)
+                return st;
+        } else {
+            free(buf);
+        }
+    }
     /* assimp's C interface keeps the last error in one string for the whole process: an
      * import and the reading of its error go together, one thread at a time, so that
      * scenes on different threads stay independent (limen.h, THREADS) */
@@ -809,20 +1158,7 @@ limen_status limen__import_file(const char *path, unsigned flags, size_t max_byt
         return LIMEN_ERR_IO;
     }
     builder b = { .path = path, .sc = sc, .flags = flags, .max_bytes = max_bytes };
-    b.verts.elem = sizeof(limen__import_vertex);
-    b.tris.elem = sizeof(uint32_t);
-    b.parts.elem = sizeof(limen__import_part);
-    b.mats.elem = sizeof(limen__import_material);
-    b.texs.elem = sizeof(limen__import_texture);
-    b.texels.elem = 1;
-    b.nodes.elem = sizeof(limen__import_node);
-    b.node_parts.elem = sizeof(uint32_t);
-    b.cams.elem = sizeof(limen__import_camera);
-    b.lights.elem = sizeof(limen__import_light);
-    b.warns.elem = sizeof(uint32_t);
-    b.strs.elem = 1;
-    const char *slash = strrchr(path, '/');
-    snprintf(b.dir, sizeof b.dir, "%.*s", slash ? (int)(slash - path + 1) : 0, path);
+    builder_elems(&b);
     limen_status st = convert(&b, out, why, why_size);
     builder_free(&b);
     aiReleaseImport(sc);

@@ -35,7 +35,7 @@
 #include "core/texture.h"
 
 #define MAX_LEVELS 12           /* the full mesh and up to 11 coarser ones */
-#define LOD_VERSION 3           /* of how levels are made and measured: levels kept between
+#define LOD_VERSION 4           /* of how levels are made and measured: levels kept between
                                  * runs (core/lod_cache.c) are keyed by it, so change it with
                                  * anything that changes a level or its error */
 #define MIN_TRIS 16             /* a level this small gets no halved successor */
@@ -241,7 +241,8 @@ static double cover_bound(side *sd, const point *v[3], double goal)
     }
     for (int next = 0; next < nmet; next++) {
         uint32_t at = met[next];
-        const double *c = to->tri[at];
+        double c[9];
+        limen__lod_corners(to, at, c);
         bool apart = false;
         for (int a = 0; a < 3 && !apart; a++)
             apart = lesser(c[a], lesser(c[3 + a], c[6 + a])) > hi[a] ||
@@ -680,11 +681,11 @@ static void install(limen__mesh *m, made *mk)
 }
 
 /* The levels kept from an earlier run (core/lod_cache.c), where there are some for m. */
-static bool from_cache(limen__mesh *m, const limen__lod_key *key)
+static bool from_cache(limen__mesh *m, const limen__lod_where *w, const limen__lod_key *key)
 {
     limen_mesh_lod lv[MAX_LEVELS];
     uint32_t n, *idx;
-    if (!limen__lod_cache_load(key, m->nverts, m->ntris, lv, MAX_LEVELS, &n, &idx))
+    if (!limen__lod_cache_load(w, key, m->nverts, m->ntris, lv, MAX_LEVELS, &n, &idx))
         return false;
     made mk = { .nlods = n };
     for (uint32_t k = 1; k < n; k++) {
@@ -704,15 +705,16 @@ static bool from_cache(limen__mesh *m, const limen__lod_key *key)
     return true;
 }
 
-/* Stores the levels in mk (made for m) in the cache under key. */
-static void to_cache(const limen__mesh *m, const limen__lod_key *key, const made *mk)
+/* Stores the levels in mk (made for m) in the cache w under key. */
+static void to_cache(const limen__mesh *m, const limen__lod_where *w, const limen__lod_key *key,
+                     const made *mk)
 {
     limen_mesh_lod lv[MAX_LEVELS];
     memcpy(lv, mk->block, sizeof *lv * mk->nlods);
     lv[0].indices = m->idx;
     for (uint32_t k = 1; k < mk->nlods; k++)
         lv[k].indices = (const uint32_t *)(mk->block + HEAD) + mk->at[k];
-    limen__lod_cache_store(key, m->nverts, m->ntris, lv, mk->nlods);
+    limen__lod_cache_store(w, key, m->nverts, m->ntris, lv, mk->nlods);
 }
 
 static bool lods_make(const limen__mesh *m, const atomic_bool *stop, made *out);
@@ -720,13 +722,15 @@ static bool lods_make(const limen__mesh *m, const atomic_bool *stop, made *out);
 bool limen__mesh_lods_build(limen__mesh *m)
 {
     limen__lod_key key;
+    limen__lod_where w;
+    limen__lod_cache_where(&w);
     limen__lod_cache_key(m, LOD_VERSION, &key);
-    if (from_cache(m, &key))
+    if (from_cache(m, &w, &key))
         return true;
     made mk;
     if (!lods_make(m, NULL, &mk))
         return false;
-    to_cache(m, &key, &mk);
+    to_cache(m, &w, &key, &mk);
     install(m, &mk);
     return true;
 }
@@ -741,9 +745,11 @@ struct limen__lod_job {
     pthread_t thread;
     const limen__mesh *m;
     limen__lod_key key;
+    limen__lod_where where;     /* the cache, as the scene's thread found it */
     atomic_bool stop;           /* set by the scene's thread: the mesh is going */
     atomic_bool done;           /* set by the build's thread, last */
     bool ok;
+    size_t extra;               /* counted in the mesh's bytes beyond the estimate meanwhile */
     made mk;
 };
 
@@ -759,7 +765,7 @@ static void *job_run(void *arg)
     struct limen__lod_job *j = arg;
     j->ok = lods_make(j->m, &j->stop, &j->mk);
     if (j->ok)
-        to_cache(j->m, &j->key, &j->mk);
+        to_cache(j->m, &j->where, &j->key, &j->mk);
     atomic_store(&j->done, true);
     return NULL;
 }
@@ -767,14 +773,16 @@ static void *job_run(void *arg)
 bool limen__mesh_lods_start(limen__mesh *m)
 {
     limen__lod_key key;
+    limen__lod_where w;
+    limen__lod_cache_where(&w);
     limen__lod_cache_key(m, LOD_VERSION, &key);
-    if (from_cache(m, &key))
+    if (from_cache(m, &w, &key))
         return true;
     if (m->ntris < async_above) {
         made mk;
         if (!lods_make(m, NULL, &mk))
             return false;
-        to_cache(m, &key, &mk);
+        to_cache(m, &w, &key, &mk);
         install(m, &mk);
         return true;
     }
@@ -787,14 +795,23 @@ bool limen__mesh_lods_start(limen__mesh *m)
         return false;
     }
     *(limen_mesh_lod *)one.block = (limen_mesh_lod){ .triangle_count = (int)m->ntris };
+    /* the levels to come stay counted as the estimate had them (what a script's memory cap
+     * was charged), not as the full level alone, and their headers and parts' ranges as
+     * many as there may be: no less than they will hold */
+    size_t counted = m->bytes;
     install(m, &one);
+    j->extra = HEAD + sizeof(limen_mesh_part) * m->nparts * (MAX_LEVELS - 1);
+    m->bytes = counted + j->extra;
     j->m = m;
     j->key = key;
+    j->where = w;
     atomic_init(&j->stop, false);
     atomic_init(&j->done, false);
     if (pthread_create(&j->thread, NULL, job_run, j) != 0) {
+        /* no thread: made here and now, over the full level alone as counted */
+        m->bytes = counted - lods_bytes(&(limen__mesh){ .ntris = m->ntris }) + HEAD;
         free(j);
-        return limen__mesh_lods_build(m);   /* no thread: made here and now */
+        return limen__mesh_lods_build(m);
     }
     m->lod_job = j;
     return true;
@@ -809,8 +826,12 @@ static bool job_end(limen__mesh *m, bool stop)
         atomic_store(&j->stop, true);
     pthread_join(j->thread, NULL);
     bool got = j->ok && !stop;
-    if (got)
+    if (got) {
+        /* counted as the estimate had them until now (limen__mesh_lods_start), now as the
+         * full level alone before the levels come */
+        m->bytes = m->bytes - j->extra - lods_bytes(&(limen__mesh){ .ntris = m->ntris }) + HEAD;
         install(m, &j->mk);
+    }
     free(j->mk.block);
     free(j);
     m->lod_job = NULL;
@@ -829,6 +850,9 @@ bool limen__mesh_lods_settle(limen__mesh *m, bool wait)
         return false;
     if (!job_end(m, false) || !limen__mesh_lod_parts(m))
         return false;
+    /* the parts' ranges of the levels come, as limen__mesh_bytes' caller counted them for
+     * the levels made in place */
+    m->bytes += sizeof(limen_mesh_part) * m->nparts * (m->nlods - 1);
     /* new levels: a new asset to the renderer, which uploads it again */
     m->serial = limen__next_serial();
     m->pub.id = m->serial;
@@ -851,10 +875,13 @@ static bool lods_make(const limen__mesh *m, const atomic_bool *stop, made *out)
     size_t head = HEAD;
     unsigned char *block = malloc(head + sizeof(uint32_t) * cap);
     uint32_t *shadow = malloc(sizeof(uint32_t) * n0), *scratch = malloc(sizeof(uint32_t) * n0);
-    uint32_t *attr = m->uv ? malloc(sizeof(uint32_t) * n0) : shadow;
+    /* per vertex, its part (a file's parts share no vertices), where there are several */
+    uint32_t *vpart = m->nparts > 1 && m->tri_part ? malloc(sizeof(uint32_t) * m->nverts) : NULL;
+    bool attrs = m->uv || m->col || vpart;
+    uint32_t *attr = attrs ? malloc(sizeof(uint32_t) * n0) : shadow;
     target full = { 0 };
     limen__lod_welded pk_attr = { 0 }, pk_pos = { 0 };
-    bool ok = block && shadow && scratch && attr;
+    bool ok = block && shadow && scratch && attr && (vpart || m->nparts <= 1 || !m->tri_part);
     limen_mesh_lod *lods = (limen_mesh_lod *)block;
     uint32_t *store = (uint32_t *)(block + head);
     size_t at[MAX_LEVELS] = { 0 }, used = 0;
@@ -869,9 +896,23 @@ static bool lods_make(const limen__mesh *m, const atomic_bool *stop, made *out)
          * (texture coordinates the same; normals are chosen after, by seam_sides), so that a
          * seam in the texture stays one, which the simplifier moves along without tearing */
         if (attr != shadow) {
-            struct meshopt_Stream streams[2] = { { m->pos, sizeof(float) * 3, sizeof(float) * 3 },
-                                                 { m->uv, sizeof(float) * 2, sizeof(float) * 2 } };
-            meshopt_generateShadowIndexBufferMulti(attr, m->idx, n0, m->nverts, streams, 2);
+            /* texture coordinates, vertex colours and parts (a part's border is a seam) */
+            struct meshopt_Stream streams[4] = { { m->pos, sizeof(float) * 3, sizeof(float) * 3 } };
+            size_t ns = 1;
+            if (m->uv)
+                streams[ns++] = (struct meshopt_Stream){ m->uv, sizeof(float) * 2,
+                                                         sizeof(float) * 2 };
+            if (m->col)
+                streams[ns++] = (struct meshopt_Stream){ m->col, sizeof(float) * 4,
+                                                         sizeof(float) * 4 };
+            if (vpart) {
+                memset(vpart, 0, sizeof(uint32_t) * m->nverts);
+                for (size_t i = 0; i < n0; i++)
+                    vpart[m->idx[i]] = m->tri_part[i / 3];
+                streams[ns++] = (struct meshopt_Stream){ vpart, sizeof(uint32_t),
+                                                         sizeof(uint32_t) };
+            }
+            meshopt_generateShadowIndexBufferMulti(attr, m->idx, n0, m->nverts, streams, ns);
         }
         ok = limen__lod_target_make(&full, m, shadow) && limen__lod_pack(&pk_attr, m, attr);
     }
@@ -918,7 +959,8 @@ static bool lods_make(const limen__mesh *m, const atomic_bool *stop, made *out)
             n = limen__lod_simplify(&pk_attr, NULL, n0, true, cur_n / 6 * 3, FLT_MAX, NULL, scratch);
             err = 0;
         }
-        if (n > 0 && mode != SEAMS && attr != shadow && !limen__lod_pick_charts(m, shadow, attr, scratch, n)) {
+        if (n > 0 && mode != SEAMS && attr != shadow &&
+            !limen__lod_pick_charts(m, shadow, attr, vpart, scratch, n)) {
             ok = false;
             break;
         }
@@ -969,6 +1011,7 @@ static bool lods_make(const limen__mesh *m, const atomic_bool *stop, made *out)
     if (attr != shadow)
         free(attr);
     free(shadow);
+    free(vpart);
     limen__lod_welded_free(&pk_attr);
     limen__lod_welded_free(&pk_pos);
     free(scratch);

@@ -69,7 +69,8 @@ static void hash_bytes(hasher *h, const void *data, size_t len)
 void limen__lod_cache_key(const limen__mesh *m, uint32_t version, limen__lod_key *key)
 {
     hasher h = { 0x243f6a8885a308d3ull, 0x13198a2e03707344ull };
-    uint32_t head[4] = { version, m->nverts, m->ntris, (m->uv ? 1u : 0u) };
+    uint32_t head[6] = { version, m->nverts, m->ntris, (m->uv ? 1u : 0u), (m->col ? 1u : 0u),
+                         m->nparts };
     hash_bytes(&h, head, sizeof head);
     hash_bytes(&h, m->pos, sizeof(float) * 3 * m->nverts);
     hash_bytes(&h, m->idx, sizeof(uint32_t) * 3 * m->ntris);
@@ -77,6 +78,10 @@ void limen__lod_cache_key(const limen__mesh *m, uint32_t version, limen__lod_key
         hash_bytes(&h, m->nrm, sizeof(float) * 3 * m->nverts);
     if (m->uv)
         hash_bytes(&h, m->uv, sizeof(float) * 2 * m->nverts);
+    if (m->col)
+        hash_bytes(&h, m->col, sizeof(float) * 4 * m->nverts);
+    if (m->nparts > 1 && m->tri_part)
+        hash_bytes(&h, m->tri_part, sizeof(uint32_t) * m->ntris);
     key->h[0] = h.a;
     key->h[1] = h.b;
 }
@@ -107,31 +112,43 @@ static bool make_dir(const char *dir)
            S_ISDIR(st.st_mode);
 }
 
-bool limen__lod_cache_dir(char *out, size_t size)
+static uint64_t limit_bytes(void)
 {
+    const char *v = getenv("LIMEN_CACHE_MB");
+    char *end = NULL;
+    double mb = v && v[0] ? strtod(v, &end) : DEFAULT_MB;
+    if ((end && *end) || !(mb >= 0) || mb > 1e9)
+        mb = DEFAULT_MB;
+    return (uint64_t)(mb * 1048576.0);
+}
+
+void limen__lod_cache_where(limen__lod_where *w)
+{
+    memset(w, 0, sizeof *w);
     if (cache_off())
-        return false;
+        return;
     const char *own = getenv("LIMEN_CACHE_DIR"), *xdg = getenv("XDG_CACHE_HOME"),
                *home = getenv("HOME");
     int n;
     if (own && own[0] == '/')
-        n = snprintf(out, size, "%s", own);
+        n = snprintf(w->dir, sizeof w->dir, "%s", own);
     else if (xdg && xdg[0] == '/')
-        n = snprintf(out, size, "%s/limen", xdg);
+        n = snprintf(w->dir, sizeof w->dir, "%s/limen", xdg);
     else if (home && home[0] == '/')
-        n = snprintf(out, size, "%s/.cache/limen", home);
+        n = snprintf(w->dir, sizeof w->dir, "%s/.cache/limen", home);
     else
-        return false;
-    return n > 0 && (size_t)n < size - 64;
+        return;
+    w->on = n > 0 && (size_t)n < sizeof w->dir - 64;
+    w->limit = limit_bytes();
 }
 
-static bool entry_path(const limen__lod_key *key, char *out, size_t size)
+static bool entry_path(const limen__lod_where *w, const limen__lod_key *key, char *out,
+                       size_t size)
 {
-    char dir[4096];
-    if (!limen__lod_cache_dir(dir, sizeof dir))
+    if (!w->on)
         return false;
-    int n = snprintf(out, size, "%s/lod-%016llx%016llx.bin", dir, (unsigned long long)key->h[0],
-                     (unsigned long long)key->h[1]);
+    int n = snprintf(out, size, "%s/lod-%016llx%016llx.bin", w->dir,
+                     (unsigned long long)key->h[0], (unsigned long long)key->h[1]);
     return n > 0 && (size_t)n < size;
 }
 
@@ -154,21 +171,22 @@ static void entry_head(uint32_t w[HEAD_WORDS], const limen__lod_key *key, uint32
     w[9] = 0;
 }
 
-static uint64_t checksum(const void *data, size_t len)
+uint64_t limen__lod_cache_checksum(const void *data, size_t len)
 {
     hasher h = { 0x452821e638d01377ull, 0xbe5466cf34e90c6cull };
     hash_bytes(&h, data, len);
     return h.a ^ h.b;
 }
 
-bool limen__lod_cache_load(const limen__lod_key *key, uint32_t nverts, uint32_t ntris,
+bool limen__lod_cache_load(const limen__lod_where *w, const limen__lod_key *key,
+                           uint32_t nverts, uint32_t ntris,
                            limen_mesh_lod *lods, uint32_t max_levels, uint32_t *nlods,
                            uint32_t **indices)
 {
     *nlods = 0;
     *indices = NULL;
     char path[4200];
-    if (!entry_path(key, path, sizeof path))
+    if (!entry_path(w, key, path, sizeof path))
         return false;
     /* no link followed, and nothing that could block (a pipe, a device) */
     int fd = open(path, O_RDONLY | O_NOFOLLOW | O_NONBLOCK | O_CLOEXEC);
@@ -205,7 +223,7 @@ bool limen__lod_cache_load(const limen__lod_key *key, uint32_t nverts, uint32_t 
     if (ok) {
         uint64_t sum;
         memcpy(&sum, buf + len - 8, 8);
-        ok = sum == checksum(buf, len - 8);
+        ok = sum == limen__lod_cache_checksum(buf, len - 8);
     }
     /* the levels: the first the full mesh; then falling counts, errors finite and growing,
      * their indices adding up to the total */
@@ -263,18 +281,8 @@ static int older_first(const void *pa, const void *pb)
     return strcmp(a->name, b->name);
 }
 
-static uint64_t limit_bytes(void)
-{
-    const char *v = getenv("LIMEN_CACHE_MB");
-    char *end = NULL;
-    double mb = v && v[0] ? strtod(v, &end) : DEFAULT_MB;
-    if ((end && *end) || !(mb >= 0) || mb > 1e9)
-        mb = DEFAULT_MB;
-    return (uint64_t)(mb * 1048576.0);
-}
-
-/* Removes the entries used least recently while the folder's entries exceed the limit. */
-static void trim(const char *dir)
+/* Removes the entries used least recently while the folder's entries exceed limit bytes. */
+static void trim(const char *dir, uint64_t limit)
 {
     DIR *d = opendir(dir);
     if (!d)
@@ -305,7 +313,6 @@ static void trim(const char *dir)
         total += (uint64_t)st.st_size;
         n++;
     }
-    uint64_t limit = limit_bytes();
     if (total > limit) {
         qsort(list, n, sizeof *list, older_first);
         for (size_t i = 0; i < n && total > limit; i++)
@@ -318,18 +325,19 @@ static void trim(const char *dir)
 
 /* ------------------------------------------------------------------ storing */
 
-void limen__lod_cache_store(const limen__lod_key *key, uint32_t nverts, uint32_t ntris,
-                            const limen_mesh_lod *lods, uint32_t nlods)
+void limen__lod_cache_store(const limen__lod_where *w, const limen__lod_key *key,
+                            uint32_t nverts, uint32_t ntris, const limen_mesh_lod *lods,
+                            uint32_t nlods)
 {
-    char dir[4096], path[4200];
-    if (nlods < 1 || !limen__lod_cache_dir(dir, sizeof dir) || !entry_path(key, path, sizeof path))
+    char path[4200];
+    if (nlods < 1 || !entry_path(w, key, path, sizeof path))
         return;
     uint64_t nidx = 0;
     for (uint32_t k = 1; k < nlods; k++)
         nidx += 3ull * (uint32_t)lods[k].triangle_count;
     size_t len = 8 + 4 * HEAD_WORDS + 8 * (size_t)nlods + 4 * (size_t)nidx + 8;
     /* an entry larger than the whole cache may be is not kept */
-    if (nidx > 3ull * ntris || len > limit_bytes() || !make_dir(dir))
+    if (nidx > 3ull * ntris || len > w->limit || !make_dir(w->dir))
         return;
     /* what is there already and is not a plain file (a link, a pipe) is left alone */
     struct stat st;
@@ -352,7 +360,7 @@ void limen__lod_cache_store(const limen__lod_key *key, uint32_t nverts, uint32_t
             ix += 12 * (size_t)count;
         }
     }
-    uint64_t sum = checksum(buf, len - 8);
+    uint64_t sum = limen__lod_cache_checksum(buf, len - 8);
     memcpy(buf + len - 8, &sum, 8);
     limen__out o;
     if (limen__out_open(&o, path) == LIMEN_OK) {
@@ -362,5 +370,5 @@ void limen__lod_cache_store(const limen__lod_key *key, uint32_t nverts, uint32_t
             limen__out_abort(&o);
     }
     free(buf);
-    trim(dir);
+    trim(w->dir, w->limit);
 }

@@ -166,20 +166,28 @@ bool limen__lod_target_make(limen__lod_target *t, const limen__mesh *m, const ui
             t->at_vertex[weld[i]] = (uint32_t)(i / 3);
     }
     for (uint32_t i = 0; i < m->ntris; i++) {
-        double *c = t->ball[i], r2 = 0;
+        double c[3], r2 = 0, tri[9];
         for (int k = 0; k < 9; k++)
             t->tri[i][k] = m->pos[m->idx[i * 3 + k / 3] * 3 + k % 3];
-        for (int a = 0; a < 3; a++)
-            c[a] = (t->tri[i][a] + t->tri[i][3 + a] + t->tri[i][6 + a]) / 3;
+        limen__lod_corners(t, i, tri);
+        /* the centre rounded to float, the radius measured from it and rounded up: the
+         * sphere still holds the triangle */
+        for (int a = 0; a < 3; a++) {
+            t->ball[i][a] = (float)((tri[a] + tri[3 + a] + tri[6 + a]) / 3);
+            c[a] = t->ball[i][a];
+        }
         for (int k = 0; k < 3; k++) {
             double e[3];
-            limen__sub3(t->tri[i] + 3 * k, c, e);
+            limen__sub3(tri + 3 * k, c, e);
             r2 = fmax(r2, limen__dot3(e, e));
         }
-        c[3] = sqrt(r2) * (1 + 1e-12);
+        double r = sqrt(r2) * (1 + 1e-12);
+        t->ball[i][3] = (float)r;
+        if ((double)t->ball[i][3] < r)
+            t->ball[i][3] = nextafterf(t->ball[i][3], INFINITY);
         double e1[3], e2[3], n[3];
-        limen__sub3(t->tri[i] + 3, t->tri[i], e1);
-        limen__sub3(t->tri[i] + 6, t->tri[i], e2);
+        limen__sub3(tri + 3, tri, e1);
+        limen__sub3(tri + 6, tri, e2);
         n[0] = e1[1] * e2[2] - e1[2] * e2[1];
         n[1] = e1[2] * e2[0] - e1[0] * e2[2];
         n[2] = e1[0] * e2[1] - e1[1] * e2[0];
@@ -233,7 +241,7 @@ double limen__lod_target_nearest(const limen__lod_target *to, const double p[3],
         for (uint32_t i = n->index; i < n->index + n->count; i++) {
             uint32_t t = m->tri_order[i];
             /* a triangle whose sphere lies beyond the best so far cannot be nearer */
-            const double *c = to->ball[t];
+            const float *c = to->ball[t];
             double e[3] = { p[0] - c[0], p[1] - c[1], p[2] - c[2] };
             if (limen__dot3(e, e) > (reach + c[3]) * (reach + c[3]))
                 continue;

@@ -12,8 +12,8 @@
 
 typedef struct limen__lod_target {
     const limen__mesh *m;
-    double (*tri)[9];           /* per triangle: its corners */
-    double (*ball)[4];          /* per triangle: a sphere around it (centre, radius) */
+    float (*tri)[9];            /* per triangle: its corners (the mesh's floats, exactly) */
+    float (*ball)[4];           /* per triangle: a sphere around it (centre, radius) */
     uint32_t *at_vertex;        /* per vertex: a triangle with a corner there, or UINT32_MAX */
     uint32_t (*across)[3];      /* per triangle and edge (corners k, k + 1): the triangle on
                                  * its other side, or UINT32_MAX */
@@ -48,10 +48,19 @@ double limen__lod_target_nearest(const limen__lod_target *t, const double p[3], 
  * the surface near p is a single sheet). */
 double limen__lod_target_walk(const limen__lod_target *t, const double p[3], uint32_t *tri);
 
+/* Triangle i of t's corners, in double (exactly). */
+static inline void limen__lod_corners(const limen__lod_target *t, uint32_t i, double c[9])
+{
+    for (int k = 0; k < 9; k++)
+        c[k] = t->tri[i][k];
+}
+
 /* Squared distance from p to triangle i of t. */
 static inline double limen__lod_d2(const limen__lod_target *t, uint32_t i, const double p[3])
 {
-    return limen__tri_d2(p, t->tri[i], t->tri[i] + 3, t->tri[i] + 6);
+    double c[9];
+    limen__lod_corners(t, i, c);
+    return limen__tri_d2(p, c, c + 3, c + 6);
 }
 
 #endif

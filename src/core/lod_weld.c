@@ -10,6 +10,8 @@
 
 #include "core/lod_weld.h"
 
+#define SIDES_LOOK 64           /* vertices at one position a corner chooses among */
+
 /* The simplifier names, at each corner, the first vertex at its position (the weld). Where
  * several share the position (a seam: a crease in the normals, an edge of the texture),
  * each corner takes instead the one whose normal is nearest its triangle's own, the side
@@ -48,7 +50,11 @@ bool limen__lod_seam_sides(const limen__mesh *m, const uint32_t *shadow, uint32_
         for (int k = 0; k < 3; k++) {
             uint32_t w = idx[t * 3 + k], best = w;
             double best_dot = -INFINITY;
-            for (uint32_t j = first[w]; j < first[w + 1]; j++) {
+            /* at most SIDES_LOOK of them: a position that thousands of vertices share (a
+             * fan exported as loose triangles) costs no more than a seam */
+            uint32_t end = first[w + 1] - first[w] > SIDES_LOOK ? first[w] + SIDES_LOOK
+                                                               : first[w + 1];
+            for (uint32_t j = first[w]; j < end; j++) {
                 const float *nr = &m->nrm[members[j] * 3];
                 double d = fn[0] * nr[0] + fn[1] * nr[1] + fn[2] * nr[2];
                 if (d > best_dot) {
@@ -72,7 +78,7 @@ bool limen__lod_seam_sides(const limen__mesh *m, const uint32_t *shadow, uint32_
  * triangle within one chart wherever its corners all lie on it. Positions do not change, so
  * neither does the level's error. False when out of memory (the corners stay). */
 bool limen__lod_pick_charts(const limen__mesh *m, const uint32_t *shadow, const uint32_t *attr,
-                        uint32_t *idx, size_t n)
+                            const uint32_t *vpart, uint32_t *idx, size_t n)
 {
     enum { MAX_SIDES = 8 };
     uint32_t nv = m->nverts;
@@ -118,7 +124,13 @@ bool limen__lod_pick_charts(const limen__mesh *m, const uint32_t *shadow, const 
                                       members[from[2] + d] };
                     double sum = 0;
                     for (int k = 0; k < 3; k++) {
-                        const float *p = &m->uv[v[k] * 2], *q = &m->uv[v[(k + 1) % 3] * 2];
+                        uint32_t x = v[k], y = v[(k + 1) % 3];
+                        /* a corner in another part costs more than any distance */
+                        if (vpart && vpart[x] != vpart[y])
+                            sum += 1e30;
+                        if (!m->uv)
+                            continue;
+                        const float *p = &m->uv[x * 2], *q = &m->uv[y * 2];
                         sum += ((double)p[0] - q[0]) * ((double)p[0] - q[0]) +
                                ((double)p[1] - q[1]) * ((double)p[1] - q[1]);
                     }
@@ -153,9 +165,8 @@ bool limen__lod_pack(limen__lod_welded *pk, const limen__mesh *m, const uint32_t
     pk->to = malloc(sizeof *pk->to * m->nverts);
     pk->from = malloc(sizeof *pk->from * m->nverts);
     pk->idx = malloc(sizeof *pk->idx * n0);
-    pk->tmp = malloc(sizeof *pk->tmp * n0);
     pk->pos = malloc(sizeof(float) * 3 * m->nverts);
-    if (!pk->to || !pk->from || !pk->idx || !pk->tmp || !pk->pos) {
+    if (!pk->to || !pk->from || !pk->idx || !pk->pos) {
         limen__lod_welded_free(pk);
         return false;
     }
@@ -182,6 +193,8 @@ size_t limen__lod_simplify(limen__lod_welded *pk, const uint32_t *src, size_t n,
                        float target_error, float *err, uint32_t *out)
 {
     const uint32_t *in = pk->idx;
+    if (src && !pk->tmp && !(pk->tmp = malloc(sizeof *pk->tmp * (n ? n : 1))))
+        return 0;
     if (src) {
         for (size_t i = 0; i < n; i++)
             pk->tmp[i] = pk->to[src[i]];

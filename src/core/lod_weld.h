@@ -18,7 +18,8 @@ typedef struct limen__lod_welded {
     uint32_t *to;               /* per vertex of the mesh: its packed vertex, or UINT32_MAX */
     uint32_t *from;             /* per packed vertex: the mesh's */
     uint32_t *idx;              /* per corner of the mesh: its weld's vertex, packed */
-    uint32_t *tmp;              /* a source mapped to packed vertices */
+    uint32_t *tmp;              /* a source mapped to packed vertices (made when first needed,
+                                 * for the first source, the largest) */
     uint32_t n;
 } limen__lod_welded;
 
@@ -29,7 +30,8 @@ void limen__lod_welded_free(limen__lod_welded *pk);
 /* meshoptimizer's simplifier (sloppy: its clustering) over pk, from src (n indices into the
  * mesh's vertices, each a vertex of the weld; NULL: the whole mesh) towards want indices
  * and target_error, into out in the mesh's vertices; returns the indices made, *err the
- * simplifier's relative error (not the sloppy one's: err may be NULL there). */
+ * simplifier's relative error (not the sloppy one's: err may be NULL there); 0 when out of
+ * memory. Sources after the first may be no larger than it. */
 size_t limen__lod_simplify(limen__lod_welded *pk, const uint32_t *src, size_t n, bool sloppy,
                            size_t want, float target_error, float *err, uint32_t *out);
 /* The corners of a level (idx, n indices) that name a weld's vertex (shadow: per corner of
@@ -38,9 +40,10 @@ size_t limen__lod_simplify(limen__lod_welded *pk, const uint32_t *src, size_t n,
 bool limen__lod_seam_sides(const limen__mesh *m, const uint32_t *shadow, uint32_t *idx,
                            size_t n);
 /* The corners of a clustered or seam-blind level (idx, n indices, each a vertex of the
- * weld attr) take, of the vertices of attr at their position (shadow), the three whose
- * texture coordinates lie nearest together; false when out of memory (the corners stay). */
+ * weld attr) take, of the vertices of attr at their position (shadow), the three of one
+ * part (vpart: per vertex, its part; NULL for one part) where they can, whose texture
+ * coordinates lie nearest together; false when out of memory (the corners stay). */
 bool limen__lod_pick_charts(const limen__mesh *m, const uint32_t *shadow, const uint32_t *attr,
-                            uint32_t *idx, size_t n);
+                            const uint32_t *vpart, uint32_t *idx, size_t n);
 
 #endif

@@ -1307,11 +1307,14 @@ static limen_status import_contained(limen_scene *s, const char *path, unsigned 
     return st;
 }
 
-limen_status limen__mesh_import_block(limen_scene *s, const char *path, unsigned flags,
-                                      size_t max_bytes, limen__import **blk,
-                                      limen__block *files)
+static limen_status mesh_from_block(limen_scene *s, const limen__import *blk, uint32_t only,
+                                    const char *path, size_t max_bytes, limen__mesh **out);
+
+limen_status limen__mesh_import(limen_scene *s, const char *path, unsigned flags,
+                                size_t max_bytes, limen__import **blk, limen__block *files)
 {
     *blk = NULL;
+    *files = (limen__block){ 0 };
     unsigned char *data;
     size_t len;
     struct stat st_file;
@@ -1364,6 +1367,27 @@ limen_status limen__mesh_import_block(limen_scene *s, const char *path, unsigned
                                     : import_here(s, path, flags, max_bytes, blk, files);
 }
 
+static limen_status load_file(limen_scene *s, const char *path, unsigned flags,
+                              size_t max_bytes, limen__mesh **out)
+{
+    *out = NULL;
+    limen__import *blk;
+    limen__block files;
+    limen_status st = limen__mesh_import(s, path, flags, max_bytes, &blk, &files);
+    if (st)
+        return st;
+    st = mesh_from_block(s, blk, LIMEN__IMPORT_NONE, path, max_bytes, out);
+    if (!st) {
+        limen__mesh_keep_warnings(s, blk, path);
+        (*out)->files = (char *)files.data;
+        (*out)->files_len = files.len;
+    } else {
+        limen__block_free(&files);
+    }
+    free(blk);
+    return st;
+}
+
 /* The block's meshes (every node's, or node only's: flatten) as a new mesh with its
  * materials' textures, refused where it would hold more than max_bytes. */
 static limen_status mesh_from_block(limen_scene *s, const limen__import *blk, uint32_t only,
@@ -1395,27 +1419,6 @@ static limen_status mesh_from_block(limen_scene *s, const limen__import *blk, ui
         st = limen__fail(s, LIMEN_ERR_NOMEM, "%s: needs more than the %.1f MiB allowed", path,
                          max_bytes / 1048576.0);
     }
-    return st;
-}
-
-static limen_status load_file(limen_scene *s, const char *path, unsigned flags,
-                              size_t max_bytes, limen__mesh **out)
-{
-    *out = NULL;
-    limen__import *blk;
-    limen__block files = { 0 };
-    limen_status st = limen__mesh_import_block(s, path, flags, max_bytes, &blk, &files);
-    if (st)
-        return st;
-    st = mesh_from_block(s, blk, LIMEN__IMPORT_NONE, path, max_bytes, out);
-    if (!st) {
-        limen__mesh_keep_warnings(s, blk, path);
-        (*out)->files = (char *)files.data;
-        (*out)->files_len = files.len;
-    } else {
-        limen__block_free(&files);
-    }
-    free(blk);
     return st;
 }
 

@@ -106,15 +106,16 @@ void limen__lod_set_async_above(uint32_t triangles);
  * names the file. The node must be a mesh. */
 limen_status limen__mesh_load(limen_scene *s, limen_node n, const char *path, size_t max_bytes,
                               size_t *charged);
-/* Model files (core/model.c): path read and checked as limen__mesh_load reads a file (the
- * scene's way in, a safe script's formats, glTF's cost, the importer contained where the
- * scene asks) into the importer's block (*blk, free() it) and the files it read (*files). */
+struct limen__import;
 struct limen__block;
-struct limen__import;
-limen_status limen__mesh_import_block(limen_scene *s, const char *path, unsigned flags,
-                                      size_t max_bytes, struct limen__import **blk,
-                                      struct limen__block *files);
-struct limen__import;
+/* Imports a model file into a block (core/import.h) through the scene's one way in: read
+ * through its folder and limits, the safe formats only when a script loads safely, headers
+ * and glTF node counts checked against max_bytes before the importer runs, the import itself
+ * contained in a child process where the load is safe. *files: the files the import read
+ * (for hot reload); free both. The failure is the scene's message, naming the file. */
+limen_status limen__mesh_import(limen_scene *s, const char *path, unsigned flags,
+                                size_t max_bytes, struct limen__import **blk,
+                                struct limen__block *files);
 /* Node `node` of an imported block (its parts in its own frame, with their materials and
  * textures) as the mesh of mesh node n; refuses one holding more than max_bytes. *charged:
  * the bytes it holds. */

@@ -342,30 +342,26 @@ static limen_status from_import(limen_scene *s, const char *path, limen__import 
 
 #define MAX_JSON_BYTES (64u << 20)
 
-/* The JSON of a .gltf, or of a .glb's first chunk, read through the scene's way in (as the
- * importer read it); NULL if the file is neither or is too large. *len its length; free()
- * it. The scene's message is left as it was. */
+/* The JSON of a .gltf, or of a .glb's first chunk, read through the scene's one way in (the
+ * script's folder and limits when a script loads); NULL if the file is neither or is too
+ * large. *len its length; free() it. */
 static char *gltf_json(limen_scene *s, const char *path, size_t *len)
 {
-    unsigned char *data = NULL;
-    size_t n = 0;
+    unsigned char *data;
+    size_t n;
     struct stat st;
-    char keep[sizeof s->err];
-    memcpy(keep, s->err, sizeof keep);
-    limen_status rc = limen__file_read(s, path, &data, &n, &st);
-    memcpy(s->err, keep, sizeof keep);
-    if (rc)
-        return NULL;
+    if (limen__file_read(s, path, &data, &n, &st) != LIMEN_OK)
+        return NULL;    /* the importer read it a moment ago: keep what it gave */
     if (s->load)
-        s->load->read_bytes -= n;       /* held no longer than this call */
+        s->load->read_bytes -= n;
     char *text = NULL;
     if (n >= 20 && memcmp(data, "glTF", 4) == 0) {
-        uint32_t c = (uint32_t)data[12] | (uint32_t)data[13] << 8 | (uint32_t)data[14] << 16 |
-                     (uint32_t)data[15] << 24;
-        if (memcmp(data + 16, "JSON", 4) == 0 && c <= MAX_JSON_BYTES && c <= n - 20 &&
-            (text = malloc(c + 1))) {
-            memcpy(text, data + 20, c);
-            *len = c;
+        uint32_t jn = (uint32_t)data[12] | (uint32_t)data[13] << 8 | (uint32_t)data[14] << 16 |
+                      (uint32_t)data[15] << 24;
+        if (memcmp(data + 16, "JSON", 4) == 0 && jn <= MAX_JSON_BYTES && jn <= n - 20 &&
+            (text = malloc((size_t)jn + 1))) {
+            memcpy(text, data + 20, jn);
+            *len = jn;
         }
     } else if (n > 0 && n <= MAX_JSON_BYTES && (text = malloc(n + 1))) {
         memcpy(text, data, n);
@@ -425,13 +421,12 @@ static void gltf_extras(limen_scene *s, const char *path, model *m)
 static limen_status read_file(limen_scene *s, const char *path, size_t max_bytes, model *m)
 {
     limen__import *blk;
-    limen__block files = { 0 };
     memset(m, 0, sizeof *m);
-    /* read as s:mesh reads a file: the scene's way in, the importer contained where asked */
-    limen_status st = limen__mesh_import_block(s, path, 0, max_bytes, &blk, &files);
-    limen__block_free(&files);
+    limen__block files;
+    limen_status st = limen__mesh_import(s, path, 0, max_bytes, &blk, &files);
     if (st)
         return st;
+    limen__block_free(&files);
     st = from_import(s, path, blk, m);
     if (!st)
         gltf_extras(s, path, m);

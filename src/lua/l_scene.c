@@ -162,7 +162,7 @@ static int l_scene_model(lua_State *L)
                                               (limen_node){ 0 });
     int before = limen_scene_node_count(ls->s);
     size_t charged;
-    limen__load ld;     /* the script's folder and limits, as s:mesh reads a file */
+    limen__load ld;     /* the script's folder and limits (core/confine.h), as for s:mesh */
     limen__lua_load_begin(L, ls->s, &ld);
     limen_status st = limen__model_load(ls->s, group, path, &desc, limen__lua_mem_left(L),
                                         &charged);
