@@ -719,20 +719,25 @@ static void to_cache(const limen__mesh *m, const limen__lod_where *w, const lime
 
 static bool lods_make(const limen__mesh *m, const atomic_bool *stop, made *out);
 
+/* Makes m's levels here and now, stores them in the cache w under key and gives them to m;
+ * false when out of memory. */
+static bool build_here(limen__mesh *m, const limen__lod_where *w, const limen__lod_key *key)
+{
+    made mk;
+    if (!lods_make(m, NULL, &mk))
+        return false;
+    to_cache(m, w, key, &mk);
+    install(m, &mk);
+    return true;
+}
+
 bool limen__mesh_lods_build(limen__mesh *m)
 {
     limen__lod_key key;
     limen__lod_where w;
     limen__lod_cache_where(&w);
     limen__lod_cache_key(m, LOD_VERSION, &key);
-    if (from_cache(m, &w, &key))
-        return true;
-    made mk;
-    if (!lods_make(m, NULL, &mk))
-        return false;
-    to_cache(m, &w, &key, &mk);
-    install(m, &mk);
-    return true;
+    return from_cache(m, &w, &key) || build_here(m, &w, &key);
 }
 
 /* ------------------------------------------------------------------ on another thread */
@@ -778,14 +783,8 @@ bool limen__mesh_lods_start(limen__mesh *m)
     limen__lod_cache_key(m, LOD_VERSION, &key);
     if (from_cache(m, &w, &key))
         return true;
-    if (m->ntris < async_above) {
-        made mk;
-        if (!lods_make(m, NULL, &mk))
-            return false;
-        to_cache(m, &w, &key, &mk);
-        install(m, &mk);
-        return true;
-    }
+    if (m->ntris < async_above)
+        return build_here(m, &w, &key);
     /* the full mesh alone until the levels come */
     made one = { .block = malloc(HEAD), .nlods = 1 };
     struct limen__lod_job *j = calloc(1, sizeof *j);
@@ -811,7 +810,7 @@ bool limen__mesh_lods_start(limen__mesh *m)
         /* no thread: made here and now, over the full level alone as counted */
         m->bytes = counted - lods_bytes(&(limen__mesh){ .ntris = m->ntris }) + HEAD;
         free(j);
-        return limen__mesh_lods_build(m);
+        return build_here(m, &w, &key);
     }
     m->lod_job = j;
     return true;
