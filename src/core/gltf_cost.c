@@ -140,14 +140,22 @@ static uint32_t value(parser *ps, int depth)
     if (at == UINT32_MAX)
         return at;
     if (ps->v[at].type == J_NUM) {
-        char buf[64];
+        /* the whole number, however many digits it has: one cut short would leave the rest
+         * unread, and text this reader cannot read goes to the importer unmeasured */
         size_t n = 0;
-        while (ps->p < ps->end && n + 1 < sizeof buf && strchr("+-.eE0123456789", *ps->p))
-            buf[n++] = *ps->p++;
-        buf[n] = '\0';
+        while (ps->p + n < ps->end && ps->p[n] && strchr("+-.eE0123456789", ps->p[n]))
+            n++;
         if (!n)
             return UINT32_MAX;
-        ps->v[at].num = strtod(buf, NULL);
+        char buf[64], *text = n < sizeof buf ? buf : malloc(n + 1);
+        if (!text)
+            return UINT32_MAX;
+        memcpy(text, ps->p, n);
+        text[n] = '\0';
+        ps->v[at].num = strtod(text, NULL);
+        if (text != buf)
+            free(text);
+        ps->p += n;
     } else {
         while (ps->p < ps->end && *ps->p >= 'a' && *ps->p <= 'z')
             ps->p++;
