@@ -602,14 +602,15 @@ int limen_cli_view(int argc, char **argv)
     for (int i = 0; i < argc; i++) {
         const char *val = i + 1 < argc ? argv[i + 1] : NULL;
         if (!strcmp(argv[i], "--shots") || !strcmp(argv[i], "--speed")) {
-            double sp;
-            if (!val || (argv[i][2] == 'p' && (limen_cli_parse_double(val, &sp) || !(sp > 0)))) {
+            bool shots = !strcmp(argv[i], "--shots");
+            double sp = 0;
+            if (!val || (!shots && (limen_cli_parse_double(val, &sp) || !(sp > 0)))) {
                 fprintf(stderr, "limen: %s needs %s\n", argv[i],
-                        argv[i][2] == 's' ? "a folder" : "a positive number");
+                        shots ? "a folder" : "a positive number");
                 free(rest);
                 return 2;
             }
-            if (argv[i][2] == 's' && argv[i][3] == 'h')
+            if (shots)
                 v.shots = val;
             else
                 v.speed = sp;

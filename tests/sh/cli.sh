@@ -36,6 +36,8 @@ expect_fail() {   # expect_fail STATUS PATTERN CMD...
 t_ok "unknown option -> exit 2 and a message" expect_fail 2 "limen: unknown option '--bogus'" "$LIMEN" render scenes/plain.lua -o "$TMP/x.png" --bogus
 t_ok "bad --size -> exit 2" expect_fail 2 "limen: --size" "$LIMEN" render scenes/plain.lua -o "$TMP/x.png" --size 0x10
 t_ok "bad --backend -> exit 2" expect_fail 2 "limen: --backend" "$LIMEN" render scenes/plain.lua -o "$TMP/x.png" --backend vulkan
+t_ok "view --speed 0 -> exit 2 asking for a positive number" expect_fail 2 "limen: --speed needs a positive number" "$LIMEN" view scenes/plain.lua --speed 0
+t_ok "view --speed fast -> exit 2" expect_fail 2 "limen: --speed needs a positive number" "$LIMEN" view scenes/plain.lua --speed fast
 t_ok "missing output -> exit 2" expect_fail 2 "no output" "$LIMEN" render scenes/plain.lua
 t_ok "missing scene file -> exit 1 naming it" expect_fail 1 "nope.lua" "$LIMEN" render "$TMP/nope.lua" -o "$TMP/x.png"
 printf 'local limen = require "limen"\nlocal s = limen.scene {}\ns:sphere { radius = -1 }\nreturn s\n' > "$TMP/bad.lua"
