@@ -25,7 +25,8 @@ static void set_crossing(lua_State *L, int scene, int crossed, limen_node portal
 
 /* s:sweep { from = {x, y, z}, to = {x, y, z}, radius = r [, segment = {x, y, z}]
  *           [, ignore = node] [, depth = n] }
- * -> { hit, fraction, centre, point, normal, node, portals, portal, matrix, radius } */
+ * -> { hit, fraction, centre, point, normal, node, portals, portal, matrix, radius
+ *       [, segment] } */
 int limen__lua_scene_sweep(lua_State *L)
 {
     static const char *const keys[] = { "from", "to", "radius", "segment", "ignore", "depth" };
@@ -66,7 +67,7 @@ int limen__lua_scene_sweep(lua_State *L)
     }
     if (st)
         return luaL_error(L, "sweep: %s", limen_scene_error(ls->s));
-    lua_createtable(L, 0, 10);
+    lua_createtable(L, 0, 11);
     lua_pushboolean(L, r.hit);
     lua_setfield(L, -2, "hit");
     limen__lua_push_float(L, r.fraction);
@@ -82,11 +83,15 @@ int limen__lua_scene_sweep(lua_State *L)
         lua_setfield(L, -2, "node");
     }
     set_crossing(L, 1, r.portals, r.portal, r.matrix, r.radius);
+    if (capsule) {
+        limen__lua_push_vec(L, r.segment, 3, 1);
+        lua_setfield(L, -2, "segment");
+    }
     return 1;
 }
 
 /* node:slide { by = {dx, dy, dz}, radius = r [, segment = {x, y, z}] }
- * -> { moved, contacts, normal, portals, portal, matrix, radius } */
+ * -> { moved, contacts, normal, portals, portal, matrix, radius [, segment] } */
 int limen__lua_node_slide(lua_State *L)
 {
     static const char *const keys[] = { "by", "radius", "segment" };
@@ -117,7 +122,7 @@ int limen__lua_node_slide(lua_State *L)
     if (capsule ? limen_node_slide_capsule(ls->s, nd->n, by, radius, seg, &r)
                 : limen_node_slide(ls->s, nd->n, by, radius, &r))
         return limen__lua_c_error(L, ls->s, ctx, nd->label);
-    lua_createtable(L, 0, 7);
+    lua_createtable(L, 0, 8);
     limen__lua_push_vec(L, r.moved, 3, 1);
     lua_setfield(L, -2, "moved");
     lua_pushinteger(L, r.contacts);
@@ -125,5 +130,9 @@ int limen__lua_node_slide(lua_State *L)
     limen__lua_push_vec(L, r.normal, 3, 1);
     lua_setfield(L, -2, "normal");
     set_crossing(L, 3, r.crossed, r.portal, r.matrix, r.radius);
+    if (capsule) {
+        limen__lua_push_vec(L, r.segment, 3, 1);
+        lua_setfield(L, -2, "segment");
+    }
     return 1;
 }
