@@ -321,12 +321,28 @@ typedef struct job_head {
 
 static struct {
     pthread_mutex_t lock;
-    pid_t pid, owner;           /* the worker; the process that forked it */
+    pid_t pid, owner, tid;      /* the worker; the process and the thread that forked it */
     int sock;
     uint64_t as_hard;           /* its hard RLIMIT_AS (0: none) */
     size_t base;                /* the host's mapping when it was forked */
     double cpu_told;            /* processor time it has told of */
-} wk = { PTHREAD_MUTEX_INITIALIZER, 0, 0, -1, 0, 0, 0 };
+} wk = { PTHREAD_MUTEX_INITIALIZER, 0, 0, 0, -1, 0, 0, 0 };
+
+/* Whether the thread that forked the worker has ended (its PR_SET_PDEATHSIG ends the
+ * worker, at once or a moment later). */
+static bool forker_gone_at(pid_t tid)
+{
+    if (tid == (pid_t)syscall(SYS_gettid))
+        return false;
+    char path[64];
+    snprintf(path, sizeof path, "/proc/self/task/%d", (int)tid);
+    return access(path, F_OK) != 0;
+}
+
+static bool forker_gone(void)
+{
+    return forker_gone_at(wk.tid);
+}
 
 int limen__contain_worker_pid(void)
 {
@@ -536,6 +552,7 @@ static bool worker_start(const limen__contain_limits *lim)
     close(sv[1]);
     wk.pid = pid;
     wk.owner = host;
+    wk.tid = (pid_t)syscall(SYS_gettid);
     wk.sock = sv[0];
     wk.as_hard = hard;
     wk.base = base;
@@ -572,6 +589,10 @@ int limen__contain_job(limen__job_fn fn, const limen__block *job, int fd,
     }
     /* a worker gone while idle (its thread ended), or one whose hard limit is below what
      * this job may take, is replaced */
+    bool retried = false;
+again:
+    if (wk.pid && forker_gone())
+        *cpu_spent += worker_end(true);
     if (wk.pid) {
         int status;
         uint64_t as = job_as(lim, wk.base);
@@ -625,7 +646,7 @@ int limen__contain_job(limen__job_fn fn, const limen__block *job, int fd,
         return outcome;
     }
     /* anything else ends it: a failed job exits by itself, the rest are killed */
-    pid_t pid = wk.pid;
+    pid_t pid = wk.pid, tid = wk.tid;
     bool failed = got == 0 && outcome == LIMEN__CONTAIN_OK && rc;
     if (failed) {
         wk.cpu_told += cpu > 0 ? cpu : 0;
@@ -655,6 +676,14 @@ int limen__contain_job(limen__job_fn fn, const limen__block *job, int fd,
     }
     if (outcome != LIMEN__CONTAIN_OK)
         return outcome;
+    /* killed with the thread that forked it, which ended meanwhile: once more, in a worker
+     * of this thread's */
+    if (!retried && got == 1 && WIFSIGNALED(status) && WTERMSIG(status) == SIGKILL &&
+        forker_gone_at(tid)) {
+        retried = true;
+        if (pthread_mutex_lock(&wk.lock) == 0)
+            goto again;
+    }
     /* the worker died under the job: a signal, SIGKILL by its processor time limit too */
     if (WIFSIGNALED(status) && WTERMSIG(status) != SIGKILL) {
         int sig = WTERMSIG(status);
