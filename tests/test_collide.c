@@ -261,6 +261,35 @@ static void test_twice(void)
     limen_scene_destroy(s);
 }
 
+/* A floor with 18 portals on it (in pairs): a sweep low over a row of them, in front of all,
+ * cuts the floor's face by each hole it meets (in parts that grow with the holes, not as
+ * their power) and touches the floor beyond the last. */
+static void test_many_holes(void)
+{
+    limen_scene *s;
+    CHECK_OK(limen_scene_create(NULL, &s));
+    limen_node floor = make(s, LIMEN_NODE_BOX, "floor", 0, -0.1f, 0, 20, 0.2f, 20);
+    limen_node prev = { 0 };
+    for (int j = 0; j < 3; j++)
+        for (int i = 0; i < 6; i++) {
+            limen_node p = make(s, LIMEN_NODE_PORTAL, NULL, (float)(2 * i - 5), 0.001f,
+                                (float)(1.2 * j - 1.2), 1, 1, 0);
+            face(s, p, 0, 1, 0);
+            if (prev.id) {
+                CHECK_OK(limen_portal_link(s, prev, p));
+                prev = (limen_node){ 0 };
+            } else {
+                prev = p;
+            }
+        }
+    limen_sweep_result r;
+    CHECK_OK(limen_sweep_sphere(s, (float[3]){ -8, 0.9f, 0 }, (float[3]){ 8, 0.45f, 0 }, 0.5f,
+                                NULL, &r));
+    CHECK(r.hit && r.node.id == floor.id && r.portals == 0);
+    CHECK_NEAR(r.fraction, 0.4 / 0.45, 1e-5);
+    limen_scene_destroy(s);
+}
+
 /* Unequal portals scale the body: out of a portal twice as wide, the radius doubles. */
 static void test_unequal(void)
 {
@@ -474,7 +503,7 @@ static void test_lua(void)
 typedef struct opiece {
     int ball, nv;
     limen_node node;
-    double v[16][3], c[3], r;
+    double v[40][3], c[3], r;
 } opiece;
 
 typedef struct ogate {
@@ -537,12 +566,12 @@ static void mkplane(const double n[3], const double p[3], double pl[4])
 /* Clips with the public limen_clip_polygon; false when less than a triangle is left. */
 static bool oclip(const double (*in)[3], int n, const double pl[4], double (*out)[3], int *m)
 {
-    double h[32][4], o[33][4];
+    double h[48][4], o[49][4];
     for (int i = 0; i < n; i++) {
         memcpy(h[i], in[i], sizeof(double) * 3);
         h[i][3] = 1;
     }
-    int k = limen_clip_polygon(&h[0][0], n, pl, &o[0][0], 16);
+    int k = limen_clip_polygon(&h[0][0], n, pl, &o[0][0], 40);
     for (int i = 0; i < k; i++)
         for (int c = 0; c < 3; c++)
             out[i][c] = o[i][c] / o[i][3];
@@ -576,7 +605,7 @@ static void ocarve(oscene *o, limen_node node, const double (*v)[3], int n, ogat
     }
     const double *outs[6] = { g[0]->plane, g[0]->side[0], g[0]->side[1], g[0]->side[2],
                               g[0]->side[3], g[0]->side[4] };
-    double a[16][3], b[16][3];      /* whole unless it meets the prism */
+    double a[40][3], b[40][3];      /* whole unless it meets the prism */
     memcpy(a, v, sizeof(double) * 3 * (size_t)n);
     int m = n;
     bool meets = true;
@@ -589,11 +618,17 @@ static void ocarve(oscene *o, limen_node node, const double (*v)[3], int n, ogat
         ocarve(o, node, v, n, g + 1, ng - 1);
         return;
     }
+    memcpy(a, v, sizeof(double) * 3 * (size_t)n);     /* disjoint parts, as the library */
+    m = n;
     for (int i = 0; i < 6; i++) {
-        double out[16][3];
+        double out[40][3];
         int k;
-        if (oclip(v, n, outs[i], out, &k))
+        if (oclip((const double(*)[3])a, m, outs[i], out, &k))
             ocarve(o, node, (const double(*)[3])out, k, g + 1, ng - 1);
+        double in[4] = { -outs[i][0], -outs[i][1], -outs[i][2], -outs[i][3] };
+        if (!oclip((const double(*)[3])a, m, in, b, &m))
+            return;
+        memcpy(a, b, sizeof(double) * 3 * (size_t)m);
     }
 }
 
@@ -604,7 +639,7 @@ static void ocut(oscene *o, limen_node node, const double (*v)[3], int n, const 
         ocarve(o, node, v, n, holes, nholes);
         return;
     }
-    double a[16][3], b[16][3];
+    double a[40][3], b[40][3];
     memcpy(a, v, sizeof(double) * 3 * (size_t)n);
     int m = n;
     for (int i = 0; i < 5; i++) {
@@ -1492,6 +1527,7 @@ static const check_case cases[] = {
     { "hole", test_hole },
     { "both_sides", test_both_sides },
     { "twice", test_twice },
+    { "many_holes", test_many_holes },
     { "unequal", test_unequal },
     { "mesh", test_mesh },
     { "big_mesh", test_big_mesh },

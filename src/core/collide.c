@@ -143,11 +143,19 @@ static void add_poly(sweeper *w, int node, const double (*v)[3], int n, const ga
         add_poly(w, node, v, n, holes + 1, nholes - 1);
         return;
     }
+    /* the polygon less the prism, in disjoint parts: what lies outside the first side,
+     * then of the rest what lies outside the second, ... (what is left is inside) */
+    memcpy(a, v, sizeof(double) * 3 * (size_t)n);
+    m = n;
     for (int i = 0; i < 6; i++) {
         double out[MAXV][3];
         int k;
-        if (clip_poly(v, n, outs[i], out, &k))
+        if (clip_poly((const double(*)[3])a, m, outs[i], out, &k))
             add_poly(w, node, (const double(*)[3])out, k, holes + 1, nholes - 1);
+        double in[4] = { -outs[i][0], -outs[i][1], -outs[i][2], -outs[i][3] };
+        if (!clip_poly((const double(*)[3])a, m, in, b, &m))
+            return;
+        memcpy(a, b, sizeof(double) * 3 * (size_t)m);
     }
 }
 
@@ -163,6 +171,31 @@ static void add_poly_ghost(sweeper *w, int node, const double (*v)[3], int n, co
         memcpy(a, b, sizeof(double) * 3 * (size_t)m);
     }
     add_poly(w, node, (const double(*)[3])a, m, NULL, 0);
+}
+
+/* Adds a polygon of node `node`, first cut to the query box q (a contact lies within the
+ * body's reach of its path, so inside q: the cut changes no contact, and keeps the
+ * polygon's parts, and the holes it meets, few): for a ghost, cut to the partner's prism;
+ * else less the holes. */
+static void add_poly_in(sweeper *w, int node, const double (*v)[3], int n, const limen__box *q,
+                        const gate *ghost, const gate *const *holes, int nholes)
+{
+    double a[MAXV][3], b[MAXV][3];
+    memcpy(a, v, sizeof(double) * 3 * (size_t)n);
+    int m = n;
+    for (int i = 0; i < 6; i++) {
+        double pl[4] = { 0, 0, 0, 0 };
+        int axis = i >> 1;
+        pl[axis] = i & 1 ? -1 : 1;
+        pl[3] = i & 1 ? q->hi[axis] : -q->lo[axis];
+        if (!clip_poly((const double(*)[3])a, m, pl, b, &m))
+            return;
+        memcpy(a, b, sizeof(double) * 3 * (size_t)m);
+    }
+    if (ghost)
+        add_poly_ghost(w, node, (const double(*)[3])a, m, ghost);
+    else
+        add_poly(w, node, (const double(*)[3])a, m, holes, nholes);
 }
 
 static bool in_subtree(const limen_scene *s, int slot, int root)
@@ -189,7 +222,6 @@ static void add_node(sweeper *w, int slot, const limen__box *q, const gate *ghos
     const limen__node *n = &w->s->nodes[slot];
     double m[16];
     limen__d_from_f(&n->world[0][0], m);
-    double (*v)[3] = NULL;
     switch (n->kind) {
     case LIMEN_NODE_SPHERE:
     case LIMEN_NODE_CYLINDER: {
@@ -228,10 +260,7 @@ static void add_node(sweeper *w, int slot, const limen__box *q, const gate *ghos
             double fv[4][3];
             for (int i = 0; i < 4; i++)
                 memcpy(fv[i], c8[faces[f][i]], sizeof fv[i]);
-            if (ghost)
-                add_poly_ghost(w, slot, (const double(*)[3])fv, 4, ghost);
-            else
-                add_poly(w, slot, (const double(*)[3])fv, 4, holes, nholes);
+            add_poly_in(w, slot, (const double(*)[3])fv, 4, q, ghost, holes, nholes);
         }
         return;
     }
@@ -240,10 +269,7 @@ static void add_node(sweeper *w, int slot, const limen__box *q, const gate *ghos
     case LIMEN_NODE_PORTAL: {
         double fv[4][3];
         limen__surface_corners(n, fv);
-        if (ghost)
-            add_poly_ghost(w, slot, (const double(*)[3])fv, 4, ghost);
-        else
-            add_poly(w, slot, (const double(*)[3])fv, 4, holes, nholes);
+        add_poly_in(w, slot, (const double(*)[3])fv, 4, q, ghost, holes, nholes);
         return;
     }
     case LIMEN_NODE_MESH: {
@@ -289,13 +315,9 @@ static void add_node(sweeper *w, int slot, const limen__box *q, const gate *ghos
                     double l[3] = { pf[0], pf[1], pf[2] };
                     limen__d_point(m, l, tv[c]);
                 }
-                if (ghost)
-                    add_poly_ghost(w, slot, (const double(*)[3])tv, 3, ghost);
-                else
-                    add_poly(w, slot, (const double(*)[3])tv, 3, holes, nholes);
+                add_poly_in(w, slot, (const double(*)[3])tv, 3, q, ghost, holes, nholes);
             }
         }
-        (void)v;
         return;
     }
     default: return;

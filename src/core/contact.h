@@ -9,7 +9,8 @@
 #include <stdbool.h>
 #include <string.h>
 
-#define LIMEN__PIECE_MAXV 24    /* a triangle or quad cut by two portals' holes stays below */
+#define LIMEN__PIECE_MAXV 40    /* a box face cut to a sweep's box and by four portals' holes
+                                 * stays below */
 
 enum { LIMEN__PIECE_POLY, LIMEN__PIECE_BALL, LIMEN__PIECE_CYL };
 
