@@ -438,16 +438,18 @@ static void worker_main(int sock, pid_t host, uint64_t as_hard)
     sigset_t none;
     sigemptyset(&none);
     sigprocmask(SIG_SETMASK, &none, NULL);
+    /* the socket to 3 first (it may be 0 to 2 where the host closed those), then the
+     * standard descriptors to /dev/null */
+    if (sock != 3) {
+        if (dup2(sock, 3) != 3)
+            _exit(3);
+        sock = 3;
+    }
     int null = open("/dev/null", O_RDWR | O_CLOEXEC);
     if (null >= 0) {
         dup2(null, 0);
         dup2(null, 1);
         dup2(null, 2);
-    }
-    if (sock != 3) {
-        if (dup2(sock, 3) != 3)
-            _exit(3);
-        sock = 3;
     }
     /* nothing of the host's but the socket: each job's folder comes with the job */
     if (syscall(SYS_close_range, 4u, ~0u, 0u) != 0)
