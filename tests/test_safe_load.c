@@ -701,6 +701,21 @@ static void test_worker_hostile(void)
     CHECK_MSG(seen[1] == (int64_t)st.st_dev && seen[2] == (int64_t)st.st_ino, "%lld",
               (long long)seen[2]);
     CHECK_MSG(seen[0] == 5, "%lld descriptors", (long long)seen[0]);
+    /* the same folder again, or a job with none: the same worker; another folder: a fresh
+     * one, which has never seen the first */
+    int p4 = limen__contain_worker_pid();
+    CHECK(job(fds_job, "", folder, 1, &b, NULL) == LIMEN__CONTAIN_OK);
+    limen__block_free(&b);
+    CHECK(job(echo_job, "six", -1, 1, &b, NULL) == LIMEN__CONTAIN_OK);
+    limen__block_free(&b);
+    CHECK_MSG(p4 > 0 && limen__contain_worker_pid() == p4, "%d then %d", p4,
+              limen__contain_worker_pid());
+    int other = open(root, O_PATH | O_DIRECTORY | O_CLOEXEC);
+    CHECK(job(fds_job, "", other, 1, &b, NULL) == LIMEN__CONTAIN_OK);
+    limen__block_free(&b);
+    int p5 = limen__contain_worker_pid();
+    CHECK_MSG(p5 > 0 && p5 != p4 && kill(p4, 0) != 0, "%d then %d", p4, p5);
+    close(other);
     close(folder);
     close(stray);
 }

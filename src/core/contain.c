@@ -301,13 +301,15 @@ int limen__contain_run(limen__contained_fn fn, void *arg, const limen__contain_l
  * answers [status][why][processor time of the job][length][bytes]. A crash, a limit, a
  * deadline or a failed job ends it (what a hostile file left in its heap serves no other
  * file); it dies with the thread that forked it (PR_SET_PDEATHSIG) and exits when the socket
- * closes. The host writes with MSG_NOSIGNAL, so a worker gone at any moment is a failed
+ * closes. A worker serves one folder in its life: a job of another folder replaces it (jobs
+ * without one, image decoding, share any). The host writes with MSG_NOSIGNAL, so a worker gone at any moment is a failed
  * job, never a SIGPIPE. A lock keeps one job at a time in the worker; a job that finds it
  * taken runs in a child of its own (limen__contain_run), as does one where no worker
  * starts. */
 #include <pthread.h>
 #include <sys/prctl.h>
 #include <sys/socket.h>
+#include <sys/stat.h>
 #include <sys/syscall.h>
 
 int limen__contain_no_worker;
@@ -326,7 +328,10 @@ static struct {
     uint64_t as_hard;           /* its hard RLIMIT_AS (0: none) */
     size_t base;                /* the host's mapping when it was forked */
     double cpu_told;            /* processor time it has told of */
-} wk = { PTHREAD_MUTEX_INITIALIZER, 0, 0, 0, -1, 0, 0, 0 };
+    bool has_folder;            /* it has been handed a folder: this one */
+    dev_t dev;
+    ino_t ino;
+} wk = { PTHREAD_MUTEX_INITIALIZER, 0, 0, 0, -1, 0, 0, 0, false, 0, 0 };
 
 /* Whether the thread that forked the worker has ended (its PR_SET_PDEATHSIG ends the
  * worker, at once or a moment later). */
@@ -555,6 +560,7 @@ static bool worker_start(const limen__contain_limits *lim)
     wk.pid = pid;
     wk.owner = host;
     wk.tid = (pid_t)syscall(SYS_gettid);
+    wk.has_folder = false;
     wk.sock = sv[0];
     wk.as_hard = hard;
     wk.base = base;
@@ -595,6 +601,12 @@ int limen__contain_job(limen__job_fn fn, const limen__block *job, int fd,
 again:
     if (wk.pid && forker_gone())
         *cpu_spent += worker_end(true);
+    /* a worker sees one folder in its life: a job of another folder gets a fresh one, so
+     * that whatever a file did to one worker reaches no other scene's files */
+    struct stat fst;
+    bool folder = fd >= 0 && fstat(fd, &fst) == 0;
+    if (wk.pid && folder && wk.has_folder && (fst.st_dev != wk.dev || fst.st_ino != wk.ino))
+        *cpu_spent += worker_end(true);
     if (wk.pid) {
         int status;
         uint64_t as = job_as(lim, wk.base);
@@ -608,6 +620,11 @@ again:
     if (!wk.pid && !worker_start(lim)) {
         pthread_mutex_unlock(&wk.lock);
         return limen__contain_run(job_in_child, &ja, lim, out, why, why_size, cpu_spent);
+    }
+    if (folder && !wk.has_folder) {
+        wk.has_folder = true;
+        wk.dev = fst.st_dev;
+        wk.ino = fst.st_ino;
     }
     job_head h = { (uint64_t)(uintptr_t)fn, job_as(lim, wk.base), lim->cpu_seconds,
                    (uint64_t)job->len };
