@@ -17,6 +17,7 @@
 #include <string.h>
 
 #include "../tests/hall.h"
+#include "core/internal.h"
 #include "limen.h"
 #include "timing.h"
 
@@ -111,11 +112,13 @@ int main(int argc, char **argv)
     }
     char path[1024];
     snprintf(path, sizeof path, "%s/collide.csv", out);
-    FILE *csv = fopen(path, "w");
-    if (!csv) {
+    /* written whole or not at all (core/file.c), like everything limen writes */
+    limen__out ocsv, otxt;
+    if (limen__out_open(&ocsv, path)) {
         fprintf(stderr, "collide: cannot write %s\n", path);
         return 1;
     }
+    FILE *csv = ocsv.f;
     fprintf(csv, "hall,spheres,us_cpu_per_sweep,us_wall_per_sweep,hits_per_%d\n", BATCH);
     point grow[SIZES], fixed[SIZES];
     for (int g = 0; g < 2; g++) {
@@ -132,13 +135,16 @@ int main(int argc, char **argv)
                     1e3 * pts[i].wall, pts[i].hits, BATCH);
         }
     }
-    fclose(csv);
-    snprintf(path, sizeof path, "%s/collide.txt", out);
-    FILE *fo = fopen(path, "w");
-    if (!fo) {
+    if (limen__out_close(&ocsv)) {
         fprintf(stderr, "collide: cannot write %s\n", path);
         return 1;
     }
+    snprintf(path, sizeof path, "%s/collide.txt", out);
+    if (limen__out_open(&otxt, path)) {
+        fprintf(stderr, "collide: cannot write %s\n", path);
+        return 1;
+    }
+    FILE *fo = otxt.f;
     double ratio = grow[2].cpu / grow[0].cpu, fratio = fixed[2].cpu / fixed[0].cpu;
     fprintf(fo, "collide: a sweep in the hall of 10,000 spheres %.2f us against 100 %.2f us "
             "(processor time; wall %.2f / %.2f us): %.2fx (target <= 3x): %s\n",
@@ -148,6 +154,9 @@ int main(int argc, char **argv)
             "room of 100): %.2f us against %.2f us, %.2fx (%d against %d sweeps of %d hit)\n",
             1e3 * fixed[2].cpu, 1e3 * fixed[0].cpu, fratio, fixed[2].hits, fixed[0].hits,
             BATCH);
-    fclose(fo);
+    if (limen__out_close(&otxt)) {
+        fprintf(stderr, "collide: cannot write %s\n", path);
+        return 1;
+    }
     return 0;
 }

@@ -19,6 +19,7 @@
 #include <embree3/rtcore.h>
 
 #include "core/bvh.h"
+#include "core/internal.h"
 #include "timing.h"
 
 enum { W = 320, H = 240, REPS = 5 };
@@ -77,7 +78,7 @@ static void ray_of(int x, int y, nearest *q)
 
 /* ------------------------------------------------------------------ limen */
 
-static void limen_hit(void *ctx, int item, double *tmax)
+static void bvh_hit(void *ctx, int item, double *tmax)
 {
     nearest *q = ctx;
     exact(q, item);
@@ -186,16 +187,19 @@ int main(int argc, char **argv)
         fprintf(stderr, "usage: embree [--out FILE.csv]\n");
         return 2;
     }
-    FILE *f = out ? fopen(out, "w") : NULL;
-    if (out && !f) {
+    /* written whole or not at all (core/file.c), like everything limen writes */
+    limen__out o = { 0 };
+    if (out && limen__out_open(&o, out)) {
         fprintf(stderr, "embree: cannot write %s\n", out);
         return 1;
     }
+    FILE *f = o.f;
     if (f)
         fprintf(f, "spheres,contender,build_ms,trace_ms,wrong_rays\n");
     RTCDevice dev = rtcNewDevice("threads=1");
     if (!dev) {
         fprintf(stderr, "embree: no device\n");
+        limen__out_abort(&o);
         return 1;
     }
     static const int NS[] = { 200, 2000, 20000 };
@@ -236,7 +240,7 @@ int main(int argc, char **argv)
                 for (int x = 0; x < W; x++) {
                     nearest q = { .sp = sp };
                     ray_of(x, y, &q);
-                    limen__bvh_ray(&b, q.o, q.d, 0, INFINITY, limen_hit, &q);
+                    limen__bvh_ray(&b, q.o, q.d, 0, INFINITY, bvh_hit, &q);
                     bad += q.id != truth[y * W + x];
                 }
             tt[0][rep] = now_ms() - t0;
@@ -266,7 +270,9 @@ int main(int argc, char **argv)
         free(truth);
     }
     rtcReleaseDevice(dev);
-    if (f)
-        fclose(f);
+    if (f && limen__out_close(&o)) {
+        fprintf(stderr, "embree: cannot write %s\n", out);
+        return 1;
+    }
     return 0;
 }

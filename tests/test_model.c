@@ -129,7 +129,11 @@ static const char *write_gltf(const char *name, const gltf *g, const char *roots
     FILE *f = fopen(path, "w");
     CHECK(f != NULL);
     if (f) {
-        fprintf(f, "{\"asset\": {\"version\": \"2.0\"}, \"scene\": 0, \"scenes\": [{\"nodes\": "
+        /* pi to 80 places in the asset's extras: a number longer than 63 characters left
+         * the whole JSON unread, and the light's range and the camera's yfov with it */
+        fprintf(f, "{\"asset\": {\"version\": \"2.0\", \"extras\": {\"pi\": 3.14159265358979"
+                "323846264338327950288419716939937510582097494459230781640628620899}}, "
+                "\"scene\": 0, \"scenes\": [{\"nodes\": "
                 "[%s]}],\n \"nodes\": [%s],\n \"meshes\": [%s],\n \"materials\": "
                 "[{\"pbrMetallicRoughness\": {\"baseColorFactor\": [0.8, 0.7, 0.6, 1]}},\n"
                 "  {\"pbrMetallicRoughness\": {\"baseColorTexture\": {\"index\": 0}}},\n"
@@ -483,6 +487,10 @@ static void test_json(void)
     CHECK(j.v[limen__json_at(&j, a, 2)].number == 1 && limen__json_at(&j, a, 5) < 0);
     CHECK(limen__json_is(&j, limen__json_at(&j, a, 4), "x\\\"y"));
     CHECK(limen__json_get(&j, a, "b") < 0 && limen__json_get(&j, 0, "c") < 0);
+    free(j.v);
+    /* a number of more digits than a double holds is read whole (and rounded) */
+    const char *pi = "[3.14159265358979323846264338327950288419716939937510582097494459230781]";
+    CHECK(limen__json_parse(&j, pi, strlen(pi), 100) && fabs(j.v[1].number - M_PI) < 1e-15);
     free(j.v);
     static const char *const bad[] = { "", "{", "[1,]", "{\"a\" 1}", "\"abc", "01x", "[1] 2",
                                        "{\"a\": tru}", "[\"\\", "1e999999999999999999999999"

@@ -314,8 +314,14 @@ static int cmd_render(int argc, char **argv)
             rc = limen_cli_fail(1, "%s-o: the path is too long", tty && f ? "\n" : "");
             break;
         }
-        st = limen_renderer_read_rgb(r, rgb);
-        if (st || limen_cli_write_image(path, w, h, rgb)) {
+        /* a failed read of the pixels is the renderer's, not the file's */
+        if ((st = limen_renderer_read_rgb(r, rgb))) {
+            rc = limen_cli_fail(1, "%scannot read the frame back: %s", tty && f ? "\n" : "",
+                                limen_renderer_error(r)[0] ? limen_renderer_error(r)
+                                                           : limen_status_string(st));
+            break;
+        }
+        if (limen_cli_write_image(path, w, h, rgb)) {
             rc = limen_cli_fail(1, "%scannot write '%s'", tty && f ? "\n" : "", path);
             break;
         }

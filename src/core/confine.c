@@ -171,12 +171,12 @@ int limen__confine_read(const limen__confine *box, const char *path, size_t max,
     *len = 0;
     int fd = limen__confine_open(box, path, st, why, why_size);
     if (fd < 0)
-        return -1;
+        return LIMEN__CONFINE_NO_OPEN;
     if ((uint64_t)st->st_size > max) {
         close(fd);
         snprintf(why, why_size, "a file of %.1f MiB, more than the %.1f MiB allowed",
                  st->st_size / 1048576.0, max / 1048576.0);
-        return -1;
+        return LIMEN__CONFINE_TOO_LARGE;
     }
     /* what fstat said, and one byte more to see a file that grew meanwhile */
     size_t cap = (size_t)st->st_size + 1, n = 0;
@@ -184,7 +184,7 @@ int limen__confine_read(const limen__confine *box, const char *path, size_t max,
     if (!buf) {
         close(fd);
         snprintf(why, why_size, "out of memory");
-        return -1;
+        return LIMEN__CONFINE_TOO_LARGE;
     }
     for (;;) {
         ssize_t got = read(fd, buf + n, cap - n);
@@ -208,7 +208,7 @@ int limen__confine_read(const limen__confine *box, const char *path, size_t max,
     }
     close(fd);
     free(buf);
-    return -1;
+    return LIMEN__CONFINE_NO_READ;
 }
 
 limen_status limen__file_read(limen_scene *s, const char *path, unsigned char **data,
@@ -219,9 +219,12 @@ limen_status limen__file_read(limen_scene *s, const char *path, unsigned char **
     if (ld)
         max = ld->read_bytes >= ld->max_bytes ? 0 : ld->max_bytes - ld->read_bytes;
     char why[160];
-    if (limen__confine_read(ld ? ld->box : NULL, path, max, data, len, st, why, sizeof why))
-        return limen__fail(s, strstr(why, "MiB") ? LIMEN_ERR_NOMEM : LIMEN_ERR_IO, "%s: %s%s",
-                           path, strstr(why, "MiB") ? "" : "cannot open: ", why);
+    int got = limen__confine_read(ld ? ld->box : NULL, path, max, data, len, st, why, sizeof why);
+    if (got == LIMEN__CONFINE_TOO_LARGE)
+        return limen__fail(s, LIMEN_ERR_NOMEM, "%s: %s", path, why);
+    if (got)
+        return limen__fail(s, LIMEN_ERR_IO, "%s: %s%s", path,
+                           got == LIMEN__CONFINE_NO_OPEN ? "cannot open: " : "", why);
     if (*len == 0) {
         free(*data);
         *data = NULL;

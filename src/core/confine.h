@@ -45,7 +45,12 @@ void limen__confine_close(limen__confine *box);
 int limen__confine_open(const limen__confine *box, const char *path, struct stat *st,
                         char *why, size_t why_size);
 
-/* Reads the whole file at path through box, refusing one of more than max bytes (a file inside the folder: its size may be told). *data (malloc'd) and *len; returns 0, or -1 with why. */
+/* What limen__confine_read refused, beside 0: the file did not open, was larger than max
+ * (or no memory held it), or could not be read to its end. */
+enum { LIMEN__CONFINE_NO_OPEN = -1, LIMEN__CONFINE_TOO_LARGE = -2, LIMEN__CONFINE_NO_READ = -3 };
+/* Reads the whole file at path through box, refusing one of more than max bytes (a file
+ * inside the folder: its size may be told). *data (malloc'd) and *len; returns 0, or one of
+ * LIMEN__CONFINE_* with why. */
 int limen__confine_read(const limen__confine *box, const char *path, size_t max,
                         unsigned char **data, size_t *len, struct stat *st, char *why,
                         size_t why_size);

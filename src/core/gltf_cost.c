@@ -140,14 +140,22 @@ static uint32_t value(parser *ps, int depth)
     if (at == UINT32_MAX)
         return at;
     if (ps->v[at].type == J_NUM) {
-        char buf[64];
+        /* the whole number, however many digits it has: one cut short would leave the rest
+         * unread, and text this reader cannot read goes to the importer unmeasured */
         size_t n = 0;
-        while (ps->p < ps->end && n + 1 < sizeof buf && strchr("+-.eE0123456789", *ps->p))
-            buf[n++] = *ps->p++;
-        buf[n] = '\0';
+        while (ps->p + n < ps->end && ps->p[n] && strchr("+-.eE0123456789", ps->p[n]))
+            n++;
         if (!n)
             return UINT32_MAX;
-        ps->v[at].num = strtod(buf, NULL);
+        char buf[64], *text = n < sizeof buf ? buf : malloc(n + 1);
+        if (!text)
+            return UINT32_MAX;
+        memcpy(text, ps->p, n);
+        text[n] = '\0';
+        ps->v[at].num = strtod(text, NULL);
+        if (text != buf)
+            free(text);
+        ps->p += n;
     } else {
         while (ps->p < ps->end && *ps->p >= 'a' && *ps->p <= 'z')
             ps->p++;
@@ -167,15 +175,36 @@ static uint32_t member(const parser *ps, uint32_t o, const char *key)
     return 0;
 }
 
-/* The i-th element of array a, or 0. */
-static uint32_t element(const parser *ps, uint32_t a, uint64_t i)
+/* An array's elements by index, so that each look-up is one step: walking the siblings
+ * for each would take a file of many nodes (or accessors) their count squared. */
+typedef struct elements {
+    uint32_t *at;
+    uint32_t n;
+} elements;
+
+/* The elements of a (none where a is 0 or not an array); false when out of memory. */
+static bool elements_of(const parser *ps, uint32_t a, elements *e)
 {
+    e->at = NULL;
+    e->n = 0;
     if (!a || ps->v[a].type != J_ARR)
-        return 0;
-    uint32_t c = ps->v[a].child;
-    for (uint64_t k = 0; c && k < i; k++)
-        c = ps->v[c].next;
-    return c;
+        return true;
+    for (uint32_t c = ps->v[a].child; c; c = ps->v[c].next)
+        e->n++;
+    if (!e->n)
+        return true;
+    if (!(e->at = malloc(sizeof *e->at * e->n)))
+        return false;
+    uint32_t k = 0;
+    for (uint32_t c = ps->v[a].child; c; c = ps->v[c].next)
+        e->at[k++] = c;
+    return true;
+}
+
+/* The i-th element, or 0. */
+static uint32_t element(const elements *e, uint64_t i)
+{
+    return i < e->n ? e->at[i] : 0;
 }
 
 /* The first element or member of v (0: none, or v is 0). */
@@ -198,7 +227,7 @@ static uint64_t add_sat(uint64_t a, uint64_t b)
 
 typedef struct walk {
     const parser *ps;
-    uint32_t nodes, accessors, meshes;
+    elements nodes, accessors, meshes;
     uint64_t *verts, *tris;     /* per node: below it, itself included; UINT64_MAX not yet */
     uint8_t *state;             /* 1 being visited, 2 done */
     int deepest;
@@ -208,14 +237,14 @@ typedef struct walk {
 /* The accessor's count, by its index in value v. */
 static uint64_t accessor_count(const walk *w, uint32_t v)
 {
-    uint32_t a = element(w->ps, w->accessors, count_of(w->ps, v));
+    uint32_t a = element(&w->accessors, count_of(w->ps, v));
     return v ? count_of(w->ps, member(w->ps, a, "count")) : 0;
 }
 
 static void mesh_cost(const walk *w, uint32_t mesh, uint64_t *nv, uint64_t *nt)
 {
     *nv = *nt = 0;
-    uint32_t m = element(w->ps, w->meshes, count_of(w->ps, mesh));
+    uint32_t m = element(&w->meshes, count_of(w->ps, mesh));
     for (uint32_t p = first(w->ps, member(w->ps, m, "primitives")); m && p;
          p = w->ps->v[p].next) {
         uint64_t v = accessor_count(w, member(w->ps, member(w->ps, p, "attributes"), "POSITION"));
@@ -231,7 +260,7 @@ static void node_cost(walk *w, uint64_t n, int depth)
         return;
     if (depth > w->deepest)
         w->deepest = depth;
-    uint32_t node = element(w->ps, w->nodes, n);
+    uint32_t node = element(&w->nodes, n);
     if (!node || w->state[n] == 2 || depth > 1000)
         return;
     if (w->state[n] == 1) {
@@ -282,14 +311,17 @@ int limen__gltf_cost(const unsigned char *data, size_t len, size_t max_bytes, ui
     int known = 0;
     if (value(&ps, 0) != 0 || ps.v[0].type != J_OBJ)
         goto done;
-    walk w = { .ps = &ps, .nodes = member(&ps, 0, "nodes"),
-               .accessors = member(&ps, 0, "accessors"), .meshes = member(&ps, 0, "meshes") };
+    walk w = { .ps = &ps };
+    elements scenes = { 0 };
+    bool ok = elements_of(&ps, member(&ps, 0, "nodes"), &w.nodes) &&
+              elements_of(&ps, member(&ps, 0, "accessors"), &w.accessors) &&
+              elements_of(&ps, member(&ps, 0, "meshes"), &w.meshes) &&
+              elements_of(&ps, member(&ps, 0, "scenes"), &scenes);
     w.verts = malloc(sizeof *w.verts * ps.n);
     w.tris = malloc(sizeof *w.tris * ps.n);
     w.state = calloc(ps.n, 1);
-    if (w.verts && w.tris && w.state) {
-        uint32_t scenes = member(&ps, 0, "scenes");
-        uint32_t scene = element(&ps, scenes, count_of(&ps, member(&ps, 0, "scene")));
+    if (ok && w.verts && w.tris && w.state) {
+        uint32_t scene = element(&scenes, count_of(&ps, member(&ps, 0, "scene")));
         uint32_t roots = member(&ps, scene, "nodes");
         for (uint32_t r = first(&ps, roots); r && !w.cycle; r = ps.v[r].next) {
             uint64_t k = count_of(&ps, r);
@@ -302,6 +334,10 @@ int limen__gltf_cost(const unsigned char *data, size_t len, size_t max_bytes, ui
         *depth = w.cycle ? INT32_MAX : w.deepest;
         known = 1;
     }
+    free(w.nodes.at);
+    free(w.accessors.at);
+    free(w.meshes.at);
+    free(scenes.at);
     free(w.verts);
     free(w.tris);
     free(w.state);

@@ -1,5 +1,6 @@
 /* json.c - the small JSON reader of json.h: recursive descent over a length-bounded text,
  * nesting at most MAX_DEPTH deep, values appended to one growing array. */
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -143,18 +144,24 @@ static int read_value(reader *r, int depth)
     }
     if (literal(r, "null"))
         return new_value(r, LIMEN__JSON_NULL);
-    /* a number: strtod on a bounded copy (the text need not end in a zero) */
-    char buf[64];
+    /* a number: strtod on a copy (the text need not end in a zero), of the whole number
+     * however many digits it has (a file may write pi to 100 places) */
     size_t n = 0;
-    while (r->p + n < r->end && n < sizeof buf - 1 && strchr("+-0123456789.eE", r->p[n]))
+    while (r->p + n < r->end && r->p[n] && strchr("+-0123456789.eE", r->p[n]))
         n++;
-    if (n == 0 || n == sizeof buf - 1)
+    if (n == 0)
         return -1;
-    memcpy(buf, r->p, n);
-    buf[n] = '\0';
-    char *stop;
-    double d = strtod(buf, &stop);
-    if (stop != buf + n || (v = new_value(r, LIMEN__JSON_NUMBER)) < 0)
+    char buf[64], *text = n < sizeof buf ? buf : malloc(n + 1), *stop;
+    if (!text)
+        return -1;
+    memcpy(text, r->p, n);
+    text[n] = '\0';
+    double d = strtod(text, &stop);
+    bool whole = stop == text + n;
+    if (text != buf)
+        free(text);
+    /* JSON has no infinities: a number too large for a double is refused, not made one */
+    if (!whole || !isfinite(d) || (v = new_value(r, LIMEN__JSON_NUMBER)) < 0)
         return -1;
     r->j->v[v].number = d;
     r->p += n;

@@ -27,8 +27,9 @@ typedef struct limen__json {
     int n, cap;
 } limen__json;
 
-/* Parses text[0..len) (one value, white space around it); false for bad or too deep text or
- * more than max_values values, or no memory. free(json->v) after either. */
+/* Parses text[0..len) (one value, white space around it); false for bad or too deep text, a
+ * number beyond a double's range, more than max_values values, or no memory. free(json->v)
+ * after either. */
 bool limen__json_parse(limen__json *json, const char *text, size_t len, int max_values);
 /* Member `key` of object i (-1 if i is not an object or has none); element k of array i. */
 int limen__json_get(const limen__json *json, int i, const char *key);

@@ -719,20 +719,25 @@ static void to_cache(const limen__mesh *m, const limen__lod_where *w, const lime
 
 static bool lods_make(const limen__mesh *m, const atomic_bool *stop, made *out);
 
+/* Makes m's levels here and now, stores them in the cache w under key and gives them to m;
+ * false when out of memory. */
+static bool build_here(limen__mesh *m, const limen__lod_where *w, const limen__lod_key *key)
+{
+    made mk;
+    if (!lods_make(m, NULL, &mk))
+        return false;
+    to_cache(m, w, key, &mk);
+    install(m, &mk);
+    return true;
+}
+
 bool limen__mesh_lods_build(limen__mesh *m)
 {
     limen__lod_key key;
     limen__lod_where w;
     limen__lod_cache_where(&w);
     limen__lod_cache_key(m, LOD_VERSION, &key);
-    if (from_cache(m, &w, &key))
-        return true;
-    made mk;
-    if (!lods_make(m, NULL, &mk))
-        return false;
-    to_cache(m, &w, &key, &mk);
-    install(m, &mk);
-    return true;
+    return from_cache(m, &w, &key) || build_here(m, &w, &key);
 }
 
 /* ------------------------------------------------------------------ on another thread */
@@ -778,14 +783,8 @@ bool limen__mesh_lods_start(limen__mesh *m)
     limen__lod_cache_key(m, LOD_VERSION, &key);
     if (from_cache(m, &w, &key))
         return true;
-    if (m->ntris < async_above) {
-        made mk;
-        if (!lods_make(m, NULL, &mk))
-            return false;
-        to_cache(m, &w, &key, &mk);
-        install(m, &mk);
-        return true;
-    }
+    if (m->ntris < async_above)
+        return build_here(m, &w, &key);
     /* the full mesh alone until the levels come */
     made one = { .block = malloc(HEAD), .nlods = 1 };
     struct limen__lod_job *j = calloc(1, sizeof *j);
@@ -811,7 +810,7 @@ bool limen__mesh_lods_start(limen__mesh *m)
         /* no thread: made here and now, over the full level alone as counted */
         m->bytes = counted - lods_bytes(&(limen__mesh){ .ntris = m->ntris }) + HEAD;
         free(j);
-        return limen__mesh_lods_build(m);
+        return build_here(m, &w, &key);
     }
     m->lod_job = j;
     return true;
@@ -867,6 +866,51 @@ void limen__meshes_settle(limen_scene *s, bool wait)
         limen__mesh_lods_settle(s->meshes[i], wait);
 }
 
+/* Welds m's corners into attr by position and what else a seam runs along: texture
+ * coordinates, vertex colours and parts (vpart, filled here where not NULL: a part's border
+ * is a seam). */
+static void weld_attributes(const limen__mesh *m, uint32_t *vpart, uint32_t *attr)
+{
+    size_t n0 = (size_t)m->ntris * 3;
+    struct meshopt_Stream streams[4] = { { m->pos, sizeof(float) * 3, sizeof(float) * 3 } };
+    size_t ns = 1;
+    if (m->uv)
+        streams[ns++] = (struct meshopt_Stream){ m->uv, sizeof(float) * 2, sizeof(float) * 2 };
+    if (m->col)
+        streams[ns++] = (struct meshopt_Stream){ m->col, sizeof(float) * 4, sizeof(float) * 4 };
+    if (vpart) {
+        memset(vpart, 0, sizeof(uint32_t) * m->nverts);
+        for (size_t i = 0; i < n0; i++)
+            vpart[m->idx[i]] = m->tri_part[i / 3];
+        streams[ns++] = (struct meshopt_Stream){ vpart, sizeof(uint32_t), sizeof(uint32_t) };
+    }
+    meshopt_generateShadowIndexBufferMulti(attr, m->idx, n0, m->nverts, streams, ns);
+}
+
+/* Drops each level with no less error than a coarser one (never worth drawing), which
+ * leaves the errors growing with the level: the rest packed to the front of store, *nlods
+ * and *used (the indices in store) their new counts. */
+static void drop_beaten(limen_mesh_lod *lods, size_t at[MAX_LEVELS], uint32_t *store,
+                        uint32_t *nlods, size_t *used)
+{
+    uint32_t kept = 1;
+    size_t packed = 0;
+    for (uint32_t k = 1; k < *nlods; k++) {
+        bool beaten = false;
+        for (uint32_t j = k + 1; j < *nlods && !beaten; j++)
+            beaten = lods[j].error <= lods[k].error;
+        if (beaten)
+            continue;
+        size_t len = (size_t)lods[k].triangle_count * 3;
+        memmove(store + packed, store + at[k], sizeof(uint32_t) * len);
+        lods[kept] = lods[k];
+        at[kept++] = packed;
+        packed += len;
+    }
+    *nlods = kept;
+    *used = packed;
+}
+
 /* Makes m's levels (see the top of the file) into *out, reading m only; false when out of
  * memory or stopped (stop, where not NULL, set). */
 static bool lods_make(const limen__mesh *m, const atomic_bool *stop, made *out)
@@ -895,25 +939,8 @@ static bool lods_make(const limen__mesh *m, const atomic_bool *stop, made *out)
         /* what the simplifier is given: welded by position where the attributes allow
          * (texture coordinates the same; normals are chosen after, by seam_sides), so that a
          * seam in the texture stays one, which the simplifier moves along without tearing */
-        if (attr != shadow) {
-            /* texture coordinates, vertex colours and parts (a part's border is a seam) */
-            struct meshopt_Stream streams[4] = { { m->pos, sizeof(float) * 3, sizeof(float) * 3 } };
-            size_t ns = 1;
-            if (m->uv)
-                streams[ns++] = (struct meshopt_Stream){ m->uv, sizeof(float) * 2,
-                                                         sizeof(float) * 2 };
-            if (m->col)
-                streams[ns++] = (struct meshopt_Stream){ m->col, sizeof(float) * 4,
-                                                         sizeof(float) * 4 };
-            if (vpart) {
-                memset(vpart, 0, sizeof(uint32_t) * m->nverts);
-                for (size_t i = 0; i < n0; i++)
-                    vpart[m->idx[i]] = m->tri_part[i / 3];
-                streams[ns++] = (struct meshopt_Stream){ vpart, sizeof(uint32_t),
-                                                         sizeof(uint32_t) };
-            }
-            meshopt_generateShadowIndexBufferMulti(attr, m->idx, n0, m->nverts, streams, ns);
-        }
+        if (attr != shadow)
+            weld_attributes(m, vpart, attr);
         ok = limen__lod_target_make(&full, m, shadow) && limen__lod_pack(&pk_attr, m, attr);
     }
     size_t cur_n = n0;
@@ -988,26 +1015,10 @@ static bool lods_make(const limen__mesh *m, const atomic_bool *stop, made *out)
         if (!halve)
             break;
     }
-    /* a level with no less error than a coarser one is never worth drawing: dropped, which
-     * leaves the errors growing with the level */
-    uint32_t kept = 1;
-    size_t packed = 0;
-    for (uint32_t k = 1; ok && k < nlods; k++) {
-        bool beaten = false;
-        for (uint32_t j = k + 1; j < nlods && !beaten; j++)
-            beaten = lods[j].error <= lods[k].error;
-        if (beaten)
-            continue;
-        size_t len = (size_t)lods[k].triangle_count * 3;
-        memmove(store + packed, store + at[k], sizeof(uint32_t) * len);
-        lods[kept] = lods[k];
-        at[kept++] = packed;
-        packed += len;
-    }
-    nlods = kept;
-    used = packed;
-    if (ok)
+    if (ok) {
+        drop_beaten(lods, at, store, &nlods, &used);
         limen__lod_seam_sides(m, attr, store, used);
+    }
     if (attr != shadow)
         free(attr);
     free(shadow);

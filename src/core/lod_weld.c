@@ -12,34 +12,54 @@
 
 #define SIDES_LOOK 64           /* vertices at one position a corner chooses among */
 
+/* Groups the vertices that corners name by their weld: corner i of m names the vertex
+ * corner[i], which lies at the weld shadow[i]. *group gets, per vertex, its weld
+ * (UINT32_MAX for a vertex no corner names); the vertices of weld g are members[first[g]]
+ * up to members[first[g + 1]]. False when out of memory (nothing left allocated). */
+static bool group_by_weld(const limen__mesh *m, const uint32_t *shadow, const uint32_t *corner,
+                          uint32_t **group, uint32_t **first, uint32_t **members)
+{
+    uint32_t nv = m->nverts;
+    uint32_t *g = malloc(sizeof *g * (nv ? nv : 1)), *f = calloc((size_t)nv + 1, sizeof *f),
+             *mb = malloc(sizeof *mb * (nv ? nv : 1));
+    if (!g || !f || !mb) {
+        free(g);
+        free(f);
+        free(mb);
+        return false;
+    }
+    for (uint32_t v = 0; v < nv; v++)
+        g[v] = UINT32_MAX;
+    for (size_t i = 0; i < (size_t)m->ntris * 3; i++)
+        g[corner[i]] = shadow[i];
+    for (uint32_t v = 0; v < nv; v++)
+        if (g[v] != UINT32_MAX)
+            f[g[v] + 1]++;
+    for (uint32_t v = 0; v < nv; v++)
+        f[v + 1] += f[v];
+    for (uint32_t v = 0, *fill = f; v < nv; v++)
+        if (g[v] != UINT32_MAX)
+            mb[fill[g[v]]++] = v;
+    /* the fill moved each group's start to the next one's: shift back */
+    for (uint32_t v = nv; v > 0; v--)
+        f[v] = f[v - 1];
+    f[0] = 0;
+    *group = g;
+    *first = f;
+    *members = mb;
+    return true;
+}
+
 /* The simplifier names, at each corner, the first vertex at its position (the weld). Where
  * several share the position (a seam: a crease in the normals, an edge of the texture),
  * each corner takes instead the one whose normal is nearest its triangle's own, the side
  * of the seam the triangle lies on. False when out of memory (the corners stay). */
 bool limen__lod_seam_sides(const limen__mesh *m, const uint32_t *shadow, uint32_t *idx, size_t n)
 {
-    uint32_t nv = m->nverts;
-    uint32_t *weld = malloc(sizeof *weld * nv), *first = calloc(nv + 1, sizeof *first),
-             *members = malloc(sizeof *members * nv);
-    bool ok = weld && first && members;
-    for (uint32_t v = 0; ok && v < nv; v++)
-        weld[v] = UINT32_MAX;
-    for (size_t i = 0; ok && i < (size_t)m->ntris * 3; i++)
-        weld[m->idx[i]] = shadow[i];
-    for (uint32_t v = 0; ok && v < nv; v++)
-        if (weld[v] != UINT32_MAX)
-            first[weld[v] + 1]++;
-    for (uint32_t v = 0; ok && v < nv; v++)
-        first[v + 1] += first[v];
-    for (uint32_t v = 0, *fill = first; ok && v < nv; v++)
-        if (weld[v] != UINT32_MAX)
-            members[fill[weld[v]]++] = v;
-    /* the fill moved each group's start to the next one's: shift back */
-    for (uint32_t v = nv; ok && v > 0; v--)
-        first[v] = first[v - 1];
-    if (ok)
-        first[0] = 0;
-    for (size_t t = 0; ok && t < n / 3; t++) {
+    uint32_t *weld, *first, *members;
+    if (!group_by_weld(m, shadow, m->idx, &weld, &first, &members))
+        return false;
+    for (size_t t = 0; t < n / 3; t++) {
         const float *a = &m->pos[idx[t * 3] * 3], *b = &m->pos[idx[t * 3 + 1] * 3],
                     *c = &m->pos[idx[t * 3 + 2] * 3];
         double e1[3] = { b[0] - a[0], b[1] - a[1], b[2] - a[2] },
@@ -68,7 +88,7 @@ bool limen__lod_seam_sides(const limen__mesh *m, const uint32_t *shadow, uint32_
     free(weld);
     free(first);
     free(members);
-    return ok;
+    return true;
 }
 
 /* After clustering (the sloppy simplifier, which knows positions only), a triangle's
@@ -81,27 +101,10 @@ bool limen__lod_pick_charts(const limen__mesh *m, const uint32_t *shadow, const 
                             const uint32_t *vpart, uint32_t *idx, size_t n)
 {
     enum { MAX_SIDES = 8 };
-    uint32_t nv = m->nverts;
-    uint32_t *prep = malloc(sizeof *prep * nv), *first = calloc((size_t)nv + 1, sizeof *first),
-             *members = malloc(sizeof *members * nv);
-    bool ok = prep && first && members;
-    for (uint32_t v = 0; ok && v < nv; v++)
-        prep[v] = UINT32_MAX;
-    for (size_t i = 0; ok && i < (size_t)m->ntris * 3; i++)
-        prep[attr[i]] = shadow[i];
-    for (uint32_t v = 0; ok && v < nv; v++)
-        if (prep[v] != UINT32_MAX)
-            first[prep[v] + 1]++;
-    for (uint32_t v = 0; ok && v < nv; v++)
-        first[v + 1] += first[v];
-    for (uint32_t v = 0, *fill = first; ok && v < nv; v++)
-        if (prep[v] != UINT32_MAX)
-            members[fill[prep[v]]++] = v;
-    for (uint32_t v = nv; ok && v > 0; v--)
-        first[v] = first[v - 1];
-    if (ok)
-        first[0] = 0;
-    for (size_t t = 0; ok && t < n / 3; t++) {
+    uint32_t *prep, *first, *members;
+    if (!group_by_weld(m, shadow, attr, &prep, &first, &members))
+        return false;
+    for (size_t t = 0; t < n / 3; t++) {
         uint32_t *c = &idx[t * 3], from[3], count[3];
         bool choice = false;
         for (int k = 0; k < 3; k++) {
@@ -144,7 +147,7 @@ bool limen__lod_pick_charts(const limen__mesh *m, const uint32_t *shadow, const 
     free(prep);
     free(first);
     free(members);
-    return ok;
+    return true;
 }
 
 void limen__lod_welded_free(limen__lod_welded *pk)

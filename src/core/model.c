@@ -390,7 +390,10 @@ static void gltf_extras(limen_scene *s, const char *path, model *m)
     int lights = limen__json_get(&j, limen__json_get(&j, limen__json_get(&j, 0, "extensions"),
                                                     "KHR_lights_punctual"), "lights");
     int nodes = limen__json_get(&j, 0, "nodes"), cams = limen__json_get(&j, 0, "cameras");
-    for (int k = 0, nd; (nd = limen__json_at(&j, nodes, k)) >= 0; k++) {
+    /* along the siblings: limen__json_at walks from the first each time, which over a file
+     * of many nodes would take their count squared */
+    int first = limen__json_at(&j, nodes, 0);
+    for (int nd = first; nd >= 0; nd = j.v[nd].next) {
         int name = limen__json_get(&j, nd, "name"), ci = limen__json_get(&j, nd, "camera");
         int yfov = ci >= 0 && j.v[ci].type == LIMEN__JSON_NUMBER && j.v[ci].number >= 0 &&
                            j.v[ci].number <= 1e6

@@ -254,7 +254,9 @@ static int host_enter(limen__ctx *c, const limen__gl *gl, char *err, size_t errs
                                "deletes from no other)");
         return -1;
     }
-    while (gl->GetError() != GL_NO_ERROR)
+    /* the game's pending errors, so that limen's checks see its own; bounded, as a context
+     * that is lost may answer GL_CONTEXT_LOST to every call */
+    for (int k = 0; k < 64 && gl->GetError() != GL_NO_ERROR; k++)
         ;
     save(gl, &c->st);
     neutral(gl);

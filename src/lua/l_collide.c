@@ -7,9 +7,20 @@
 
 #include "lua/l_api.h"
 
-static void push_matrix(lua_State *L, const float m[16])
+/* Sets what a sweep and a slide both tell of the portals crossed in the table on top of the
+ * stack: portals (how many), portal (the last, a node of the scene at index `scene`), matrix
+ * (the move through them) and radius (the radius on the far side). */
+static void set_crossing(lua_State *L, int scene, int crossed, limen_node portal,
+                         const float matrix[16], float radius)
 {
-    limen__lua_push_vec(L, m, 16, 1);
+    lua_pushinteger(L, crossed);
+    lua_setfield(L, -2, "portals");
+    limen__lua_push_node(L, scene, portal);
+    lua_setfield(L, -2, "portal");
+    limen__lua_push_vec(L, matrix, 16, 1);
+    lua_setfield(L, -2, "matrix");
+    limen__lua_push_float(L, radius);
+    lua_setfield(L, -2, "radius");
 }
 
 /* s:sweep { from = {x, y, z}, to = {x, y, z}, radius = r [, segment = {x, y, z}]
@@ -70,14 +81,7 @@ int limen__lua_scene_sweep(lua_State *L)
         limen__lua_push_node(L, 1, r.node);
         lua_setfield(L, -2, "node");
     }
-    lua_pushinteger(L, r.portals);
-    lua_setfield(L, -2, "portals");
-    limen__lua_push_node(L, 1, r.portal);
-    lua_setfield(L, -2, "portal");
-    push_matrix(L, r.matrix);
-    lua_setfield(L, -2, "matrix");
-    limen__lua_push_float(L, r.radius);
-    lua_setfield(L, -2, "radius");
+    set_crossing(L, 1, r.portals, r.portal, r.matrix, r.radius);
     return 1;
 }
 
@@ -120,13 +124,6 @@ int limen__lua_node_slide(lua_State *L)
     lua_setfield(L, -2, "contacts");
     limen__lua_push_vec(L, r.normal, 3, 1);
     lua_setfield(L, -2, "normal");
-    lua_pushinteger(L, r.crossed);
-    lua_setfield(L, -2, "portals");
-    limen__lua_push_node(L, 3, r.portal);
-    lua_setfield(L, -2, "portal");
-    push_matrix(L, r.matrix);
-    lua_setfield(L, -2, "matrix");
-    limen__lua_push_float(L, r.radius);
-    lua_setfield(L, -2, "radius");
+    set_crossing(L, 3, r.crossed, r.portal, r.matrix, r.radius);
     return 1;
 }
