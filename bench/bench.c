@@ -212,7 +212,7 @@ static limen_render_opts opts_for(int v, int clip, int depth)
     o.limits.depth_rule = LIMEN_DEPTH_RULE_CAP;
     o.limits.depth = depth;
     /* the methods as they are, the naive one's full-image views included: no frame budget */
-    o.limits.budget = (limen_frame_budget){ INT64_MAX, INT64_MAX };
+    o.limits.budget = (limen_frame_budget){ INT64_MAX, INT64_MAX, INT64_MAX };
     return o;
 }
 

@@ -3,6 +3,7 @@
  * author would try (reads outside, links, FIFOs, header bombs, formats that crash the
  * importer), each written here into a temporary folder. No GL. */
 #include <errno.h>
+#include <fcntl.h>
 #include <pthread.h>
 #include <signal.h>
 #include <stdint.h>
@@ -525,10 +526,243 @@ static void test_contain(void)
     CHECK(limen__contain_run(spin, NULL, &lim, &b, why, sizeof why, &cpu) ==
           LIMEN__CONTAIN_TIME);
     CHECK_MSG(cpu >= 0.9, "%g s", cpu);
-#ifndef __SANITIZE_ADDRESS__
+#if !defined(__SANITIZE_ADDRESS__) && !defined(__SANITIZE_THREAD__)
     int rc = limen__contain_run(hog, NULL, &lim, &b, why, sizeof why, &cpu);
     CHECK_MSG(rc == LIMEN__CONTAIN_FAILED && limen__contain_code() == 7, "%d %s", rc, why);
 #endif
+}
+
+/* ---- the import worker (core/contain.c): one process kept between safe imports */
+
+typedef struct mesh_seen {
+    limen_status st;
+    char msg[512];
+    limen_mesh_info mi;
+    int pid;                    /* the worker after the load (0: none) */
+} mesh_seen;
+
+static mesh_seen load_mesh(const char *file, int trusted)
+{
+    mesh_seen m = { 0 };
+    char text[512];
+    snprintf(text, sizeof text, "local limen = require 'limen' local s = limen.scene{}\n"
+             "s:mesh{ name = 'm', file = '%s' }\nreturn s\n", file);
+    const char *path = at(dir, "worker.lua");
+    put_text(path, text);
+    limen_script *sc = NULL;
+    m.st = limen_script_load(path, &(limen_script_desc){ .trusted = trusted }, &sc);
+    snprintf(m.msg, sizeof m.msg, "%s", sc ? limen_script_error(sc) : "");
+    limen_scene *s = limen_script_scene(sc);
+    limen_node n;
+    if (!m.st && s && !limen_node_find(s, "m", &n))
+        m.st = limen_mesh_get(s, n, &m.mi);
+    limen_script_destroy(sc);
+    m.pid = limen__contain_worker_pid();
+    return m;
+}
+
+static bool same_mesh(const limen_mesh_info *a, const limen_mesh_info *b)
+{
+    return a->triangle_count == b->triangle_count && a->vertex_count == b->vertex_count &&
+           memcmp(a->lo, b->lo, sizeof a->lo) == 0 && memcmp(a->hi, b->hi, sizeof a->hi) == 0;
+}
+
+static void copy_in(const char *from, const char *name)
+{
+    FILE *f = fopen(from, "rb");
+    CHECK_MSG(f != NULL, "cannot read %s", from);
+    if (!f)
+        return;
+    static char buf[1 << 20];
+    size_t n = fread(buf, 1, sizeof buf, f);
+    fclose(f);
+    put(at(dir, name), buf, n);
+}
+
+/* Two safe loads of the bunny go through one worker and give what a trusted load gives. */
+static void test_worker_reuse(void)
+{
+    copy_in("scenes/data/bunny.glb", "bunny.glb");
+    mesh_seen a = load_mesh("bunny.glb", 0), b = load_mesh("bunny.glb", 0),
+              c = load_mesh("bunny.glb", 1);
+    CHECK_MSG(!a.st && !b.st && !c.st, "%s | %s | %s", a.msg, b.msg, c.msg);
+    CHECK_MSG(a.pid > 0 && a.pid == b.pid, "workers %d then %d", a.pid, b.pid);
+    CHECK(a.mi.triangle_count > 1000);
+    CHECK(same_mesh(&a.mi, &b.mi) && same_mesh(&a.mi, &c.mi));
+}
+
+/* A file that crashes the importer ends the worker; the next import starts a new one. */
+static void test_worker_crash(void)
+{
+    put_text(at(dir, "abort.ply"), ply_abort);
+    put_text(at(dir, "tri.stl"), "solid t\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\n"
+             "vertex 1 0 0\nvertex 0 1 0\nendloop\nendfacet\nendsolid t\n");
+    mesh_seen good = load_mesh("tri.stl", 0);
+    CHECK_MSG(!good.st && good.mi.triangle_count == 1 && good.pid > 0, "%s", good.msg);
+    mesh_seen bad = load_mesh("abort.ply", 0);
+    CHECK_MSG(bad.st && strstr(bad.msg, "the importer crashed reading"), "%s", bad.msg);
+    CHECK_MSG(bad.pid == 0, "worker %d still there", bad.pid);
+    CHECK(kill(good.pid, 0) != 0 && errno == ESRCH);   /* gone and reaped */
+    mesh_seen after = load_mesh("tri.stl", 0);
+    CHECK_MSG(!after.st && after.mi.triangle_count == 1, "%s", after.msg);
+    CHECK_MSG(after.pid > 0 && after.pid != good.pid, "%d then %d", good.pid, after.pid);
+    /* an import that fails (an error, not a crash) replaces the worker too */
+    put_text(at(dir, "bad.stl"), "solid t\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\n");
+    mesh_seen refused = load_mesh("bad.stl", 0);
+    CHECK_MSG(refused.st, "%s", refused.msg);
+    CHECK_MSG(refused.pid == 0 && kill(after.pid, 0) != 0, "worker %d after a failed import",
+              refused.pid);
+}
+
+static int echo_job(limen__block *job, int fd, limen__block *out, char *why, size_t size)
+{
+    limen__block_put(out, job->data, job->len);
+    return 0;
+}
+
+static int crash_job(limen__block *job, int fd, limen__block *out, char *why, size_t size)
+{
+    return crash(NULL, out, why, size);
+}
+
+static int spin_job(limen__block *job, int fd, limen__block *out, char *why, size_t size)
+{
+    return spin(NULL, out, why, size);
+}
+
+static int hog_job(limen__block *job, int fd, limen__block *out, char *why, size_t size)
+{
+    return hog(NULL, out, why, size);
+}
+
+/* The descriptors the worker holds while a job runs, and the folder's identity. */
+static int fds_job(limen__block *job, int fd, limen__block *out, char *why, size_t size)
+{
+    struct stat st;
+    int64_t seen[3] = { 0, -1, -1 };
+    if (fd >= 0 && fstat(fd, &st) == 0) {
+        seen[1] = (int64_t)st.st_dev;
+        seen[2] = (int64_t)st.st_ino;
+    }
+    char path[64];
+    for (int i = 0; i < 1024; i++) {
+        snprintf(path, sizeof path, "/proc/self/fd/%d", i);
+        if (access(path, F_OK) == 0)
+            seen[0]++;
+    }
+    limen__block_put(out, seen, sizeof seen);
+    return 0;
+}
+
+static int job(limen__job_fn fn, const char *text, int fd, double cpu, limen__block *b,
+               double *spent)
+{
+    limen__block in = { (unsigned char *)text, strlen(text), strlen(text), 0, false };
+    limen__contain_limits lim = { 64 << 20, cpu, 0 };
+    char why[256];
+    double ignored;
+    return limen__contain_job(fn, &in, fd, &lim, b, why, sizeof why, spent ? spent : &ignored);
+}
+
+/* A crash, a time limit and a memory bomb each end the worker, and a good job after each
+ * runs in a fresh one; the folder comes with the job, and nothing else of the host's. */
+static void test_worker_hostile(void)
+{
+    limen__block b;
+    double spent;
+    CHECK(job(echo_job, "one", -1, 1, &b, NULL) == LIMEN__CONTAIN_OK && b.len == 3 &&
+          memcmp(b.data, "one", 3) == 0);
+    limen__block_free(&b);
+    int p1 = limen__contain_worker_pid();
+    CHECK(job(echo_job, "two", -1, 1, &b, NULL) == LIMEN__CONTAIN_OK && b.len == 3);
+    limen__block_free(&b);
+    CHECK_MSG(p1 > 0 && limen__contain_worker_pid() == p1, "%d", p1);
+    CHECK(job(crash_job, "", -1, 1, &b, NULL) == LIMEN__CONTAIN_CRASHED);
+    CHECK(limen__contain_worker_pid() == 0);
+    CHECK(job(echo_job, "three", -1, 1, &b, NULL) == LIMEN__CONTAIN_OK && b.len == 5);
+    limen__block_free(&b);
+    int p2 = limen__contain_worker_pid();
+    CHECK(p2 > 0 && p2 != p1);
+    CHECK(job(spin_job, "", -1, 1, &b, &spent) == LIMEN__CONTAIN_TIME);
+    CHECK_MSG(spent >= 0.9, "%g s", spent);
+    CHECK(job(echo_job, "four", -1, 1, &b, NULL) == LIMEN__CONTAIN_OK && b.len == 4);
+    limen__block_free(&b);
+#if !defined(__SANITIZE_ADDRESS__) && !defined(__SANITIZE_THREAD__)
+    int p3 = limen__contain_worker_pid();
+    int rc = job(hog_job, "", -1, 5, &b, NULL);
+    CHECK_MSG(rc == LIMEN__CONTAIN_FAILED && limen__contain_code() == 7, "%d", rc);
+    CHECK(limen__contain_worker_pid() == 0 && kill(p3, 0) != 0);
+    CHECK(job(echo_job, "five", -1, 1, &b, NULL) == LIMEN__CONTAIN_OK && b.len == 4);
+    limen__block_free(&b);
+#endif
+    /* the folder's descriptor comes with the job; the worker holds 0-2, its socket, the
+     * folder and the one it lists /proc/self/fd with (access opens none) */
+    int folder = open(dir, O_PATH | O_DIRECTORY | O_CLOEXEC);
+    int stray = open("/dev/null", O_RDONLY);        /* inherited by a fork, not the worker */
+    struct stat st;
+    CHECK(folder >= 0 && stray >= 0 && fstat(folder, &st) == 0);
+    CHECK(job(fds_job, "", folder, 1, &b, NULL) == LIMEN__CONTAIN_OK && b.len == 24);
+    int64_t seen[3] = { 0 };
+    if (b.len == 24)
+        memcpy(seen, b.data, sizeof seen);
+    limen__block_free(&b);
+    CHECK_MSG(seen[1] == (int64_t)st.st_dev && seen[2] == (int64_t)st.st_ino, "%lld",
+              (long long)seen[2]);
+    CHECK_MSG(seen[0] == 5, "%lld descriptors", (long long)seen[0]);
+    /* the same folder again, or a job with none: the same worker; another folder: a fresh
+     * one, which has never seen the first */
+    int p4 = limen__contain_worker_pid();
+    CHECK(job(fds_job, "", folder, 1, &b, NULL) == LIMEN__CONTAIN_OK);
+    limen__block_free(&b);
+    CHECK(job(echo_job, "six", -1, 1, &b, NULL) == LIMEN__CONTAIN_OK);
+    limen__block_free(&b);
+    CHECK_MSG(p4 > 0 && limen__contain_worker_pid() == p4, "%d then %d", p4,
+              limen__contain_worker_pid());
+    int other = open(root, O_PATH | O_DIRECTORY | O_CLOEXEC);
+    CHECK(job(fds_job, "", other, 1, &b, NULL) == LIMEN__CONTAIN_OK);
+    limen__block_free(&b);
+    int p5 = limen__contain_worker_pid();
+    CHECK_MSG(p5 > 0 && p5 != p4 && kill(p4, 0) != 0, "%d then %d", p4, p5);
+    close(other);
+    close(folder);
+    close(stray);
+}
+
+/* Two threads at once: each answer is its own (one worker, one job at a time; the other
+ * thread's job runs in a child of its own meanwhile). */
+static void *echo_thread(void *arg)
+{
+    const char *tag = arg;
+    long bad = 0;
+    for (int i = 0; i < 40; i++) {
+        char text[64];
+        snprintf(text, sizeof text, "%s %d", tag, i);
+        limen__block b;
+        if (job(echo_job, text, -1, 2, &b, NULL) != LIMEN__CONTAIN_OK || b.len != strlen(text) ||
+            memcmp(b.data, text, b.len) != 0)
+            bad++;
+        limen__block_free(&b);
+    }
+    return (void *)bad;
+}
+
+static void test_worker_threads(void)
+{
+    pthread_t t[2];
+    const char *tags[2] = { "left", "right-hand" };
+    for (int i = 0; i < 2; i++)
+        CHECK(pthread_create(&t[i], NULL, echo_thread, (void *)tags[i]) == 0);
+    for (int i = 0; i < 2; i++) {
+        void *bad = NULL;
+        pthread_join(t[i], &bad);
+        CHECK_MSG(bad == NULL, "%ld wrong answers", (long)bad);
+    }
+    /* the worker forked by a thread that has ended is gone (PR_SET_PDEATHSIG); the next
+     * job starts another */
+    limen__block b;
+    CHECK(job(echo_job, "after", -1, 1, &b, NULL) == LIMEN__CONTAIN_OK && b.len == 5);
+    limen__block_free(&b);
+    CHECK(limen__contain_worker_pid() > 0);
 }
 
 static void cleanup(const char *folder)
@@ -553,6 +787,10 @@ static const check_case cases[] = {
     { "require", test_require },
     { "messages", test_messages },
     { "contain", test_contain },
+    { "worker_reuse", test_worker_reuse },
+    { "worker_crash", test_worker_crash },
+    { "worker_hostile", test_worker_hostile },
+    { "worker_threads", test_worker_threads },
     { 0 },
 };
 

@@ -284,3 +284,433 @@ int limen__contain_run(limen__contained_fn fn, void *arg, const limen__contain_l
     free(data);
     return outcome;
 }
+
+/* ------------------------------------------------------------------ the import worker
+ *
+ * One worker per process (not per scene: a scene's folder comes with each job, so one
+ * process serves them all, and the host keeps one idle process, not one per scene). It is
+ * forked by the first job, from the calling thread, and keeps only its end of a unix socket
+ * (moved to descriptor 3) and the standard descriptors pointed at /dev/null; every other
+ * descriptor it inherited is closed. A job is [head][bytes] with the folder's descriptor
+ * passed beside the head (SCM_RIGHTS), and the worker closes that descriptor when the job
+ * ends. Before each job it sets its soft limits: RLIMIT_AS the host's mapping at its start
+ * plus the allowance plus twice the memory the job may take, below a hard limit fixed by the
+ * first job (a job that needs more gets a fresh worker); RLIMIT_CPU the processor time the
+ * worker has used plus the job's (SIGXCPU ends it), its hard limit left open because the
+ * count only grows: the host's wall-clock deadline (4x the time, plus 5 s) backs it. It
+ * answers [status][why][processor time of the job][length][bytes]. A crash, a limit, a
+ * deadline or a failed job ends it (what a hostile file left in its heap serves no other
+ * file); it dies with the thread that forked it (PR_SET_PDEATHSIG) and exits when the socket
+ * closes. A worker serves one folder in its life: a job of another folder replaces it (jobs
+ * without one, image decoding, share any). The host writes with MSG_NOSIGNAL, so a worker gone at any moment is a failed
+ * job, never a SIGPIPE. A lock keeps one job at a time in the worker; a job that finds it
+ * taken runs in a child of its own (limen__contain_run), as does one where no worker
+ * starts. */
+#include <pthread.h>
+#include <sys/prctl.h>
+#include <sys/socket.h>
+#include <sys/stat.h>
+#include <sys/syscall.h>
+
+int limen__contain_no_worker;
+
+typedef struct job_head {
+    uint64_t fn;                /* the limen__job_fn (the worker is a fork: the same code) */
+    uint64_t as;                /* RLIMIT_AS soft for the job; 0: the hard limit */
+    double cpu_seconds;         /* 0: none */
+    uint64_t len;               /* bytes that follow */
+} job_head;
+
+static struct {
+    pthread_mutex_t lock;
+    pid_t pid, owner, tid;      /* the worker; the process and the thread that forked it */
+    int sock;
+    uint64_t as_hard;           /* its hard RLIMIT_AS (0: none) */
+    size_t base;                /* the host's mapping when it was forked */
+    double cpu_told;            /* processor time it has told of */
+    bool has_folder;            /* it has been handed a folder: this one */
+    dev_t dev;
+    ino_t ino;
+} wk = { PTHREAD_MUTEX_INITIALIZER, 0, 0, 0, -1, 0, 0, 0, false, 0, 0 };
+
+/* Whether the thread that forked the worker has ended (its PR_SET_PDEATHSIG ends the
+ * worker, at once or a moment later). */
+static bool forker_gone_at(pid_t tid)
+{
+    if (tid == (pid_t)syscall(SYS_gettid))
+        return false;
+    char path[64];
+    snprintf(path, sizeof path, "/proc/self/task/%d", (int)tid);
+    return access(path, F_OK) != 0;
+}
+
+static bool forker_gone(void)
+{
+    return forker_gone_at(wk.tid);
+}
+
+int limen__contain_worker_pid(void)
+{
+    pthread_mutex_lock(&wk.lock);
+    int pid = wk.pid && wk.owner == getpid() ? (int)wk.pid : 0;
+    pthread_mutex_unlock(&wk.lock);
+    return pid;
+}
+
+static double self_cpu(void)
+{
+    struct rusage ru;
+    getrusage(RUSAGE_SELF, &ru);
+    return seconds(ru.ru_utime) + seconds(ru.ru_stime);
+}
+
+static bool send_all(int fd, const void *p, size_t n)
+{
+    const unsigned char *c = p;
+    while (n) {
+        ssize_t w = send(fd, c, n, MSG_NOSIGNAL);
+        if (w < 0 && errno == EINTR)
+            continue;
+        if (w <= 0)
+            return false;
+        c += w;
+        n -= (size_t)w;
+    }
+    return true;
+}
+
+/* The head with fd beside it (fd < 0: none). */
+static bool send_head(int sock, const job_head *h, int fd)
+{
+    union {
+        struct cmsghdr c;
+        char buf[CMSG_SPACE(sizeof(int))];
+    } u;
+    memset(&u, 0, sizeof u);
+    struct iovec iov = { (void *)h, sizeof *h };
+    struct msghdr m = { .msg_iov = &iov, .msg_iovlen = 1 };
+    if (fd >= 0) {
+        m.msg_control = u.buf;
+        m.msg_controllen = sizeof u.buf;
+        struct cmsghdr *c = CMSG_FIRSTHDR(&m);
+        c->cmsg_level = SOL_SOCKET;
+        c->cmsg_type = SCM_RIGHTS;
+        c->cmsg_len = CMSG_LEN(sizeof(int));
+        memcpy(CMSG_DATA(c), &fd, sizeof fd);
+    }
+    ssize_t w;
+    while ((w = sendmsg(sock, &m, MSG_NOSIGNAL)) < 0 && errno == EINTR)
+        ;
+    if (w < 0)
+        return false;
+    return (size_t)w == sizeof *h || send_all(sock, (const char *)h + w, sizeof *h - (size_t)w);
+}
+
+/* In the worker: the head and the descriptor beside it; false at the socket's end. */
+static bool recv_head(int sock, job_head *h, int *fd)
+{
+    *fd = -1;
+    union {
+        struct cmsghdr c;
+        char buf[CMSG_SPACE(sizeof(int))];
+    } u;
+    struct iovec iov = { h, sizeof *h };
+    struct msghdr m = { .msg_iov = &iov, .msg_iovlen = 1, .msg_control = u.buf,
+                        .msg_controllen = sizeof u.buf };
+    ssize_t r;
+    while ((r = recvmsg(sock, &m, MSG_CMSG_CLOEXEC)) < 0 && errno == EINTR)
+        ;
+    if (r <= 0)
+        return false;
+    for (struct cmsghdr *c = CMSG_FIRSTHDR(&m); c; c = CMSG_NXTHDR(&m, c))
+        if (c->cmsg_level == SOL_SOCKET && c->cmsg_type == SCM_RIGHTS &&
+            c->cmsg_len == CMSG_LEN(sizeof(int)))
+            memcpy(fd, CMSG_DATA(c), sizeof *fd);
+    if ((size_t)r < sizeof *h && read_exact(sock, (char *)h + r, sizeof *h - (size_t)r, 0))
+        return false;
+    return true;
+}
+
+static void worker_main(int sock, pid_t host, uint64_t as_hard)
+{
+    prctl(PR_SET_PDEATHSIG, SIGKILL);
+    if (getppid() != host)
+        _exit(0);
+    static const int fatal[] = { SIGSEGV, SIGBUS, SIGABRT, SIGFPE, SIGILL, SIGTRAP, SIGSYS,
+                                 SIGXCPU, SIGPIPE };
+    for (size_t i = 0; i < sizeof fatal / sizeof fatal[0]; i++)
+        signal(fatal[i], SIG_DFL);
+    sigset_t none;
+    sigemptyset(&none);
+    sigprocmask(SIG_SETMASK, &none, NULL);
+    /* the socket to 3 first (it may be 0 to 2 where the host closed those), then the
+     * standard descriptors to /dev/null */
+    if (sock != 3) {
+        if (dup2(sock, 3) != 3)
+            _exit(3);
+        sock = 3;
+    }
+    int null = open("/dev/null", O_RDWR | O_CLOEXEC);
+    if (null >= 0) {
+        dup2(null, 0);
+        dup2(null, 1);
+        dup2(null, 2);
+    }
+    /* nothing of the host's but the socket: each job's folder comes with the job */
+    if (syscall(SYS_close_range, 4u, ~0u, 0u) != 0)
+        for (int fd = 4; fd < 65536; fd++)
+            close(fd);
+    struct rlimit no_core = { 0, 0 };
+    setrlimit(RLIMIT_CORE, &no_core);
+    if (as_hard) {
+        struct rlimit r = { (rlim_t)as_hard, (rlim_t)as_hard };
+        setrlimit(RLIMIT_AS, &r);
+    }
+    for (;;) {
+        job_head h;
+        int fd;
+        if (!recv_head(sock, &h, &fd))
+            _exit(0);
+        limen__block job = { 0 };
+        if (h.len && (!(job.data = malloc((size_t)h.len)) ||
+                      read_exact(sock, job.data, (size_t)h.len, 0)))
+            _exit(3);
+        job.len = job.cap = (size_t)h.len;
+        struct rlimit r;
+        getrlimit(RLIMIT_AS, &r);
+        r.rlim_cur = h.as && (r.rlim_max == RLIM_INFINITY || h.as < r.rlim_max) ? h.as
+                                                                                : r.rlim_max;
+        setrlimit(RLIMIT_AS, &r);
+        double before = self_cpu();
+        getrlimit(RLIMIT_CPU, &r);
+        r.rlim_cur = h.cpu_seconds > 0 ? (rlim_t)ceil(before + h.cpu_seconds) : r.rlim_max;
+        setrlimit(RLIMIT_CPU, &r);
+        limen__block out = { 0 };
+        char why[512] = "";
+        int32_t rc = ((limen__job_fn)(uintptr_t)h.fn)(&job, fd, &out, why, sizeof why);
+        if (fd >= 0)
+            close(fd);
+        free(job.data);
+        if (!rc && out.failed) {
+            rc = 1;
+            snprintf(why, sizeof why, "out of memory");
+        }
+        double cpu = self_cpu() - before;
+        uint32_t wl = rc ? (uint32_t)strnlen(why, sizeof why - 1) : 0;
+        uint64_t len = rc ? 0 : out.len;
+        bool ok = send_all(sock, &rc, sizeof rc) && send_all(sock, &wl, sizeof wl) &&
+                  send_all(sock, why, wl) && send_all(sock, &cpu, sizeof cpu) &&
+                  send_all(sock, &len, sizeof len) && send_all(sock, out.data, (size_t)len);
+        free(out.data);
+        if (!ok || rc)
+            _exit(0);
+    }
+}
+
+/* Ends the worker (lock held) and gives the processor time it spent untold. */
+static double worker_end(bool kill_it)
+{
+    double spent = 0;
+    if (wk.pid && wk.owner == getpid()) {
+        if (kill_it)
+            kill(wk.pid, SIGKILL);
+        close(wk.sock);
+        int status;
+        struct rusage ru;
+        memset(&ru, 0, sizeof ru);
+        while (wait4(wk.pid, &status, 0, &ru) < 0 && errno == EINTR)
+            ;
+        spent = seconds(ru.ru_utime) + seconds(ru.ru_stime) - wk.cpu_told;
+    }
+    wk.pid = 0;
+    wk.sock = -1;
+    wk.cpu_told = 0;
+    return spent > 0 ? spent : 0;
+}
+
+/* The RLIMIT_AS a job under lim gets, for a worker forked at base. */
+static uint64_t job_as(const limen__contain_limits *lim, size_t base)
+{
+    if (!lim->mem_bytes || !base)
+        return 0;
+    size_t as = base + ALLOWANCE;
+    return lim->mem_bytes > (SIZE_MAX - as) / 2 ? 0 : as + 2 * lim->mem_bytes;
+}
+
+/* Starts a worker (lock held) whose hard limit is what lim allows; false if none can. */
+static bool worker_start(const limen__contain_limits *lim)
+{
+    int sv[2];
+    if (socketpair(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0, sv) != 0)
+        return false;
+    size_t base = mapped();
+    uint64_t hard = job_as(lim, base);
+    pid_t host = getpid();
+    pid_t pid = fork();
+    if (pid < 0) {
+        close(sv[0]);
+        close(sv[1]);
+        return false;
+    }
+    if (pid == 0) {
+        close(sv[0]);
+        worker_main(sv[1], host, hard);
+    }
+    close(sv[1]);
+    wk.pid = pid;
+    wk.owner = host;
+    wk.tid = (pid_t)syscall(SYS_gettid);
+    wk.has_folder = false;
+    wk.sock = sv[0];
+    wk.as_hard = hard;
+    wk.base = base;
+    wk.cpu_told = 0;
+    return true;
+}
+
+typedef struct job_arg {
+    limen__job_fn fn;
+    limen__block job;
+    int fd;
+} job_arg;
+
+static int job_in_child(void *arg, limen__block *out, char *why, size_t why_size)
+{
+    job_arg *j = arg;
+    return j->fn(&j->job, j->fd, out, why, why_size);
+}
+
+int limen__contain_job(limen__job_fn fn, const limen__block *job, int fd,
+                       const limen__contain_limits *lim, limen__block *out, char *why,
+                       size_t why_size, double *cpu_spent)
+{
+    memset(out, 0, sizeof *out);
+    *cpu_spent = 0;
+    why[0] = '\0';
+    job_arg ja = { fn, { job->data, job->len, job->len, 0, false }, fd };
+    if (limen__contain_no_worker || pthread_mutex_trylock(&wk.lock) != 0)
+        return limen__contain_run(job_in_child, &ja, lim, out, why, why_size, cpu_spent);
+    if (wk.pid && wk.owner != getpid()) {       /* a fork of the host: not its worker */
+        close(wk.sock);
+        wk.pid = 0;
+        wk.sock = -1;
+    }
+    /* a worker gone while idle (its thread ended), or one whose hard limit is below what
+     * this job may take, is replaced */
+    bool retried = false;
+again:
+    if (wk.pid && forker_gone())
+        *cpu_spent += worker_end(true);
+    /* a worker sees one folder in its life: a job of another folder gets a fresh one, so
+     * that whatever a file did to one worker reaches no other scene's files */
+    struct stat fst;
+    bool folder = fd >= 0 && fstat(fd, &fst) == 0;
+    if (wk.pid && folder && wk.has_folder && (fst.st_dev != wk.dev || fst.st_ino != wk.ino))
+        *cpu_spent += worker_end(true);
+    if (wk.pid) {
+        int status;
+        uint64_t as = job_as(lim, wk.base);
+        if (waitpid(wk.pid, &status, WNOHANG) != 0) {
+            wk.pid = 0;
+            close(wk.sock);
+            wk.sock = -1;
+        } else if (wk.as_hard && (!as || as > wk.as_hard))
+            *cpu_spent += worker_end(true);
+    }
+    if (!wk.pid && !worker_start(lim)) {
+        pthread_mutex_unlock(&wk.lock);
+        return limen__contain_run(job_in_child, &ja, lim, out, why, why_size, cpu_spent);
+    }
+    if (folder && !wk.has_folder) {
+        wk.has_folder = true;
+        wk.dev = fst.st_dev;
+        wk.ino = fst.st_ino;
+    }
+    job_head h = { (uint64_t)(uintptr_t)fn, job_as(lim, wk.base), lim->cpu_seconds,
+                   (uint64_t)job->len };
+    size_t most = lim->answer_bytes ? lim->answer_bytes
+                  : lim->mem_bytes && lim->mem_bytes < SIZE_MAX - 65536 ? lim->mem_bytes + 65536
+                                                                        : SIZE_MAX;
+    double deadline = lim->cpu_seconds > 0 ? now() + 4 * lim->cpu_seconds + 5 : 0;
+    int outcome = LIMEN__CONTAIN_OK, got = 1;
+    int32_t rc = 0;
+    uint32_t wl = 0;
+    uint64_t len = 0;
+    double cpu = 0;
+    char w[4096];
+    unsigned char *data = NULL;
+    if (send_head(wk.sock, &h, fd) && send_all(wk.sock, job->data, job->len) &&
+        (got = read_exact(wk.sock, &rc, sizeof rc, deadline)) == 0 &&
+        (got = read_exact(wk.sock, &wl, sizeof wl, deadline)) == 0) {
+        if (wl >= sizeof w)
+            got = 1;
+        else if ((got = read_exact(wk.sock, w, wl, deadline)) == 0 &&
+                 (got = read_exact(wk.sock, &cpu, sizeof cpu, deadline)) == 0)
+            got = read_exact(wk.sock, &len, sizeof len, deadline);
+    }
+    if (got == 0 && !rc && len) {
+        if (len > most || !(data = malloc((size_t)len)))
+            outcome = LIMEN__CONTAIN_MEMORY;
+        else
+            got = read_exact(wk.sock, data, (size_t)len, deadline);
+    }
+    if (got == 2)
+        outcome = LIMEN__CONTAIN_TIME;
+    if (got == 0 && outcome == LIMEN__CONTAIN_OK && !rc) {
+        /* told its time, kept for the next job */
+        wk.cpu_told += cpu > 0 ? cpu : 0;
+        *cpu_spent += cpu > 0 ? cpu : 0;
+        pthread_mutex_unlock(&wk.lock);
+        *out = (limen__block){ .data = data, .len = (size_t)len, .cap = (size_t)len };
+        return outcome;
+    }
+    /* anything else ends it: a failed job exits by itself, the rest are killed */
+    pid_t pid = wk.pid, tid = wk.tid;
+    bool failed = got == 0 && outcome == LIMEN__CONTAIN_OK && rc;
+    if (failed) {
+        wk.cpu_told += cpu > 0 ? cpu : 0;
+        *cpu_spent += cpu > 0 ? cpu : 0;
+    }
+    int status = 0;
+    memset(&status, 0, sizeof status);
+    if (!failed)
+        kill(pid, SIGKILL);
+    close(wk.sock);
+    struct rusage ru;
+    memset(&ru, 0, sizeof ru);
+    while (wait4(pid, &status, 0, &ru) < 0 && errno == EINTR)
+        ;
+    double total = seconds(ru.ru_utime) + seconds(ru.ru_stime);
+    if (!failed && total > wk.cpu_told)
+        *cpu_spent += total - wk.cpu_told;
+    wk.pid = 0;
+    wk.sock = -1;
+    wk.cpu_told = 0;
+    pthread_mutex_unlock(&wk.lock);
+    free(data);
+    if (failed) {
+        last_code = rc;
+        snprintf(why, why_size, "%.*s", (int)wl, w);
+        return LIMEN__CONTAIN_FAILED;
+    }
+    if (outcome != LIMEN__CONTAIN_OK)
+        return outcome;
+    /* killed with the thread that forked it, which ended meanwhile: once more, in a worker
+     * of this thread's */
+    if (!retried && got == 1 && WIFSIGNALED(status) && WTERMSIG(status) == SIGKILL &&
+        forker_gone_at(tid)) {
+        retried = true;
+        if (pthread_mutex_lock(&wk.lock) == 0)
+            goto again;
+    }
+    /* the worker died under the job: a signal, SIGKILL by its processor time limit too */
+    if (WIFSIGNALED(status) && WTERMSIG(status) != SIGKILL) {
+        int sig = WTERMSIG(status);
+        if (sig == SIGXCPU)
+            return LIMEN__CONTAIN_TIME;
+        snprintf(why, why_size, "%s", strsignal(sig));
+        return LIMEN__CONTAIN_CRASHED;
+    }
+    snprintf(why, why_size, "it exited without a whole answer");
+    return LIMEN__CONTAIN_CRASHED;
+}

@@ -52,4 +52,22 @@ int limen__contain_run(limen__contained_fn fn, void *arg, const limen__contain_l
 /* The code the callback returned in the last LIMEN__CONTAIN_FAILED of this thread. */
 int limen__contain_code(void);
 
+/* ---- the import worker: one process kept for the next jobs ----
+ *
+ * A job is fn run over a block of bytes (the job's own copy of what it needs: the worker was
+ * forked before the job existed) and at most one descriptor (the folder it reads beneath,
+ * passed over a unix socket), under lim. One worker per process, started by the first job;
+ * a job that finds it busy (another thread's) runs in a child of its own, as
+ * limen__contain_run does, and so does one where no worker can start. A crash, a limit, a
+ * timeout or a failed job (fn returned nonzero) ends the worker: the next job starts a fresh
+ * one. Returns LIMEN__CONTAIN_* as limen__contain_run does. */
+typedef int (*limen__job_fn)(limen__block *job, int fd, limen__block *out, char *why,
+                             size_t why_size);
+int limen__contain_job(limen__job_fn fn, const limen__block *job, int fd,
+                       const limen__contain_limits *lim, limen__block *out, char *why,
+                       size_t why_size, double *cpu_spent);
+/* tests: the worker's process id (0: none running); 1 forces the fork-per-job path */
+int limen__contain_worker_pid(void);
+extern int limen__contain_no_worker;
+
 #endif

@@ -1225,30 +1225,56 @@ static limen_status import_here(limen_scene *s, const char *path, unsigned flags
     return LIMEN_OK;
 }
 
-typedef struct importing {
-    limen_scene *s;
-    const char *path;
-    unsigned flags;
-    size_t max_bytes;
-} importing;
-
-/* In the child: [the block][the files read, each ended by a NUL]. */
-static int import_child(void *arg, limen__block *out, char *why, size_t why_size)
+/* In the worker: the job is [flags][max_bytes][the load's max_bytes, read_bytes][safe, box][the
+ * folder's prefix, NUL][path, NUL], the folder's descriptor beside it (-1: no folder). The
+ * import runs for a scene of the worker's own that holds only that load; the answer is [the
+ * block][the files read, each ended by a NUL]. */
+static int import_job(limen__block *job, int fd, limen__block *out, char *why, size_t why_size)
 {
-    importing *im = arg;
-    limen_scene *s = im->s;
-    s->load->inside = true;
+    uint32_t flags;
+    uint64_t mb[3];
+    uint8_t safe[2];
+    const char *prefix, *path;
+    if (!limen__block_get(job, &flags, sizeof flags) || !limen__block_get(job, mb, sizeof mb) ||
+        !limen__block_get(job, safe, 2) || safe[1] > 2 || job->len == 0 || job->data[job->len - 1] != '\0') {
+        snprintf(why, why_size, "a broken job");
+        return LIMEN_ERR_IO;
+    }
+    prefix = (const char *)job->data + job->at;
+    path = prefix + strlen(prefix) + 1;
+    if ((const unsigned char *)path >= job->data + job->len) {
+        snprintf(why, why_size, "a broken job");
+        return LIMEN_ERR_IO;
+    }
+    /* no box, one that is off (any path), or on: beneath fd (-1: the folder could not
+     * open, nothing opens) */
+    limen__confine box = { .on = safe[1] == 2, .dir = safe[1] == 2 ? fd : -1 };
+    snprintf(box.prefix, sizeof box.prefix, "%s", prefix);
+    limen__load ld = { .box = safe[1] ? &box : NULL, .safe = safe[0], .max_bytes = mb[1],
+                       .read_bytes = mb[2], .inside = true };
+    limen_scene *s = calloc(1, sizeof *s);
+    if (!s) {
+        snprintf(why, why_size, "out of memory");
+        return LIMEN_ERR_NOMEM;
+    }
+    s->load = &ld;
     limen__import *blk;
     limen__block files = { 0 };
-    limen_status st = import_here(s, im->path, im->flags, im->max_bytes, &blk, &files);
+    limen_status st = import_here(s, path, flags, mb[0], &blk, &files);
     if (st) {
         snprintf(why, why_size, "%s", s->err);
+        free(s);
         return (int)st;
     }
+    for (int i = 0; i < s->nwarnings; i++)
+        free(s->warnings[i]);
+    free(s->warnings);
+    free(s);
     /* the block itself becomes the answer (no copy), the files read after it */
     *out = (limen__block){ .data = (unsigned char *)blk, .len = (size_t)blk->size,
                            .cap = (size_t)blk->size };
     limen__block_put(out, files.data, files.len);
+    limen__block_free(&files);
     return 0;
 }
 
@@ -1260,7 +1286,20 @@ static limen_status import_contained(limen_scene *s, const char *path, unsigned 
 {
     *blk = NULL;
     limen__load *ld = s->load;
-    importing im = { s, path, flags, max_bytes };
+    limen__block job = { 0 };
+    uint32_t jflags = flags;
+    uint64_t mb[3] = { max_bytes, ld->max_bytes, ld->read_bytes };
+    uint8_t safe[2] = { ld->safe, !ld->box ? 0 : ld->box->on ? 2 : 1 };
+    const char *prefix = ld->box ? ld->box->prefix : "";
+    limen__block_put(&job, &jflags, sizeof jflags);
+    limen__block_put(&job, mb, sizeof mb);
+    limen__block_put(&job, safe, 2);
+    limen__block_put(&job, prefix, strlen(prefix) + 1);
+    limen__block_put(&job, path, strlen(path) + 1);
+    if (job.failed) {
+        limen__block_free(&job);
+        return limen__fail(s, LIMEN_ERR_NOMEM, "%s: out of memory", path);
+    }
     /* the block holds each vertex whole (64 bytes) for the moment it takes to flatten it:
      * a few times what the mesh will hold, in the host only while this call lasts */
     limen__contain_limits lim = { max_bytes, ld->cpu_left,
@@ -1268,7 +1307,9 @@ static limen_status import_contained(limen_scene *s, const char *path, unsigned 
     limen__block b;
     char why[LIMEN__ERR_MAX];
     double cpu;
-    int rc = limen__contain_run(import_child, &im, &lim, &b, why, sizeof why, &cpu);
+    int rc = limen__contain_job(import_job, &job, ld->box && ld->box->on ? ld->box->dir : -1,
+                                &lim, &b, why, sizeof why, &cpu);
+    limen__block_free(&job);
     ld->cpu_spent += cpu;
     ld->cpu_left = ld->cpu_left > 0 ? (ld->cpu_left > cpu ? ld->cpu_left - cpu : 1e-9) : 0;
     switch (rc) {

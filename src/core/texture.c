@@ -190,19 +190,14 @@ static limen_status texture_new(limen_scene *s, unsigned char *rgb, int w, int h
     return LIMEN_OK;
 }
 
-typedef struct decoding {
-    const unsigned char *buf;
-    size_t len;
-} decoding;
-
-/* In the child: [w][h][rgb], or why not. */
-static int decode_contained(void *arg, limen__block *out, char *why, size_t why_size)
+/* In the worker: the job is the file's bytes; the answer [w][h][rgb], or why not. */
+static int decode_job(limen__block *job, int fd, limen__block *out, char *why, size_t why_size)
 {
-    const decoding *d = arg;
+    (void)fd;
     int w = 0, h = 0;
-    unsigned char *rgb = limen__image_decode(d->buf, d->len, &w, &h);
+    unsigned char *rgb = limen__image_decode(job->data, job->len, &w, &h);
     if (!rgb) {
-        image_failure(d->buf, d->len, why, why_size);
+        image_failure(job->data, job->len, why, why_size);
         return 1;
     }
     int32_t wh[2] = { w, h };
@@ -217,12 +212,12 @@ static unsigned char *decode_in_child(limen_scene *s, const unsigned char *buf, 
                                       const char *name, int *w, int *h, limen_status *st)
 {
     limen__load *ld = s->load;
-    decoding d = { buf, len };
+    limen__block job = { (unsigned char *)buf, len, len, 0, false };   /* read, never freed */
     limen__contain_limits lim = { ld->max_bytes, ld->cpu_left, 0 };
     limen__block b;
     char why[512];
     double cpu;
-    int rc = limen__contain_run(decode_contained, &d, &lim, &b, why, sizeof why, &cpu);
+    int rc = limen__contain_job(decode_job, &job, -1, &lim, &b, why, sizeof why, &cpu);
     ld->cpu_spent += cpu;
     ld->cpu_left = ld->cpu_left > 0 ? (ld->cpu_left > cpu ? ld->cpu_left - cpu : 1e-9) : 0;
     int32_t wh[2];

@@ -77,7 +77,9 @@ rockspec() {   # luarocks make builds with the Makefile (here: B, already built)
         echo "skip: luarocks is not installed (make test-deps installs it)"
         return 0
     fi
-    B="$B" luarocks --lua-version 5.4 --tree "$TMP/rocks" make limen-scm-1.rockspec \
+    # --lua-dir: the system's Lua, not a lua5.4 found first on PATH (the sanitizer run puts a
+    # wrapper there, beside which luarocks would look for Lua's headers)
+    B="$B" luarocks --lua-version 5.4 --lua-dir=/usr --tree "$TMP/rocks" make limen-scm-1.rockspec \
         > "$TMP/rocks.log" 2>&1 || { tail -20 "$TMP/rocks.log"; return 1; }
     [ -f "$TMP/rocks/lib/lua/5.4/limen.so" ] && [ -f "$TMP/rocks/share/lua/5.4/limen/kit.lua" ] &&
     (eval "$(luarocks --lua-version 5.4 --tree "$TMP/rocks" path)" && cd "$TMP" &&
