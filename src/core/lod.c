@@ -825,12 +825,11 @@ static bool job_end(limen__mesh *m, bool stop)
         atomic_store(&j->stop, true);
     pthread_join(j->thread, NULL);
     bool got = j->ok && !stop;
-    if (got) {
-        /* counted as the estimate had them until now (limen__mesh_lods_start), now as the
-         * full level alone before the levels come */
-        m->bytes = m->bytes - j->extra - lods_bytes(&(limen__mesh){ .ntris = m->ntris }) + HEAD;
+    /* counted as the estimate had them until now (limen__mesh_lods_start), now as the full
+     * level alone, before the levels come or where none will (a build out of memory) */
+    m->bytes = m->bytes - j->extra - lods_bytes(&(limen__mesh){ .ntris = m->ntris }) + HEAD;
+    if (got)
         install(m, &j->mk);
-    }
     free(j->mk.block);
     free(j);
     m->lod_job = NULL;
