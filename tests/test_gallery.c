@@ -16,7 +16,7 @@ static const char *const scenes[] = {
     "scenes/portals.lua",      "scenes/tunnel.lua",      "scenes/portal_mirror.lua",
     "scenes/portal_sizes.lua", "scenes/moving_portal.lua", "scenes/flythrough.lua",
     "scenes/hall_of_mirrors.lua", "scenes/portal_rooms.lua", "scenes/portal_statue.lua",
-    "scenes/level.lua", NULL,
+    "scenes/level.lua", "scenes/materials.lua", NULL,
 };
 
 static limen_renderer *renderer(int w, int h)

@@ -18,7 +18,7 @@
 static const char *const scenes[] = {
     "plain", "mirror_room", "corridor", "kaleidoscope", "periscope", "water", "portals",
     "tunnel", "portal_mirror", "portal_sizes", "moving_portal", "flythrough",
-    "hall_of_mirrors", "portal_rooms", "portal_statue", "level", NULL,
+    "hall_of_mirrors", "portal_rooms", "portal_statue", "level", "materials", NULL,
 };
 
 static double now_ms(void)
