@@ -308,7 +308,8 @@ LIMEN_API int limen_node_get_visible(const limen_scene *s, limen_node n);
 typedef enum limen_alpha_mode {
     LIMEN_ALPHA_OPAQUE = 0,     /* alpha ignored */
     LIMEN_ALPHA_MASK,           /* drawn where alpha >= alpha_cutoff */
-    LIMEN_ALPHA_BLEND           /* composited over what lies behind */
+    LIMEN_ALPHA_BLEND,          /* composited over what lies behind */
+    LIMEN_ALPHA_COUNT           /* the number of modes (not one itself) */
 } limen_alpha_mode;
 
 struct limen_image;
@@ -406,7 +407,8 @@ typedef enum limen_texture_filter {
                                  * bilinear in levels floor(lambda) and the next, blended by
                                  * its fraction (GL_LINEAR_MIPMAP_LINEAR); past the last, it */
     LIMEN_FILTER_LINEAR,        /* bilinear between the four nearest texels of the full image */
-    LIMEN_FILTER_NEAREST        /* the full image's texel that holds the point (GL_NEAREST) */
+    LIMEN_FILTER_NEAREST,       /* the full image's texel that holds the point (GL_NEAREST) */
+    LIMEN_FILTER_COUNT          /* the number of filters (not one itself) */
 } limen_texture_filter;
 /* Any node may carry it; it shows where the node has a texture. Lua: filter = "trilinear",
  * "linear" or "nearest". */
@@ -849,7 +851,10 @@ LIMEN_API void limen_plan_get_work(const limen_plan *p, limen_plan_work *out);
 /* Writes the plan as JSON ({"views": [...]}); returns LIMEN_ERR_IO if it cannot. Each view
  * lists, besides its matrices and surfaces, the meshes it may show (limen_plan_view_things)
  * with the level of detail it draws each at under the plan's lod_pixels and height
- * (limen_view_mesh_lod): "meshes": [{"node": "statue", "lod": 3, "triangles": 212}]. Like
+ * (limen_view_mesh_lod): "meshes": [{"node": "statue", "lod": 3, "triangles": 212, "parts":
+ * [{"first": 0, "count": 212, "material": 0}], "materials": [{"name", "base_color",
+ * "base_texture" (whether it has one), "alpha_mode" ("opaque", "mask", "blend"),
+ * "alpha_cutoff", "emissive", "emissive_texture"}]}]: that level's parts. Like
  * limen_plan_view_things it asks the scene's spatial index, which it may refresh, so it takes
  * the scene as an edit does (see THREADS). */
 LIMEN_API limen_status limen_plan_write_json(const limen_plan *p, limen_scene *s,

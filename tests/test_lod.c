@@ -722,8 +722,10 @@ static void test_plan_json(void)
         if (in)
             fclose(in);
         remove(path);
+        int tris = d ? d->mesh->lods[k > 0 ? k : 0].triangle_count : 0;
         snprintf(want, sizeof want, "\"meshes\": [{\"node\": \"statue\", \"lod\": %d, "
-                 "\"triangles\": %d}]", k, d ? d->mesh->lods[k > 0 ? k : 0].triangle_count : 0);
+                 "\"triangles\": %d, \"parts\": [{\"first\": 0, \"count\": %d, "
+                 "\"material\": 0}]", k, tris, tris);
         CHECK_MSG(strstr(text, want) != NULL, "no '%s' in %s", want, text);
         limen_plan_destroy(p);
     }

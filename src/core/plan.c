@@ -731,6 +731,33 @@ static void json_view_surfaces(FILE *f, const limen_plan *p, const limen_scene *
     fputc(']', f);
 }
 
+/* A mesh's parts at level lod (each a range of that level's triangles in one material) and
+ * its materials as they are shaded: what a renderer of the plan needs besides the geometry. */
+static void json_mesh_parts(FILE *f, const limen_mesh_geometry *g, int lod)
+{
+    static const char *const alpha[LIMEN_ALPHA_COUNT] = { "opaque", "mask", "blend" };
+    const limen_mesh_part *parts = g->lods[lod].parts ? g->lods[lod].parts : g->parts;
+    fprintf(f, ", \"parts\": [");
+    for (int k = 0; parts && k < g->part_count; k++)
+        fprintf(f, "%s{\"first\": %d, \"count\": %d, \"material\": %d}", k ? ", " : "",
+                parts[k].first_triangle, parts[k].triangle_count, parts[k].material);
+    fprintf(f, "], \"materials\": [");
+    for (int k = 0; g->materials && k < g->material_count; k++) {
+        const limen_material *m = &g->materials[k];
+        fprintf(f, "%s{\"name\": ", k ? ", " : "");
+        json_string(f, m->name ? m->name : "");
+        fprintf(f, ", \"base_color\": [%.9g, %.9g, %.9g, %.9g], \"base_texture\": %s, "
+                   "\"alpha_mode\": \"%s\", \"alpha_cutoff\": %.9g, "
+                   "\"emissive\": [%.9g, %.9g, %.9g], \"emissive_texture\": %s}",
+                m->base_color[0], m->base_color[1], m->base_color[2], m->base_color[3],
+                m->base_texture ? "true" : "false",
+                (unsigned)m->alpha_mode < LIMEN_ALPHA_COUNT ? alpha[m->alpha_mode] : "opaque",
+                m->alpha_cutoff, m->emissive[0], m->emissive[1], m->emissive[2],
+                m->emissive_texture ? "true" : "false");
+    }
+    fputc(']', f);
+}
+
 /* The meshes view i may show (limen_plan_view_things) and the level of detail each is drawn
  * at there (limen_view_mesh_lod under the plan's limits and height); false when out of
  * memory. */
@@ -753,7 +780,9 @@ static bool json_view_meshes(FILE *f, const limen_plan *p, limen_scene *s, int i
         int lod = limen_view_mesh_lod(&p->views[i], p->height, &d, p->limits.lod_pixels);
         fprintf(f, "%s{\"node\": ", listed++ ? ", " : "");
         json_node(f, s, things[k]);
-        fprintf(f, ", \"lod\": %d, \"triangles\": %d}", lod, d.mesh->lods[lod].triangle_count);
+        fprintf(f, ", \"lod\": %d, \"triangles\": %d", lod, d.mesh->lods[lod].triangle_count);
+        json_mesh_parts(f, d.mesh, lod);
+        fputc('}', f);
     }
     fputc(']', f);
     free(things);
