@@ -79,6 +79,25 @@ static int make_node(lua_State *L, limen_node_kind kind)
     return 1;
 }
 
+/* After a file's load under the script's limits (limen__lua_load_begin / _end): on failure
+ * the node made for it goes and the scene's message is raised (with what memory would have
+ * allowed it); the time the load took is charged either way; on success the bytes it holds
+ * join the script's (within what was left: never refused). */
+static void loaded(lua_State *L, lscene *ls, limen_node n, const char *what, const char *label,
+                   limen_status st, size_t charged)
+{
+    if (st) {
+        limen__lua_want(L, limen__scene_take_wanted(ls->s));
+        limen__lua_forget_node(L, 1, n);
+        limen__lua_check_time(L);
+        limen__lua_c_error(L, ls->s, what, label);
+        return;
+    }
+    limen__lua_check_time(L);
+    limen__lua_hold(L, (ptrdiff_t)charged);
+    ls->assets += charged;
+}
+
 /* s:mesh { file = "bunny.glb", smooth, color, checker, pos, rotate, scale, ... }: the file's
  * triangles (shared with every node of the scene that loads it), its memory counted against
  * the script's cap. */
@@ -102,15 +121,7 @@ static int l_scene_mesh(lua_State *L)
     limen__lua_load_begin(L, ls->s, &ld);
     limen_status st = limen__mesh_load(ls->s, n, path, limen__lua_mem_left(L), &charged);
     limen__lua_load_end(L, ls->s, &ld);
-    if (st) {
-        limen__lua_want(L, limen__scene_take_wanted(ls->s));
-        limen__lua_forget_node(L, 1, n);
-        limen__lua_check_time(L);
-        return limen__lua_c_error(L, ls->s, "mesh", label);
-    }
-    limen__lua_check_time(L);
-    limen__lua_hold(L, (ptrdiff_t)charged);   /* within what was left: never refused */
-    ls->assets += charged;
+    loaded(L, ls, n, "mesh", label, st, charged);
     return 1;
 }
 
@@ -167,15 +178,7 @@ static int l_scene_model(lua_State *L)
     limen_status st = limen__model_load(ls->s, group, path, &desc, limen__lua_mem_left(L),
                                         &charged);
     limen__lua_load_end(L, ls->s, &ld);
-    if (st) {
-        limen__lua_want(L, limen__scene_take_wanted(ls->s));
-        limen__lua_forget_node(L, 1, group);
-        limen__lua_check_time(L);
-        return limen__lua_c_error(L, ls->s, "model", label);
-    }
-    limen__lua_check_time(L);
-    limen__lua_hold(L, (ptrdiff_t)charged);   /* within what was left: never refused */
-    ls->assets += charged;
+    loaded(L, ls, group, "model", label, st, charged);
     /* the new nodes (the last made) join the scene's table, labelled where the script asked */
     int after = limen_scene_node_count(ls->s);
     limen_node *all = lua_newuserdatauv(L, sizeof *all * (size_t)(after > 0 ? after : 1), 0);
