@@ -214,6 +214,13 @@ static void test_bad_files(void)
                    "no end_header");
     expect_refused(s, m, write_text("lines.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nl 1 2 3\n"),
                    "no triangles in it (points and lines are skipped)");
+    /* a model with triangles keeps them; its lines are skipped with a warning */
+    int before = limen_scene_warning_count(s);
+    CHECK_OK(limen_mesh_load(s, new_mesh(s, "mixed"), write_text("mixed.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\n"
+                                              "f 1 2 3\nl 1 3\n")));
+    const char *w = limen_scene_warning(s, limen_scene_warning_count(s) - 1);
+    CHECK_MSG(limen_scene_warning_count(s) == before + 1 && w && strstr(w, "mixed.obj") &&
+                  strstr(w, "skipped"), "warning '%s'", w ? w : "(none)");
     expect_refused(s, m, write_text("far.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nf 1 2 9\n"),
                    "vertex index out of range");
     expect_refused(s, m, write_text("inf.obj", "v 0 0 0\nv 1e999 0 0\nv 1 1 0\nf 1 2 3\n"),
