@@ -582,6 +582,56 @@ static void test_ply_strips(void)
     }
 }
 
+/* An MTL's map_Kd -s and -o (which assimp reads and drops): uv' = uv x s + o, applied to the
+ * mesh's texture coordinates and listed in the material; other options are passed over. */
+static void test_mtl_options(void)
+{
+    const unsigned char texel[4] = { 200, 40, 40, 255 };
+    write_tga("tile.tga", 1, 1, texel);
+    const char *mtl = "newmtl plain\nKd 1 1 1\nmap_Kd tile.tga\n"
+                      "newmtl moved\nKd 1 1 1\nmap_Kd -clamp off -s 2 3 1 -o 0.25 0.5 0 "
+                      "-bm 1.5 tile.tga\n";
+    write_bytes("opts.mtl", mtl, strlen(mtl));
+    const char *obj = "mtllib opts.mtl\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\n"
+                      "vt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\n"
+                      "usemtl plain\nf 1/1 2/2 3/3\nusemtl moved\nf 1/1 3/3 4/4\n";
+    write_bytes("opts.obj", obj, strlen(obj));
+    stage st;
+    if (!stage_make(&st, in_dir("opts.obj"), (float[3]){ 0.5f, 0.5f, 3 },
+                    (float[3]){ 0.5f, 0.5f, 0 }))
+        return;
+    limen_drawables *d;
+    CHECK_OK(limen_drawables_create(&d));
+    const limen_drawable *it = mesh_item(d, st.s, st.mesh);
+    const limen_mesh_geometry *g = it ? it->mesh : NULL;
+    CHECK(g && g->material_count == 2 && g->uvs);
+    for (int k = 0; g && g->uvs && k < g->material_count; k++) {
+        const limen_material *m = &g->materials[k];
+        bool moved = strcmp(m->name, "moved") == 0;
+        const float want[6] = { moved ? 2 : 1, 0, 0, moved ? 3 : 1, moved ? 0.25f : 0,
+                                moved ? 0.5f : 0 };
+        CHECK_MSG(memcmp(m->base_transform, want, sizeof want) == 0,
+                  "%s: %g %g %g %g %g %g", m->name, m->base_transform[0],
+                  m->base_transform[1], m->base_transform[2], m->base_transform[3],
+                  m->base_transform[4], m->base_transform[5]);
+        /* the part's corners carry it: (1, 1) becomes (2.25, 3.5) in the moved part */
+        const limen_mesh_part *pt = NULL;
+        for (int q = 0; q < g->part_count; q++)
+            if (g->parts[q].material == k)
+                pt = &g->parts[q];
+        bool seen = false;
+        for (int c = 0; pt && c < 3; c++) {
+            const float *uv = &g->uvs[g->indices[pt->first_triangle * 3 + c] * 2];
+            const float *pos = &g->positions[g->indices[pt->first_triangle * 3 + c] * 3];
+            if (pos[0] == 1 && pos[1] == 1)
+                seen = uv[0] == (moved ? 2.25f : 1) && uv[1] == (moved ? 3.5f : 1);
+        }
+        CHECK_MSG(seen, "%s: the corner at (1, 1) has no uv as the options say", m->name);
+    }
+    limen_drawables_destroy(d);
+    limen_scene_destroy(st.s);
+}
+
 static const check_case cases[] = {
     { "gltf_materials", test_gltf_materials },
     { "gltf_truth", test_gltf_truth },
@@ -590,6 +640,7 @@ static const check_case cases[] = {
     { "vertex_colours", test_vertex_colours },
     { "set_triangles", test_set_triangles },
     { "ply_strips", test_ply_strips },
+    { "mtl_options", test_mtl_options },
     { 0 },
 };
 

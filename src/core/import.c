@@ -65,6 +65,9 @@ typedef struct builder {
     arr verts, tris, parts, mats, texs, texels, nodes, node_parts, cams, lights, warns, strs;
     bool nomem, toobig;
     bool uv0;                   /* a PLY read here: it had texture coordinates */
+    char *mtl;                  /* an OBJ's material libraries, read here for what assimp
+                                 * skips (map_Kd's -o and -s), or NULL */
+    size_t mtl_len;
 } builder;
 
 static uint32_t str_add(builder *b, const char *s)
@@ -344,6 +347,151 @@ static uint32_t material_texture(builder *b, const struct aiMaterial *m, enum ai
     return texture_index(b, str.data);
 }
 
+/* ------------------------------------------------------------------ MTL options */
+
+/* The next word of [*p, end) (spaces and tabs between), NUL-free; its length, 0 at the line's
+ * end. */
+static size_t mtl_word(const char **p, const char *end, const char **w)
+{
+    const char *q = *p;
+    while (q < end && (*q == ' ' || *q == '\t' || *q == '\r'))
+        q++;
+    *w = q;
+    while (q < end && *q != ' ' && *q != '\t' && *q != '\r' && *q != '\n')
+        q++;
+    *p = q;
+    return (size_t)(q - *w);
+}
+
+static bool mtl_is(const char *w, size_t n, const char *word)
+{
+    return n == strlen(word) && memcmp(w, word, n) == 0;
+}
+
+/* A number word of at most 63 characters; false for anything else. */
+static bool mtl_number(const char *w, size_t n, float *out)
+{
+    char buf[64];
+    if (n == 0 || n >= sizeof buf)
+        return false;
+    memcpy(buf, w, n);
+    buf[n] = '\0';
+    char *e;
+    double v = strtod(buf, &e);
+    if (*e || !isfinite(v) || fabs(v) > 1e6)
+        return false;
+    *out = (float)v;
+    return true;
+}
+
+/* The -o (offset) and -s (scale) options of material `name`'s map_Kd in the OBJ's material
+ * libraries (the MTL format: uv' = uv x s + o), as a 2x3 transform in x; false where none is
+ * given. assimp reads the options and drops them. */
+static bool mtl_transform(const builder *b, const char *name, float x[6])
+{
+    if (!b->mtl || !name)
+        return false;
+    const char *p = b->mtl, *end = b->mtl + b->mtl_len;
+    bool ours = false, found = false;
+    while (p < end) {
+        const char *line_end = memchr(p, '\n', (size_t)(end - p));
+        if (!line_end)
+            line_end = end;
+        const char *w;
+        size_t n = mtl_word(&p, line_end, &w);
+        if (mtl_is(w, n, "newmtl")) {
+            const char *nm;
+            size_t nn = mtl_word(&p, line_end, &nm);
+            ours = nn == strlen(name) && memcmp(nm, name, nn) == 0;
+        } else if (ours && mtl_is(w, n, "map_Kd")) {
+            float o[2] = { 0, 0 }, sc[2] = { 1, 1 };
+            for (;;) {
+                const char *opt;
+                size_t on = mtl_word(&p, line_end, &opt);
+                if (on == 0 || opt[0] != '-')
+                    break;
+                float *into = mtl_is(opt, on, "-o") ? o : mtl_is(opt, on, "-s") ? sc : NULL;
+                /* -o and -s take up to three numbers (u [v [w]]); other options are skipped
+                 * with the numbers after them */
+                for (int k = 0; k < 3; k++) {
+                    const char *save = p, *num;
+                    float v;
+                    size_t nl = mtl_word(&p, line_end, &num);
+                    if (!mtl_number(num, nl, &v)) {
+                        /* the next option is left for the loop; any other word (on, off, a
+                         * channel, the file's name) is passed */
+                        bool option = nl > 1 && num[0] == '-' &&
+                                      isalpha((unsigned char)num[1]);
+                        if (option)
+                            p = save;
+                        break;
+                    }
+                    if (into && k < 2)
+                        into[k] = v;
+                }
+                if (into)
+                    found = true;
+            }
+            if (found) {
+                x[0] = sc[0];
+                x[1] = 0;
+                x[2] = 0;
+                x[3] = sc[1];
+                x[4] = o[0];
+                x[5] = o[1];
+                return true;
+            }
+        }
+        p = line_end < end ? line_end + 1 : end;
+    }
+    return false;
+}
+
+/* An OBJ's material libraries (its mtllib lines), read through the same way in as the file,
+ * into b->mtl; nothing for other files or where none can be read. */
+static void mtl_read(builder *b)
+{
+    size_t plen = strlen(b->path);
+    if (plen < 4 || strcasecmp(b->path + plen - 4, ".obj") != 0)
+        return;
+    size_t len;
+    unsigned char *obj = read_whole(b->path, b->max_bytes, &len);
+    if (!obj)
+        return;
+    const char *p = (const char *)obj, *end = p + len;
+    while (p < end) {
+        const char *line_end = memchr(p, '\n', (size_t)(end - p));
+        if (!line_end)
+            line_end = end;
+        const char *w;
+        size_t n = mtl_word(&p, line_end, &w);
+        if (mtl_is(w, n, "mtllib")) {
+            const char *f;
+            size_t fn;
+            while ((fn = mtl_word(&p, line_end, &f)) > 0) {
+                char name[512], full[1600];
+                if (fn >= sizeof name || memchr(f, '\0', fn))
+                    continue;
+                memcpy(name, f, fn);
+                name[fn] = '\0';
+                snprintf(full, sizeof full, "%s%s", b->dir, name);
+                size_t ml;
+                unsigned char *m = read_whole(full, b->max_bytes, &ml);
+                char *grown = m ? realloc(b->mtl, b->mtl_len + ml + 1) : NULL;
+                if (grown) {
+                    memcpy(grown + b->mtl_len, m, ml);
+                    b->mtl_len += ml;
+                    grown[b->mtl_len++] = '\n';
+                    b->mtl = grown;
+                }
+                free(m);
+            }
+        }
+        p = line_end < end ? line_end + 1 : end;
+    }
+    free(obj);
+}
+
 static void material(builder *b, const struct aiMaterial *m, limen__import_material *out)
 {
     struct aiString str;
@@ -400,6 +548,8 @@ static void material(builder *b, const struct aiMaterial *m, limen__import_mater
         x[3] = cs * t.mScaling.y;
         x[4] = t.mTranslation.x;
         x[5] = t.mTranslation.y;
+    } else if (out->base_tex != NONE && out->name != NONE) {
+        mtl_transform(b, (const char *)b->strs.p + out->name, x);
     }
     memcpy(out->base_xform, x, sizeof x);
     /* an OBJ's map_d: a mask, read from the base texture's alpha where it is the same image */
@@ -726,6 +876,7 @@ static void builder_free(builder *b)
                    &b->node_parts, &b->cams, &b->lights, &b->warns, &b->texels, &b->strs };
     for (size_t i = 0; i < sizeof all / sizeof all[0]; i++)
         free(all[i]->p);
+    free(b->mtl);
 }
 
 static void builder_elems(builder *b)
@@ -1105,17 +1256,12 @@ limen_status limen__import_file(const char *path, unsigned flags, size_t max_byt
     *out = NULL;
     {
         /* a PLY of triangle strips: read here (assimp takes it for one triangle) */
-        size_t len = 0;
-        unsigned char *buf = NULL;
-        FILE *f = fopen(path, "rb");
-        char head[4] = "";
-        if (f) {
-            size_t got = fread(head, 1, 3, f);
-            fclose(f);
-            if (got == 3 && memcmp(head, "ply", 3) == 0)
-                buf = read_whole(path, max_bytes, &len);
-        }
-        if (buf && memmem(buf, len < 65536 ? len : 65536, "tristrips", 9)) {
+        /* read through the same way in as the rest (never opened by name here) */
+        size_t len = 0, plen = strlen(path);
+        unsigned char *buf = plen >= 4 && strcasecmp(path + plen - 4, ".ply") == 0
+                                 ? read_whole(path, max_bytes, &len) : NULL;
+        if (buf && len >= 3 && memcmp(buf, "ply", 3) == 0 &&
+            memmem(buf, len < 65536 ? len : 65536, "tristrips", 9)) {
             builder b = { .path = path, .flags = flags, .max_bytes = max_bytes };
             builder_elems(&b);
             bool handled = false;
@@ -1159,6 +1305,7 @@ limen_status limen__import_file(const char *path, unsigned flags, size_t max_byt
     }
     builder b = { .path = path, .sc = sc, .flags = flags, .max_bytes = max_bytes };
     builder_elems(&b);
+    mtl_read(&b);
     limen_status st = convert(&b, out, why, why_size);
     builder_free(&b);
     aiReleaseImport(sc);
