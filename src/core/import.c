@@ -897,6 +897,17 @@ static void builder_elems(builder *b)
     snprintf(b->dir, sizeof b->dir, "%.*s", slash ? (int)(slash - b->path + 1) : 0, b->path);
 }
 
+/* The material of a file that names none: white, untextured, opaque. */
+static limen__import_material white_material(void)
+{
+    return (limen__import_material){ .name = NONE, .base = { 1, 1, 1, 1 }, .base_tex = NONE,
+                                     .base_xform = { 1, 0, 0, 1, 0, 0 }, .alpha_cutoff = 0.5f,
+                                     .emissive_tex = NONE, .metal_rough_tex = NONE,
+                                     .normal_tex = NONE, .occlusion_tex = NONE, .metallic = 1,
+                                     .roughness = 1, .normal_scale = 1,
+                                     .occlusion_strength = 1 };
+}
+
 static limen_status convert(builder *b, limen__import **out, char *why, size_t why_size)
 {
     const struct aiScene *sc = b->sc;
@@ -912,12 +923,7 @@ static limen_status convert(builder *b, limen__import **out, char *why, size_t w
     }
     if (!b->mats.n && arr_push(&b->mats, 1)) {     /* a default: white */
         limen__import_material *m = (limen__import_material *)b->mats.p;
-        *m = (limen__import_material){ .name = NONE, .base = { 1, 1, 1, 1 }, .base_tex = NONE,
-                                       .base_xform = { 1, 0, 0, 1, 0, 0 }, .alpha_cutoff = 0.5f,
-                                       .emissive_tex = NONE, .metal_rough_tex = NONE,
-                                       .normal_tex = NONE, .occlusion_tex = NONE,
-                                       .metallic = 1, .roughness = 1, .normal_scale = 1,
-                                       .occlusion_strength = 1 };
+        *m = white_material();
     }
     for (unsigned i = 0; i < sc->mNumMeshes && !b->nomem && !b->toobig; i++) {
         limen__import_part *p = arr_push(&b->parts, 1);
@@ -1224,11 +1230,7 @@ static limen_status ply_block(builder *b, const unsigned char *buf, size_t len,
         snprintf(why, why_size, "%s: out of memory", b->path);
         return LIMEN_ERR_NOMEM;
     }
-    *(limen__import_material *)b->mats.p = (limen__import_material){
-        .name = NONE, .base = { 1, 1, 1, 1 }, .base_tex = NONE, .base_xform = { 1, 0, 0, 1, 0, 0 },
-        .alpha_cutoff = 0.5f, .emissive_tex = NONE, .metal_rough_tex = NONE, .normal_tex = NONE,
-        .occlusion_tex = NONE, .metallic = 1, .roughness = 1, .normal_scale = 1,
-        .occlusion_strength = 1 };
+    *(limen__import_material *)b->mats.p = white_material();
     bool normals = false;
     for (size_t i = 0; i < b->verts.n && !normals; i++) {
         const float *q = ((limen__import_vertex *)b->verts.p)[i].nrm;
