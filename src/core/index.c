@@ -346,7 +346,8 @@ static bool rebuild(limen_scene *s, limen__spatial *x)
         }
     }
     if (!limen__bvh_build(&x->shapes, x->ids, nshapes, x->boxes, s->cap) ||
-        !limen__bvh_build(&x->surfaces, x->ids + s->cap - nsurf, nsurf, x->boxes, s->cap))
+        !limen__bvh_build(&x->surfaces, nsurf ? x->ids + s->cap - nsurf : x->ids, nsurf,
+                          x->boxes, s->cap))
         return false;
     x->nmoved = 0;
     x->nchanged = 0;
