@@ -524,6 +524,30 @@ static void draw_thing(limen_renderer *r, const rview *v, const limen_drawable *
         set_cut(r, NULL);
 }
 
+/* The copies of what has gone into a portal, coming out of its partner (limen_plan_clones),
+ * each cut at the partner's plane; only meshes with blended parts where blended (the blend
+ * pass). */
+static void draw_clones(limen_renderer *r, const rview *v, bool blended)
+{
+    const limen_clone *clones;
+    int nclones = limen_plan_clones(r->plan, &clones);
+    for (int c = 0; c < nclones; c++) {
+        const limen_clone *cl = &clones[c];
+        const limen_drawable *node = item_of(r, cl->node);
+        if (!node || (blended && (node->kind != LIMEN_NODE_MESH || !node->mesh ||
+                                  !node->mesh->has_blend)) ||
+            outside(v, node, cl->matrix))
+            continue;
+        mat4 carry, own, world;
+        memcpy(carry, cl->matrix, sizeof carry);
+        memcpy(own, node->world, sizeof own);
+        glm_mat4_mul(carry, own, world);
+        set_cut(r, cl->copy_keep);
+        draw_node_at(r, v, node, world, MODE_LIT, node->color);
+        set_cut(r, NULL);
+    }
+}
+
 /* fresh: nothing is in the view's depth yet (it sees no surface). Then the nearest thing,
  * drawn first, passes the depth test wherever it lands if it is a shape (each is convex,
  * closed ones without their back faces; a mesh need not be): it only writes depth, which
@@ -555,21 +579,7 @@ static void draw_geometry(limen_renderer *r, const rview *v, bool fresh)
             GL(DepthFunc)(r->range == LIMEN_DEPTH_ZO_REVERSED ? GL_GREATER : GL_LESS);
     }
     /* what has gone into a portal, coming out of its partner */
-    const limen_clone *clones;
-    int nclones = limen_plan_clones(r->plan, &clones);
-    for (int c = 0; c < nclones; c++) {
-        const limen_clone *cl = &clones[c];
-        const limen_drawable *node = item_of(r, cl->node);
-        if (!node || outside(v, node, cl->matrix))
-            continue;
-        mat4 carry, own, world;
-        memcpy(carry, cl->matrix, sizeof carry);
-        memcpy(own, node->world, sizeof own);
-        glm_mat4_mul(carry, own, world);
-        set_cut(r, cl->copy_keep);
-        draw_node_at(r, v, node, world, MODE_LIT, node->color);
-        set_cut(r, NULL);
-    }
+    draw_clones(r, v, false);
 }
 
 /* ------------------------------------------------------------------ blended parts */
@@ -602,22 +612,7 @@ void limen__draw_blended(limen_renderer *r, const rview *v)
         if (items[i].kind == LIMEN_NODE_MESH && items[i].mesh && items[i].mesh->has_blend)
             draw_thing(r, v, items, i);
     }
-    const limen_clone *clones;
-    int nclones = limen_plan_clones(r->plan, &clones);
-    for (int c = 0; c < nclones; c++) {
-        const limen_clone *cl = &clones[c];
-        const limen_drawable *node = item_of(r, cl->node);
-        if (!node || node->kind != LIMEN_NODE_MESH || !node->mesh || !node->mesh->has_blend ||
-            outside(v, node, cl->matrix))
-            continue;
-        mat4 carry, own, world;
-        memcpy(carry, cl->matrix, sizeof carry);
-        memcpy(own, node->world, sizeof own);
-        glm_mat4_mul(carry, own, world);
-        set_cut(r, cl->copy_keep);
-        draw_node_at(r, v, node, world, MODE_LIT, node->color);
-        set_cut(r, NULL);
-    }
+    draw_clones(r, v, true);
     limen__samples_end(r);
     r->blend_pass = false;
     GL(DepthMask)(GL_TRUE);
