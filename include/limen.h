@@ -737,7 +737,7 @@ typedef struct limen_frame_budget {
                                  * renderer may draw) every visible surface; 0 -> 131072 */
     int64_t triangles;          /* mesh triangles over every view, each mesh at the level of
                                  * detail the view draws it at (limen_view_mesh_lod), counted
-                                 * over limen_plan_view_things; 0 -> LIMEN_BUDGET_TRIANGLES_DEFAULT.
+                                 * over limen_plan_things; 0 -> LIMEN_BUDGET_TRIANGLES_DEFAULT.
                                  * The camera's view is always drawn: where it alone holds more,
                                  * the renderer draws its meshes in order up to the budget and
                                  * drops the rest (counted as one truncation) */
@@ -815,12 +815,16 @@ LIMEN_API int limen_view_mesh_lod(const limen_view *v, int height, const limen_d
                                   float pixels);
 /* The shapes (boxes, spheres, cylinders, quads, meshes; visible ones) that view i may show: those
  * whose world bounds meet the view's pyramid from its eye through its scissor rectangle and,
- * below the camera, lie partly in front of its clip plane. Found through the scene's spatial
- * index, in time that follows what the view holds, not what the scene holds, so a renderer
- * can draw only these (plus the view's surfaces and the copies in limen_plan_clones). A
- * superset: a shape listed may still be hidden. Writes up to max handles, in node order,
- * and returns how many there are (more than max when out is too small); -1 on error
- * (limen_last_error). Call it before the scene changes again. */
+ * below the camera, lie partly in front of its clip plane. limen_plan_build finds them
+ * through the scene's spatial index, in time that follows what the view holds, not what the
+ * scene holds, and keeps them in the plan, so a renderer can draw only these (plus the view's
+ * surfaces and the copies in limen_plan_clones) without the scene. A superset: a shape listed
+ * may still be hidden. Sets *out to the view's handles, in node order (owned by the plan, valid
+ * until its next build; NULL when there are none, or i is out of range), and returns how many. */
+LIMEN_API int limen_plan_things(const limen_plan *p, int i, const limen_node **out);
+/* Deprecated: limen_plan_things. Copies up to max of view i's shapes into out and returns how
+ * many there are (more than max when out is too small); -1 when there is no view i or out is
+ * NULL with max > 0 (the message in s, which may be NULL: the plan needs no scene). */
 LIMEN_API int limen_plan_view_things(const limen_plan *p, limen_scene *s, int i, limen_node *out,
                                      int max);
 /* A closed shape (box, sphere, cylinder, mesh) passing through a portal, its centre over the
@@ -849,15 +853,14 @@ typedef struct limen_plan_work {
 } limen_plan_work;
 LIMEN_API void limen_plan_get_work(const limen_plan *p, limen_plan_work *out);
 /* Writes the plan as JSON ({"views": [...]}); returns LIMEN_ERR_IO if it cannot. Each view
- * lists, besides its matrices and surfaces, the meshes it may show (limen_plan_view_things)
+ * lists, besides its matrices and surfaces, the meshes it may show (limen_plan_things)
  * with the level of detail it draws each at under the plan's lod_pixels and height
  * (limen_view_mesh_lod): "meshes": [{"node": "statue", "lod": 3, "triangles": 212, "parts":
  * [{"first": 0, "count": 212, "material": 0}], "materials": [{"name", "base_color",
  * "base_texture" (whether it has one), "alpha_mode" ("opaque", "mask", "blend"),
- * "alpha_cutoff", "emissive", "emissive_texture"}]}]: that level's parts. Like
- * limen_plan_view_things it asks the scene's spatial index, which it may refresh, so it takes
- * the scene as an edit does (see THREADS). */
-LIMEN_API limen_status limen_plan_write_json(const limen_plan *p, limen_scene *s,
+ * "alpha_cutoff", "emissive", "emissive_texture"}]}]: that level's parts. It reads the scene
+ * (names, meshes) as the plan left it: write it before the scene changes. */
+LIMEN_API limen_status limen_plan_write_json(const limen_plan *p, const limen_scene *s,
                                              const char *path);
 
 /* ---------------------------------------------------------------- renderer */
