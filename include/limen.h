@@ -431,8 +431,10 @@ LIMEN_API limen_status limen_mesh_load(limen_scene *s, limen_node mesh, const ch
 LIMEN_API limen_status limen_mesh_set_triangles(limen_scene *s, limen_node mesh,
                                                 const limen_mesh_data *data);
 LIMEN_API limen_status limen_mesh_set_smooth(limen_scene *s, limen_node mesh, int smooth);
+/* Zeros before any triangles. A const reader: LIMEN_ERR_HANDLE for a handle that is not a
+ * live mesh and LIMEN_ERR_ARG for a NULL out, without a message. */
 LIMEN_API limen_status limen_mesh_get(const limen_scene *s, limen_node mesh,
-                                      limen_mesh_info *out);   /* zeros before any triangles */
+                                      limen_mesh_info *out);
 
 /* Warnings: what loading files noticed without refusing them (a texture missing or found
  * elsewhere, points and lines skipped), one line each, "file: warning: text", in order. */

@@ -778,7 +778,8 @@ static limen_status build_node(builder *b, int i)
      * (limen view reloads the script when it changes); its own key never matches a
      * limen_mesh_load's, so it is never shared by one */
     if (!b->keyed) {
-        limen__node *nd = limen__node_get(b->s, n);
+        limen__node *nd;
+        limen__node_lookup(b->s, n, 0, NULL, "model", &nd);     /* made above: it is there */
         struct stat stt;
         char key[LIMEN__FILE_KEY];
         if (nd && nd->mesh && !limen__file_key(b->s, b->path, key, &stt) &&

@@ -12,6 +12,7 @@
 
 #include "core/dmath.h"
 #include "core/internal.h"
+#include "core/lmath.h"
 #include "core/mesh.h"
 #include "core/plan.h"
 #include "core/reserve.h"
@@ -84,25 +85,6 @@ void limen_plan_get_work(const limen_plan *p, limen_plan_work *out)
 
 /* ------------------------------------------------------------------ screen rectangles */
 
-/* Keeps the part of the polygon where plane . p >= 0 (Sutherland-Hodgman). */
-static int clip_poly(double in[][3], int n, const double plane[4], double out[][3])
-{
-    int m = 0;
-    for (int i = 0; i < n; i++) {
-        const double *a = in[i], *b = in[(i + 1) % n];
-        double da = limen__d_plane_dist(plane, a), db = limen__d_plane_dist(plane, b);
-        if (da >= 0 && m < MAX_POLY)
-            memcpy(out[m++], a, sizeof(double) * 3);
-        if ((da >= 0) != (db >= 0) && m < MAX_POLY) {
-            double t = da / (da - db);
-            for (int k = 0; k < 3; k++)
-                out[m][k] = a[k] + t * (b[k] - a[k]);
-            m++;
-        }
-    }
-    return m;
-}
-
 /* Pixel rectangle (x, y, w, h) of the pixel centres that the surface's visible part may
  * cover in view v; false if none. */
 static bool surface_rect(const limen_plan *p, const limen__plan_view *v, const limen__plan_surface *sf,
@@ -122,7 +104,7 @@ static bool surface_rect(const limen_plan *p, const limen__plan_view *v, const l
         for (int k = 0; k < 3; k++)
             tol += fabs(c[k]) * (sf->err[k] + v->clip_err[k]);
         c[3] -= 4.0 * tol;
-        n = clip_poly(a, n, c, b);
+        n = limen__d_clip3((const double(*)[3])a, n, c, b, MAX_POLY - 1);
         memcpy(a, b, sizeof(double) * 3 * (size_t)n);
     }
     /* to view space, then keep what is in front of the eye: surfaces are not cut by the
@@ -131,12 +113,10 @@ static bool surface_rect(const limen_plan *p, const limen__plan_view *v, const l
         limen__d_point(v->view, a[i], a[i]);
     /* keep what lies inside the four sides of the frustum (planes through the eye, so no
      * distance scale enters): the projection of what is left is bounded, however close
-     * the surface is to the eye */
-    const double P0 = p->proj_d[0], P8 = p->proj_d[8], P5 = p->proj_d[5], P9 = p->proj_d[9];
-    const double sides[4][4] = { { -P0, 0, -(1 + P8), 0 }, { P0, 0, P8 - 1, 0 },
-                                 { 0, -P5, -(1 + P9), 0 }, { 0, P5, P9 - 1, 0 } };
+     * the surface is to the eye. Right, left, top, bottom. */
+    static const int sides[4] = { 1, 0, 3, 2 };
     for (int k = 0; k < 4 && n >= 3; k++) {
-        n = clip_poly(a, n, sides[k], b);
+        n = limen__d_clip3((const double(*)[3])a, n, p->frustum[sides[k]], b, MAX_POLY - 1);
         memcpy(a, b, sizeof(double) * 3 * (size_t)n);
     }
     if (n < 3)
@@ -454,6 +434,7 @@ static limen_status check_inputs(limen_plan *p, limen_scene *s, const limen_plan
                                     p->proj_f)))
         return st;
     limen__d_from_f(p->proj_f, p->proj_d);
+    limen__frustum_planes(p->proj_d, NULL, p->range, p->frustum);
     limen_camera_get_lens(s, limen_scene_get_camera(s), NULL, &p->znear, NULL);
     return LIMEN_OK;
 }

@@ -515,14 +515,13 @@ limen_status limen__node_texture(limen_scene *s, limen_node n, const char *path,
                                  size_t max_bytes, size_t *charged)
 {
     *charged = 0;
-    limen__node *node = limen__node_get(s, n);
-    if (!node)
-        return limen__fail(s, LIMEN_ERR_HANDLE, "texture: %s node handle",
-                           n.id ? "stale or foreign" : "null");
-    if (node->kind != LIMEN_NODE_QUAD && node->kind != LIMEN_NODE_BOX &&
-        node->kind != LIMEN_NODE_MESH)
-        return limen__fail(s, LIMEN_ERR_HANDLE, "texture: '%s' is not a plane, box or mesh",
-                           limen__node_title(node));
+    limen__node *node;
+    limen_status found = limen__node_lookup(s, n, LIMEN__KIND(LIMEN_NODE_QUAD) |
+                                                      LIMEN__KIND(LIMEN_NODE_BOX) |
+                                                      LIMEN__KIND(LIMEN_NODE_MESH),
+                                            "a plane, box or mesh", "texture", &node);
+    if (found)
+        return found;
     limen__texture *t = NULL;
     if (path) {
         limen_status st = limen__texture_load(s, path, max_bytes, charged, &t);

@@ -1152,7 +1152,8 @@ limen_status limen_trace_image(limen_scene *s, const limen_trace_desc *desc, uns
     if (!sample_positions(nsamples, samples))
         return limen__fail(s, LIMEN_ERR_ARG, "trace: samples must be 1, 4 (the 4x MSAA pattern) "
                            "or a square up to 256 (a grid: 9, 16, 25, ...), got %d", d.samples);
-    int width = d.width ? d.width : 640, height = d.height ? d.height : 480;
+    int width = d.width ? d.width : LIMEN_DEFAULT_WIDTH;
+    int height = d.height ? d.height : LIMEN_DEFAULT_HEIGHT;
     limen_status cst = limen__scene_check(s);
     if (cst)
         return cst;
