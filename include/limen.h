@@ -210,6 +210,49 @@ typedef enum limen_node_kind {
     LIMEN_NODE_KIND_COUNT
 } limen_node_kind;
 
+/* ---------------------------------------------------------------- node kinds */
+
+/* Where a kind's texture coordinates come from (limen_node_set_texture says how each maps). */
+typedef enum limen_uv_rule {
+    LIMEN_UV_NONE = 0,          /* takes no texture (limen_node_set_texture refuses it) */
+    LIMEN_UV_PLANE,             /* a plane's: (x/w + 0.5, y/h + 0.5) over its extent */
+    LIMEN_UV_BOX,               /* a box face's: its two other axes in order */
+    LIMEN_UV_MESH,              /* the mesh's own */
+    LIMEN_UV_COUNT              /* the number of rules (not one itself) */
+} limen_uv_rule;
+
+/* What every layer knows of a node kind, from one table (core, renderer, tracer, bindings;
+ * a game's own renderer may read it too). A kind that draws as a unit shape (unit) is that
+ * shape, whose local box is [lo, hi], with local axis a stretched by dims[scale[a]] (by 1
+ * where scale[a] < 0): a SPHERE is the ball of radius 1 scaled by (r, r, r), a CYLINDER the
+ * one of radius 1 and height 1 on y = 0..1 scaled by (r, h, r), a QUAD the square
+ * [-0.5, 0.5]^2 on z = 0 scaled by (w, h, 1). */
+typedef struct limen_kind_info {
+    const char *name;           /* "box": as Lua and messages spell it ("plane" for a QUAD) */
+    int size;                   /* how many of dims it reads (limen_node_set_dims); 0: none */
+    float dims[3];              /* the dims limen_node_create gives it */
+    int shape;                  /* 1: shows a lit surface: BOX, SPHERE, CYLINDER, QUAD, MESH */
+    int surface;                /* 1: a mirror or portal (limen_surface_get) */
+    int light;                  /* 1: lights the scene (LIGHT) */
+    int unit;                   /* 1: draws a unit shape scaled by dims (MESH: its own triangles) */
+    int flat;                   /* 1: on local z = 0, facing +Z; passes no portal; a flat shape's
+                                 * checker is in xy (limen_node_set_checker) */
+    int closed;                 /* 1: a solid: back faces hidden (BOX, SPHERE, CYLINDER) */
+    int round;                  /* bounding sphere about its box's centre: 0 through the box's
+                                 * corners, 1 round about local y (a circle in xz), 2 a ball */
+    limen_uv_rule uv;           /* its texture coordinates; LIMEN_UV_NONE: takes no texture */
+    int scale[3];               /* unit shapes: the dims index that stretches each local axis */
+    float lo[3], hi[3];         /* unit shapes: the unit shape's local box */
+} limen_kind_info;
+
+LIMEN_API const limen_kind_info *limen_kind_get(limen_node_kind k);    /* NULL out of range */
+/* The local box (lo, hi) of a unit shape of kind k and the given dims (as limen_node_get_dims
+ * gives them): what limen_node_get_bounds carries through the world matrix. LIMEN_ERR_ARG
+ * for a kind that is no unit shape (GROUP, LIGHT, CAMERA; a MESH's box is its triangles',
+ * limen_mesh_info.lo and hi) and for NULL arguments. */
+LIMEN_API limen_status limen_kind_bounds(limen_node_kind k, const float dims[3], float lo[3],
+                                         float hi[3]);
+
 typedef struct limen_scene_desc {
     int max_nodes;          /* live nodes at most; 0 -> no limit but memory (the pool grows) */
 } limen_scene_desc;
