@@ -239,7 +239,7 @@ static void test_node_lookup_everywhere(void)
     CHECK(limen_node_slide(s, gone, d, 0.1f, NULL) == LIMEN_ERR_HANDLE);
     CHECK(strcmp(limen_scene_error(s), "slide: stale or foreign node handle") == 0);
     CHECK(limen_node_set_texture(s, ball, "none.png") == LIMEN_ERR_HANDLE);
-    CHECK(strcmp(limen_scene_error(s), "texture: 'ball' is not a plane, box or mesh") == 0);
+    CHECK(strcmp(limen_scene_error(s), "texture: 'ball' is a sphere, which takes no texture") == 0);
     CHECK(limen_mesh_set_smooth(s, ball, 1) == LIMEN_ERR_HANDLE);
     CHECK(strcmp(limen_scene_error(s), "mesh_set_smooth: 'ball' is not a mesh") == 0);
     CHECK(limen_mesh_set_smooth(NULL, mesh, 1) == LIMEN_ERR_ARG);

@@ -15,6 +15,7 @@
 #include "core/confine.h"
 #include "core/contain.h"
 #include "core/internal.h"
+#include "core/kinds.h"
 #include "core/mesh.h"
 #include "core/texture.h"
 
@@ -516,12 +517,12 @@ limen_status limen__node_texture(limen_scene *s, limen_node n, const char *path,
 {
     *charged = 0;
     limen__node *node;
-    limen_status found = limen__node_lookup(s, n, LIMEN__KIND(LIMEN_NODE_QUAD) |
-                                                      LIMEN__KIND(LIMEN_NODE_BOX) |
-                                                      LIMEN__KIND(LIMEN_NODE_MESH),
-                                            "a plane, box or mesh", "texture", &node);
+    limen_status found = limen__node_lookup(s, n, 0, NULL, "texture", &node);
     if (found)
         return found;
+    if (limen_kind_get(node->kind)->uv == LIMEN_UV_NONE)
+        return limen__fail(s, LIMEN_ERR_HANDLE, "texture: '%s' is a %s, which takes no texture",
+                           limen__node_title(node), limen__kind_name(node->kind));
     limen__texture *t = NULL;
     if (path) {
         limen_status st = limen__texture_load(s, path, max_bytes, charged, &t);
