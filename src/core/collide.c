@@ -16,6 +16,7 @@
 #include "core/index.h"
 #include "core/internal.h"
 #include "core/mesh.h"
+#include "core/reserve.h"
 
 #define MAXV LIMEN__PIECE_MAXV
 #define MAX_CROSSINGS 64    /* portals one sweep may pass, whatever the limits say */
@@ -75,15 +76,9 @@ static piece *piece_add(sweeper *w, int kind, int node)
         closest_contact(w->fbd, w->pc, w->npc, w->fta, w->ftb, w->fghost, w->fbest);
         w->npc = 0;
     }
-    if (w->npc == w->pc_cap) {
-        int c = w->pc_cap ? 2 * w->pc_cap : 64;
-        piece *p = realloc(w->pc, sizeof *p * (size_t)c);
-        if (!p) {
-            w->oom = true;
-            return NULL;
-        }
-        w->pc = p;
-        w->pc_cap = c;
+    if (!limen__reserve((void **)&w->pc, &w->pc_cap, w->npc + 1, sizeof *w->pc)) {
+        w->oom = true;
+        return NULL;
     }
     piece *p = &w->pc[w->npc++];
     p->kind = kind;

@@ -22,6 +22,7 @@
 #include "core/mesh.h"
 #include "core/model.h"
 #include "core/texture.h"
+#include "core/reserve.h"
 
 #define MAX_NODES 100000        /* a file's nodes at most */
 #define MAX_SURFACE_TRIS 256    /* a mirror's or portal's polygon, in triangles at most */
@@ -601,14 +602,8 @@ static limen_status refail(builder *b, limen_status st, const char *what, const 
 static limen_status make(builder *b, limen_node_kind kind, const char *name, limen_node parent,
                          limen_node *out)
 {
-    if (b->nmade == b->made_cap) {
-        int nc = b->made_cap ? b->made_cap * 2 : 64;
-        limen_node *p = realloc(b->made, sizeof *p * (size_t)nc);
-        if (!p)
-            return limen__fail(b->s, LIMEN_ERR_NOMEM, "%s: out of memory", b->path);
-        b->made = p;
-        b->made_cap = nc;
-    }
+    if (!limen__reserve((void **)&b->made, &b->made_cap, b->nmade + 1, sizeof *b->made))
+        return limen__fail(b->s, LIMEN_ERR_NOMEM, "%s: out of memory", b->path);
     limen_status st = limen_node_create(b->s, kind, name && name[0] ? name : NULL, out);
     if (st)
         return st;
