@@ -306,6 +306,12 @@ static bool push_view_surface(limen_plan *p, limen__plan_view *v, int surf, int 
     return true;
 }
 
+/* |v| in float, as glm_vec3_norm has it, of a const vector. */
+static float norm3f(const float v[3])
+{
+    return sqrtf(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+}
+
 /* Per world axis r, a bound on how far float rounding of the world matrix W (half an ulp
  * per entry) can move a corner (+-w/2, +-h/2, 0) of the surface: sum over the columns j of
  * ulp(W[j][r]) times the corner's local coordinate, plus the translation's. */
@@ -361,10 +367,10 @@ static limen_status collect_surfaces(limen_plan *p, limen_scene *s)
         sf->exit = n->kind == LIMEN_NODE_PORTAL ? (int)n->pair - 1 : i;
         if (n->kind == LIMEN_NODE_PORTAL && n->pair) {
             const limen__node *b = &s->nodes[n->pair - 1];
-            double wa = glm_vec3_norm((float *)n->world[0]) * n->dims[0];
-            double ha = glm_vec3_norm((float *)n->world[1]) * n->dims[1];
-            double wb = glm_vec3_norm((float *)b->world[0]) * b->dims[0];
-            double hb = glm_vec3_norm((float *)b->world[1]) * b->dims[1];
+            double wa = norm3f(n->world[0]) * n->dims[0];
+            double ha = norm3f(n->world[1]) * n->dims[1];
+            double wb = norm3f(b->world[0]) * b->dims[0];
+            double hb = norm3f(b->world[1]) * b->dims[1];
             if (fabs((wa / ha) / (wb / hb) - 1.0) > 1e-3)
                 return limen__fail(s, LIMEN_ERR_ARG,
                                    "%s%sportals '%s' and '%s' differ in shape in the world "
