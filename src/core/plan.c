@@ -528,7 +528,8 @@ static int64_t view_things(limen_plan *p, limen_scene *s, limen__plan_view *v)
         return -1;
     v->first_thing = p->nthing_slots;
     v->nthings = n;
-    memcpy(p->thing_slots + p->nthing_slots, p->shape_hits, sizeof *p->shape_hits * (size_t)n);
+    if (n)      /* both arrays are NULL before any shape */
+        memcpy(p->thing_slots + p->nthing_slots, p->shape_hits, sizeof *p->shape_hits * (size_t)n);
     p->nthing_slots += n;
     if (!s->nmeshes)
         return 0;
@@ -819,7 +820,7 @@ int limen_plan_view_things(const limen_plan *p, limen_scene *s, int i, limen_nod
     }
     const limen_node *things;
     int n = limen_plan_things(p, i, &things);
-    if (n)
+    if (n && max)
         memcpy(out, things, sizeof *things * (size_t)(n < max ? n : max));
     return n;
 }
