@@ -24,6 +24,9 @@
 #include <pthread.h>
 #include <stdatomic.h>
 #include <string.h>
+#ifdef __GLIBC__
+#include <malloc.h>
+#endif
 
 #include <meshoptimizer.h>
 
@@ -632,6 +635,13 @@ static void *measure(void *arg)
     return NULL;
 }
 
+static bool measure_threads = true;
+
+void limen__lod_set_measure_threads(bool on)
+{
+    measure_threads = on;
+}
+
 /* A bound on the two-sided distance between a level (idx, a mesh over the full mesh's
  * vertices, welded: per corner of the full mesh, weld names its vertex at the same position)
  * and the full mesh, or floor where the distance is no more than floor; NAN when out of
@@ -669,7 +679,7 @@ static double level_error(const target *full, const uint32_t *weld, const uint32
             for (int i = 0; i < MEASURERS; i++) {
                 w[i] = (measurer){ .there = there, .back = back, .floor = floor,
                                    .upper = upper, .share = i };
-                if (i > 0)
+                if (i > 0 && measure_threads)
                     started[i] = pthread_create(&th[i], NULL, measure, &w[i]) == 0;
             }
             measure(&w[0]);
@@ -694,6 +704,16 @@ static double level_error(const target *full, const uint32_t *weld, const uint32
 }
 
 /* ------------------------------------------------------------------ building */
+
+/* Gives the heap's free pages back to the system: a level's making frees hundreds of
+ * megabytes of a big mesh's temporaries, which glibc otherwise keeps (in the heap, or in a
+ * measuring thread's arena) and the process's resident size with them, level after level. */
+static void heap_give_back(void)
+{
+#ifdef __GLIBC__
+    malloc_trim(0);
+#endif
+}
 
 /* Levels made: a block with room for MAX_LEVELS limen_mesh_lod, then the coarse levels'
  * indices, `used` of them, level k's from at[k]. */
@@ -1054,6 +1074,7 @@ static bool lods_make(const limen__mesh *m, const atomic_bool *stop, made *out)
         double estimate = (double)err * scale;
         double e = level_error(&full, attr, store + used, (uint32_t)(n / 3),
                                halve ? fmax(estimate, prev) : estimate, stop);
+        heap_give_back();
         if (isnan(e)) {
             ok = false;
             break;
@@ -1081,6 +1102,7 @@ static bool lods_make(const limen__mesh *m, const atomic_bool *stop, made *out)
     limen__lod_welded_free(&pk_pos);
     free(scratch);
     limen__lod_target_free(&full);
+    heap_give_back();
     if (!ok) {
         free(block);
         return false;
