@@ -1015,11 +1015,12 @@ static bool lods_make(const limen__mesh *m, const atomic_bool *stop, made *out)
          * seam in the texture stays one, which the simplifier moves along without tearing */
         if (attr != shadow)
             weld_attributes(m, vpart, attr);
-        ok = limen__lod_target_make(&full, m, shadow) && limen__lod_pack(&pk_attr, m, attr);
+        ok = limen__lod_pack(&pk_attr, m, attr);
     }
     size_t cur_n = n0;
     float scale = ok ? meshopt_simplifyScale(m->pos, m->nverts, sizeof(float) * 3) : 0;
-    double prev = 0;
+    double estimate[MAX_LEVELS] = { 0 };   /* the simplifier's own, of each level */
+    bool halved[MAX_LEVELS] = { false };
     /* how levels are made: seams kept; once the simplifier is stuck on them, let go; once
      * it is stuck even so, by clustering */
     enum { SEAMS, NO_SEAMS, CLUSTERED } mode = SEAMS;
@@ -1030,6 +1031,10 @@ static bool lods_make(const limen__mesh *m, const atomic_bool *stop, made *out)
          * a few times the full mesh's in all, not once per level, while a level is not
          * built on the last one's choices alone (which left the bunny's coarse levels
          * worse) */
+        if (stop && atomic_load_explicit(stop, memory_order_relaxed)) {
+            ok = false;         /* no longer wanted */
+            break;
+        }
         bool halve = cur_n / 3 >= MIN_TRIS;
         float err = 0;
         bool from_full = nlods <= SOURCE_STEP || mode != SEAMS;
@@ -1068,27 +1073,40 @@ static bool lods_make(const limen__mesh *m, const atomic_bool *stop, made *out)
         if (n == 0 || n * 4 > cur_n * 3 || used + n > cap)
             break;
         memcpy(store + used, scratch, sizeof(uint32_t) * n);
-        /* the simplifier's own estimate (from its source) may not be undercut; nor, while
-         * halving, the level before (a coarser level no better than a finer one takes its
-         * place, below): what lies below them needs no measuring */
-        double estimate = (double)err * scale;
-        double e = level_error(&full, attr, store + used, (uint32_t)(n / 3),
-                               halve ? fmax(estimate, prev) : estimate, stop);
-        heap_give_back();
-        if (isnan(e)) {
-            ok = false;
-            break;
-        }
-        lods[nlods] = (limen_mesh_lod){ .triangle_count = (int)(n / 3), .error = (float)e };
-        /* rounding to float must not undercut the measure either */
-        if ((double)lods[nlods].error < e)
-            lods[nlods].error = nextafterf(lods[nlods].error, INFINITY);
-        prev = lods[nlods].error;
+        lods[nlods] = (limen_mesh_lod){ .triangle_count = (int)(n / 3) };
+        estimate[nlods] = (double)err * scale;
+        halved[nlods] = halve;
         at[nlods++] = used;
         cur_n = n;
         used += n;
         if (!halve)
             break;
+    }
+    /* then measured, once the simplifier's tables (a few hundred megabytes at a few million
+     * triangles) are gone, and before the surface they are measured against is made */
+    limen__lod_welded_free(&pk_attr);
+    limen__lod_welded_free(&pk_pos);
+    free(scratch);
+    scratch = NULL;
+    heap_give_back();
+    ok = ok && limen__lod_target_make(&full, m, shadow);
+    double prev = 0;
+    for (uint32_t k = 1; ok && k < nlods; k++) {
+        /* the simplifier's own estimate (from its source) may not be undercut; nor, while
+         * halving, the level before (a coarser level no better than a finer one takes its
+         * place, below): what lies below them needs no measuring */
+        double e = level_error(&full, attr, store + at[k], (uint32_t)lods[k].triangle_count,
+                               halved[k] ? fmax(estimate[k], prev) : estimate[k], stop);
+        heap_give_back();
+        if (isnan(e)) {
+            ok = false;
+            break;
+        }
+        lods[k].error = (float)e;
+        /* rounding to float must not undercut the measure either */
+        if ((double)lods[k].error < e)
+            lods[k].error = nextafterf(lods[k].error, INFINITY);
+        prev = lods[k].error;
     }
     if (ok) {
         drop_beaten(lods, at, store, &nlods, &used);
