@@ -1,5 +1,6 @@
 /* cull.c - what a view can see, asked of the scene's spatial index (core/index.c): the
- * surfaces the planner tests against a view, and the shapes a renderer draws in it.
+ * surfaces the planner tests against a view, and the shapes a renderer draws in it (kept in
+ * the plan: limen_plan_things).
  *
  * A view's region is the pyramid from its eye through its scissor rectangle (widened by a
  * pixel, so that rounding never loses a pixel centre the planner's exact test would keep),

@@ -4,7 +4,10 @@
  * ones, and then stored depth first (draw order). A child view exists only where its surface
  * faces the parent's eye, survives the parent's clip plane and near plane, and covers at
  * least one pixel centre inside the parent's scissor rectangle; the child's scissor is that
- * rectangle. Matrices are composed in double precision. */
+ * rectangle. Matrices are composed in double precision. Each view also lists the shapes it
+ * may show (limen_plan_things), found once, as the triangle budget counts them.
+ *
+ * limen_plan_build is its phases, in order (see "the phases of a build" below). */
 #include <float.h>
 #include <stdio.h>
 #include <stdlib.h>
