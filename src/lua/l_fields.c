@@ -420,7 +420,7 @@ void limen__lua_parse_field(lua_State *L, int v, int f, limen_node_kind kind, in
         break;
     case F_COLOR:
         limen__lua_read_vec(L, v, ctx, what, 3,
-                            kind == LIMEN_NODE_LIGHT ? ELEM_NONNEG : ELEM_UNIT, sp->color);
+                            limen_kind_get(kind)->light ? ELEM_NONNEG : ELEM_UNIT, sp->color);
         break;
     case F_SIZE:
         limen__lua_read_vec(L, v, ctx, what, limen_kind_get(kind)->size, ELEM_POSITIVE,
