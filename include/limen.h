@@ -836,6 +836,10 @@ typedef struct limen_plan_desc {
     limen_depth_range range;    /* clip-space convention of proj */
     limen_limits limits;        /* zero: the defaults (see limen_limits) */
     limen_cull cull;            /* default SURFACE */
+    int multisample;            /* nonzero: a surface counts where it meets any part of a
+                                 * pixel, not only its centre, and a view's scissor holds
+                                 * every such pixel (a renderer at msaa sets it: its samples
+                                 * lie off the centre) */
 } limen_plan_desc;
 
 typedef struct limen_plan limen_plan;

@@ -103,6 +103,52 @@ static int clip_poly(double in[][3], int n, const double plane[4], double out[][
     return m;
 }
 
+/* Multisampled frames: the rectangle of the pixels (within scissor s) that the convex
+ * polygon (sx, sy) meets at all, not only at their centres, as a sample anywhere in a pixel
+ * may fall inside it; false if none. Row by row: the polygon's x extent over the row's
+ * band is that of its edges clipped to the band. */
+static bool pixels_met(const double *sx, const double *sy, int n, const int s[4], int rect[4])
+{
+    double y0 = 1e300, y1 = -1e300;
+    for (int i = 0; i < n; i++) {
+        y0 = fmin(y0, sy[i]);
+        y1 = fmax(y1, sy[i]);
+    }
+    double r0 = fmax(floor(y0), s[1]), r1 = fmin(ceil(y1) - 1, s[1] + s[3] - 1);
+    double cx0 = 1e300, cx1 = -1e300, cy0 = 1e300, cy1 = -1e300;
+    for (double py = r0; py <= r1; py++) {
+        double xa = 1e300, xb = -1e300;
+        for (int i = 0; i < n; i++) {
+            int j = (i + 1) % n;
+            double ya = sy[i], yb = sy[j], lo = fmax(fmin(ya, yb), py),
+                   hi = fmin(fmax(ya, yb), py + 1);
+            if (lo > hi)
+                continue;
+            double xl = sx[i], xh = sx[j];
+            if (fabs(yb - ya) > 1e-12) {
+                xl = sx[i] + (lo - ya) / (yb - ya) * (sx[j] - sx[i]);
+                xh = sx[i] + (hi - ya) / (yb - ya) * (sx[j] - sx[i]);
+            }
+            xa = fmin(xa, fmin(xl, xh));
+            xb = fmax(xb, fmax(xl, xh));
+        }
+        double qa = fmax(floor(xa), s[0]), qb = fmin(ceil(xb) - 1, s[0] + s[2] - 1);
+        if (qb >= qa) {
+            cx0 = fmin(cx0, qa);
+            cx1 = fmax(cx1, qb);
+            cy0 = fmin(cy0, py);
+            cy1 = fmax(cy1, py);
+        }
+    }
+    if (!(cx1 >= cx0 && cy1 >= cy0))
+        return false;
+    rect[0] = (int)cx0;
+    rect[1] = (int)cy0;
+    rect[2] = (int)(cx1 - cx0) + 1;
+    rect[3] = (int)(cy1 - cy0) + 1;
+    return true;
+}
+
 /* Pixel rectangle (x, y, w, h) of the pixel centres that the surface's visible part may
  * cover in view v; false if none. */
 static bool surface_rect(const limen_plan *p, const limen__plan_view *v, const limen__plan_surface *sf,
@@ -161,6 +207,8 @@ static bool surface_rect(const limen_plan *p, const limen__plan_view *v, const l
         memcpy(rect, (int[4]){ 0, 0, p->width, p->height }, sizeof(int) * 4);
         return true;
     }
+    if (p->multisample)
+        return pixels_met(sx, sy, n, v->pub.scissor, rect);
     /* pixel k has its centre at k + 0.5 */
     double py0 = ceil(y0 - 0.5), py1 = floor(y1 - 0.5);
     const int *s = v->pub.scissor;
@@ -445,6 +493,7 @@ static limen_status check_inputs(limen_plan *p, limen_scene *s, const limen_plan
     p->budget = p->limits.budget;
     p->range = d.range;
     p->cull = d.cull;
+    p->multisample = d.multisample != 0;
     p->nviews = p->nview_surfaces = p->nthing_slots = p->count = p->truncated = 0;
     p->view_pixels = p->surface_tests = 0;
     p->budgets_hit = 0;

@@ -50,6 +50,7 @@ struct limen_plan {
     limen_depth_range range;
     limen_limits limits;    /* resolved: defaults filled in */
     limen_cull cull;
+    bool multisample;       /* surfaces count by any part of a pixel (limen_plan_desc) */
     float znear;
     float proj_f[16];
     double proj_d[16];
