@@ -239,7 +239,8 @@ typedef struct limen_kind_info {
                                  * checker is in xy (limen_node_set_checker) */
     int closed;                 /* 1: a solid: back faces hidden (BOX, SPHERE, CYLINDER) */
     int round;                  /* bounding sphere about its box's centre: 0 through the box's
-                                 * corners, 1 round about local y (a circle in xz), 2 a ball */
+                                 * corners, 1 round about local axis `axis`, 2 a ball */
+    int axis;                   /* round == 1: 0, 1, 2 for x, y, z (a circle across the others) */
     limen_uv_rule uv;           /* its texture coordinates; LIMEN_UV_NONE: takes no texture */
     int scale[3];               /* unit shapes: the dims index that stretches each local axis */
     float lo[3], hi[3];         /* unit shapes: the unit shape's local box */
