@@ -51,6 +51,7 @@ LIB_SRC  := $(sort $(CORE_SRC) $(GL_SRC) $(LUA_SRC))
 CLI_SRC  := src/cli/main.c src/cli/common.c src/cli/trace_cmd.c src/cli/pose.c src/cli/view.c
 TEST_C   := tests/test_host.c tests/test_math.c tests/test_mesh.c tests/test_lod.c tests/test_projection.c tests/test_scene.c tests/test_plan.c tests/test_render.c tests/test_script.c tests/test_script_limits.c tests/test_trace.c tests/test_gallery.c tests/test_threads.c tests/test_truth.c tests/test_example_game.c tests/test_crossing.c tests/test_sweep_approach.c tests/test_sweep_grazing.c tests/test_sweep_depth.c tests/test_sweep_recursion.c tests/test_sweep_matrix.c tests/test_sweep_odd.c tests/test_scale.c tests/test_model.c tests/test_safe_load.c
 TEST_C   += tests/test_materials.c
+TEST_C   += tests/test_drawlist.c
 LIB_SRC  += src/core/collide.c src/core/contact.c src/lua/l_collide.c
 TEST_C   += tests/test_collide.c
 
