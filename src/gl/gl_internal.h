@@ -19,7 +19,7 @@
 typedef struct uniforms {
     GLint model, normal_mat, view_proj, eye, clip_plane, clip_plane2, albedo, albedo_b, cell,
         scale, tint, tex, tex_map, ambient, light_pos, light_col, light_inv_r2, uv_repeat;
-    GLint base, emissive, cutoff, emissive_on, blend;     /* materials (gl/batch.c) */
+    GLint base, emissive, cutoff, emissive_on, blend;     /* materials (gl/backend.c) */
 } uniforms;
 
 /* Shader variants (shader.c): what a draw shades. */
