@@ -1168,14 +1168,14 @@ typedef struct limen_draw_instance {
 typedef struct limen_drawlist limen_drawlist;
 
 typedef struct limen_drawlist_desc {
-    int width, height;          /* the frame in pixels (0: the plan's) */
+    int width, height;          /* the frame in pixels: the plan's (0: take it) */
     limen_method method;        /* STENCIL or TEXTURE (NAIVE: TEXTURE, over a plan built
                                  * with LIMEN_CULL_FRUSTUM) */
     limen_fill fill;            /* LIMEN_FILL_PREVIOUS: surfaces where recursion stopped show
                                  * the previous frame where have_previous */
     float texture_scale;        /* texture method: target resolution, (0, 1]; 0 -> 1 */
     int msaa;                   /* samples per pixel the backend draws with (0, 1: one) */
-    limen_depth_range range;    /* the plan's clip-space convention */
+    limen_depth_range range;    /* the plan's clip-space convention (another: refused) */
     limen_limits limits;        /* lod_pixels and budget.triangles; zero: the defaults */
     int have_previous;          /* 1: the backend holds a previous frame */
 } limen_drawlist_desc;
@@ -1184,7 +1184,8 @@ LIMEN_API limen_status limen_drawlist_create(limen_drawlist **out);    /* an emp
 LIMEN_API void limen_drawlist_destroy(limen_drawlist *dl);             /* NULL is fine */
 /* Builds the frame's commands from a built plan and the drawables of the same scene (the
  * scene itself is not read), reusing the list's memory. On failure (a NULL or unbuilt plan,
- * a bad desc, memory) the list is empty and limen_drawlist_error says why. */
+ * a bad desc or one whose size or range is not the plan's, memory) the list is empty and
+ * limen_drawlist_error says why. */
 LIMEN_API limen_status limen_drawlist_build(limen_drawlist *dl, const limen_plan *p,
                                             const limen_drawables *d,
                                             const limen_drawlist_desc *desc);

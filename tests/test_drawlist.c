@@ -376,6 +376,12 @@ static void test_bad_input(void)
     CHECK(limen_drawlist_build(dl, p, d, &(limen_drawlist_desc){ .texture_scale = 2 }) ==
           LIMEN_ERR_ARG);
     CHECK(limen_drawlist_build(dl, p, d, &(limen_drawlist_desc){ .width = -1 }) == LIMEN_ERR_ARG);
+    /* the plan is for 640x480 and the plain depth range */
+    CHECK(limen_drawlist_build(dl, p, d, &(limen_drawlist_desc){ .width = 320, .height = 240 }) ==
+          LIMEN_ERR_ARG);
+    CHECK(strstr(limen_drawlist_error(dl), "640x480") != NULL);
+    CHECK(limen_drawlist_build(dl, p, d, &(limen_drawlist_desc){ .range = LIMEN_DEPTH_ZO }) ==
+          LIMEN_ERR_ARG);
     CHECK(limen_drawlist_build(NULL, p, d, NULL) == LIMEN_ERR_ARG);
     CHECK(limen_drawlist_create(NULL) == LIMEN_ERR_ARG);
     CHECK_OK(limen_drawlist_build(dl, p, d, NULL));

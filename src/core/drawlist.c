@@ -845,6 +845,13 @@ limen_status limen_drawlist_build(limen_drawlist *dl, const limen_plan *p, const
         return dl_fail(dl, LIMEN_ERR_ARG, "draw list: size %dx%d", in.width, in.height);
     if (in.width == 0 || in.height == 0)
         in.width = p->width, in.height = p->height;
+    /* the plan's scissors and projections are for its own image and range */
+    if (in.width != p->width || in.height != p->height)
+        return dl_fail(dl, LIMEN_ERR_ARG, "draw list: a %dx%d frame of a plan for %dx%d",
+                       in.width, in.height, p->width, p->height);
+    if (in.range != p->range)
+        return dl_fail(dl, LIMEN_ERR_ARG, "draw list: depth range %d, but the plan's is %d",
+                       (int)in.range, (int)p->range);
     dl->desc = limen_drawlist_desc_defaults(&in);
     dl->desc.limits.lod_pixels = in.limits.lod_pixels;   /* as limen_view_mesh_lod reads it */
     if (!(dl->desc.texture_scale > 0 && dl->desc.texture_scale <= 1))
