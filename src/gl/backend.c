@@ -26,22 +26,6 @@ typedef struct limen__instance {
 _Static_assert(sizeof(instance) == sizeof(float) * LIMEN__INSTANCE_FLOATS,
                "an instance is LIMEN__INSTANCE_FLOATS floats");
 
-/* Makes *p hold at least n elements of size bytes; false when out of memory. */
-static bool grow(void **p, int *cap, int n, size_t size)
-{
-    if (n <= *cap)
-        return true;
-    int c = *cap ? *cap : 64;
-    while (c < n)
-        c *= 2;
-    void *q = realloc(*p, size * (size_t)c);
-    if (!q)
-        return false;
-    *p = q;
-    *cap = c;
-    return true;
-}
-
 /* ------------------------------------------------------------------ state */
 
 static GLenum compare_gl(limen_compare c)
@@ -191,7 +175,7 @@ static bool upload_polygons(limen_renderer *r, const float (*v)[3], int n)
     }
     if (!n)
         return true;
-    if (!grow((void **)&r->poly, &r->poly_cap, n, sizeof *r->poly))
+    if (!limen__gl_grow((void **)&r->poly, &r->poly_cap, n, sizeof *r->poly))
         return false;
     for (int i = 0; i < n; i++) {
         limen__vertex *b = &r->poly[i];
@@ -327,7 +311,7 @@ static void draw_meshes(limen_renderer *r, const limen_draw_cmd *c, const limen_
     int n = c->count;
     if (!g || n <= 0 || (blended && (simple || !g->has_blend)))
         return;
-    if (!grow((void **)&r->inst, &r->inst_cap, n, sizeof(instance))) {
+    if (!limen__gl_grow((void **)&r->inst, &r->inst_cap, n, sizeof(instance))) {
         limen__draw_fail(r, LIMEN_ERR_NOMEM, "out of memory for %d instances", n);
         return;
     }

@@ -4,7 +4,9 @@
 #ifndef LIMEN_GL_INTERNAL_H
 #define LIMEN_GL_INTERNAL_H
 
+#include <limits.h>
 #include <stdbool.h>
+#include <stdlib.h>
 
 #include <cglm/cglm.h>
 
@@ -126,6 +128,23 @@ struct limen_renderer {
 };
 
 #define GL(fn) r->gl.fn
+
+/* Makes *p hold at least n elements of size bytes, doubling *cap (src/gl's own growth: it
+ * sees no core header); false, *p untouched, when out of memory. */
+static inline bool limen__gl_grow(void **p, int *cap, int n, size_t size)
+{
+    if (n <= *cap)
+        return true;
+    int c = *cap > 0 ? *cap : 64;
+    while (c < n)
+        c = c > INT_MAX / 2 ? n : c * 2;
+    void *q = realloc(*p, size * (size_t)c);
+    if (!q)
+        return false;
+    *p = q;
+    *cap = c;
+    return true;
+}
 
 /* The normal matrix of a model matrix: the inverse transpose of its 3x3 part. The one-node
  * draws (uniforms) and the instanced ones (gl/backend.c) both take it from here, so a node
