@@ -10,11 +10,11 @@
  * THE STEPS
  *   1. Once (game_create): the context (OSMesa, OpenGL 3.3 core, a framebuffer object with
  *      depth24/stencil8) and the shader: limen's shading (docs/DESIGN.md, "Ground truth") and
- *      the unit shapes (quad, box, sphere, cylinder) made from the vertex index.
+ *      the unit shapes (quad, box, sphere, cylinder), made from the vertex index.
  *   2. Every frame (game_frame): the game moves things (limen_node_move, ...), then
  *      limen_plan_build, limen_drawables_build and limen_drawlist_build (stencil or texture).
  *   3. Walk the list (game_draw): lights from the drawables, the list's vertices and
- *      instances into buffers, then each command in order: set_state, then its op_* function.
+ *      instances into buffers, then each command in order: set_state, then its op_ function.
  *      Meshes and images go up once, keyed on their id. Read the frame back.
  */
 #define GL_GLEXT_PROTOTYPES
@@ -26,12 +26,13 @@
 
 #include "limen.h"
 
-enum { UNIT_QUAD = 1, UNIT_BOX, UNIT_SPHERE, UNIT_CYLINDER };   /* u_unit (0: attributes) */
-enum { UV_PLANE = 1, UV_BOX, UV_MESH };                         /* u_uv */
-enum { SEGMENTS = 96, MAX_TARGETS = 64 };                       /* SEGMENTS: S in the shader */
+enum { QUAD = 1, BOX, SPHERE, CYLINDER, MESH };     /* u_unit (0: read the attributes), u_uv */
+enum { SEGMENTS = 96, MAX_TARGETS = 64 };           /* SEGMENTS: S in the shader */
 #define UNIFORMS(X) X(view_proj) X(clip) X(cut) X(scale) X(unit) X(uv) X(mode) X(facets)  \
     X(eye) X(albedo_b) X(cell) X(tint) X(ambient) X(textured) X(repeat) X(base) X(emissive) \
     X(cutoff) X(image_map) X(nlights) X(light_pos) X(light_col) X(light_inv_r2)
+#define U_FIELD(name) GLint name;
+#define U_FIND(name) g->u.name = glGetUniformLocation(g->prog, "u_" #name);
 
 typedef struct gpu { uint64_t id; GLuint vao, tex; GLsizei first[16]; } gpu;  /* by id */
 typedef struct target { GLuint fbo, tex, rb; int w, h; } target;
@@ -42,7 +43,6 @@ typedef struct game {
     unsigned char token[64];            /* OSMesa wants a buffer; we draw into our FBO */
     PFNGLCLIPCONTROLPROC clip_control;  /* GL 4.5 (NULL on a 3.3 context) */
     GLuint prog, vao, poly_vao, poly_vbo, inst_vbo;
-#define U_FIELD(name) GLint name;
     struct { UNIFORMS(U_FIELD) } u;
     gpu *cache;                         /* the meshes and images uploaded so far */
     target targets[MAX_TARGETS];        /* [0]: the frame; [k]: offscreen target k */
@@ -55,88 +55,87 @@ typedef struct game {
 
 /* ============================================================ 1. shader */
 
-static const char *vs_src =
-    "#version 330 core\n"
-    "layout(location = 0) in vec3 a_pos;  layout(location = 1) in vec3 a_nrm;\n"
-    "layout(location = 2) in vec2 a_uv;   layout(location = 3) in vec4 a_col;\n"
-    "layout(location = 4) in mat4 a_world; layout(location = 8) in vec3 a_albedo;\n"
-    "uniform mat4 u_view_proj; uniform vec4 u_clip, u_cut; uniform int u_unit, u_uv;\n"
-    "uniform vec3 u_scale;\n"                   /* unit shape -> node-local units */
-    "out vec3 v_world, v_local, v_normal; out vec2 v_uv; out vec4 v_col; flat out vec3 v_albedo;\n"
-    "const int S = 96;\n"
-    "const vec2 corner[6] = vec2[6](vec2(0), vec2(1, 0), vec2(1), vec2(0), vec2(1), vec2(0, 1));\n"
-    /* The unit shapes, two triangles a cell, counter-clockwise from outside: quad 1x1 on
-     * z = 0 facing +Z, box 1x1x1 (face q: axis q/2, + where odd), sphere of radius 1,
-     * cylinder of radius 1 over y in [0, 1] (rows: top, side, bottom), their normals
-     * interpolating to the true shape's at every pixel. */
-    "void unit(out vec3 p, out vec3 n) {\n"
-    "    int q = gl_VertexID / 6, row = q / S;\n"
-    "    vec2 k = corner[gl_VertexID % 6];\n"
-    "    if (u_unit <= 2) {\n"
-    "        int a = u_unit == 1 ? 2 : q / 2;\n"
-    "        float s = u_unit == 1 || q % 2 == 1 ? 1.0 : -1.0;\n"
-    "        vec3 u = vec3(0.0), v = vec3(0.0);\n"
-    "        n = vec3(0.0); n[a] = s; u[(a + 1) % 3] = 1.0; v[(a + 2) % 3] = s;\n"
-    "        p = (u_unit == 1 ? 0.0 : 0.5) * n + (k.x - 0.5) * u + (k.y - 0.5) * v;\n"
-    "        return;\n"
-    "    }\n"
-    "    float th = 6.28318531 * (float(q % S) + k.y) / float(S), t = k.x;\n"
-    "    float f = 3.14159265 * (float(row) + t) / float(S / 2);\n"
-    "    vec4 r = vec4(sin(f), cos(f), sin(f), cos(f));\n"   /* radius, height, normal */
-    "    if (u_unit == 4)\n"                                 /* top, side, bottom */
-    "        r = row == 0 ? vec4(t, 1.0, 0.0, 1.0) : row == 1 ? vec4(1.0, 1.0 - t, 1.0, 0.0)\n"
-    "                     : vec4(1.0 - t, 0.0, 0.0, -1.0);\n"
-    "    vec2 cs = vec2(cos(th), -sin(th));\n"
-    "    p = vec3(r.x * cs.x, r.y, r.x * cs.y); n = vec3(r.z * cs.x, r.w, r.z * cs.y);\n"
-    "}\n"
-    "void main() {\n"
-    "    vec3 p = a_pos, n = a_nrm;\n"
-    "    if (u_unit > 0) unit(p, n);\n"
-    "    vec4 w = a_world * vec4(p, 1.0);\n"
-    "    v_world = w.xyz; v_local = p * u_scale; v_col = a_col; v_albedo = a_albedo;\n"
-    "    v_normal = transpose(inverse(mat3(a_world))) * n;\n"
-    "    vec3 e = p + 0.5;\n"                       /* a plane's, a box face's, a mesh's */
-    "    v_uv = u_uv == 3 ? a_uv : u_uv == 1 ? e.xy : abs(n.x) > 0.5 ? e.yz\n"
-    "         : abs(n.y) > 0.5 ? e.zx : e.xy;\n"
-    "    gl_ClipDistance[0] = dot(u_clip, w);\n"
-    "    gl_ClipDistance[1] = dot(u_cut, w);\n"
-    "    gl_Position = u_view_proj * w;\n"
-    "}\n";
+#define GLSL(...) "#version 330 core\n" #__VA_ARGS__
 
-static const char *fs_src =
-    "#version 330 core\n"
-    "in vec3 v_world, v_local, v_normal; in vec2 v_uv; in vec4 v_col; flat in vec3 v_albedo;\n"
-    "uniform int u_mode, u_facets, u_textured, u_nlights;\n"
-    "uniform vec3 u_eye, u_albedo_b, u_tint, u_emissive, u_light_pos[8], u_light_col[8];\n"
-    "uniform float u_cell, u_ambient, u_cutoff, u_light_inv_r2[8];\n"
-    "uniform vec4 u_base, u_image_map; uniform vec2 u_repeat; uniform sampler2D u_tex;\n"
-    "out vec4 o_color;\n"
-    "void main() {\n"
-    "    vec2 at = u_image_map.xy * gl_FragCoord.xy + u_image_map.zw;\n"
-    "    if (u_mode != 0) {\n"                      /* flat (1), or an image's texel (2) */
-    "        o_color = vec4((u_mode == 2 ? texture(u_tex, at).rgb : vec3(1.0)) * v_albedo, 1.0);\n"
-    "        return;\n"
-    "    }\n"
-    "    vec3 n = normalize(u_facets != 0 ? cross(dFdx(v_world), dFdy(v_world)) : v_normal);\n"
-    "    if (dot(n, u_eye - v_world) < 0.0) n = -n;\n"  /* two-sided: face the eye */
-    "    vec3 albedo = v_albedo * u_base.rgb * v_col.rgb, c = floor(v_local / u_cell);\n"
-    "    float alpha = u_base.a * v_col.a, k = c.x + c.y + c.z;\n"
-    "    if (u_cell > 0.0 && k - 2.0 * floor(k * 0.5) > 0.5) albedo = u_albedo_b;\n"
-    "    if (u_textured != 0) {\n"                  /* rows went up top first */
-    "        vec4 t = texture(u_tex, vec2(0.0, 1.0) + vec2(1.0, -1.0) * v_uv * u_repeat);\n"
-    "        albedo *= t.rgb; alpha *= t.a;\n"
-    "    }\n"
-    "    if (alpha < u_cutoff) discard;\n"
-    "    vec3 light = vec3(0.0);\n"
-    "    for (int i = 0; i < u_nlights; i++) {\n"
-    "        vec3 d = u_light_pos[i] - v_world;\n"
-    "        float q = dot(d, d) * u_light_inv_r2[i];\n"    /* (distance / range)^2 */
-    "        float w = clamp(1.0 - q * q, 0.0, 1.0);\n"
-    "        light += u_light_col[i] * w * w * max(0.0, dot(n, normalize(d)));\n"
-    "    }\n"
-    "    vec3 lit = clamp(albedo * (u_ambient + (1.0 - u_ambient) * light), 0.0, 1.0);\n"
-    "    o_color = vec4(clamp(lit + u_emissive, 0.0, 1.0) * u_tint, alpha);\n"
-    "}\n";
+static const char *vs_src = GLSL(
+    layout(location = 0) in vec3 a_pos;   layout(location = 1) in vec3 a_nrm;
+    layout(location = 2) in vec2 a_uv;    layout(location = 3) in vec4 a_col;
+    layout(location = 4) in mat4 a_world; layout(location = 8) in vec3 a_albedo;
+    uniform mat4 u_view_proj; uniform vec4 u_clip, u_cut; uniform int u_unit, u_uv;
+    uniform vec3 u_scale;                           /* unit shape -> node-local units */
+    out vec3 v_world, v_local, v_normal; out vec2 v_uv; out vec4 v_col; flat out vec3 v_albedo;
+    const int S = 96;
+    const vec2 corner[6] = vec2[6](vec2(0), vec2(1, 0), vec2(1), vec2(0), vec2(1), vec2(0, 1));
+    /* The unit shapes, two triangles a cell, counter-clockwise from outside: quad 1x1 on z = 0
+     * facing +Z, box 1x1x1 (face q: axis q / 2, + where odd), sphere of radius 1, cylinder of
+     * radius 1 over y in [0, 1] (rows: top, side, bottom). Their normals interpolate to the
+     * true shape's at every pixel. */
+    void unit(out vec3 p, out vec3 n) {
+        int q = gl_VertexID / 6, row = q / S;
+        vec2 k = corner[gl_VertexID % 6];
+        if (u_unit <= 2) {
+            int a = u_unit == 1 ? 2 : q / 2;
+            float s = u_unit == 1 || q % 2 == 1 ? 1.0 : -1.0;
+            vec3 u = vec3(0.0), v = vec3(0.0);
+            n = vec3(0.0); n[a] = s; u[(a + 1) % 3] = 1.0; v[(a + 2) % 3] = s;
+            p = (u_unit == 1 ? 0.0 : 0.5) * n + (k.x - 0.5) * u + (k.y - 0.5) * v;
+            return;
+        }
+        float th = 6.28318531 * (float(q % S) + k.y) / float(S), t = k.x;
+        float f = 3.14159265 * (float(row) + t) / float(S / 2);
+        vec4 r = vec4(sin(f), cos(f), sin(f), cos(f));     /* radius, height, normal */
+        if (u_unit == 4)                                    /* top, side, bottom */
+            r = row == 0 ? vec4(t, 1.0, 0.0, 1.0) : row == 1 ? vec4(1.0, 1.0 - t, 1.0, 0.0)
+                         : vec4(1.0 - t, 0.0, 0.0, -1.0);
+        vec2 cs = vec2(cos(th), -sin(th));
+        p = vec3(r.x * cs.x, r.y, r.x * cs.y); n = vec3(r.z * cs.x, r.w, r.z * cs.y);
+    }
+    void main() {
+        vec3 p = a_pos, n = a_nrm;
+        if (u_unit > 0) unit(p, n);
+        vec4 w = a_world * vec4(p, 1.0);
+        v_world = w.xyz; v_local = p * u_scale; v_col = a_col; v_albedo = a_albedo;
+        v_normal = transpose(inverse(mat3(a_world))) * n;
+        vec3 e = p + 0.5;                           /* a plane's, a box face's, a mesh's */
+        v_uv = u_uv == 5 ? a_uv : u_uv == 1 ? e.xy : abs(n.x) > 0.5 ? e.yz
+             : abs(n.y) > 0.5 ? e.zx : e.xy;
+        gl_ClipDistance[0] = dot(u_clip, w);
+        gl_ClipDistance[1] = dot(u_cut, w);
+        gl_Position = u_view_proj * w;
+    });
+
+static const char *fs_src = GLSL(
+    in vec3 v_world, v_local, v_normal; in vec2 v_uv; in vec4 v_col; flat in vec3 v_albedo;
+    uniform int u_mode, u_facets, u_textured, u_nlights;
+    uniform vec3 u_eye, u_albedo_b, u_tint, u_emissive, u_light_pos[8], u_light_col[8];
+    uniform float u_cell, u_ambient, u_cutoff, u_light_inv_r2[8];
+    uniform vec4 u_base, u_image_map; uniform vec2 u_repeat; uniform sampler2D u_tex;
+    out vec4 o_color;
+    void main() {
+        vec2 at = u_image_map.xy * gl_FragCoord.xy + u_image_map.zw;
+        if (u_mode != 0) {                          /* flat (1), or an image's texel (2) */
+            o_color = vec4((u_mode == 2 ? texture(u_tex, at).rgb : vec3(1.0)) * v_albedo, 1.0);
+            return;
+        }
+        vec3 n = normalize(u_facets != 0 ? cross(dFdx(v_world), dFdy(v_world)) : v_normal);
+        if (dot(n, u_eye - v_world) < 0.0) n = -n;  /* two-sided: face the eye */
+        vec3 albedo = v_albedo * u_base.rgb * v_col.rgb, c = floor(v_local / u_cell);
+        float alpha = u_base.a * v_col.a, k = c.x + c.y + c.z;
+        if (u_cell > 0.0 && k - 2.0 * floor(k * 0.5) > 0.5) albedo = u_albedo_b;
+        if (u_textured != 0) {                      /* rows went up top first */
+            vec4 t = texture(u_tex, vec2(0.0, 1.0) + vec2(1.0, -1.0) * v_uv * u_repeat);
+            albedo *= t.rgb; alpha *= t.a;
+        }
+        if (alpha < u_cutoff) discard;
+        vec3 light = vec3(0.0);
+        for (int i = 0; i < u_nlights; i++) {       /* w: a light's falloff with its range */
+            vec3 d = u_light_pos[i] - v_world;
+            float q = dot(d, d) * u_light_inv_r2[i], w = clamp(1.0 - q * q, 0.0, 1.0);
+            light += u_light_col[i] * w * w * max(0.0, dot(n, normalize(d)));
+        }
+        vec3 lit = clamp(albedo * (u_ambient + (1.0 - u_ambient) * light), 0.0, 1.0);
+        o_color = vec4(clamp(lit + u_emissive, 0.0, 1.0) * u_tint, alpha);
+    });
 
 static int program_create(game *g)
 {
@@ -152,7 +151,6 @@ static int program_create(game *g)
     }
     glLinkProgram(g->prog);
     glGetProgramiv(g->prog, GL_LINK_STATUS, &ok);
-#define U_FIND(name) g->u.name = glGetUniformLocation(g->prog, "u_" #name);
     UNIFORMS(U_FIND)
     glUseProgram(g->prog);
     glVertexAttrib4f(3, 1, 1, 1, 1);            /* the colour of vertices without one */
@@ -177,16 +175,15 @@ static gpu *cached(game *g, uint64_t id, int *fresh)
     return memset(&grown[g->ncache++], 0, sizeof *grown);
 }
 
-/* Attribute a of the bound vertex array from n vertices of `size` floats; none where data
- * is NULL: it keeps its constant (uv 0, colour white). */
+/* Attribute a of the bound vertex array from n vertices of `size` floats; where data is NULL
+ * it keeps its constant (uv 0, colour white). */
 static void attribute(GLuint a, int size, const float *data, int n)
 {
     GLuint vbo;
     if (!data)
         return;
     glGenBuffers(1, &vbo), glBindBuffer(GL_ARRAY_BUFFER, vbo);
-    glBufferData(GL_ARRAY_BUFFER, (GLsizeiptr)(sizeof *data * (size_t)(size * n)), data,
-                 GL_STATIC_DRAW);
+    glBufferData(GL_ARRAY_BUFFER, (GLsizeiptr)sizeof *data * size * n, data, GL_STATIC_DRAW);
     glEnableVertexAttribArray(a);
     glVertexAttribPointer(a, size, GL_FLOAT, GL_FALSE, 0, NULL);
 }
@@ -362,8 +359,7 @@ static void op_polygon(game *g, const limen_draw_cmd *c)
     glVertexAttrib3fv(8, c->color);
     glUniform1i(g->u.mode, c->image == LIMEN_IMAGE_TARGET ? 2 : 1);
     glUniform4fv(g->u.image_map, 1, c->image_map);
-    glBindTexture(GL_TEXTURE_2D, g->targets[c->target > 0 && c->target < MAX_TARGETS ?
-                                            c->target : 0].tex);
+    glBindTexture(GL_TEXTURE_2D, g->targets[c->target < MAX_TARGETS ? c->target : 0].tex);
     glBindVertexArray(g->poly_vao);
     glDrawArrays(GL_TRIANGLE_FAN, c->first, c->count);
     glUniform1i(g->u.mode, 0);
@@ -391,10 +387,10 @@ static void op_shape(game *g, const limen_draw_cmd *c)
     static const int count[5] = { 0, 6, 36, 3 * SEGMENTS * SEGMENTS, 18 * SEGMENTS };
     const limen_drawable *d = &g->items[c->item];
     const float *dims = d->dims;
-    int unit = d->kind == LIMEN_NODE_BOX ? UNIT_BOX : d->kind == LIMEN_NODE_SPHERE ? UNIT_SPHERE
-               : d->kind == LIMEN_NODE_CYLINDER ? UNIT_CYLINDER : UNIT_QUAD;
-    const float scale[3] = { dims[0], unit == UNIT_SPHERE ? dims[0] : dims[1],
-                             unit == UNIT_BOX ? dims[2] : unit == UNIT_QUAD ? 1 : dims[0] };
+    int unit = d->kind == LIMEN_NODE_BOX ? BOX : d->kind == LIMEN_NODE_SPHERE ? SPHERE
+               : d->kind == LIMEN_NODE_CYLINDER ? CYLINDER : QUAD;
+    const float scale[3] = { dims[0], unit == SPHERE ? dims[0] : dims[1],
+                             unit == BOX ? dims[2] : unit == QUAD ? 1 : dims[0] };
     for (GLuint col = 0; col < 4; col++) {     /* world times the unit shape's scale */
         const float *w = c->world + 4 * col, s = col < 3 ? scale[col] : 1.0f;
         glVertexAttrib4f(4 + col, w[0] * s, w[1] * s, w[2] * s, w[3] * s);
@@ -402,7 +398,7 @@ static void op_shape(game *g, const limen_draw_cmd *c)
     glVertexAttrib3fv(8, c->color);
     glUniform3fv(g->u.scale, 1, scale);
     glUniform1i(g->u.unit, unit);
-    glUniform1i(g->u.uv, unit == UNIT_BOX ? UV_BOX : UV_PLANE);
+    glUniform1i(g->u.uv, unit == BOX ? BOX : QUAD);
     use_item(g, d, d->texture);
     glBindVertexArray(g->vao);
     glDrawArrays(GL_TRIANGLES, 0, count[unit]);
@@ -415,9 +411,10 @@ static void op_meshes(game *g, const limen_draw_cmd *c)
 {
     const limen_drawable *d = &g->items[c->item];
     const limen_mesh_geometry *m = d->mesh;
-    const gpu *gm = m && c->lod >= 0 && c->lod < 16 ? mesh_upload(g, m) : NULL;
-    if (!gm || c->lod >= m->lod_count)
+    const gpu *gm = m ? mesh_upload(g, m) : NULL;
+    if (!gm)
         return;
+    int lod = c->lod < m->lod_count && c->lod < 16 ? c->lod : 0;
     glBindVertexArray(gm->vao);
     glBindBuffer(GL_ARRAY_BUFFER, g->inst_vbo);     /* world matrix columns, albedo */
     for (GLuint a = 4; a < 9; a++) {
@@ -429,8 +426,8 @@ static void op_meshes(game *g, const limen_draw_cmd *c)
     }
     glUniform3f(g->u.scale, 1, 1, 1);
     glUniform1i(g->u.facets, !d->smooth);
-    glUniform1i(g->u.uv, UV_MESH);
-    const limen_mesh_part *parts = m->lods[c->lod].parts ? m->lods[c->lod].parts : m->parts;
+    glUniform1i(g->u.uv, MESH);
+    const limen_mesh_part *parts = m->lods[lod].parts ? m->lods[lod].parts : m->parts;
     for (int p = 0; p < m->part_count; p++) {
         const limen_material *mt = &m->materials[parts[p].material];
         if ((mt->alpha_mode == LIMEN_ALPHA_BLEND) != (c->parts == LIMEN_PARTS_BLENDED))
@@ -439,7 +436,7 @@ static void op_meshes(game *g, const limen_draw_cmd *c)
         glUniform4fv(g->u.base, 1, mt->base_color);
         glUniform3fv(g->u.emissive, 1, mt->emissive);
         glUniform1f(g->u.cutoff, mt->alpha_mode == LIMEN_ALPHA_MASK ? mt->alpha_cutoff : -1);
-        size_t at = (size_t)gm->first[c->lod] + 3 * (size_t)parts[p].first_triangle;
+        size_t at = (size_t)gm->first[lod] + 3 * (size_t)parts[p].first_triangle;
         glDrawElementsInstanced(GL_TRIANGLES, 3 * parts[p].triangle_count, GL_UNSIGNED_INT,
                                 (void *)(sizeof(GLuint) * at), c->count);
     }
