@@ -20,15 +20,16 @@
 #define GL_GLEXT_PROTOTYPES
 #include <GL/glcorearb.h>
 #include <GL/osmesa.h>
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "limen.h"
 
-enum { QUAD = 1, BOX, SPHERE, CYLINDER, MESH };     /* u_unit (0: read the attributes), u_uv */
-enum { SEGMENTS = 96, MAX_TARGETS = 64 };           /* SEGMENTS: S in the shader */
-#define UNIFORMS(X) X(view_proj) X(clip) X(cut) X(scale) X(unit) X(uv) X(mode) X(facets)  \
+enum { QUAD = 1, BOX, SPHERE, CYLINDER, MESH };     /* u_unit (0: the attributes), u_uv */
+enum { MAX_TARGETS = 64 };
+#define UNIFORMS(X) X(view_proj) X(clip) X(cut) X(scale) X(unit) X(uv) X(mode) X(facets) X(S) \
     X(eye) X(albedo_b) X(cell) X(tint) X(ambient) X(textured) X(repeat) X(base) X(emissive) \
     X(cutoff) X(image_map) X(nlights) X(light_pos) X(light_col) X(light_inv_r2)
 #define U_FIELD(name) GLint name;
@@ -49,7 +50,7 @@ typedef struct game {
     limen_plan *plan;
     limen_drawables *draw;
     limen_drawlist *list;
-    const limen_drawable *items;
+    const limen_drawable *items;        /* this frame's, and its list's passes */
     const limen_draw_pass *passes;
 } game;
 
@@ -61,20 +62,18 @@ static const char *vs_src = GLSL(
     layout(location = 0) in vec3 a_pos;   layout(location = 1) in vec3 a_nrm;
     layout(location = 2) in vec2 a_uv;    layout(location = 3) in vec4 a_col;
     layout(location = 4) in mat4 a_world; layout(location = 8) in vec3 a_albedo;
-    uniform mat4 u_view_proj; uniform vec4 u_clip, u_cut; uniform int u_unit, u_uv;
+    uniform mat4 u_view_proj; uniform vec4 u_clip, u_cut; uniform int u_unit, u_uv, u_S;
     uniform vec3 u_scale;                           /* unit shape -> node-local units */
     out vec3 v_world, v_local, v_normal; out vec2 v_uv; out vec4 v_col; flat out vec3 v_albedo;
-    const int S = 96;
     const vec2 corner[6] = vec2[6](vec2(0), vec2(1, 0), vec2(1), vec2(0), vec2(1), vec2(0, 1));
     /* The unit shapes, two triangles a cell, counter-clockwise from outside: quad 1x1 on z = 0
      * facing +Z, box 1x1x1 (face q: axis q / 2, + where odd), sphere of radius 1, cylinder of
-     * radius 1 over y in [0, 1] (rows: top, side, bottom). Their normals interpolate to the
-     * true shape's at every pixel. */
+     * radius 1 over y in [0, 1] (rows: top, side, bottom), of u_S segments around. Their
+     * normals interpolate to the true shape's at every pixel. */
     void unit(out vec3 p, out vec3 n) {
-        int q = gl_VertexID / 6, row = q / S;
+        int S = u_S, q = gl_VertexID / 6, row = q / S, a = u_unit == 1 ? 2 : q / 2;
         vec2 k = corner[gl_VertexID % 6];
         if (u_unit <= 2) {
-            int a = u_unit == 1 ? 2 : q / 2;
             float s = u_unit == 1 || q % 2 == 1 ? 1.0 : -1.0;
             vec3 u = vec3(0.0), v = vec3(0.0);
             n = vec3(0.0); n[a] = s; u[(a + 1) % 3] = 1.0; v[(a + 2) % 3] = s;
@@ -89,6 +88,8 @@ static const char *vs_src = GLSL(
                          : vec4(1.0 - t, 0.0, 0.0, -1.0);
         vec2 cs = vec2(cos(th), -sin(th));
         p = vec3(r.x * cs.x, r.y, r.x * cs.y); n = vec3(r.z * cs.x, r.w, r.z * cs.y);
+        float c = cos(3.14159265 / float(S));       /* out by half the sag, as limen does */
+        p *= u_unit == 3 ? vec3(2.0 / (1.0 + c * c)) : vec3(2.0 / (1.0 + c), 1.0, 2.0 / (1.0 + c));
     }
     void main() {
         vec3 p = a_pos, n = a_nrm;
@@ -99,8 +100,7 @@ static const char *vs_src = GLSL(
         vec3 e = p + 0.5;                           /* a plane's, a box face's, a mesh's */
         v_uv = u_uv == 5 ? a_uv : u_uv == 1 ? e.xy : abs(n.x) > 0.5 ? e.yz
              : abs(n.y) > 0.5 ? e.zx : e.xy;
-        gl_ClipDistance[0] = dot(u_clip, w);
-        gl_ClipDistance[1] = dot(u_cut, w);
+        gl_ClipDistance[0] = dot(u_clip, w); gl_ClipDistance[1] = dot(u_cut, w);
         gl_Position = u_view_proj * w;
     });
 
@@ -144,18 +144,14 @@ static int program_create(game *g)
     g->prog = glCreateProgram();
     for (int i = 0; i < 2; i++) {
         GLuint sh = glCreateShader(i ? GL_FRAGMENT_SHADER : GL_VERTEX_SHADER);
-        glShaderSource(sh, 1, &src[i], NULL);
-        glCompileShader(sh);
-        glAttachShader(g->prog, sh);
-        glDeleteShader(sh);                     /* goes with the program */
+        glShaderSource(sh, 1, &src[i], NULL), glCompileShader(sh);
+        glAttachShader(g->prog, sh), glDeleteShader(sh);    /* goes with the program */
     }
-    glLinkProgram(g->prog);
-    glGetProgramiv(g->prog, GL_LINK_STATUS, &ok);
+    glLinkProgram(g->prog), glGetProgramiv(g->prog, GL_LINK_STATUS, &ok);
     UNIFORMS(U_FIND)
     glUseProgram(g->prog);
     glVertexAttrib4f(3, 1, 1, 1, 1);            /* the colour of vertices without one */
-    glUniform4f(g->u.base, 1, 1, 1, 1);         /* what a material leaves: white, no mask */
-    glUniform1f(g->u.cutoff, -1);
+    glUniform4f(g->u.base, 1, 1, 1, 1), glUniform1f(g->u.cutoff, -1);    /* no material */
     glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
     return ok ? 0 : -1;
 }
@@ -184,8 +180,7 @@ static void attribute(GLuint a, int size, const float *data, int n)
         return;
     glGenBuffers(1, &vbo), glBindBuffer(GL_ARRAY_BUFFER, vbo);
     glBufferData(GL_ARRAY_BUFFER, (GLsizeiptr)sizeof *data * size * n, data, GL_STATIC_DRAW);
-    glEnableVertexAttribArray(a);
-    glVertexAttribPointer(a, size, GL_FLOAT, GL_FALSE, 0, NULL);
+    glEnableVertexAttribArray(a), glVertexAttribPointer(a, size, GL_FLOAT, GL_FALSE, 0, NULL);
 }
 
 /* A scene mesh on the GPU, every level's indices in one buffer (first[k]: where k starts). */
@@ -263,8 +258,7 @@ static void game_destroy(game *g)
     if (g->ctx)
         OSMesaDestroyContext(g->ctx);
     limen_plan_destroy(g->plan), limen_drawables_destroy(g->draw);
-    limen_drawlist_destroy(g->list);
-    free(g->cache), free(g);
+    limen_drawlist_destroy(g->list), free(g->cache), free(g);
 }
 
 static int make_current(game *g)
@@ -294,8 +288,7 @@ static game *game_create(int w, int h)
     glGenVertexArrays(1, &g->vao);              /* the unit shapes read no attributes */
     glGenVertexArrays(1, &g->poly_vao), glBindVertexArray(g->poly_vao);
     glGenBuffers(1, &g->poly_vbo), glBindBuffer(GL_ARRAY_BUFFER, g->poly_vbo);
-    glEnableVertexAttribArray(0);
-    glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, 0, NULL);
+    glEnableVertexAttribArray(0), glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, 0, NULL);
     glGenBuffers(1, &g->inst_vbo);
     return g;
 }
@@ -317,10 +310,8 @@ static void set_state(game *g, const limen_draw_state *s, const limen_draw_pass 
         (on[i] ? glEnable : glDisable)(caps[i]);
     glScissor(s->scissor[0], s->scissor[1], s->scissor[2], s->scissor[3]);
     glColorMask(s->color_write, s->color_write, s->color_write, s->color_write);
-    glDepthMask(s->depth_write);
-    glDepthFunc(compare[s->depth_test]);
-    glStencilFunc(GL_EQUAL, s->stencil_ref, 0xFF);
-    glStencilMask(s->stencil_write_mask);
+    glDepthMask(s->depth_write), glDepthFunc(compare[s->depth_test]);
+    glStencilFunc(GL_EQUAL, s->stencil_ref, 0xFF), glStencilMask(s->stencil_write_mask);
     glStencilOp(GL_KEEP, GL_KEEP, stencil_op[s->stencil_pass]);
     /* where off, a plane that keeps all as well (llvmpipe was seen to go on clipping by the
      * last plane after glDisable(GL_CLIP_DISTANCE0)) */
@@ -328,8 +319,7 @@ static void set_state(game *g, const limen_draw_state *s, const limen_draw_pass 
     glUniform4fv(g->u.cut, 1, s->cut_on ? s->cut : keep_all);
     glFrontFace(p->front_cw ? GL_CW : GL_CCW);
     glUniformMatrix4fv(g->u.view_proj, 1, GL_FALSE, p->view_proj);
-    glUniform3fv(g->u.eye, 1, p->eye);
-    glUniform3fv(g->u.tint, 1, p->tint);
+    glUniform3fv(g->u.eye, 1, p->eye), glUniform3fv(g->u.tint, 1, p->tint);
 }
 
 /* Draws into the frame (0) or offscreen target k from now on. */
@@ -360,8 +350,7 @@ static void op_polygon(game *g, const limen_draw_cmd *c)
     glUniform1i(g->u.mode, c->image == LIMEN_IMAGE_TARGET ? 2 : 1);
     glUniform4fv(g->u.image_map, 1, c->image_map);
     glBindTexture(GL_TEXTURE_2D, g->targets[c->target < MAX_TARGETS ? c->target : 0].tex);
-    glBindVertexArray(g->poly_vao);
-    glDrawArrays(GL_TRIANGLE_FAN, c->first, c->count);
+    glBindVertexArray(g->poly_vao), glDrawArrays(GL_TRIANGLE_FAN, c->first, c->count);
     glUniform1i(g->u.mode, 0);
 }
 
@@ -370,10 +359,8 @@ static void use_item(game *g, const limen_drawable *d, const limen_image *im)
 {
     GLuint tex = im ? image_upload(g, im) : 0;
     int f = d->texture_filter;
-    glUniform3fv(g->u.albedo_b, 1, d->checker);
-    glUniform1f(g->u.cell, d->cell);
-    glUniform1i(g->u.textured, tex != 0);
-    glUniform2fv(g->u.repeat, 1, d->texture_repeat);
+    glUniform3fv(g->u.albedo_b, 1, d->checker), glUniform1f(g->u.cell, d->cell);
+    glUniform1i(g->u.textured, tex != 0), glUniform2fv(g->u.repeat, 1, d->texture_repeat);
     glBindTexture(GL_TEXTURE_2D, tex);
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, f == LIMEN_FILTER_NEAREST ? GL_NEAREST
                     : f == LIMEN_FILTER_LINEAR ? GL_LINEAR : GL_LINEAR_MIPMAP_LINEAR);
@@ -381,27 +368,46 @@ static void use_item(game *g, const limen_drawable *d, const limen_image *im)
                     f == LIMEN_FILTER_NEAREST ? GL_NEAREST : GL_LINEAR);
 }
 
+/* The segments of a sphere or cylinder of that radius at world matrix w, as limen chooses
+ * them: the fewest whose silhouette stays within 0.2 pixel of the true shape's. */
+static int segments(const limen_draw_pass *p, const float *w, float radius)
+{
+    static const int seg[] = { 8, 12, 16, 24, 32, 48, 64, 96, 128, 192, 256 };
+    const float *v = p->view_mat;
+    float r = 0, dist = -(v[2] * w[12] + v[6] * w[13] + v[10] * w[14] + v[14]);
+    for (int c = 0; c < 3; c++)                 /* the longest axis, in the view's units */
+        r = fmaxf(r, sqrtf(w[4 * c] * w[4 * c] + w[4 * c + 1] * w[4 * c + 1] +
+                           w[4 * c + 2] * w[4 * c + 2]));
+    r *= radius * sqrtf(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+    for (int k = 0; dist > 1.01f * r && k < 11; k++) {
+        double cs = cos(3.14159265358979 / seg[k]);
+        if (r * p->px_scale / (dist - r) * (1 - cs * cs) / (1 + cs * cs) <= 0.2)
+            return seg[k];
+    }
+    return 256;
+}
+
 /* A unit shape scaled to its node's size, lit in its colours. */
 static void op_shape(game *g, const limen_draw_cmd *c)
 {
-    static const int count[5] = { 0, 6, 36, 3 * SEGMENTS * SEGMENTS, 18 * SEGMENTS };
     const limen_drawable *d = &g->items[c->item];
     const float *dims = d->dims;
     int unit = d->kind == LIMEN_NODE_BOX ? BOX : d->kind == LIMEN_NODE_SPHERE ? SPHERE
                : d->kind == LIMEN_NODE_CYLINDER ? CYLINDER : QUAD;
     const float scale[3] = { dims[0], unit == SPHERE ? dims[0] : dims[1],
                              unit == BOX ? dims[2] : unit == QUAD ? 1 : dims[0] };
+    int S = unit < SPHERE ? 1 : segments(&g->passes[c->pass], c->world,
+                                         unit == SPHERE ? dims[0] : fmaxf(dims[0], dims[1] / 2));
+    const int count[5] = { 0, 6, 36, 3 * S * S, 18 * S };
     for (GLuint col = 0; col < 4; col++) {     /* world times the unit shape's scale */
         const float *w = c->world + 4 * col, s = col < 3 ? scale[col] : 1.0f;
         glVertexAttrib4f(4 + col, w[0] * s, w[1] * s, w[2] * s, w[3] * s);
     }
-    glVertexAttrib3fv(8, c->color);
-    glUniform3fv(g->u.scale, 1, scale);
-    glUniform1i(g->u.unit, unit);
-    glUniform1i(g->u.uv, unit == BOX ? BOX : QUAD);
+    glVertexAttrib3fv(8, c->color), glUniform3fv(g->u.scale, 1, scale);
+    glUniform1i(g->u.unit, unit), glUniform1i(g->u.uv, unit == BOX ? BOX : QUAD);
+    glUniform1i(g->u.S, S);
     use_item(g, d, d->texture);
-    glBindVertexArray(g->vao);
-    glDrawArrays(GL_TRIANGLES, 0, count[unit]);
+    glBindVertexArray(g->vao), glDrawArrays(GL_TRIANGLES, 0, count[unit]);
     glUniform1i(g->u.unit, 0);
 }
 
@@ -415,17 +421,14 @@ static void op_meshes(game *g, const limen_draw_cmd *c)
     if (!gm)
         return;
     int lod = c->lod < m->lod_count && c->lod < 16 ? c->lod : 0;
-    glBindVertexArray(gm->vao);
-    glBindBuffer(GL_ARRAY_BUFFER, g->inst_vbo);     /* world matrix columns, albedo */
-    for (GLuint a = 4; a < 9; a++) {
-        glEnableVertexAttribArray(a);
-        glVertexAttribDivisor(a, 1);
+    glBindVertexArray(gm->vao), glBindBuffer(GL_ARRAY_BUFFER, g->inst_vbo);
+    for (GLuint a = 4; a < 9; a++) {            /* world matrix columns, albedo */
+        glEnableVertexAttribArray(a), glVertexAttribDivisor(a, 1);
         glVertexAttribPointer(a, a < 8 ? 4 : 3, GL_FLOAT, GL_FALSE, sizeof(limen_draw_instance),
                               (void *)(sizeof(limen_draw_instance) * (size_t)c->first +
                                        sizeof(float) * 4 * (a - 4)));
     }
-    glUniform3f(g->u.scale, 1, 1, 1);
-    glUniform1i(g->u.facets, !d->smooth);
+    glUniform3f(g->u.scale, 1, 1, 1), glUniform1i(g->u.facets, !d->smooth);
     glUniform1i(g->u.uv, MESH);
     const limen_mesh_part *parts = m->lods[lod].parts ? m->lods[lod].parts : m->parts;
     for (int p = 0; p < m->part_count; p++) {
@@ -433,8 +436,7 @@ static void op_meshes(game *g, const limen_draw_cmd *c)
         if ((mt->alpha_mode == LIMEN_ALPHA_BLEND) != (c->parts == LIMEN_PARTS_BLENDED))
             continue;
         use_item(g, d, d->texture ? d->texture : mt->base_texture);
-        glUniform4fv(g->u.base, 1, mt->base_color);
-        glUniform3fv(g->u.emissive, 1, mt->emissive);
+        glUniform4fv(g->u.base, 1, mt->base_color), glUniform3fv(g->u.emissive, 1, mt->emissive);
         glUniform1f(g->u.cutoff, mt->alpha_mode == LIMEN_ALPHA_MASK ? mt->alpha_cutoff : -1);
         size_t at = (size_t)gm->first[lod] + 3 * (size_t)parts[p].first_triangle;
         glDrawElementsInstanced(GL_TRIANGLES, 3 * parts[p].triangle_count, GL_UNSIGNED_INT,
@@ -460,13 +462,11 @@ static void frame_begin(game *g)
     int n = limen_drawables_items(g->draw, &g->items), nl = 0;
     for (const limen_drawable *d = g->items; d < g->items + n && nl < LIMEN_MAX_LIGHTS; d++)
         if (d->visible && d->kind == LIMEN_NODE_LIGHT) {
-            memcpy(pos[nl], d->world + 12, sizeof pos[0]);
-            memcpy(col[nl], d->color, sizeof col[0]);
+            memcpy(pos[nl], d->world + 12, sizeof pos[0]), memcpy(col[nl], d->color, sizeof col[0]);
             inv_r2[nl++] = d->range > 0 ? 1.0f / (d->range * d->range) : 0.0f;
         }
     limen_drawables_environment(g->draw, background, &ambient);
-    glUniform1f(g->u.ambient, ambient);
-    glUniform1i(g->u.nlights, nl);
+    glUniform1f(g->u.ambient, ambient), glUniform1i(g->u.nlights, nl);
     glUniform3fv(g->u.light_pos, nl, pos[0]), glUniform3fv(g->u.light_col, nl, col[0]);
     glUniform1fv(g->u.light_inv_r2, nl, inv_r2);
     const float (*v)[3];
@@ -493,17 +493,14 @@ static int game_draw(game *g, const limen_draw_cmd *cmd, int n, limen_depth_rang
         return -1;      /* (reversed depth would want a float depth buffer) */
     if (g->clip_control)
         g->clip_control(GL_LOWER_LEFT, range ? GL_ZERO_TO_ONE : GL_NEGATIVE_ONE_TO_ONE);
-    glUseProgram(g->prog);
-    frame_begin(g);
-    op_target(g, &frame);
+    glUseProgram(g->prog), frame_begin(g), op_target(g, &frame);
     glEnable(GL_DEPTH_TEST), glEnable(GL_SCISSOR_TEST);
     for (int i = 0; i < n; i++)
         if (cmd[i].pass >= 0 && cmd[i].pass < g->npasses && cmd[i].op < LIMEN_DRAW_OP_COUNT) {
             set_state(g, &cmd[i].state, &g->passes[cmd[i].pass]);
             op[cmd[i].op](g, &cmd[i]);
         }
-    op_target(g, &frame);
-    glPixelStorei(GL_PACK_ALIGNMENT, 1);
+    op_target(g, &frame), glPixelStorei(GL_PACK_ALIGNMENT, 1);
     for (int y = 0; y < g->h; y++)              /* OpenGL's rows run bottom-up */
         glReadPixels(0, g->h - 1 - y, g->w, 1, GL_RGB, GL_UNSIGNED_BYTE, rgb + 3 * g->w * y);
     return glGetError() == GL_NO_ERROR ? 0 : -1;
@@ -518,14 +515,10 @@ static int game_frame(game *g, limen_scene *s, limen_depth_range range, limen_cl
     limen_drawlist_desc dd = { .width = g->w, .height = g->h, .method = method, .range = range,
                                .limits = pd.limits };
     const limen_draw_cmd *cmd;
-    if (limen_plan_build(g->plan, s, &pd) || limen_drawables_build(g->draw, s)) {
-        fprintf(stderr, "  plan: %s\n", limen_scene_error(s));
-        return -1;
-    }
-    if (limen_drawlist_build(g->list, g->plan, g->draw, &dd)) {
-        fprintf(stderr, "  draw list: %s\n", limen_drawlist_error(g->list));
-        return -1;
-    }
+    if (limen_plan_build(g->plan, s, &pd) || limen_drawables_build(g->draw, s))
+        return fprintf(stderr, "  plan: %s\n", limen_scene_error(s)), -1;
+    if (limen_drawlist_build(g->list, g->plan, g->draw, &dd))
+        return fprintf(stderr, "  draw list: %s\n", limen_drawlist_error(g->list)), -1;
     return game_draw(g, cmd, limen_drawlist_commands(g->list, &cmd), range, rgb);
 }
 
@@ -535,25 +528,20 @@ int main(int argc, char **argv)
 {
     int w = 640, h = 480, rc = 1;
     limen_script *sc = NULL;
-    if (argc < 3 || (argc > 3 && sscanf(argv[3], "%dx%d", &w, &h) != 2) || w < 1 || h < 1) {
-        fprintf(stderr, "usage: own_renderer SCENE.lua OUT.png [WxH [texture]]\n");
-        return 2;
-    }
+    if (argc < 3 || (argc > 3 && sscanf(argv[3], "%dx%d", &w, &h) != 2) || w < 1 || h < 1)
+        return fprintf(stderr, "usage: own_renderer SCENE.lua OUT.png [WxH [texture]]\n"), 2;
     game *g = limen_script_load(argv[1], NULL, &sc) ? NULL : game_create(w, h);
     unsigned char *rgb = malloc((size_t)w * (size_t)h * 3);
-    char tmp[4096];
-    snprintf(tmp, sizeof tmp, "%s.tmp", argv[2]);
-    if (g && rgb)
+    if (g && rgb)                               /* (limen_write_png writes whole or not) */
         rc = game_frame(g, limen_script_scene(sc), LIMEN_DEPTH_NO, LIMEN_CLIP_OBLIQUE,
                         argc > 4 && !strcmp(argv[4], "texture"), rgb) ||
-             limen_write_png(tmp, w, h, rgb) || rename(tmp, argv[2]);
+             limen_write_png(argv[2], w, h, rgb);
     if (rc)
         fprintf(stderr, "own_renderer: cannot draw %s (%s)\n", argv[1],
                 sc ? limen_script_error(sc) : "no script");
-    free(rgb);
     if (g)
         game_destroy(g);
-    limen_script_destroy(sc);
+    free(rgb), limen_script_destroy(sc);
     return rc;
 }
 #endif
