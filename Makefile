@@ -43,7 +43,7 @@ CORE_SRC += src/core/lod_weld.c
 # model files as scenes (limen_model_load), the JSON reader for what assimp drops, and
 # finding and measuring nodes below a node (limen_node_find_below, limen_node_get_bounds)
 CORE_SRC += src/core/model.c src/core/json.c src/core/find.c
-GL_SRC   := src/gl/render.c src/gl/views.c src/gl/stencil.c src/gl/shader.c src/gl/mesh.c src/gl/assets.c src/gl/batch.c src/gl/ctx_osmesa.c \
+GL_SRC   := src/gl/render.c src/gl/backend.c src/gl/targets.c src/gl/shader.c src/gl/shapes.c src/gl/assets.c src/gl/ctx_osmesa.c \
             src/gl/ctx_egl.c src/gl/ctx_host.c
 LUA_SRC  := src/lua/l_fields.c src/lua/l_node.c src/lua/l_scene.c src/lua/l_render.c src/lua/script.c src/lua/safe.c src/lua/guards.c
 # sorted: a file listed twice (two branches adding it) is built once
@@ -51,6 +51,7 @@ LIB_SRC  := $(sort $(CORE_SRC) $(GL_SRC) $(LUA_SRC))
 CLI_SRC  := src/cli/main.c src/cli/common.c src/cli/trace_cmd.c src/cli/pose.c src/cli/view.c
 TEST_C   := tests/test_host.c tests/test_math.c tests/test_mesh.c tests/test_lod.c tests/test_projection.c tests/test_scene.c tests/test_plan.c tests/test_render.c tests/test_script.c tests/test_script_limits.c tests/test_trace.c tests/test_gallery.c tests/test_threads.c tests/test_truth.c tests/test_example_game.c tests/test_crossing.c tests/test_sweep_approach.c tests/test_sweep_grazing.c tests/test_sweep_depth.c tests/test_sweep_recursion.c tests/test_sweep_matrix.c tests/test_sweep_odd.c tests/test_scale.c tests/test_model.c tests/test_safe_load.c
 TEST_C   += tests/test_materials.c
+TEST_C   += tests/test_drawlist.c
 LIB_SRC  += src/core/collide.c src/core/contact.c src/lua/l_collide.c
 TEST_C   += tests/test_collide.c
 

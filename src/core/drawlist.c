@@ -815,15 +815,6 @@ static bool scene_blends(const limen_drawlist *dl)
     return false;
 }
 
-limen_drawlist_desc limen_drawlist_desc_defaults(const limen_drawlist_desc *desc)
-{
-    limen_drawlist_desc d = desc ? *desc : (limen_drawlist_desc){ 0 };
-    if (d.texture_scale == 0 || d.method == LIMEN_METHOD_NAIVE)
-        d.texture_scale = 1.0f;
-    d.limits = limen_limits_defaults(&d.limits, d.width, d.height);
-    return d;
-}
-
 limen_status limen_drawlist_build(limen_drawlist *dl, const limen_plan *p, const limen_drawables *d,
                                   const limen_drawlist_desc *desc)
 {
