@@ -210,6 +210,49 @@ typedef enum limen_node_kind {
     LIMEN_NODE_KIND_COUNT
 } limen_node_kind;
 
+/* ---------------------------------------------------------------- node kinds */
+
+/* Where a kind's texture coordinates come from (limen_node_set_texture says how each maps). */
+typedef enum limen_uv_rule {
+    LIMEN_UV_NONE = 0,          /* takes no texture (limen_node_set_texture refuses it) */
+    LIMEN_UV_PLANE,             /* a plane's: (x/w + 0.5, y/h + 0.5) over its extent */
+    LIMEN_UV_BOX,               /* a box face's: its two other axes in order */
+    LIMEN_UV_MESH,              /* the mesh's own */
+    LIMEN_UV_COUNT              /* the number of rules (not one itself) */
+} limen_uv_rule;
+
+/* What every layer knows of a node kind, from one table (core, renderer, tracer, bindings;
+ * a game's own renderer may read it too). A kind that draws as a unit shape (unit) is that
+ * shape, whose local box is [lo, hi], with local axis a stretched by dims[scale[a]] (by 1
+ * where scale[a] < 0): a SPHERE is the ball of radius 1 scaled by (r, r, r), a CYLINDER the
+ * one of radius 1 and height 1 on y = 0..1 scaled by (r, h, r), a QUAD the square
+ * [-0.5, 0.5]^2 on z = 0 scaled by (w, h, 1). */
+typedef struct limen_kind_info {
+    const char *name;           /* "box": as Lua and messages spell it ("plane" for a QUAD) */
+    int size;                   /* how many of dims it reads (limen_node_set_dims); 0: none */
+    float dims[3];              /* the dims limen_node_create gives it */
+    int shape;                  /* 1: shows a lit surface: BOX, SPHERE, CYLINDER, QUAD, MESH */
+    int surface;                /* 1: a mirror or portal (limen_surface_get) */
+    int light;                  /* 1: lights the scene (LIGHT) */
+    int unit;                   /* 1: draws a unit shape scaled by dims (MESH: its own triangles) */
+    int flat;                   /* 1: on local z = 0, facing +Z; passes no portal; a flat shape's
+                                 * checker is in xy (limen_node_set_checker) */
+    int closed;                 /* 1: a solid: back faces hidden (BOX, SPHERE, CYLINDER) */
+    int round;                  /* bounding sphere about its box's centre: 0 through the box's
+                                 * corners, 1 round about local y (a circle in xz), 2 a ball */
+    limen_uv_rule uv;           /* its texture coordinates; LIMEN_UV_NONE: takes no texture */
+    int scale[3];               /* unit shapes: the dims index that stretches each local axis */
+    float lo[3], hi[3];         /* unit shapes: the unit shape's local box */
+} limen_kind_info;
+
+LIMEN_API const limen_kind_info *limen_kind_get(limen_node_kind k);    /* NULL out of range */
+/* The local box (lo, hi) of a unit shape of kind k and the given dims (as limen_node_get_dims
+ * gives them): what limen_node_get_bounds carries through the world matrix. LIMEN_ERR_ARG
+ * for a kind that is no unit shape (GROUP, LIGHT, CAMERA; a MESH's box is its triangles',
+ * limen_mesh_info.lo and hi) and for NULL arguments. */
+LIMEN_API limen_status limen_kind_bounds(limen_node_kind k, const float dims[3], float lo[3],
+                                         float hi[3]);
+
 typedef struct limen_scene_desc {
     int max_nodes;          /* live nodes at most; 0 -> no limit but memory (the pool grows) */
 } limen_scene_desc;
@@ -737,7 +780,7 @@ typedef struct limen_frame_budget {
                                  * renderer may draw) every visible surface; 0 -> 131072 */
     int64_t triangles;          /* mesh triangles over every view, each mesh at the level of
                                  * detail the view draws it at (limen_view_mesh_lod), counted
-                                 * over limen_plan_view_things; 0 -> LIMEN_BUDGET_TRIANGLES_DEFAULT.
+                                 * over limen_plan_things; 0 -> LIMEN_BUDGET_TRIANGLES_DEFAULT.
                                  * The camera's view is always drawn: where it alone holds more,
                                  * the renderer draws its meshes in order up to the budget and
                                  * drops the rest (counted as one truncation) */
@@ -792,6 +835,10 @@ typedef struct limen_plan_desc {
     limen_depth_range range;    /* clip-space convention of proj */
     limen_limits limits;        /* zero: the defaults (see limen_limits) */
     limen_cull cull;            /* default SURFACE */
+    int multisample;            /* nonzero: a surface counts where it meets any part of a
+                                 * pixel, not only its centre, and a view's scissor holds
+                                 * every such pixel (a renderer at msaa sets it: its samples
+                                 * lie off the centre) */
 } limen_plan_desc;
 
 typedef struct limen_plan limen_plan;
@@ -815,12 +862,16 @@ LIMEN_API int limen_view_mesh_lod(const limen_view *v, int height, const limen_d
                                   float pixels);
 /* The shapes (boxes, spheres, cylinders, quads, meshes; visible ones) that view i may show: those
  * whose world bounds meet the view's pyramid from its eye through its scissor rectangle and,
- * below the camera, lie partly in front of its clip plane. Found through the scene's spatial
- * index, in time that follows what the view holds, not what the scene holds, so a renderer
- * can draw only these (plus the view's surfaces and the copies in limen_plan_clones). A
- * superset: a shape listed may still be hidden. Writes up to max handles, in node order,
- * and returns how many there are (more than max when out is too small); -1 on error
- * (limen_last_error). Call it before the scene changes again. */
+ * below the camera, lie partly in front of its clip plane. limen_plan_build finds them
+ * through the scene's spatial index, in time that follows what the view holds, not what the
+ * scene holds, and keeps them in the plan, so a renderer can draw only these (plus the view's
+ * surfaces and the copies in limen_plan_clones) without the scene. A superset: a shape listed
+ * may still be hidden. Sets *out to the view's handles, in node order (owned by the plan, valid
+ * until its next build; NULL when there are none, or i is out of range), and returns how many. */
+LIMEN_API int limen_plan_things(const limen_plan *p, int i, const limen_node **out);
+/* Deprecated: limen_plan_things. Copies up to max of view i's shapes into out and returns how
+ * many there are (more than max when out is too small); -1 when there is no view i or out is
+ * NULL with max > 0 (the message in s, which may be NULL: the plan needs no scene). */
 LIMEN_API int limen_plan_view_things(const limen_plan *p, limen_scene *s, int i, limen_node *out,
                                      int max);
 /* A closed shape (box, sphere, cylinder, mesh) passing through a portal, its centre over the
@@ -849,15 +900,14 @@ typedef struct limen_plan_work {
 } limen_plan_work;
 LIMEN_API void limen_plan_get_work(const limen_plan *p, limen_plan_work *out);
 /* Writes the plan as JSON ({"views": [...]}); returns LIMEN_ERR_IO if it cannot. Each view
- * lists, besides its matrices and surfaces, the meshes it may show (limen_plan_view_things)
+ * lists, besides its matrices and surfaces, the meshes it may show (limen_plan_things)
  * with the level of detail it draws each at under the plan's lod_pixels and height
  * (limen_view_mesh_lod): "meshes": [{"node": "statue", "lod": 3, "triangles": 212, "parts":
  * [{"first": 0, "count": 212, "material": 0}], "materials": [{"name", "base_color",
  * "base_texture" (whether it has one), "alpha_mode" ("opaque", "mask", "blend"),
- * "alpha_cutoff", "emissive", "emissive_texture"}]}]: that level's parts. Like
- * limen_plan_view_things it asks the scene's spatial index, which it may refresh, so it takes
- * the scene as an edit does (see THREADS). */
-LIMEN_API limen_status limen_plan_write_json(const limen_plan *p, limen_scene *s,
+ * "alpha_cutoff", "emissive", "emissive_texture"}]}]: that level's parts. It reads the scene
+ * (names, meshes) as the plan left it: write it before the scene changes. */
+LIMEN_API limen_status limen_plan_write_json(const limen_plan *p, const limen_scene *s,
                                              const char *path);
 
 /* ---------------------------------------------------------------- renderer */

@@ -540,6 +540,7 @@ static limen_status frame(limen_renderer *r, limen_scene *s, limen_frame_stats *
                            .limits = r->opts.limits,
                            .cull = r->opts.method == LIMEN_METHOD_NAIVE ? LIMEN_CULL_FRUSTUM
                                                                         : LIMEN_CULL_SURFACE };
+    pd.multisample = r->msaa > 1;   /* its samples lie off the pixels' centres */
     limen_status st = limen_plan_build(r->plan, s, &pd);
     if (!st)
         st = limen_drawables_build(r->draw, s);

@@ -259,8 +259,12 @@ bool limen__unit_mesh(limen_renderer *r, const vec4 *view, float px_scale, const
     float dist = -vc[2];
     world_r *= view_scale;
     int lod = LIMEN__LODS - 1;
+    /* multisampled: a silhouette's error band holds msaa samples per pixel of its area, each
+     * changing its pixel by 1/msaa of the contrast, so it takes a band msaa times thinner
+     * to leave as few pixels off the area-averaged truth as one sample per pixel leaves */
+    float tol = r->msaa > 1 ? LOD_TOLERANCE_PX / (float)r->msaa : LOD_TOLERANCE_PX;
     if (dist > world_r * 1.01f)
-        lod = limen__lod_for(world_r * px_scale / (dist - world_r), LOD_TOLERANCE_PX);
+        lod = limen__lod_for(world_r * px_scale / (dist - world_r), tol);
     *range = node->kind == LIMEN_NODE_SPHERE ? r->meshes.sphere[lod] : r->meshes.cylinder[lod];
     return true;
 }
