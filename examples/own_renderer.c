@@ -27,7 +27,7 @@
 
 #include "limen.h"
 
-enum { QUAD = 1, BOX, SPHERE, CYLINDER, MESH };     /* u_unit (0: the attributes), u_uv */
+enum { QUAD = 1, BOX, SPHERE, CYLINDER };   /* u_unit (0: the attributes); u_uv: limen_uv_rule */
 enum { MAX_TARGETS = 64 };
 #define UNIFORMS(X) X(view_proj) X(clip) X(cut) X(scale) X(unit) X(uv) X(mode) X(facets) X(S) \
     X(eye) X(albedo_b) X(cell) X(tint) X(ambient) X(textured) X(repeat) X(base) X(emissive) \
@@ -98,7 +98,7 @@ static const char *vs_src = GLSL(
         v_world = w.xyz; v_local = p * u_scale; v_col = a_col; v_albedo = a_albedo;
         v_normal = transpose(inverse(mat3(a_world))) * n;
         vec3 e = p + 0.5;                           /* a plane's, a box face's, a mesh's */
-        v_uv = u_uv == 5 ? a_uv : u_uv == 1 ? e.xy : abs(n.x) > 0.5 ? e.yz
+        v_uv = u_uv == 3 ? a_uv : u_uv == 1 ? e.xy : abs(n.x) > 0.5 ? e.yz
              : abs(n.y) > 0.5 ? e.zx : e.xy;
         gl_ClipDistance[0] = dot(u_clip, w); gl_ClipDistance[1] = dot(u_cut, w);
         gl_Position = u_view_proj * w;
@@ -387,24 +387,25 @@ static int segments(const limen_draw_pass *p, const float *w, float radius)
     return 256;
 }
 
-/* A unit shape scaled to its node's size, lit in its colours. */
+/* A unit shape scaled to its node's size, lit in its colours; which shape and how it scales
+ * and takes a texture are the kind's facts (limen_kind_get), not a list of kinds. */
 static void op_shape(game *g, const limen_draw_cmd *c)
 {
     const limen_drawable *d = &g->items[c->item];
-    const float *dims = d->dims;
-    int unit = d->kind == LIMEN_NODE_BOX ? BOX : d->kind == LIMEN_NODE_SPHERE ? SPHERE
-               : d->kind == LIMEN_NODE_CYLINDER ? CYLINDER : QUAD;
-    const float scale[3] = { dims[0], unit == SPHERE ? dims[0] : dims[1],
-                             unit == BOX ? dims[2] : unit == QUAD ? 1 : dims[0] };
+    const limen_kind_info *k = limen_kind_get(d->kind);
+    int unit = k->round == 2 ? SPHERE : k->round == 1 ? CYLINDER : k->flat ? QUAD : BOX;
+    float scale[3];
+    for (int a = 0; a < 3; a++)
+        scale[a] = k->scale[a] >= 0 ? d->dims[k->scale[a]] : 1.0f;
     int S = unit < SPHERE ? 1 : segments(&g->passes[c->pass], c->world,
-                                         unit == SPHERE ? dims[0] : fmaxf(dims[0], dims[1] / 2));
+                                         fmaxf(scale[0], unit == SPHERE ? 0 : scale[1] / 2));
     const int count[5] = { 0, 6, 36, 3 * S * S, 18 * S };
     for (GLuint col = 0; col < 4; col++) {     /* world times the unit shape's scale */
         const float *w = c->world + 4 * col, s = col < 3 ? scale[col] : 1.0f;
         glVertexAttrib4f(4 + col, w[0] * s, w[1] * s, w[2] * s, w[3] * s);
     }
     glVertexAttrib3fv(8, c->color), glUniform3fv(g->u.scale, 1, scale);
-    glUniform1i(g->u.unit, unit), glUniform1i(g->u.uv, unit == BOX ? BOX : QUAD);
+    glUniform1i(g->u.unit, unit), glUniform1i(g->u.uv, k->uv);
     glUniform1i(g->u.S, S);
     use_item(g, d, d->texture);
     glBindVertexArray(g->vao), glDrawArrays(GL_TRIANGLES, 0, count[unit]);
@@ -429,7 +430,7 @@ static void op_meshes(game *g, const limen_draw_cmd *c)
                                        sizeof(float) * 4 * (a - 4)));
     }
     glUniform3f(g->u.scale, 1, 1, 1), glUniform1i(g->u.facets, !d->smooth);
-    glUniform1i(g->u.uv, MESH);
+    glUniform1i(g->u.uv, LIMEN_UV_MESH);
     const limen_mesh_part *parts = m->lods[lod].parts ? m->lods[lod].parts : m->parts;
     for (int p = 0; p < m->part_count; p++) {
         const limen_material *mt = &m->materials[parts[p].material];
