@@ -1,5 +1,5 @@
 /* plan_game.h - a renderer of limen's view tree with OpenGL of its own, walking the plan
- * (limen_plan_view, limen_plan_view_surfaces, limen_plan_view_things, limen_plan_clones)
+ * (limen_plan_view, limen_plan_view_surfaces, limen_plan_things, limen_plan_clones)
  * rather than the draw list: the stencil method written out as a game would have written it
  * before limen had a draw list (examples/own_renderer.c was this file until then).
  *
@@ -99,8 +99,6 @@ typedef struct game {
     gpu_image *images;
     int nimages;
     limen_scene *scene;                 /* the scene being drawn */
-    limen_node *things;                 /* a view's shapes (limen_plan_view_things) */
-    int things_cap;
     mesh meshes[MESH_COUNT];
     limen_plan *plan;                   /* the game's plan, rebuilt every frame ... */
     limen_drawables *draw;              /* ... and its list of what to draw */
@@ -517,7 +515,6 @@ static void game_destroy(game *g)
     free(g->meshes_gpu);
     free(g->images);
     free(g->items);
-    free(g->things);
     free(g);
 }
 
@@ -807,31 +804,17 @@ static void draw_cut(game *g, const item *it, const float *carry, const float *k
     }
 }
 
-/* View `index`'s shapes: those limen_plan_view_things lists (the scene's spatial index
- * finds them; a superset of what shows), each cut at the portal it is passing through, then
- * the copies of those coming out of the portals' partners. */
+/* View `index`'s shapes: those limen_plan_things lists (found through the scene's spatial
+ * index when the plan was built; a superset of what shows), each cut at the portal it is
+ * passing through, then the copies of those coming out of the portals' partners. */
 static void draw_shapes(game *g, int index)
 {
     const limen_clone *clones;
+    const limen_node *things;
     int nclones = limen_plan_clones(g->drawing, &clones);
-    int n = limen_plan_view_things(g->drawing, g->scene, index, g->things, g->things_cap);
-    if (n > g->things_cap) {
-        limen_node *grown = realloc(g->things, sizeof *grown * (size_t)n);
-        if (grown) {
-            g->things = grown;
-            g->things_cap = n;
-            n = limen_plan_view_things(g->drawing, g->scene, index, g->things, n);
-        }
-    }
-    if (n < 0 || n > g->things_cap) {    /* (out of memory: every shape then) */
-        fprintf(stderr, "  view things: %s\n", limen_scene_error(g->scene));
-        for (int i = 0; i < g->nitems; i++)
-            if (g->items[i].drawn && !is_surface(&g->items[i]))
-                draw_item(g, &g->items[i], 0, g->items[i].color);
-        return;
-    }
+    int n = limen_plan_things(g->drawing, index, &things);
     for (int k = 0; k < n; k++) {
-        const item *it = find_item(g, g->things[k]);
+        const item *it = find_item(g, things[k]);
         if (!it)
             continue;
         const float *keep = NULL;
