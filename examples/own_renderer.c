@@ -535,7 +535,8 @@ int main(int argc, char **argv)
     unsigned char *rgb = malloc((size_t)w * (size_t)h * 3);
     if (g && rgb)                               /* (limen_write_png writes whole or not) */
         rc = game_frame(g, limen_script_scene(sc), LIMEN_DEPTH_NO, LIMEN_CLIP_OBLIQUE,
-                        argc > 4 && !strcmp(argv[4], "texture"), rgb) ||
+                        argc > 4 && !strcmp(argv[4], "texture") ? LIMEN_METHOD_TEXTURE
+                                                                : LIMEN_METHOD_STENCIL, rgb) ||
              limen_write_png(argv[2], w, h, rgb);
     if (rc)
         fprintf(stderr, "own_renderer: cannot draw %s (%s)\n", argv[1],
