@@ -221,13 +221,15 @@ static void test_game_loop(void)
 }
 
 /* The texture method: the list draws each view into an offscreen target the game makes at
- * the size the list says, and the parent samples it (POLYGON with LIMEN_IMAGE_TARGET). */
+ * the size the list says, and the parent samples it (POLYGON with LIMEN_IMAGE_TARGET);
+ * meshes in batches too (hall_of_mirrors). */
 static void test_texture_method(void)
 {
     static const char *const scenes[][2] = { { "scenes/mirror_room.lua", "mirror_room_tex" },
                                              { "scenes/portals.lua", "portals_tex" },
-                                             { "scenes/corridor.lua", "corridor_tex" } };
-    for (int i = 0; i < 3; i++) {
+                                             { "scenes/corridor.lua", "corridor_tex" },
+                                             { "scenes/hall_of_mirrors.lua", "hall_tex" } };
+    for (int i = 0; i < 4; i++) {
         limen_script *sc = check_load_script(scenes[i][0]);
         if (!sc)
             continue;
