@@ -14,8 +14,10 @@
  *   2. Every frame (game_frame): the game moves things (limen_node_move, ...), then
  *      limen_plan_build, limen_drawables_build and limen_drawlist_build (stencil or texture).
  *   3. Walk the list (game_draw): lights from the drawables, the list's vertices and
- *      instances into buffers, then each command in order: set_state, then its op_ function.
- *      Meshes and images go up once, keyed on their id. Read the frame back.
+ *      instances into buffers, then each command in order: set_state (its pipeline state and
+ *      pass), then one function per op: op_target, op_clear, op_polygon, op_shape (the unit
+ *      shape its kind's facts name, tessellated as limen does), op_meshes, op_flush. Meshes
+ *      and images go up once, keyed on their id. Read the frame back.
  */
 #define GL_GLEXT_PROTOTYPES
 #include <GL/glcorearb.h>
@@ -171,32 +173,29 @@ static gpu *cached(game *g, uint64_t id, int *fresh)
     return memset(&grown[g->ncache++], 0, sizeof *grown);
 }
 
-/* Attribute a of the bound vertex array from n vertices of `size` floats; where data is NULL
- * it keeps its constant (uv 0, colour white). */
-static void attribute(GLuint a, int size, const float *data, int n)
-{
-    GLuint vbo;
-    if (!data)
-        return;
-    glGenBuffers(1, &vbo), glBindBuffer(GL_ARRAY_BUFFER, vbo);
-    glBufferData(GL_ARRAY_BUFFER, (GLsizeiptr)sizeof *data * size * n, data, GL_STATIC_DRAW);
-    glEnableVertexAttribArray(a), glVertexAttribPointer(a, size, GL_FLOAT, GL_FALSE, 0, NULL);
-}
-
-/* A scene mesh on the GPU, every level's indices in one buffer (first[k]: where k starts). */
+/* A scene mesh on the GPU: an attribute per array it has (one it lacks keeps its constant:
+ * uv 0, colour white), every level's indices in one buffer (first[k]: where k starts). */
 static const gpu *mesh_upload(game *g, const limen_mesh_geometry *m)
 {
-    int fresh, nv = m->vertex_count, ni = 0;
+    const float *data[4] = { m->positions, m->normals, m->uvs, m->colors };
+    static const int size[4] = { 3, 3, 2, 4 };
+    int fresh, ni = 0;
     gpu *c = cached(g, m->id, &fresh);
-    GLuint ibo;
+    GLuint buf;
     if (!c || !fresh)
         return c;
     glGenVertexArrays(1, &c->vao), glBindVertexArray(c->vao);
-    attribute(0, 3, m->positions, nv), attribute(1, 3, m->normals, nv);
-    attribute(2, 2, m->uvs, nv), attribute(3, 4, m->colors, nv);
+    for (GLuint a = 0; a < 4; a++) {
+        if (!data[a])
+            continue;
+        glGenBuffers(1, &buf), glBindBuffer(GL_ARRAY_BUFFER, buf);
+        glBufferData(GL_ARRAY_BUFFER, (GLsizeiptr)sizeof(float) * size[a] * m->vertex_count,
+                     data[a], GL_STATIC_DRAW);
+        glEnableVertexAttribArray(a), glVertexAttribPointer(a, size[a], GL_FLOAT, 0, 0, NULL);
+    }
     for (int k = 0; k < m->lod_count && k < 16; k++)
         c->first[k] = ni, ni += 3 * m->lods[k].triangle_count;
-    glGenBuffers(1, &ibo), glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, ibo);
+    glGenBuffers(1, &buf), glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, buf);
     glBufferData(GL_ELEMENT_ARRAY_BUFFER, (GLsizeiptr)sizeof(GLuint) * ni, NULL, GL_STATIC_DRAW);
     for (int k = 0; k < m->lod_count && k < 16; k++)
         glBufferSubData(GL_ELEMENT_ARRAY_BUFFER, (GLintptr)sizeof(GLuint) * c->first[k],
