@@ -31,9 +31,9 @@
 
 enum { QUAD = 1, BOX, SPHERE, CYLINDER };   /* u_unit (0: the attributes); u_uv: limen_uv_rule */
 enum { MAX_TARGETS = 64 };
-#define UNIFORMS(X) X(view_proj) X(clip) X(cut) X(scale) X(unit) X(uv) X(mode) X(facets) X(S) \
-    X(eye) X(albedo_b) X(cell) X(tint) X(ambient) X(textured) X(repeat) X(base) X(emissive) \
-    X(cutoff) X(image_map) X(nlights) X(light_pos) X(light_col) X(light_inv_r2)
+#define UNIFORMS(X) X(view_proj) X(clip) X(cut) X(scale) X(unit) X(uv) X(facets) X(S) X(eye) \
+    X(albedo_b) X(cell) X(tint) X(ambient) X(textured) X(repeat) X(base) X(emissive) X(cutoff) \
+    X(nlights) X(light_pos) X(light_col) X(light_inv_r2)
 #define U_FIELD(name) GLint name;
 #define U_FIND(name) g->u.name = glGetUniformLocation(g->prog, "u_" #name);
 
@@ -45,8 +45,9 @@ typedef struct game {
     OSMesaContext ctx;
     unsigned char token[64];            /* OSMesa wants a buffer; we draw into our FBO */
     PFNGLCLIPCONTROLPROC clip_control;  /* GL 4.5 (NULL on a 3.3 context) */
-    GLuint prog, vao, poly_vao, poly_vbo, inst_vbo;
+    GLuint prog, flat[2], vao, poly_vao, poly_vbo, inst_vbo;  /* flat: the polygons' */
     struct { UNIFORMS(U_FIELD) } u;
+    GLint flat_color[2], flat_map[2];
     gpu *cache;                         /* the meshes and images uploaded so far */
     target targets[MAX_TARGETS];        /* [0]: the frame; [k]: offscreen target k */
     limen_plan *plan;
@@ -58,7 +59,7 @@ typedef struct game {
 
 /* ============================================================ 1. shader */
 
-#define GLSL(...) "#version 330 core\n" #__VA_ARGS__
+#define GLSL(...) #__VA_ARGS__                      /* after a head: #version and constants */
 
 static const char *vs_src = GLSL(
     layout(location = 0) in vec3 a_pos;   layout(location = 1) in vec3 a_nrm;
@@ -108,17 +109,12 @@ static const char *vs_src = GLSL(
 
 static const char *fs_src = GLSL(
     in vec3 v_world, v_local, v_normal; in vec2 v_uv; in vec4 v_col; flat in vec3 v_albedo;
-    uniform int u_mode, u_facets, u_textured, u_nlights;
+    uniform int u_facets, u_textured, u_nlights;
     uniform vec3 u_eye, u_albedo_b, u_tint, u_emissive, u_light_pos[8], u_light_col[8];
     uniform float u_cell, u_ambient, u_cutoff, u_light_inv_r2[8];
-    uniform vec4 u_base, u_image_map; uniform vec2 u_repeat; uniform sampler2D u_tex;
+    uniform vec4 u_base; uniform vec2 u_repeat; uniform sampler2D u_tex;
     out vec4 o_color;
     void main() {
-        vec2 at = u_image_map.xy * gl_FragCoord.xy + u_image_map.zw;
-        if (u_mode != 0) {                          /* flat (1), or an image's texel (2) */
-            o_color = vec4((u_mode == 2 ? texture(u_tex, at).rgb : vec3(1.0)) * v_albedo, 1.0);
-            return;
-        }
         vec3 n = normalize(u_facets != 0 ? cross(dFdx(v_world), dFdy(v_world)) : v_normal);
         if (dot(n, u_eye - v_world) < 0.0) n = -n;  /* two-sided: face the eye */
         vec3 albedo = v_albedo * u_base.rgb * v_col.rgb, c = floor(v_local / u_cell);
@@ -139,23 +135,52 @@ static const char *fs_src = GLSL(
         o_color = vec4(clamp(lit + u_emissive, 0.0, 1.0) * u_tint, alpha);
     });
 
-static int program_create(game *g)
+/* The polygons' own programs, flat (IMAGE 0) and sampling a target (1), so that marks, seals
+ * and fills (many, and large) pay for no more: llvmpipe runs every branch of a shader. */
+static const char *flat_vs = GLSL(
+    layout(location = 0) in vec3 a_pos;
+    void main() { gl_Position = vec4(a_pos, 1.0); });
+
+static const char *flat_fs = GLSL(
+    uniform vec3 u_color; uniform vec4 u_map; uniform sampler2D u_tex;
+    out vec4 o_color;
+    void main() {                                   /* the colour, or a target's texel times it */
+        vec2 at = u_map.xy * gl_FragCoord.xy + u_map.zw;
+        o_color = vec4((IMAGE != 0 ? texture(u_tex, at).rgb : vec3(1.0)) * u_color, 1.0);
+    });
+
+static GLuint program(const char *head, const char *vs, const char *fs)
 {
-    const char *src[2] = { vs_src, fs_src };
+    const char *src[2][2] = { { head, vs }, { head, fs } };
     GLint ok = 0;
-    g->prog = glCreateProgram();
+    GLuint prog = glCreateProgram();
     for (int i = 0; i < 2; i++) {
         GLuint sh = glCreateShader(i ? GL_FRAGMENT_SHADER : GL_VERTEX_SHADER);
-        glShaderSource(sh, 1, &src[i], NULL), glCompileShader(sh);
-        glAttachShader(g->prog, sh), glDeleteShader(sh);    /* goes with the program */
+        glShaderSource(sh, 2, src[i], NULL), glCompileShader(sh);
+        glAttachShader(prog, sh), glDeleteShader(sh);       /* goes with the program */
     }
-    glLinkProgram(g->prog), glGetProgramiv(g->prog, GL_LINK_STATUS, &ok);
+    glLinkProgram(prog), glGetProgramiv(prog, GL_LINK_STATUS, &ok);
+    return ok ? prog : 0;
+}
+
+static int programs_create(game *g)
+{
+    static const char *head[2] = { "#version 330 core\nconst int IMAGE = 0;\n",
+                                   "#version 330 core\nconst int IMAGE = 1;\n" };
+    for (int k = 0; k < 2; k++) {
+        if (!(g->flat[k] = program(head[k], flat_vs, flat_fs)))
+            return -1;
+        g->flat_color[k] = glGetUniformLocation(g->flat[k], "u_color");
+        g->flat_map[k] = glGetUniformLocation(g->flat[k], "u_map");
+    }
+    if (!(g->prog = program(head[0], vs_src, fs_src)))
+        return -1;
     UNIFORMS(U_FIND)
     glUseProgram(g->prog);
     glVertexAttrib4f(3, 1, 1, 1, 1);            /* the colour of vertices without one */
     glUniform4f(g->u.base, 1, 1, 1, 1), glUniform1f(g->u.cutoff, -1);    /* no material */
     glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
-    return ok ? 0 : -1;
+    return 0;
 }
 
 /* ============================================================ 2. meshes, images, targets */
@@ -276,7 +301,7 @@ static game *game_create(int w, int h)
         if ((g->ctx = OSMesaCreateContextAttribs(attribs, NULL)) && v == 45)
             g->clip_control = (PFNGLCLIPCONTROLPROC)OSMesaGetProcAddress("glClipControl");
     }
-    if (!g || !g->ctx || make_current(g) || program_create(g) || limen_plan_create(&g->plan) ||
+    if (!g || !g->ctx || make_current(g) || programs_create(g) || limen_plan_create(&g->plan) ||
         limen_drawables_create(&g->draw) || limen_drawlist_create(&g->list)) {
         if (g)
             game_destroy(g);
@@ -338,19 +363,16 @@ static void op_clear(game *g, const limen_draw_cmd *c)
     glClear(GL_DEPTH_BUFFER_BIT | GL_COLOR_BUFFER_BIT | GL_STENCIL_BUFFER_BIT);
 }
 
-/* A fan in normalized device coordinates: flat, or a target's texels times the colour. */
+/* A fan in normalized device coordinates, with the polygons' program: flat, or a target's
+ * texels times the colour. */
 static void op_polygon(game *g, const limen_draw_cmd *c)
 {
-    static const float identity[16] = { 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1 };
-    glUniformMatrix4fv(g->u.view_proj, 1, GL_FALSE, identity);
-    for (GLuint col = 0; col < 4; col++)
-        glVertexAttrib4fv(4 + col, identity + 4 * col);
-    glVertexAttrib3fv(8, c->color);
-    glUniform1i(g->u.mode, c->image == LIMEN_IMAGE_TARGET ? 2 : 1);
-    glUniform4fv(g->u.image_map, 1, c->image_map);
+    int k = c->image == LIMEN_IMAGE_TARGET;
+    glUseProgram(g->flat[k]);
+    glUniform3fv(g->flat_color[k], 1, c->color), glUniform4fv(g->flat_map[k], 1, c->image_map);
     glBindTexture(GL_TEXTURE_2D, g->targets[c->target < MAX_TARGETS ? c->target : 0].tex);
     glBindVertexArray(g->poly_vao), glDrawArrays(GL_TRIANGLE_FAN, c->first, c->count);
-    glUniform1i(g->u.mode, 0);
+    glUseProgram(g->prog);
 }
 
 /* What a drawable's shading takes besides its colour: checker, texture (im: NULL none). */
