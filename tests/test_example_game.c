@@ -39,15 +39,16 @@ static int tampered_frame(game *g, limen_scene *s, limen_depth_range range,
                           limen_clip_method clip, limen_method method, tamper_fn tamper,
                           unsigned char *rgb)
 {
-    if (game_frame(g, s, range, clip, method, rgb) || !tamper)
-        return tamper ? -1 : 0;
+    int rc = game_frame(g, s, range, clip, method, rgb);
+    if (rc || !tamper)
+        return rc;
     const limen_draw_cmd *cmd;
     int n = limen_drawlist_commands(g->list, &cmd), m = 0;
     limen_draw_cmd *copy = malloc(sizeof *copy * (size_t)(n ? n : 1));
     for (int i = 0; copy && i < n; i++)
         if ((copy[m] = cmd[i], tamper(&copy[m])))
             m++;
-    int rc = copy ? game_draw(g, copy, m, range, rgb) : -1;
+    rc = copy ? game_draw(g, copy, m, range, rgb) : -1;
     free(copy);
     return rc;
 }
