@@ -4,6 +4,8 @@
 #define LIMEN_EXAMPLE_NO_MAIN
 #include "../examples/own_renderer.c"
 
+#include <dirent.h>
+
 #include "check.h"
 #include "load.h"
 
@@ -240,6 +242,42 @@ static void test_texture_method(void)
     }
 }
 
+static int by_name(const void *a, const void *b)
+{
+    return strcmp(*(const char *const *)a, *(const char *const *)b);
+}
+
+/* Every gallery scene (each .lua in scenes/, however many there are), both methods. */
+static void test_gallery(void)
+{
+    char *names[256];
+    int n = 0;
+    DIR *dir = opendir("scenes");
+    CHECK_MSG(dir, "cannot list scenes/");
+    for (struct dirent *e; dir && n < 256 && (e = readdir(dir));) {
+        size_t len = strlen(e->d_name);
+        if (len > 4 && !strcmp(e->d_name + len - 4, ".lua") && (names[n] = strdup(e->d_name)))
+            n++;
+    }
+    if (dir)
+        closedir(dir);
+    qsort(names, (size_t)n, sizeof *names, by_name);
+    CHECK_MSG(n >= 17, "only %d gallery scenes", n);
+    for (int i = 0; i < n; i++) {
+        char path[512], name[300];
+        snprintf(path, sizeof path, "scenes/%s", names[i]);
+        limen_script *sc = check_load_script(path);
+        for (int m = 0; sc && m < 2; m++) {
+            snprintf(name, sizeof name, "g_%.*s%s", (int)strlen(names[i]) - 4, names[i],
+                     m ? "_tex" : "");
+            compare(name, limen_script_scene(sc), LIMEN_DEPTH_NO, LIMEN_CLIP_OBLIQUE,
+                    m ? LIMEN_METHOD_TEXTURE : LIMEN_METHOD_STENCIL);
+        }
+        limen_script_destroy(sc);
+        free(names[i]);
+    }
+}
+
 static int drop_stencil_writes(limen_draw_cmd *c)
 {
     return c->op == LIMEN_DRAW_CLEAR || c->state.stencil_pass == LIMEN_STENCIL_KEEP;
@@ -295,6 +333,7 @@ static const check_case cases[] = {
     { "crossing_walls", test_crossing_walls }, { "meshes", test_meshes },
     { "textures_ranges", test_textures_ranges }, { "clones", test_clones },
     { "texture_method", test_texture_method }, { "steps_matter", test_steps_matter },
+    { "gallery", test_gallery },
     { 0 },
 };
 
