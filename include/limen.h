@@ -1051,16 +1051,16 @@ LIMEN_API limen_status limen_renderer_write_png(limen_renderer *r, const char *p
 
 typedef enum limen_compare {        /* a depth test: the fragment's depth OP the stored one */
     LIMEN_COMPARE_ALWAYS = 0,       /* passes (the test stays on: depth is still written) */
-    LIMEN_COMPARE_LESS,
-    LIMEN_COMPARE_LEQUAL,
-    LIMEN_COMPARE_EQUAL,
-    LIMEN_COMPARE_GREATER,
-    LIMEN_COMPARE_GEQUAL,
+    LIMEN_COMPARE_LESS,             /* nearer than what is there (plain depth ranges) */
+    LIMEN_COMPARE_LEQUAL,           /* at least as near (a surface over its own depth) */
+    LIMEN_COMPARE_EQUAL,            /* exactly there (a background at the far plane) */
+    LIMEN_COMPARE_GREATER,          /* nearer, where depth is reversed (ZO_REVERSED) */
+    LIMEN_COMPARE_GEQUAL,           /* at least as near, where depth is reversed */
     LIMEN_COMPARE_COUNT             /* the number of tests (not one itself) */
 } limen_compare;
 
 typedef enum limen_stencil_op {     /* what a pixel that passes stencil and depth does */
-    LIMEN_STENCIL_KEEP = 0,
+    LIMEN_STENCIL_KEEP = 0,         /* leaves it */
     LIMEN_STENCIL_INVERT,           /* the bits of write_mask flip (to a child's value) */
     LIMEN_STENCIL_DECR,             /* one less: back to the parent's value (a seal) */
     LIMEN_STENCIL_OP_COUNT          /* the number of ops (not one itself) */
@@ -1131,7 +1131,7 @@ typedef enum limen_draw_op {
 } limen_draw_op;
 
 typedef enum limen_draw_image {
-    LIMEN_IMAGE_NONE = 0,
+    LIMEN_IMAGE_NONE = 0,           /* a flat colour */
     LIMEN_IMAGE_PREVIOUS,       /* the previous frame's colour (LIMEN_FILL_PREVIOUS) */
     LIMEN_IMAGE_TARGET,         /* target `target`'s colour (texture method) */
     LIMEN_IMAGE_COUNT           /* the number of images (not one itself) */
@@ -1168,14 +1168,14 @@ typedef struct limen_draw_instance {
 typedef struct limen_drawlist limen_drawlist;
 
 typedef struct limen_drawlist_desc {
-    int width, height;          /* the frame in pixels (0: the plan's) */
+    int width, height;          /* the frame in pixels: the plan's (0: take it) */
     limen_method method;        /* STENCIL or TEXTURE (NAIVE: TEXTURE, over a plan built
                                  * with LIMEN_CULL_FRUSTUM) */
     limen_fill fill;            /* LIMEN_FILL_PREVIOUS: surfaces where recursion stopped show
                                  * the previous frame where have_previous */
     float texture_scale;        /* texture method: target resolution, (0, 1]; 0 -> 1 */
     int msaa;                   /* samples per pixel the backend draws with (0, 1: one) */
-    limen_depth_range range;    /* the plan's clip-space convention */
+    limen_depth_range range;    /* the plan's clip-space convention (another: refused) */
     limen_limits limits;        /* lod_pixels and budget.triangles; zero: the defaults */
     int have_previous;          /* 1: the backend holds a previous frame */
 } limen_drawlist_desc;
@@ -1184,7 +1184,8 @@ LIMEN_API limen_status limen_drawlist_create(limen_drawlist **out);    /* an emp
 LIMEN_API void limen_drawlist_destroy(limen_drawlist *dl);             /* NULL is fine */
 /* Builds the frame's commands from a built plan and the drawables of the same scene (the
  * scene itself is not read), reusing the list's memory. On failure (a NULL or unbuilt plan,
- * a bad desc, memory) the list is empty and limen_drawlist_error says why. */
+ * a bad desc or one whose size or range is not the plan's, memory) the list is empty and
+ * limen_drawlist_error says why. */
 LIMEN_API limen_status limen_drawlist_build(limen_drawlist *dl, const limen_plan *p,
                                             const limen_drawables *d,
                                             const limen_drawlist_desc *desc);

@@ -139,9 +139,17 @@ float limen__dl_far_z(const limen_drawlist *dl)
 
 /* ------------------------------------------------------------------ views */
 
+/* What the kinds table says of a drawable's kind (nothing for one it does not know). */
+static const limen_kind_info *kind_of(const limen_drawable *d)
+{
+    static const limen_kind_info none = { .name = "" };
+    const limen_kind_info *k = limen_kind_get(d->kind);
+    return k ? k : &none;
+}
+
 static bool is_surface(const limen_drawable *d)
 {
-    return d->kind == LIMEN_NODE_MIRROR || d->kind == LIMEN_NODE_PORTAL;
+    return kind_of(d)->surface;
 }
 
 /* The drawable of a node the plan names (a surface, a clone); NULL if it has none. */
@@ -468,8 +476,7 @@ static void shape_at(limen_drawlist *dl, const dl_view *v, const limen_drawable 
         limen__dl_mesh(dl, v, node, world, albedo);
         return;
     }
-    if (node->kind != LIMEN_NODE_BOX && node->kind != LIMEN_NODE_SPHERE &&
-        node->kind != LIMEN_NODE_CYLINDER && node->kind != LIMEN_NODE_QUAD && !is_surface(node))
+    if (!kind_of(node)->unit)
         return;
     limen_draw_cmd *c = limen__dl_emit(dl, LIMEN_DRAW_SHAPE);
     if (!c)
@@ -486,8 +493,7 @@ static void shape_at(limen_drawlist *dl, const dl_view *v, const limen_drawable 
     }
     c->state.depth_clamp = limen__dl_depth_clamped(v->pub, is_surface(node));
     /* closed shapes hide their back faces; flat ones are seen from both sides */
-    c->state.cull_back = node->kind == LIMEN_NODE_BOX || node->kind == LIMEN_NODE_SPHERE ||
-                         node->kind == LIMEN_NODE_CYLINDER;
+    c->state.cull_back = kind_of(node)->closed != 0;
 }
 
 static void thing_lit(limen_drawlist *dl, const dl_view *v, const limen_drawable *node,
@@ -506,24 +512,25 @@ static int by_distance(const void *a, const void *b)
 /* A shape (not a surface, not a light) that view v may show. */
 static bool shows(const dl_view *v, const limen_drawable *d)
 {
-    return d->visible && (d->kind == LIMEN_NODE_BOX || d->kind == LIMEN_NODE_SPHERE ||
-                          d->kind == LIMEN_NODE_CYLINDER || d->kind == LIMEN_NODE_QUAD ||
-                          d->kind == LIMEN_NODE_MESH) &&
-           !outside(v, d, NULL);
+    return d->visible && kind_of(d)->shape && !outside(v, d, NULL);
 }
 
 /* The shapes view v can show, nearest first (so that, without a depth-only pass, what lies
- * behind fails the depth test before it is shaded; ties in list order), in dl->order.
+ * behind fails the depth test before it is shaded; ties in list order), in dl->order: of
+ * the things the plan keeps for the view (limen_plan_things), those within v's cull planes.
  * Returns the count, or -1 when out of memory. */
 static int view_order(limen_drawlist *dl, const dl_view *v)
 {
-    if (!limen__reserve((void **)&dl->order, &dl->order_cap, dl->nitems, sizeof *dl->order)) {
+    const limen_node *things;
+    int nt = limen_plan_things(dl->plan, v->index, &things);
+    if (!limen__reserve((void **)&dl->order, &dl->order_cap, nt, sizeof *dl->order)) {
         dl->nomem = true;
         return -1;
     }
     int n = 0;
-    for (int i = 0; i < dl->nitems; i++) {
-        if (!shows(v, &dl->items[i]))
+    for (int k = 0; k < nt; k++) {
+        int i = limen_drawables_find(dl->d, things[k]);
+        if (i < 0 || !shows(v, &dl->items[i]))
             continue;
         const float *c = dl->items[i].centre, *eye = v->pub->eye;
         double dx = (double)c[0] - eye[0], dy = (double)c[1] - eye[1], dz = (double)c[2] - eye[2];
@@ -838,6 +845,13 @@ limen_status limen_drawlist_build(limen_drawlist *dl, const limen_plan *p, const
         return dl_fail(dl, LIMEN_ERR_ARG, "draw list: size %dx%d", in.width, in.height);
     if (in.width == 0 || in.height == 0)
         in.width = p->width, in.height = p->height;
+    /* the plan's scissors and projections are for its own image and range */
+    if (in.width != p->width || in.height != p->height)
+        return dl_fail(dl, LIMEN_ERR_ARG, "draw list: a %dx%d frame of a plan for %dx%d",
+                       in.width, in.height, p->width, p->height);
+    if (in.range != p->range)
+        return dl_fail(dl, LIMEN_ERR_ARG, "draw list: depth range %d, but the plan's is %d",
+                       (int)in.range, (int)p->range);
     dl->desc = limen_drawlist_desc_defaults(&in);
     dl->desc.limits.lod_pixels = in.limits.lod_pixels;   /* as limen_view_mesh_lod reads it */
     if (!(dl->desc.texture_scale > 0 && dl->desc.texture_scale <= 1))

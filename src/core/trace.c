@@ -1,7 +1,7 @@
 /* trace.c - the reference ray tracer: the ground truth that the rasterizer is measured
  * against (docs/DESIGN.md, "Ground truth"). Every rule below copies what the planner
- * (core/plan.c) and the renderer (gl/views.c, gl/render.c) do, so that a difference between
- * the two pictures is an error of the rasterizing method, not of the rules.
+ * (core/plan.c) and the renderer (core/drawlist.c, gl/backend.c) do, so that a difference
+ * between the two pictures is an error of the rasterizing method, not of the rules.
  *
  * Camera. limen_camera_matrices(s, W/H, NO): pixel column x, GL row y (0 = bottom; PNG row
  * r is GL row H-1-r) is sampled at its centre, NDC ((x+0.5)*2/W-1, (y+0.5)*2/H-1), or at

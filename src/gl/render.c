@@ -451,13 +451,10 @@ static limen_status begin_frame(limen_renderer *r)
 void limen__samples_begin(limen_renderer *r)
 {
     if (r->q_used == r->q_cap) {
-        int cap = r->q_cap ? 2 * r->q_cap : 64;
-        GLuint *pool = realloc(r->q_pool, sizeof *pool * (size_t)cap);
-        if (!pool)
+        int old = r->q_cap;
+        if (!limen__gl_grow((void **)&r->q_pool, &r->q_cap, r->q_used + 1, sizeof *r->q_pool))
             return;     /* this pass goes uncounted; the frame still renders */
-        GL(GenQueries)(cap - r->q_cap, pool + r->q_cap);
-        r->q_pool = pool;
-        r->q_cap = cap;
+        GL(GenQueries)(r->q_cap - old, r->q_pool + old);
     }
     GL(BeginQuery)(GL_SAMPLES_PASSED, r->q_pool[r->q_used++]);
     r->q_active = true;
