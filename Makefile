@@ -180,7 +180,7 @@ test: all $(TEST_BIN) test-deps examples
 
 # ------------------------------------------------------------------ examples
 # examples/: a game on SDL2 that lets limen draw into its window (walk.c) and a game that
-# draws limen's plan with its own OpenGL (own_renderer.c), each built as a user would build
+# draws limen's draw list with its own OpenGL (own_renderer.c), each built as a user would build
 # it: from the library's pkg-config file alone (here build/limen.pc).
 EXAMPLES := $(B)/examples/walk $(B)/examples/own_renderer
 EX_PC     = PKG_CONFIG_PATH=$(abspath $(B)) pkg-config
