@@ -138,7 +138,16 @@ typedef struct tracer {
     int *prim_of;               /* per node slot: its prim, or -1 */
     double (*spheres)[4];       /* per prim: bc, br, packed for the ray's first test */
     int nbase;                  /* prims [nbase, n) are copies of straddlers, not indexed */
+    struct level *levels;       /* meshes at a level of detail (limen_trace_desc.lod_*) */
+    int nlevels;
 } tracer;
+
+/* An asset at level k: a copy with the level's triangles, owned by the tracer. */
+typedef struct level {
+    const limen__mesh *src;
+    int k;
+    limen__mesh *mesh;
+} level;
 
 /* Texture coordinates at a hit: u, v, then (meshes) how each changes with the unit-space
  * point, du/dpu and dv/dpu, for the pixel's footprint (flat shapes' follow from the face). */
@@ -309,8 +318,25 @@ static void setup_prim(limen_scene *s, const limen__node *n, prim *p)
     }
 }
 
+static void level_mesh_free(limen__mesh *m)
+{
+    if (!m)
+        return;
+    free(m->idx);
+    free(m->parts);
+    free(m->tri_part);
+    free(m->bvh);
+    free(m->tri_order);
+    free(m);
+}
+
 static void tracer_free(tracer *t)
 {
+    for (int i = 0; i < t->nlevels; i++)
+        level_mesh_free(t->levels[i].mesh);
+    free(t->levels);
+    t->levels = NULL;
+    t->nlevels = 0;
     free(t->prims);
     free(t->prim_of);
     free(t->spheres);
@@ -410,6 +436,94 @@ static limen_status tracer_init(tracer *t, limen_scene *s, const char *fn)
     }
     t->ambient = s->ambient;
     copy3f(s->background, t->background);
+    return LIMEN_OK;
+}
+
+/* ------------------------------------------------------------------ levels of detail */
+
+/* Asset src with level k's triangles in place of the full mesh's: the same vertices,
+ * normals, texture coordinates, colours and materials, the level's triangles and parts, and
+ * a hierarchy over them, so that every test and every lookup below works on it unchanged.
+ * NULL when out of memory. */
+static limen__mesh *level_mesh_make(const limen__mesh *src, int k)
+{
+    const limen_mesh_lod *l = &src->lods[k];
+    limen__mesh *m = malloc(sizeof *m);
+    if (!m)
+        return NULL;
+    *m = *src;
+    m->ntris = (uint32_t)l->triangle_count;
+    m->idx = malloc(sizeof *m->idx * 3 * (size_t)m->ntris);
+    m->parts = malloc(sizeof *m->parts * (size_t)(src->nparts ? src->nparts : 1));
+    m->tri_part = malloc(sizeof *m->tri_part * (size_t)m->ntris);
+    m->bvh = NULL;
+    m->tri_order = NULL;
+    m->lod_job = NULL;
+    if (!m->idx || !m->parts || !m->tri_part || !m->ntris) {
+        level_mesh_free(m);
+        return NULL;
+    }
+    memcpy(m->idx, l->indices, sizeof *m->idx * 3 * (size_t)m->ntris);
+    memcpy(m->parts, l->parts, sizeof *m->parts * src->nparts);
+    memset(m->tri_part, 0, sizeof *m->tri_part * (size_t)m->ntris);
+    for (uint32_t p = 0; p < src->nparts; p++)
+        for (int t = 0; t < m->parts[p].triangle_count; t++)
+            if ((uint32_t)(m->parts[p].first_triangle + t) < m->ntris)
+                m->tri_part[m->parts[p].first_triangle + t] = p;
+    if (!limen__mesh_bvh(m)) {
+        level_mesh_free(m);
+        return NULL;
+    }
+    return m;
+}
+
+/* The level of detail each mesh prim is traced at (limen_trace_desc.lod_pixels and
+ * lod_level): the level the camera's view draws its node at, chosen as the renderer
+ * chooses (limen_view_mesh_lod), or the one asked for. Prims of one asset at one level
+ * share one copy. */
+static limen_status tracer_levels(tracer *t, limen_scene *s, const limen_trace_desc *d,
+                                  int width, int height)
+{
+    bool by_view = d->lod_level == 0 && d->lod_pixels > 0;
+    if (d->lod_level == 0 && !by_view)
+        return LIMEN_OK;
+    limen_view root;
+    memset(&root, 0, sizeof root);
+    limen_status st = limen_camera_matrices(s, (float)width / (float)height, LIMEN_DEPTH_NO,
+                                            root.view, root.proj);
+    if (st)
+        return st;
+    t->levels = malloc(sizeof *t->levels * (size_t)(t->n > 0 ? t->n : 1));
+    if (!t->levels)
+        return limen__fail(s, LIMEN_ERR_NOMEM, "trace: out of memory");
+    for (int i = 0; i < t->n; i++) {
+        prim *p = &t->prims[i];
+        if (p->shape != SHAPE_MESH || p->mesh->nlods < 2)
+            continue;
+        int k = d->lod_level;
+        if (by_view) {
+            limen_drawable it;
+            limen__drawable_read(s, p->node, &it);
+            k = limen_view_mesh_lod(&root, height, &it, d->lod_pixels);
+        }
+        if (k > (int)p->mesh->nlods - 1)
+            k = (int)p->mesh->nlods - 1;
+        if (k <= 0)
+            continue;
+        const limen__mesh *lm = NULL;
+        for (int j = 0; j < t->nlevels && !lm; j++)
+            if (t->levels[j].src == p->mesh && t->levels[j].k == k)
+                lm = t->levels[j].mesh;
+        if (!lm) {
+            limen__mesh *made = level_mesh_make(p->mesh, k);
+            if (!made)
+                return limen__fail(s, LIMEN_ERR_NOMEM, "trace: out of memory for level %d of "
+                                   "mesh '%s'", k, p->mesh->name);
+            t->levels[t->nlevels++] = (level){ p->mesh, k, made };
+            lm = made;
+        }
+        p->mesh = lm;
+    }
     return LIMEN_OK;
 }
 
@@ -1147,6 +1261,10 @@ limen_status limen_trace_image(limen_scene *s, const limen_trace_desc *desc, uns
     if (d.threads < 0)
         return limen__fail(s, LIMEN_ERR_ARG, "trace: thread count must be >= 0 (got %d)",
                            d.threads);
+    if (d.lod_level < 0 || !(d.lod_pixels >= 0 || d.lod_pixels == LIMEN_LOD_FULL) ||
+        !isfinite(d.lod_pixels))
+        return limen__fail(s, LIMEN_ERR_ARG, "trace: lod_level must be >= 0 and lod_pixels >= 0 "
+                           "or LIMEN_LOD_FULL (got %d and %g)", d.lod_level, (double)d.lod_pixels);
     double samples[MAX_SAMPLES][2];
     int nsamples = d.samples ? d.samples : 1;
     if (!sample_positions(nsamples, samples))
@@ -1172,6 +1290,10 @@ limen_status limen_trace_image(limen_scene *s, const limen_trace_desc *desc, uns
     tracer tr;
     if ((st = tracer_init(&tr, s, "trace")))
         return st;
+    if ((st = tracer_levels(&tr, s, &d, width, height))) {
+        tracer_free(&tr);
+        return st;
+    }
     if (!s->brute_force)
         tracer_index(&tr, s);
     base.tr = &tr;
