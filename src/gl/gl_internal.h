@@ -94,6 +94,7 @@ struct limen_renderer {
     GLuint *q_pool;                         /* occlusion queries around shading passes */
     int q_cap, q_used;
     bool q_active;
+    bool counting;              /* this frame's stats were asked for: queries count it */
     limen__target levels[LIMEN__MAX_LEVELS];
     float levels_scale;                     /* texture scale the targets were made for */
 

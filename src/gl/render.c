@@ -461,6 +461,8 @@ static limen_status begin_frame(limen_renderer *r)
 
 void limen__samples_begin(limen_renderer *r)
 {
+    if (!r->counting)
+        return;     /* no stats asked for: nothing to count */
     if (r->q_used == r->q_cap) {
         int cap = r->q_cap ? 2 * r->q_cap : 64;
         GLuint *pool = realloc(r->q_pool, sizeof *pool * (size_t)cap);
@@ -586,6 +588,7 @@ static limen_status frame(limen_renderer *r, limen_scene *s, limen_frame_stats *
     if ((st = begin_frame(r)))
         return st;
     r->q_used = 0;
+    r->counting = stats != NULL;
     r->bound_prog = 0;
     r->draw_status = LIMEN_OK;
     r->draw_calls = 0;
@@ -593,13 +596,13 @@ static limen_status frame(limen_renderer *r, limen_scene *s, limen_frame_stats *
     r->mesh_tris_left = (uint64_t)(r->opts.limits.budget.triangles > 0
                                        ? r->opts.limits.budget.triangles
                                        : LIMEN_BUDGET_TRIANGLES_DEFAULT);
-    if (r->has_fragment_stats)
+    if (r->has_fragment_stats && r->counting)
         GL(BeginQuery)(GL_FRAGMENT_SHADER_INVOCATIONS_ARB, r->q_fragments);
     r->scene = s;
     st = r->opts.method == LIMEN_METHOD_STENCIL ? limen__draw_stencil(r)
                                                 : limen__draw_texture(r);
     r->scene = NULL;
-    if (r->has_fragment_stats)
+    if (r->has_fragment_stats && r->counting)
         GL(EndQuery)(GL_FRAGMENT_SHADER_INVOCATIONS_ARB);
     if (!st)
         st = r->draw_status;    /* something could not be drawn: the message is set */
