@@ -2,21 +2,31 @@
  * hierarchy, the levels of detail and each level's measured error, src/core/lod.c) on bumpy
  * spheres of 50,000, 200,000, 800,000 and 1,600,000 triangles made here, on the bunny, and
  * on a textured asset of 16,000 triangles in 500 texture charts (tests/charted.h). Processor
- * time (medians) beside wall time, with the cache of levels off (core/lod_cache.c); the
- * growth from 50k to 800k per triangle, measured in one run (1 means linear). Then the
- * biggest sphere with the cache on, in a folder of its own: made and stored, then made again
- * from the cache, and the second against the first. The spheres are tests/bumpy.h's.
+ * time (medians) beside wall time, with the cache of levels off (core/lod_cache.c), and the
+ * triangles made a second (of processor time); the growth from 50k to 800k per triangle,
+ * measured in one run (1 means linear). Then the biggest sphere with the cache on, in a
+ * folder of its own: made and stored, then made again from the cache, and the second against
+ * the first. Then the biggest sphere as a file (a binary PLY written here) loaded into a
+ * scene and drawn (640x480, the default renderer): the first frame's time from the start of
+ * loading (its levels still being made, the cache empty; then the cache warm), when every
+ * level's bound is there, and the peak memory of the whole process, renderer included. The
+ * spheres are tests/bumpy.h's.
+ *
+ * Each measurement runs in a process of its own, so that its peak resident memory (what the
+ * kernel reports at its end) is its own.
  *
  *   lod_build [--out DIR] [--mesh FILE] [--full]
  *
  * Writes DIR/lod_build.csv and DIR/lod_build.txt; a line per mesh on stderr. --full times
- * the biggest spheres three times instead of once. Peak memory is the process's: run it
- * under /usr/bin/time -v to see it. */
+ * the biggest spheres three times instead of once. */
 #include <dirent.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/resource.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include "core/internal.h"
@@ -132,6 +142,168 @@ static double make_ms(const arrays *a, int runs, double *wall, double *first, in
     return median(t, runs);
 }
 
+/* What one measurement found, sent back from its process. */
+typedef struct row {
+    int nt, levels, coarsest;
+    double ms, wall, first;
+    float errors[12];
+    double first_cpu, ready_wall, ready_cpu;   /* the frame's measurement */
+    int failed;
+    char why[200];
+} row;
+
+typedef void (*measured)(const void *arg, row *out);
+
+/* Runs f(arg) in a process of its own: what it found, its peak resident memory (*peak_mb). */
+static row in_child(measured f, const void *arg, double *peak_mb)
+{
+    int fd[2];
+    if (pipe(fd))
+        die("no pipe");
+    fflush(NULL);
+    pid_t pid = fork();
+    if (pid < 0)
+        die("cannot fork");
+    if (pid == 0) {
+        close(fd[0]);
+        row r = { 0 };
+        f(arg, &r);
+        ssize_t put = write(fd[1], &r, sizeof r);
+        _exit(put == (ssize_t)sizeof r ? 0 : 1);
+    }
+    close(fd[1]);
+    row r = { .failed = 1 };
+    size_t got = 0;
+    while (got < sizeof r) {
+        ssize_t n = read(fd[0], (char *)&r + got, sizeof r - got);
+        if (n <= 0)
+            break;
+        got += (size_t)n;
+    }
+    close(fd[0]);
+    int status;
+    struct rusage ru;
+    if (wait4(pid, &status, 0, &ru) != pid || !WIFEXITED(status) || WEXITSTATUS(status) ||
+        got != sizeof r)
+        die("a measurement's process failed");
+    if (r.failed)
+        die(r.why);
+    *peak_mb = ru.ru_maxrss / 1024.0;
+    return r;
+}
+
+static const struct { const char *name; int u, v, runs; } SPHERES[] = {
+    { "sphere_50k", 200, 125, 3 },
+    { "sphere_200k", 400, 250, 3 },
+    { "sphere_800k", 800, 500, 1 },
+    { "sphere_1600k", 1000, 800, 1 },
+};
+enum { NSPHERES = sizeof SPHERES / sizeof SPHERES[0] };
+
+typedef struct making {
+    int m;                      /* a sphere, NSPHERES the file, NSPHERES + 1 the asset */
+    int runs;
+    const char *mesh;
+} making;
+
+static void make_one(const void *arg, row *r)
+{
+    const making *mk = arg;
+    bool ball = mk->m < NSPHERES, file = mk->m == NSPHERES;
+    arrays a = ball ? sphere(SPHERES[mk->m].u, SPHERES[mk->m].v) : file ? from_file(mk->mesh)
+                                                                     : asset(40, 4);
+    r->nt = a.nt;
+    r->ms = make_ms(&a, mk->runs, &r->wall, &r->first, &r->levels, &r->coarsest, r->errors);
+    free(a.pos);
+    free(a.nrm);
+    free(a.uv);
+    free(a.idx);
+}
+
+/* The biggest sphere as a binary PLY at path. */
+static void write_ply(const void *arg, row *r)
+{
+    const char *path = arg;
+    arrays a = sphere(SPHERES[NSPHERES - 1].u, SPHERES[NSPHERES - 1].v);
+    FILE *f = fopen(path, "wb");
+    bool ok = f && fprintf(f, "ply\nformat binary_little_endian 1.0\nelement vertex %d\n"
+                              "property float x\nproperty float y\nproperty float z\n"
+                              "element face %d\nproperty list uchar int vertex_indices\n"
+                              "end_header\n", a.nv, a.nt) > 0 &&
+              fwrite(a.pos, sizeof(float) * 3, (size_t)a.nv, f) == (size_t)a.nv;
+    for (int t = 0; ok && t < a.nt; t++) {
+        unsigned char three = 3;
+        ok = fwrite(&three, 1, 1, f) == 1 && fwrite(&a.idx[t * 3], sizeof(uint32_t), 3, f) == 3;
+    }
+    if (f && fclose(f))
+        ok = false;
+    if (!ok) {
+        r->failed = 1;
+        snprintf(r->why, sizeof r->why, "cannot write %s", path);
+    }
+    r->nt = a.nt;
+    free(a.pos);
+    free(a.idx);
+}
+
+/* The file at path loaded into a scene and drawn: the first frame from the start of loading,
+ * then every level there (waited for), then a frame with them. */
+static void first_frame(const void *arg, row *r)
+{
+    const char *path = arg;
+    limen_scene *s;
+    limen_node cam, n;
+    limen_renderer *rd = NULL;
+    double c0 = cpu_ms(), w0 = now_ms();
+    bool ok = !limen_scene_create(NULL, &s) &&
+              !limen_node_create(s, LIMEN_NODE_CAMERA, "cam", &cam) &&
+              !limen_node_look_at(s, cam, (float[3]){ 0, 0.5f, 3 }, (float[3]){ 0, 0, 0 },
+                                  (float[3]){ 0, 1, 0 }) &&
+              !limen_scene_set_camera(s, cam) &&
+              !limen_node_create(s, LIMEN_NODE_MESH, "m", &n) && !limen_mesh_load(s, n, path);
+    if (ok && limen_renderer_create(&(limen_renderer_desc){ .width = 640, .height = 480 }, &rd))
+        ok = false;
+    limen_frame_stats st;
+    if (ok && limen_render_frame(rd, s, NULL, &st))
+        ok = false;
+    r->first = now_ms() - w0;
+    r->first_cpu = cpu_ms() - c0;
+    limen__meshes_settle(s, true);
+    r->ready_wall = now_ms() - w0;
+    r->ready_cpu = cpu_ms() - c0;
+    /* and a frame with the levels (the renderer's copy of them too) */
+    if (ok && limen_render_frame(rd, s, NULL, &st))
+        ok = false;
+    if (ok) {
+        limen_drawables *d;
+        const limen_mesh_geometry *g = geometry_of(s, n, &d);
+        r->nt = g->triangle_count;
+        r->levels = g->lod_count;
+        r->coarsest = g->lods[g->lod_count - 1].triangle_count;
+        limen_drawables_destroy(d);
+    } else {
+        r->failed = 1;
+        snprintf(r->why, sizeof r->why, "%s", rd && *limen_renderer_error(rd)
+                                                 ? limen_renderer_error(rd)
+                                                 : limen_scene_error(s));
+    }
+    limen_renderer_destroy(rd);
+    limen_scene_destroy(s);
+}
+
+static void empty_dir(const char *dir)
+{
+    char entry[4200];
+    DIR *d = opendir(dir);
+    for (struct dirent *e; d && (e = readdir(d));)
+        if (e->d_name[0] != '.') {
+            snprintf(entry, sizeof entry, "%s/%s", dir, e->d_name);
+            unlink(entry);
+        }
+    if (d)
+        closedir(d);
+}
+
 int main(int argc, char **argv)
 {
     const char *out = "build/bench", *mesh = "scenes/data/bunny.obj";
@@ -155,44 +327,33 @@ int main(int argc, char **argv)
     if (limen__out_open(&ot, path))
         die("cannot write the results");
     fprintf(oc.f, "mesh,triangles,levels,coarsest,cpu_ms,wall_ms,first_ms,us_per_triangle,"
-                  "errors\n");
+                  "triangles_per_s,peak_mb,errors\n");
 
     /* the making itself: no levels kept from an earlier run */
     setenv("LIMEN_CACHE", "off", 1);
-    static const struct { const char *name; int u, v, runs; } SPHERES[] = {
-        { "sphere_50k", 200, 125, 3 },
-        { "sphere_200k", 400, 250, 3 },
-        { "sphere_800k", 800, 500, 1 },
-        { "sphere_1600k", 1000, 800, 1 },
-    };
-    enum { NSPHERES = sizeof SPHERES / sizeof SPHERES[0] };
     double per[NSPHERES];
     for (int m = 0; m < NSPHERES + 2; m++) {
         bool ball = m < NSPHERES, file = m == NSPHERES;
-        arrays a = ball ? sphere(SPHERES[m].u, SPHERES[m].v) : file ? from_file(mesh) : asset(40, 4);
-        int runs = ball ? (full && SPHERES[m].runs == 1 ? 3 : SPHERES[m].runs) : 9, levels = 0,
-            coarsest = 0;
-        float errors[12] = { 0 };
-        double wall, first, ms = make_ms(&a, runs, &wall, &first, &levels, &coarsest, errors);
+        making mk = { .m = m, .mesh = mesh,
+                      .runs = ball ? (full && SPHERES[m].runs == 1 ? 3 : SPHERES[m].runs) : 9 };
+        double peak;
+        row r = in_child(make_one, &mk, &peak);
         const char *name = ball ? SPHERES[m].name : file ? "bunny" : "asset_500_charts";
         if (ball)
-            per[m] = ms / a.nt;
-        fprintf(oc.f, "%s,%d,%d,%d,%.1f,%.1f,%.1f,%.3f,", name, a.nt, levels, coarsest, ms, wall,
-                first, 1e3 * ms / a.nt);
-        for (int k = 0; k < levels && k < 12; k++)
-            fprintf(oc.f, "%s%.5g", k ? " " : "", errors[k]);
+            per[m] = r.ms / r.nt;
+        fprintf(oc.f, "%s,%d,%d,%d,%.1f,%.1f,%.1f,%.3f,%.0f,%.0f,", name, r.nt, r.levels,
+                r.coarsest, r.ms, r.wall, r.first, 1e3 * r.ms / r.nt, 1e3 * r.nt / r.ms, peak);
+        for (int k = 0; k < r.levels && k < 12; k++)
+            fprintf(oc.f, "%s%.5g", k ? " " : "", r.errors[k]);
         fprintf(oc.f, "\n");
         fprintf(stderr, "lod_build: %s, %d triangles: %d levels (the coarsest %d triangles) in "
-                "%.1f ms of processor time, %.1f ms wall (the mesh there after %.1f ms)\n", name,
-                a.nt, levels, coarsest, ms, wall, first);
+                "%.1f ms of processor time, %.1f ms wall (the mesh there after %.1f ms), peak "
+                "%.0f MB\n", name, r.nt, r.levels, r.coarsest, r.ms, r.wall, r.first, peak);
         fprintf(ot.f, "mesh making (hierarchy, levels, their errors): %-16s %7d triangles "
                       "%8.1f ms processor %8.1f ms wall (the mesh there after %.1f ms wall), "
-                      "%d levels to %d triangles, %.0fk triangles a second (processor)\n",
-                name, a.nt, ms, wall, first, levels, coarsest, a.nt / ms);
-        free(a.pos);
-        free(a.nrm);
-        free(a.uv);
-        free(a.idx);
+                      "%d levels to %d triangles, %.0fk triangles a second (processor), peak "
+                      "%.0f MB\n",
+                name, r.nt, r.ms, r.wall, r.first, r.levels, r.coarsest, r.nt / r.ms, peak);
     }
     fprintf(ot.f, "mesh making: 800k against 50k per triangle: %.2fx (1 = linear)\n",
             per[2] / per[0]);
@@ -203,31 +364,49 @@ int main(int argc, char **argv)
         die("cannot make a cache folder");
     setenv("LIMEN_CACHE_DIR", dir, 1);
     unsetenv("LIMEN_CACHE");
-    arrays a = sphere(SPHERES[NSPHERES - 1].u, SPHERES[NSPHERES - 1].v);
-    int levels = 0, coarsest = 0;
-    float errors[12];
-    double cold_wall, cold_first, cold = make_ms(&a, 1, &cold_wall, &cold_first, &levels,
-                                                 &coarsest, errors);
-    double warm_wall, warm_first, warm = make_ms(&a, 1, &warm_wall, &warm_first, &levels,
-                                                 &coarsest, errors);
-    fprintf(oc.f, "%s_cached,%d,%d,%d,%.1f,%.1f,%.1f,%.3f,\n", SPHERES[NSPHERES - 1].name,
-            a.nt, levels, coarsest, warm, warm_wall, warm_first, 1e3 * warm / a.nt);
+    making big = { .m = NSPHERES - 1, .runs = 1 };
+    double cold_peak, warm_peak;
+    row cold = in_child(make_one, &big, &cold_peak), warm = in_child(make_one, &big, &warm_peak);
+    fprintf(oc.f, "%s_cached,%d,%d,%d,%.1f,%.1f,%.1f,%.3f,%.0f,%.0f,\n",
+            SPHERES[NSPHERES - 1].name, warm.nt, warm.levels, warm.coarsest, warm.ms, warm.wall,
+            warm.first, 1e3 * warm.ms / warm.nt, 1e3 * warm.nt / warm.ms, warm_peak);
     fprintf(ot.f, "mesh making with the cache: %s made and stored %.1f ms processor %.1f ms "
                   "wall; read back %.1f ms processor %.1f ms wall: %.3fx\n",
-            SPHERES[NSPHERES - 1].name, cold, cold_wall, warm, warm_wall, warm / cold);
+            SPHERES[NSPHERES - 1].name, cold.ms, cold.wall, warm.ms, warm.wall,
+            warm.ms / cold.ms);
     fprintf(stderr, "lod_build: %s with the cache: made and stored %.1f ms, read back %.1f ms "
-            "(processor)\n", SPHERES[NSPHERES - 1].name, cold, warm);
-    free(a.pos);
-    free(a.idx);
-    char entry[4200];
-    DIR *d = opendir(dir);
-    for (struct dirent *e; d && (e = readdir(d));)
-        if (e->d_name[0] != '.') {
-            snprintf(entry, sizeof entry, "%s/%s", dir, e->d_name);
-            unlink(entry);
-        }
-    if (d)
-        closedir(d);
+            "(processor)\n", SPHERES[NSPHERES - 1].name, cold.ms, warm.ms);
+    empty_dir(dir);
+
+    /* the biggest sphere as a file, loaded and drawn: the cache empty, then warm */
+    char ply[600];
+    snprintf(ply, sizeof ply, "%s/sphere_1600k.ply", dir);
+    double unused;
+    in_child(write_ply, ply, &unused);
+    char cache[600];
+    snprintf(cache, sizeof cache, "%s/cache", dir);
+    if (mkdir(cache, 0700))
+        die("cannot make a cache folder");
+    setenv("LIMEN_CACHE_DIR", cache, 1);
+    for (int warm_cache = 0; warm_cache < 2; warm_cache++) {
+        double peak;
+        row r = in_child(first_frame, ply, &peak);
+        const char *how = warm_cache ? "the cache warm" : "the cache empty";
+        fprintf(oc.f, "first_frame_%s,%d,%d,%d,%.1f,%.1f,%.1f,,,%.0f,\n",
+                warm_cache ? "warm" : "cold", r.nt, r.levels, r.coarsest, r.ready_cpu,
+                r.ready_wall, r.first, peak);
+        fprintf(ot.f, "first frame of a %d-triangle PLY (640x480), %s: %.1f ms wall %.1f ms "
+                      "processor from the start of loading; every level's bound there after "
+                      "%.1f ms wall %.1f ms processor (%d levels); peak %.0f MB for the whole "
+                      "process\n",
+                r.nt, how, r.first, r.first_cpu, r.ready_wall, r.ready_cpu, r.levels, peak);
+        fprintf(stderr, "lod_build: first frame of the PLY, %s: %.1f ms wall (%.1f processor), "
+                "levels after %.1f ms wall, peak %.0f MB\n", how, r.first, r.first_cpu,
+                r.ready_wall, peak);
+    }
+    empty_dir(cache);
+    rmdir(cache);
+    empty_dir(dir);
     rmdir(dir);
     if (limen__out_close(&oc) || limen__out_close(&ot))
         die("cannot write the results");

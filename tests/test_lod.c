@@ -463,6 +463,62 @@ static void test_big_bounds(void)
     free(idx);
 }
 
+/* A level's pieces are bounded on two threads, each over its own slices of triangles with
+ * its own floor (core/lod.c): the levels and their bounds are the same, to the bit, as when
+ * the slices are bounded in turn on one thread, and each still bounds a brute force's
+ * largest distance. */
+static void test_measure_threads(void)
+{
+    enum { U = 100, V = 100, NV = (U + 1) * (V + 1), NT = U * V * 2 };
+    float *pos = malloc(sizeof(float) * 3 * NV);
+    uint32_t *idx = malloc(sizeof(uint32_t) * 3 * NT);
+    float errors[2][12] = { { 0 } };
+    int counts[2][12] = { { 0 } }, levels[2] = { 0 };
+    if (!pos || !idx) {
+        CHECK(pos && idx);
+        free(pos);
+        free(idx);
+        return;
+    }
+    bumpy_sphere(U, V, pos, idx);
+    /* (main turned the cache off: both runs make their levels) */
+    for (int run = 0; run < 2; run++) {
+        limen__lod_set_measure_threads(run == 0);
+        fixture f = open_scene((float[3]){ 0, 0, 5 }, (float[3]){ 0, 0, 0 });
+        CHECK_OK(limen_mesh_set_triangles(f.s, f.mesh, &(limen_mesh_data){
+            .positions = pos, .vertex_count = NV, .indices = idx, .triangle_count = NT }));
+        const limen_drawable *d = item(&f);
+        for (int k = 0; d && k < d->mesh->lod_count && k < 12; k++) {
+            errors[run][k] = d->mesh->lods[k].error;
+            counts[run][k] = d->mesh->lods[k].triangle_count;
+        }
+        levels[run] = d ? d->mesh->lod_count : 0;
+        if (d && run == 1) {
+            tri_box *ft = boxes_of(d->mesh, &d->mesh->lods[0]);
+            grid full = { 0 };
+            CHECK(ft && grid_make(&full, ft, d->mesh->triangle_count));
+            for (int l = 1; ft && full.first && l < d->mesh->lod_count; l++) {
+                int n = d->mesh->lods[l].triangle_count;
+                double found = brute_sampled(d->mesh, &full, l, n / 500 + 1, 3, 200);
+                CHECK_MSG(found <= d->mesh->lods[l].error * (1 + 1e-5),
+                          "level %d: error %g, found %g", l, d->mesh->lods[l].error, found);
+            }
+            grid_free(&full);
+            free(ft);
+        }
+        close_scene(&f);
+    }
+    limen__lod_set_measure_threads(true);
+    CHECK_MSG(levels[0] >= 5 && levels[0] == levels[1], "%d levels on threads, %d in turn",
+              levels[0], levels[1]);
+    for (int k = 0; k < levels[0] && k < 12; k++)
+        CHECK_MSG(errors[0][k] == errors[1][k] && counts[0][k] == counts[1][k],
+                  "level %d: %d triangles, error %.9g on threads; %d, %.9g in turn", k,
+                  counts[0][k], errors[0][k], counts[1][k], errors[1][k]);
+    free(pos);
+    free(idx);
+}
+
 /* A flat grid simplifies to its outline: two triangles, no error. */
 static void test_flat_grid(void)
 {
@@ -1276,6 +1332,7 @@ static const check_case cases[] = {
     { "bunny_levels", test_bunny_levels },
     { "error_bounds", test_error_bounds },
     { "big_bounds", test_big_bounds },
+    { "measure_threads", test_measure_threads },
     { "flat_grid", test_flat_grid },
     { "seam_sides", test_seam_sides },
     { "pick", test_pick },

@@ -24,6 +24,9 @@
 #include <pthread.h>
 #include <stdatomic.h>
 #include <string.h>
+#ifdef __GLIBC__
+#include <malloc.h>
+#endif
 
 #include <meshoptimizer.h>
 
@@ -35,7 +38,7 @@
 #include "core/texture.h"
 
 #define MAX_LEVELS 12           /* the full mesh and up to 11 coarser ones */
-#define LOD_VERSION 4           /* of how levels are made and measured: levels kept between
+#define LOD_VERSION 5           /* of how levels are made and measured: levels kept between
                                  * runs (core/lod_cache.c) are keyed by it, so change it with
                                  * anything that changes a level or its error */
 #define MIN_TRIS 16             /* a level this small gets no halved successor */
@@ -45,6 +48,8 @@
 #define SOURCE_STEP 3           /* a level is simplified from the one this many before */
 #define REL_TOL 0.1             /* a piece's bound may exceed the largest distance found by this */
 #define MAX_DEPTH 4             /* pieces per triangle: at most 4^4 */
+#define MEASURERS 2           /* threads bounding a level's pieces (this machine's cores) */
+#define SLICE 256               /* triangles a measurer takes in turn with the others */
 #define NEAR_ENOUGH 0.8         /* a cut's point this near a corner's triangle (of what the
                                  * floor asks; not of the largest bound, which it would raise)
                                  * takes its distance there, unsearched */
@@ -331,13 +336,17 @@ static double cover_bound(side *sd, const point *v[3], double goal)
     double gap = need - got + 1e-12 * need;
     if (gap > 1e-9 * need)
         return INFINITY;
-    double sharpest = M_PI;
+    /* the sharpest corner's angle is at least its sine (twice the area over the product
+     * of the two sides there: the least at the corner between the two longest sides) */
+    double side2[3];
     for (int k = 0; k < 3; k++) {
-        const double *a = pp[k], *b = pp[(k + 1) % 3], *c = pp[(k + 2) % 3];
-        double ab[2] = { b[0] - a[0], b[1] - a[1] }, ac[2] = { c[0] - a[0], c[1] - a[1] };
-        sharpest = lesser(sharpest, atan2(fabs(ab[0] * ac[1] - ab[1] * ac[0]),
-                                        ab[0] * ac[0] + ab[1] * ac[1]));
+        const double *a = pp[k], *b = pp[(k + 1) % 3];
+        side2[k] = (b[0] - a[0]) * (b[0] - a[0]) + (b[1] - a[1]) * (b[1] - a[1]);
     }
+    double sharpest = nn / sqrt(greater(side2[0] * side2[1], greater(side2[1] * side2[2],
+                                                                     side2[2] * side2[0])));
+    if (!(sharpest > 0))
+        return INFINITY;
     /* the projection keeps lengths; a little over for rounding */
     return (worst + sqrt(2 * greater(gap, 0) / sharpest)) * (1 + 1e-12);
 }
@@ -490,8 +499,8 @@ static double piece_bound(side *sd, const point *v[3], double goal)
     for (int k = 0; k < 3; k++) {
         double e[3];
         limen__sub3(v[(k + 1) % 3]->p, v[k]->p, e);
-        longest = fmax(longest, limen__dot3(e, e));
-        far = fmax(far, v[k]->d2);
+        longest = greater(longest, limen__dot3(e, e));
+        far = greater(far, v[k]->d2);
     }
     double bound = sqrt(far) + sqrt(longest / 3);
     /* laying the piece over the other surface, where it is small enough to lie on a few of
@@ -576,13 +585,15 @@ static bool side_corners(side *sd)
     return true;
 }
 
-/* An upper bound on the largest distance from a point of from's surface to to's, or at
+/* An upper bound on the largest distance from a point of from's surface to to's over its
+ * triangles of the slices `share` (of every MEASURERS slices of SLICE triangles), or at
  * most *floor * (1 + REL_TOL) where it is below that (MAX_DEPTH may leave it above the
  * true one). */
-static double side_bound(side *sd)
+static double side_bound(side *sd, int share)
 {
     const limen__mesh *from = sd->from;
-    for (uint32_t t = 0; t < from->ntris; t++) {
+    for (uint32_t t = (uint32_t)share * SLICE; t < from->ntris;
+         t += (t + 1) % SLICE ? 1 : (MEASURERS - 1) * SLICE + 1) {
         if (sd->stop && t % 1024 == 0 && atomic_load_explicit(sd->stop, memory_order_relaxed)) {
             sd->stopped = true;
             break;
@@ -590,15 +601,52 @@ static double side_bound(side *sd)
         piece(sd, &sd->pts[from->idx[t * 3]], &sd->pts[from->idx[t * 3 + 1]],
               &sd->pts[from->idx[t * 3 + 2]], 0);
     }
-    free(sd->pts);
-    sd->pts = NULL;
-    return fmax(sd->lower, *sd->upper);
+    return greater(sd->lower, *sd->upper);
+}
+
+/* One of the MEASURERS that bound a level's two sides, each over its own slices of both:
+ * its own floor, largest bound, points cut and marks (the corners' distances shared, read
+ * only), so that what it finds depends on its slices alone, not on how the threads ran. */
+typedef struct measurer {
+    side there, back;
+    double floor, upper;
+    double e;                   /* its bound, or NAN (out of memory, or stopped) */
+    int share;
+} measurer;
+
+static void *measure(void *arg)
+{
+    measurer *w = arg;
+    w->there.floor = w->back.floor = &w->floor;
+    w->there.upper = w->back.upper = &w->upper;
+    w->there.marks = calloc(w->there.to->m->ntris, sizeof *w->there.marks);
+    w->back.marks = calloc(w->back.to->m->ntris, sizeof *w->back.marks);
+    w->e = NAN;
+    if (w->there.marks && w->back.marks) {
+        double a = side_bound(&w->there, w->share),
+               b = w->there.stopped ? 0 : side_bound(&w->back, w->share);
+        if (!w->there.stopped && !w->back.stopped)
+            w->e = greater(greater(a, b), w->floor);
+    }
+    free(w->there.seen);
+    free(w->back.seen);
+    free(w->there.marks);
+    free(w->back.marks);
+    return NULL;
+}
+
+static bool measure_threads = true;
+
+void limen__lod_set_measure_threads(bool on)
+{
+    measure_threads = on;
 }
 
 /* A bound on the two-sided distance between a level (idx, a mesh over the full mesh's
  * vertices, welded: per corner of the full mesh, weld names its vertex at the same position)
  * and the full mesh, or floor where the distance is no more than floor; NAN when out of
- * memory or stopped (stop, where not NULL, set). */
+ * memory or stopped (stop, where not NULL, set). The pieces are bounded on MEASURERS
+ * threads (in turn on this one where no thread starts): the same answer either way. */
 static double level_error(const target *full, const uint32_t *weld, const uint32_t *idx,
                           uint32_t ntris, double floor, const atomic_bool *stop)
 {
@@ -622,13 +670,30 @@ static double level_error(const target *full, const uint32_t *weld, const uint32
         there.marks = calloc(full->m->ntris, sizeof *there.marks);
         back.marks = calloc(ntris, sizeof *back.marks);
         if (there.marks && back.marks && side_corners(&there) && side_corners(&back)) {
-            double a = side_bound(&there), b = there.stopped ? 0 : side_bound(&back);
-            e = there.stopped || back.stopped ? NAN : fmax(fmax(a, b), floor);
+            free(there.marks);
+            free(back.marks);
+            there.marks = back.marks = NULL;
+            measurer w[MEASURERS];
+            pthread_t th[MEASURERS];
+            bool started[MEASURERS] = { false };
+            for (int i = 0; i < MEASURERS; i++) {
+                w[i] = (measurer){ .there = there, .back = back, .floor = floor,
+                                   .upper = upper, .share = i };
+                if (i > 0 && measure_threads)
+                    started[i] = pthread_create(&th[i], NULL, measure, &w[i]) == 0;
+            }
+            measure(&w[0]);
+            e = w[0].e;
+            for (int i = 1; i < MEASURERS; i++) {
+                if (started[i])
+                    pthread_join(th[i], NULL);
+                else
+                    measure(&w[i]);
+                e = isnan(e) || isnan(w[i].e) ? NAN : greater(e, w[i].e);
+            }
         }
         free(there.pts);
         free(back.pts);
-        free(there.seen);
-        free(back.seen);
         free(there.marks);
         free(back.marks);
     }
@@ -639,6 +704,16 @@ static double level_error(const target *full, const uint32_t *weld, const uint32
 }
 
 /* ------------------------------------------------------------------ building */
+
+/* Gives the heap's free pages back to the system: a level's making frees hundreds of
+ * megabytes of a big mesh's temporaries, which glibc otherwise keeps (in the heap, or in a
+ * measuring thread's arena) and the process's resident size with them, level after level. */
+static void heap_give_back(void)
+{
+#ifdef __GLIBC__
+    malloc_trim(0);
+#endif
+}
 
 /* Levels made: a block with room for MAX_LEVELS limen_mesh_lod, then the coarse levels'
  * indices, `used` of them, level k's from at[k]. */
@@ -940,11 +1015,12 @@ static bool lods_make(const limen__mesh *m, const atomic_bool *stop, made *out)
          * seam in the texture stays one, which the simplifier moves along without tearing */
         if (attr != shadow)
             weld_attributes(m, vpart, attr);
-        ok = limen__lod_target_make(&full, m, shadow) && limen__lod_pack(&pk_attr, m, attr);
+        ok = limen__lod_pack(&pk_attr, m, attr);
     }
     size_t cur_n = n0;
     float scale = ok ? meshopt_simplifyScale(m->pos, m->nverts, sizeof(float) * 3) : 0;
-    double prev = 0;
+    double estimate[MAX_LEVELS] = { 0 };   /* the simplifier's own, of each level */
+    bool halved[MAX_LEVELS] = { false };
     /* how levels are made: seams kept; once the simplifier is stuck on them, let go; once
      * it is stuck even so, by clustering */
     enum { SEAMS, NO_SEAMS, CLUSTERED } mode = SEAMS;
@@ -955,6 +1031,10 @@ static bool lods_make(const limen__mesh *m, const atomic_bool *stop, made *out)
          * a few times the full mesh's in all, not once per level, while a level is not
          * built on the last one's choices alone (which left the bunny's coarse levels
          * worse) */
+        if (stop && atomic_load_explicit(stop, memory_order_relaxed)) {
+            ok = false;         /* no longer wanted */
+            break;
+        }
         bool halve = cur_n / 3 >= MIN_TRIS;
         float err = 0;
         bool from_full = nlods <= SOURCE_STEP || mode != SEAMS;
@@ -993,26 +1073,40 @@ static bool lods_make(const limen__mesh *m, const atomic_bool *stop, made *out)
         if (n == 0 || n * 4 > cur_n * 3 || used + n > cap)
             break;
         memcpy(store + used, scratch, sizeof(uint32_t) * n);
-        /* the simplifier's own estimate (from its source) may not be undercut; nor, while
-         * halving, the level before (a coarser level no better than a finer one takes its
-         * place, below): what lies below them needs no measuring */
-        double estimate = (double)err * scale;
-        double e = level_error(&full, attr, store + used, (uint32_t)(n / 3),
-                               halve ? fmax(estimate, prev) : estimate, stop);
-        if (isnan(e)) {
-            ok = false;
-            break;
-        }
-        lods[nlods] = (limen_mesh_lod){ .triangle_count = (int)(n / 3), .error = (float)e };
-        /* rounding to float must not undercut the measure either */
-        if ((double)lods[nlods].error < e)
-            lods[nlods].error = nextafterf(lods[nlods].error, INFINITY);
-        prev = lods[nlods].error;
+        lods[nlods] = (limen_mesh_lod){ .triangle_count = (int)(n / 3) };
+        estimate[nlods] = (double)err * scale;
+        halved[nlods] = halve;
         at[nlods++] = used;
         cur_n = n;
         used += n;
         if (!halve)
             break;
+    }
+    /* then measured, once the simplifier's tables (a few hundred megabytes at a few million
+     * triangles) are gone, and before the surface they are measured against is made */
+    limen__lod_welded_free(&pk_attr);
+    limen__lod_welded_free(&pk_pos);
+    free(scratch);
+    scratch = NULL;
+    heap_give_back();
+    ok = ok && limen__lod_target_make(&full, m, shadow);
+    double prev = 0;
+    for (uint32_t k = 1; ok && k < nlods; k++) {
+        /* the simplifier's own estimate (from its source) may not be undercut; nor, while
+         * halving, the level before (a coarser level no better than a finer one takes its
+         * place, below): what lies below them needs no measuring */
+        double e = level_error(&full, attr, store + at[k], (uint32_t)lods[k].triangle_count,
+                               halved[k] ? fmax(estimate[k], prev) : estimate[k], stop);
+        heap_give_back();
+        if (isnan(e)) {
+            ok = false;
+            break;
+        }
+        lods[k].error = (float)e;
+        /* rounding to float must not undercut the measure either */
+        if ((double)lods[k].error < e)
+            lods[k].error = nextafterf(lods[k].error, INFINITY);
+        prev = lods[k].error;
     }
     if (ok) {
         drop_beaten(lods, at, store, &nlods, &used);
@@ -1026,6 +1120,7 @@ static bool lods_make(const limen__mesh *m, const atomic_bool *stop, made *out)
     limen__lod_welded_free(&pk_pos);
     free(scratch);
     limen__lod_target_free(&full);
+    heap_give_back();
     if (!ok) {
         free(block);
         return false;

@@ -91,8 +91,12 @@ static uint32_t corner_vertex(const limen__lod_target *t, const uint32_t *weld, 
  * surface below do without (they only ever find less). False when out of memory. */
 static bool pair_edges(limen__lod_target *t, const uint32_t *weld)
 {
+    /* each directed edge is a key once, and a pair of half-edges takes one key: at most
+     * two thirds full (half, where the edges pair), which keeps the probes short while the
+     * table of a big mesh stays within 1.5 to 3 slots a half-edge (it was the largest thing
+     * a level's making held) */
     size_t n = (size_t)t->m->ntris * 3, size = 16;
-    while (size < 2 * n)
+    while (size < n + n / 2)
         size *= 2;
     uint64_t *key = malloc(sizeof *key * size);
     uint32_t *head = malloc(sizeof *head * size), *next = malloc(sizeof *next * (n ? n : 1));

@@ -100,6 +100,10 @@ void limen__mesh_lods_stop(limen__mesh *m);
 /* Tests only: the size from which levels are made on another thread (default
  * LIMEN__LOD_ASYNC_TRIS); not for use while meshes are being made. */
 void limen__lod_set_async_above(uint32_t triangles);
+/* Tests only: whether a level's pieces are bounded on threads beside the one making the
+ * levels (default true) or in turn on it, which gives the same bounds; not for use while
+ * meshes are being made. */
+void limen__lod_set_measure_threads(bool on);
 
 /* Loads path (or finds it already loaded in the scene), refusing one that would hold more
  * than max_bytes; *charged gets the bytes newly held (0 when shared). On failure the message

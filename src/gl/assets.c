@@ -171,20 +171,32 @@ static void *upload_alloc(const limen_renderer *r, size_t bytes)
     return r->faults & LIMEN__RFAULT_UPLOAD ? NULL : malloc(bytes);
 }
 
+enum { STAGE_TRIS = 16384 };     /* triangles laid out at a time for an upload */
+
+/* The corners go up a slice of triangles at a time, so that what the upload holds besides
+ * the buffer itself stays small however big the mesh (a 1.6M-triangle mesh's corners and
+ * its levels' are 0.5 GB). */
 static bool upload_mesh(limen_renderer *r, const limen_mesh_geometry *m, struct limen__gpu_asset *a)
 {
-    size_t corners = level_corners(m);
-    float *buf = upload_alloc(r, sizeof(float) * CORNER_FLOATS * corners), *at = buf;
+    size_t corners = level_corners(m), stage = corners / 3 < STAGE_TRIS ? corners / 3 : STAGE_TRIS;
+    float *buf = upload_alloc(r, sizeof(float) * CORNER_FLOATS * 3 * (stage ? stage : 1));
     if (!buf)
         return false;
+    vertex_arrays(r, &a->vao, &a->vbo, sizeof(float) * CORNER_FLOATS * corners, NULL);
+    size_t at = 0;              /* corners sent */
     for (int k = 0; k < levels(m); k++) {
         const uint32_t *ix;
         int ntris = level(m, k, &ix);
-        a->first[k] = (GLint)((at - buf) / CORNER_FLOATS);
+        a->first[k] = (GLint)at;
         a->count[k] = (GLsizei)ntris * 3;
-        at = lay_corners(m, ix, ntris, at);
+        for (int t = 0; t < ntris; t += STAGE_TRIS) {
+            int n = ntris - t < STAGE_TRIS ? ntris - t : STAGE_TRIS;
+            lay_corners(m, ix + (size_t)t * 3, n, buf);
+            GL(BufferSubData)(GL_ARRAY_BUFFER, (GLintptr)(sizeof(float) * CORNER_FLOATS * at),
+                              (GLsizeiptr)(sizeof(float) * CORNER_FLOATS * 3 * (size_t)n), buf);
+            at += (size_t)n * 3;
+        }
     }
-    vertex_arrays(r, &a->vao, &a->vbo, sizeof(float) * CORNER_FLOATS * corners, buf);
     free(buf);
     GL(EnableVertexAttribArray)(0);
     GL(VertexAttribPointer)(0, 3, GL_FLOAT, GL_FALSE, sizeof(float) * CORNER_FLOATS, (void *)0);

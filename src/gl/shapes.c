@@ -1,4 +1,4 @@
-/* mesh.c - builds the unit meshes once per renderer. Curved shapes come in levels of
+/* shapes.c - builds the unit meshes once per renderer. Curved shapes come in levels of
  * detail: the renderer picks, per view, the coarsest whose silhouette stays within a
  * fraction of a pixel of the true shape (the ray tracer's). */
 #include <math.h>
@@ -6,7 +6,7 @@
 #include <string.h>
 
 #include "gl/gl_internal.h"
-#include "gl/mesh.h"
+#include "gl/shapes.h"
 
 const int limen__lod_segments[LIMEN__LODS] = { 8, 12, 16, 24, 32, 48, 64, 96, 128, 192, 256 };
 
