@@ -70,10 +70,16 @@
  *
  * Not modelled, on purpose: the far plane (scenes fit well inside it; the oblique far plane
  * of a nested view is an artefact of the method, not of the scene), the view budget
- * max_views (a truncated tree is an error the comparison should see), MSAA (one sample at
- * the pixel centre), 8-bit rounding of intermediate colours in a framebuffer (the tracer
+ * max_views (a truncated tree is an error the comparison should see), a multisampled
+ * frame's resolve beyond averaging its samples (limen_trace_desc.samples), 8-bit rounding of intermediate colours in a framebuffer (the tracer
  * multiplies the clamped shade by the product of the tints in double and rounds once), and
  * the tessellation of curved shapes (the tracer is what the meshes approximate).
+ *
+ * Levels of detail (limen_trace_desc.lod_pixels, lod_level): the full mesh unless asked;
+ * asked, each mesh prim is traced at one level, the one the camera's view draws its node at
+ * (limen_view_mesh_lod) or the one forced, through a copy of its asset that holds the
+ * level's triangles, parts and a hierarchy over them (tracer_levels). A mesh seen in a
+ * mirror or through a portal keeps that level, where the renderer chooses per view.
  *
  * Images are traced by pthreads over interleaved rows; every thread only reads a snapshot
  * of the scene (`tracer`) taken before they start. Each segment tests only the prims whose
