@@ -912,6 +912,11 @@ static void test_lod_levels(void)
                     g->lods[k].error * to_px, 100 * dl.bad_share, moved, radius);
     }
     CHECK_MSG(reached >= 5, "%d levels reached", reached);
+    CHECK(limen_trace_image(s, &(limen_trace_desc){ .width = W, .height = H, .lod_level = -1 },
+                            lvl) == LIMEN_ERR_ARG);
+    CHECK(limen_trace_image(s, &(limen_trace_desc){ .width = W, .height = H,
+                                                    .lod_pixels = NAN }, lvl) == LIMEN_ERR_ARG);
+    CHECK_MSG(strstr(limen_scene_error(s), "lod_pixels"), "%s", limen_scene_error(s));
 done:
     if (path[0])
         remove(path);
