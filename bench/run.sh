@@ -48,7 +48,7 @@ for t in 2 1; do
             for (j = i - 1; j >= 0 && a[j] > x; j--) a[j + 1] = a[j]; a[j + 1] = x }
             return n % 2 ? a[int(n / 2)] : (a[n / 2 - 1] + a[n / 2]) / 2 }
         END { printf "wall depth 0 against the floor, LP_NUM_THREADS %s, median of %d runs: " \
-              "wall time %.2fx (target 1.3x: %s), processor time %.2fx; without stats %.2fx " \
+              "wall time %.2fx (target 1.3x: %s), processor time %.2fx; as a game loop %.2fx " \
               "wall, %.2fx processor\n", t, n, med(w, n), med(w, n) <= 1.3 ? "pass" : "FAIL",
               med(c, n), med(qw, n), med(qc, n) }' "$OUT/wall_ratios.csv" >> "$OUT/speed.txt"
 done

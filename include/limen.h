@@ -1014,7 +1014,10 @@ typedef struct limen_render_opts {
     limen_limits limits;        /* as in limen_plan_desc; zero: the defaults */
 } limen_render_opts;
 
-/* Plans and draws one frame of the scene from its camera. opts and stats may be NULL. A mesh
+/* Plans and draws one frame of the scene from its camera. opts and stats may be NULL; with
+ * stats the call returns when the frame is finished (glFinish), without them once it is
+ * submitted (glFlush), so that the next frame's work overlaps its shading (reading it back
+ * or swapping waits for it). A mesh
  * or texture that cannot be copied to the GPU (memory out) fails the frame with
  * LIMEN_ERR_NOMEM and a message naming it, rather than a frame that lacks it; a later frame
  * tries again. */

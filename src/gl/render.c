@@ -581,7 +581,13 @@ static limen_status frame(limen_renderer *r, limen_scene *s, limen_frame_stats *
     }
     if (r->opts.fill == LIMEN_FILL_PREVIOUS)
         keep_previous(r);
-    GL(Finish)();
+    /* stats.ms is the time to the frame's end; without stats the frame is only submitted,
+     * so that a game's next frame is prepared while llvmpipe's threads shade this one (a
+     * read-back or a swap waits for it) */
+    if (stats)
+        GL(Finish)();
+    else
+        GL(Flush)();
     double t1 = now_ms();
     limen__gpu_assets_sweep(r);
 
