@@ -812,8 +812,8 @@ typedef struct limen_limits {
     float lod_pixels;           /* meshes: each view draws the coarsest level of detail whose
                                  * error projects to at most this many pixels
                                  * (limen_view_mesh_lod); 0 -> LIMEN_LOD_DEFAULT;
-                                 * LIMEN_LOD_FULL: always the full mesh. The tracer always
-                                 * uses the full mesh. */
+                                 * LIMEN_LOD_FULL: always the full mesh. The tracer uses
+                                 * the full mesh unless limen_trace_desc asks for a level. */
 } limen_limits;
 
 #define LIMEN_LOD_FULL (-1.0f)  /* limen_limits.lod_pixels: no levels of detail */
@@ -1017,7 +1017,10 @@ typedef struct limen_render_opts {
     limen_limits limits;        /* as in limen_plan_desc; zero: the defaults */
 } limen_render_opts;
 
-/* Plans and draws one frame of the scene from its camera. opts and stats may be NULL. A mesh
+/* Plans and draws one frame of the scene from its camera. opts and stats may be NULL; with
+ * stats the call returns when the frame is finished (glFinish), without them once it is
+ * submitted (glFlush), so that the next frame's work overlaps its shading (reading it back
+ * or swapping waits for it). A mesh
  * or texture that cannot be copied to the GPU (memory out) fails the frame with
  * LIMEN_ERR_NOMEM and a message naming it, rather than a frame that lacks it; a later frame
  * tries again. */
@@ -1254,6 +1257,16 @@ typedef struct limen_trace_desc {
                                  * so that a renderer at msaa 4 can be held to it; another
                                  * square k * k up to 256 -> the centres of a k x k grid of
                                  * cells. Anything else -> ARG */
+    float lod_pixels;           /* meshes: 0 (or LIMEN_LOD_FULL) the full mesh, the truth;
+                                 * > 0: each mesh at the level of detail the camera's view
+                                 * draws it at under this bound (limen_view_mesh_lod, as a
+                                 * renderer's limen_limits.lod_pixels), so that a level can be
+                                 * held to the truth of its own triangles. A mesh seen in a
+                                 * mirror or through a portal keeps the camera view's level
+                                 * (a renderer chooses per view) */
+    int lod_level;              /* meshes: k > 0 traces every mesh at its level k (its
+                                 * coarsest where it has fewer), whatever lod_pixels says;
+                                 * 0: lod_pixels decides. Negative -> ARG */
 } limen_trace_desc;
 
 /* Ray traces the scene from its camera (the root view skips what lies nearer than the

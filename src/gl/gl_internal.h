@@ -97,6 +97,7 @@ struct limen_renderer {
     GLuint *q_pool;                         /* occlusion queries around shading passes */
     int q_cap, q_used;
     bool q_active;
+    bool counting;              /* this frame's stats were asked for: queries count it */
     limen__target targets[LIMEN__MAX_TARGETS];
 
     GLuint prev_fbo, prev_tex;              /* the previous frame, for LIMEN_FILL_PREVIOUS */
