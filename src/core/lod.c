@@ -27,6 +27,12 @@
 #ifdef __GLIBC__
 #include <malloc.h>
 #endif
+#ifdef __linux__
+#include <errno.h>
+#include <sys/resource.h>
+#include <sys/syscall.h>
+#include <unistd.h>
+#endif
 
 #include <meshoptimizer.h>
 
@@ -48,6 +54,7 @@
 #define SOURCE_STEP 3           /* a level is simplified from the one this many before */
 #define REL_TOL 0.1             /* a piece's bound may exceed the largest distance found by this */
 #define MAX_DEPTH 4             /* pieces per triangle: at most 4^4 */
+#define LOD_NICE 10            /* how much a build beside the scene's thread yields to it */
 #define MEASURERS 2           /* threads bounding a level's pieces (this machine's cores) */
 #define SLICE 256               /* triangles a measurer takes in turn with the others */
 #define NEAR_ENOUGH 0.8         /* a cut's point this near a corner's triangle (of what the
@@ -840,9 +847,25 @@ void limen__lod_set_async_above(uint32_t triangles)
     async_above = triangles;
 }
 
+/* The thread making levels beside the scene's yields to it (and to the renderer's threads)
+ * where they compete for the cores: the first frames draw the full mesh meanwhile, and
+ * should not wait for levels they do not need yet. Linux's nice is the thread's own, and
+ * the measuring threads it starts take it. */
+static void yield_to_frames(void)
+{
+#ifdef __linux__
+    id_t tid = (id_t)syscall(SYS_gettid);
+    errno = 0;
+    int now = getpriority(PRIO_PROCESS, tid);
+    if (errno == 0)
+        (void)setpriority(PRIO_PROCESS, tid, now + LOD_NICE);
+#endif
+}
+
 static void *job_run(void *arg)
 {
     struct limen__lod_job *j = arg;
+    yield_to_frames();
     j->ok = lods_make(j->m, &j->stop, &j->mk);
     if (j->ok)
         to_cache(j->m, &j->where, &j->key, &j->mk);
