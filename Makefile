@@ -36,13 +36,17 @@ SONAME   := liblimen.so.$(VERSION_MAJOR)
 CORE_SRC := src/core/error.c src/core/limits.c src/core/lmath.c src/core/scene.c src/core/surface.c src/core/move.c src/core/straddle.c src/core/bvh.c src/core/index.c src/core/rtc.c src/core/cull.c src/core/plan.c src/core/drawables.c src/core/trace.c src/core/image.c src/core/jpeg.c src/core/file.c src/core/confine.c src/core/contain.c src/core/gltf_cost.c src/core/mesh.c src/core/lod.c src/core/lod_target.c src/core/lod_cache.c src/core/texture.c
 # the library's own version (limen_version)
 CORE_SRC += src/core/version.c
+CORE_SRC += src/core/drawlist.c src/core/drawlist_stencil.c src/core/drawlist_batch.c
 CORE_SRC += src/core/import.c
 # levels of detail: the weld the simplifier is given (core/lod_weld.c)
 CORE_SRC += src/core/lod_weld.c
 # model files as scenes (limen_model_load), the JSON reader for what assimp drops, and
 # finding and measuring nodes below a node (limen_node_find_below, limen_node_get_bounds)
 CORE_SRC += src/core/model.c src/core/json.c src/core/find.c
-GL_SRC   := src/gl/render.c src/gl/views.c src/gl/stencil.c src/gl/shader.c src/gl/mesh.c src/gl/assets.c src/gl/batch.c src/gl/ctx_osmesa.c \
+# the table of node kinds' facts (limen_kind_get) and their extents
+CORE_SRC += src/core/kinds.c
+TEST_C   += tests/test_kinds.c
+GL_SRC   := src/gl/render.c src/gl/backend.c src/gl/targets.c src/gl/shader.c src/gl/shapes.c src/gl/assets.c src/gl/ctx_osmesa.c \
             src/gl/ctx_egl.c src/gl/ctx_host.c
 LUA_SRC  := src/lua/l_fields.c src/lua/l_node.c src/lua/l_scene.c src/lua/l_render.c src/lua/script.c src/lua/safe.c src/lua/guards.c
 # sorted: a file listed twice (two branches adding it) is built once

@@ -210,6 +210,49 @@ typedef enum limen_node_kind {
     LIMEN_NODE_KIND_COUNT
 } limen_node_kind;
 
+/* ---------------------------------------------------------------- node kinds */
+
+/* Where a kind's texture coordinates come from (limen_node_set_texture says how each maps). */
+typedef enum limen_uv_rule {
+    LIMEN_UV_NONE = 0,          /* takes no texture (limen_node_set_texture refuses it) */
+    LIMEN_UV_PLANE,             /* a plane's: (x/w + 0.5, y/h + 0.5) over its extent */
+    LIMEN_UV_BOX,               /* a box face's: its two other axes in order */
+    LIMEN_UV_MESH,              /* the mesh's own */
+    LIMEN_UV_COUNT              /* the number of rules (not one itself) */
+} limen_uv_rule;
+
+/* What every layer knows of a node kind, from one table (core, renderer, tracer, bindings;
+ * a game's own renderer may read it too). A kind that draws as a unit shape (unit) is that
+ * shape, whose local box is [lo, hi], with local axis a stretched by dims[scale[a]] (by 1
+ * where scale[a] < 0): a SPHERE is the ball of radius 1 scaled by (r, r, r), a CYLINDER the
+ * one of radius 1 and height 1 on y = 0..1 scaled by (r, h, r), a QUAD the square
+ * [-0.5, 0.5]^2 on z = 0 scaled by (w, h, 1). */
+typedef struct limen_kind_info {
+    const char *name;           /* "box": as Lua and messages spell it ("plane" for a QUAD) */
+    int size;                   /* how many of dims it reads (limen_node_set_dims); 0: none */
+    float dims[3];              /* the dims limen_node_create gives it */
+    int shape;                  /* 1: shows a lit surface: BOX, SPHERE, CYLINDER, QUAD, MESH */
+    int surface;                /* 1: a mirror or portal (limen_surface_get) */
+    int light;                  /* 1: lights the scene (LIGHT) */
+    int unit;                   /* 1: draws a unit shape scaled by dims (MESH: its own triangles) */
+    int flat;                   /* 1: on local z = 0, facing +Z; passes no portal; a flat shape's
+                                 * checker is in xy (limen_node_set_checker) */
+    int closed;                 /* 1: a solid: back faces hidden (BOX, SPHERE, CYLINDER) */
+    int round;                  /* bounding sphere about its box's centre: 0 through the box's
+                                 * corners, 1 round about local y (a circle in xz), 2 a ball */
+    limen_uv_rule uv;           /* its texture coordinates; LIMEN_UV_NONE: takes no texture */
+    int scale[3];               /* unit shapes: the dims index that stretches each local axis */
+    float lo[3], hi[3];         /* unit shapes: the unit shape's local box */
+} limen_kind_info;
+
+LIMEN_API const limen_kind_info *limen_kind_get(limen_node_kind k);    /* NULL out of range */
+/* The local box (lo, hi) of a unit shape of kind k and the given dims (as limen_node_get_dims
+ * gives them): what limen_node_get_bounds carries through the world matrix. LIMEN_ERR_ARG
+ * for a kind that is no unit shape (GROUP, LIGHT, CAMERA; a MESH's box is its triangles',
+ * limen_mesh_info.lo and hi) and for NULL arguments. */
+LIMEN_API limen_status limen_kind_bounds(limen_node_kind k, const float dims[3], float lo[3],
+                                         float hi[3]);
+
 typedef struct limen_scene_desc {
     int max_nodes;          /* live nodes at most; 0 -> no limit but memory (the pool grows) */
 } limen_scene_desc;
@@ -737,7 +780,7 @@ typedef struct limen_frame_budget {
                                  * renderer may draw) every visible surface; 0 -> 131072 */
     int64_t triangles;          /* mesh triangles over every view, each mesh at the level of
                                  * detail the view draws it at (limen_view_mesh_lod), counted
-                                 * over limen_plan_view_things; 0 -> LIMEN_BUDGET_TRIANGLES_DEFAULT.
+                                 * over limen_plan_things; 0 -> LIMEN_BUDGET_TRIANGLES_DEFAULT.
                                  * The camera's view is always drawn: where it alone holds more,
                                  * the renderer draws its meshes in order up to the budget and
                                  * drops the rest (counted as one truncation) */
@@ -792,6 +835,10 @@ typedef struct limen_plan_desc {
     limen_depth_range range;    /* clip-space convention of proj */
     limen_limits limits;        /* zero: the defaults (see limen_limits) */
     limen_cull cull;            /* default SURFACE */
+    int multisample;            /* nonzero: a surface counts where it meets any part of a
+                                 * pixel, not only its centre, and a view's scissor holds
+                                 * every such pixel (a renderer at msaa sets it: its samples
+                                 * lie off the centre) */
 } limen_plan_desc;
 
 typedef struct limen_plan limen_plan;
@@ -815,12 +862,16 @@ LIMEN_API int limen_view_mesh_lod(const limen_view *v, int height, const limen_d
                                   float pixels);
 /* The shapes (boxes, spheres, cylinders, quads, meshes; visible ones) that view i may show: those
  * whose world bounds meet the view's pyramid from its eye through its scissor rectangle and,
- * below the camera, lie partly in front of its clip plane. Found through the scene's spatial
- * index, in time that follows what the view holds, not what the scene holds, so a renderer
- * can draw only these (plus the view's surfaces and the copies in limen_plan_clones). A
- * superset: a shape listed may still be hidden. Writes up to max handles, in node order,
- * and returns how many there are (more than max when out is too small); -1 on error
- * (limen_last_error). Call it before the scene changes again. */
+ * below the camera, lie partly in front of its clip plane. limen_plan_build finds them
+ * through the scene's spatial index, in time that follows what the view holds, not what the
+ * scene holds, and keeps them in the plan, so a renderer can draw only these (plus the view's
+ * surfaces and the copies in limen_plan_clones) without the scene. A superset: a shape listed
+ * may still be hidden. Sets *out to the view's handles, in node order (owned by the plan, valid
+ * until its next build; NULL when there are none, or i is out of range), and returns how many. */
+LIMEN_API int limen_plan_things(const limen_plan *p, int i, const limen_node **out);
+/* Deprecated: limen_plan_things. Copies up to max of view i's shapes into out and returns how
+ * many there are (more than max when out is too small); -1 when there is no view i or out is
+ * NULL with max > 0 (the message in s, which may be NULL: the plan needs no scene). */
 LIMEN_API int limen_plan_view_things(const limen_plan *p, limen_scene *s, int i, limen_node *out,
                                      int max);
 /* A closed shape (box, sphere, cylinder, mesh) passing through a portal, its centre over the
@@ -849,15 +900,14 @@ typedef struct limen_plan_work {
 } limen_plan_work;
 LIMEN_API void limen_plan_get_work(const limen_plan *p, limen_plan_work *out);
 /* Writes the plan as JSON ({"views": [...]}); returns LIMEN_ERR_IO if it cannot. Each view
- * lists, besides its matrices and surfaces, the meshes it may show (limen_plan_view_things)
+ * lists, besides its matrices and surfaces, the meshes it may show (limen_plan_things)
  * with the level of detail it draws each at under the plan's lod_pixels and height
  * (limen_view_mesh_lod): "meshes": [{"node": "statue", "lod": 3, "triangles": 212, "parts":
  * [{"first": 0, "count": 212, "material": 0}], "materials": [{"name", "base_color",
  * "base_texture" (whether it has one), "alpha_mode" ("opaque", "mask", "blend"),
- * "alpha_cutoff", "emissive", "emissive_texture"}]}]: that level's parts. Like
- * limen_plan_view_things it asks the scene's spatial index, which it may refresh, so it takes
- * the scene as an edit does (see THREADS). */
-LIMEN_API limen_status limen_plan_write_json(const limen_plan *p, limen_scene *s,
+ * "alpha_cutoff", "emissive", "emissive_texture"}]}]: that level's parts. It reads the scene
+ * (names, meshes) as the plan left it: write it before the scene changes. */
+LIMEN_API limen_status limen_plan_write_json(const limen_plan *p, const limen_scene *s,
                                              const char *path);
 
 /* ---------------------------------------------------------------- renderer */
@@ -983,6 +1033,175 @@ LIMEN_API const limen_plan *limen_renderer_plan(const limen_renderer *r);
  * swaps; a multisampled host framebuffer -> LIMEN_ERR_UNSUPPORTED.) */
 LIMEN_API limen_status limen_renderer_read_rgb(limen_renderer *r, unsigned char *rgb);
 LIMEN_API limen_status limen_renderer_write_png(limen_renderer *r, const char *path);
+
+/* ---------------------------------------------------------------- draw list */
+
+/* One frame as a flat list of commands (docs/DESIGN.md, "The draw list"), for a renderer of
+ * your own or limen's OpenGL one, which draws exactly this list. The core turns a built plan
+ * and the drawables of the same scene into commands for one frame and one method (stencil or
+ * texture), each self-contained: what to draw and the pipeline state to draw it with,
+ * already resolved for the depth range (reversed depth: GREATER where the plain range says
+ * LESS). A backend walks the list in order and does what each command says: it needs no
+ * scene, no plan logic, no clipping and no sorting.
+ *     limen_drawlist *dl;  limen_drawlist_create(&dl);
+ *     limen_drawlist_desc dd = { .width = w, .height = h, .method = LIMEN_METHOD_STENCIL };
+ *     limen_drawlist_build(dl, plan, drawables, &dd);
+ *     const limen_draw_cmd *c;  int n = limen_drawlist_commands(dl, &c);
+ *     for (int i = 0; i < n; i++) ... c[i].op, c[i].state, passes[c[i].pass] ... */
+
+typedef enum limen_compare {        /* a depth test: the fragment's depth OP the stored one */
+    LIMEN_COMPARE_ALWAYS = 0,       /* passes (the test stays on: depth is still written) */
+    LIMEN_COMPARE_LESS,
+    LIMEN_COMPARE_LEQUAL,
+    LIMEN_COMPARE_EQUAL,
+    LIMEN_COMPARE_GREATER,
+    LIMEN_COMPARE_GEQUAL,
+    LIMEN_COMPARE_COUNT             /* the number of tests (not one itself) */
+} limen_compare;
+
+typedef enum limen_stencil_op {     /* what a pixel that passes stencil and depth does */
+    LIMEN_STENCIL_KEEP = 0,
+    LIMEN_STENCIL_INVERT,           /* the bits of write_mask flip (to a child's value) */
+    LIMEN_STENCIL_DECR,             /* one less: back to the parent's value (a seal) */
+    LIMEN_STENCIL_OP_COUNT          /* the number of ops (not one itself) */
+} limen_stencil_op;
+
+/* The pipeline state of one command. A backend sets all of it for every command (or only
+ * what changed since the last: the list makes no promise either way). */
+typedef struct limen_draw_state {
+    int scissor[4];             /* x, y, w, h: pixels of the frame (origin bottom-left) the
+                                 * command may touch; texture method: of its target */
+    unsigned char color_write;  /* 0: write no colour */
+    unsigned char depth_write;  /* 0: write no depth */
+    unsigned char depth_clamp;  /* 1: clamp depth instead of clipping at near and far */
+    unsigned char cull_back;    /* 1: cull back faces (front: the pass's front_cw winding) */
+    unsigned char blend;        /* 1: src alpha, one minus src alpha */
+    unsigned char stencil_test; /* 1: draw only where stencil == stencil_ref (all 8 bits) */
+    unsigned char stencil_ref;  /* the value stencil_test compares with */
+    unsigned char stencil_write_mask; /* the stencil bits stencil_pass (and CLEAR) may change */
+    limen_stencil_op stencil_pass; /* what a pixel passing stencil and depth does to stencil */
+    limen_compare depth_test;   /* always on; ALWAYS where nothing may fail it */
+    unsigned char clip_on;      /* clip distance 0: keep what has clip . p >= 0 (world p) */
+    unsigned char cut_on;       /* clip distance 1: keep what has cut . p >= 0 (world p) */
+    unsigned char counted;      /* a shading pass: its samples count in limen_frame_stats */
+    float clip[4];              /* world plane of clip_on */
+    float cut[4];               /* world plane of cut_on (a shape passing through a portal) */
+} limen_draw_state;
+
+/* A pass: the camera a run of commands draws with (a view of the plan, its projection
+ * narrowed to a texture target's rectangle in the texture method). */
+typedef struct limen_draw_pass {
+    int view;                   /* the plan's view (limen_plan_view) */
+    float view_proj[16];        /* world -> clip, as drawn (narrowing included) */
+    float view_mat[16];         /* world -> eye, the view's (for levels of detail) */
+    float eye[3];               /* world-space eye (for shading) */
+    float tint[3];              /* SHAPE and MESHES colours are multiplied by it */
+    int front_cw;               /* 1: clockwise front faces */
+    float px_scale;             /* pixels per unit of (size / distance) at the image centre */
+    float frag_map[4];          /* image pixel = frag_map.xy * fragment.xy + frag_map.zw,
+                                 * fragment: the pixel in its target (frame origin 0, 0) */
+    int target;                 /* 0: the frame; k > 0: offscreen target k (texture method) */
+} limen_draw_pass;
+
+typedef enum limen_draw_op {
+    LIMEN_DRAW_TARGET = 0,      /* texture method: draw into `target` from now on (0: the
+                                 * frame; k: target k of target_w x target_h pixels, colour
+                                 * RGBA8 sampled linear and clamped, plus depth-stencil), over
+                                 * the viewport `viewport` in it */
+    LIMEN_DRAW_CLEAR,           /* clear within state.scissor: depth to the far value of the
+                                 * range where state.depth_write, colour to `color` where
+                                 * state.color_write, stencil to 0 where
+                                 * state.stencil_write_mask (the frame's first clear) */
+    LIMEN_DRAW_POLYGON,         /* a triangle fan of list vertices [first, first + count):
+                                 * x, y, z in normalized device coordinates, already clipped
+                                 * (clip nothing), in flat `color` (tint included); with `image`
+                                 * not NONE: the image's texel at uv = image_map.xy *
+                                 * fragment.xy + image_map.zw (fragment: the pixel in the
+                                 * target, frame origin 0, 0), times `color` */
+    LIMEN_DRAW_SHAPE,           /* drawable `item` (box, sphere, cylinder, quad, or a mirror's
+                                 * or portal's quad) at model matrix `world` with albedo
+                                 * `color`, lit: limen's shading, checker and texture as the
+                                 * drawable says */
+    LIMEN_DRAW_MESHES,          /* mesh drawable `item` at level of detail `lod` (clamp it to
+                                 * the levels you keep), `count` instances from list instance
+                                 * `first` (a batch of nodes sharing the geometry), its parts
+                                 * `parts` says, lit as SHAPE */
+    LIMEN_DRAW_FLUSH,           /* a hint: hand what is queued to the device now */
+    LIMEN_DRAW_OP_COUNT         /* the number of ops (not one itself) */
+} limen_draw_op;
+
+typedef enum limen_draw_image {
+    LIMEN_IMAGE_NONE = 0,
+    LIMEN_IMAGE_PREVIOUS,       /* the previous frame's colour (LIMEN_FILL_PREVIOUS) */
+    LIMEN_IMAGE_TARGET,         /* target `target`'s colour (texture method) */
+    LIMEN_IMAGE_COUNT           /* the number of images (not one itself) */
+} limen_draw_image;
+
+typedef enum limen_draw_parts {
+    LIMEN_PARTS_OPAQUE = 0,     /* a mesh's opaque and masked parts (all of a plain mesh) */
+    LIMEN_PARTS_BLENDED,        /* its blended parts (state.blend is on) */
+    LIMEN_PARTS_COUNT           /* the number of choices (not one itself) */
+} limen_draw_parts;
+
+typedef struct limen_draw_cmd {
+    limen_draw_op op;           /* what to do */
+    int pass;                   /* index into the list's passes (the camera it draws with) */
+    limen_draw_state state;     /* how */
+    int item;                   /* SHAPE, MESHES: an index into limen_drawables_items */
+    int lod;                    /* MESHES: level of detail (an index into d->mesh->lods) */
+    limen_draw_parts parts;     /* MESHES: which parts */
+    int first, count;           /* POLYGON: vertices; MESHES: instances */
+    float color[3];             /* CLEAR, POLYGON, SHAPE */
+    float world[16];            /* SHAPE: model matrix (a portal's copy: carried) */
+    limen_draw_image image;     /* POLYGON */
+    float image_map[4];         /* POLYGON with an image: fragment -> uv */
+    int target;                 /* TARGET; POLYGON with LIMEN_IMAGE_TARGET: the image's */
+    int target_w, target_h;     /* TARGET: the target's size (0 for the frame) */
+    int viewport[4];            /* TARGET: x, y, w, h in it */
+} limen_draw_cmd;
+
+typedef struct limen_draw_instance {
+    float world[16];            /* model matrix */
+    float color[3];             /* albedo */
+} limen_draw_instance;
+
+typedef struct limen_drawlist limen_drawlist;
+
+typedef struct limen_drawlist_desc {
+    int width, height;          /* the frame in pixels (0: the plan's) */
+    limen_method method;        /* STENCIL or TEXTURE (NAIVE: TEXTURE, over a plan built
+                                 * with LIMEN_CULL_FRUSTUM) */
+    limen_fill fill;            /* LIMEN_FILL_PREVIOUS: surfaces where recursion stopped show
+                                 * the previous frame where have_previous */
+    float texture_scale;        /* texture method: target resolution, (0, 1]; 0 -> 1 */
+    int msaa;                   /* samples per pixel the backend draws with (0, 1: one) */
+    limen_depth_range range;    /* the plan's clip-space convention */
+    limen_limits limits;        /* lod_pixels and budget.triangles; zero: the defaults */
+    int have_previous;          /* 1: the backend holds a previous frame */
+} limen_drawlist_desc;
+
+LIMEN_API limen_status limen_drawlist_create(limen_drawlist **out);    /* an empty list */
+LIMEN_API void limen_drawlist_destroy(limen_drawlist *dl);             /* NULL is fine */
+/* Builds the frame's commands from a built plan and the drawables of the same scene (the
+ * scene itself is not read), reusing the list's memory. On failure (a NULL or unbuilt plan,
+ * a bad desc, memory) the list is empty and limen_drawlist_error says why. */
+LIMEN_API limen_status limen_drawlist_build(limen_drawlist *dl, const limen_plan *p,
+                                            const limen_drawables *d,
+                                            const limen_drawlist_desc *desc);
+/* The commands, in the order to execute them; returns their count. */
+LIMEN_API int limen_drawlist_commands(const limen_drawlist *dl, const limen_draw_cmd **out);
+/* The passes commands refer to; returns their count. */
+LIMEN_API int limen_drawlist_passes(const limen_drawlist *dl, const limen_draw_pass **out);
+/* The POLYGON commands' vertices (NDC x, y, z); returns their count. */
+LIMEN_API int limen_drawlist_vertices(const limen_drawlist *dl, const float (**out)[3]);
+/* The MESHES commands' instances; returns their count. */
+LIMEN_API int limen_drawlist_instances(const limen_drawlist *dl,
+                                       const limen_draw_instance **out);
+/* The message of the last failed build ("" after a success). */
+LIMEN_API const char *limen_drawlist_error(const limen_drawlist *dl);
+/* texture_scale (1, and 1 for NAIVE); width, height and range stay (0: the plan's); the
+ * limits for that size (limen_limits_defaults). */
+LIMEN_API limen_drawlist_desc limen_drawlist_desc_defaults(const limen_drawlist_desc *desc);
 
 /* ---------------------------------------------------------------- ray casting */
 

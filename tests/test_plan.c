@@ -2,9 +2,12 @@
  * camera would get wrong. */
 #include <stdbool.h>
 #include <stdlib.h>
+#include <string.h>
 #include <unistd.h>
 
 #include "check.h"
+#include "core/plan.h"
+#include "hall.h"
 #include "limen.h"
 
 #define W 320
@@ -638,7 +641,148 @@ static void test_frame_budget_bounds_stacked_mirrors(void)
     limen_scene_destroy(s);
 }
 
+/* ------------------------------------------------------------------ the things of a view */
+
+/* A box mesh of 12 triangles (a unit cube). */
+static void cube_mesh(limen_scene *s, limen_node m)
+{
+    static const float pos[24] = { -0.5f, -0.5f, -0.5f, 0.5f, -0.5f, -0.5f, 0.5f, 0.5f, -0.5f,
+                                   -0.5f, 0.5f,  -0.5f, -0.5f, -0.5f, 0.5f, 0.5f, -0.5f, 0.5f,
+                                   0.5f,  0.5f,  0.5f,  -0.5f, 0.5f,  0.5f };
+    static const uint32_t idx[36] = { 0, 2, 1, 0, 3, 2, 4, 5, 6, 4, 6, 7, 0, 1, 5, 0, 5, 4,
+                                      3, 6, 2, 3, 7, 6, 0, 4, 7, 0, 7, 3, 1, 2, 6, 1, 6, 5 };
+    CHECK_OK(limen_mesh_set_triangles(s, m, &(limen_mesh_data){ .positions = pos,
+                                                               .vertex_count = 8,
+                                                               .indices = idx,
+                                                               .triangle_count = 12 }));
+}
+
+/* The mirror corridor with shapes along it and behind its mirrors: spheres, boxes and cube
+ * meshes (some hidden), so that each level of views sees other ones. */
+static limen_scene *corridor_with_shapes(void)
+{
+    limen_scene *s = corridor();
+    static const limen_node_kind kinds[3] = { LIMEN_NODE_SPHERE, LIMEN_NODE_BOX,
+                                              LIMEN_NODE_MESH };
+    for (int i = 0; i < 30; i++) {
+        limen_node n;
+        CHECK_OK(limen_node_create(s, kinds[i % 3], NULL, &n));
+        if (kinds[i % 3] == LIMEN_NODE_MESH)
+            cube_mesh(s, n);
+        float x = -6.0f + 0.4f * (float)i, z = -4.0f + 0.27f * (float)i;
+        CHECK_OK(limen_node_set_position(s, n, (float[3]){ x, 1.0f + 0.05f * (float)i, z }));
+        CHECK_OK(limen_node_set_scale(s, n, (float[3]){ 0.3f, 0.3f, 0.3f }));
+        if (i % 7 == 3)
+            CHECK_OK(limen_node_set_visible(s, n, 0));
+    }
+    return s;
+}
+
+/* What the scene's spatial index gives for view i of a built plan, asked again after the
+ * build (as limen_plan_view_things did on every call), as handles; their count. */
+static int index_things(limen_plan *p, limen_scene *s, int i, limen_node *out, int max)
+{
+    int n = limen__plan_view_shapes(p, s, &p->found[p->dfs_to_bfs[i]]);
+    for (int k = 0; k < n && k < max; k++)
+        out[k] = limen__node_handle(s, p->shape_hits[k]);
+    return n;
+}
+
+/* The things stored with each view equal what the index gives for it after the build, in
+ * node order, visible ones only: in a hall of portals, a corridor of mirrors, and with a
+ * triangle budget that drops views after their things were listed. */
+static void test_things_stored(void)
+{
+    enum { MAX = 4096 };
+    limen_node *want = malloc(sizeof *want * MAX);
+    limen_scene *scenes[3] = { hall_create(1500, 12, 7), corridor_with_shapes(),
+                               corridor_with_shapes() };
+    limen_plan_desc descs[3] = { { 0 }, { 0 }, { .limits.budget.triangles = 12 * 60 } };
+    for (int c = 0; c < 3; c++) {
+        limen_scene *s = scenes[c];
+        limen_plan *p = plan(s, descs[c]);
+        limen_plan_work w;
+        limen_plan_get_work(p, &w);
+        CHECK_MSG(limen_plan_count(p) > 3, "scene %d: %d views, %lld triangles", c,
+                  limen_plan_count(p), (long long)w.triangles);
+        if (c == 2)
+            CHECK_MSG(w.budgets_hit & LIMEN_BUDGET_TRIANGLES, "budgets hit: %u", w.budgets_hit);
+        int differ = 0, total = 0, distinct = 0, prev = -1;
+        for (int i = 0; i < limen_plan_count(p); i++) {
+            const limen_node *got;
+            int n = limen_plan_things(p, i, &got);
+            int m = index_things(p, s, i, want, MAX);
+            CHECK(m >= 0 && m <= MAX);
+            differ += n != m || (n && memcmp(got, want, sizeof *got * (size_t)n));
+            for (int k = 0; k < n; k++) {
+                CHECK(limen_node_valid(s, got[k]) && limen_node_get_visible(s, got[k]));
+                CHECK(k == 0 || (uint32_t)got[k - 1].id < (uint32_t)got[k].id);
+            }
+            distinct += n != prev;
+            prev = n;
+            total += n;
+            /* the deprecated copy gives the same */
+            int copied = limen_plan_view_things(p, s, i, want, MAX);
+            CHECK(copied == n && (!n || !memcmp(got, want, sizeof *got * (size_t)n)));
+        }
+        CHECK_MSG(differ == 0, "scene %d: %d views whose things differ from the index's", c,
+                  differ);
+        CHECK_MSG(total > 0 && distinct > 1, "scene %d: %d things, %d distinct counts", c,
+                  total, distinct);
+        limen_plan_destroy(p);
+        limen_scene_destroy(s);
+    }
+    free(want);
+}
+
+/* The things of every view lie in one array for the whole plan, view after view in draw
+ * order, and building the plan of the same scene again allocates nothing: the arrays keep
+ * their place and size. */
+static void test_things_one_array(void)
+{
+    limen_scene *s = hall_create(800, 10, 11);
+    limen_plan *p = plan(s, (limen_plan_desc){ 0 });
+    int count = limen_plan_count(p);
+    CHECK(count > 3);
+    const limen_node *base = NULL, *next = NULL;
+    int total = 0;
+    for (int i = 0; i < count; i++) {
+        const limen_node *t;
+        int n = limen_plan_things(p, i, &t);
+        CHECK((n == 0) == (t == NULL));
+        if (!n)
+            continue;
+        if (!base)
+            base = t;
+        CHECK_MSG(!next || t == next, "view %d's things do not follow the last view's", i);
+        next = t + n;
+        total += n;
+    }
+    CHECK(base && next - base == total);
+    const limen_node *none;
+    CHECK(limen_plan_things(p, count, &none) == 0 && none == NULL);
+    CHECK(limen_plan_things(p, -1, &none) == 0 && none == NULL);
+    CHECK(limen_plan_view_things(p, s, count, NULL, 0) == -1);
+    CHECK(limen_plan_view_things(p, NULL, 0, NULL, 0) == limen_plan_things(p, 0, &none));
+
+    /* a second frame of the same scene: no array grows, none moves */
+    const limen_node *things = p->things;
+    const int caps[] = { p->found_cap, p->views_cap, p->things_cap, p->thing_slots_cap,
+                         p->shape_hits_cap, p->things_first_cap, p->view_surfaces_cap,
+                         p->public_surfaces_cap };
+    CHECK_OK(limen_plan_build(p, s, &(limen_plan_desc){ .width = W, .height = H }));
+    const int again[] = { p->found_cap, p->views_cap, p->things_cap, p->thing_slots_cap,
+                          p->shape_hits_cap, p->things_first_cap, p->view_surfaces_cap,
+                          p->public_surfaces_cap };
+    CHECK(limen_plan_count(p) == count);
+    CHECK(!memcmp(caps, again, sizeof caps) && p->things == things);
+    limen_plan_destroy(p);
+    limen_scene_destroy(s);
+}
+
 static const check_case cases[] = {
+    { "things_stored", test_things_stored },
+    { "things_one_array", test_things_one_array },
     { "move_through_portal", test_move_through_portal },
     { "corridor_one_view_per_level", test_corridor_one_view_per_level },
     { "corridor_eye_positions", test_corridor_eye_positions },

@@ -272,7 +272,7 @@ static double hall_tests(int spheres, int pairs, bool brute, long *straddle_test
     *views = limen_plan_count(p);
     *straddle_tests = s->straddle_tests;
     double per_view = (double)p->surface_tests / *views;
-    *found = (double)p->nvsurf / *views;
+    *found = (double)p->nview_surfaces / *views;
     limen_plan_destroy(p);
     limen_scene_destroy(s);
     return per_view;

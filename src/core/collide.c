@@ -320,7 +320,10 @@ static void add_node(sweeper *w, int slot, const limen__box *q, const gate *ghos
         }
         return;
     }
-    default: return;
+    case LIMEN_NODE_GROUP:
+    case LIMEN_NODE_LIGHT:
+    case LIMEN_NODE_CAMERA:
+    case LIMEN_NODE_KIND_COUNT: return;    /* nothing to meet */
     }
 }
 

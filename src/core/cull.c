@@ -14,7 +14,7 @@
 #include "core/plan.h"
 
 /* The world planes of the view's narrowed region (kept side >= 0); returns their count. */
-static int view_planes(const limen_plan *p, const limen__pview *v, double planes[5][4])
+static int view_planes(const limen_plan *p, const limen__plan_view *v, double planes[5][4])
 {
     const double P0 = p->proj_d[0], P8 = p->proj_d[8], P5 = p->proj_d[5], P9 = p->proj_d[9];
     const int *sc = v->pub.scissor;
@@ -50,7 +50,7 @@ static int view_planes(const limen_plan *p, const limen__pview *v, double planes
 }
 
 /* Slack for plane tests: many times the rounding of distances at the scene's size. */
-static double slack_for(const limen__bvh *b, const limen__pview *v)
+static double slack_for(const limen__bvh *b, const limen__plan_view *v)
 {
     double m = fabs(v->eye[0]) + fabs(v->eye[1]) + fabs(v->eye[2]);
     if (b->nnodes)
@@ -65,7 +65,7 @@ static int cmp_int(const void *a, const void *b)
     return (x > y) - (x < y);
 }
 
-int limen__plan_candidates(limen_plan *p, limen_scene *s, const limen__pview *v)
+int limen__plan_candidates(limen_plan *p, limen_scene *s, const limen__plan_view *v)
 {
     limen__spatial *x = limen__scene_index(s);
     if (!x)
@@ -73,16 +73,16 @@ int limen__plan_candidates(limen_plan *p, limen_scene *s, const limen__pview *v)
     const limen__bvh *b = limen__index_surfaces(x);
     double planes[5][4];
     int np = view_planes(p, v, planes), n = 0;
-    if (limen__bvh_query_planes(b, (const double(*)[4])planes, np, slack_for(b, v), &p->cand,
-                                &n, &p->cand_cap, &p->stat_index) < 0)
+    if (limen__bvh_query_planes(b, (const double(*)[4])planes, np, slack_for(b, v),
+                                &p->candidates, &n, &p->candidates_cap, &p->stat_index) < 0)
         return -1;
     /* node slots to the planner's surface indices, in its order */
     int m = 0;
     for (int i = 0; i < n; i++)
-        if (p->surf_of[p->cand[i]] >= 0)
-            p->cand[m++] = p->surf_of[p->cand[i]];
+        if (p->surface_of[p->candidates[i]] >= 0)
+            p->candidates[m++] = p->surface_of[p->candidates[i]];
     if (m > 1)
-        qsort(p->cand, (size_t)m, sizeof *p->cand, cmp_int);
+        qsort(p->candidates, (size_t)m, sizeof *p->candidates, cmp_int);
     return m;
 }
 
@@ -93,56 +93,22 @@ int limen__plan_surface_slots(limen_scene *s, const int **out)
     return x ? limen__index_surface_slots(x, out) : s->cap;
 }
 
-/* The shapes of the index whose boxes meet view v's region, as node slots in *hits (grown
- * as needed); their count, or -1 when out of memory. */
-static int query_shapes(const limen_plan *p, limen__spatial *x, const limen__pview *v,
-                        int **hits, int *cap)
+int limen__plan_view_shapes(limen_plan *p, limen_scene *s, const limen__plan_view *v)
 {
+    limen__spatial *x = limen__scene_index(s);
+    if (!x)
+        return -1;
     const limen__bvh *b = limen__index_shapes(x);
     double planes[5][4];
     int np = view_planes(p, v, planes), n = 0;
-    if (limen__bvh_query_planes(b, (const double(*)[4])planes, np, slack_for(b, v), hits, &n,
-                                cap, NULL) < 0)
+    if (limen__bvh_query_planes(b, (const double(*)[4])planes, np, slack_for(b, v),
+                                &p->shape_hits, &n, &p->shape_hits_cap, NULL) < 0)
         return -1;
-    return n;
-}
-
-int limen__plan_view_shapes(limen_plan *p, limen_scene *s, const limen__pview *v)
-{
-    limen__spatial *x = limen__scene_index(s);
-    return x ? query_shapes(p, x, v, &p->shape_hits, &p->shape_hits_cap) : -1;
-}
-
-int limen_plan_view_things(const limen_plan *p, limen_scene *s, int i, limen_node *out, int max)
-{
-    if (!p || !s || i < 0 || i >= p->count || max < 0 || (max > 0 && !out)) {
-        if (s)
-            limen__fail(s, LIMEN_ERR_ARG, "plan_view_things: no view %d, or no buffer", i);
-        return -1;
-    }
-    limen__spatial *x = limen__scene_index(s);
-    if (!x) {
-        limen__fail(s, LIMEN_ERR_NOMEM, "plan_view_things: out of memory");
-        return -1;
-    }
-    const limen__pview *v = &p->pv[p->dfs_to_bfs[i]];
-    int cap = 0, *hits = NULL;
-    int n = query_shapes(p, x, v, &hits, &cap);
-    if (n < 0) {
-        free(hits);
-        limen__fail(s, LIMEN_ERR_NOMEM, "plan_view_things: out of memory");
-        return -1;
-    }
     if (n > 1)
-        qsort(hits, (size_t)n, sizeof *hits, cmp_int);
+        qsort(p->shape_hits, (size_t)n, sizeof *p->shape_hits, cmp_int);
     int m = 0;
-    for (int k = 0; k < n; k++) {
-        if (!s->nodes[hits[k]].visible)
-            continue;
-        if (m < max)
-            out[m] = limen__node_handle(s, hits[k]);
-        m++;
-    }
-    free(hits);
+    for (int k = 0; k < n; k++)
+        if (s->nodes[p->shape_hits[k]].visible)
+            p->shape_hits[m++] = p->shape_hits[k];
     return m;
 }

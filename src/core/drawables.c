@@ -35,9 +35,11 @@ void limen_drawables_destroy(limen_drawables *d)
     free(d);
 }
 
+/* What shows or lights (limen_drawables_build's list). */
 static bool draws(limen_node_kind kind)
 {
-    return kind != LIMEN_NODE_GROUP && kind != LIMEN_NODE_CAMERA;
+    const limen_kind_info *ki = limen_kind_get(kind);
+    return ki->shape || ki->surface || ki->light;
 }
 
 void limen__drawable_read(const limen_scene *s, int slot, limen_drawable *it)
@@ -72,8 +74,7 @@ void limen__drawable_read(const limen_scene *s, int slot, limen_drawable *it)
     }
     /* a mesh's own textures are its materials' (limen_mesh_geometry.materials) */
     const limen__texture *tex = n->texture;
-    if (tex && (n->kind == LIMEN_NODE_QUAD || n->kind == LIMEN_NODE_BOX ||
-                n->kind == LIMEN_NODE_MESH))
+    if (tex && limen_kind_get(n->kind)->uv != LIMEN_UV_NONE)
         it->texture = &tex->pub;
     memcpy(it->texture_repeat, n->tex_repeat, sizeof it->texture_repeat);
     it->texture_filter = n->tex_filter;

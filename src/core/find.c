@@ -58,26 +58,8 @@ static bool shape_box(limen_scene *s, limen_node n, float a[3], float b[3])
 {
     float d[3];
     limen_node_get_dims(s, n, d);
-    switch (limen_node_get_kind(s, n)) {
-    case LIMEN_NODE_BOX:
-        for (int k = 0; k < 3; k++)
-            b[k] = -(a[k] = -0.5f * d[k]);
-        return true;
-    case LIMEN_NODE_SPHERE:
-        for (int k = 0; k < 3; k++)
-            b[k] = -(a[k] = -d[0]);
-        return true;
-    case LIMEN_NODE_CYLINDER:
-        memcpy(a, (float[3]){ -d[0], 0, -d[0] }, sizeof(float) * 3);
-        memcpy(b, (float[3]){ d[0], d[1], d[0] }, sizeof(float) * 3);
-        return true;
-    case LIMEN_NODE_QUAD:
-    case LIMEN_NODE_MIRROR:
-    case LIMEN_NODE_PORTAL:
-        memcpy(a, (float[3]){ -0.5f * d[0], -0.5f * d[1], 0 }, sizeof(float) * 3);
-        memcpy(b, (float[3]){ 0.5f * d[0], 0.5f * d[1], 0 }, sizeof(float) * 3);
-        return true;
-    case LIMEN_NODE_MESH: {
+    limen_node_kind k = limen_node_get_kind(s, n);
+    if (k == LIMEN_NODE_MESH) {
         limen_mesh_info mi;
         if (limen_mesh_get(s, n, &mi) || mi.triangle_count < 1)
             return false;
@@ -85,9 +67,7 @@ static bool shape_box(limen_scene *s, limen_node n, float a[3], float b[3])
         memcpy(b, mi.hi, sizeof mi.hi);
         return true;
     }
-    default:
-        return false;
-    }
+    return limen_kind_bounds(k, d, a, b) == LIMEN_OK;
 }
 
 limen_status limen_node_get_bounds(limen_scene *s, limen_node n, float lo[3], float hi[3])

@@ -18,6 +18,7 @@
 #include "core/dmath.h"
 #include "core/index.h"
 #include "core/internal.h"
+#include "core/kinds.h"
 #include "core/mesh.h"
 #include "core/reserve.h"
 #include "core/rtc.h"
@@ -238,38 +239,14 @@ int limen__scene_bad_world(const limen_scene *s)
 
 static bool is_shape(const limen__node *n)
 {
-    return n->kind == LIMEN_NODE_BOX || n->kind == LIMEN_NODE_SPHERE ||
-           n->kind == LIMEN_NODE_CYLINDER || n->kind == LIMEN_NODE_QUAD ||
-           n->kind == LIMEN_NODE_MESH;
+    return limen_kind_get(n->kind)->shape;
 }
 
 void limen__node_box(const limen__node *n, limen__box *b)
 {
     /* the node's extent in its own space ... */
-    double lo[3] = { -0.5 * n->dims[0], -0.5 * n->dims[1], -0.5 * n->dims[2] };
-    double hi[3] = { 0.5 * n->dims[0], 0.5 * n->dims[1], 0.5 * n->dims[2] };
-    switch (n->kind) {
-    case LIMEN_NODE_SPHERE:
-        for (int k = 0; k < 3; k++) {
-            lo[k] = -n->dims[0];
-            hi[k] = n->dims[0];
-        }
-        break;
-    case LIMEN_NODE_CYLINDER:
-        lo[0] = lo[2] = -n->dims[0];
-        hi[0] = hi[2] = n->dims[0];
-        lo[1] = 0;
-        hi[1] = n->dims[1];
-        break;
-    case LIMEN_NODE_BOX: break;
-    case LIMEN_NODE_MESH:   /* its triangles' box (a point until it has some) */
-        for (int k = 0; k < 3; k++) {
-            lo[k] = n->mesh ? n->mesh->lo[k] : 0;
-            hi[k] = n->mesh ? n->mesh->hi[k] : 0;
-        }
-        break;
-    default: lo[2] = hi[2] = 0; break;     /* flat */
-    }
+    double lo[3], hi[3];
+    limen__node_extent(n, lo, hi);
     /* ... carried to the world exactly: centre by M, half-extents by |M| */
     double w[16];
     limen__d_from_f(&n->world[0][0], w);

@@ -173,7 +173,7 @@ static inline const char *limen__node_title(const limen__node *n)
 
 static inline bool limen__is_surface(const limen__node *n)
 {
-    return n->kind == LIMEN_NODE_MIRROR || n->kind == LIMEN_NODE_PORTAL;
+    return limen_kind_get(n->kind)->surface;     /* core/kinds.c */
 }
 
 /* Index of a node in its scene's pool. */

@@ -33,18 +33,22 @@ void limen_plan_destroy(limen_plan *p)
 {
     if (!p)
         return;
-    free(p->pv);
+    free(p->found);
     free(p->views);
-    free(p->surf);
-    free(p->vsurf);
-    free(p->tmp);
-    free(p->pubsurf);
-    free(p->pubfirst);
+    free(p->surfaces);
+    free(p->view_surfaces);
+    free(p->bfs_to_dfs);
+    free(p->dfs_to_bfs);
+    free(p->public_surfaces);
+    free(p->public_first);
     free(p->clones);
     free(p->clone_of);
-    free(p->surf_of);
-    free(p->cand);
+    free(p->surface_of);
+    free(p->candidates);
     free(p->shape_hits);
+    free(p->thing_slots);
+    free(p->things);
+    free(p->things_first);
     free(p);
 }
 
@@ -78,56 +82,6 @@ void limen_plan_get_work(const limen_plan *p, limen_plan_work *out)
     out->triangles = p->triangles;
 }
 
-static void fill_public(limen__pview *v, limen_scene *s, const limen_plan *p);
-
-/* The mesh triangles view v draws: each mesh the index finds in its region at the level of
- * detail the view picks (as a renderer does); -1 when out of memory. Only scenes with
- * meshes pay for the query. */
-static int64_t view_triangles(limen_plan *p, limen_scene *s, limen__pview *v)
-{
-    if (!s->nmeshes)
-        return 0;
-    fill_public(v, s, p);       /* the matrices the level is chosen with */
-    int n = limen__plan_view_shapes(p, s, v);
-    if (n < 0)
-        return -1;
-    int64_t tris = 0;
-    for (int k = 0; k < n; k++) {
-        const limen__node *node = &s->nodes[p->shape_hits[k]];
-        if (!node->visible || node->kind != LIMEN_NODE_MESH || !node->mesh)
-            continue;
-        limen_drawable d;
-        limen__drawable_read(s, p->shape_hits[k], &d);
-        int lod = limen_view_mesh_lod(&v->pub, p->height, &d, p->limits.lod_pixels);
-        tris += d.mesh->lods[lod].triangle_count;
-    }
-    return tris;
-}
-
-/* Which frame budget (LIMEN_BUDGET_* bit) is spent before a view is looked into; 0 if none.
- * Views are looked into breadth first, so once one is dropped, all later ones are; what a
- * view spends past the budget is at most one view's work (every surface in its scissor). */
-static unsigned budget_spent(const limen_plan *p)
-{
-    if (p->view_pixels >= p->budget.view_pixels)
-        return LIMEN_BUDGET_VIEW_PIXELS;
-    if (p->nsurf > p->budget.surface_tests - p->surface_tests)
-        return LIMEN_BUDGET_SURFACE_TESTS;
-    return 0;
-}
-
-/* A view made by its parent but over the budget when its turn came: the parent shows the
- * surface's fill instead, and the view is left out of the tree (it has no children yet). */
-static void drop_view(limen_plan *p, limen__pview *v, unsigned why)
-{
-    limen__vsurf *vs = &p->vsurf[v->from_vsurf];
-    vs->child = -1;
-    vs->state = LIMEN__SURF_FILL;
-    v->dropped = true;
-    p->truncated++;
-    p->budgets_hit |= why;
-}
-
 /* ------------------------------------------------------------------ screen rectangles */
 
 /* Keeps the part of the polygon where plane . p >= 0 (Sutherland-Hodgman). */
@@ -149,9 +103,55 @@ static int clip_poly(double in[][3], int n, const double plane[4], double out[][
     return m;
 }
 
+/* Multisampled frames: the rectangle of the pixels (within scissor s) that the convex
+ * polygon (sx, sy) meets at all, not only at their centres, as a sample anywhere in a pixel
+ * may fall inside it; false if none. Row by row: the polygon's x extent over the row's
+ * band is that of its edges clipped to the band. */
+static bool pixels_met(const double *sx, const double *sy, int n, const int s[4], int rect[4])
+{
+    double y0 = 1e300, y1 = -1e300;
+    for (int i = 0; i < n; i++) {
+        y0 = fmin(y0, sy[i]);
+        y1 = fmax(y1, sy[i]);
+    }
+    double r0 = fmax(floor(y0), s[1]), r1 = fmin(ceil(y1) - 1, s[1] + s[3] - 1);
+    double cx0 = 1e300, cx1 = -1e300, cy0 = 1e300, cy1 = -1e300;
+    for (double py = r0; py <= r1; py++) {
+        double xa = 1e300, xb = -1e300;
+        for (int i = 0; i < n; i++) {
+            int j = (i + 1) % n;
+            double ya = sy[i], yb = sy[j], lo = fmax(fmin(ya, yb), py),
+                   hi = fmin(fmax(ya, yb), py + 1);
+            if (lo > hi)
+                continue;
+            double xl = sx[i], xh = sx[j];
+            if (fabs(yb - ya) > 1e-12) {
+                xl = sx[i] + (lo - ya) / (yb - ya) * (sx[j] - sx[i]);
+                xh = sx[i] + (hi - ya) / (yb - ya) * (sx[j] - sx[i]);
+            }
+            xa = fmin(xa, fmin(xl, xh));
+            xb = fmax(xb, fmax(xl, xh));
+        }
+        double qa = fmax(floor(xa), s[0]), qb = fmin(ceil(xb) - 1, s[0] + s[2] - 1);
+        if (qb >= qa) {
+            cx0 = fmin(cx0, qa);
+            cx1 = fmax(cx1, qb);
+            cy0 = fmin(cy0, py);
+            cy1 = fmax(cy1, py);
+        }
+    }
+    if (!(cx1 >= cx0 && cy1 >= cy0))
+        return false;
+    rect[0] = (int)cx0;
+    rect[1] = (int)cy0;
+    rect[2] = (int)(cx1 - cx0) + 1;
+    rect[3] = (int)(cy1 - cy0) + 1;
+    return true;
+}
+
 /* Pixel rectangle (x, y, w, h) of the pixel centres that the surface's visible part may
  * cover in view v; false if none. */
-static bool surface_rect(const limen_plan *p, const limen__pview *v, const limen__psurf *sf,
+static bool surface_rect(const limen_plan *p, const limen__plan_view *v, const limen__plan_surface *sf,
                          int rect[4])
 {
     double a[MAX_POLY][3], b[MAX_POLY][3];
@@ -207,6 +207,8 @@ static bool surface_rect(const limen_plan *p, const limen__pview *v, const limen
         memcpy(rect, (int[4]){ 0, 0, p->width, p->height }, sizeof(int) * 4);
         return true;
     }
+    if (p->multisample)
+        return pixels_met(sx, sy, n, v->pub.scissor, rect);
     /* pixel k has its centre at k + 0.5 */
     double py0 = ceil(y0 - 0.5), py1 = floor(y1 - 0.5);
     const int *s = v->pub.scissor;
@@ -255,7 +257,7 @@ static bool surface_rect(const limen_plan *p, const limen__pview *v, const limen
 
 /* ------------------------------------------------------------------ views */
 
-static void fill_public(limen__pview *v, limen_scene *s, const limen_plan *p)
+static void fill_public(limen__plan_view *v, limen_scene *s, const limen_plan *p)
 {
     limen_view *pub = &v->pub;
     limen__d_to_f(v->view, pub->view);
@@ -291,7 +293,7 @@ static void fill_public(limen__pview *v, limen_scene *s, const limen_plan *p)
 
 /* Adaptive depth: a view whose every pixel is multiplied by tints whose product is under
  * the threshold cannot change a pixel by more than it. */
-static bool too_faint(const limen_plan *p, const limen__pview *v, const limen__node *n)
+static bool too_faint(const limen_plan *p, const limen__plan_view *v, const limen__node *n)
 {
     if (p->limits.adaptive <= 0 || n->kind != LIMEN_NODE_MIRROR)
         return false;
@@ -301,11 +303,11 @@ static bool too_faint(const limen_plan *p, const limen__pview *v, const limen__n
     return m < p->limits.adaptive;
 }
 
-static limen__pview *push_view(limen_plan *p)
+static limen__plan_view *push_view(limen_plan *p)
 {
-    if (!limen__reserve((void **)&p->pv, &p->pv_cap, p->nviews + 1, sizeof *p->pv))
+    if (!limen__reserve((void **)&p->found, &p->found_cap, p->nviews + 1, sizeof *p->found))
         return NULL;
-    limen__pview *v = &p->pv[p->nviews++];
+    limen__plan_view *v = &p->found[p->nviews++];
     memset(v, 0, sizeof *v);
     v->pub.first_child = v->pub.next_sibling = v->pub.parent = -1;
     v->exit = -1;
@@ -313,18 +315,16 @@ static limen__pview *push_view(limen_plan *p)
     return v;
 }
 
-static bool push_vsurf(limen_plan *p, limen__pview *v, int surf, int child, int state,
+static bool push_view_surface(limen_plan *p, limen__plan_view *v, int surf, int child, int state,
                        const int rect[4])
 {
-    if (!limen__reserve((void **)&p->vsurf, &p->vsurf_cap, p->nvsurf + 1, sizeof *p->vsurf))
+    if (!limen__reserve((void **)&p->view_surfaces, &p->view_surfaces_cap, p->nview_surfaces + 1, sizeof *p->view_surfaces))
         return false;
-    p->vsurf[p->nvsurf++] = (limen__vsurf){ surf, child, state, { rect[0], rect[1], rect[2], rect[3] } };
+    p->view_surfaces[p->nview_surfaces++] = (limen__view_surface){ surf, child, state, { rect[0], rect[1], rect[2], rect[3] } };
     p->view_pixels += (int64_t)rect[2] * rect[3];   /* the renderer draws it in this view */
-    v->nsurf++;
+    v->nsurfaces++;
     return true;
 }
-
-static limen_status collect_clones(limen_plan *p, limen_scene *s);
 
 /* Per world axis r, a bound on how far float rounding of the world matrix W (half an ulp
  * per entry) can move a corner (+-w/2, +-h/2, 0) of the surface: sum over the columns j of
@@ -341,11 +341,11 @@ static void rounding_bound(const limen__node *n, double err[3])
 
 static limen_status collect_surfaces(limen_plan *p, limen_scene *s)
 {
-    p->nsurf = 0;
-    if (!limen__reserve((void **)&p->surf_of, &p->surf_of_cap, s->cap, sizeof *p->surf_of))
+    p->nsurfaces = 0;
+    if (!limen__reserve((void **)&p->surface_of, &p->surface_of_cap, s->cap, sizeof *p->surface_of))
         return limen__fail(s, LIMEN_ERR_NOMEM, "plan: out of memory");
     for (int i = 0; i < s->cap; i++)
-        p->surf_of[i] = -1;
+        p->surface_of[i] = -1;
     /* the index's list of surfaces, or every slot */
     const int *slots = NULL;
     int nslots = limen__plan_surface_slots(s, &slots);
@@ -354,10 +354,10 @@ static limen_status collect_surfaces(limen_plan *p, limen_scene *s)
         limen__node *n = &s->nodes[i];
         if (!limen__alive(n) || !n->visible || !limen__is_surface(n))
             continue;
-        p->surf_of[i] = p->nsurf;
-        if (!limen__reserve((void **)&p->surf, &p->surf_cap, p->nsurf + 1, sizeof *p->surf))
+        p->surface_of[i] = p->nsurfaces;
+        if (!limen__reserve((void **)&p->surfaces, &p->surfaces_cap, p->nsurfaces + 1, sizeof *p->surfaces))
             return limen__fail(s, LIMEN_ERR_NOMEM, "plan: out of memory");
-        limen__psurf *sf = &p->surf[p->nsurf];
+        limen__plan_surface *sf = &p->surfaces[p->nsurfaces];
         memset(sf, 0, sizeof *sf);
         sf->node = i;
         rounding_bound(n, sf->err);
@@ -395,230 +395,8 @@ static limen_status collect_surfaces(limen_plan *p, limen_scene *s)
             if (!b->visible)
                 sf->has_x = false;
         }
-        p->nsurf++;
+        p->nsurfaces++;
     }
-    return LIMEN_OK;
-}
-
-static bool all_finite(const float *v, int n)
-{
-    for (int i = 0; i < n; i++)
-        if (!isfinite(v[i]))
-            return false;
-    return true;
-}
-
-static bool view_finite(const limen_view *v)
-{
-    return all_finite(v->view, 16) && all_finite(v->proj, 16) && all_finite(v->eye, 3) &&
-           all_finite(v->clip_plane, 4) && all_finite(v->tint, 3);
-}
-
-/* Depth-first order from the breadth-first list, re-linking parents and children. */
-static void order_views(limen_plan *p, int bfs, int parent_pos, int *pos)
-{
-    int me = (*pos)++;
-    limen__pview *v = &p->pv[bfs];
-    limen_view *out = &p->views[me];
-    *out = v->pub;
-    out->id = me;
-    out->parent = parent_pos;
-    out->first_child = -1;
-    out->next_sibling = -1;
-    p->bfs_to_dfs[bfs] = me;
-    p->dfs_to_bfs[me] = bfs;
-    int last = -1;
-    for (int k = 0; k < v->nsurf; k++) {
-        const limen__vsurf *vs = &p->vsurf[v->first_surf + k];
-        if (vs->child < 0)
-            continue;
-        int child_pos = *pos;
-        order_views(p, vs->child, me, pos);
-        if (last < 0)
-            out->first_child = child_pos;
-        else
-            p->views[last].next_sibling = child_pos;
-        last = child_pos;
-    }
-}
-
-limen_status limen_plan_build(limen_plan *p, limen_scene *s, const limen_plan_desc *desc)
-{
-    if (!p || !s)
-        return LIMEN_ERR_ARG;
-    limen_status cst = limen__scene_check(s);
-    if (cst)
-        return cst;
-    limen_plan_desc d = limen_plan_desc_defaults(desc);
-    p->width = d.width;
-    p->height = d.height;
-    if ((unsigned)d.range >= LIMEN_DEPTH_RANGE_COUNT || (unsigned)d.cull >= LIMEN_CULL_COUNT)
-        return limen__fail(s, LIMEN_ERR_ARG, "plan: unknown depth range or cull rule");
-    limen_status lst = limen__limits_resolve(s, "plan", &d.limits, &p->limits);
-    if (lst)
-        return lst;
-    p->budget = p->limits.budget;
-    p->range = d.range;
-    p->cull = d.cull;
-    p->nviews = p->nvsurf = p->count = p->truncated = 0;
-    p->view_pixels = p->surface_tests = 0;
-    p->budgets_hit = 0;
-    p->triangles = 0;
-
-    float view_f[16];
-    limen_status st = limen_camera_matrices(s, (float)p->width / (float)p->height, p->range,
-                                            view_f, p->proj_f);
-    if (st)
-        return st;
-    limen__d_from_f(p->proj_f, p->proj_d);
-    limen_camera_get_lens(s, limen_scene_get_camera(s), NULL, &p->znear, NULL);
-    if ((st = collect_surfaces(p, s)) || (st = collect_clones(p, s)))
-        return st;
-
-    limen__pview *root = push_view(p);
-    if (!root)
-        return limen__fail(s, LIMEN_ERR_NOMEM, "plan: out of memory");
-    limen__scene_refresh(s);
-    const limen__node *cam = &s->nodes[s->camera - 1];
-    double cw[16];
-    limen__d_from_f(&cam->world[0][0], cw);
-    if (!limen__d_inv(cw, root->view))
-        return limen__fail(s, LIMEN_ERR_DEGENERATE, "plan: the camera's matrix is singular");
-    for (int i = 0; i < 3; i++)
-        root->eye[i] = cw[12 + i];
-    root->pub.kind = LIMEN_VIEW_CAMERA;
-    root->pub.scissor[2] = p->width;
-    root->pub.scissor[3] = p->height;
-    root->pub.tint[0] = root->pub.tint[1] = root->pub.tint[2] = 1.0f;
-
-    p->surface_tests = 0;
-    memset(&p->stat_index, 0, sizeof p->stat_index);
-    for (int vi = 0; vi < p->nviews; vi++) {
-        limen__pview *v = &p->pv[vi];
-        v->first_surf = p->nvsurf;
-        unsigned spent = vi ? budget_spent(p) : 0;     /* the root is always drawn */
-        if (spent) {
-            drop_view(p, v, spent);
-            continue;
-        }
-        /* triangles: a view that would take the frame over is dropped like the others; the
-         * root always stays (the renderer cuts its meshes at the budget) */
-        int64_t tris = view_triangles(p, s, v);
-        if (tris < 0)
-            return limen__fail(s, LIMEN_ERR_NOMEM, "plan: out of memory");
-        if (vi && tris > p->budget.triangles - p->triangles) {
-            drop_view(p, v, LIMEN_BUDGET_TRIANGLES);
-            continue;
-        }
-        if (!vi && tris > p->budget.triangles) {
-            p->truncated++;
-            p->budgets_hit |= LIMEN_BUDGET_TRIANGLES;
-        }
-        p->triangles += tris;
-        p->view_pixels += (int64_t)v->pub.scissor[2] * v->pub.scissor[3];
-        /* the surfaces the index finds in the view's region, or all of them */
-        int ncand = s->brute_force ? -1 : limen__plan_candidates(p, s, v);
-        int ntest = ncand >= 0 ? ncand : p->nsurf;
-        for (int ci = 0; ci < ntest; ci++) {
-            const limen__psurf *sf = &p->surf[ncand >= 0 ? p->cand[ci] : ci];
-            if (sf->node == v->exit)
-                continue;
-            const limen__node *n = &s->nodes[sf->node];
-            int rect[4];
-            p->surface_tests++;
-            if (!surface_rect(p, v, sf, rect))
-                continue;   /* clipped away, off screen or under a pixel */
-            bool front = limen__d_plane_dist(sf->plane, v->eye) > 0;
-            if (!front) {
-                if (n->kind == LIMEN_NODE_MIRROR && !push_vsurf(p, v, sf->node, -1, LIMEN__SURF_BACK, rect))
-                    return limen__fail(s, LIMEN_ERR_NOMEM, "plan: out of memory");
-                continue;
-            }
-            int depth = v->pub.depth + 1;
-            int child = -1;
-            unsigned over = 0;
-            if (!sf->has_x) {
-                /* unpaired portal: fill */
-            } else if (depth > limen__limits_depth(&p->limits, n->max_depth) ||
-                       too_faint(p, v, n) ||
-                       (p->nviews >= p->limits.max_views && (over = LIMEN_BUDGET_VIEWS))) {
-                p->truncated++;
-                p->budgets_hit |= over;
-            } else {
-                limen__pview *c = push_view(p);
-                if (!c)
-                    return limen__fail(s, LIMEN_ERR_NOMEM, "plan: out of memory");
-                v = &p->pv[vi];     /* push_view may move the array */
-                child = p->nviews - 1;
-                c->from_vsurf = p->nvsurf;
-                c->parent = vi;
-                c->surface = sf->node;
-                c->exit = sf->exit;
-                c->pub.depth = depth;
-                c->pub.kind = n->kind == LIMEN_NODE_MIRROR ? LIMEN_VIEW_MIRROR : LIMEN_VIEW_PORTAL;
-                c->pub.through = limen__node_handle(s, sf->node);
-                limen__d_mul(v->view, sf->xinv, c->view);
-                limen__d_point(sf->x, v->eye, c->eye);
-                const limen__psurf *exit = sf;
-                if (sf->exit != sf->node && p->surf_of[sf->exit] >= 0)
-                    exit = &p->surf[p->surf_of[sf->exit]];
-                memcpy(c->clip, exit->plane, sizeof c->clip);
-                memcpy(c->clip_err, exit->err, sizeof c->clip_err);
-                c->pub.front_face_cw = v->pub.front_face_cw ^ (n->kind == LIMEN_NODE_MIRROR);
-                memcpy(c->pub.scissor, rect, sizeof rect);
-                for (int k = 0; k < 3; k++)
-                    c->pub.tint[k] = v->pub.tint[k] *
-                                     (n->kind == LIMEN_NODE_MIRROR ? n->tint[k] : 1.0f);
-            }
-            if (!push_vsurf(p, v, sf->node, child,
-                            child >= 0 ? LIMEN__SURF_CHILD : LIMEN__SURF_FILL, rect))
-                return limen__fail(s, LIMEN_ERR_NOMEM, "plan: out of memory");
-        }
-    }
-
-    if (!limen__reserve((void **)&p->views, &p->views_cap, p->nviews, sizeof *p->views) ||
-        !limen__reserve((void **)&p->tmp, &p->tmp_cap, 2 * p->nviews, sizeof *p->tmp))
-        return limen__fail(s, LIMEN_ERR_NOMEM, "plan: out of memory");
-    p->bfs_to_dfs = p->tmp;
-    p->dfs_to_bfs = p->tmp + p->nviews;
-    for (int i = 0; i < p->nviews; i++) {
-        fill_public(&p->pv[i], s, p);
-        if (!p->pv[i].dropped && !view_finite(&p->pv[i].pub)) {
-            /* portals that scale the view, nested until a float overflows: a clear refusal,
-             * never a tree (or a JSON plan) with infinities in it */
-            const limen__node *n = &s->nodes[p->pv[i].surface];
-            return limen__fail(s, LIMEN_ERR_ARG,
-                               "%s%s%s '%s': the view through it at depth %d is out of a "
-                               "float's range (the portals on the way scale it past what a "
-                               "float holds)", n->label, n->label[0] ? ": " : "",
-                               n->kind == LIMEN_NODE_MIRROR ? "mirror" : "portal", n->name,
-                               p->pv[i].pub.depth);
-        }
-    }
-    int pos = 0;
-    order_views(p, 0, -1, &pos);
-    p->count = pos;     /* dropped views are not reached */
-
-    /* the surfaces of each view, in draw order and public form */
-    if (!limen__reserve((void **)&p->pubsurf, &p->pubsurf_cap, p->nvsurf, sizeof *p->pubsurf) ||
-        !limen__reserve((void **)&p->pubfirst, &p->pubfirst_cap, p->count + 1, sizeof *p->pubfirst))
-        return limen__fail(s, LIMEN_ERR_NOMEM, "plan: out of memory");
-    int k = 0;
-    for (int i = 0; i < p->count; i++) {
-        const limen__pview *v = &p->pv[p->dfs_to_bfs[i]];
-        p->pubfirst[i] = k;
-        for (int j = 0; j < v->nsurf; j++) {
-            const limen__vsurf *vs = &p->vsurf[v->first_surf + j];
-            limen_view_surface *o = &p->pubsurf[k++];
-            o->node = limen__node_handle(s, vs->node);
-            o->state = vs->state == LIMEN__SURF_CHILD  ? LIMEN_SURFACE_RECURSE
-                       : vs->state == LIMEN__SURF_FILL ? LIMEN_SURFACE_FILL
-                                                       : LIMEN_SURFACE_BACK;
-            o->child = limen__plan_child_view(p, vs->child);
-            memcpy(o->rect, vs->rect, sizeof o->rect);
-        }
-    }
-    p->pubfirst[p->count] = k;
     return LIMEN_OK;
 }
 
@@ -656,6 +434,364 @@ static limen_status collect_clones(limen_plan *p, limen_scene *s)
     return LIMEN_OK;
 }
 
+static bool all_finite(const float *v, int n)
+{
+    for (int i = 0; i < n; i++)
+        if (!isfinite(v[i]))
+            return false;
+    return true;
+}
+
+static bool view_finite(const limen_view *v)
+{
+    return all_finite(v->view, 16) && all_finite(v->proj, 16) && all_finite(v->eye, 3) &&
+           all_finite(v->clip_plane, 4) && all_finite(v->tint, 3);
+}
+
+/* ------------------------------------------------------------------ budgets */
+
+/* Which frame budget (LIMEN_BUDGET_* bit) is spent before a view is looked into; 0 if none.
+ * Views are looked into breadth first, so once one is dropped, all later ones are; what a
+ * view spends past the budget is at most one view's work (every surface in its scissor). */
+static unsigned budget_spent(const limen_plan *p)
+{
+    if (p->view_pixels >= p->budget.view_pixels)
+        return LIMEN_BUDGET_VIEW_PIXELS;
+    if (p->nsurfaces > p->budget.surface_tests - p->surface_tests)
+        return LIMEN_BUDGET_SURFACE_TESTS;
+    return 0;
+}
+
+/* A view made by its parent but over the budget when its turn came: the parent shows the
+ * surface's fill instead, and the view is left out of the tree (it has no children yet). */
+static void drop_view(limen_plan *p, limen__plan_view *v, unsigned why)
+{
+    limen__view_surface *vs = &p->view_surfaces[v->made_by];
+    vs->child = -1;
+    vs->state = LIMEN__SURF_FILL;
+    v->dropped = true;
+    p->truncated++;
+    p->budgets_hit |= why;
+}
+
+/* ------------------------------------------------------------------ the phases of a build */
+
+/* Phase 1: the scene is sound and the desc valid; the resolved limits, the projection and
+ * the work counters of a new plan. */
+static limen_status check_inputs(limen_plan *p, limen_scene *s, const limen_plan_desc *desc)
+{
+    limen_status st = limen__scene_check(s);
+    if (st)
+        return st;
+    limen_plan_desc d = limen_plan_desc_defaults(desc);
+    p->width = d.width;
+    p->height = d.height;
+    if ((unsigned)d.range >= LIMEN_DEPTH_RANGE_COUNT || (unsigned)d.cull >= LIMEN_CULL_COUNT)
+        return limen__fail(s, LIMEN_ERR_ARG, "plan: unknown depth range or cull rule");
+    if ((st = limen__limits_resolve(s, "plan", &d.limits, &p->limits)))
+        return st;
+    p->budget = p->limits.budget;
+    p->range = d.range;
+    p->cull = d.cull;
+    p->multisample = d.multisample != 0;
+    p->nviews = p->nview_surfaces = p->nthing_slots = p->count = p->truncated = 0;
+    p->view_pixels = p->surface_tests = 0;
+    p->budgets_hit = 0;
+    p->triangles = 0;
+    float view_f[16];
+    if ((st = limen_camera_matrices(s, (float)p->width / (float)p->height, p->range, view_f,
+                                    p->proj_f)))
+        return st;
+    limen__d_from_f(p->proj_f, p->proj_d);
+    limen_camera_get_lens(s, limen_scene_get_camera(s), NULL, &p->znear, NULL);
+    return LIMEN_OK;
+}
+
+/* Phase 4: the camera's view, the root of the tree, over the whole image. */
+static limen_status root_view(limen_plan *p, limen_scene *s)
+{
+    limen__plan_view *root = push_view(p);
+    if (!root)
+        return limen__fail(s, LIMEN_ERR_NOMEM, "plan: out of memory");
+    limen__scene_refresh(s);
+    const limen__node *cam = &s->nodes[s->camera - 1];
+    double cw[16];
+    limen__d_from_f(&cam->world[0][0], cw);
+    if (!limen__d_inv(cw, root->view))
+        return limen__fail(s, LIMEN_ERR_DEGENERATE, "plan: the camera's matrix is singular");
+    for (int i = 0; i < 3; i++)
+        root->eye[i] = cw[12 + i];
+    root->pub.kind = LIMEN_VIEW_CAMERA;
+    root->pub.scissor[2] = p->width;
+    root->pub.scissor[3] = p->height;
+    root->pub.tint[0] = root->pub.tint[1] = root->pub.tint[2] = 1.0f;
+    p->surface_tests = 0;
+    memset(&p->stat_index, 0, sizeof p->stat_index);
+    return LIMEN_OK;
+}
+
+/* The shapes view v may show (the index's answer, kept for limen_plan_things) and the mesh
+ * triangles it draws of them, each mesh at the level of detail the view picks (as a
+ * renderer does); -1 when out of memory. */
+static int64_t view_things(limen_plan *p, limen_scene *s, limen__plan_view *v)
+{
+    int n = limen__plan_view_shapes(p, s, v);
+    if (n < 0 || !limen__reserve((void **)&p->thing_slots, &p->thing_slots_cap,
+                                 p->nthing_slots + n, sizeof *p->thing_slots))
+        return -1;
+    v->first_thing = p->nthing_slots;
+    v->nthings = n;
+    memcpy(p->thing_slots + p->nthing_slots, p->shape_hits, sizeof *p->shape_hits * (size_t)n);
+    p->nthing_slots += n;
+    if (!s->nmeshes)
+        return 0;
+    fill_public(v, s, p);       /* the matrices the level is chosen with */
+    int64_t tris = 0;
+    for (int k = 0; k < n; k++) {
+        const limen__node *node = &s->nodes[p->shape_hits[k]];
+        if (node->kind != LIMEN_NODE_MESH || !node->mesh)
+            continue;
+        limen_drawable d;
+        limen__drawable_read(s, p->shape_hits[k], &d);
+        int lod = limen_view_mesh_lod(&v->pub, p->height, &d, p->limits.lod_pixels);
+        tris += d.mesh->lods[lod].triangle_count;
+    }
+    return tris;
+}
+
+/* The view through surface sf, seen from view `parent`, with scissor rect: pushed as a new
+ * view to be looked into later (breadth first); its index, or -1 when out of memory. */
+static int make_child(limen_plan *p, limen_scene *s, int parent, const limen__plan_surface *sf,
+                      const int rect[4])
+{
+    limen__plan_view *c = push_view(p);
+    if (!c)
+        return -1;
+    const limen__plan_view *v = &p->found[parent];    /* push_view may move the array */
+    const limen__node *n = &s->nodes[sf->node];
+    c->made_by = p->nview_surfaces;
+    c->parent = parent;
+    c->surface = sf->node;
+    c->exit = sf->exit;
+    c->pub.depth = v->pub.depth + 1;
+    c->pub.kind = n->kind == LIMEN_NODE_MIRROR ? LIMEN_VIEW_MIRROR : LIMEN_VIEW_PORTAL;
+    c->pub.through = limen__node_handle(s, sf->node);
+    limen__d_mul(v->view, sf->xinv, c->view);
+    limen__d_point(sf->x, v->eye, c->eye);
+    const limen__plan_surface *exit = sf;
+    if (sf->exit != sf->node && p->surface_of[sf->exit] >= 0)
+        exit = &p->surfaces[p->surface_of[sf->exit]];
+    memcpy(c->clip, exit->plane, sizeof c->clip);
+    memcpy(c->clip_err, exit->err, sizeof c->clip_err);
+    c->pub.front_face_cw = v->pub.front_face_cw ^ (n->kind == LIMEN_NODE_MIRROR);
+    memcpy(c->pub.scissor, rect, sizeof c->pub.scissor);
+    for (int k = 0; k < 3; k++)
+        c->pub.tint[k] = v->pub.tint[k] * (n->kind == LIMEN_NODE_MIRROR ? n->tint[k] : 1.0f);
+    return p->nviews - 1;
+}
+
+/* Tests view vi against the surfaces the index finds in its region (or all of them): each
+ * one it sees is listed with what the view draws for it, a child view where the limits
+ * allow one. */
+static limen_status look_into(limen_plan *p, limen_scene *s, int vi)
+{
+    int ncandidates = s->brute_force ? -1 : limen__plan_candidates(p, s, &p->found[vi]);
+    int ntest = ncandidates >= 0 ? ncandidates : p->nsurfaces;
+    for (int ci = 0; ci < ntest; ci++) {
+        const limen__plan_surface *sf = &p->surfaces[ncandidates >= 0 ? p->candidates[ci] : ci];
+        limen__plan_view *v = &p->found[vi];
+        if (sf->node == v->exit)
+            continue;
+        const limen__node *n = &s->nodes[sf->node];
+        int rect[4];
+        p->surface_tests++;
+        if (!surface_rect(p, v, sf, rect))
+            continue;   /* clipped away, off screen or under a pixel */
+        bool front = limen__d_plane_dist(sf->plane, v->eye) > 0;
+        if (!front) {
+            if (n->kind == LIMEN_NODE_MIRROR &&
+                !push_view_surface(p, v, sf->node, -1, LIMEN__SURF_BACK, rect))
+                return limen__fail(s, LIMEN_ERR_NOMEM, "plan: out of memory");
+            continue;
+        }
+        int child = -1;
+        unsigned over = 0;
+        if (!sf->has_x) {
+            /* unpaired portal: fill */
+        } else if (v->pub.depth + 1 > limen__limits_depth(&p->limits, n->max_depth) ||
+                   too_faint(p, v, n) ||
+                   (p->nviews >= p->limits.max_views && (over = LIMEN_BUDGET_VIEWS))) {
+            p->truncated++;
+            p->budgets_hit |= over;
+        } else if ((child = make_child(p, s, vi, sf, rect)) < 0) {
+            return limen__fail(s, LIMEN_ERR_NOMEM, "plan: out of memory");
+        }
+        if (!push_view_surface(p, &p->found[vi], sf->node, child,
+                               child >= 0 ? LIMEN__SURF_CHILD : LIMEN__SURF_FILL, rect))
+            return limen__fail(s, LIMEN_ERR_NOMEM, "plan: out of memory");
+    }
+    return LIMEN_OK;
+}
+
+/* Phase 5: the views in the order they are found, breadth first, so that the limits and
+ * budgets are spent on shallow levels before deep ones: each view is kept or dropped (over
+ * a budget), its shapes listed, and its surfaces tested, which appends its children. */
+static limen_status expand_views(limen_plan *p, limen_scene *s)
+{
+    for (int vi = 0; vi < p->nviews; vi++) {
+        limen__plan_view *v = &p->found[vi];
+        v->first_surface = p->nview_surfaces;
+        unsigned spent = vi ? budget_spent(p) : 0;     /* the root is always drawn */
+        if (spent) {
+            drop_view(p, v, spent);
+            continue;
+        }
+        /* triangles: a view that would take the frame over is dropped like the others; the
+         * root always stays (the renderer cuts its meshes at the budget) */
+        int64_t tris = view_things(p, s, v);
+        if (tris < 0)
+            return limen__fail(s, LIMEN_ERR_NOMEM, "plan: out of memory");
+        if (vi && tris > p->budget.triangles - p->triangles) {
+            p->nthing_slots = v->first_thing;
+            v->nthings = 0;
+            drop_view(p, v, LIMEN_BUDGET_TRIANGLES);
+            continue;
+        }
+        if (!vi && tris > p->budget.triangles) {
+            p->truncated++;
+            p->budgets_hit |= LIMEN_BUDGET_TRIANGLES;
+        }
+        p->triangles += tris;
+        p->view_pixels += (int64_t)v->pub.scissor[2] * v->pub.scissor[3];
+        limen_status st = look_into(p, s, vi);
+        if (st)
+            return st;
+    }
+    return LIMEN_OK;
+}
+
+/* Depth-first order from the breadth-first list, re-linking parents and children. */
+static void depth_first(limen_plan *p, int bfs, int parent_pos, int *pos)
+{
+    int me = (*pos)++;
+    limen__plan_view *v = &p->found[bfs];
+    limen_view *out = &p->views[me];
+    *out = v->pub;
+    out->id = me;
+    out->parent = parent_pos;
+    out->first_child = -1;
+    out->next_sibling = -1;
+    p->bfs_to_dfs[bfs] = me;
+    p->dfs_to_bfs[me] = bfs;
+    int last = -1;
+    for (int k = 0; k < v->nsurfaces; k++) {
+        const limen__view_surface *vs = &p->view_surfaces[v->first_surface + k];
+        if (vs->child < 0)
+            continue;
+        int child_pos = *pos;
+        depth_first(p, vs->child, me, pos);
+        if (last < 0)
+            out->first_child = child_pos;
+        else
+            p->views[last].next_sibling = child_pos;
+        last = child_pos;
+    }
+}
+
+/* Phase 6: the public views in draw order (depth first: a parent before its children), each
+ * with its float matrices; a view out of a float's range refuses the plan. */
+static limen_status order_views(limen_plan *p, limen_scene *s)
+{
+    if (!limen__reserve((void **)&p->views, &p->views_cap, p->nviews, sizeof *p->views) ||
+        !limen__reserve((void **)&p->bfs_to_dfs, &p->bfs_to_dfs_cap, p->nviews,
+                        sizeof *p->bfs_to_dfs) ||
+        !limen__reserve((void **)&p->dfs_to_bfs, &p->dfs_to_bfs_cap, p->nviews,
+                        sizeof *p->dfs_to_bfs))
+        return limen__fail(s, LIMEN_ERR_NOMEM, "plan: out of memory");
+    for (int i = 0; i < p->nviews; i++) {
+        fill_public(&p->found[i], s, p);
+        if (!p->found[i].dropped && !view_finite(&p->found[i].pub)) {
+            /* portals that scale the view, nested until a float overflows: a clear refusal,
+             * never a tree (or a JSON plan) with infinities in it */
+            const limen__node *n = &s->nodes[p->found[i].surface];
+            return limen__fail(s, LIMEN_ERR_ARG,
+                               "%s%s%s '%s': the view through it at depth %d is out of a "
+                               "float's range (the portals on the way scale it past what a "
+                               "float holds)", n->label, n->label[0] ? ": " : "",
+                               n->kind == LIMEN_NODE_MIRROR ? "mirror" : "portal", n->name,
+                               p->found[i].pub.depth);
+        }
+    }
+    int pos = 0;
+    depth_first(p, 0, -1, &pos);
+    p->count = pos;     /* dropped views are not reached */
+    return LIMEN_OK;
+}
+
+/* Phase 7: the surfaces of each view, in draw order and public form. */
+static limen_status list_surfaces(limen_plan *p, limen_scene *s)
+{
+    if (!limen__reserve((void **)&p->public_surfaces, &p->public_surfaces_cap,
+                        p->nview_surfaces, sizeof *p->public_surfaces) ||
+        !limen__reserve((void **)&p->public_first, &p->public_first_cap, p->count + 1,
+                        sizeof *p->public_first))
+        return limen__fail(s, LIMEN_ERR_NOMEM, "plan: out of memory");
+    int k = 0;
+    for (int i = 0; i < p->count; i++) {
+        const limen__plan_view *v = &p->found[p->dfs_to_bfs[i]];
+        p->public_first[i] = k;
+        for (int j = 0; j < v->nsurfaces; j++) {
+            const limen__view_surface *vs = &p->view_surfaces[v->first_surface + j];
+            limen_view_surface *o = &p->public_surfaces[k++];
+            o->node = limen__node_handle(s, vs->node);
+            o->state = vs->state == LIMEN__SURF_CHILD  ? LIMEN_SURFACE_RECURSE
+                       : vs->state == LIMEN__SURF_FILL ? LIMEN_SURFACE_FILL
+                                                       : LIMEN_SURFACE_BACK;
+            o->child = limen__plan_child_view(p, vs->child);
+            memcpy(o->rect, vs->rect, sizeof o->rect);
+        }
+    }
+    p->public_first[p->count] = k;
+    return LIMEN_OK;
+}
+
+/* Phase 8: the shapes of each view (found in phase 5, as the triangle budget counted them),
+ * in draw order and as handles: one array for the whole plan. */
+static limen_status list_things(limen_plan *p, limen_scene *s)
+{
+    if (!limen__reserve((void **)&p->things, &p->things_cap, p->nthing_slots,
+                        sizeof *p->things) ||
+        !limen__reserve((void **)&p->things_first, &p->things_first_cap, p->count + 1,
+                        sizeof *p->things_first))
+        return limen__fail(s, LIMEN_ERR_NOMEM, "plan: out of memory");
+    int k = 0;
+    for (int i = 0; i < p->count; i++) {
+        const limen__plan_view *v = &p->found[p->dfs_to_bfs[i]];
+        p->things_first[i] = k;
+        for (int j = 0; j < v->nthings; j++)
+            p->things[k++] = limen__node_handle(s, p->thing_slots[v->first_thing + j]);
+    }
+    p->things_first[p->count] = k;
+    return LIMEN_OK;
+}
+
+limen_status limen_plan_build(limen_plan *p, limen_scene *s, const limen_plan_desc *desc)
+{
+    if (!p || !s)
+        return LIMEN_ERR_ARG;
+    limen_status st;
+    if ((st = check_inputs(p, s, desc)) ||      /* 1 */
+        (st = collect_surfaces(p, s)) ||        /* 2: the mirrors and portals */
+        (st = collect_clones(p, s)) ||          /* 3: the shapes passing through portals */
+        (st = root_view(p, s)) ||               /* 4 */
+        (st = expand_views(p, s)) ||            /* 5: breadth first */
+        (st = order_views(p, s)) ||             /* 6: depth first */
+        (st = list_surfaces(p, s)) ||           /* 7 */
+        (st = list_things(p, s)))               /* 8 */
+        return st;
+    return LIMEN_OK;
+}
+
 int limen_plan_clones(const limen_plan *p, const limen_clone **out)
 {
     if (out)
@@ -670,8 +806,34 @@ int limen_plan_view_surfaces(const limen_plan *p, int i, const limen_view_surfac
             *out = NULL;
         return 0;
     }
-    int n = p->pubfirst[i + 1] - p->pubfirst[i];
-    *out = n ? p->pubsurf + p->pubfirst[i] : NULL;     /* pubsurf is NULL in a plan of none */
+    int n = p->public_first[i + 1] - p->public_first[i];
+    *out = n ? p->public_surfaces + p->public_first[i] : NULL;  /* NULL in a plan of none */
+    return n;
+}
+
+int limen_plan_things(const limen_plan *p, int i, const limen_node **out)
+{
+    if (!p || !out || i < 0 || i >= p->count) {
+        if (out)
+            *out = NULL;
+        return 0;
+    }
+    int n = p->things_first[i + 1] - p->things_first[i];
+    *out = n ? p->things + p->things_first[i] : NULL;
+    return n;
+}
+
+int limen_plan_view_things(const limen_plan *p, limen_scene *s, int i, limen_node *out, int max)
+{
+    if (!p || i < 0 || i >= p->count || max < 0 || (max > 0 && !out)) {
+        if (s)
+            limen__fail(s, LIMEN_ERR_ARG, "plan_view_things: no view %d, or no buffer", i);
+        return -1;
+    }
+    const limen_node *things;
+    int n = limen_plan_things(p, i, &things);
+    if (n)
+        memcpy(out, things, sizeof *things * (size_t)(n < max ? n : max));
     return n;
 }
 
@@ -758,16 +920,12 @@ static void json_mesh_parts(FILE *f, const limen_mesh_geometry *g, int lod)
     fputc(']', f);
 }
 
-/* The meshes view i may show (limen_plan_view_things) and the level of detail each is drawn
- * at there (limen_view_mesh_lod under the plan's limits and height); false when out of
- * memory. */
-static bool json_view_meshes(FILE *f, const limen_plan *p, limen_scene *s, int i)
+/* The meshes view i may show (limen_plan_things) and the level of detail each is drawn at
+ * there (limen_view_mesh_lod under the plan's limits and height). */
+static void json_view_meshes(FILE *f, const limen_plan *p, const limen_scene *s, int i)
 {
-    int n = limen_plan_view_things(p, s, i, NULL, 0);
-    limen_node *things = n > 0 ? malloc(sizeof *things * (size_t)n) : NULL;
-    if (n < 0 || (n > 0 && !things))
-        return false;
-    n = limen_plan_view_things(p, s, i, things, n);
+    const limen_node *things;
+    int n = limen_plan_things(p, i, &things);
     fprintf(f, ", \"meshes\": [");
     int listed = 0;
     for (int k = 0; k < n; k++) {
@@ -776,7 +934,7 @@ static bool json_view_meshes(FILE *f, const limen_plan *p, limen_scene *s, int i
             continue;
         /* the drawable a renderer picks the level from */
         limen_drawable d;
-        limen__drawable_read(s, (int)(node - s->nodes), &d);
+        limen__drawable_read(s, limen__index(s, node), &d);
         int lod = limen_view_mesh_lod(&p->views[i], p->height, &d, p->limits.lod_pixels);
         fprintf(f, "%s{\"node\": ", listed++ ? ", " : "");
         json_node(f, s, things[k]);
@@ -785,8 +943,6 @@ static bool json_view_meshes(FILE *f, const limen_plan *p, limen_scene *s, int i
         fputc('}', f);
     }
     fputc(']', f);
-    free(things);
-    return true;
 }
 
 /* Shapes passing through portals (limen_plan_clones). */
@@ -811,7 +967,7 @@ static void json_clones(FILE *f, const limen_plan *p, const limen_scene *s)
     fprintf(f, "%s]", n ? "\n" : "");
 }
 
-limen_status limen_plan_write_json(const limen_plan *p, limen_scene *s, const char *path)
+limen_status limen_plan_write_json(const limen_plan *p, const limen_scene *s, const char *path)
 {
     if (!p || !s || !path)
         return LIMEN_ERR_ARG;
@@ -858,10 +1014,7 @@ limen_status limen_plan_write_json(const limen_plan *p, limen_scene *s, const ch
         fprintf(f, ", \"tint\": ");
         json_floats(f, v->tint, 3);
         json_view_surfaces(f, p, s, i);
-        if (!json_view_meshes(f, p, s, i)) {
-            limen__out_abort(&out);
-            return LIMEN_ERR_NOMEM;
-        }
+        json_view_meshes(f, p, s, i);
         fputc('}', f);
     }
     fprintf(f, "\n], ");

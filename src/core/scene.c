@@ -4,6 +4,7 @@
 #include <string.h>
 
 #include "core/internal.h"
+#include "core/kinds.h"
 #include "core/mesh.h"
 #include "core/reserve.h"
 #include "core/texture.h"
@@ -67,19 +68,11 @@ limen_status limen__node_lookup_const(const limen_scene *s, limen_node n, unsign
     return LIMEN_OK;
 }
 
-
-static const char *kind_name(limen_node_kind k)
-{
-    static const char *names[] = { "group", "box", "sphere", "cylinder", "quad",
-                                   "mirror", "portal", "light", "camera", "mesh" };
-    return (unsigned)k < LIMEN_NODE_KIND_COUNT ? names[k] : "node";
-}
-
 /* Message prefix for a node: "label: kind 'name'" ("label: kind" if it has no name). */
 static void node_desc(const limen__node *node, char *buf, size_t size)
 {
     snprintf(buf, size, "%s%s%s%s%s%s", node->label, node->label[0] ? ": " : "",
-             kind_name(node->kind), node->name[0] ? " '" : "", node->name,
+             limen__kind_name(node->kind), node->name[0] ? " '" : "", node->name,
              node->name[0] ? "'" : "");
 }
 
@@ -156,7 +149,7 @@ limen_status limen_scene_set_camera(limen_scene *s, limen_node camera)
         return found;
     if (node->kind != LIMEN_NODE_CAMERA)
         return limen__fail(s, LIMEN_ERR_HANDLE, "set_camera: node '%s' is a %s, not a camera",
-                           limen__node_title(node), kind_name(node->kind));
+                           limen__node_title(node), limen__kind_name(node->kind));
     s->camera = (uint32_t)(node - s->nodes) + 1u;
     return LIMEN_OK;
 }
@@ -286,15 +279,7 @@ static void node_defaults(limen__node *node, limen_node_kind kind)
     glm_vec3_one(node->color);
     node->visible = true;
     node->tex_repeat[0] = node->tex_repeat[1] = 1.0f;
-    switch (kind) {
-    case LIMEN_NODE_BOX: glm_vec3_one(node->dims); break;
-    case LIMEN_NODE_SPHERE: node->dims[0] = 0.5f; break;
-    case LIMEN_NODE_CYLINDER: node->dims[0] = 0.5f; node->dims[1] = 1.0f; break;
-    case LIMEN_NODE_QUAD:
-    case LIMEN_NODE_MIRROR:
-    case LIMEN_NODE_PORTAL: node->dims[0] = node->dims[1] = 1.0f; break;
-    default: break;
-    }
+    memcpy(node->dims, limen_kind_get(kind)->dims, sizeof node->dims);
     glm_vec3_one(node->tint);
     glm_vec3_broadcast(0.5f, node->back);
     glm_vec3_zero(node->fill);
@@ -797,21 +782,15 @@ limen_status limen_node_set_dims(limen_scene *s, limen_node n, const float dims[
     if (found)
         return found;
     CHECK_VEC(s, dims, "dims");
-    int used = 0;
-    switch (node->kind) {
-    case LIMEN_NODE_BOX: used = 3; break;
-    case LIMEN_NODE_SPHERE: used = 1; break;
-    case LIMEN_NODE_CYLINDER:
-    case LIMEN_NODE_QUAD:
-    case LIMEN_NODE_MIRROR:
-    case LIMEN_NODE_PORTAL: used = 2; break;
-    default:
-        return limen__fail(s, LIMEN_ERR_ARG, "dims: a %s has no size", kind_name(node->kind));
-    }
+    int used = limen_kind_get(node->kind)->size;
+    if (!used)
+        return limen__fail(s, LIMEN_ERR_ARG, "dims: a %s has no size",
+                           limen__kind_name(node->kind));
     for (int i = 0; i < used; i++)
         if (!(dims[i] >= LIMEN_MIN_SIZE && dims[i] <= LIMEN_MAX_MAGNITUDE))
             return limen__fail(s, LIMEN_ERR_ARG, "dims: %s size %d must be a positive number "
-                               "from 1e-9 to 1e9 (got %g)", kind_name(node->kind), i, dims[i]);
+                               "from 1e-9 to 1e9 (got %g)", limen__kind_name(node->kind), i,
+                               dims[i]);
     for (int i = 0; i < 3; i++)
         node->dims[i] = i < used ? dims[i] : 0.0f;
     limen__node_touch(s, node);     /* its bounds changed */
@@ -985,7 +964,7 @@ limen_status limen_light_set_range(limen_scene *s, limen_node n, float range)
         return found;
     if (node->kind != LIMEN_NODE_LIGHT)
         return limen__fail(s, LIMEN_ERR_HANDLE, "range: '%s' is a %s, not a light",
-                           limen__node_title(node), kind_name(node->kind));
+                           limen__node_title(node), limen__kind_name(node->kind));
     if (!(range == 0 || (range >= LIMEN_MIN_SIZE && range <= LIMEN_MAX_MAGNITUDE)))
         return limen__fail(s, LIMEN_ERR_ARG, "range: must be 0 (none) or a positive number "
                            "from 1e-9 to 1e9 (got %g)", range);

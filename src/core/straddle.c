@@ -7,32 +7,14 @@
 #include "core/dmath.h"
 #include "core/index.h"
 #include "core/internal.h"
+#include "core/kinds.h"
 #include "core/mesh.h"
 
 void limen__node_bounds(const limen__node *n, double centre[3], double *radius)
 {
-    double local[3] = { 0, 0, 0 }, r;
-    switch (n->kind) {
-    case LIMEN_NODE_BOX:
-        r = 0.5 * sqrt((double)n->dims[0] * n->dims[0] + (double)n->dims[1] * n->dims[1] +
-                       (double)n->dims[2] * n->dims[2]);
-        break;
-    case LIMEN_NODE_SPHERE: r = n->dims[0]; break;
-    case LIMEN_NODE_CYLINDER:
-        local[1] = 0.5 * n->dims[1];
-        r = sqrt((double)n->dims[0] * n->dims[0] + local[1] * local[1]);
-        break;
-    case LIMEN_NODE_MESH: {
-        double h2 = 0;
-        for (int a = 0; n->mesh && a < 3; a++) {
-            local[a] = 0.5 * (n->mesh->lo[a] + n->mesh->hi[a]);
-            h2 += 0.25 * (n->mesh->hi[a] - n->mesh->lo[a]) * (n->mesh->hi[a] - n->mesh->lo[a]);
-        }
-        r = sqrt(h2);
-        break;
-    }
-    default: r = 0.5 * sqrt((double)n->dims[0] * n->dims[0] + (double)n->dims[1] * n->dims[1]);
-    }
+    double lo[3], hi[3], local[3], r;
+    limen__node_extent(n, lo, hi);
+    limen__kind_sphere(n->kind, lo, hi, local, &r);
     double w[16];
     limen__d_from_f(&n->world[0][0], w);
     limen__d_point(w, local, centre);
@@ -62,11 +44,12 @@ static bool straddles(const limen__node *n, const limen__node *a)
     return fabs(local[0]) <= hw && fabs(local[1]) <= hh && r <= sx * sqrt(hw * hw + hh * hh);
 }
 
+/* A shape with a volume (not flat; a mesh once it has triangles). */
 static bool closed_shape(const limen__node *n)
 {
-    return limen__alive(n) && n->visible &&
-           (n->kind == LIMEN_NODE_BOX || n->kind == LIMEN_NODE_SPHERE ||
-            n->kind == LIMEN_NODE_CYLINDER || (n->kind == LIMEN_NODE_MESH && n->mesh));
+    const limen_kind_info *ki = limen_kind_get(n->kind);
+    return limen__alive(n) && n->visible && ki->shape && !ki->flat &&
+           (ki->unit || n->mesh);
 }
 
 static bool open_portal(const limen_scene *s, const limen__node *a)

@@ -15,6 +15,7 @@
 #include "core/confine.h"
 #include "core/contain.h"
 #include "core/internal.h"
+#include "core/kinds.h"
 #include "core/mesh.h"
 #include "core/texture.h"
 
@@ -519,10 +520,9 @@ limen_status limen__node_texture(limen_scene *s, limen_node n, const char *path,
     if (!node)
         return limen__fail(s, LIMEN_ERR_HANDLE, "texture: %s node handle",
                            n.id ? "stale or foreign" : "null");
-    if (node->kind != LIMEN_NODE_QUAD && node->kind != LIMEN_NODE_BOX &&
-        node->kind != LIMEN_NODE_MESH)
-        return limen__fail(s, LIMEN_ERR_HANDLE, "texture: '%s' is not a plane, box or mesh",
-                           limen__node_title(node));
+    if (limen_kind_get(node->kind)->uv == LIMEN_UV_NONE)
+        return limen__fail(s, LIMEN_ERR_HANDLE, "texture: '%s' is a %s, which takes no texture",
+                           limen__node_title(node), limen__kind_name(node->kind));
     limen__texture *t = NULL;
     if (path) {
         limen_status st = limen__texture_load(s, path, max_bytes, charged, &t);

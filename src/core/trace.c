@@ -88,6 +88,7 @@
 #include "core/dmath.h"
 #include "core/index.h"
 #include "core/internal.h"
+#include "core/kinds.h"
 #include "core/mesh.h"
 #include "core/texture.h"
 
@@ -100,6 +101,8 @@ typedef struct prim {
     int node;                   /* index in the scene's pool */
     limen_node_kind kind;
     enum shape shape;
+    bool flat;                  /* a flat shape (not a surface): its checker in unit xy */
+    limen_uv_rule uv;           /* limen_kind_info.uv */
     double m[16], minv[16];     /* unit space -> world and back */
     double nmat[9];             /* inverse transpose of m's 3x3, column-major */
     double scale[3];
@@ -185,21 +188,11 @@ static void d_dir(const double m[16], const double v[3], double out[3])
 
 /* ------------------------------------------------------------------ snapshot */
 
+/* Shapes and surfaces (a mesh once it has triangles). */
 static bool hittable(const limen__node *n)
 {
-    switch (n->kind) {
-    case LIMEN_NODE_BOX:
-    case LIMEN_NODE_SPHERE:
-    case LIMEN_NODE_CYLINDER:
-    case LIMEN_NODE_QUAD:
-    case LIMEN_NODE_MIRROR:
-    case LIMEN_NODE_PORTAL:
-        return true;
-    case LIMEN_NODE_MESH:
-        return n->mesh != NULL;
-    default:
-        return false;
-    }
+    const limen_kind_info *ki = limen_kind_get(n->kind);
+    return (ki->shape || ki->surface) && (ki->unit || n->mesh);
 }
 
 static void copy3f(const float f[3], double d[3])
@@ -236,48 +229,35 @@ static void setup_prim(limen_scene *s, const limen__node *n, prim *p)
     p->node = limen__index(s, n);
     p->kind = n->kind;
     p->exit = -1;
-    double unit_r = 1.0, unit_c[3] = { 0, 0, 0 };
+    /* the kind's intersection; the rest of the kind's facts from its row (core/kinds.c) */
     switch (n->kind) {
-    case LIMEN_NODE_BOX:
-        p->shape = SHAPE_BOX;
-        copy3f(n->dims, p->scale);
-        unit_r = sqrt(0.75);
-        break;
-    case LIMEN_NODE_SPHERE:
-        p->shape = SHAPE_SPHERE;
-        p->scale[0] = p->scale[1] = p->scale[2] = n->dims[0];
-        break;
-    case LIMEN_NODE_CYLINDER:
-        p->shape = SHAPE_CYLINDER;
-        p->scale[0] = p->scale[2] = n->dims[0];
-        p->scale[1] = n->dims[1];
-        unit_c[1] = 0.5;
-        unit_r = sqrt(1.25);
-        break;
-    case LIMEN_NODE_MESH: {
-        const limen__mesh *m = n->mesh;
+    case LIMEN_NODE_BOX: p->shape = SHAPE_BOX; break;
+    case LIMEN_NODE_SPHERE: p->shape = SHAPE_SPHERE; break;
+    case LIMEN_NODE_CYLINDER: p->shape = SHAPE_CYLINDER; break;
+    case LIMEN_NODE_QUAD:
+    case LIMEN_NODE_MIRROR:
+    case LIMEN_NODE_PORTAL: p->shape = SHAPE_FLAT; break;
+    case LIMEN_NODE_MESH:
         p->shape = SHAPE_MESH;
-        p->mesh = m;
-        p->smooth = n->smooth || m->file_normals;
-        p->scale[0] = p->scale[1] = p->scale[2] = 1.0;
-        double half[3];
-        for (int a = 0; a < 3; a++) {
-            unit_c[a] = 0.5 * (m->lo[a] + m->hi[a]);
-            half[a] = 0.5 * (m->hi[a] - m->lo[a]);
-        }
-        unit_r = sqrt(dot3(half, half));
+        p->mesh = n->mesh;
+        p->smooth = n->smooth || n->mesh->file_normals;
         break;
+    case LIMEN_NODE_GROUP:
+    case LIMEN_NODE_LIGHT:
+    case LIMEN_NODE_CAMERA:
+    case LIMEN_NODE_KIND_COUNT: break;     /* not hittable */
     }
-    default:
-        p->shape = SHAPE_FLAT;
-        p->scale[0] = n->dims[0];
-        p->scale[1] = n->dims[1];
-        p->scale[2] = 1.0;
-        unit_r = sqrt(0.5);
-        break;
+    const limen_kind_info *ki = limen_kind_get(n->kind);
+    p->flat = ki->flat && ki->shape;   /* a mirror's back is checked in xyz, as drawn */
+    p->uv = ki->uv;
+    /* unit space: the unit shape's (the mesh's own frame), scaled to the node's dims */
+    double lo[3], hi[3];
+    for (int a = 0; a < 3; a++) {
+        p->scale[a] = ki->unit && ki->scale[a] >= 0 ? n->dims[ki->scale[a]] : 1.0;
+        lo[a] = ki->unit ? ki->lo[a] : n->mesh->lo[a];
+        hi[a] = ki->unit ? ki->hi[a] : n->mesh->hi[a];
     }
-    memcpy(p->unit_c, unit_c, sizeof unit_c);
-    p->unit_r = unit_r;
+    limen__kind_sphere(n->kind, lo, hi, p->unit_c, &p->unit_r);
     double w[16];
     limen__d_from_f(&n->world[0][0], w);
     memcpy(p->m, w, sizeof w);
@@ -288,7 +268,7 @@ static void setup_prim(limen_scene *s, const limen__node *n, prim *p)
         return;
     copy3f(n->color, p->color);
     copy3f(n->checker_b, p->checker_b);
-    if (n->kind == LIMEN_NODE_QUAD || n->kind == LIMEN_NODE_BOX || n->kind == LIMEN_NODE_MESH)
+    if (ki->uv != LIMEN_UV_NONE)
         p->tex = n->texture;    /* a mesh's own are its materials' (limen__mesh_material_at) */
     p->repeat[0] = n->tex_repeat[0];
     p->repeat[1] = n->tex_repeat[1];
@@ -736,7 +716,7 @@ static void world_normal(const prim *p, const double nu[3], const double d[3], d
 static void flat_uv(const prim *p, const double pu[3], const double nu[3], double uv[2])
 {
     int a = 2;
-    if (p->kind == LIMEN_NODE_BOX)
+    if (p->uv == LIMEN_UV_BOX)
         a = fabs(nu[0]) > 0.5 ? 0 : fabs(nu[1]) > 0.5 ? 1 : 2;
     uv[0] = pu[(a + 1) % 3] + 0.5;
     uv[1] = pu[(a + 2) % 3] + 0.5;
@@ -748,7 +728,7 @@ static void uv_steps(const prim *p, const double nu[3], const double uv[UV_N],
                      const double dpu[2][3], double duv[4])
 {
     int a = 2;
-    if (p->kind == LIMEN_NODE_BOX)
+    if (p->uv == LIMEN_UV_BOX)
         a = fabs(nu[0]) > 0.5 ? 0 : fabs(nu[1]) > 0.5 ? 1 : 2;
     for (int i = 0; i < 2; i++) {
         if (p->shape == SHAPE_MESH) {
@@ -774,7 +754,7 @@ static void shade(const tracer *tr, const prim *p, const double albedo_a[3], con
     *alpha = 1;
     if (p->cell > 0) {
         double k = 0;
-        int axes = p->kind == LIMEN_NODE_QUAD ? 2 : 3;
+        int axes = p->flat ? 2 : 3;
         for (int i = 0; i < axes; i++)
             k += floor(pu[i] * p->scale[i] / p->cell);
         if (k - 2.0 * floor(k * 0.5) > 0.5)

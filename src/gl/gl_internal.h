@@ -1,5 +1,6 @@
 /* gl_internal.h - the renderer's state, shared by its files (render.c: set-up and frames;
- * views.c: drawing a view tree, and its texture method; stencil.c: its stencil method). */
+ * backend.c: executing a frame's draw list; targets.c: the texture method's targets;
+ * shapes.c: the unit meshes; assets.c: meshes and textures on the GPU; shader.c). */
 #ifndef LIMEN_GL_INTERNAL_H
 #define LIMEN_GL_INTERNAL_H
 
@@ -9,11 +10,11 @@
 
 #include "limen.h"
 #include "gl/glapi.h"
-#include "gl/mesh.h"
+#include "gl/shapes.h"
 
 /* A silhouette may stray this far (pixels) from the true curved shape. */
 #define LOD_TOLERANCE_PX 0.2f
-#define LIMEN__MAX_LEVELS 256
+#define LIMEN__MAX_TARGETS 256
 
 typedef struct uniforms {
     GLint model, normal_mat, view_proj, eye, clip_plane, clip_plane2, albedo, albedo_b, cell,
@@ -48,7 +49,7 @@ typedef struct limen__shared {
     bool ranged;                /* some light has a range: variants with RANGE */
 } limen__shared;
 
-/* An offscreen target for the texture method: one per recursion level. */
+/* An offscreen target for the texture method: one per depth of nesting. */
 typedef struct limen__target {
     GLuint fbo, tex, depth_rb;
     int w, h;
@@ -94,36 +95,30 @@ struct limen_renderer {
     GLuint *q_pool;                         /* occlusion queries around shading passes */
     int q_cap, q_used;
     bool q_active;
-    limen__target levels[LIMEN__MAX_LEVELS];
-    float levels_scale;                     /* texture scale the targets were made for */
+    limen__target targets[LIMEN__MAX_TARGETS];
 
     GLuint prev_fbo, prev_tex;              /* the previous frame, for LIMEN_FILL_PREVIOUS */
     bool have_prev;
 
-    struct limen__draw_key *order;          /* a view's things, nearest first */
-    int order_cap;
-    limen_node *things;                     /* a view's candidates from the scene's index */
-    int things_cap;
-    limen_scene *scene;                     /* the scene of the frame being drawn */
     int draw_calls;                         /* this frame's (limen_frame_stats) */
     uint64_t triangles;
-    uint64_t mesh_tris_left;                /* of the frame's budget.triangles */
     bool instanced;                         /* variants read the model from instances */
-    bool material;                          /* ... and a mesh part's material (gl/batch.c) */
-    bool blend_pass;                        /* mesh draws draw their blended parts only */
-    GLuint inst_vbo;                        /* per-instance values (gl/batch.c) */
+    bool material;                          /* ... and a mesh part's material */
+    GLuint inst_vbo;                        /* per-instance values (gl/backend.c) */
     struct limen__instance *inst;
     int inst_cap;
-    struct limen__batch *batches;           /* a view's meshes in batches (gl/batch.c) */
-    struct limen__batch_item *batch_items;
-    int batch_cap;
+    limen__vertex *poly;                    /* the list's polygons as uploaded */
+    int poly_cap;
+    limen_draw_state applied;               /* the state set (gl/backend.c) */
+    int applied_scissor[4];
+    bool applied_valid;
 
     struct limen__gpu_asset *assets;        /* mesh buffers and textures (gl/assets.c) */
     int nassets, assets_cap;
 
     limen_plan *plan;                       /* what to draw: the view tree of the frame ... */
-    limen_drawables *draw;                  /* ... and the nodes, read once per frame */
-    int *clone_of, clone_of_cap;            /* per drawable: its limen_clone, or -1 */
+    limen_drawables *draw;                  /* ... and the nodes, read once per frame ... */
+    limen_drawlist *list;                   /* ... and the frame's commands */
     float background[3], ambient;           /* the scene's, as the drawables read them */
     limen_render_opts opts;
     unsigned char *rgba;                    /* read-back buffer */
@@ -133,7 +128,7 @@ struct limen_renderer {
 #define GL(fn) r->gl.fn
 
 /* The normal matrix of a model matrix: the inverse transpose of its 3x3 part. The one-node
- * draws (uniforms) and the instanced ones (gl/batch.c) both take it from here, so a node
+ * draws (uniforms) and the instanced ones (gl/backend.c) both take it from here, so a node
  * shades the same either way. */
 static inline void limen__normal_matrix(mat4 model, mat3 out)
 {
@@ -142,25 +137,8 @@ static inline void limen__normal_matrix(mat4 model, mat3 out)
     glm_mat3_transpose(out);
 }
 
-/* Depth clamping for a lit draw in view v, the same for one node and for a batch: mirrors
- * and portals are not cut by the near plane (a camera closer to one than its near distance
- * still sees through it, and the ray tracer agrees); and in a view cut by a user clip plane
- * (the eye too near its exit surface for an oblique near plane) the clip plane alone cuts:
- * its own near plane would also drop what lies just in front of the exit. */
-static inline bool limen__depth_clamped(const limen_view *v, bool surface)
-{
-    return surface || (v->clip == LIMEN_CLIP_PLANE && v->depth > 0);
-}
-
-/* Floats per instance (gl/batch.c): model matrix, normal matrix, albedo. */
+/* Floats per instance (gl/backend.c): model matrix, normal matrix, albedo. */
 #define LIMEN__INSTANCE_FLOATS 28
-
-/* One of a view's things: its squared distance from the eye (to its bounding sphere's
- * centre) and its index in the drawables. */
-struct limen__draw_key {
-    float dist;
-    int node;
-};
 
 static inline GLenum limen__depth_format(const limen_renderer *r)
 {
@@ -191,63 +169,14 @@ GLuint limen__gl_link(limen_renderer *r, const char *head, const char *vsrc, con
 bool limen__variant_use(limen_renderer *r, int mode, int shape, int checker, int textured);
 void limen__variants_free(limen_renderer *r);
 
-/* ------------------------------------------------------------------ drawing views (views.c) */
-
-/* One view as the renderer draws it. */
-typedef struct rview {
-    const limen_view *pub;
-    int index;
-    mat4 view, proj, view_proj;
-    float px_scale;             /* pixels per unit at distance 1 (for levels of detail) */
-    float img_map[4];           /* image pixel = gl_FragCoord * xy + zw in the target */
-    vec4 cull[16];              /* world-space planes of the narrowed frustum (inside >= 0),
-                                 * and (stencil method) of the view's pixels */
-    int ncull;
-} rview;
-
-/* A surface as the screen sees it: its polygon clipped in double and split into the parts
- * depth clamping puts at the near and far planes and the part between, in NDC (x, y and,
- * for the middle part, z). The same floats serve every pass over the surface, so its depth,
- * its mark, its seal and the nested view's region cover the same pixels. */
-typedef struct limen__spoly {
-    int n[3];                   /* vertices of the near, far and middle parts */
-    float p[3][32][3];
-    float z[2];                 /* NDC depth of the near and far planes */
-    double xy[32][2];           /* the whole polygon (the parts' union) in NDC x, y */
-    int nxy;
-} limen__spoly;
-
-/* A view's matrices (proj_pre: the texture method's narrowing, identity otherwise), its cull
- * planes (rect: the pixels it may draw, NULL for all), and its state bound for drawing. */
-void limen__rview_make(limen_renderer *r, int index, mat4 proj_pre, rview *v);
-void limen__rview_cull(limen_renderer *r, rview *v, const int *rect);
-void limen__rview_apply(limen_renderer *r, const rview *v);
-/* The scene's lights, once per frame. */
-void limen__lights_set(limen_renderer *r);
-/* A surface's polygon as view v sees it, in parts (computed where sp is NULL for the flat
- * pass); the flat pass of a surface (MODE_FLAT or MODE_TEXTURE) and of parts in one colour,
- * at their own depth or all at z where fixed. */
-void limen__surface_parts(const limen_renderer *r, const rview *v, const limen_drawable *node,
-                          limen__spoly *sp);
-void limen__surface_flat(limen_renderer *r, const rview *v, const limen_drawable *node,
-                         int mode, const float *albedo, const limen__spoly *sp);
-void limen__flat_parts(limen_renderer *r, const rview *v, const limen__spoly *sp,
-                       const float rgb[3], bool fixed, float z);
-/* The view's opaque things (the surfaces that end there, then the geometry), shaded. */
-void limen__draw_opaque(limen_renderer *r, const rview *v, const limen_view_surface *vs, int n);
-/* The drawable of a surface that a view recurses into; NULL for the others. */
-const limen_drawable *limen__recursed(const limen_renderer *r, const limen_view_surface *vs);
-/* GL_LESS and GL_LEQUAL, or their reverse where depth is reversed. */
-GLenum limen__depth_less(const limen_renderer *r);
-GLenum limen__depth_lequal(const limen_renderer *r);
-
-/* Draws the planned tree of r->plan and r->draw into the frame buffer (bound by the caller,
- * cleared). */
-limen_status limen__draw_stencil(limen_renderer *r);       /* stencil.c */
-limen_status limen__draw_texture(limen_renderer *r);       /* views.c */
+/* gl/backend.c: draws the frame's list (r->list over r->draw) into the frame buffer
+ * (bound by the caller). gl/targets.c: offscreen target k of w x h (made, or remade at
+ * another size; NULL where it cannot be); all of them freed. */
+limen_status limen__execute(limen_renderer *r, const limen_drawlist *dl);
+const limen__target *limen__target_get(limen_renderer *r, int k, int w, int h);
 void limen__targets_free(limen_renderer *r);
 
-/* gl/mesh.c: which unit mesh, and how it is scaled, for a node seen through a view (its
+/* gl/shapes.c: which unit mesh, and how it is scaled, for a node seen through a view (its
  * view matrix and pixels per unit at distance 1, for the level of detail); shape: the
  * normals it needs (LIMEN__SHAPE_*). False if the node is not drawn with one. */
 bool limen__unit_mesh(limen_renderer *r, const vec4 *view, float px_scale, const limen_drawable *node,
@@ -265,28 +194,7 @@ GLuint limen__gpu_texture_on(limen_renderer *r, const limen_image *t, int unit,
                              limen_texture_filter filter);
 /* The level limen__gpu_mesh_bind draws for `lod` (clamped to the levels it keeps). */
 int limen__gpu_mesh_level(const limen_mesh_geometry *m, int lod);
-/* gl/views.c: view v's meshes' blended parts, farthest first, over what it drew (both
- * methods call it once a view's picture, its surfaces' included, is complete). */
-void limen__draw_blended(limen_renderer *r, const rview *v);
-/* Whether some visible mesh has blended parts (then the stencil method counts depth). */
-bool limen__scene_blends(const limen_renderer *r);
 void limen__gpu_assets_sweep(limen_renderer *r);
 void limen__gpu_assets_free(limen_renderer *r);
-
-/* gl/batch.c: meshes drawn instanced. limen__batches_plan groups the meshes among a view's
- * things (order[0..n), nearest first; not those cut at a portal) that show the same
- * geometry at the same level of detail alike, each group starting where its nearest member
- * stands; returns the number of groups (-1: out of memory, draw each alone).
- * limen__batch_first gives where group b starts in order, limen__batch_draw draws it, and
- * limen__mesh_draw draws one mesh node at a world matrix (a copy carried through a portal,
- * a node cut at one). Each binds the unit meshes' arrays again after. limen__batches_free
- * frees their memory (the instance buffer goes with the context). */
-int limen__batches_plan(limen_renderer *r, const limen_view *v, const limen_drawable *items,
-                        const struct limen__draw_key *order, int n);
-int limen__batch_first(const limen_renderer *r, int b);
-void limen__batch_draw(limen_renderer *r, const limen_view *v, const limen_drawable *items, int b);
-void limen__mesh_draw(limen_renderer *r, const limen_view *v, const limen_drawable *d,
-                      const float world[16], const float albedo[3]);
-void limen__batches_free(limen_renderer *r);
 
 #endif

@@ -1,5 +1,5 @@
-/* render.c - the OpenGL renderer: context, shaders, meshes, framebuffers, and drawing the
- * scene for a view. Shading follows docs/DESIGN.md exactly so that the ray tracer can match it
+/* render.c - the OpenGL renderer: context, shaders, meshes, framebuffers, and a frame: the
+ * plan, the drawables and the draw list built by the core, executed by gl/backend.c. Shading follows docs/DESIGN.md exactly so that the ray tracer can match it
  * pixel for pixel. */
 #include <stdarg.h>
 #include <stdio.h>
@@ -211,8 +211,9 @@ static limen_status setup(limen_renderer *r, const limen_renderer_desc *d)
     r->host = d->backend == LIMEN_BACKEND_HOST;
     if ((unsigned)d->depth_range > LIMEN_DEPTH_ZO_REVERSED)
         return limen__rfail(r, LIMEN_ERR_ARG, "unknown depth range %d", (int)d->depth_range);
-    r->width = d->width > 0 ? d->width : 640;
-    r->height = d->height > 0 ? d->height : 480;
+    const limen_renderer_desc full = limen_renderer_desc_defaults(d);
+    r->width = full.width;
+    r->height = full.height;
     if (d->width < 0 || d->height < 0 || r->width > 16384 || r->height > 16384)
         return limen__rfail(r, LIMEN_ERR_ARG, "image size %dx%d out of range (1 to 16384)", d->width,
                      d->height);
@@ -231,7 +232,7 @@ static limen_status setup(limen_renderer *r, const limen_renderer_desc *d)
     if (d->depth_bits != 0 && d->depth_bits != 24 && d->depth_bits != 32)
         return limen__rfail(r, LIMEN_ERR_ARG, "depth bits must be 24 or 32 (got %d)",
                             d->depth_bits);
-    r->depth_bits = d->depth_bits ? d->depth_bits : r->range == LIMEN_DEPTH_ZO_REVERSED ? 32 : 24;
+    r->depth_bits = full.depth_bits;
 
     r->ctx = r->ops->create(d, r->err, sizeof r->err);
     if (!r->ctx)
@@ -279,7 +280,8 @@ static limen_status setup_gl(limen_renderer *r)
         st = build_targets(r);
     if (st)
         return st;
-    if (limen_plan_create(&r->plan) || limen_drawables_create(&r->draw))
+    if (limen_plan_create(&r->plan) || limen_drawables_create(&r->draw) ||
+        limen_drawlist_create(&r->list))
         return limen__rfail(r, LIMEN_ERR_NOMEM, "out of memory");
     GL(GenQueries)(1, &r->q_fragments);
     r->rgba = malloc((size_t)r->width * (size_t)r->height * 4);
@@ -347,11 +349,10 @@ void limen_renderer_destroy(limen_renderer *r)
     }
     limen_plan_destroy(r->plan);
     limen_drawables_destroy(r->draw);
-    free(r->clone_of);
+    limen_drawlist_destroy(r->list);
     free(r->q_pool);
-    free(r->order);
-    free(r->things);
-    limen__batches_free(r);
+    free(r->inst);
+    free(r->poly);
     if (r->ctx)
         r->ops->destroy(r->ctx);
     limen__meshes_free(&r->meshes);
@@ -428,22 +429,10 @@ static limen_status begin_frame(limen_renderer *r)
     if (r->gl.ClipControl)
         GL(ClipControl)(GL_LOWER_LEFT,
                         r->range == LIMEN_DEPTH_NO ? GL_NEGATIVE_ONE_TO_ONE : GL_ZERO_TO_ONE);
-    bool reversed = r->range == LIMEN_DEPTH_ZO_REVERSED;
-    /* the clear stays inside the frame (a game's framebuffer may hold more) */
-    GL(Enable)(GL_SCISSOR_TEST);
-    GL(Scissor)(r->origin[0], r->origin[1], r->width, r->height);
+    /* the list's first command clears the frame (scissored to it: a game's framebuffer may
+     * hold more) and sets the rest */
     GL(Disable)(GL_BLEND);
-    GL(ColorMask)(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
-    GL(DepthMask)(GL_TRUE);
-    GL(StencilMask)(0xFF);
-    GL(ClearColor)(r->background[0], r->background[1], r->background[2], 1.0f);
-    GL(ClearDepth)(reversed ? 0.0 : 1.0);
-    GL(ClearStencil)(0);
-    GL(Clear)(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT | GL_STENCIL_BUFFER_BIT);
-    GL(Disable)(GL_SCISSOR_TEST);
-    GL(Disable)(GL_STENCIL_TEST);
     GL(Enable)(GL_DEPTH_TEST);
-    GL(DepthFunc)(reversed ? GL_GREATER : GL_LESS);
     GL(CullFace)(GL_BACK);
     GL(FrontFace)(GL_CCW);
     if (r->msaa)
@@ -507,29 +496,6 @@ static void keep_previous(limen_renderer *r)
     r->have_prev = true;
 }
 
-/* For each drawable, the shape passing through a portal that it is (r->clone_of). */
-static limen_status find_clones(limen_renderer *r)
-{
-    const limen_clone *clones;
-    int nclones = limen_plan_clones(r->plan, &clones);
-    int n = limen_drawables_items(r->draw, NULL);
-    if (n > r->clone_of_cap) {
-        int *map = realloc(r->clone_of, sizeof *map * (size_t)n);
-        if (!map)
-            return LIMEN_ERR_NOMEM;
-        r->clone_of = map;
-        r->clone_of_cap = n;
-    }
-    for (int i = 0; i < n; i++)
-        r->clone_of[i] = -1;
-    for (int c = 0; c < nclones; c++) {
-        int i = limen_drawables_find(r->draw, clones[c].node);
-        if (i >= 0)
-            r->clone_of[i] = c;
-    }
-    return LIMEN_OK;
-}
-
 static limen_status check_opts(limen_renderer *r, const limen_render_opts *o)
 {
     if ((unsigned)o->method > LIMEN_METHOD_NAIVE)
@@ -574,14 +540,20 @@ static limen_status frame(limen_renderer *r, limen_scene *s, limen_frame_stats *
                            .limits = r->opts.limits,
                            .cull = r->opts.method == LIMEN_METHOD_NAIVE ? LIMEN_CULL_FRUSTUM
                                                                         : LIMEN_CULL_SURFACE };
+    pd.multisample = r->msaa > 1;   /* its samples lie off the pixels' centres */
     limen_status st = limen_plan_build(r->plan, s, &pd);
     if (!st)
         st = limen_drawables_build(r->draw, s);
     if (st)
         return limen__rfail(r, st, "%s", limen_scene_error(s));
-    if (find_clones(r))
-        return limen__rfail(r, LIMEN_ERR_NOMEM, "out of memory");
     limen_drawables_environment(r->draw, r->background, &r->ambient);
+    limen_drawlist_desc dd = { .width = r->width, .height = r->height,
+                               .method = r->opts.method, .fill = r->opts.fill,
+                               .texture_scale = r->opts.texture_scale, .msaa = r->msaa,
+                               .range = r->range, .limits = r->opts.limits,
+                               .have_previous = r->have_prev };
+    if ((st = limen_drawlist_build(r->list, r->plan, r->draw, &dd)))
+        return limen__rfail(r, st, "%s", limen_drawlist_error(r->list));
     if ((st = begin_frame(r)))
         return st;
     r->q_used = 0;
@@ -589,15 +561,9 @@ static limen_status frame(limen_renderer *r, limen_scene *s, limen_frame_stats *
     r->draw_status = LIMEN_OK;
     r->draw_calls = 0;
     r->triangles = 0;
-    r->mesh_tris_left = (uint64_t)(r->opts.limits.budget.triangles > 0
-                                       ? r->opts.limits.budget.triangles
-                                       : LIMEN_BUDGET_TRIANGLES_DEFAULT);
     if (r->has_fragment_stats)
         GL(BeginQuery)(GL_FRAGMENT_SHADER_INVOCATIONS_ARB, r->q_fragments);
-    r->scene = s;
-    st = r->opts.method == LIMEN_METHOD_STENCIL ? limen__draw_stencil(r)
-                                                : limen__draw_texture(r);
-    r->scene = NULL;
+    st = limen__execute(r, r->list);
     if (r->has_fragment_stats)
         GL(EndQuery)(GL_FRAGMENT_SHADER_INVOCATIONS_ARB);
     if (!st)

@@ -12,6 +12,13 @@
 #include "gl/gl_internal.h"
 
 static const char *vs_body =
+    "#if EXACT\n"    /* the fragment shader takes them as e_* and divides by v_one */
+    "#define v_world e_world\n"
+    "#define v_local e_local\n"
+    "#define v_nrm e_nrm\n"
+    "#define v_uv e_uv\n"
+    "#define v_col e_col\n"
+    "#endif\n"
     "layout(location = 0) in vec3 a_pos;\n"
     "layout(location = 1) in vec3 a_nrm;\n"
     "#if TEXTURED == 3\n"
@@ -27,6 +34,9 @@ static const char *vs_body =
     "uniform mat3 u_normal_mat;\n"
     "out vec3 v_world, v_local, v_nrm;\n"
     "flat out vec3 v_face;\n"
+    "#if EXACT\n"
+    "out float v_one;\n"
+    "#endif\n"
     "#if INSTANCED\n"
     "layout(location = 3) in mat4 i_model;\n"
     "layout(location = 7) in mat3 i_normal_mat;\n"
@@ -42,6 +52,9 @@ static const char *vs_body =
     "void main() {\n"
     "    vec4 w = MODEL * vec4(a_pos, 1.0);\n"
     "    v_world = w.xyz; v_local = a_pos; v_nrm = a_nrm;\n"
+    "#if EXACT\n"
+    "    v_one = w.w;\n"
+    "#endif\n"
     "#if INSTANCED\n"
     "    v_normal_mat = i_normal_mat; v_albedo = i_albedo;\n"
     "#endif\n"
@@ -70,7 +83,13 @@ static const char *vs_body =
  * other axes (2) or the mesh's coordinates (3). RANGE: each light weighted by
  * clamp(1 - (d/R)^4, 0, 1)^2, from 1/R^2 (0 for a light without a range: weight 1). */
 static const char *fs_body =
+    "#if EXACT\n"
+    "in vec3 e_world, e_local, e_nrm;\n"
+    "in float v_one;\n"
+    "vec3 v_world, v_local, v_nrm;\n"
+    "#else\n"
     "in vec3 v_world, v_local, v_nrm;\n"
+    "#endif\n"
     "flat in vec3 v_face;\n"
     "uniform mat3 u_normal_mat;\n"
     "uniform vec3 u_eye, u_albedo, u_albedo_b, u_scale, u_tint;\n"
@@ -94,11 +113,19 @@ static const char *fs_body =
     "uniform sampler2D u_albedo_tex;\n"
     "uniform vec2 u_uv_repeat;\n"            /* limen_node_set_texture_repeat */
     "#endif\n"
-    "#if TEXTURED == 3\n"
+    "#if TEXTURED == 3 && EXACT\n"
+    "in vec2 e_uv;\n"
+    "vec2 v_uv;\n"
+    "#elif TEXTURED == 3\n"
     "in vec2 v_uv;\n"
     "#endif\n"
-    "#if MATERIAL\n"
+    "#if MATERIAL && EXACT\n"
+    "in vec4 e_col;\n"
+    "vec4 v_col;\n"
+    "#elif MATERIAL\n"
     "in vec4 v_col;\n"
+    "#endif\n"
+    "#if MATERIAL\n"
     "uniform vec4 u_base;\n"                 /* the part's base colour factor, RGBA */
     "uniform vec3 u_emissive;\n"
     "uniform float u_cutoff;\n"              /* mask: below it nothing is drawn (-1: none) */
@@ -109,6 +136,16 @@ static const char *fs_body =
     "uniform vec4 u_tex_map;\n"
     "out vec4 o_color;\n"
     "void main() {\n"
+    "#if EXACT\n"
+    "    float one = 1.0 / v_one;\n"
+    "    v_world = e_world * one; v_local = e_local * one; v_nrm = e_nrm * one;\n"
+    "#if TEXTURED == 3\n"
+    "    v_uv = e_uv * one;\n"
+    "#endif\n"
+    "#if MATERIAL\n"
+    "    v_col = e_col * one;\n"
+    "#endif\n"
+    "#endif\n"
     "#if MODE == 1\n"
     "    o_color = vec4(u_albedo TINTED, 1.0);\n"
     "#elif MODE == 2\n"
@@ -239,18 +276,19 @@ GLuint limen__gl_link(limen_renderer *r, const char *head, const char *vsrc, con
 /* key: mode (2 bits), shape (2), checker (2), lights (4), clip distances 0 and 1 (1 each),
  * tint (1: the view's tint is not white; multiplying by 1 changes no colour), texture
  * coordinates (2), light ranges (1), instanced (1: model, normal matrix and albedo per
- * instance, gl/batch.c) */
+ * instance, gl/batch.c), material (1), exact (1: every sample shaded, EXACT above) */
 static unsigned variant_key(int mode, int shape, int checker, int nlights, bool clip0, bool clip1,
-                            bool tint, int textured, bool ranged, bool instanced, bool material)
+                            bool tint, int textured, bool ranged, bool instanced, bool material,
+                            bool exact)
 {
     if (mode != LIMEN__MODE_LIT)
-        shape = checker = nlights = textured = instanced = material = 0;
+        shape = checker = nlights = textured = instanced = material = exact = 0;
     if (!nlights)
         ranged = false;
     return (unsigned)mode | (unsigned)shape << 2 | (unsigned)checker << 4 |
            (unsigned)nlights << 6 | (unsigned)clip0 << 10 | (unsigned)clip1 << 11 |
            (unsigned)tint << 12 | (unsigned)textured << 13 | (unsigned)ranged << 15 |
-           (unsigned)instanced << 16 | (unsigned)material << 17;
+           (unsigned)instanced << 16 | (unsigned)material << 17 | (unsigned)exact << 18;
 }
 
 static limen__variant *variant_build(limen_renderer *r, unsigned key)
@@ -259,13 +297,15 @@ static limen__variant *variant_build(limen_renderer *r, unsigned key)
         limen__rfail(r, LIMEN_ERR_GL, "more than %d shader variants", LIMEN__MAX_VARIANTS);
         return NULL;
     }
-    char head[440];
+    char head[480];
     snprintf(head, sizeof head,
              "#version 330 core\n#define MODE %u\n#define SHAPE %u\n#define CHECKER %u\n"
              "#define NLIGHTS %u\n#define CLIP0 %u\n#define CLIP1 %u\n#define TINTED %s\n"
-             "#define TEXTURED %u\n#define RANGE %u\n#define INSTANCED %u\n#define MATERIAL %u\n",
+             "#define TEXTURED %u\n#define RANGE %u\n#define INSTANCED %u\n#define MATERIAL %u\n"
+             "#define EXACT %u\n",
              key & 3, key >> 2 & 3, key >> 4 & 3, key >> 6 & 15, key >> 10 & 1, key >> 11 & 1,
-             key >> 12 & 1 ? "* u_tint" : "", key >> 13 & 3, key >> 15 & 1, key >> 16 & 1, key >> 17 & 1);
+             key >> 12 & 1 ? "* u_tint" : "", key >> 13 & 3, key >> 15 & 1, key >> 16 & 1, key >> 17 & 1,
+             key >> 18 & 1);
     GLuint prog = limen__gl_link(r, head, vs_body, fs_body);
     if (!prog)
         return NULL;
@@ -331,7 +371,7 @@ bool limen__variant_use(limen_renderer *r, int mode, int shape, int checker, int
     bool tint = mode != LIMEN__MODE_TEXTURE && (t[0] != 1 || t[1] != 1 || t[2] != 1);
     unsigned key = variant_key(mode, shape, checker, r->shared.nlights, r->clip0_on,
                                r->clip1_on, tint, textured, r->shared.ranged, r->instanced,
-                               r->material);
+                               r->material, r->msaa && r->gl.MinSampleShading);
     limen__variant *v = NULL;
     for (int i = 0; i < r->nvariants && !v; i++)
         if (r->variants[i].key == key)

@@ -102,10 +102,8 @@ enum elem { ELEM_FINITE, ELEM_POSITIVE, ELEM_UNIT, ELEM_NONNEG };
 
 /* ------------------------------------------------------------------ l_fields.c */
 
-extern const char *const limen__lua_kind_names[LIMEN_NODE_KIND_COUNT];
-
-/* Which constructor fields each kind takes. */
-extern const unsigned limen__lua_kind_fields[LIMEN_NODE_KIND_COUNT];
+/* Which constructor fields each kind takes (a kind's name is limen_kind_get(k)->name). */
+unsigned limen__lua_kind_fields(limen_node_kind k);
 
 int limen__lua_field_index(const char *key);
 

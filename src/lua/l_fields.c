@@ -11,10 +11,6 @@
 #include "core/confine.h"
 #include "lua/l_api.h"
 
-const char *const limen__lua_kind_names[LIMEN_NODE_KIND_COUNT] = {
-    "group", "box", "sphere", "cylinder", "plane", "mirror", "portal", "light", "camera", "mesh"
-};
-
 static const char *const field_names[F_COUNT] = {
     "name", "parent", "pos", "rotate", "scale", "normal", "up", "visible", "color",
     "size", "radius", "height", "checker", "look_at", "fov", "near", "far",
@@ -25,22 +21,29 @@ static const char *const field_names[F_COUNT] = {
 /* limen_texture_filter's values by name, in the enum's order. */
 const char *const limen__lua_filter_names[3] = { "trilinear", "linear", "nearest" };
 
-/* Which constructor fields each kind takes. */
-const unsigned limen__lua_kind_fields[LIMEN_NODE_KIND_COUNT] = {
-    [LIMEN_NODE_GROUP] = F_TRANSFORM,
-    [LIMEN_NODE_BOX] = F_SHAPE | BIT(F_SIZE) | BIT(F_TEXTURE) | BIT(F_TEXTURE_REPEAT) |
-                       BIT(F_FILTER),
-    [LIMEN_NODE_SPHERE] = F_SHAPE | BIT(F_RADIUS),
-    [LIMEN_NODE_CYLINDER] = F_SHAPE | BIT(F_RADIUS) | BIT(F_HEIGHT),
-    [LIMEN_NODE_QUAD] = F_SHAPE | BIT(F_SIZE) | BIT(F_TEXTURE) | BIT(F_TEXTURE_REPEAT) |
-                        BIT(F_FILTER),
-    [LIMEN_NODE_MIRROR] = F_SURFACE,
-    [LIMEN_NODE_PORTAL] = F_SURFACE | BIT(F_LINK),
-    [LIMEN_NODE_LIGHT] = F_TRANSFORM | BIT(F_COLOR) | BIT(F_RANGE),
-    [LIMEN_NODE_CAMERA] = F_TRANSFORM | BIT(F_LOOK_AT) | BIT(F_FOV) | BIT(F_NEAR) | BIT(F_FAR),
-    [LIMEN_NODE_MESH] = F_SHAPE | BIT(F_FILE) | BIT(F_SMOOTH) | BIT(F_TEXTURE) |
-                        BIT(F_TEXTURE_REPEAT) | BIT(F_FILTER),
-};
+/* Which constructor fields each kind takes, from its facts (limen_kind_get): its dims as a
+ * vector `size` (a box's three, a flat thing's two) or as a radius (and a height), texture
+ * fields where it takes a texture, and what one kind alone has. */
+unsigned limen__lua_kind_fields(limen_node_kind k)
+{
+    const limen_kind_info *ki = limen_kind_get(k);
+    unsigned f = ki->surface ? F_SURFACE : ki->shape ? F_SHAPE : F_TRANSFORM;
+    if (ki->size == 3 || (ki->size == 2 && ki->flat))
+        f |= BIT(F_SIZE);
+    else if (ki->size > 0)
+        f |= BIT(F_RADIUS) | (ki->size > 1 ? BIT(F_HEIGHT) : 0);
+    if (ki->uv != LIMEN_UV_NONE)
+        f |= BIT(F_TEXTURE) | BIT(F_TEXTURE_REPEAT) | BIT(F_FILTER);
+    if (ki->light)
+        f |= BIT(F_COLOR) | BIT(F_RANGE);
+    if (k == LIMEN_NODE_PORTAL)
+        f |= BIT(F_LINK);
+    if (k == LIMEN_NODE_CAMERA)
+        f |= BIT(F_LOOK_AT) | BIT(F_FOV) | BIT(F_NEAR) | BIT(F_FAR);
+    if (k == LIMEN_NODE_MESH)
+        f |= BIT(F_FILE) | BIT(F_SMOOTH);
+    return f;
+}
 
 int limen__lua_field_index(const char *key)
 {
@@ -420,7 +423,7 @@ void limen__lua_parse_field(lua_State *L, int v, int f, limen_node_kind kind, in
                             kind == LIMEN_NODE_LIGHT ? ELEM_NONNEG : ELEM_UNIT, sp->color);
         break;
     case F_SIZE:
-        limen__lua_read_vec(L, v, ctx, what, kind == LIMEN_NODE_BOX ? 3 : 2, ELEM_POSITIVE,
+        limen__lua_read_vec(L, v, ctx, what, limen_kind_get(kind)->size, ELEM_POSITIVE,
                             sp->size);
         break;
     case F_RADIUS: sp->radius = limen__lua_read_positive(L, v, ctx, what); break;
@@ -606,11 +609,11 @@ void limen__lua_read_ctor(lua_State *L, int t, int scene_idx, limen_node_kind ki
         int f = limen__lua_field_index(key);
         if (f < 0)
             limen__lua_unknown_node_field(L, ctx, "unknown field", key, allowed);
-        if (!(allowed & BIT(f)) && (limen__lua_kind_fields[kind] & BIT(f)))
+        if (!(allowed & BIT(f)) && (limen__lua_kind_fields(kind) & BIT(f)))
             luaL_error(L, "%s: field '%s' cannot be used here", ctx, key);
         if (!(allowed & BIT(f)))
             luaL_error(L, "%s: field '%s' does not apply to a %s", ctx, key,
-                       limen__lua_kind_names[kind]);
+                       limen_kind_get(kind)->name);
     }
     memset(sp, 0, sizeof *sp);
     for (int f = 0; f < F_COUNT; f++) {

@@ -13,9 +13,9 @@
 const char *limen__lua_node_ctx(const lnode *nd, char *buf, size_t size)
 {
     if (nd->name[0])
-        snprintf(buf, size, "%s '%s'", limen__lua_kind_names[nd->kind], nd->name);
+        snprintf(buf, size, "%s '%s'", limen_kind_get(nd->kind)->name, nd->name);
     else
-        snprintf(buf, size, "%s", limen__lua_kind_names[nd->kind]);
+        snprintf(buf, size, "%s", limen_kind_get(nd->kind)->name);
     return buf;
 }
 
@@ -149,16 +149,16 @@ limen_node limen__lua_create_node(lua_State *L, int scene_idx, limen_node_kind k
 static int field_access_error(lua_State *L, const lnode *nd, const char *ctx, const char *key,
                               int f, const char *unknown)
 {
-    unsigned allowed = limen__lua_kind_fields[nd->kind] & ~F_CONSTRUCT_ONLY;
-    if (f == F_FILE || (f == F_TEXTURE && (limen__lua_kind_fields[nd->kind] & BIT(f))))
+    unsigned allowed = limen__lua_kind_fields(nd->kind) & ~F_CONSTRUCT_ONLY;
+    if (f == F_FILE || (f == F_TEXTURE && (limen__lua_kind_fields(nd->kind) & BIT(f))))
         return luaL_error(L, "%s: field '%s' is only taken by the constructor", ctx, key);
-    if (f >= 0 && (limen__lua_kind_fields[nd->kind] & BIT(f)))
+    if (f >= 0 && (limen__lua_kind_fields(nd->kind) & BIT(f)))
         return luaL_error(L, "%s: field '%s' is only taken by the constructor (see %s)", ctx, key,
                           f == F_LINK ? "node:link(other)" :
                           f == F_LOOK_AT ? "node:look_at(target, up)" : "node:face(normal, up)");
     if (f >= 0)
         return luaL_error(L, "%s: field '%s' does not apply to a %s", ctx, key,
-                          limen__lua_kind_names[nd->kind]);
+                          limen_kind_get(nd->kind)->name);
     return limen__lua_unknown_node_field(L, ctx, unknown, key, allowed);
 }
 
@@ -191,7 +191,7 @@ int limen__lua_node_index(lua_State *L)
     lua_pop(L, 1);
     /* these stay readable after destroy(), for messages and for tostring */
     if (strcmp(key, "kind") == 0) {
-        lua_pushstring(L, limen__lua_kind_names[nd->kind]);
+        lua_pushstring(L, limen_kind_get(nd->kind)->name);
         return 1;
     }
     if (strcmp(key, "name") == 0) {
@@ -209,7 +209,7 @@ int limen__lua_node_index(lua_State *L)
     check_node(L, 1, &s);
     limen_node n = nd->n;
     int f = limen__lua_field_index(key);
-    unsigned allowed = limen__lua_kind_fields[nd->kind] & ~F_CONSTRUCT_ONLY;
+    unsigned allowed = limen__lua_kind_fields(nd->kind) & ~F_CONSTRUCT_ONLY;
     float v[3] = { 0, 0, 0 };
     if (strcmp(key, "partner") == 0 && nd->kind == LIMEN_NODE_PORTAL) {
         limen__lua_push_node(L, 3, limen_portal_get_partner(s, n));
@@ -238,7 +238,7 @@ int limen__lua_node_index(lua_State *L)
     case F_COLOR: limen_node_get_color(s, n, v); limen__lua_push_vec(L, v, 3, 1); return 1;
     case F_SIZE:
         limen_node_get_dims(s, n, v);
-        limen__lua_push_vec(L, v, nd->kind == LIMEN_NODE_BOX ? 3 : 2, 1);
+        limen__lua_push_vec(L, v, limen_kind_get(nd->kind)->size, 1);
         return 1;
     case F_RADIUS: limen_node_get_dims(s, n, v); limen__lua_push_float(L, v[0]); return 1;
     case F_HEIGHT: limen_node_get_dims(s, n, v); limen__lua_push_float(L, v[1]); return 1;
@@ -297,7 +297,7 @@ static int l_node_newindex(lua_State *L)
     limen_scene *s;
     check_node(L, 1, &s);   /* pushes the scene userdata at 4 */
     int f = limen__lua_field_index(key);
-    unsigned allowed = limen__lua_kind_fields[nd->kind] & ~F_CONSTRUCT_ONLY;
+    unsigned allowed = limen__lua_kind_fields(nd->kind) & ~F_CONSTRUCT_ONLY;
     if (f == F_NAME || strcmp(key, "kind") == 0 || strcmp(key, "label") == 0 ||
         (strcmp(key, "partner") == 0 && nd->kind == LIMEN_NODE_PORTAL))
         return luaL_error(L, "%s: field '%s' is read-only%s", ctx, key,

@@ -70,12 +70,12 @@ static int make_node(lua_State *L, limen_node_kind kind)
 {
     lscene *ls = limen__lua_check_scene(L, 1);
     limen__lua_table_arg(L, 2);
+    const char *name = limen_kind_get(kind)->name;
     spec sp;
-    limen__lua_read_ctor(L, 2, 1, kind, limen__lua_kind_fields[kind], limen__lua_kind_names[kind],
-                         ls->s, &sp);
+    limen__lua_read_ctor(L, 2, 1, kind, limen__lua_kind_fields(kind), name, ls->s, &sp);
     char label[LABEL_LEN];
     limen__lua_where(L, label);
-    limen__lua_create_node(L, 1, kind, &sp, limen__lua_kind_names[kind], label, (limen_node){ 0 });
+    limen__lua_create_node(L, 1, kind, &sp, name, label, (limen_node){ 0 });
     return 1;
 }
 
@@ -107,7 +107,7 @@ static int l_scene_mesh(lua_State *L)
     luaL_checktype(L, 2, LUA_TTABLE);
     lua_settop(L, 2);
     spec sp;
-    limen__lua_read_ctor(L, 2, 1, LIMEN_NODE_MESH, limen__lua_kind_fields[LIMEN_NODE_MESH],
+    limen__lua_read_ctor(L, 2, 1, LIMEN_NODE_MESH, limen__lua_kind_fields(LIMEN_NODE_MESH),
                          "mesh", ls->s, &sp);
     if (!sp.file)
         return luaL_error(L, "mesh: field 'file' is required");
@@ -164,7 +164,7 @@ static int l_scene_model(lua_State *L)
     if (!file)
         return luaL_error(L, "model: field 'file' is required");
     spec sp;
-    limen__lua_read_ctor(L, 3, 1, LIMEN_NODE_GROUP, limen__lua_kind_fields[LIMEN_NODE_GROUP],
+    limen__lua_read_ctor(L, 3, 1, LIMEN_NODE_GROUP, limen__lua_kind_fields(LIMEN_NODE_GROUP),
                          "model", ls->s, &sp);
     char path[1200], label[LABEL_LEN];
     limen__lua_script_path(L, "model", file, path, sizeof path);
@@ -223,7 +223,7 @@ static int l_scene_portal_pair(lua_State *L)
     }
     lua_settop(L, 4);
     const limen_node_kind k = LIMEN_NODE_PORTAL;
-    unsigned one = limen__lua_kind_fields[k] & ~BIT(F_LINK);
+    unsigned one = limen__lua_kind_fields(k) & ~BIT(F_LINK);
     spec both, a, b;
     limen__lua_read_ctor(L, 4, 1, k, one & ~BIT(F_NAME), "portal_pair: shared fields", ls->s,
                          &both);
@@ -244,15 +244,26 @@ static int l_scene_portal_pair(lua_State *L)
     return 2;
 }
 
-static int l_scene_group(lua_State *L) { return make_node(L, LIMEN_NODE_GROUP); }
-static int l_scene_box(lua_State *L) { return make_node(L, LIMEN_NODE_BOX); }
-static int l_scene_sphere(lua_State *L) { return make_node(L, LIMEN_NODE_SPHERE); }
-static int l_scene_cylinder(lua_State *L) { return make_node(L, LIMEN_NODE_CYLINDER); }
-static int l_scene_plane(lua_State *L) { return make_node(L, LIMEN_NODE_QUAD); }
-static int l_scene_mirror(lua_State *L) { return make_node(L, LIMEN_NODE_MIRROR); }
-static int l_scene_portal(lua_State *L) { return make_node(L, LIMEN_NODE_PORTAL); }
-static int l_scene_light(lua_State *L) { return make_node(L, LIMEN_NODE_LIGHT); }
-static int l_scene_camera(lua_State *L) { return make_node(L, LIMEN_NODE_CAMERA); }
+/* s:box{}, s:sphere{}, ...: the constructor of the kind in upvalue 1. */
+static int l_scene_kind(lua_State *L)
+{
+    return make_node(L, (limen_node_kind)lua_tointeger(L, lua_upvalueindex(1)));
+}
+
+/* A constructor per node kind, named as the kind (limen_kind_get), in the methods table on
+ * top of the stack; a kind with one of its own there (s:mesh, which reads a file) keeps it. */
+static void kind_constructors(lua_State *L)
+{
+    for (int k = 0; k < LIMEN_NODE_KIND_COUNT; k++) {
+        const char *name = limen_kind_get((limen_node_kind)k)->name;
+        if (lua_getfield(L, -1, name) == LUA_TNIL) {
+            lua_pushinteger(L, k);
+            lua_pushcclosure(L, l_scene_kind, 1);
+            lua_setfield(L, -3, name);
+        }
+        lua_pop(L, 1);
+    }
+}
 
 /* ------------------------------------------------------------------ scene fields */
 
@@ -427,16 +438,7 @@ static const luaL_Reg scene_methods[] = {
     { "cast", limen__lua_scene_cast },
     { "mesh", l_scene_mesh },
     { "model", l_scene_model },
-    { "group", l_scene_group },
-    { "box", l_scene_box },
-    { "sphere", l_scene_sphere },
-    { "cylinder", l_scene_cylinder },
-    { "plane", l_scene_plane },
-    { "mirror", l_scene_mirror },
-    { "portal", l_scene_portal },
-    { "portal_pair", l_scene_portal_pair },
-    { "light", l_scene_light },
-    { "camera", l_scene_camera },
+    { "portal_pair", l_scene_portal_pair },     /* and s:<kind> (kind_constructors) */
     { "find", l_scene_find },
     { "nodes", l_scene_nodes },
     { "render", limen__lua_scene_render },
@@ -494,14 +496,17 @@ static int l_scene_new(lua_State *L)
     return 1;
 }
 
-/* Sets meta's fields and an __index closure over a table of methods. */
+/* Sets meta's fields and an __index closure over a table of methods (which `more`, unless
+ * NULL, adds to). */
 static void new_type(lua_State *L, const char *name, const luaL_Reg *meta,
-                     const luaL_Reg *methods, lua_CFunction index)
+                     const luaL_Reg *methods, lua_CFunction index, void (*more)(lua_State *))
 {
     luaL_newmetatable(L, name);
     luaL_setfuncs(L, meta, 0);
     lua_newtable(L);
     luaL_setfuncs(L, methods, 0);
+    if (more)
+        more(L);
     lua_pushcclosure(L, index, 1);
     lua_setfield(L, -2, "__index");
     lua_pushboolean(L, 0);
@@ -532,8 +537,9 @@ void limen__lua_preload_kit(lua_State *L)
 LIMEN_API int luaopen_limen(lua_State *L)
 {
     limen__lua_preload_kit(L);
-    new_type(L, SCENE_MT, scene_meta, scene_methods, l_scene_index);
-    new_type(L, NODE_MT, limen__lua_node_meta, limen__lua_node_methods, limen__lua_node_index);
+    new_type(L, SCENE_MT, scene_meta, scene_methods, l_scene_index, kind_constructors);
+    new_type(L, NODE_MT, limen__lua_node_meta, limen__lua_node_methods, limen__lua_node_index,
+             NULL);
     lua_createtable(L, 0, 2);
     lua_pushcfunction(L, l_scene_new);
     lua_setfield(L, -2, "scene");

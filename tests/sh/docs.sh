@@ -13,11 +13,10 @@ missing_cast() {
 t_ok "a reference without s:cast fails the check, naming it" missing_cast
 
 
-# every node kind (src/lua/l_fields.c's names) in the reference's list of constructors and
-# in its `kind` row
+# every node kind (the names in src/core/kinds.c's table, which Lua's constructors take) in
+# the reference's list of constructors and in its `kind` row
 every_kind() {
-    kinds=$(sed -n '/limen__lua_kind_names\[LIMEN_NODE_KIND_COUNT\] = {/,/};/p' src/lua/l_fields.c |
-            grep -o '"[a-z]*"' | tr -d '"')
+    kinds=$(grep -o '\.name = "[a-z_]*"' src/core/kinds.c | grep -o '"[a-z_]*"' | tr -d '"')
     [ "$(echo "$kinds" | wc -l)" -ge 10 ] || { echo "kind names not found"; return 1; }
     ctors=$(sed -n '/^### Node constructors/,/^A field that/p' "${1:-docs/lua.md}")
     row=$(grep '^| `kind` |' "${1:-docs/lua.md}")

@@ -1,6 +1,6 @@
-/* mesh.h - unit meshes for the primitives, with levels of detail for curved ones. */
-#ifndef LIMEN_MESH_H
-#define LIMEN_MESH_H
+/* shapes.h - unit meshes for the primitives, with levels of detail for curved ones. */
+#ifndef LIMEN_SHAPES_H
+#define LIMEN_SHAPES_H
 
 #include <stdint.h>
 

@@ -1,4 +1,4 @@
-/* mesh.c - builds the unit meshes once per renderer. Curved shapes come in levels of
+/* shapes.c - builds the unit meshes once per renderer. Curved shapes come in levels of
  * detail: the renderer picks, per view, the coarsest whose silhouette stays within a
  * fraction of a pixel of the true shape (the ray tracer's). */
 #include <math.h>
@@ -6,7 +6,7 @@
 #include <string.h>
 
 #include "gl/gl_internal.h"
-#include "gl/mesh.h"
+#include "gl/shapes.h"
 
 const int limen__lod_segments[LIMEN__LODS] = { 8, 12, 16, 24, 32, 48, 64, 96, 128, 192, 256 };
 
@@ -259,8 +259,12 @@ bool limen__unit_mesh(limen_renderer *r, const vec4 *view, float px_scale, const
     float dist = -vc[2];
     world_r *= view_scale;
     int lod = LIMEN__LODS - 1;
+    /* multisampled: a silhouette's error band holds msaa samples per pixel of its area, each
+     * changing its pixel by 1/msaa of the contrast, so it takes a band msaa times thinner
+     * to leave as few pixels off the area-averaged truth as one sample per pixel leaves */
+    float tol = r->msaa > 1 ? LOD_TOLERANCE_PX / (float)r->msaa : LOD_TOLERANCE_PX;
     if (dist > world_r * 1.01f)
-        lod = limen__lod_for(world_r * px_scale / (dist - world_r), LOD_TOLERANCE_PX);
+        lod = limen__lod_for(world_r * px_scale / (dist - world_r), tol);
     *range = node->kind == LIMEN_NODE_SPHERE ? r->meshes.sphere[lod] : r->meshes.cylinder[lod];
     return true;
 }
