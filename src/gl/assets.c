@@ -8,8 +8,8 @@
  * buffer of their own that every corner reads). Smooth shading needs no face normal, so a smooth mesh's own
  * vertices are drawn indexed instead, which runs the vertex shader about once per vertex
  * rather than once per corner (its corners stand in where that buffer cannot be made). Each
- * buffer is made when a draw first needs it, and holds the levels of detail one after
- * another. Both vertex arrays also read the renderer's instance buffer (gl/batch.c): a
+ * buffer is made when a draw first needs it: the smooth one holds the levels of detail one
+ * after another (their indices), the corners a buffer a level. Both vertex arrays also read the renderer's instance buffer (gl/batch.c): a
  * model matrix, a normal matrix and an albedo per node. */
 #include <stdlib.h>
 #include <string.h>
@@ -51,12 +51,11 @@ enum { GPU_LODS = 16 };         /* levels kept; a coarser one asked for gets the
 
 struct limen__gpu_asset {
     uint64_t serial;
-    GLuint vao, vbo, tex;       /* a mesh's corners, or an image's texture */
+    GLuint vao[GPU_LODS], vbo[GPU_LODS];        /* a mesh's corners, each level's own */
+    GLuint tex;                 /* an image's texture */
     GLuint cvbo;                /* the texture coordinates and colour of every corner, for a
                                  * mesh without its own */
     int corner_floats;          /* floats a corner */
-    GLint first[GPU_LODS];      /* each level's first corner and corners */
-    GLsizei count[GPU_LODS];
     GLuint svao, svbo, sibo;    /* smooth: the vertices, and each level's indices */
     GLint sfirst[GPU_LODS];     /* each level's first index and indices */
     GLsizei scount[GPU_LODS];
@@ -193,32 +192,28 @@ static void *upload_alloc(const limen_renderer *r, size_t bytes)
 
 enum { STAGE_TRIS = 16384 };     /* triangles laid out at a time for an upload */
 
-/* The corners go up a slice of triangles at a time, so that what the upload holds besides
- * the buffer itself stays small however big the mesh (a 1.6M-triangle mesh's corners and
- * its levels' are 0.5 GB). */
-static bool upload_mesh(limen_renderer *r, const limen_mesh_geometry *m, struct limen__gpu_asset *a)
+/* Level k's corners, a buffer of their own made when a draw first needs that level: a
+ * mesh drawn at one level holds no other's (a 1.6M-triangle mesh's levels together hold as
+ * many corners as the mesh again). They go up a slice of triangles at a time, so that what
+ * the upload holds besides the buffer itself stays small however big the mesh. */
+static bool upload_level(limen_renderer *r, const limen_mesh_geometry *m,
+                         struct limen__gpu_asset *a, int k)
 {
-    size_t corners = level_corners(m), stage = corners / 3 < STAGE_TRIS ? corners / 3 : STAGE_TRIS;
+    const uint32_t *ix;
+    int ntris = level(m, k, &ix), stage = ntris < STAGE_TRIS ? ntris : STAGE_TRIS;
     const int cf = corner_floats(m);
     const GLsizei stride = (GLsizei)sizeof(float) * cf;
-    float *buf = upload_alloc(r, sizeof(float) * (size_t)cf * 3 * (stage ? stage : 1));
+    float *buf = upload_alloc(r, sizeof(float) * (size_t)cf * 3 * (size_t)(stage ? stage : 1));
     if (!buf)
         return false;
     a->corner_floats = cf;
-    vertex_arrays(r, &a->vao, &a->vbo, sizeof(float) * (size_t)cf * corners, NULL);
-    size_t at = 0;              /* corners sent */
-    for (int k = 0; k < levels(m); k++) {
-        const uint32_t *ix;
-        int ntris = level(m, k, &ix);
-        a->first[k] = (GLint)at;
-        a->count[k] = (GLsizei)ntris * 3;
-        for (int t = 0; t < ntris; t += STAGE_TRIS) {
-            int n = ntris - t < STAGE_TRIS ? ntris - t : STAGE_TRIS;
-            lay_corners(m, ix + (size_t)t * 3, n, buf);
-            GL(BufferSubData)(GL_ARRAY_BUFFER, (GLintptr)(sizeof(float) * (size_t)cf * at),
-                              (GLsizeiptr)(sizeof(float) * (size_t)cf * 3 * (size_t)n), buf);
-            at += (size_t)n * 3;
-        }
+    vertex_arrays(r, &a->vao[k], &a->vbo[k], sizeof(float) * (size_t)cf * 3 * (size_t)ntris,
+                  NULL);
+    for (int t = 0; t < ntris; t += STAGE_TRIS) {
+        int n = ntris - t < STAGE_TRIS ? ntris - t : STAGE_TRIS;
+        lay_corners(m, ix + (size_t)t * 3, n, buf);
+        GL(BufferSubData)(GL_ARRAY_BUFFER, (GLintptr)(sizeof(float) * (size_t)cf * 3 * (size_t)t),
+                          (GLsizeiptr)(sizeof(float) * (size_t)cf * 3 * (size_t)n), buf);
     }
     free(buf);
     GL(EnableVertexAttribArray)(0);
@@ -235,9 +230,12 @@ static bool upload_mesh(limen_renderer *r, const limen_mesh_geometry *m, struct 
     if (!m->uvs || !m->colors) {
         /* what a mesh without them reads at every corner: (0, 0) and white */
         static const float every[UV_FLOATS + COL_FLOATS] = { 0, 0, 1, 1, 1, 1 };
-        GL(GenBuffers)(1, &a->cvbo);
+        if (!a->cvbo) {
+            GL(GenBuffers)(1, &a->cvbo);
+            GL(BindBuffer)(GL_ARRAY_BUFFER, a->cvbo);
+            GL(BufferData)(GL_ARRAY_BUFFER, sizeof every, every, GL_STATIC_DRAW);
+        }
         GL(BindBuffer)(GL_ARRAY_BUFFER, a->cvbo);
-        GL(BufferData)(GL_ARRAY_BUFFER, sizeof every, every, GL_STATIC_DRAW);
         if (!m->uvs) {
             GL(VertexAttribPointer)(2, 2, GL_FLOAT, GL_FALSE, 0, (void *)0);
             GL(VertexAttribDivisor)(2, EVERY_CORNER);
@@ -249,7 +247,7 @@ static bool upload_mesh(limen_renderer *r, const limen_mesh_geometry *m, struct 
         }
     }
     instance_arrays(r);
-    GL(BindBuffer)(GL_ARRAY_BUFFER, a->vbo);
+    GL(BindBuffer)(GL_ARRAY_BUFFER, a->vbo[k]);
     return true;
 }
 
@@ -322,17 +320,18 @@ bool limen__gpu_mesh_bind(limen_renderer *r, const limen_mesh_geometry *m, bool 
         *count = a->scount[lod];
         return true;
     }
-    if (!a->vao && !upload_mesh(r, m, a)) {
+    if (!a->vao[lod] && !upload_level(r, m, a, lod)) {
         limen__draw_fail(r, LIMEN_ERR_NOMEM, "out of memory uploading a mesh of %d triangles "
                          "(it is not drawn)", m->triangle_count);
         return false;
     }
-    GL(BindVertexArray)(a->vao);
-    GL(BindBuffer)(GL_ARRAY_BUFFER, a->vbo);
+    GL(BindVertexArray)(a->vao[lod]);
+    GL(BindBuffer)(GL_ARRAY_BUFFER, a->vbo[lod]);
     GL(VertexAttribPointer)(1, 3, GL_FLOAT, GL_FALSE, (GLsizei)sizeof(float) * a->corner_floats,
                             (void *)(sizeof(float) * (smooth ? AT_SMOOTH : AT_FLAT)));
-    *first = a->first[lod];
-    *count = a->count[lod];
+    const uint32_t *ix;
+    *first = 0;
+    *count = (GLsizei)level(m, lod, &ix) * 3;
     return true;
 }
 
@@ -420,12 +419,14 @@ GLuint limen__gpu_texture_on(limen_renderer *r, const limen_image *t, int unit,
 
 static void drop(limen_renderer *r, struct limen__gpu_asset *a)
 {
-    if (a->vbo)
-        GL(DeleteBuffers)(1, &a->vbo);
+    for (int k = 0; k < GPU_LODS; k++) {
+        if (a->vbo[k])
+            GL(DeleteBuffers)(1, &a->vbo[k]);
+        if (a->vao[k])
+            GL(DeleteVertexArrays)(1, &a->vao[k]);
+    }
     if (a->cvbo)
         GL(DeleteBuffers)(1, &a->cvbo);
-    if (a->vao)
-        GL(DeleteVertexArrays)(1, &a->vao);
     if (a->svao) {
         GL(DeleteVertexArrays)(1, &a->svao);
         GL(DeleteBuffers)(1, &a->svbo);
