@@ -762,27 +762,21 @@ static void install(limen__mesh *m, made *mk)
     mk->block = NULL;
 }
 
-/* The levels kept from an earlier run (core/lod_cache.c), where there are some for m. */
+/* The levels kept from an earlier run (core/lod_cache.c), where there are some for m: read
+ * into the block they are kept in, after room for the levels' headers. */
 static bool from_cache(limen__mesh *m, const limen__lod_where *w, const limen__lod_key *key)
 {
     limen_mesh_lod lv[MAX_LEVELS];
-    uint32_t n, *idx;
-    if (!limen__lod_cache_load(w, key, m->nverts, m->ntris, lv, MAX_LEVELS, &n, &idx))
+    uint32_t n;
+    unsigned char *block;
+    if (!limen__lod_cache_load(w, key, m->nverts, m->ntris, lv, MAX_LEVELS, &n, HEAD, &block))
         return false;
-    made mk = { .nlods = n };
+    made mk = { .nlods = n, .block = block };
     for (uint32_t k = 1; k < n; k++) {
         mk.at[k] = mk.used;
         mk.used += (size_t)lv[k].triangle_count * 3;
     }
-    mk.block = malloc(HEAD + sizeof(uint32_t) * (mk.used ? mk.used : 1));
-    if (!mk.block) {
-        free(idx);
-        return false;
-    }
     memcpy(mk.block, lv, sizeof *lv * n);
-    if (mk.used)
-        memcpy(mk.block + HEAD, idx, sizeof(uint32_t) * mk.used);
-    free(idx);
     install(m, &mk);
     return true;
 }
