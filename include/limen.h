@@ -1120,12 +1120,15 @@ typedef enum limen_draw_op {
                                  * state.stencil_write_mask (the frame's first clear) */
     LIMEN_DRAW_POLYGON,         /* a triangle fan of list vertices [first, first + count):
                                  * x, y, z in normalized device coordinates, already clipped
-                                 * (clip nothing), in flat `color` (tint included); with `image`
+                                 * (clip nothing: its state's clip_on and cut_on are always
+                                 * 0), in flat `color` (tint included); with `image`
                                  * not NONE: the image's texel at uv = image_map.xy *
                                  * fragment.xy + image_map.zw (fragment: the pixel in the
                                  * target, frame origin 0, 0), times `color` */
     LIMEN_DRAW_SHAPE,           /* drawable `item` (box, sphere, cylinder, quad, or a mirror's
-                                 * or portal's quad) at model matrix `world` with albedo
+                                 * or portal's quad) at model matrix `world` (the drawable's,
+                                 * or a portal copy's: carried; like limen_drawable.world it
+                                 * holds not the unit shape's scale, dims) with albedo
                                  * `color`, lit: limen's shading, checker and texture as the
                                  * drawable says */
     LIMEN_DRAW_MESHES,          /* mesh drawable `item` at level of detail `lod` (clamp it to

@@ -114,6 +114,8 @@ static void check_ranges(const frame *f)
             for (int k = c[i].first; k < c[i].first + c[i].count && k < nv; k++)
                 CHECK_MSG(fabsf(v[k][0]) <= 1.00001f && fabsf(v[k][1]) <= 1.00001f,
                           "vertex %d at %g, %g", k, v[k][0], v[k][1]);
+            /* already clipped: a backend may draw it with no clip distances */
+            CHECK(!c[i].state.clip_on && !c[i].state.cut_on);
             if (c[i].image == LIMEN_IMAGE_TARGET)
                 CHECK(c[i].target > 0 && c[i].target < 256 && drawn[c[i].target]);
             break;
