@@ -1167,6 +1167,10 @@ typedef struct limen_draw_cmd {
     int target;                 /* TARGET; POLYGON with LIMEN_IMAGE_TARGET: the image's */
     int target_w, target_h;     /* TARGET: the target's size (0 for the frame) */
     int viewport[4];            /* TARGET: x, y, w, h in it */
+    int segments;               /* SHAPE: a sphere's or cylinder's segments around (8, 12, 16,
+                                 * 24, 32, 48, 64, 96, 128, 192 or 256: the fewest whose
+                                 * silhouette stays within 0.2 pixel, 0.2 / msaa where
+                                 * multisampled, of the true one); 0 for other shapes */
 } limen_draw_cmd;
 
 typedef struct limen_draw_instance {
