@@ -50,6 +50,7 @@ void limen_plan_destroy(limen_plan *p)
     free(p->surface_of);
     free(p->candidates);
     free(p->shape_hits);
+    free(p->slot_bits);
     free(p->thing_slots);
     free(p->things);
     free(p->things_first);
