@@ -27,6 +27,12 @@
 #ifdef __GLIBC__
 #include <malloc.h>
 #endif
+#ifdef __linux__
+#include <errno.h>
+#include <sys/resource.h>
+#include <sys/syscall.h>
+#include <unistd.h>
+#endif
 
 #include <meshoptimizer.h>
 
@@ -48,6 +54,7 @@
 #define SOURCE_STEP 3           /* a level is simplified from the one this many before */
 #define REL_TOL 0.1             /* a piece's bound may exceed the largest distance found by this */
 #define MAX_DEPTH 4             /* pieces per triangle: at most 4^4 */
+#define LOD_NICE 10            /* how much a build beside the scene's thread yields to it */
 #define MEASURERS 2           /* threads bounding a level's pieces (this machine's cores) */
 #define SLICE 256               /* triangles a measurer takes in turn with the others */
 #define NEAR_ENOUGH 0.8         /* a cut's point this near a corner's triangle (of what the
@@ -755,27 +762,21 @@ static void install(limen__mesh *m, made *mk)
     mk->block = NULL;
 }
 
-/* The levels kept from an earlier run (core/lod_cache.c), where there are some for m. */
+/* The levels kept from an earlier run (core/lod_cache.c), where there are some for m: read
+ * into the block they are kept in, after room for the levels' headers. */
 static bool from_cache(limen__mesh *m, const limen__lod_where *w, const limen__lod_key *key)
 {
     limen_mesh_lod lv[MAX_LEVELS];
-    uint32_t n, *idx;
-    if (!limen__lod_cache_load(w, key, m->nverts, m->ntris, lv, MAX_LEVELS, &n, &idx))
+    uint32_t n;
+    unsigned char *block;
+    if (!limen__lod_cache_load(w, key, m->nverts, m->ntris, lv, MAX_LEVELS, &n, HEAD, &block))
         return false;
-    made mk = { .nlods = n };
+    made mk = { .nlods = n, .block = block };
     for (uint32_t k = 1; k < n; k++) {
         mk.at[k] = mk.used;
         mk.used += (size_t)lv[k].triangle_count * 3;
     }
-    mk.block = malloc(HEAD + sizeof(uint32_t) * (mk.used ? mk.used : 1));
-    if (!mk.block) {
-        free(idx);
-        return false;
-    }
     memcpy(mk.block, lv, sizeof *lv * n);
-    if (mk.used)
-        memcpy(mk.block + HEAD, idx, sizeof(uint32_t) * mk.used);
-    free(idx);
     install(m, &mk);
     return true;
 }
@@ -840,9 +841,25 @@ void limen__lod_set_async_above(uint32_t triangles)
     async_above = triangles;
 }
 
+/* The thread making levels beside the scene's yields to it (and to the renderer's threads)
+ * where they compete for the cores: the first frames draw the full mesh meanwhile, and
+ * should not wait for levels they do not need yet. Linux's nice is the thread's own, and
+ * the measuring threads it starts take it. */
+static void yield_to_frames(void)
+{
+#ifdef __linux__
+    id_t tid = (id_t)syscall(SYS_gettid);
+    errno = 0;
+    int now = getpriority(PRIO_PROCESS, tid);
+    if (errno == 0)
+        (void)setpriority(PRIO_PROCESS, tid, now + LOD_NICE);
+#endif
+}
+
 static void *job_run(void *arg)
 {
     struct limen__lod_job *j = arg;
+    yield_to_frames();
     j->ok = lods_make(j->m, &j->stop, &j->mk);
     if (j->ok)
         to_cache(j->m, &j->where, &j->key, &j->mk);

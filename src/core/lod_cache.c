@@ -181,10 +181,10 @@ uint64_t limen__lod_cache_checksum(const void *data, size_t len)
 bool limen__lod_cache_load(const limen__lod_where *w, const limen__lod_key *key,
                            uint32_t nverts, uint32_t ntris,
                            limen_mesh_lod *lods, uint32_t max_levels, uint32_t *nlods,
-                           uint32_t **indices)
+                           size_t room, unsigned char **block)
 {
     *nlods = 0;
-    *indices = NULL;
+    *block = NULL;
     char path[4200];
     if (!entry_path(w, key, path, sizeof path))
         return false;
@@ -193,15 +193,18 @@ bool limen__lod_cache_load(const limen__lod_where *w, const limen__lod_key *key,
     if (fd < 0)
         return false;
     struct stat st;
-    unsigned char *buf = NULL;
+    unsigned char *whole = NULL, *buf = NULL;
     bool ok = fstat(fd, &st) == 0 && S_ISREG(st.st_mode) && st.st_size > 0;
     size_t len = ok ? (size_t)st.st_size : 0;
     /* the largest entry a mesh of this size makes: its levels hold at most as many indices
      * as the full mesh (lod.c), each level 8 bytes of header */
     uint64_t most = 8 + 4 * HEAD_WORDS + 8ull * max_levels + 4ull * 3 * ntris + 8;
     ok = ok && (uint64_t)st.st_size <= most && len >= 8 + 4 * HEAD_WORDS + 8;
+    /* read in after `room` bytes, where the indices will be moved down to: one copy of them
+     * at a time (a 1.6M-triangle mesh's are 19 MB) */
     if (ok)
-        ok = (buf = malloc(len)) != NULL;
+        ok = (whole = malloc(room + len)) != NULL;
+    buf = whole ? whole + room : NULL;
     size_t got = 0;
     while (ok && got < len) {
         ssize_t r = read(fd, buf + got, len - got);
@@ -243,23 +246,23 @@ bool limen__lod_cache_load(const limen__lod_where *w, const limen__lod_key *key,
         total += k ? 3ull * count : 0;
     }
     ok = ok && total == head[8];
-    uint32_t *idx = NULL;
-    if (ok && total > 0)
-        ok = (idx = malloc(sizeof *idx * total)) != NULL;
     if (ok && total > 0) {
-        memcpy(idx, lv + 8 * n, sizeof *idx * total);
+        memmove(whole + room, lv + 8 * n, sizeof(uint32_t) * total);
+        const uint32_t *idx = (const uint32_t *)(whole + room);
         for (uint64_t i = 0; ok && i < total; i++)
             ok = idx[i] < nverts;
     }
-    free(buf);
     if (!ok) {
-        free(idx);
+        free(whole);
         return false;
     }
+    unsigned char *fit = realloc(whole, room + sizeof(uint32_t) * total);
+    if (fit)
+        whole = fit;
     /* used: the last to be trimmed */
     utimensat(AT_FDCWD, path, NULL, AT_SYMLINK_NOFOLLOW);
     *nlods = n;
-    *indices = idx;
+    *block = whole;
     return true;
 }
 

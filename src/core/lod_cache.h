@@ -33,15 +33,16 @@ void limen__lod_cache_where(limen__lod_where *w);
 
 /* The levels stored under key for a mesh of nverts vertices and ntris triangles: *nlods
  * levels (at most max_levels, the first the full mesh: indices NULL), their triangle counts
- * and errors in lods, and the coarse levels' indices one after another in a block
- * (*indices, malloc'd; the caller frees it), each checked (counts falling, every index
+ * and errors in lods, and the coarse levels' indices one after another in a block (*block,
+ * malloc'd, the caller frees it; the indices from `room` bytes on, suitably aligned where
+ * room is a multiple of 8), each checked (counts falling, every index
  * below nverts, errors finite and growing, the whole entry's checksum). False where there
  * is none, or it is not whole and valid (it is then ignored, and the next store replaces
  * it), or memory is out. */
 bool limen__lod_cache_load(const limen__lod_where *w, const limen__lod_key *key,
                            uint32_t nverts, uint32_t ntris,
                            limen_mesh_lod *lods, uint32_t max_levels, uint32_t *nlods,
-                           uint32_t **indices);
+                           size_t room, unsigned char **block);
 
 /* Stores nlods levels (lods[k].indices for k >= 1) under key in w, written whole or not at
  * all, then trims the folder to w's size limit, the entries used least recently first.

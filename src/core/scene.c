@@ -833,7 +833,7 @@ limen_status limen_node_set_color(limen_scene *s, limen_node n, const float rgb[
     limen_status found = limen__node_lookup(s, n, 0, NULL, __func__, &node);
     if (found)
         return found;
-    limen_status st = check_color(s, rgb, node->kind != LIMEN_NODE_LIGHT, "color");
+    limen_status st = check_color(s, rgb, !limen_kind_get(node->kind)->light, "color");
     if (st)
         return st;
     glm_vec3_copy((float *)rgb, node->color);

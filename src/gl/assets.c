@@ -4,11 +4,12 @@
  *
  * A flat-shaded mesh is drawn unindexed, three corners per triangle, each with its
  * position, its triangle's face normal (computed as the ray tracer does), its vertex normal
- * and its texture coordinates. Smooth shading needs no face normal, so a smooth mesh's own
+ * and, where the mesh has them, its texture coordinates and colour (else one of each in a
+ * buffer of their own that every corner reads). Smooth shading needs no face normal, so a smooth mesh's own
  * vertices are drawn indexed instead, which runs the vertex shader about once per vertex
  * rather than once per corner (its corners stand in where that buffer cannot be made). Each
- * buffer is made when a draw first needs it, and holds the levels of detail one after
- * another. Both vertex arrays also read the renderer's instance buffer (gl/batch.c): a
+ * buffer is made when a draw first needs it: the smooth one holds the levels of detail one
+ * after another (their indices), the corners a buffer a level. Both vertex arrays also read the renderer's instance buffer (gl/batch.c): a
  * model matrix, a normal matrix and an albedo per node. */
 #include <stdlib.h>
 #include <string.h>
@@ -40,14 +41,21 @@
 #define GL_LINEAR_MIPMAP_LINEAR 0x2703
 #endif
 
-enum { CORNER_FLOATS = 15, AT_FLAT = 3, AT_SMOOTH = 6, AT_UV = 9, AT_COL = 11 };
+/* a corner: position, face normal, vertex normal, then texture coordinates and colour where
+ * the mesh has them (a mesh without takes them from a buffer of one of each, read by every
+ * corner: a 1.6M-triangle mesh's corners are 115 MB less) */
+enum { CORNER_FLOATS = 9, AT_FLAT = 3, AT_SMOOTH = 6, UV_FLOATS = 2, COL_FLOATS = 4 };
+#define EVERY_CORNER (1u << 30)         /* an instanced attribute's divisor no draw reaches:
+                                         * every corner of every instance reads element 0 */
 enum { GPU_LODS = 16 };         /* levels kept; a coarser one asked for gets the last */
 
 struct limen__gpu_asset {
     uint64_t serial;
-    GLuint vao, vbo, tex;       /* a mesh's corners, or an image's texture */
-    GLint first[GPU_LODS];      /* each level's first corner and corners */
-    GLsizei count[GPU_LODS];
+    GLuint vao[GPU_LODS], vbo[GPU_LODS];        /* a mesh's corners, each level's own */
+    GLuint tex;                 /* an image's texture */
+    GLuint cvbo;                /* the texture coordinates and colour of every corner, for a
+                                 * mesh without its own */
+    int corner_floats;          /* floats a corner */
     GLuint svao, svbo, sibo;    /* smooth: the vertices, and each level's indices */
     GLint sfirst[GPU_LODS];     /* each level's first index and indices */
     GLsizei scount[GPU_LODS];
@@ -91,20 +99,31 @@ static void face_normal(const limen_mesh_geometry *m, const uint32_t *ix, float 
         n[k] = len > 0 ? (float)(c[k] / len) : 0.0f;
 }
 
-/* The corners of level `lod` (its triangles' indices ix) from buf on. */
+/* Floats a corner of m holds. */
+static int corner_floats(const limen_mesh_geometry *m)
+{
+    return CORNER_FLOATS + (m->uvs ? UV_FLOATS : 0) + (m->colors ? COL_FLOATS : 0);
+}
+
+/* The corners of ntris triangles (their indices ix) from buf on. */
 static float *lay_corners(const limen_mesh_geometry *m, const uint32_t *ix, int ntris, float *buf)
 {
     for (int t = 0; t < ntris; t++, ix += 3) {
         float fn[3];
         face_normal(m, ix, fn);
-        for (int k = 0; k < 3; k++, buf += CORNER_FLOATS) {
+        for (int k = 0; k < 3; k++) {
             memcpy(buf, &m->positions[ix[k] * 3], sizeof(float) * 3);
             memcpy(buf + AT_FLAT, fn, sizeof fn);
             memcpy(buf + AT_SMOOTH, &m->normals[ix[k] * 3], sizeof(float) * 3);
-            buf[AT_UV] = m->uvs ? m->uvs[ix[k] * 2] : 0.0f;
-            buf[AT_UV + 1] = m->uvs ? m->uvs[ix[k] * 2 + 1] : 0.0f;
-            for (int c = 0; c < 4; c++)
-                buf[AT_COL + c] = m->colors ? m->colors[ix[k] * 4 + c] : 1.0f;
+            buf += CORNER_FLOATS;
+            if (m->uvs) {
+                memcpy(buf, &m->uvs[ix[k] * 2], sizeof(float) * UV_FLOATS);
+                buf += UV_FLOATS;
+            }
+            if (m->colors) {
+                memcpy(buf, &m->colors[ix[k] * 4], sizeof(float) * COL_FLOATS);
+                buf += COL_FLOATS;
+            }
         }
     }
     return buf;
@@ -173,42 +192,62 @@ static void *upload_alloc(const limen_renderer *r, size_t bytes)
 
 enum { STAGE_TRIS = 16384 };     /* triangles laid out at a time for an upload */
 
-/* The corners go up a slice of triangles at a time, so that what the upload holds besides
- * the buffer itself stays small however big the mesh (a 1.6M-triangle mesh's corners and
- * its levels' are 0.5 GB). */
-static bool upload_mesh(limen_renderer *r, const limen_mesh_geometry *m, struct limen__gpu_asset *a)
+/* Level k's corners, a buffer of their own made when a draw first needs that level: a
+ * mesh drawn at one level holds no other's (a 1.6M-triangle mesh's levels together hold as
+ * many corners as the mesh again). They go up a slice of triangles at a time, so that what
+ * the upload holds besides the buffer itself stays small however big the mesh. */
+static bool upload_level(limen_renderer *r, const limen_mesh_geometry *m,
+                         struct limen__gpu_asset *a, int k)
 {
-    size_t corners = level_corners(m), stage = corners / 3 < STAGE_TRIS ? corners / 3 : STAGE_TRIS;
-    float *buf = upload_alloc(r, sizeof(float) * CORNER_FLOATS * 3 * (stage ? stage : 1));
+    const uint32_t *ix;
+    int ntris = level(m, k, &ix), stage = ntris < STAGE_TRIS ? ntris : STAGE_TRIS;
+    const int cf = corner_floats(m);
+    const GLsizei stride = (GLsizei)sizeof(float) * cf;
+    float *buf = upload_alloc(r, sizeof(float) * (size_t)cf * 3 * (size_t)(stage ? stage : 1));
     if (!buf)
         return false;
-    vertex_arrays(r, &a->vao, &a->vbo, sizeof(float) * CORNER_FLOATS * corners, NULL);
-    size_t at = 0;              /* corners sent */
-    for (int k = 0; k < levels(m); k++) {
-        const uint32_t *ix;
-        int ntris = level(m, k, &ix);
-        a->first[k] = (GLint)at;
-        a->count[k] = (GLsizei)ntris * 3;
-        for (int t = 0; t < ntris; t += STAGE_TRIS) {
-            int n = ntris - t < STAGE_TRIS ? ntris - t : STAGE_TRIS;
-            lay_corners(m, ix + (size_t)t * 3, n, buf);
-            GL(BufferSubData)(GL_ARRAY_BUFFER, (GLintptr)(sizeof(float) * CORNER_FLOATS * at),
-                              (GLsizeiptr)(sizeof(float) * CORNER_FLOATS * 3 * (size_t)n), buf);
-            at += (size_t)n * 3;
-        }
+    a->corner_floats = cf;
+    vertex_arrays(r, &a->vao[k], &a->vbo[k], sizeof(float) * (size_t)cf * 3 * (size_t)ntris,
+                  NULL);
+    for (int t = 0; t < ntris; t += STAGE_TRIS) {
+        int n = ntris - t < STAGE_TRIS ? ntris - t : STAGE_TRIS;
+        lay_corners(m, ix + (size_t)t * 3, n, buf);
+        GL(BufferSubData)(GL_ARRAY_BUFFER, (GLintptr)(sizeof(float) * (size_t)cf * 3 * (size_t)t),
+                          (GLsizeiptr)(sizeof(float) * (size_t)cf * 3 * (size_t)n), buf);
     }
     free(buf);
     GL(EnableVertexAttribArray)(0);
-    GL(VertexAttribPointer)(0, 3, GL_FLOAT, GL_FALSE, sizeof(float) * CORNER_FLOATS, (void *)0);
+    GL(VertexAttribPointer)(0, 3, GL_FLOAT, GL_FALSE, stride, (void *)0);
     GL(EnableVertexAttribArray)(1);
+    size_t at_uv = CORNER_FLOATS, at_col = at_uv + (m->uvs ? UV_FLOATS : 0);
     GL(EnableVertexAttribArray)(2);
-    GL(VertexAttribPointer)(2, 2, GL_FLOAT, GL_FALSE, sizeof(float) * CORNER_FLOATS,
-                            (void *)(sizeof(float) * AT_UV));
+    if (m->uvs)
+        GL(VertexAttribPointer)(2, 2, GL_FLOAT, GL_FALSE, stride, (void *)(sizeof(float) * at_uv));
     GL(EnableVertexAttribArray)(11);    /* vertex colours (materials) */
-    GL(VertexAttribPointer)(11, 4, GL_FLOAT, GL_FALSE, sizeof(float) * CORNER_FLOATS,
-                            (void *)(sizeof(float) * AT_COL));
+    if (m->colors)
+        GL(VertexAttribPointer)(11, 4, GL_FLOAT, GL_FALSE, stride,
+                                (void *)(sizeof(float) * at_col));
+    if (!m->uvs || !m->colors) {
+        /* what a mesh without them reads at every corner: (0, 0) and white */
+        static const float every[UV_FLOATS + COL_FLOATS] = { 0, 0, 1, 1, 1, 1 };
+        if (!a->cvbo) {
+            GL(GenBuffers)(1, &a->cvbo);
+            GL(BindBuffer)(GL_ARRAY_BUFFER, a->cvbo);
+            GL(BufferData)(GL_ARRAY_BUFFER, sizeof every, every, GL_STATIC_DRAW);
+        }
+        GL(BindBuffer)(GL_ARRAY_BUFFER, a->cvbo);
+        if (!m->uvs) {
+            GL(VertexAttribPointer)(2, 2, GL_FLOAT, GL_FALSE, 0, (void *)0);
+            GL(VertexAttribDivisor)(2, EVERY_CORNER);
+        }
+        if (!m->colors) {
+            GL(VertexAttribPointer)(11, 4, GL_FLOAT, GL_FALSE, 0,
+                                    (void *)(sizeof(float) * UV_FLOATS));
+            GL(VertexAttribDivisor)(11, EVERY_CORNER);
+        }
+    }
     instance_arrays(r);
-    GL(BindBuffer)(GL_ARRAY_BUFFER, a->vbo);
+    GL(BindBuffer)(GL_ARRAY_BUFFER, a->vbo[k]);
     return true;
 }
 
@@ -281,17 +320,18 @@ bool limen__gpu_mesh_bind(limen_renderer *r, const limen_mesh_geometry *m, bool 
         *count = a->scount[lod];
         return true;
     }
-    if (!a->vao && !upload_mesh(r, m, a)) {
+    if (!a->vao[lod] && !upload_level(r, m, a, lod)) {
         limen__draw_fail(r, LIMEN_ERR_NOMEM, "out of memory uploading a mesh of %d triangles "
                          "(it is not drawn)", m->triangle_count);
         return false;
     }
-    GL(BindVertexArray)(a->vao);
-    GL(BindBuffer)(GL_ARRAY_BUFFER, a->vbo);
-    GL(VertexAttribPointer)(1, 3, GL_FLOAT, GL_FALSE, sizeof(float) * CORNER_FLOATS,
+    GL(BindVertexArray)(a->vao[lod]);
+    GL(BindBuffer)(GL_ARRAY_BUFFER, a->vbo[lod]);
+    GL(VertexAttribPointer)(1, 3, GL_FLOAT, GL_FALSE, (GLsizei)sizeof(float) * a->corner_floats,
                             (void *)(sizeof(float) * (smooth ? AT_SMOOTH : AT_FLAT)));
-    *first = a->first[lod];
-    *count = a->count[lod];
+    const uint32_t *ix;
+    *first = 0;
+    *count = (GLsizei)level(m, lod, &ix) * 3;
     return true;
 }
 
@@ -379,10 +419,14 @@ GLuint limen__gpu_texture_on(limen_renderer *r, const limen_image *t, int unit,
 
 static void drop(limen_renderer *r, struct limen__gpu_asset *a)
 {
-    if (a->vbo)
-        GL(DeleteBuffers)(1, &a->vbo);
-    if (a->vao)
-        GL(DeleteVertexArrays)(1, &a->vao);
+    for (int k = 0; k < GPU_LODS; k++) {
+        if (a->vbo[k])
+            GL(DeleteBuffers)(1, &a->vbo[k]);
+        if (a->vao[k])
+            GL(DeleteVertexArrays)(1, &a->vao[k]);
+    }
+    if (a->cvbo)
+        GL(DeleteBuffers)(1, &a->cvbo);
     if (a->svao) {
         GL(DeleteVertexArrays)(1, &a->svao);
         GL(DeleteBuffers)(1, &a->svbo);
