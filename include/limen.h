@@ -872,11 +872,6 @@ LIMEN_API int limen_view_mesh_lod(const limen_view *v, int height, const limen_d
  * may still be hidden. Sets *out to the view's handles, in node order (owned by the plan, valid
  * until its next build; NULL when there are none, or i is out of range), and returns how many. */
 LIMEN_API int limen_plan_things(const limen_plan *p, int i, const limen_node **out);
-/* Deprecated: limen_plan_things. Copies up to max of view i's shapes into out and returns how
- * many there are (more than max when out is too small); -1 when there is no view i or out is
- * NULL with max > 0 (the message in s, which may be NULL: the plan needs no scene). */
-LIMEN_API int limen_plan_view_things(const limen_plan *p, limen_scene *s, int i, limen_node *out,
-                                     int max);
 /* A closed shape (box, sphere, cylinder, mesh) passing through a portal, its centre over the
  * rectangle: it is drawn twice in every view, itself cut at the portal's plane and a copy
  * carried by the portal matrix, cut at the partner's plane. */
@@ -1536,6 +1531,13 @@ static inline void limen_renderer_size(const limen_renderer *r, int *width, int 
 {
     limen_renderer_get_size(r, width, height);
 }
+/* The things of a view before the plan kept them (limen_plan_things, which needs no scene and
+ * no buffer): copies up to max of view i's shapes into out and returns how many there are
+ * (more than max when out is too small); -1 when there is no view i or out is NULL with
+ * max > 0 (the message in s, which may be NULL). */
+LIMEN_DEPRECATED("limen_plan_things")
+LIMEN_API int limen_plan_view_things(const limen_plan *p, limen_scene *s, int i, limen_node *out,
+                                     int max);
 
 #ifdef __cplusplus
 }
