@@ -49,6 +49,7 @@ static void test_rows(void)
             CHECK(strcmp(ki->name, limen_kind_get((limen_node_kind)j)->name) != 0);
         CHECK(ki->size >= 0 && ki->size <= 3);
         CHECK((unsigned)ki->uv < LIMEN_UV_COUNT);
+        CHECK((unsigned)ki->unit < LIMEN_UNIT_COUNT);
         CHECK(ki->shape + ki->surface + ki->light <= 1);
         CHECK(!ki->unit || ki->shape || ki->surface);
         CHECK(!ki->closed || (ki->shape && !ki->flat));
@@ -67,6 +68,14 @@ static void test_rows(void)
     CHECK(mesh->shape && !mesh->unit && !mesh->closed && mesh->uv == LIMEN_UV_MESH);
     CHECK(limen_kind_get(LIMEN_NODE_MIRROR)->surface && limen_kind_get(LIMEN_NODE_PORTAL)->flat);
     CHECK(limen_kind_get(LIMEN_NODE_SPHERE)->uv == LIMEN_UV_NONE);
+    static const limen_unit_shape units[LIMEN_NODE_KIND_COUNT] = {
+        [LIMEN_NODE_BOX] = LIMEN_UNIT_BOX, [LIMEN_NODE_SPHERE] = LIMEN_UNIT_BALL,
+        [LIMEN_NODE_CYLINDER] = LIMEN_UNIT_CYLINDER, [LIMEN_NODE_QUAD] = LIMEN_UNIT_SQUARE,
+        [LIMEN_NODE_MIRROR] = LIMEN_UNIT_SQUARE, [LIMEN_NODE_PORTAL] = LIMEN_UNIT_SQUARE,
+    };
+    for (int k = 0; k < LIMEN_NODE_KIND_COUNT; k++)
+        CHECK_MSG(limen_kind_get((limen_node_kind)k)->unit == units[k], "%s: unit %d", names[k],
+                  (int)limen_kind_get((limen_node_kind)k)->unit);
     CHECK(limen_kind_get(LIMEN_NODE_LIGHT)->light && !limen_kind_get(LIMEN_NODE_CAMERA)->light);
 }
 
