@@ -36,7 +36,7 @@ SONAME   := liblimen.so.$(VERSION_MAJOR)
 CORE_SRC := src/core/error.c src/core/limits.c src/core/lmath.c src/core/scene.c src/core/surface.c src/core/move.c src/core/straddle.c src/core/bvh.c src/core/index.c src/core/rtc.c src/core/cull.c src/core/plan.c src/core/drawables.c src/core/trace.c src/core/image.c src/core/jpeg.c src/core/file.c src/core/confine.c src/core/contain.c src/core/gltf_cost.c src/core/mesh.c src/core/lod.c src/core/lod_target.c src/core/lod_cache.c src/core/texture.c
 # the library's own version (limen_version)
 CORE_SRC += src/core/version.c
-CORE_SRC += src/core/drawlist.c src/core/drawlist_stencil.c src/core/drawlist_batch.c
+CORE_SRC += src/core/drawlist.c src/core/drawlist_stencil.c src/core/drawlist_texture.c src/core/drawlist_batch.c
 CORE_SRC += src/core/import.c
 # levels of detail: the weld the simplifier is given (core/lod_weld.c)
 CORE_SRC += src/core/lod_weld.c
@@ -54,6 +54,7 @@ LIB_SRC  := $(sort $(CORE_SRC) $(GL_SRC) $(LUA_SRC))
 CLI_SRC  := src/cli/main.c src/cli/common.c src/cli/trace_cmd.c src/cli/pose.c src/cli/view.c
 TEST_C   := tests/test_host.c tests/test_math.c tests/test_mesh.c tests/test_lod.c tests/test_projection.c tests/test_scene.c tests/test_plan.c tests/test_render.c tests/test_script.c tests/test_script_limits.c tests/test_trace.c tests/test_gallery.c tests/test_threads.c tests/test_truth.c tests/test_example_game.c tests/test_crossing.c tests/test_sweep_approach.c tests/test_sweep_grazing.c tests/test_sweep_depth.c tests/test_sweep_recursion.c tests/test_sweep_matrix.c tests/test_sweep_odd.c tests/test_scale.c tests/test_model.c tests/test_safe_load.c
 TEST_C   += tests/test_materials.c
+TEST_C   += tests/test_drawlist.c
 LIB_SRC  += src/core/collide.c src/core/contact.c src/lua/l_collide.c
 TEST_C   += tests/test_collide.c
 
@@ -179,7 +180,7 @@ test: all $(TEST_BIN) test-deps examples
 
 # ------------------------------------------------------------------ examples
 # examples/: a game on SDL2 that lets limen draw into its window (walk.c) and a game that
-# draws limen's plan with its own OpenGL (own_renderer.c), each built as a user would build
+# draws limen's draw list with its own OpenGL (own_renderer.c), each built as a user would build
 # it: from the library's pkg-config file alone (here build/limen.pc).
 EXAMPLES := $(B)/examples/walk $(B)/examples/own_renderer
 EX_PC     = PKG_CONFIG_PATH=$(abspath $(B)) pkg-config

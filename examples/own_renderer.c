@@ -1,77 +1,24 @@
-/* own_renderer.c - limen in a game that draws by itself (engine-agnostic use).
+/* own_renderer.c - a game that draws limen's draw list with OpenGL of its own.
  *
- * A game with its own renderer uses limen for two things only: the scene graph (nodes and
- * transforms, mirrors and portals, moving through portals) and, every frame, the plan of
- * the view tree: which virtual views the mirrors and portals open, with their matrices,
- * clip planes, windings, scissor rectangles and stencil values. Everything else is the
- * game's: its OpenGL context, shader, meshes and draw calls. This file is such a game cut
- * to the bone; tests/test_example_game.c holds its frames to limen's own renderer's.
+ * limen keeps the game's scene graph (nodes, mirrors, portals, moving through them) and hands
+ * it, every frame, a draw list: commands in the order to run them, each with what to draw and
+ * the pipeline state to draw it with (docs/DESIGN.md, "The draw list"). The game needs no plan
+ * logic, clipping or sorting; tests/test_example_game.c holds its frames to limen's own.
  *
  *     make examples && build/examples/own_renderer scenes/portals.lua portals.png
  *
- * builds it against the installed library (pkg-config limen) and draws a scene script.
- *
  * THE STEPS
- *   1. Context (section 1). The game's own: here OSMesa with OpenGL 3.3+ core, drawing into
- *      its own framebuffer object with a depth24/stencil8 attachment (the stencil nests
- *      the views). Any window system works the same way.
- *   2. Shader and meshes (sections 2, 3). The game's own. To match limen's pictures it
- *      shades with limen's formula
- *          colour = albedo * (ambient + (1 - ambient) * sum_i light_i * w_i * max(0, n . l_i))
- *      (w_i the light's range falloff, limen.h) with per-pixel true normals for spheres and
- *      cylinders, the normal turned towards the view's eye, the checker of
- *      limen_node_get_checker in node-local units, and albedo times the texel of the
- *      node's texture (repeating, over the image's mipmap levels as the drawable's
- *      texture_filter says: limen_node_set_texture_filter). Triangle
- *      meshes (limen_drawable.mesh) and images (limen_drawable.texture) are uploaded once
- *      each, keyed on their id; a mesh is drawn at the level of detail limen_view_mesh_lod
- *      picks for the view.
- *   3. Scene (section 7). Load a Lua scene script with limen_script_load, or build the
- *      nodes in C with limen_node_create and friends.
- *   4. Every frame (section 6):
- *      a. the game moves things: limen_node_set_position, limen_node_look_at, or
- *         limen_node_move, which carries a node through a portal it walks into;
- *      b. limen_plan_build(plan, scene, {width, height, range}) with the game's
- *         clip-space convention (LIMEN_DEPTH_NO for OpenGL's default, LIMEN_DEPTH_ZO with
- *         glClipControl or for Direct3D/Vulkan);
- *      c. read what to draw (section 4): limen_drawables_build lists, in one call, the
- *         nodes that draw or light, each with its kind, world matrix, dims, colours,
- *         checker and surface colours, and limen_drawables_find gives the item of a node
- *         the plan names;
- *      d. draw view 0, the camera, which recurses through the tree (section 5). Each view
- *         draws only the shapes limen_plan_view_things lists for it (found through the
- *         scene's spatial index: the cost follows what the view can see), and each shape
- *         passing through a portal (limen_plan_clones) twice: cut at the portal, and its
- *         copy carried out of the partner, cut there (gl_ClipDistance[1]).
- *
- * DRAWING ONE VIEW v (the stencil method; v's pixels hold stencil == v->stencil)
- *   - scissor to v->scissor, stencil test EQUAL v->stencil;
- *   - a nested view first resets depth to the far plane inside its pixels;
- *   - v->view and v->proj (already oblique where v->clip is LIMEN_CLIP_OBLIQUE), the clip
- *     plane as gl_ClipDistance[0] where v->clip is LIMEN_CLIP_PLANE, glFrontFace(GL_CW)
- *     where v->front_face_cw (an odd number of mirrors), every colour times v->tint (the
- *     product of the mirror tints on the way to v);
- *   - the shapes; then, in a nested view, the background where depth is still far;
- *   - each surface of limen_plan_view_surfaces(plan, v):
- *       RECURSE: mark its visible pixels with stencil + 1 (no colour, no depth), draw the
- *                child view, then seal: write the surface's depth over the child's pixels
- *                and bring their stencil back to v->stencil, so that later shapes of v
- *                are hidden behind the mirror or portal;
- *       FILL:    recursion stopped there: the surface's fill colour, unlit;
- *       BACK:    a mirror seen from behind: a lit matte quad of its back colour.
- *     Mirrors and portals are drawn with depth clamping: the near plane does not cut them.
- *     So in a nested view with an oblique projection, whose near plane is the exit plane,
- *     they are cut by v->clip_plane as gl_ClipDistance[0]: else what of one lies behind the
- *     exit surface (a neighbour poking through a mirror) would show.
- *
- * The tests (tests/test_example_game.c) render scenes/mirror_room.lua, portals.lua,
- * corridor.lua, hall_of_mirrors.lua (meshes), portal_rooms.lua (textures, light ranges)
- * and portal_statue.lua (a mesh halfway through a portal) with this code and with limen's
- * renderer and compare; frames go to build/example_*.png.
+ *   1. Once (game_create): the context (OSMesa, OpenGL 3.3 core, a framebuffer object with
+ *      depth24/stencil8) and the shader: limen's shading (docs/DESIGN.md, "Ground truth") and
+ *      the unit shapes (quad, box, sphere, cylinder), made from the vertex index.
+ *   2. Every frame (game_frame): the game moves things (limen_node_move, ...), then
+ *      limen_plan_build, limen_drawables_build and limen_drawlist_build (stencil or texture).
+ *   3. Walk the list (game_draw): lights from the drawables, the list's vertices and
+ *      instances into buffers, then each command in order: set_state (its pipeline state and
+ *      pass), then one function per op: op_target, op_clear, op_polygon, op_shape (the unit
+ *      shape its kind's facts name, tessellated as limen does), op_meshes, op_flush. Meshes
+ *      and images go up once, keyed on their id. Read the frame back.
  */
-#ifndef _DEFAULT_SOURCE
-#define _DEFAULT_SOURCE         /* M_PI */
-#endif
 #define GL_GLEXT_PROTOTYPES
 #include <GL/glcorearb.h>
 #include <GL/osmesa.h>
@@ -82,984 +29,542 @@
 
 #include "limen.h"
 
-#define SEGMENTS 96             /* fixed tessellation of spheres and cylinders */
+enum { QUAD = 1, BOX, SPHERE, CYLINDER };   /* u_unit (0: the attributes); u_uv: limen_uv_rule */
+enum { MAX_TARGETS = 64 };
+#define UNIFORMS(X) X(view_proj) X(clip) X(cut) X(scale) X(unit) X(uv) X(facets) X(S) X(eye) \
+    X(albedo_b) X(cell) X(tint) X(ambient) X(textured) X(repeat) X(base) X(emissive) X(cutoff) \
+    X(nlights) X(light_pos) X(light_col) X(light_inv_r2)
+#define U_FIELD(name) GLint name;
+#define U_FIND(name) g->u.name = glGetUniformLocation(g->prog, "u_" #name);
 
-/* ============================================================ 0. small maths */
-
-/* c = a * b, column-major 4x4 (c may not alias a or b). */
-static void mat4_mul(const float a[16], const float b[16], float c[16])
-{
-    for (int j = 0; j < 4; j++)
-        for (int i = 0; i < 4; i++)
-            c[j * 4 + i] = a[i] * b[j * 4] + a[4 + i] * b[j * 4 + 1] +
-                           a[8 + i] * b[j * 4 + 2] + a[12 + i] * b[j * 4 + 3];
-}
-
-/* ============================================================ 1. context */
-
-typedef struct mesh { GLsizei first, count; } mesh;
-enum { MESH_QUAD, MESH_BOX, MESH_SPHERE, MESH_CYLINDER, MESH_COUNT };
-enum { MESH_FILE = -1 };                /* a triangle mesh of the scene's (item.geo) */
-/* where the normal comes from: the vertices', the true sphere's or cylinder's, or the
- * triangle's plane (a mesh without smooth normals) */
-enum { SHAPE_FLAT = 0, SHAPE_SPHERE = 1, SHAPE_CYLINDER = 2, SHAPE_FACETS = 3 };
-/* where texture coordinates come from: none, a plane's, a box face's, a mesh's own */
-enum { UV_NONE, UV_PLANE, UV_BOX, UV_MESH };
-
-/* A scene mesh on the GPU: its vertices, and all its levels of detail in one index buffer. */
-typedef struct gpu_mesh {
-    uint64_t id;                        /* limen_mesh_geometry.id */
-    GLuint vao, vbo, ibo;
-    int levels;
-    GLsizei first[16], count[16];       /* level k: indices [first, first + count) */
-} gpu_mesh;
-
-/* An image on the GPU. */
-typedef struct gpu_image { uint64_t id; GLuint tex; } gpu_image;
-
-/* What the game draws for one node this frame. */
-typedef struct item {
-    limen_node node;
-    limen_node_kind kind;
-    int mesh, shape, uv;
-    const gpu_mesh *geo;                /* MESH_FILE: its triangles */
-    const limen_drawable *src;          /* what limen says of it (for the level of detail) */
-    GLuint tex;                         /* albedo texture, or 0 */
-    float repeat[2];                    /* its coordinates scaled by these (tiling) */
-    limen_texture_filter filter;        /* how it is sampled */
-    float model[16];                    /* world matrix times the mesh's scale */
-    float scale[3];                     /* unit mesh -> node-local units (for the checker) */
-    float color[3], color_b[3], cell;   /* albedo, or checker colours a and b */
-    float back[3], fill[3];             /* mirrors and portals */
-    int drawn;                          /* 0: hidden, or nothing to draw (a light) */
-} item;
+typedef struct gpu { uint64_t id; GLuint vao, tex; GLsizei first[16]; } gpu;  /* by id */
+typedef struct target { GLuint fbo, tex, rb; int w, h; } target;
 
 typedef struct game {
-    int w, h;                           /* the frame's size in pixels */
+    int w, h, ncache, npasses;
     OSMesaContext ctx;
-    unsigned char token[4 * 4 * 4];     /* OSMesa needs a buffer; we draw into our FBO */
+    unsigned char token[64];            /* OSMesa wants a buffer; we draw into our FBO */
     PFNGLCLIPCONTROLPROC clip_control;  /* GL 4.5 (NULL on a 3.3 context) */
-    GLuint fbo, color_rb, depth_rb, prog, vao, vbo, ibo;
-    struct {
-        GLint model, view_proj, clip_plane, cut, scale, eye, albedo, albedo_b, cell, tint,
-            ambient, shape, flat, uv, textured, tex, repeat, nlights, light_pos, light_col,
-            base, emissive, cutoff,
-            light_inv_r2;
-    } u;
-    gpu_mesh *meshes_gpu;               /* the scene meshes and images uploaded so far */
-    int nmeshes_gpu;
-    gpu_image *images;
-    int nimages;
-    limen_scene *scene;                 /* the scene being drawn */
-    limen_node *things;                 /* a view's shapes (limen_plan_view_things) */
-    int things_cap;
-    mesh meshes[MESH_COUNT];
-    limen_plan *plan;                   /* the game's plan, rebuilt every frame ... */
-    limen_drawables *draw;              /* ... and its list of what to draw */
-    const limen_plan *drawing;          /* the plan being drawn */
-    item *items;                        /* this frame's drawables, as the game draws them */
-    int nitems, items_cap;
-    float background[3];
-    /* Hooks for tests/sweeps/plan_gl.h, which draws through this game with some views'
-     * projections or clip methods replaced and the surfaces' flat passes drawn its own way.
-     * A game leaves them NULL. */
-    const float (*proj)[16];
-    const limen_clip_method *clip;
-    void (*flat_surface)(struct game *g, const limen_view *v, const item *it, const float rgb[3]);
-    void *hook_data;
-    const float *cut;                   /* world plane that cuts surfaces (see use_view) */
-    const limen_view *view;             /* the view being drawn (levels of detail) */
+    GLuint prog, flat[2], vao, poly_vao, poly_vbo, inst_vbo;  /* flat: the polygons' */
+    struct { UNIFORMS(U_FIELD) } u;
+    GLint flat_color[2], flat_map[2];
+    gpu *cache;                         /* the meshes and images uploaded so far */
+    target targets[MAX_TARGETS];        /* [0]: the frame; [k]: offscreen target k */
+    limen_plan *plan;
+    limen_drawables *draw;
+    limen_drawlist *list;
+    const limen_drawable *items;        /* this frame's, and its list's passes */
+    const limen_draw_pass *passes;
 } game;
+
+/* ============================================================ 1. shader */
+
+#define GLSL(...) #__VA_ARGS__                      /* after a head: #version and constants */
+
+static const char *vs_src = GLSL(
+    layout(location = 0) in vec3 a_pos;   layout(location = 1) in vec3 a_nrm;
+    layout(location = 2) in vec2 a_uv;    layout(location = 3) in vec4 a_col;
+    layout(location = 4) in mat4 a_world; layout(location = 8) in vec3 a_albedo;
+    uniform mat4 u_view_proj; uniform vec4 u_clip, u_cut; uniform int u_unit, u_uv, u_S;
+    uniform vec3 u_scale;                           /* unit shape -> node-local units */
+    out vec3 v_world, v_local, v_normal; out vec2 v_uv; out vec4 v_col; flat out vec3 v_albedo;
+    const vec2 corner[6] = vec2[6](vec2(0), vec2(1, 0), vec2(1), vec2(0), vec2(1), vec2(0, 1));
+    /* The unit shapes, two triangles a cell, counter-clockwise from outside: quad 1x1 on z = 0
+     * facing +Z, box 1x1x1 (face q: axis q / 2, + where odd), sphere of radius 1, cylinder of
+     * radius 1 over y in [0, 1] (rows: top, side, bottom), of u_S segments around. Their
+     * normals interpolate to the true shape's at every pixel. */
+    void unit(out vec3 p, out vec3 n) {
+        int S = u_S, q = gl_VertexID / 6, row = q / S, a = u_unit == 1 ? 2 : q / 2;
+        vec2 k = corner[gl_VertexID % 6];
+        if (u_unit <= 2) {
+            float s = u_unit == 1 || q % 2 == 1 ? 1.0 : -1.0;
+            vec3 u = vec3(0.0), v = vec3(0.0);
+            n = vec3(0.0); n[a] = s; u[(a + 1) % 3] = 1.0; v[(a + 2) % 3] = s;
+            p = (u_unit == 1 ? 0.0 : 0.5) * n + (k.x - 0.5) * u + (k.y - 0.5) * v;
+            return;
+        }
+        float th = 6.28318531 * (float(q % S) + k.y) / float(S), t = k.x;
+        float f = 3.14159265 * (float(row) + t) / float(S / 2);
+        vec4 r = vec4(sin(f), cos(f), sin(f), cos(f));     /* radius, height, normal */
+        if (u_unit == 4)                                    /* top, side, bottom */
+            r = row == 0 ? vec4(t, 1.0, 0.0, 1.0) : row == 1 ? vec4(1.0, 1.0 - t, 1.0, 0.0)
+                         : vec4(1.0 - t, 0.0, 0.0, -1.0);
+        vec2 cs = vec2(cos(th), -sin(th));
+        p = vec3(r.x * cs.x, r.y, r.x * cs.y); n = vec3(r.z * cs.x, r.w, r.z * cs.y);
+        float c = cos(3.14159265 / float(S));       /* out by half the sag, as limen does */
+        p *= u_unit == 3 ? vec3(2.0 / (1.0 + c * c)) : vec3(2.0 / (1.0 + c), 1.0, 2.0 / (1.0 + c));
+    }
+    void main() {
+        vec3 p = a_pos, n = a_nrm;
+        if (u_unit > 0) unit(p, n);
+        vec4 w = a_world * vec4(p, 1.0);
+        v_world = w.xyz; v_local = p * u_scale; v_col = a_col; v_albedo = a_albedo;
+        v_normal = transpose(inverse(mat3(a_world))) * n;
+        vec3 e = p + 0.5;                           /* a plane's, a box face's, a mesh's */
+        v_uv = u_uv == 3 ? a_uv : u_uv == 1 ? e.xy : abs(n.x) > 0.5 ? e.yz
+             : abs(n.y) > 0.5 ? e.zx : e.xy;
+        gl_ClipDistance[0] = dot(u_clip, w); gl_ClipDistance[1] = dot(u_cut, w);
+        gl_Position = u_view_proj * w;
+    });
+
+static const char *fs_src = GLSL(
+    in vec3 v_world, v_local, v_normal; in vec2 v_uv; in vec4 v_col; flat in vec3 v_albedo;
+    uniform int u_facets, u_textured, u_nlights;
+    uniform vec3 u_eye, u_albedo_b, u_tint, u_emissive, u_light_pos[8], u_light_col[8];
+    uniform float u_cell, u_ambient, u_cutoff, u_light_inv_r2[8];
+    uniform vec4 u_base; uniform vec2 u_repeat; uniform sampler2D u_tex;
+    out vec4 o_color;
+    void main() {
+        vec3 n = normalize(u_facets != 0 ? cross(dFdx(v_world), dFdy(v_world)) : v_normal);
+        if (dot(n, u_eye - v_world) < 0.0) n = -n;  /* two-sided: face the eye */
+        vec3 albedo = v_albedo * u_base.rgb * v_col.rgb, c = floor(v_local / u_cell);
+        float alpha = u_base.a * v_col.a, k = c.x + c.y + c.z;
+        if (u_cell > 0.0 && k - 2.0 * floor(k * 0.5) > 0.5) albedo = u_albedo_b;
+        if (u_textured != 0) {                      /* rows went up top first */
+            vec4 t = texture(u_tex, vec2(0.0, 1.0) + vec2(1.0, -1.0) * v_uv * u_repeat);
+            albedo *= t.rgb; alpha *= t.a;
+        }
+        if (alpha < u_cutoff) discard;
+        vec3 light = vec3(0.0);
+        for (int i = 0; i < u_nlights; i++) {       /* w: a light's falloff with its range */
+            vec3 d = u_light_pos[i] - v_world;
+            float q = dot(d, d) * u_light_inv_r2[i], w = clamp(1.0 - q * q, 0.0, 1.0);
+            light += u_light_col[i] * w * w * max(0.0, dot(n, normalize(d)));
+        }
+        vec3 lit = clamp(albedo * (u_ambient + (1.0 - u_ambient) * light), 0.0, 1.0);
+        o_color = vec4(clamp(lit + u_emissive, 0.0, 1.0) * u_tint, alpha);
+    });
+
+/* The polygons' own programs, flat (IMAGE 0) and sampling a target (1), so that marks, seals
+ * and fills (many, and large) pay for no more: llvmpipe runs every branch of a shader. */
+static const char *flat_vs = GLSL(
+    layout(location = 0) in vec3 a_pos;
+    void main() { gl_Position = vec4(a_pos, 1.0); });
+
+static const char *flat_fs = GLSL(
+    uniform vec3 u_color; uniform vec4 u_map; uniform sampler2D u_tex;
+    out vec4 o_color;
+    void main() {                                   /* the colour, or a target's texel times it */
+        vec2 at = u_map.xy * gl_FragCoord.xy + u_map.zw;
+        o_color = vec4((IMAGE != 0 ? texture(u_tex, at).rgb : vec3(1.0)) * u_color, 1.0);
+    });
+
+static GLuint program(const char *head, const char *vs, const char *fs)
+{
+    const char *src[2][2] = { { head, vs }, { head, fs } };
+    GLint ok = 0;
+    GLuint prog = glCreateProgram();
+    for (int i = 0; i < 2; i++) {
+        GLuint sh = glCreateShader(i ? GL_FRAGMENT_SHADER : GL_VERTEX_SHADER);
+        glShaderSource(sh, 2, src[i], NULL), glCompileShader(sh);
+        glAttachShader(prog, sh), glDeleteShader(sh);       /* goes with the program */
+    }
+    glLinkProgram(prog), glGetProgramiv(prog, GL_LINK_STATUS, &ok);
+    return ok ? prog : 0;
+}
+
+static int programs_create(game *g)
+{
+    static const char *head[2] = { "#version 330 core\nconst int IMAGE = 0;\n",
+                                   "#version 330 core\nconst int IMAGE = 1;\n" };
+    for (int k = 0; k < 2; k++) {
+        if (!(g->flat[k] = program(head[k], flat_vs, flat_fs)))
+            return -1;
+        g->flat_color[k] = glGetUniformLocation(g->flat[k], "u_color");
+        g->flat_map[k] = glGetUniformLocation(g->flat[k], "u_map");
+    }
+    if (!(g->prog = program(head[0], vs_src, fs_src)))
+        return -1;
+    UNIFORMS(U_FIND)
+    glUseProgram(g->prog);
+    glVertexAttrib4f(3, 1, 1, 1, 1);            /* the colour of vertices without one */
+    glUniform4f(g->u.base, 1, 1, 1, 1), glUniform1f(g->u.cutoff, -1);    /* no material */
+    glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
+    return 0;
+}
+
+/* ============================================================ 2. meshes, images, targets */
+
+/* The GPU copy of what has this id, or a new zeroed entry (*fresh); NULL out of memory. */
+static gpu *cached(game *g, uint64_t id, int *fresh)
+{
+    for (int i = 0; i < g->ncache; i++)
+        if (g->cache[i].id == id)
+            return *fresh = 0, &g->cache[i];
+    gpu *grown = realloc(g->cache, sizeof *grown * (size_t)(g->ncache + 1));
+    if (!grown)
+        return NULL;
+    g->cache = grown, *fresh = 1;
+    return memset(&grown[g->ncache++], 0, sizeof *grown);
+}
+
+/* A scene mesh on the GPU: an attribute per array it has (one it lacks keeps its constant:
+ * uv 0, colour white), every level's indices in one buffer (first[k]: where k starts). */
+static const gpu *mesh_upload(game *g, const limen_mesh_geometry *m)
+{
+    const float *data[4] = { m->positions, m->normals, m->uvs, m->colors };
+    static const int size[4] = { 3, 3, 2, 4 };
+    int fresh, ni = 0;
+    gpu *c = cached(g, m->id, &fresh);
+    GLuint buf;
+    if (!c || !fresh)
+        return c;
+    glGenVertexArrays(1, &c->vao), glBindVertexArray(c->vao);
+    for (GLuint a = 0; a < 4; a++) {
+        if (!data[a])
+            continue;
+        glGenBuffers(1, &buf), glBindBuffer(GL_ARRAY_BUFFER, buf);
+        glBufferData(GL_ARRAY_BUFFER, (GLsizeiptr)sizeof(float) * size[a] * m->vertex_count,
+                     data[a], GL_STATIC_DRAW);
+        glEnableVertexAttribArray(a), glVertexAttribPointer(a, size[a], GL_FLOAT, 0, 0, NULL);
+    }
+    for (int k = 0; k < m->lod_count && k < 16; k++)
+        c->first[k] = ni, ni += 3 * m->lods[k].triangle_count;
+    glGenBuffers(1, &buf), glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, buf);
+    glBufferData(GL_ELEMENT_ARRAY_BUFFER, (GLsizeiptr)sizeof(GLuint) * ni, NULL, GL_STATIC_DRAW);
+    for (int k = 0; k < m->lod_count && k < 16; k++)
+        glBufferSubData(GL_ELEMENT_ARRAY_BUFFER, (GLintptr)sizeof(GLuint) * c->first[k],
+                        (GLsizeiptr)sizeof(GLuint) * 3 * m->lods[k].triangle_count,
+                        m->lods[k].indices);
+    return c;
+}
+
+/* An image on the GPU with limen's own mipmap levels (so that the texels are the tracer's),
+ * repeating; with alpha (a material's) its first level only, RGBA. 0 if out of memory. */
+static GLuint image_upload(game *g, const limen_image *im)
+{
+    int fresh, n = im->width * im->height;
+    gpu *c = cached(g, im->id, &fresh);
+    if (!c || !fresh)
+        return c ? c->tex : 0;
+    unsigned char *rgba = im->alpha ? malloc(4 * (size_t)n) : NULL;
+    for (int i = 0; rgba && i < n; i++)
+        memcpy(rgba + 4 * i, im->rgb + 3 * i, 3), rgba[4 * i + 3] = im->alpha[i];
+    glGenTextures(1, &c->tex), glBindTexture(GL_TEXTURE_2D, c->tex);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+    if (im->alpha)
+        glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, im->width, im->height, 0, GL_RGBA,
+                     GL_UNSIGNED_BYTE, rgba);
+    for (int k = 0; !im->alpha && k < im->level_count; k++)
+        glTexImage2D(GL_TEXTURE_2D, k, GL_RGB8, im->levels[k].width, im->levels[k].height, 0,
+                     GL_RGB, GL_UNSIGNED_BYTE, im->levels[k].rgb);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAX_LEVEL, im->alpha ? 0 : im->level_count - 1);
+    free(rgba);
+    return c->tex;
+}
+
+/* Target k at w x h (colour RGBA8 linear and clamped, depth-stencil), made or remade at that
+ * size; target 0 is the frame. */
+static const target *target_get(game *g, int k, int w, int h)
+{
+    target *t = &g->targets[k > 0 && k < MAX_TARGETS ? k : 0];
+    if (t->fbo && t->w == w && t->h == h)
+        return t;
+    glDeleteFramebuffers(1, &t->fbo), glDeleteTextures(1, &t->tex);
+    glDeleteRenderbuffers(1, &t->rb);
+    t->w = w, t->h = h;
+    glGenTextures(1, &t->tex), glBindTexture(GL_TEXTURE_2D, t->tex);
+    glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, w, h, 0, GL_RGBA, GL_UNSIGNED_BYTE, NULL);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    glGenRenderbuffers(1, &t->rb), glBindRenderbuffer(GL_RENDERBUFFER, t->rb);
+    glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH24_STENCIL8, w, h);
+    glGenFramebuffers(1, &t->fbo), glBindFramebuffer(GL_FRAMEBUFFER, t->fbo);
+    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, t->tex, 0);
+    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_STENCIL_ATTACHMENT, GL_RENDERBUFFER, t->rb);
+    return t;
+}
+
+/* (Destroying the context deletes every GL object the game made in it.) */
+static void game_destroy(game *g)
+{
+    if (g->ctx)
+        OSMesaDestroyContext(g->ctx);
+    limen_plan_destroy(g->plan), limen_drawables_destroy(g->draw);
+    limen_drawlist_destroy(g->list), free(g->cache), free(g);
+}
 
 static int make_current(game *g)
 {
     return OSMesaMakeCurrent(g->ctx, g->token, GL_UNSIGNED_BYTE, 4, 4) ? 0 : -1;
 }
 
-static GLuint renderbuffer(GLenum format, int w, int h)
-{
-    GLuint rb;
-    glGenRenderbuffers(1, &rb);
-    glBindRenderbuffer(GL_RENDERBUFFER, rb);
-    glRenderbufferStorage(GL_RENDERBUFFER, format, w, h);
-    return rb;
-}
-
-static int context_create(game *g)
-{
-    static const int versions[][2] = { { 4, 5 }, { 3, 3 } };
-    for (int i = 0; i < 2 && !g->ctx; i++) {
-        const int attribs[] = { OSMESA_FORMAT, OSMESA_RGBA, OSMESA_DEPTH_BITS, 0,
-                                OSMESA_STENCIL_BITS, 0, OSMESA_PROFILE, OSMESA_CORE_PROFILE,
-                                OSMESA_CONTEXT_MAJOR_VERSION, versions[i][0],
-                                OSMESA_CONTEXT_MINOR_VERSION, versions[i][1], 0 };
-        g->ctx = OSMesaCreateContextAttribs(attribs, NULL);
-    }
-    if (!g->ctx || make_current(g))
-        return -1;
-    /* glClipControl (GL 4.5) is not exported by libOSMesa: fetch it as a loader would */
-    GLint major = 0, minor = 0;
-    glGetIntegerv(GL_MAJOR_VERSION, &major);
-    glGetIntegerv(GL_MINOR_VERSION, &minor);
-    if (major * 10 + minor >= 45)
-        g->clip_control = (PFNGLCLIPCONTROLPROC)OSMesaGetProcAddress("glClipControl");
-    g->color_rb = renderbuffer(GL_RGBA8, g->w, g->h);
-    g->depth_rb = renderbuffer(GL_DEPTH24_STENCIL8, g->w, g->h);
-    glGenFramebuffers(1, &g->fbo);
-    glBindFramebuffer(GL_FRAMEBUFFER, g->fbo);
-    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, g->color_rb);
-    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_STENCIL_ATTACHMENT, GL_RENDERBUFFER,
-                              g->depth_rb);
-    return glCheckFramebufferStatus(GL_FRAMEBUFFER) == GL_FRAMEBUFFER_COMPLETE ? 0 : -1;
-}
-
-/* ============================================================ 2. shader */
-
-static const char *vs_src =
-    "#version 330 core\n"
-    "layout(location = 0) in vec3 a_pos;\n"
-    "layout(location = 1) in vec3 a_nrm;\n"
-    "layout(location = 2) in vec2 a_uv;\n"
-    "layout(location = 3) in vec4 a_col;\n"      /* a mesh's vertex colours (else white) */
-    "uniform mat4 u_model, u_view_proj;\n"
-    "uniform vec3 u_scale;\n"
-    "uniform vec4 u_clip_plane, u_cut;\n"
-    "uniform int u_shape, u_uv;\n"
-    "out vec3 v_world, v_local, v_normal;\n"
-    "out vec2 v_uv;\n"
-    "out vec4 v_col;\n"
-    "void main() {\n"
-    "    vec4 w = u_model * vec4(a_pos, 1.0);\n"
-    "    v_col = a_col;\n"
-    "    v_world = w.xyz; v_local = a_pos * u_scale;\n"
-    "    vec3 n = a_nrm;\n"                                /* boxes, quads, cylinder caps */
-    "    if (u_shape == 1) n = a_pos;\n"                   /* the true sphere's normal */
-    "    else if (u_shape == 2 && abs(a_nrm.y) < 0.5) n = vec3(a_pos.x, 0.0, a_pos.z);\n"
-    /* linear in n, so interpolating it gives the true normal at every pixel */
-    "    v_normal = transpose(inverse(mat3(u_model))) * n;\n"
-    /* texture coordinates: a plane's over its extent, a box face's two other axes */
-    "    vec3 q = a_pos + 0.5;\n"
-    "    v_uv = u_uv == 3 ? a_uv : u_uv == 1 ? q.xy\n"
-    "         : abs(a_nrm.x) > 0.5 ? q.yz : abs(a_nrm.y) > 0.5 ? q.zx : q.xy;\n"
-    "    gl_ClipDistance[0] = dot(u_clip_plane, w);\n"
-    "    gl_ClipDistance[1] = dot(u_cut, w);\n"   /* a shape cut at a portal it passes */
-    "    gl_Position = u_view_proj * w;\n"
-    "}\n";
-
-static const char *fs_src =
-    "#version 330 core\n"
-    "in vec3 v_world, v_local, v_normal;\n"
-    "in vec2 v_uv;\n"
-    "in vec4 v_col;\n"
-    "uniform vec3 u_eye, u_albedo, u_albedo_b, u_tint;\n"
-    "uniform vec4 u_base;\n"                     /* a mesh part's material (else white): */
-    "uniform vec3 u_emissive;\n"                 /* base colour, emission, and the mask's */
-    "uniform float u_cutoff;\n"                  /* cutoff (-1: none) */
-    "uniform float u_cell, u_ambient;\n"
-    "uniform int u_flat, u_nlights, u_shape, u_textured;\n"
-    "uniform sampler2D u_tex;\n"
-    "uniform vec2 u_repeat;\n"
-    "uniform vec3 u_light_pos[8], u_light_col[8];\n"
-    "uniform float u_light_inv_r2[8];\n"          /* 1 / range^2; 0: no range */
-    "out vec4 o_color;\n"
-    "void main() {\n"
-    "    if (u_flat != 0) { o_color = vec4(u_albedo * u_tint, 1.0); return; }\n"
-    "    vec3 n = normalize(u_shape == 3 ? cross(dFdx(v_world), dFdy(v_world)) : v_normal);\n"
-    "    if (dot(n, u_eye - v_world) < 0.0) n = -n;\n"  /* two-sided: face the eye */
-    "    vec3 albedo = u_albedo;\n"
-    "    if (u_cell > 0.0) {\n"                     /* a quad's local z is 0: xy only */
-    "        vec3 c = floor(v_local / u_cell);\n"
-    "        float k = c.x + c.y + c.z;\n"
-    "        if (k - 2.0 * floor(k * 0.5) > 0.5) albedo = u_albedo_b;\n"
-    "    }\n"
-    /* tiled (limen_node_set_texture_repeat); rows were uploaded top first: v = 0 is the
-     * image's bottom */
-    "    float alpha = u_base.a * v_col.a;\n"
-    "    albedo *= u_base.rgb * v_col.rgb;\n"
-    "    if (u_textured != 0) {\n"
-    "        vec4 t = texture(u_tex, vec2(0.0, 1.0) + vec2(1.0, -1.0) * v_uv * u_repeat);\n"
-    "        albedo *= t.rgb;\n"
-    "        alpha *= t.a;\n"
-    "    }\n"
-    "    if (alpha < u_cutoff) discard;\n"
-    "    vec3 light = vec3(0.0);\n"
-    "    for (int i = 0; i < u_nlights; i++) {\n"
-    "        vec3 d = u_light_pos[i] - v_world;\n"
-    "        float q = dot(d, d) * u_light_inv_r2[i];\n"    /* (distance / range)^2 */
-    "        float w = clamp(1.0 - q * q, 0.0, 1.0);\n"
-    "        light += u_light_col[i] * w * w * max(0.0, dot(n, normalize(d)));\n"
-    "    }\n"
-    "    vec3 c = clamp(albedo * (u_ambient + (1.0 - u_ambient) * light), 0.0, 1.0);\n"
-    "    c = clamp(c + u_emissive, 0.0, 1.0);\n"     /* emission, after shading */
-    "    o_color = vec4(c * u_tint, alpha);\n"
-    "}\n";
-
-static int program_create(game *g)
-{
-    const char *src[2] = { vs_src, fs_src };
-    const GLenum type[2] = { GL_VERTEX_SHADER, GL_FRAGMENT_SHADER };
-    char log[512] = "";
-    GLint ok = 0;
-    g->prog = glCreateProgram();
-    for (int i = 0; i < 2; i++) {
-        GLuint sh = glCreateShader(type[i]);
-        glShaderSource(sh, 1, &src[i], NULL);
-        glCompileShader(sh);
-        glGetShaderiv(sh, GL_COMPILE_STATUS, &ok);
-        if (!ok) {
-            glGetShaderInfoLog(sh, sizeof log, NULL, log);
-            fprintf(stderr, "shader: %s\n", log);
-        }
-        glAttachShader(g->prog, sh);
-        glDeleteShader(sh);                     /* goes with the program */
-    }
-    glLinkProgram(g->prog);
-    glGetProgramiv(g->prog, GL_LINK_STATUS, &ok);
-#define U(field, name) g->u.field = glGetUniformLocation(g->prog, name)
-    U(model, "u_model"); U(view_proj, "u_view_proj");
-    U(clip_plane, "u_clip_plane"); U(cut, "u_cut"); U(scale, "u_scale"); U(eye, "u_eye");
-    U(albedo, "u_albedo"); U(albedo_b, "u_albedo_b"); U(cell, "u_cell"); U(tint, "u_tint");
-    U(ambient, "u_ambient"); U(shape, "u_shape"); U(flat, "u_flat"); U(uv, "u_uv");
-    U(textured, "u_textured"); U(tex, "u_tex"); U(repeat, "u_repeat");
-    U(nlights, "u_nlights"); U(light_pos, "u_light_pos"); U(light_col, "u_light_col");
-    U(light_inv_r2, "u_light_inv_r2");
-    U(base, "u_base"); U(emissive, "u_emissive"); U(cutoff, "u_cutoff");
-#undef U
-    glUseProgram(g->prog);
-    glUniform1i(g->u.tex, 0);                   /* texture unit 0 */
-    /* what a part's material leaves as it is: white, no emission, no mask */
-    glUniform4f(g->u.base, 1, 1, 1, 1);
-    glUniform3f(g->u.emissive, 0, 0, 0);
-    glUniform1f(g->u.cutoff, -1);
-    glVertexAttrib4f(3, 1, 1, 1, 1);            /* the colour of vertices without one */
-    glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
-    glUniform4f(g->u.cut, 0, 0, 0, 1);
-    return ok ? 0 : -1;
-}
-
-/* ============================================================ 3. meshes */
-
-/* Unit meshes in one vertex buffer (position, normal), counter-clockwise seen from
- * outside: quad 1x1 on z = 0 facing +Z; box 1x1x1 centred; sphere of radius 1; cylinder of
- * radius 1 from y = 0 to y = 1, capped. */
-#define MAX_VERTS (28 + (SEGMENTS + 1) * (SEGMENTS / 2 + 7))
-#define MAX_INDEX (42 + 6 * SEGMENTS * (SEGMENTS / 2 + 3))
-typedef struct builder { float v[6 * MAX_VERTS]; GLuint idx[MAX_INDEX]; GLuint nv, ni; } builder;
-
-static GLuint vtx(builder *b, float x, float y, float z, float nx, float ny, float nz)
-{
-    float *p = b->v + 6 * b->nv;
-    p[0] = x, p[1] = y, p[2] = z, p[3] = nx, p[4] = ny, p[5] = nz;
-    return b->nv++;
-}
-
-static void tri(builder *b, GLuint i0, GLuint i1, GLuint i2)
-{
-    b->idx[b->ni++] = i0, b->idx[b->ni++] = i1, b->idx[b->ni++] = i2;
-}
-
-/* The square face of the unit box facing (sgn) `axis`, at distance `dist` from the origin. */
-static void face(builder *b, int axis, int sgn, float dist)
-{
-    static const float uv[4][2] = { { -1, -1 }, { 1, -1 }, { 1, 1 }, { -1, 1 } };
-    int u = (axis + 1) % 3, v = (axis + 2) % 3;     /* u x v = +axis */
-    GLuint id[4];
-    for (int k = 0; k < 4; k++) {
-        float p[3], n[3] = { 0, 0, 0 };
-        n[axis] = (float)sgn;
-        p[axis] = dist, p[u] = 0.5f * uv[k][0], p[v] = 0.5f * uv[k][1] * (float)sgn;
-        id[k] = vtx(b, p[0], p[1], p[2], n[0], n[1], n[2]);
-    }
-    tri(b, id[0], id[1], id[2]);
-    tri(b, id[0], id[2], id[3]);
-}
-
-/* A surface of revolution about +Y: rings of (radius, height, normal radial, normal y),
- * listed from the top down, each of SEGMENTS + 1 vertices (the seam is doubled). */
-static void lathe(builder *b, int rings, const float (*ring)[4])
-{
-    GLuint base = b->nv;
-    for (int i = 0; i < rings; i++)
-        for (int j = 0; j <= SEGMENTS; j++) {
-            double th = 2.0 * M_PI * j / SEGMENTS;
-            float c = (float)cos(th), s = (float)-sin(th);
-            const float *r = ring[i];
-            vtx(b, r[0] * c, r[1], r[0] * s, r[2] * c, r[3], r[2] * s);
-        }
-    for (int i = 0; i + 1 < rings; i++)
-        for (int j = 0; j < SEGMENTS; j++) {
-            GLuint a = base + (GLuint)(i * (SEGMENTS + 1) + j), c = a + SEGMENTS + 1;
-            tri(b, a, c, c + 1);
-            tri(b, a, c + 1, a + 1);
-        }
-}
-
-static void build_meshes(game *g, builder *b)
-{
-    g->meshes[MESH_QUAD].first = (GLsizei)b->ni;
-    face(b, 2, 1, 0.0f);
-    g->meshes[MESH_BOX].first = (GLsizei)b->ni;
-    for (int axis = 0; axis < 3; axis++)
-        for (int sgn = -1; sgn <= 1; sgn += 2)
-            face(b, axis, sgn, 0.5f * (float)sgn);
-    g->meshes[MESH_SPHERE].first = (GLsizei)b->ni;
-    float sphere[SEGMENTS / 2 + 1][4];
-    for (int i = 0; i <= SEGMENTS / 2; i++) {
-        double phi = M_PI * i / (SEGMENTS / 2);     /* from the north pole down */
-        float r = (float)sin(phi), y = (float)cos(phi);
-        sphere[i][0] = sphere[i][2] = r, sphere[i][1] = sphere[i][3] = y;
-    }
-    lathe(b, SEGMENTS / 2 + 1, sphere);
-    g->meshes[MESH_CYLINDER].first = (GLsizei)b->ni;
-    static const float top[2][4] = { { 0, 1, 0, 1 }, { 1, 1, 0, 1 } };
-    static const float side[2][4] = { { 1, 1, 1, 0 }, { 1, 0, 1, 0 } };
-    static const float bottom[2][4] = { { 1, 0, 0, -1 }, { 0, 0, 0, -1 } };
-    lathe(b, 2, top);
-    lathe(b, 2, side);
-    lathe(b, 2, bottom);
-    for (int m = 0; m < MESH_COUNT; m++)
-        g->meshes[m].count = (m + 1 < MESH_COUNT ? g->meshes[m + 1].first : (GLsizei)b->ni) -
-                             g->meshes[m].first;
-}
-
-static int meshes_create(game *g)
-{
-    builder *b = calloc(1, sizeof *b);
-    if (!b)
-        return -1;
-    build_meshes(g, b);
-    glGenVertexArrays(1, &g->vao);
-    glBindVertexArray(g->vao);
-    glGenBuffers(1, &g->vbo);
-    glBindBuffer(GL_ARRAY_BUFFER, g->vbo);
-    glBufferData(GL_ARRAY_BUFFER, (GLsizeiptr)(sizeof(float) * 6 * b->nv), b->v, GL_STATIC_DRAW);
-    glGenBuffers(1, &g->ibo);
-    glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, g->ibo);
-    glBufferData(GL_ELEMENT_ARRAY_BUFFER, (GLsizeiptr)(sizeof(GLuint) * b->ni), b->idx,
-                 GL_STATIC_DRAW);
-    glEnableVertexAttribArray(0);
-    glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, 6 * sizeof(float), (void *)0);
-    glEnableVertexAttribArray(1);
-    glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, 6 * sizeof(float),
-                          (void *)(3 * sizeof(float)));
-    free(b);
-    return 0;
-}
-
-/* The GPU copy of a scene mesh: vertices (position, normal, texture coordinates) and every
- * level's indices (limen_mesh_geometry.lods; level 0 is the full mesh). NULL if out of
- * memory. */
-static const gpu_mesh *mesh_upload(game *g, const limen_mesh_geometry *m)
-{
-    for (int i = 0; i < g->nmeshes_gpu; i++)
-        if (g->meshes_gpu[i].id == m->id)
-            return &g->meshes_gpu[i];
-    gpu_mesh *grown = realloc(g->meshes_gpu, sizeof *grown * (size_t)(g->nmeshes_gpu + 1));
-    if (!grown)
-        return NULL;
-    g->meshes_gpu = grown;
-    size_t nv = (size_t)m->vertex_count, ni = 0;
-    int levels = m->lod_count < 16 ? m->lod_count : 16;
-    for (int k = 0; k < levels; k++)
-        ni += 3 * (size_t)m->lods[k].triangle_count;
-    float *v = malloc(sizeof(float) * 12 * nv);
-    GLuint *idx = malloc(sizeof(GLuint) * ni);
-    if (!v || !idx) {
-        free(v);
-        free(idx);
-        return NULL;
-    }
-    for (size_t i = 0; i < nv; i++) {
-        memcpy(v + 12 * i, m->positions + 3 * i, sizeof(float) * 3);
-        memcpy(v + 12 * i + 3, m->normals + 3 * i, sizeof(float) * 3);
-        v[12 * i + 6] = m->uvs ? m->uvs[2 * i] : 0.0f;
-        v[12 * i + 7] = m->uvs ? m->uvs[2 * i + 1] : 0.0f;
-        for (int c = 0; c < 4; c++)             /* vertex colours, white where none */
-            v[12 * i + 8 + c] = m->colors ? m->colors[4 * i + c] : 1.0f;
-    }
-    gpu_mesh *gm = &g->meshes_gpu[g->nmeshes_gpu++];
-    memset(gm, 0, sizeof *gm);
-    gm->id = m->id;
-    gm->levels = levels;
-    for (int k = 0, at = 0; k < levels; k++) {
-        gm->first[k] = at;
-        gm->count[k] = 3 * m->lods[k].triangle_count;
-        memcpy(idx + at, m->lods[k].indices, sizeof(GLuint) * (size_t)gm->count[k]);
-        at += gm->count[k];
-    }
-    glGenVertexArrays(1, &gm->vao);
-    glBindVertexArray(gm->vao);
-    glGenBuffers(1, &gm->vbo);
-    glBindBuffer(GL_ARRAY_BUFFER, gm->vbo);
-    glBufferData(GL_ARRAY_BUFFER, (GLsizeiptr)(sizeof(float) * 12 * nv), v, GL_STATIC_DRAW);
-    glGenBuffers(1, &gm->ibo);
-    glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, gm->ibo);
-    glBufferData(GL_ELEMENT_ARRAY_BUFFER, (GLsizeiptr)(sizeof(GLuint) * ni), idx, GL_STATIC_DRAW);
-    for (GLuint a = 0; a < 4; a++) {
-        glEnableVertexAttribArray(a);
-        glVertexAttribPointer(a, a == 2 ? 2 : a == 3 ? 4 : 3, GL_FLOAT, GL_FALSE,
-                              12 * sizeof(float), (void *)(sizeof(float) * (a == 3 ? 8 : 3 * a)));
-    }
-    glBindVertexArray(g->vao);
-    free(v);
-    free(idx);
-    return gm;
-}
-
-/* The GPU copy of an image with its mipmap levels, repeating (limen_node_set_texture); the
- * filter is set where it is drawn. 0 if out of memory. */
-static GLuint image_upload(game *g, const limen_image *im)
-{
-    for (int i = 0; i < g->nimages; i++)
-        if (g->images[i].id == im->id)
-            return g->images[i].tex;
-    gpu_image *grown = realloc(g->images, sizeof *grown * (size_t)(g->nimages + 1));
-    if (!grown)
-        return 0;
-    g->images = grown;
-    gpu_image *gi = &g->images[g->nimages++];
-    gi->id = im->id;
-    glGenTextures(1, &gi->tex);
-    glBindTexture(GL_TEXTURE_2D, gi->tex);
-    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
-    /* limen's own levels, so that the texels are the ones its ray tracer reads; an image
-     * with alpha (a mesh material's) has only its own level, and goes up RGBA */
-    int levels = im->alpha ? 1 : im->level_count;
-    unsigned char *rgba = im->alpha ? malloc((size_t)im->width * (size_t)im->height * 4) : NULL;
-    for (size_t i = 0; rgba && i < (size_t)im->width * (size_t)im->height; i++) {
-        memcpy(rgba + 4 * i, im->rgb + 3 * i, 3);
-        rgba[4 * i + 3] = im->alpha[i];
-    }
-    if (rgba)
-        glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, im->width, im->height, 0, GL_RGBA,
-                     GL_UNSIGNED_BYTE, rgba);
-    for (int k = 0; !im->alpha && k < levels; k++)
-        glTexImage2D(GL_TEXTURE_2D, k, GL_RGB8, im->levels[k].width, im->levels[k].height, 0,
-                     GL_RGB, GL_UNSIGNED_BYTE, im->levels[k].rgb);
-    free(rgba);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAX_LEVEL, levels - 1);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_REPEAT);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_REPEAT);
-    return gi->tex;
-}
-
-static void game_destroy(game *g)
-{
-    if (g->ctx && !make_current(g)) {
-        for (int i = 0; i < g->nmeshes_gpu; i++) {
-            glDeleteBuffers(1, &g->meshes_gpu[i].vbo);
-            glDeleteBuffers(1, &g->meshes_gpu[i].ibo);
-            glDeleteVertexArrays(1, &g->meshes_gpu[i].vao);
-        }
-        for (int i = 0; i < g->nimages; i++)
-            glDeleteTextures(1, &g->images[i].tex);
-        glDeleteProgram(g->prog);
-        glDeleteBuffers(1, &g->vbo);
-        glDeleteBuffers(1, &g->ibo);
-        glDeleteVertexArrays(1, &g->vao);
-        glDeleteFramebuffers(1, &g->fbo);
-        glDeleteRenderbuffers(1, &g->color_rb);
-        glDeleteRenderbuffers(1, &g->depth_rb);
-        OSMesaMakeCurrent(NULL, NULL, GL_UNSIGNED_BYTE, 0, 0);
-    }
-    if (g->ctx)
-        OSMesaDestroyContext(g->ctx);
-    limen_plan_destroy(g->plan);
-    limen_drawables_destroy(g->draw);
-    free(g->meshes_gpu);
-    free(g->images);
-    free(g->items);
-    free(g->things);
-    free(g);
-}
-
 static game *game_create(int w, int h)
 {
     game *g = calloc(1, sizeof *g);
-    if (!g)
-        return NULL;
-    g->w = w, g->h = h;
-    if (context_create(g) || program_create(g) || meshes_create(g) || limen_plan_create(&g->plan) ||
-        limen_drawables_create(&g->draw)) {
-        game_destroy(g);
+    for (int v = 45; g && v >= 33 && !g->ctx; v -= 12) {   /* 4.5 has glClipControl */
+        const int attribs[] = { OSMESA_FORMAT, OSMESA_RGBA, OSMESA_DEPTH_BITS, 0,
+                                OSMESA_STENCIL_BITS, 0, OSMESA_PROFILE, OSMESA_CORE_PROFILE,
+                                OSMESA_CONTEXT_MAJOR_VERSION, v / 10,
+                                OSMESA_CONTEXT_MINOR_VERSION, v % 10, 0 };
+        if ((g->ctx = OSMesaCreateContextAttribs(attribs, NULL)) && v == 45)
+            g->clip_control = (PFNGLCLIPCONTROLPROC)OSMesaGetProcAddress("glClipControl");
+    }
+    if (!g || !g->ctx || make_current(g) || programs_create(g) || limen_plan_create(&g->plan) ||
+        limen_drawables_create(&g->draw) || limen_drawlist_create(&g->list)) {
+        if (g)
+            game_destroy(g);
         return NULL;
     }
+    g->w = w, g->h = h;
+    target_get(g, 0, w, h);
+    glGenVertexArrays(1, &g->vao);              /* the unit shapes read no attributes */
+    glGenVertexArrays(1, &g->poly_vao), glBindVertexArray(g->poly_vao);
+    glGenBuffers(1, &g->poly_vbo), glBindBuffer(GL_ARRAY_BUFFER, g->poly_vbo);
+    glEnableVertexAttribArray(0), glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, 0, NULL);
+    glGenBuffers(1, &g->inst_vbo);
     return g;
 }
 
-/* ============================================================ 4. reading the scene */
+/* ============================================================ 3. one function per op */
 
-/* The game's picture of one drawable; 0 if it draws nothing (a light, a mesh without
- * triangles, or what cannot be uploaded). */
-static int read_item(game *g, const limen_drawable *d, item *it)
+/* A command's pipeline state, and its pass's camera. */
+static void set_state(game *g, const limen_draw_state *s, const limen_draw_pass *p)
 {
-    memset(it, 0, sizeof *it);
-    it->node = d->node;
-    it->kind = d->kind;
-    it->src = d;
-    const float *dims = d->dims;
-    switch (it->kind) {
-    case LIMEN_NODE_BOX:      it->mesh = MESH_BOX;      memcpy(it->scale, dims, 3 * sizeof *dims);
-                              break;
-    case LIMEN_NODE_SPHERE:   it->mesh = MESH_SPHERE;   it->shape = SHAPE_SPHERE;
-                              it->scale[0] = it->scale[1] = it->scale[2] = dims[0]; break;
-    case LIMEN_NODE_CYLINDER: it->mesh = MESH_CYLINDER; it->shape = SHAPE_CYLINDER;
-                              it->scale[0] = it->scale[2] = dims[0], it->scale[1] = dims[1]; break;
-    case LIMEN_NODE_QUAD: case LIMEN_NODE_MIRROR: case LIMEN_NODE_PORTAL:
-        it->mesh = MESH_QUAD, it->scale[0] = dims[0], it->scale[1] = dims[1], it->scale[2] = 1;
-        break;
-    case LIMEN_NODE_MESH:
-        if (!d->mesh || !(it->geo = mesh_upload(g, d->mesh)))
-            return 0;
-        it->mesh = MESH_FILE, it->shape = d->smooth ? SHAPE_FLAT : SHAPE_FACETS;
-        it->scale[0] = it->scale[1] = it->scale[2] = 1;     /* in the node's own units */
-        break;
-    default:
-        return 0;                               /* lights */
-    }
-    memcpy(it->model, d->world, sizeof it->model);
-    for (int c = 0; c < 3; c++)
-        for (int r = 0; r < 3; r++)
-            it->model[c * 4 + r] *= it->scale[c];
-    memcpy(it->color, d->color, sizeof it->color);
-    memcpy(it->color_b, d->checker, sizeof it->color_b);
-    it->cell = d->cell;
-    /* (the planner folds mirror tints into limen_view.tint) */
-    memcpy(it->back, d->back, sizeof it->back);
-    memcpy(it->fill, d->fill, sizeof it->fill);
-    memcpy(it->repeat, d->texture_repeat, sizeof it->repeat);
-    it->filter = d->texture_filter;
-    if (d->texture && (it->tex = image_upload(g, d->texture)))
-        it->uv = it->kind == LIMEN_NODE_MESH ? UV_MESH : it->kind == LIMEN_NODE_BOX ? UV_BOX : UV_PLANE;
-    return 1;
+    static const GLenum compare[LIMEN_COMPARE_COUNT] = { GL_ALWAYS, GL_LESS, GL_LEQUAL,
+                                                         GL_EQUAL, GL_GREATER, GL_GEQUAL };
+    static const GLenum stencil_op[LIMEN_STENCIL_OP_COUNT] = { GL_KEEP, GL_INVERT, GL_DECR };
+    static const GLenum caps[6] = { GL_DEPTH_CLAMP, GL_CULL_FACE, GL_BLEND, GL_STENCIL_TEST,
+                                    GL_CLIP_DISTANCE0, GL_CLIP_DISTANCE1 };
+    static const float keep_all[4] = { 0, 0, 0, 1 };
+    const int on[6] = { s->depth_clamp, s->cull_back, s->blend, s->stencil_test, s->clip_on,
+                        s->cut_on };
+    for (int i = 0; i < 6; i++)
+        (on[i] ? glEnable : glDisable)(caps[i]);
+    glScissor(s->scissor[0], s->scissor[1], s->scissor[2], s->scissor[3]);
+    glColorMask(s->color_write, s->color_write, s->color_write, s->color_write);
+    glDepthMask(s->depth_write), glDepthFunc(compare[s->depth_test]);
+    glStencilFunc(GL_EQUAL, s->stencil_ref, 0xFF), glStencilMask(s->stencil_write_mask);
+    glStencilOp(GL_KEEP, GL_KEEP, stencil_op[s->stencil_pass]);
+    /* where off, a plane that keeps all as well (llvmpipe was seen to go on clipping by the
+     * last plane after glDisable(GL_CLIP_DISTANCE0)) */
+    glUniform4fv(g->u.clip, 1, s->clip_on ? s->clip : keep_all);
+    glUniform4fv(g->u.cut, 1, s->cut_on ? s->cut : keep_all);
+    glFrontFace(p->front_cw ? GL_CW : GL_CCW);
+    glUniformMatrix4fv(g->u.view_proj, 1, GL_FALSE, p->view_proj);
+    glUniform3fv(g->u.eye, 1, p->eye), glUniform3fv(g->u.tint, 1, p->tint);
 }
 
-/* Reads what this frame draws, in one call: shapes and surfaces, lights, ambient and
- * background. items[i] is the drawable i's picture (or not drawn). */
-static void read_scene(game *g, limen_scene *s)
+/* Draws into the frame (0) or offscreen target k from now on. */
+static void op_target(game *g, const limen_draw_cmd *c)
 {
-    float light_pos[LIMEN_MAX_LIGHTS][3], light_col[LIMEN_MAX_LIGHTS][3], ambient;
-    float inv_r2[LIMEN_MAX_LIGHTS];
-    int nlights = 0;
-    const limen_drawable *d;
-    if (limen_drawables_build(g->draw, s))
-        fprintf(stderr, "  drawables: %s\n", limen_scene_error(s));
-    int n = limen_drawables_items(g->draw, &d);
-    if (n > g->items_cap) {
-        item *grown = realloc(g->items, sizeof *grown * (size_t)n);
-        if (grown)
-            g->items = grown, g->items_cap = n;
-    }
-    g->nitems = n < g->items_cap ? n : g->items_cap;
-    for (int i = 0; i < g->nitems; i++) {
-        item *it = &g->items[i];
-        it->drawn = d[i].visible && read_item(g, &d[i], it);
-        if (d[i].visible && d[i].kind == LIMEN_NODE_LIGHT && nlights < LIMEN_MAX_LIGHTS) {
-            memcpy(light_pos[nlights], d[i].world + 12, sizeof light_pos[0]);
-            memcpy(light_col[nlights], d[i].color, sizeof light_col[0]);
-            inv_r2[nlights++] = d[i].range > 0 ? 1.0f / (d[i].range * d[i].range) : 0.0f;
-        }
-    }
-    limen_drawables_environment(g->draw, g->background, &ambient);
-    glUniform1f(g->u.ambient, ambient);
-    glUniform1i(g->u.nlights, nlights);
-    if (nlights) {
-        glUniform3fv(g->u.light_pos, nlights, &light_pos[0][0]);
-        glUniform3fv(g->u.light_col, nlights, &light_col[0][0]);
-        glUniform1fv(g->u.light_inv_r2, nlights, inv_r2);
-    }
+    const target *t = target_get(g, c->target, c->target ? c->target_w : g->w,
+                                 c->target ? c->target_h : g->h);
+    glBindFramebuffer(GL_FRAMEBUFFER, t->fbo);
+    glViewport(c->viewport[0], c->viewport[1], c->viewport[2], c->viewport[3]);
 }
 
-/* The picture of a node the plan names, or NULL. */
-static const item *find_item(const game *g, limen_node n)
+/* Within the scissor, what the state's masks let through: depth to the far plane (the game
+ * draws no reversed depth), colour, stencil to 0. */
+static void op_clear(game *g, const limen_draw_cmd *c)
 {
-    int i = limen_drawables_find(g->draw, n);
-    return i >= 0 && i < g->nitems && g->items[i].drawn ? &g->items[i] : NULL;
+    glClearColor(c->color[0], c->color[1], c->color[2], 1.0f);
+    glClear(GL_DEPTH_BUFFER_BIT | GL_COLOR_BUFFER_BIT | GL_STENCIL_BUFFER_BIT);
 }
 
-static int is_surface(const item *it)
+/* A fan in normalized device coordinates, with the polygons' program: flat, or a target's
+ * texels times the colour. */
+static void op_polygon(game *g, const limen_draw_cmd *c)
 {
-    return it->kind == LIMEN_NODE_MIRROR || it->kind == LIMEN_NODE_PORTAL;
+    int k = c->image == LIMEN_IMAGE_TARGET;
+    glUseProgram(g->flat[k]);
+    glUniform3fv(g->flat_color[k], 1, c->color), glUniform4fv(g->flat_map[k], 1, c->image_map);
+    glBindTexture(GL_TEXTURE_2D, g->targets[c->target < MAX_TARGETS ? c->target : 0].tex);
+    glBindVertexArray(g->poly_vao), glDrawArrays(GL_TRIANGLE_FAN, c->first, c->count);
+    glUseProgram(g->prog);
 }
 
-/* ============================================================ 5. drawing the view tree */
-
-static void gl_set(GLenum cap, int on)
+/* What a drawable's shading takes besides its colour: checker, texture (im: NULL none). */
+static void use_item(game *g, const limen_drawable *d, const limen_image *im)
 {
-    if (on)
-        glEnable(cap);
-    else
-        glDisable(cap);
-}
-
-/* The uniforms of one view: matrices, eye, clip plane, winding, tint. */
-static void use_view(game *g, const limen_view *v)
-{
-    float vp[16];
-    mat4_mul(g->proj ? g->proj[v->id] : v->proj, v->view, vp);
-    glUniformMatrix4fv(g->u.view_proj, 1, GL_FALSE, vp);
-    glUniform3fv(g->u.eye, 1, v->eye);
-    static const float no_clip[4] = { 0, 0, 0, 1 };
-    limen_clip_method clip = g->clip ? g->clip[v->id] : v->clip;
-    int plane = clip == LIMEN_CLIP_PLANE;       /* else the projection does the cutting */
-    gl_set(GL_CLIP_DISTANCE0, plane);
-    glUniform4fv(g->u.clip_plane, 1, plane ? v->clip_plane : no_clip);
-    glFrontFace(v->front_face_cw ? GL_CW : GL_CCW);
-    glUniform3fv(g->u.tint, 1, v->tint);
-    g->view = v;
-    /* depth clamping keeps surfaces from the near plane, the exit plane of an oblique view */
-    g->cut = v->depth > 0 && clip == LIMEN_CLIP_OBLIQUE ? v->clip_plane : NULL;
-}
-
-/* Sets texture tex (0: none) for the next draw, sampled as the item says. */
-static void use_texture(game *g, const item *it, GLuint tex)
-{
-    glUniform1i(g->u.textured, tex != 0);
-    if (!tex)
-        return;
+    GLuint tex = im ? image_upload(g, im) : 0;
+    int f = d->texture_filter;
+    glUniform3fv(g->u.albedo_b, 1, d->checker), glUniform1f(g->u.cell, d->cell);
+    glUniform1i(g->u.textured, tex != 0), glUniform2fv(g->u.repeat, 1, d->texture_repeat);
     glBindTexture(GL_TEXTURE_2D, tex);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER,
-                    it->filter == LIMEN_FILTER_NEAREST ? GL_NEAREST
-                    : it->filter == LIMEN_FILTER_LINEAR ? GL_LINEAR
-                                                        : GL_LINEAR_MIPMAP_LINEAR);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, f == LIMEN_FILTER_NEAREST ? GL_NEAREST
+                    : f == LIMEN_FILTER_LINEAR ? GL_LINEAR : GL_LINEAR_MIPMAP_LINEAR);
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER,
-                    it->filter == LIMEN_FILTER_NEAREST ? GL_NEAREST : GL_LINEAR);
-    glUniform2fv(g->u.repeat, 1, it->repeat);
+                    f == LIMEN_FILTER_NEAREST ? GL_NEAREST : GL_LINEAR);
 }
 
-/* A scene mesh at level k, part by part, each in its material (limen_material): base colour,
- * base texture (the node's own replaces it), alpha mask, emission; the blended parts last,
- * over the rest (a game would sort them with the other transparent things of the view). */
-static void draw_parts(game *g, const item *it, int flat, int k)
+/* The segments of a sphere or cylinder of that radius at world matrix w, as limen chooses
+ * them: the fewest whose silhouette stays within 0.2 pixel of the true shape's. */
+static int segments(const limen_draw_pass *p, const float *w, float radius)
 {
-    const limen_mesh_geometry *m = it->src->mesh;
-    const limen_mesh_part *parts = m->lods[k].parts ? m->lods[k].parts : m->parts;
-    for (int pass = 0; pass < 2; pass++) {
-        for (int p = 0; p < m->part_count; p++) {
-            const limen_material *mt = &m->materials[parts[p].material];
-            if ((mt->alpha_mode == LIMEN_ALPHA_BLEND) != pass || parts[p].triangle_count < 1)
-                continue;
-            if (!flat) {
-                const limen_image *im = it->src->texture ? it->src->texture : mt->base_texture;
-                use_texture(g, it, im ? image_upload(g, im) : 0);
-                glUniform4fv(g->u.base, 1, mt->base_color);
-                glUniform3fv(g->u.emissive, 1, mt->emissive);
-                glUniform1f(g->u.cutoff, mt->alpha_mode == LIMEN_ALPHA_MASK ? mt->alpha_cutoff
-                                                                              : -1.0f);
-            }
-            if (pass && !flat) {
-                glEnable(GL_BLEND);
-                glDepthMask(GL_FALSE);
-            }
-            glDrawElements(GL_TRIANGLES, 3 * parts[p].triangle_count, GL_UNSIGNED_INT,
-                           (void *)(sizeof(GLuint) *
-                                    (size_t)(it->geo->first[k] + 3 * parts[p].first_triangle)));
-            if (pass && !flat) {
-                glDisable(GL_BLEND);
-                glDepthMask(GL_TRUE);
-            }
-        }
+    static const int seg[] = { 8, 12, 16, 24, 32, 48, 64, 96, 128, 192, 256 };
+    const float *v = p->view_mat;
+    float r = 0, dist = -(v[2] * w[12] + v[6] * w[13] + v[10] * w[14] + v[14]);
+    for (int c = 0; c < 3; c++)                 /* the longest axis, in the view's units */
+        r = fmaxf(r, sqrtf(w[4 * c] * w[4 * c] + w[4 * c + 1] * w[4 * c + 1] +
+                           w[4 * c + 2] * w[4 * c + 2]));
+    r *= radius * sqrtf(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+    for (int k = 0; dist > 1.01f * r && k < 11; k++) {
+        double cs = cos(3.14159265358979 / seg[k]);
+        if (r * p->px_scale / (dist - r) * (1 - cs * cs) / (1 + cs * cs) <= 0.2)
+            return seg[k];
     }
-    glUniform4f(g->u.base, 1, 1, 1, 1);
-    glUniform3f(g->u.emissive, 0, 0, 0);
-    glUniform1f(g->u.cutoff, -1);
+    return 256;
 }
 
-/* One node; flat: unlit colour `albedo` (masks, seals, fills). */
-static void draw_item(game *g, const item *it, int flat, const float albedo[3])
+/* A unit shape scaled to its node's size, lit in its colours; which shape and how it scales
+ * and takes a texture are the kind's facts (limen_kind_get), not a list of kinds. */
+static void op_shape(game *g, const limen_draw_cmd *c)
 {
-    glUniformMatrix4fv(g->u.model, 1, GL_FALSE, it->model);
-    glUniform3fv(g->u.scale, 1, it->scale);
-    glUniform3fv(g->u.albedo, 1, albedo);
-    glUniform3fv(g->u.albedo_b, 1, it->color_b);
-    glUniform1f(g->u.cell, flat || is_surface(it) ? 0.0f : it->cell);
-    glUniform1i(g->u.shape, it->shape);
-    glUniform1i(g->u.flat, flat);
-    glUniform1i(g->u.uv, it->uv);
-    glUniform1i(g->u.textured, !flat && it->tex);
-    if (!flat && it->tex) {
-        glBindTexture(GL_TEXTURE_2D, it->tex);
-        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER,
-                        it->filter == LIMEN_FILTER_NEAREST ? GL_NEAREST
-                        : it->filter == LIMEN_FILTER_LINEAR ? GL_LINEAR
-                                                            : GL_LINEAR_MIPMAP_LINEAR);
-        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER,
-                        it->filter == LIMEN_FILTER_NEAREST ? GL_NEAREST : GL_LINEAR);
-        glUniform2fv(g->u.repeat, 1, it->repeat);
+    const limen_drawable *d = &g->items[c->item];
+    const limen_kind_info *k = limen_kind_get(d->kind);
+    int unit = k->round == 2 ? SPHERE : k->round == 1 ? CYLINDER : k->flat ? QUAD : BOX;
+    float scale[3];
+    for (int a = 0; a < 3; a++)
+        scale[a] = k->scale[a] >= 0 ? d->dims[k->scale[a]] : 1.0f;
+    int S = unit < SPHERE ? 1 : segments(&g->passes[c->pass], c->world,
+                                         fmaxf(scale[0], unit == SPHERE ? 0 : scale[1] / 2));
+    const int count[5] = { 0, 6, 36, 3 * S * S, 18 * S };
+    for (GLuint col = 0; col < 4; col++) {     /* world times the unit shape's scale */
+        const float *w = c->world + 4 * col, s = col < 3 ? scale[col] : 1.0f;
+        glVertexAttrib4f(4 + col, w[0] * s, w[1] * s, w[2] * s, w[3] * s);
     }
-    /* mirrors and portals are not cut by the near plane; closed shapes cull back faces (a
-     * mesh need not be closed: both its sides show) */
-    gl_set(GL_DEPTH_CLAMP, is_surface(it));
-    gl_set(GL_CULL_FACE, it->mesh != MESH_QUAD && it->mesh != MESH_FILE);
-    int cut = is_surface(it) && g->cut;
-    if (cut) {
-        glUniform4fv(g->u.clip_plane, 1, g->cut);
-        glEnable(GL_CLIP_DISTANCE0);
-    }
-    if (it->mesh == MESH_FILE) {
-        /* the coarsest level whose error stays under limen's default bound in this view */
-        int k = limen_view_mesh_lod(g->view, g->h, it->src, 0);
-        if (k < 0 || k >= it->geo->levels)
-            k = 0;
-        glBindVertexArray(it->geo->vao);
-        draw_parts(g, it, flat, k);
-        glBindVertexArray(g->vao);
-    } else {
-        const mesh *m = &g->meshes[it->mesh];
-        glDrawElements(GL_TRIANGLES, m->count, GL_UNSIGNED_INT,
-                       (void *)(sizeof(GLuint) * (size_t)m->first));
-    }
-    if (cut) {
-        glUniform4f(g->u.clip_plane, 0, 0, 0, 1);
-        glDisable(GL_CLIP_DISTANCE0);
-    }
+    glVertexAttrib3fv(8, c->color), glUniform3fv(g->u.scale, 1, scale);
+    glUniform1i(g->u.unit, unit), glUniform1i(g->u.uv, k->uv);
+    glUniform1i(g->u.S, S);
+    use_item(g, d, d->texture);
+    glBindVertexArray(g->vao), glDrawArrays(GL_TRIANGLES, 0, count[unit]);
+    glUniform1i(g->u.unit, 0);
 }
 
-/* A screen-filling quad on the far plane (NDC z = +1 in both NO and ZO), colour times the
- * view's tint; stencil, scissor and the depth test decide where it lands. */
-static void draw_far_plane(game *g, const limen_view *v, const float rgb[3])
+/* A batch: `count` instances of a mesh at one level, its opaque or its blended parts, each
+ * part in its material (base colour and texture, alpha mask, emission). */
+static void op_meshes(game *g, const limen_draw_cmd *c)
 {
-    static const float identity[16] = { 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1 };
-    item far = { .mesh = MESH_QUAD, .kind = LIMEN_NODE_MIRROR, .scale = { 1, 1, 1 },
-                 .model = { 2, 0, 0, 0, 0, 2, 0, 0, 0, 0, 1, 0, 0, 0, 1, 1 } };
-    glUniformMatrix4fv(g->u.view_proj, 1, GL_FALSE, identity);
-    glUniform3fv(g->u.tint, 1, v->tint);
-    /* a plane that keeps everything as well as the disable: llvmpipe (Mesa 22.3) was seen
-     * to go on clipping by the last plane after glDisable(GL_CLIP_DISTANCE0) */
-    glUniform4f(g->u.clip_plane, 0, 0, 0, 1);
-    glDisable(GL_CLIP_DISTANCE0);
-    g->cut = NULL;                              /* (use_view sets it again) */
-    draw_item(g, &far, 1, rgb);                 /* a "surface": depth clamped at far */
-}
-
-/* A surface's unlit pass (mark, seal, fill). */
-static void draw_flat_surface(game *g, const limen_view *v, const item *it, const float rgb[3])
-{
-    if (g->flat_surface)
-        g->flat_surface(g, v, it, rgb);
-    else
-        draw_item(g, it, 1, rgb);
-}
-
-/* Shape `it` cut at world plane `keep` (NULL: whole), its world matrix first carried by
- * `carry` (a portal's matrix) where not NULL. */
-static void draw_cut(game *g, const item *it, const float *carry, const float *keep)
-{
-    item copy = *it;
-    if (carry)
-        mat4_mul(carry, it->model, copy.model);
-    if (keep) {
-        glUniform4fv(g->u.cut, 1, keep);
-        glEnable(GL_CLIP_DISTANCE1);
-    }
-    draw_item(g, &copy, 0, copy.color);
-    if (keep) {
-        glUniform4f(g->u.cut, 0, 0, 0, 1);
-        glDisable(GL_CLIP_DISTANCE1);
-    }
-}
-
-/* View `index`'s shapes: those limen_plan_view_things lists (the scene's spatial index
- * finds them; a superset of what shows), each cut at the portal it is passing through, then
- * the copies of those coming out of the portals' partners. */
-static void draw_shapes(game *g, int index)
-{
-    const limen_clone *clones;
-    int nclones = limen_plan_clones(g->drawing, &clones);
-    int n = limen_plan_view_things(g->drawing, g->scene, index, g->things, g->things_cap);
-    if (n > g->things_cap) {
-        limen_node *grown = realloc(g->things, sizeof *grown * (size_t)n);
-        if (grown) {
-            g->things = grown;
-            g->things_cap = n;
-            n = limen_plan_view_things(g->drawing, g->scene, index, g->things, n);
-        }
-    }
-    if (n < 0 || n > g->things_cap) {    /* (out of memory: every shape then) */
-        fprintf(stderr, "  view things: %s\n", limen_scene_error(g->scene));
-        for (int i = 0; i < g->nitems; i++)
-            if (g->items[i].drawn && !is_surface(&g->items[i]))
-                draw_item(g, &g->items[i], 0, g->items[i].color);
+    const limen_drawable *d = &g->items[c->item];
+    const limen_mesh_geometry *m = d->mesh;
+    const gpu *gm = m ? mesh_upload(g, m) : NULL;
+    if (!gm)
         return;
+    int lod = c->lod < m->lod_count && c->lod < 16 ? c->lod : 0;
+    glBindVertexArray(gm->vao), glBindBuffer(GL_ARRAY_BUFFER, g->inst_vbo);
+    for (GLuint a = 4; a < 9; a++) {            /* world matrix columns, albedo */
+        glEnableVertexAttribArray(a), glVertexAttribDivisor(a, 1);
+        glVertexAttribPointer(a, a < 8 ? 4 : 3, GL_FLOAT, GL_FALSE, sizeof(limen_draw_instance),
+                              (void *)(sizeof(limen_draw_instance) * (size_t)c->first +
+                                       sizeof(float) * 4 * (a - 4)));
     }
-    for (int k = 0; k < n; k++) {
-        const item *it = find_item(g, g->things[k]);
-        if (!it)
+    glUniform3f(g->u.scale, 1, 1, 1), glUniform1i(g->u.facets, !d->smooth);
+    glUniform1i(g->u.uv, LIMEN_UV_MESH);
+    const limen_mesh_part *parts = m->lods[lod].parts ? m->lods[lod].parts : m->parts;
+    for (int p = 0; p < m->part_count; p++) {
+        const limen_material *mt = &m->materials[parts[p].material];
+        if ((mt->alpha_mode == LIMEN_ALPHA_BLEND) != (c->parts == LIMEN_PARTS_BLENDED))
             continue;
-        const float *keep = NULL;
-        for (int c = 0; c < nclones && !keep; c++)
-            if (clones[c].node.id == it->node.id)
-                keep = clones[c].keep;
-        draw_cut(g, it, NULL, keep);
+        use_item(g, d, d->texture ? d->texture : mt->base_texture);
+        glUniform4fv(g->u.base, 1, mt->base_color), glUniform3fv(g->u.emissive, 1, mt->emissive);
+        glUniform1f(g->u.cutoff, mt->alpha_mode == LIMEN_ALPHA_MASK ? mt->alpha_cutoff : -1);
+        size_t at = (size_t)gm->first[lod] + 3 * (size_t)parts[p].first_triangle;
+        glDrawElementsInstanced(GL_TRIANGLES, 3 * parts[p].triangle_count, GL_UNSIGNED_INT,
+                                (void *)(sizeof(GLuint) * at), c->count);
     }
-    for (int c = 0; c < nclones; c++) {
-        const item *it = find_item(g, clones[c].node);
-        if (it)
-            draw_cut(g, it, clones[c].matrix, clones[c].copy_keep);
-    }
+    glUniform4f(g->u.base, 1, 1, 1, 1), glUniform3f(g->u.emissive, 0, 0, 0);
+    glUniform1f(g->u.cutoff, -1), glUniform1i(g->u.facets, 0);
 }
 
-static void draw_view(game *g, int index)
+static void op_flush(game *g, const limen_draw_cmd *c)
 {
-    const limen_view *v = limen_plan_view(g->drawing, index);
-    const int st = v->stencil;
-    glScissor(v->scissor[0], v->scissor[1], v->scissor[2], v->scissor[3]);
-    glStencilFunc(GL_EQUAL, st, 0xFF);
-    glStencilOp(GL_KEEP, GL_KEEP, GL_KEEP);
-    if (v->depth > 0) {
-        /* this view's pixels still hold the parent's depth: reset it to the far plane */
-        glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
-        glDepthFunc(GL_ALWAYS);
-        draw_far_plane(g, v, g->background);
-        glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
-        glDepthFunc(GL_LESS);
-    }
-    use_view(g, v);
-    draw_shapes(g, index);
-    if (v->depth > 0) {
-        /* the background (tinted) where no shape landed: depth is still at the far plane */
-        glDepthFunc(GL_EQUAL);
-        draw_far_plane(g, v, g->background);
-        glDepthFunc(GL_LESS);
-        use_view(g, v);
-    }
-
-    const limen_view_surface *surf;
-    int n = limen_plan_view_surfaces(g->drawing, index, &surf);
-    for (int k = 0; k < n; k++) {
-        const item *it = find_item(g, surf[k].node);
-        if (!it)
-            continue;
-        if (surf[k].state == LIMEN_SURFACE_BACK) {
-            draw_item(g, it, 0, it->back);      /* lit, matte */
-            continue;
-        }
-        if (surf[k].state == LIMEN_SURFACE_FILL) {
-            draw_flat_surface(g, v, it, it->fill);
-            continue;
-        }
-        /* RECURSE. Mark: the surface's visible pixels go from st to st + 1. */
-        glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
-        glDepthMask(GL_FALSE);
-        glStencilOp(GL_KEEP, GL_KEEP, GL_INCR);
-        draw_flat_surface(g, v, it, it->fill);
-        glDepthMask(GL_TRUE);
-        glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
-
-        draw_view(g, surf[k].child);            /* draws where stencil == st + 1 */
-
-        /* Seal: back in this view, the surface's own depth over the child's pixels and
-         * their stencil back to st. (The child's colours carry its tint already.) */
-        glScissor(v->scissor[0], v->scissor[1], v->scissor[2], v->scissor[3]);
-        use_view(g, v);
-        glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
-        glStencilFunc(GL_EQUAL, st + 1, 0xFF);
-        glStencilOp(GL_KEEP, GL_KEEP, GL_DECR);
-        glDepthFunc(GL_ALWAYS);
-        draw_flat_surface(g, v, it, it->fill);
-        glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
-        glDepthFunc(GL_LESS);
-        glStencilFunc(GL_EQUAL, st, 0xFF);
-        glStencilOp(GL_KEEP, GL_KEEP, GL_KEEP);
-    }
+    glFlush();
 }
 
-/* ============================================================ 6. one frame */
+/* ============================================================ 4. one frame */
 
-/* Draws plan p (planned for this game's size and the convention range) of scene s; rgb
- * (w*h*3, top row first) gets the frame. The context is made current first because these
- * tests also run limen's own renderer, which has a context of its own. */
-static int game_draw(game *g, limen_scene *s, const limen_plan *p, limen_depth_range range,
+/* The lights (the first LIMEN_MAX_LIGHTS visible), the ambient term, the list's passes, and
+ * its vertices and instances into their buffers. */
+static void frame_begin(game *g)
+{
+    float pos[LIMEN_MAX_LIGHTS][3], col[LIMEN_MAX_LIGHTS][3], inv_r2[LIMEN_MAX_LIGHTS];
+    float ambient, background[3];
+    int n = limen_drawables_items(g->draw, &g->items), nl = 0;
+    for (const limen_drawable *d = g->items; d < g->items + n && nl < LIMEN_MAX_LIGHTS; d++)
+        if (d->visible && d->kind == LIMEN_NODE_LIGHT) {
+            memcpy(pos[nl], d->world + 12, sizeof pos[0]), memcpy(col[nl], d->color, sizeof col[0]);
+            inv_r2[nl++] = d->range > 0 ? 1.0f / (d->range * d->range) : 0.0f;
+        }
+    limen_drawables_environment(g->draw, background, &ambient);
+    glUniform1f(g->u.ambient, ambient), glUniform1i(g->u.nlights, nl);
+    glUniform3fv(g->u.light_pos, nl, pos[0]), glUniform3fv(g->u.light_col, nl, col[0]);
+    glUniform1fv(g->u.light_inv_r2, nl, inv_r2);
+    const float (*v)[3];
+    const limen_draw_instance *inst;
+    int nv = limen_drawlist_vertices(g->list, &v), ni = limen_drawlist_instances(g->list, &inst);
+    glBindBuffer(GL_ARRAY_BUFFER, g->poly_vbo);
+    glBufferData(GL_ARRAY_BUFFER, (GLsizeiptr)sizeof *v * nv, v, GL_STREAM_DRAW);
+    glBindBuffer(GL_ARRAY_BUFFER, g->inst_vbo);
+    glBufferData(GL_ARRAY_BUFFER, (GLsizeiptr)sizeof *inst * ni, inst, GL_STREAM_DRAW);
+    g->npasses = limen_drawlist_passes(g->list, &g->passes);
+}
+
+/* Runs commands cmd[0 .. n) of the built list in order; rgb (w*h*3, top row first) gets
+ * the frame. The context is made current first (a test runs limen's renderer beside it). */
+static int game_draw(game *g, const limen_draw_cmd *cmd, int n, limen_depth_range range,
                      unsigned char *rgb)
 {
+    static void (*const op[LIMEN_DRAW_OP_COUNT])(game *, const limen_draw_cmd *) = {
+        op_target, op_clear, op_polygon, op_shape, op_meshes, op_flush
+    };
+    const limen_draw_cmd frame = { .op = LIMEN_DRAW_TARGET, .viewport = { 0, 0, g->w, g->h } };
     if (make_current(g) || range == LIMEN_DEPTH_ZO_REVERSED ||
         (range == LIMEN_DEPTH_ZO && !g->clip_control))
-        return -1;      /* (reversed depth would need a float depth buffer) */
+        return -1;      /* (reversed depth would want a float depth buffer) */
     if (g->clip_control)
-        g->clip_control(GL_LOWER_LEFT,
-                        range == LIMEN_DEPTH_ZO ? GL_ZERO_TO_ONE : GL_NEGATIVE_ONE_TO_ONE);
-    g->drawing = p;
-    g->scene = s;
-    glBindFramebuffer(GL_FRAMEBUFFER, g->fbo);
-    glViewport(0, 0, g->w, g->h);
-    glUseProgram(g->prog);
-    glBindVertexArray(g->vao);
-    read_scene(g, s);
-
-    glDisable(GL_SCISSOR_TEST);
-    glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
-    glDepthMask(GL_TRUE);
-    glStencilMask(0xFF);
-    glClearColor(g->background[0], g->background[1], g->background[2], 1.0f);
-    glClearDepth(1.0);
-    glClearStencil(0);
-    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT | GL_STENCIL_BUFFER_BIT);
-    glEnable(GL_DEPTH_TEST);
-    glDepthFunc(GL_LESS);
-    glEnable(GL_STENCIL_TEST);
-    glEnable(GL_SCISSOR_TEST);
-    glCullFace(GL_BACK);
-    draw_view(g, 0);
-    glDisable(GL_SCISSOR_TEST);
-    glDisable(GL_STENCIL_TEST);
-    glFrontFace(GL_CCW);
-
-    glPixelStorei(GL_PACK_ALIGNMENT, 1);
+        g->clip_control(GL_LOWER_LEFT, range ? GL_ZERO_TO_ONE : GL_NEGATIVE_ONE_TO_ONE);
+    glUseProgram(g->prog), frame_begin(g), op_target(g, &frame);
+    glEnable(GL_DEPTH_TEST), glEnable(GL_SCISSOR_TEST);
+    for (int i = 0; i < n; i++)
+        if (cmd[i].pass >= 0 && cmd[i].pass < g->npasses && cmd[i].op < LIMEN_DRAW_OP_COUNT) {
+            set_state(g, &cmd[i].state, &g->passes[cmd[i].pass]);
+            op[cmd[i].op](g, &cmd[i]);
+        }
+    op_target(g, &frame), glPixelStorei(GL_PACK_ALIGNMENT, 1);
     for (int y = 0; y < g->h; y++)              /* OpenGL's rows run bottom-up */
-        glReadPixels(0, g->h - 1 - y, g->w, 1, GL_RGB, GL_UNSIGNED_BYTE,
-                     rgb + 3 * (size_t)g->w * y);
-    GLenum e = glGetError();
-    if (e != GL_NO_ERROR)
-        fprintf(stderr, "  OpenGL error 0x%x\n", e);
-    return e == GL_NO_ERROR ? 0 : -1;
+        glReadPixels(0, g->h - 1 - y, g->w, 1, GL_RGB, GL_UNSIGNED_BYTE, rgb + 3 * g->w * y);
+    return glGetError() == GL_NO_ERROR ? 0 : -1;
 }
 
-#ifndef LIMEN_EXAMPLE_GAME_NO_MAIN     /* (tests/sweeps/plan_gl.h stops here) */
-/* Plans the scene's camera view tree in the convention range (NO, or ZO through
- * glClipControl) and draws it into rgb. Planning needs no OpenGL. */
-static int game_frame(game *g, limen_scene *s, limen_depth_range range,
-                      limen_clip_method clip, unsigned char *rgb)
+/* Plans scene s for this game's size and depth range, lists the frame's commands for
+ * `method` (STENCIL or TEXTURE; the game keeps no previous frame) and draws them into rgb. */
+static int game_frame(game *g, limen_scene *s, limen_depth_range range, limen_clip_method clip,
+                      limen_method method, unsigned char *rgb)
 {
     limen_plan_desc pd = { .width = g->w, .height = g->h, .range = range, .limits.clip = clip };
-    limen_status st = limen_plan_build(g->plan, s, &pd);
-    if (st) {
-        fprintf(stderr, "  plan: %s\n", limen_scene_error(s));
-        return -1;
-    }
-    return game_draw(g, s, g->plan, range, rgb);
+    limen_drawlist_desc dd = { .width = g->w, .height = g->h, .method = method, .range = range,
+                               .limits = pd.limits };
+    const limen_draw_cmd *cmd;
+    if (limen_plan_build(g->plan, s, &pd) || limen_drawables_build(g->draw, s))
+        return fprintf(stderr, "  plan: %s\n", limen_scene_error(s)), -1;
+    if (limen_drawlist_build(g->list, g->plan, g->draw, &dd))
+        return fprintf(stderr, "  draw list: %s\n", limen_drawlist_error(g->list)), -1;
+    return game_draw(g, cmd, limen_drawlist_commands(g->list, &cmd), range, rgb);
 }
 
 #ifndef LIMEN_EXAMPLE_NO_MAIN
-/* ============================================================ 7. main */
-
-/* own_renderer SCENE.lua OUT.png [WxH]: one frame of the scene, drawn by the game. */
+/* own_renderer SCENE.lua OUT.png [WxH [texture]]: one frame of the scene, drawn by the game. */
 int main(int argc, char **argv)
 {
-    int w = 640, h = 480;
-    if (argc < 3 || (argc > 3 && sscanf(argv[3], "%dx%d", &w, &h) != 2) || w < 1 || h < 1) {
-        fprintf(stderr, "usage: own_renderer SCENE.lua OUT.png [WxH]\n");
-        return 2;
-    }
+    int w = 640, h = 480, rc = 1;
     limen_script *sc = NULL;
-    if (limen_script_load(argv[1], NULL, &sc)) {
-        fprintf(stderr, "own_renderer: %s\n", sc ? limen_script_error(sc) : argv[1]);
-        limen_script_destroy(sc);
-        return 1;
-    }
-    game *g = game_create(w, h);
+    if (argc < 3 || (argc > 3 && sscanf(argv[3], "%dx%d", &w, &h) != 2) || w < 1 || h < 1)
+        return fprintf(stderr, "usage: own_renderer SCENE.lua OUT.png [WxH [texture]]\n"), 2;
+    game *g = limen_script_load(argv[1], NULL, &sc) ? NULL : game_create(w, h);
     unsigned char *rgb = malloc((size_t)w * (size_t)h * 3);
-    char tmp[4096];
-    snprintf(tmp, sizeof tmp, "%s.tmp", argv[2]);
-    int rc = !g || !rgb ||
-             game_frame(g, limen_script_scene(sc), LIMEN_DEPTH_NO, LIMEN_CLIP_OBLIQUE, rgb) ||
-             limen_write_png(tmp, w, h, rgb) || rename(tmp, argv[2]);
+    if (g && rgb)                               /* (limen_write_png writes whole or not) */
+        rc = game_frame(g, limen_script_scene(sc), LIMEN_DEPTH_NO, LIMEN_CLIP_OBLIQUE,
+                        argc > 4 && !strcmp(argv[4], "texture") ? LIMEN_METHOD_TEXTURE
+                                                                : LIMEN_METHOD_STENCIL, rgb) ||
+             limen_write_png(argv[2], w, h, rgb);
     if (rc)
-        fprintf(stderr, "own_renderer: cannot draw %s into %s\n", argv[1], argv[2]);
-    free(rgb);
+        fprintf(stderr, "own_renderer: cannot draw %s (%s)\n", argv[1],
+                sc ? limen_script_error(sc) : "no script");
     if (g)
         game_destroy(g);
-    limen_script_destroy(sc);
+    free(rgb), limen_script_destroy(sc);
     return rc;
 }
-#endif
 #endif

@@ -239,7 +239,8 @@ typedef struct limen_kind_info {
                                  * checker is in xy (limen_node_set_checker) */
     int closed;                 /* 1: a solid: back faces hidden (BOX, SPHERE, CYLINDER) */
     int round;                  /* bounding sphere about its box's centre: 0 through the box's
-                                 * corners, 1 round about local y (a circle in xz), 2 a ball */
+                                 * corners, 1 round about local axis `axis`, 2 a ball */
+    int axis;                   /* round == 1: 0, 1, 2 for x, y, z (a circle across the others) */
     limen_uv_rule uv;           /* its texture coordinates; LIMEN_UV_NONE: takes no texture */
     int scale[3];               /* unit shapes: the dims index that stretches each local axis */
     float lo[3], hi[3];         /* unit shapes: the unit shape's local box */
@@ -474,8 +475,10 @@ LIMEN_API limen_status limen_mesh_load(limen_scene *s, limen_node mesh, const ch
 LIMEN_API limen_status limen_mesh_set_triangles(limen_scene *s, limen_node mesh,
                                                 const limen_mesh_data *data);
 LIMEN_API limen_status limen_mesh_set_smooth(limen_scene *s, limen_node mesh, int smooth);
+/* Zeros before any triangles. A const reader: LIMEN_ERR_HANDLE for a handle that is not a
+ * live mesh and LIMEN_ERR_ARG for a NULL out, without a message. */
 LIMEN_API limen_status limen_mesh_get(const limen_scene *s, limen_node mesh,
-                                      limen_mesh_info *out);   /* zeros before any triangles */
+                                      limen_mesh_info *out);
 
 /* Warnings: what loading files noticed without refusing them (a texture missing or found
  * elsewhere, points and lines skipped), one line each, "file: warning: text", in order. */
@@ -809,8 +812,8 @@ typedef struct limen_limits {
     float lod_pixels;           /* meshes: each view draws the coarsest level of detail whose
                                  * error projects to at most this many pixels
                                  * (limen_view_mesh_lod); 0 -> LIMEN_LOD_DEFAULT;
-                                 * LIMEN_LOD_FULL: always the full mesh. The tracer always
-                                 * uses the full mesh. */
+                                 * LIMEN_LOD_FULL: always the full mesh. The tracer uses
+                                 * the full mesh unless limen_trace_desc asks for a level. */
 } limen_limits;
 
 #define LIMEN_LOD_FULL (-1.0f)  /* limen_limits.lod_pixels: no levels of detail */
@@ -1014,7 +1017,10 @@ typedef struct limen_render_opts {
     limen_limits limits;        /* as in limen_plan_desc; zero: the defaults */
 } limen_render_opts;
 
-/* Plans and draws one frame of the scene from its camera. opts and stats may be NULL. A mesh
+/* Plans and draws one frame of the scene from its camera. opts and stats may be NULL; with
+ * stats the call returns when the frame is finished (glFinish), without them once it is
+ * submitted (glFlush), so that the next frame's work overlaps its shading (reading it back
+ * or swapping waits for it). A mesh
  * or texture that cannot be copied to the GPU (memory out) fails the frame with
  * LIMEN_ERR_NOMEM and a message naming it, rather than a frame that lacks it; a later frame
  * tries again. */
@@ -1051,16 +1057,16 @@ LIMEN_API limen_status limen_renderer_write_png(limen_renderer *r, const char *p
 
 typedef enum limen_compare {        /* a depth test: the fragment's depth OP the stored one */
     LIMEN_COMPARE_ALWAYS = 0,       /* passes (the test stays on: depth is still written) */
-    LIMEN_COMPARE_LESS,
-    LIMEN_COMPARE_LEQUAL,
-    LIMEN_COMPARE_EQUAL,
-    LIMEN_COMPARE_GREATER,
-    LIMEN_COMPARE_GEQUAL,
+    LIMEN_COMPARE_LESS,             /* nearer than what is there (plain depth ranges) */
+    LIMEN_COMPARE_LEQUAL,           /* at least as near (a surface over its own depth) */
+    LIMEN_COMPARE_EQUAL,            /* exactly there (a background at the far plane) */
+    LIMEN_COMPARE_GREATER,          /* nearer, where depth is reversed (ZO_REVERSED) */
+    LIMEN_COMPARE_GEQUAL,           /* at least as near, where depth is reversed */
     LIMEN_COMPARE_COUNT             /* the number of tests (not one itself) */
 } limen_compare;
 
 typedef enum limen_stencil_op {     /* what a pixel that passes stencil and depth does */
-    LIMEN_STENCIL_KEEP = 0,
+    LIMEN_STENCIL_KEEP = 0,         /* leaves it */
     LIMEN_STENCIL_INVERT,           /* the bits of write_mask flip (to a child's value) */
     LIMEN_STENCIL_DECR,             /* one less: back to the parent's value (a seal) */
     LIMEN_STENCIL_OP_COUNT          /* the number of ops (not one itself) */
@@ -1131,7 +1137,7 @@ typedef enum limen_draw_op {
 } limen_draw_op;
 
 typedef enum limen_draw_image {
-    LIMEN_IMAGE_NONE = 0,
+    LIMEN_IMAGE_NONE = 0,           /* a flat colour */
     LIMEN_IMAGE_PREVIOUS,       /* the previous frame's colour (LIMEN_FILL_PREVIOUS) */
     LIMEN_IMAGE_TARGET,         /* target `target`'s colour (texture method) */
     LIMEN_IMAGE_COUNT           /* the number of images (not one itself) */
@@ -1168,14 +1174,14 @@ typedef struct limen_draw_instance {
 typedef struct limen_drawlist limen_drawlist;
 
 typedef struct limen_drawlist_desc {
-    int width, height;          /* the frame in pixels (0: the plan's) */
+    int width, height;          /* the frame in pixels: the plan's (0: take it) */
     limen_method method;        /* STENCIL or TEXTURE (NAIVE: TEXTURE, over a plan built
                                  * with LIMEN_CULL_FRUSTUM) */
     limen_fill fill;            /* LIMEN_FILL_PREVIOUS: surfaces where recursion stopped show
                                  * the previous frame where have_previous */
     float texture_scale;        /* texture method: target resolution, (0, 1]; 0 -> 1 */
     int msaa;                   /* samples per pixel the backend draws with (0, 1: one) */
-    limen_depth_range range;    /* the plan's clip-space convention */
+    limen_depth_range range;    /* the plan's clip-space convention (another: refused) */
     limen_limits limits;        /* lod_pixels and budget.triangles; zero: the defaults */
     int have_previous;          /* 1: the backend holds a previous frame */
 } limen_drawlist_desc;
@@ -1184,7 +1190,8 @@ LIMEN_API limen_status limen_drawlist_create(limen_drawlist **out);    /* an emp
 LIMEN_API void limen_drawlist_destroy(limen_drawlist *dl);             /* NULL is fine */
 /* Builds the frame's commands from a built plan and the drawables of the same scene (the
  * scene itself is not read), reusing the list's memory. On failure (a NULL or unbuilt plan,
- * a bad desc, memory) the list is empty and limen_drawlist_error says why. */
+ * a bad desc or one whose size or range is not the plan's, memory) the list is empty and
+ * limen_drawlist_error says why. */
 LIMEN_API limen_status limen_drawlist_build(limen_drawlist *dl, const limen_plan *p,
                                             const limen_drawables *d,
                                             const limen_drawlist_desc *desc);
@@ -1250,6 +1257,16 @@ typedef struct limen_trace_desc {
                                  * so that a renderer at msaa 4 can be held to it; another
                                  * square k * k up to 256 -> the centres of a k x k grid of
                                  * cells. Anything else -> ARG */
+    float lod_pixels;           /* meshes: 0 (or LIMEN_LOD_FULL) the full mesh, the truth;
+                                 * > 0: each mesh at the level of detail the camera's view
+                                 * draws it at under this bound (limen_view_mesh_lod, as a
+                                 * renderer's limen_limits.lod_pixels), so that a level can be
+                                 * held to the truth of its own triangles. A mesh seen in a
+                                 * mirror or through a portal keeps the camera view's level
+                                 * (a renderer chooses per view) */
+    int lod_level;              /* meshes: k > 0 traces every mesh at its level k (its
+                                 * coarsest where it has fewer), whatever lod_pixels says;
+                                 * 0: lod_pixels decides. Negative -> ARG */
 } limen_trace_desc;
 
 /* Ray traces the scene from its camera (the root view skips what lies nearer than the

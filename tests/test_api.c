@@ -216,8 +216,49 @@ static void test_node_lookup(void)
     limen_scene_destroy(s);
 }
 
+/* The calls that looked handles up by hand (meshes, textures, move, slide) go through the one
+ * lookup: its two messages and its kind check, named like every other call's; limen_mesh_get,
+ * a const reader, returns a status and leaves the message as it was. */
+static void test_node_lookup_everywhere(void)
+{
+    limen_scene *s = mirror_scene();
+    CHECK(s != NULL);
+    if (!s)
+        return;
+    limen_node ball, gone, mesh;
+    CHECK_OK(limen_node_create(s, LIMEN_NODE_SPHERE, "ball", &ball));
+    CHECK_OK(limen_node_create(s, LIMEN_NODE_MESH, "statue", &mesh));
+    CHECK_OK(limen_node_create(s, LIMEN_NODE_BOX, "gone", &gone));
+    CHECK_OK(limen_node_destroy(s, gone));
+    const float d[3] = { 0.1f, 0, 0 };
+    CHECK(limen_node_move(s, gone, d, NULL) == LIMEN_ERR_HANDLE);
+    CHECK(strcmp(limen_scene_error(s), "move: stale or foreign node handle") == 0);
+    CHECK(limen_node_move(s, (limen_node){ 0 }, d, NULL) == LIMEN_ERR_HANDLE);
+    CHECK(strcmp(limen_scene_error(s), "move: null node handle") == 0);
+    CHECK(limen_node_move(NULL, ball, d, NULL) == LIMEN_ERR_ARG);
+    CHECK(limen_node_slide(s, gone, d, 0.1f, NULL) == LIMEN_ERR_HANDLE);
+    CHECK(strcmp(limen_scene_error(s), "slide: stale or foreign node handle") == 0);
+    CHECK(limen_node_set_texture(s, ball, "none.png") == LIMEN_ERR_HANDLE);
+    CHECK(strcmp(limen_scene_error(s), "texture: 'ball' is a sphere, which takes no texture") == 0);
+    CHECK(limen_mesh_set_smooth(s, ball, 1) == LIMEN_ERR_HANDLE);
+    CHECK(strcmp(limen_scene_error(s), "mesh_set_smooth: 'ball' is not a mesh") == 0);
+    CHECK(limen_mesh_set_smooth(NULL, mesh, 1) == LIMEN_ERR_ARG);
+
+    /* a const reader: the status alone */
+    limen_mesh_info info;
+    CHECK(limen_mesh_get(s, ball, &info) == LIMEN_ERR_HANDLE);
+    CHECK(limen_mesh_get(s, gone, &info) == LIMEN_ERR_HANDLE);
+    CHECK(limen_mesh_get(s, mesh, NULL) == LIMEN_ERR_ARG);
+    CHECK(limen_mesh_get(NULL, mesh, &info) == LIMEN_ERR_ARG);
+    CHECK_OK(limen_mesh_get(s, mesh, &info));
+    CHECK(info.triangle_count == 0);
+    CHECK(strcmp(limen_scene_error(s), "mesh_set_smooth: 'ball' is not a mesh") == 0);
+    limen_scene_destroy(s);
+}
+
 static const check_case cases[] = {
     { "node_lookup", test_node_lookup },
+    { "node_lookup_everywhere", test_node_lookup_everywhere },
     { "enum_counts", test_enum_counts },
     { "version", test_version },
     { "limits_defaults", test_limits_defaults },

@@ -52,6 +52,7 @@ static void test_rows(void)
         CHECK(ki->shape + ki->surface + ki->light <= 1);
         CHECK(!ki->unit || ki->shape || ki->surface);
         CHECK(!ki->closed || (ki->shape && !ki->flat));
+        CHECK(ki->round >= 0 && ki->round <= 2 && ki->axis >= 0 && ki->axis < 3);
         for (int a = 0; a < 3; a++) {
             CHECK(ki->scale[a] < ki->size);
             CHECK(!ki->unit || ki->lo[a] <= ki->hi[a]);

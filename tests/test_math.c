@@ -9,6 +9,7 @@
  *
  * Random cases come from splitmix64 with a fixed seed, so a failure reproduces.
  */
+#include "core/dmath.h"
 #include "core/testing.h"
 #include "math_check.h"
 
@@ -536,6 +537,34 @@ static void test_clip_polygon(void)
     CHECK(memcmp(small[3], tail, sizeof tail) == 0);
 }
 
+/* The planner's and the sweeps' points (limen__d_clip3) are clipped as the renderer's
+ * homogeneous ones (limen__d_clip4, behind limen_clip_polygon) with w = 1: the same
+ * vertices, to the last bit, and the same cap. */
+static void test_clip_points(void)
+{
+    for (int i = 0; i < 2000; i++) {
+        int n = 3 + (int)(rnd() * 6);
+        double p3[8][3], p4[8][4], o3[9][3], o4[9][4], pl[4];
+        for (int k = 0; k < n; k++) {
+            for (int c = 0; c < 3; c++)
+                p4[k][c] = p3[k][c] = rnd_range(-10, 10);
+            p4[k][3] = 1;
+        }
+        rnd_unit(pl);
+        pl[3] = rnd_range(-5, 5);
+        int cap = i % 4 ? 8 : 3;
+        int m3 = limen__d_clip3((const double(*)[3])p3, n, pl, o3, cap);
+        int m4 = limen__d_clip4((const double(*)[4])p4, n, pl, o4, cap);
+        CHECK(m3 == m4 && m3 <= cap + 1);
+        bool same = true;
+        for (int k = 0; k < m3; k++)
+            same = same && !memcmp(o3[k], o4[k], sizeof o3[k]) && o4[k][3] == 1;
+        CHECK_MSG(same, "case %d: the clippers differ", i);
+        for (int k = 0; k < m3; k++)
+            CHECK(pl[0] * o3[k][0] + pl[1] * o3[k][1] + pl[2] * o3[k][2] + pl[3] >= -1e-9);
+    }
+}
+
 static const check_case cases[] = {
     {"plane_from_points", test_plane_from_points},
     {"plane_degenerate", test_plane_degenerate},
@@ -547,6 +576,7 @@ static const check_case cases[] = {
     {"mirror_args", test_mirror_args},
     {"portal", test_portal},
     {"clip_polygon", test_clip_polygon},
+    {"clip_points", test_clip_points},
     {0, 0},
 };
 

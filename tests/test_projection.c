@@ -497,10 +497,87 @@ static void test_internal_aliasing(void)
     }
 }
 
+static double plane_eval4(const double pl[4], const double q[4])
+{
+    return pl[0] * q[0] + pl[1] * q[1] + pl[2] * q[2] + pl[3] * q[3];
+}
+
+/* limen__frustum_planes: one function for every frustum's planes. A point carried to clip
+ * space lies inside the window (x/w, y/w within it) and the depth range exactly when every
+ * plane keeps it; the planes of the whole window pass through the frustum's edges; near and
+ * far are limen_projection_planes' (normalised); on view x projection the planes are the
+ * world's. */
+static void test_frustum_planes(void)
+{
+    for (int r = 0; r < 3; r++) {
+        for (int i = 0; i < 300; i++) {
+            double fovy, aspect, zn, zf;
+            rnd_lens(&fovy, &aspect, &zn, &zf);
+            float pf[16], np[4], fp[4];
+            CHECK_OK(limen_perspective((float)fovy, (float)aspect, (float)zn, (float)zf,
+                                       ranges[r], pf));
+            CHECK_OK(limen_projection_planes(pf, ranges[r], np, fp));
+            double p[16], planes[6][4];
+            for (int k = 0; k < 16; k++)
+                p[k] = pf[k];
+            /* a window inside [-1, 1]^2, as a scissor rectangle makes */
+            double x0 = rnd_range(-1, 0.9), y0 = rnd_range(-1, 0.9);
+            double win[4] = { x0, rnd_range(x0 + 0.05, 1), y0, rnd_range(y0 + 0.05, 1) };
+            limen__frustum_planes(p, win, ranges[r], planes);
+            for (int k = 4; k < 6; k++) {     /* near and far: the same planes, unnormalised */
+                const float *want = k == 4 ? np : fp;
+                double len = len3(planes[k]);
+                for (int c = 0; c < 4; c++)
+                    CHECK_NEAR(planes[k][c] / len, want[c], 8 * FEPS * (1 + fabs(want[c])));
+            }
+            for (int t = 0; t < 20; t++) {
+                /* an eye-space point between near and far, in or out of the window */
+                double z = -rnd_range(zn * 1.01, zf * 0.99);
+                double ty = tan(fovy / 2), tx = ty * aspect;
+                double q[4] = { rnd_range(-1.5, 1.5) * tx * -z, rnd_range(-1.5, 1.5) * ty * -z,
+                                z, 1 }, c[4] = { 0, 0, 0, 0 };
+                for (int row = 0; row < 4; row++)
+                    for (int col = 0; col < 4; col++)
+                        c[row] += p[col * 4 + row] * q[col];
+                double xn = c[0] / c[3], yn = c[1] / c[3];
+                /* away from the edges by more than rounding */
+                double margin = 1e-9;
+                if (fabs(xn - win[0]) < margin || fabs(xn - win[1]) < margin ||
+                    fabs(yn - win[2]) < margin || fabs(yn - win[3]) < margin)
+                    continue;
+                bool in = xn > win[0] && xn < win[1] && yn > win[2] && yn < win[3];
+                bool kept = true;
+                for (int k = 0; k < 6; k++)
+                    kept = kept && plane_eval4(planes[k], q) >= 0;
+                CHECK_MSG(in == kept, "range %d: (%g, %g) in [%g, %g] x [%g, %g]: kept %d", r,
+                          xn, yn, win[0], win[1], win[2], win[3], kept);
+            }
+        }
+    }
+    /* the whole window (NULL): a point on the frustum's right edge at any depth is on the
+     * right plane; the sides pass through the eye */
+    float pf[16];
+    CHECK_OK(limen_perspective(1.0f, 1.5f, 0.1f, 100.0f, LIMEN_DEPTH_NO, pf));
+    double p[16], planes[6][4];
+    for (int k = 0; k < 16; k++)
+        p[k] = pf[k];
+    limen__frustum_planes(p, NULL, LIMEN_DEPTH_NO, planes);
+    double tx = 1.0 / p[0], ty = 1.0 / p[5];
+    for (int k = 0; k < 4; k++)
+        CHECK(planes[k][3] == 0);
+    for (double z = -0.5; z > -90; z *= 3) {
+        double edge[4][4] = { { -tx * -z, 0, z, 1 }, { tx * -z, 0, z, 1 },
+                              { 0, -ty * -z, z, 1 }, { 0, ty * -z, z, 1 } };
+        for (int k = 0; k < 4; k++)
+            CHECK_NEAR(plane_eval4(planes[k], edge[k]) / len3(planes[k]), 0.0, 1e-12 * -z);
+    }
+}
+
 static const check_case cases[] = {
     {"look_at", test_look_at},
     {"perspective", test_perspective},
     {"projection_planes", test_projection_planes},
+    {"frustum_planes", test_frustum_planes},
     {"oblique", test_oblique},
     {"oblique_refused", test_oblique_refused},
     {"oblique_mirror_view", test_oblique_mirror_view},

@@ -11,7 +11,7 @@
  *   none      no clipping (the baseline that leaks);
  *   oblique   the oblique projection FORCED at every step: the library's plan, with each
  *             nested view's projection rebuilt by limen_oblique_projection from the view's
- *             clip plane, drawn by tests/sweeps/plan_gl.h (the example game's renderer);
+ *             clip plane, drawn by tests/sweeps/plan_gl.h (plan_game.h's renderer);
  *             "refused" where even limen_oblique_projection says DEGENERATE (eye within
  *             1e-6 near distances of the plane). The surfaces' flat passes are drawn
  *             from their polygons clipped in double, so that only the projection differs;

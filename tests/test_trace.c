@@ -4,12 +4,15 @@
 #include <dirent.h>
 #include <math.h>
 #include <signal.h>
+#include <stdbool.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/resource.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include "charted.h"
 #include "check.h"
 #include "limen.h"
 #include "load.h"
@@ -706,7 +709,7 @@ static void test_samples(void)
  * exact (gl/shader.c's EXACT: llvmpipe divides a sample's perspective numerators by the
  * pixel centre's 1/w), a view's scissor holding every pixel its surface meets, not only
  * those whose centre it covers (limen_plan_desc.multisample), and curved silhouettes within
- * a quarter of the one-sample tolerance (gl/mesh.c). */
+ * a quarter of the one-sample tolerance (gl/shapes.c). */
 static void test_msaa_truth(void)
 {
     static const char *const scenes[] = {
@@ -747,6 +750,192 @@ static void test_msaa_truth(void)
     limen_renderer_destroy(r);
 }
 
+/* ------------------------------------------------------------------ levels of detail */
+
+/* The texture's colours in test_lod_levels: five charts and the margin around each. */
+static const unsigned char lod_colour[6][3] = {
+    { 230, 60, 40 }, { 60, 200, 60 }, { 50, 90, 230 }, { 230, 200, 40 }, { 40, 200, 210 },
+    { 255, 0, 255 },
+};
+
+/* Which of lod_colour a pixel shows, by its hue (light and dark checks and the blends
+ * between them are one chart's colour scaled): 0-5, or -1 for the black background. */
+static int lod_class(const unsigned char *p)
+{
+    int m = p[0] > p[1] ? p[0] : p[1];
+    m = p[2] > m ? p[2] : m;
+    if (m < 24)
+        return -1;
+    int best = 0;
+    double bd = 1e9;
+    for (int c = 0; c < 6; c++) {
+        const unsigned char *q = lod_colour[c];
+        int qm = q[0] > q[1] ? q[0] : q[1];
+        qm = q[2] > qm ? q[2] : qm;
+        double d = 0;
+        for (int k = 0; k < 3; k++)
+            d += fabs((double)p[k] / m - (double)q[k] / qm);
+        if (d < bd) {
+            bd = d;
+            best = c;
+        }
+    }
+    return best;
+}
+
+/* How many pixels of img show a colour (lod_class) that ref shows nowhere within r of them. */
+static int unmatched_within(const unsigned char *img, const unsigned char *ref, int w, int h,
+                            int r)
+{
+    int bad = 0;
+    for (int y = 0; y < h; y++)
+        for (int x = 0; x < w; x++) {
+            int c = lod_class(&img[(y * w + x) * 3]);
+            bool found = false;
+            for (int dy = -r; dy <= r && !found; dy++)
+                for (int dx = -r; dx <= r && !found; dx++) {
+                    int yy = y + dy, xx = x + dx;
+                    found = yy >= 0 && yy < h && xx >= 0 && xx < w &&
+                            lod_class(&ref[(yy * w + xx) * 3]) == c;
+                }
+            bad += !found;
+        }
+    return bad;
+}
+
+/* A textured asset with seams (tests/charted.h: 16,000 triangles, five charts, each its own
+ * cell of the atlas with a margin of a colour no chart has), unlit, at each of its levels of
+ * detail: the renderer forced to the level (the bound that makes limen_view_mesh_lod choose
+ * it) draws what the tracer traces at that level (limen_trace_desc.lod_level; lod_pixels
+ * chooses the same), within the 0.5% the full mesh meets; and the level's picture is the full
+ * mesh's moved by at most the level's bound: every pixel has its colour in the full mesh's
+ * truth within the bound's pixels (plus one), so no texture smears across a seam, where the
+ * margin's or another chart's colour would show. */
+static void test_lod_levels(void)
+{
+    enum { N = 40, NT = 5 * N * N * 2, W = 160, H = 120, T = 192, CELL = 64 };
+    int nv = charted_verts(N, N);
+    float *pos = malloc(sizeof(float) * 3 * nv), *nrm = malloc(sizeof(float) * 3 * nv),
+          *uv = malloc(sizeof(float) * 2 * nv);
+    uint32_t *idx = malloc(sizeof(uint32_t) * 3 * NT);
+    unsigned char *tex = malloc(T * T * 3), *img = malloc(W * H * 3), *full = malloc(W * H * 3),
+                  *lvl = malloc(W * H * 3), *by_px = malloc(W * H * 3);
+    char dir[] = "/tmp/limen_lod_XXXXXX", path[64] = "";
+    bool made = false;
+    limen_scene *s = new_scene();
+    limen_renderer *r = NULL;
+    limen_drawables *dr = NULL;
+    CHECK_OK(limen_renderer_create(&(limen_renderer_desc){ .width = W, .height = H }, &r));
+    CHECK_OK(limen_drawables_create(&dr));
+    if (!pos || !nrm || !uv || !idx || !tex || !img || !full || !lvl || !by_px || !s || !r ||
+        !dr || !(made = mkdtemp(dir) != NULL)) {
+        CHECK(!"setup");
+        goto done;
+    }
+    /* the atlas: 3 x 3 cells, chart c's colour checkered light and dark; margins magenta */
+    for (int y = 0; y < T; y++)
+        for (int x = 0; x < T; x++) {
+            int c = (T - 1 - y) / CELL * 3 + x / CELL, ix = x % CELL, iy = y % CELL;
+            bool margin = c >= 5 || ix < 2 || ix >= CELL - 2 || iy < 2 || iy >= CELL - 2;
+            for (int k = 0; k < 3; k++)
+                tex[(y * T + x) * 3 + k] =
+                    margin ? lod_colour[5][k]
+                           : (unsigned char)(lod_colour[c][k] * ((ix / 8 + iy / 8) % 2 ? 1.0 : 0.55));
+        }
+    snprintf(path, sizeof path, "%s/atlas.png", dir);
+    CHECK_OK(limen_write_png(path, T, T, tex));
+    charted_ball(N, N, pos, nrm, uv, idx);
+    limen_node cam = add(s, LIMEN_NODE_CAMERA, "cam", 0, 0, 0), ball = { 0 };
+    CHECK_OK(limen_node_look_at(s, cam, (float[3]){ 0.6f, 0.9f, 2.6f }, (float[3]){ 0, 0, 0 },
+                                (float[3]){ 0, 1, 0 }));
+    CHECK_OK(limen_scene_set_camera(s, cam));
+    CHECK_OK(limen_scene_set_ambient(s, 1.0f));
+    CHECK_OK(limen_node_create(s, LIMEN_NODE_MESH, "ball", &ball));
+    CHECK_OK(limen_mesh_set_triangles(s, ball, &(limen_mesh_data){
+        .positions = pos, .normals = nrm, .uvs = uv, .vertex_count = nv, .indices = idx,
+        .triangle_count = NT }));
+    CHECK_OK(limen_node_set_texture(s, ball, path));
+    /* one point of the texture per pixel in both: no level of a mipmap to choose */
+    CHECK_OK(limen_node_set_texture_filter(s, ball, LIMEN_FILTER_LINEAR));
+    /* the camera's view and the ball as the renderer reads them */
+    CHECK_OK(limen_render_frame(r, s, NULL, NULL));
+    CHECK_OK(limen_drawables_build(dr, s));
+    const limen_drawable *all = NULL;
+    limen_drawables_items(dr, &all);
+    int di = limen_drawables_find(dr, ball);
+    const limen_view *root = limen_plan_view(limen_renderer_plan(r), 0);
+    if (di < 0 || !root || !all[di].mesh) {
+        CHECK(!"no ball");
+        goto done;
+    }
+    const limen_drawable *d = &all[di];
+    const limen_mesh_geometry *g = d->mesh;
+    CHECK_MSG(g->lod_count >= 5, "%d levels", g->lod_count);
+    CHECK_OK(limen_trace_image(s, &(limen_trace_desc){ .width = W, .height = H }, full));
+    /* pixels per unit of the mesh at the ball's nearest point (limen_view_mesh_lod's) */
+    const float *m = root->view;
+    double depth = -(m[2] * d->centre[0] + m[6] * d->centre[1] + m[10] * d->centre[2] + m[14]);
+    double to_px = root->proj[5] * 0.5 * H / (depth - d->radius);
+    int reached = 0;
+    for (int k = 0; k < g->lod_count; k++) {
+        float px = 0;   /* the smallest bound of 2^(j/8) pixels that chooses level k */
+        for (int j = -80; j <= 120 && !px; j++)
+            if (limen_view_mesh_lod(root, H, d, powf(2.0f, j / 8.0f)) == k)
+                px = powf(2.0f, j / 8.0f);
+        if (!px)
+            continue;   /* its error equals a coarser level's: never chosen */
+        reached++;
+        limen_render_opts o = { .limits = { .lod_pixels = k ? px : LIMEN_LOD_FULL } };
+        limen_frame_stats st;
+        CHECK_OK(limen_render_frame(r, s, &o, &st));
+        CHECK_MSG(st.triangles == (uint64_t)g->lods[k].triangle_count, "level %d: %llu triangles "
+                  "drawn, %d in the level", k, (unsigned long long)st.triangles,
+                  g->lods[k].triangle_count);
+        CHECK_OK(limen_renderer_read_rgb(r, img));
+        CHECK_OK(limen_trace_image(s, &(limen_trace_desc){ .width = W, .height = H,
+                                                           .lod_level = k }, lvl));
+        CHECK_OK(limen_trace_image(s, &(limen_trace_desc){ .width = W, .height = H,
+                                                           .lod_pixels = k ? px : 0 }, by_px));
+        CHECK_MSG(memcmp(lvl, by_px, W * H * 3) == 0, "level %d: lod_pixels %g traces another "
+                  "level", k, (double)px);
+        limen_diff dl;
+        CHECK_OK(limen_image_diff(img, lvl, W, H, 8, &dl, NULL));
+        CHECK_MSG(dl.bad_share <= 0.005, "level %d (%d triangles): render %.3f%% off its trace", k,
+                  g->lods[k].triangle_count, 100 * dl.bad_share);
+        int radius = (int)ceil(g->lods[k].error * to_px) + 1;
+        int moved = unmatched_within(lvl, full, W, H, radius);
+        CHECK_MSG(moved <= W * H / 2000, "level %d (error %.2f px): %d pixels with no colour of "
+                  "the full mesh's within %d px", k, g->lods[k].error * to_px, moved, radius);
+        if (getenv("LIMEN_TEST_VERBOSE"))
+            fprintf(stderr, "level %d: %d triangles, error %.3f px, render %.3f%% off its trace, "
+                    "%d pixels unmatched within %d px\n", k, g->lods[k].triangle_count,
+                    g->lods[k].error * to_px, 100 * dl.bad_share, moved, radius);
+    }
+    CHECK_MSG(reached >= 5, "%d levels reached", reached);
+    CHECK(limen_trace_image(s, &(limen_trace_desc){ .width = W, .height = H, .lod_level = -1 },
+                            lvl) == LIMEN_ERR_ARG);
+    CHECK(limen_trace_image(s, &(limen_trace_desc){ .width = W, .height = H,
+                                                    .lod_pixels = NAN }, lvl) == LIMEN_ERR_ARG);
+    CHECK_MSG(strstr(limen_scene_error(s), "lod_pixels"), "%s", limen_scene_error(s));
+done:
+    if (path[0])
+        remove(path);
+    if (made)
+        rmdir(dir);
+    limen_drawables_destroy(dr);
+    limen_renderer_destroy(r);
+    limen_scene_destroy(s);
+    free(pos);
+    free(nrm);
+    free(uv);
+    free(idx);
+    free(tex);
+    free(img);
+    free(full);
+    free(lvl);
+    free(by_px);
+}
+
 static const check_case cases[] = {
     { "sphere_analytic", test_sphere_analytic },
     { "shapes_scaled", test_shapes_scaled },
@@ -762,6 +951,7 @@ static const check_case cases[] = {
     { "wide_depth_range", test_wide_depth_range },
     { "samples", test_samples },
     { "msaa_truth", test_msaa_truth },
+    { "lod_levels", test_lod_levels },
     { 0 },
 };
 

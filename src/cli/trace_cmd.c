@@ -16,6 +16,10 @@ static const limen_cli_option trace_options[] = {
     { "--samples N", "rays per pixel, averaged (a box filter): 1 (default) the centre, 4 the\n"
                      "standard 4x MSAA positions (compare with render --msaa 4), 9, 16,\n"
                      "25, ... a grid" },
+    { "--lod PIXELS", "trace each mesh at the level of detail `render --lod PIXELS` draws it\n"
+                      "at in the camera's view (PIXELS > 0); full (default): the full mesh" },
+    { "--lod-level K", "trace every mesh at its level of detail K (its coarsest where it\n"
+                       "has fewer; 0: as --lod says)" },
     { "--stats", "one JSON line per frame: frame, time, ms, pixels" },
     { NULL, NULL }
 };
@@ -32,6 +36,29 @@ static double now_ms(void)
     return (double)ts.tv_sec * 1e3 + (double)ts.tv_nsec * 1e-6;
 }
 
+/* --lod PIXELS|full and --lod-level K at argv[*i]; 0 or the exit status. */
+static int parse_lod(int argc, char **argv, int *i, limen_trace_desc *d)
+{
+    const char *a = argv[*i];
+    if (*i + 1 >= argc)
+        return limen_cli_fail(2, "option %s needs a value", a);
+    const char *v = argv[++*i];
+    double x;
+    long n;
+    if (!strcmp(a, "--lod-level")) {
+        if (limen_cli_parse_long(v, 0, 255, &n))
+            return limen_cli_fail(2, "--lod-level: expected 0 to 255, got '%s'", v);
+        d->lod_level = (int)n;
+    } else if (!strcmp(v, "full")) {
+        d->lod_pixels = 0;
+    } else if (limen_cli_parse_double(v, &x) || !(x > 0)) {
+        return limen_cli_fail(2, "--lod: expected a number of pixels > 0 or 'full', got '%s'", v);
+    } else {
+        d->lod_pixels = (float)x;
+    }
+    return 0;
+}
+
 static int parse(int argc, char **argv, limen_cli_run *o, limen_trace_desc *d)
 {
     limen_cli_run_init(o);
@@ -42,6 +69,11 @@ static int parse(int argc, char **argv, limen_cli_run *o, limen_trace_desc *d)
         if (r == 1)
             continue;
         long n;
+        if (!strcmp(argv[i], "--lod") || !strcmp(argv[i], "--lod-level")) {
+            if ((r = parse_lod(argc, argv, &i, d)))
+                return r;
+            continue;
+        }
         bool threads = !strcmp(argv[i], "--threads");
         if (!threads && strcmp(argv[i], "--samples"))
             return limen_cli_fail(2, "unknown option '%s'", argv[i]);

@@ -16,6 +16,7 @@
 #include "core/index.h"
 #include "core/internal.h"
 #include "core/mesh.h"
+#include "core/reserve.h"
 
 #define MAXV LIMEN__PIECE_MAXV
 #define MAX_CROSSINGS 64    /* portals one sweep may pass, whatever the limits say */
@@ -75,15 +76,9 @@ static piece *piece_add(sweeper *w, int kind, int node)
         closest_contact(w->fbd, w->pc, w->npc, w->fta, w->ftb, w->fghost, w->fbest);
         w->npc = 0;
     }
-    if (w->npc == w->pc_cap) {
-        int c = w->pc_cap ? 2 * w->pc_cap : 64;
-        piece *p = realloc(w->pc, sizeof *p * (size_t)c);
-        if (!p) {
-            w->oom = true;
-            return NULL;
-        }
-        w->pc = p;
-        w->pc_cap = c;
+    if (!limen__reserve((void **)&w->pc, &w->pc_cap, w->npc + 1, sizeof *w->pc)) {
+        w->oom = true;
+        return NULL;
     }
     piece *p = &w->pc[w->npc++];
     p->kind = kind;
@@ -92,24 +87,13 @@ static piece *piece_add(sweeper *w, int kind, int node)
     return p;
 }
 
-/* Keeps the part of the polygon where plane . p >= 0; false when nothing is left. */
+/* Keeps the part of the polygon where plane . p >= 0 (limen__d_clip3 into MAXV vertices);
+ * false when nothing is left. */
 static bool clip_poly(const double (*in)[3], int n, const double plane[4], double (*out)[3],
                       int *m)
 {
-    int k = 0;
-    for (int i = 0; i < n && k < MAXV - 1; i++) {
-        const double *a = in[i], *b = in[(i + 1) % n];
-        double da = limen__d_plane_dist(plane, a), db = limen__d_plane_dist(plane, b);
-        if (da >= 0)
-            memcpy(out[k++], a, sizeof(double) * 3);
-        if ((da >= 0) != (db >= 0)) {
-            double t = da / (da - db), ab[3];
-            sub3(b, a, ab);
-            mad3(a, t, ab, out[k++]);
-        }
-    }
-    *m = k;
-    return k >= 3;
+    *m = limen__d_clip3(in, n, plane, out, MAXV - 1);
+    return *m >= 3;
 }
 
 /* Adds a polygon less the holes of the gates (the prism behind each rectangle): the union
@@ -823,11 +807,10 @@ static limen_status slide(limen_scene *s, limen_node n, const float d[3], float 
         memset(out, 0, sizeof *out);
         out->matrix[0] = out->matrix[5] = out->matrix[10] = out->matrix[15] = 1.0f;
     }
-    if (!s)
-        return LIMEN_ERR_ARG;
-    limen__node *node = limen__node_get(s, n);
-    if (!node)
-        return limen__fail(s, LIMEN_ERR_HANDLE, "slide: stale or null node handle");
+    limen__node *node;
+    limen_status found = limen__node_lookup(s, n, 0, NULL, "slide", &node);
+    if (found)
+        return found;
     if (!d || !finite_in(d, 3))
         return limen__fail(s, LIMEN_ERR_ARG, "slide: displacement needs three numbers from "
                            "-1e9 to 1e9");

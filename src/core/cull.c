@@ -1,5 +1,6 @@
 /* cull.c - what a view can see, asked of the scene's spatial index (core/index.c): the
- * surfaces the planner tests against a view, and the shapes a renderer draws in it.
+ * surfaces the planner tests against a view, and the shapes a renderer draws in it (kept in
+ * the plan: limen_plan_things).
  *
  * A view's region is the pyramid from its eye through its scissor rectangle (widened by a
  * pixel, so that rounding never loses a pixel centre the planner's exact test would keep),
@@ -11,18 +12,21 @@
 
 #include "core/dmath.h"
 #include "core/index.h"
+#include "core/lmath.h"
 #include "core/plan.h"
 
 /* The world planes of the view's narrowed region (kept side >= 0); returns their count. */
 static int view_planes(const limen_plan *p, const limen__plan_view *v, double planes[5][4])
 {
-    const double P0 = p->proj_d[0], P8 = p->proj_d[8], P5 = p->proj_d[5], P9 = p->proj_d[9];
     const int *sc = v->pub.scissor;
-    double xl = 2.0 * (sc[0] - 1) / p->width - 1, xr = 2.0 * (sc[0] + sc[2] + 1) / p->width - 1;
-    double yb = 2.0 * (sc[1] - 1) / p->height - 1, yt = 2.0 * (sc[1] + sc[3] + 1) / p->height - 1;
-    /* eye space: x_ndc = (P0 x + P8 z) / -z, so x_ndc >= xl is P0 x + (P8 + xl) z >= 0 */
-    const double eye[4][4] = { { P0, 0, P8 + xl, 0 }, { -P0, 0, -(P8 + xr), 0 },
-                               { 0, P5, P9 + yb, 0 }, { 0, -P5, -(P9 + yt), 0 } };
+    const double window[4] = { 2.0 * (sc[0] - 1) / p->width - 1,
+                               2.0 * (sc[0] + sc[2] + 1) / p->width - 1,
+                               2.0 * (sc[1] - 1) / p->height - 1,
+                               2.0 * (sc[1] + sc[3] + 1) / p->height - 1 };
+    /* the sides in eye space: x_ndc = (P0 x + P8 z) / -z, so x_ndc >= xl is
+     * P0 x + (P8 + xl) z >= 0 */
+    double eye[6][4];
+    limen__frustum_planes(p->proj_d, window, p->range, eye);
     int n = 0;
     for (int i = 0; i < 4; i++) {
         /* to world: (e^T V) p, V column-major */

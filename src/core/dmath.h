@@ -118,28 +118,44 @@ static inline double limen__d_plane_dist(const double plane[4], const double p[3
     return plane[0] * p[0] + plane[1] * p[1] + plane[2] * p[2] + plane[3];
 }
 
-/* Keeps the part of polygon in (n homogeneous vertices) where plane . v >= 0, writing it to
- * out; stops taking vertices once cap are written, so out must hold cap + 1. Returns the
- * count. */
-static inline int limen__d_clip4(const double in[][4], int n, const double plane[4],
-                                 double out[][4], int cap)
+/* The one polygon clipper (Sutherland-Hodgman): keeps the part of polygon in (n vertices of
+ * dim = 3 doubles, points, or dim = 4, homogeneous points) where plane . (x, y, z, w) >= 0,
+ * w = 1 for points, writing it to out; stops taking vertices once cap are written, so out
+ * must hold cap + 1. Returns the count. */
+static inline int limen__d_clip(const double *in, int n, int dim, const double plane[4],
+                                double *out, int cap)
 {
     int m = 0;
     for (int i = 0; i < n && m < cap; i++) {
-        const double *a = in[i], *b = in[(i + 1) % n];
-        double da = 0, db = 0;
-        for (int k = 0; k < 4; k++)
-            da += plane[k] * a[k], db += plane[k] * b[k];
+        const double *a = in + (size_t)i * dim, *b = in + (size_t)((i + 1) % n) * dim;
+        double da = plane[0] * a[0] + plane[1] * a[1] + plane[2] * a[2];
+        double db = plane[0] * b[0] + plane[1] * b[1] + plane[2] * b[2];
+        da += dim == 4 ? plane[3] * a[3] : plane[3];
+        db += dim == 4 ? plane[3] * b[3] : plane[3];
         if (da >= 0)
-            memcpy(out[m++], a, sizeof(double) * 4);
+            memcpy(out + (size_t)m++ * dim, a, sizeof(double) * (size_t)dim);
         if ((da >= 0) != (db >= 0)) {
             double t = da / (da - db);
-            for (int k = 0; k < 4; k++)
-                out[m][k] = a[k] + t * (b[k] - a[k]);
+            for (int k = 0; k < dim; k++)
+                out[(size_t)m * dim + k] = a[k] + t * (b[k] - a[k]);
             m++;
         }
     }
     return m;
+}
+
+/* limen__d_clip of homogeneous points. */
+static inline int limen__d_clip4(const double in[][4], int n, const double plane[4],
+                                 double out[][4], int cap)
+{
+    return limen__d_clip(&in[0][0], n, 4, plane, &out[0][0], cap);
+}
+
+/* limen__d_clip of points. */
+static inline int limen__d_clip3(const double in[][3], int n, const double plane[4],
+                                 double out[][3], int cap)
+{
+    return limen__d_clip(&in[0][0], n, 3, plane, &out[0][0], cap);
 }
 
 #endif

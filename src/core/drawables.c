@@ -7,6 +7,7 @@
 #include "core/internal.h"
 #include "core/mesh.h"
 #include "core/texture.h"
+#include "core/reserve.h"
 
 struct limen_drawables {
     limen_drawable *items;
@@ -83,21 +84,8 @@ void limen__drawable_read(const limen_scene *s, int slot, limen_drawable *it)
 /* Room for the scene's slots and its live nodes (the list's size is bounded by both). */
 static bool grow(limen_drawables *d, const limen_scene *s)
 {
-    if (s->cap > d->slot_cap) {
-        int *map = realloc(d->slot_item, sizeof *map * (size_t)s->cap);
-        if (!map)
-            return false;
-        d->slot_item = map;
-        d->slot_cap = s->cap;
-    }
-    if (s->count > d->cap) {
-        limen_drawable *items = realloc(d->items, sizeof *items * (size_t)s->count);
-        if (!items)
-            return false;
-        d->items = items;
-        d->cap = s->count;
-    }
-    return true;
+    return limen__reserve((void **)&d->slot_item, &d->slot_cap, s->cap, sizeof *d->slot_item) &&
+           limen__reserve((void **)&d->items, &d->cap, s->count, sizeof *d->items);
 }
 
 limen_status limen_drawables_build(limen_drawables *d, limen_scene *s)

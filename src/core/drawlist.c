@@ -1,9 +1,9 @@
 /* drawlist.c - one frame as a list of commands (limen.h, "draw list"; docs/DESIGN.md, "The
  * draw list"): the API-neutral half of drawing a planned view tree. It walks the plan as a
  * renderer would, keeping the pipeline state it would have set in `st`, and writes each draw
- * as a command with that state: the stencil method (every view in the frame, on the pixels
- * the stencil buffer gives it) and the texture method (each nested view into a target of
- * its depth). The surfaces' polygons are clipped here in double precision, the views' things
+ * as a command with that state: the stencil method (drawlist_stencil.c: every view in the
+ * frame, on the pixels the stencil buffer gives it) and the texture method
+ * (drawlist_texture.c: each nested view into a target of its depth). The surfaces' polygons are clipped here in double precision, the views' things
  * culled and sorted nearest first, meshes sharing geometry batched (drawlist_batch.c), and
  * the triangle budget spent, so that a backend only executes. */
 #include <math.h>
@@ -139,9 +139,17 @@ float limen__dl_far_z(const limen_drawlist *dl)
 
 /* ------------------------------------------------------------------ views */
 
+/* What the kinds table says of a drawable's kind (nothing for one it does not know). */
+static const limen_kind_info *kind_of(const limen_drawable *d)
+{
+    static const limen_kind_info none = { .name = "" };
+    const limen_kind_info *k = limen_kind_get(d->kind);
+    return k ? k : &none;
+}
+
 static bool is_surface(const limen_drawable *d)
 {
-    return d->kind == LIMEN_NODE_MIRROR || d->kind == LIMEN_NODE_PORTAL;
+    return kind_of(d)->surface;
 }
 
 /* The drawable of a node the plan names (a surface, a clone); NULL if it has none. */
@@ -153,7 +161,7 @@ static const limen_drawable *item_of(const limen_drawlist *dl, limen_node n)
 
 /* The clip-space transform that stretches the pixel rectangle rect of the image over the
  * whole of [-1, 1]^2. */
-static void narrow_to(const limen_drawlist *dl, const int rect[4], mat4 out)
+void limen__dl_narrow_to(const limen_drawlist *dl, const int rect[4], mat4 out)
 {
     float W = (float)dl->width, H = (float)dl->height;
     float x0 = 2.0f * rect[0] / W - 1.0f, x1 = 2.0f * (rect[0] + rect[2]) / W - 1.0f;
@@ -167,7 +175,7 @@ static void narrow_to(const limen_drawlist *dl, const int rect[4], mat4 out)
 
 /* View `index` with its projection narrowed by proj_pre (the texture method's target
  * rectangle; identity otherwise), as a new pass that becomes the current one. */
-static bool view_make(limen_drawlist *dl, int index, mat4 proj_pre, dl_view *v)
+bool limen__dl_view_new(limen_drawlist *dl, int index, mat4 proj_pre, dl_view *v)
 {
     const limen_view *pub = limen_plan_view(dl->plan, index);
     v->pub = pub;
@@ -191,7 +199,7 @@ static bool view_make(limen_drawlist *dl, int index, mat4 proj_pre, dl_view *v)
 }
 
 /* Writes v's pass (after the texture method has set its image map and target). */
-static void view_pass(limen_drawlist *dl, const dl_view *v)
+void limen__dl_view_pass(limen_drawlist *dl, const dl_view *v)
 {
     limen_draw_pass *p = &dl->pass[v->pass];
     p->view = v->index;
@@ -209,9 +217,9 @@ bool limen__dl_view_make(limen_drawlist *dl, int index, dl_view *v)
 {
     mat4 id;
     glm_mat4_identity(id);
-    if (!view_make(dl, index, id, v))
+    if (!limen__dl_view_new(dl, index, id, v))
         return false;
-    view_pass(dl, v);
+    limen__dl_view_pass(dl, v);
     return true;
 }
 
@@ -230,7 +238,7 @@ void limen__dl_view_cull(const limen_drawlist *dl, dl_view *v, const int *rect)
     mat4 m, narrow;
     glm_mat4_identity(narrow);
     if (rect)
-        narrow_to(dl, rect, narrow);
+        limen__dl_narrow_to(dl, rect, narrow);
     glm_mat4_mul(narrow, v->view_proj, m);
     /* Gribb-Hartmann: rows of m (m[col][row]) */
     v->ncull = 0;
@@ -437,7 +445,7 @@ static void polygon_parts(limen_drawlist *dl, const dl_view *v, const limen__spo
 
 /* A surface's flat pass in one colour (mark, seal, depth, fill) from its parts (computed
  * here where sp is NULL). */
-static void surface_flat(limen_drawlist *dl, const dl_view *v, const limen_drawable *node,
+void limen__dl_surface_fill(limen_drawlist *dl, const dl_view *v, const limen_drawable *node,
                          const float *rgb, const limen__spoly *sp)
 {
     limen__spoly own;
@@ -449,7 +457,7 @@ static void surface_flat(limen_drawlist *dl, const dl_view *v, const limen_drawa
 }
 
 /* A surface showing an image (a child's target, the previous frame) times rgb. */
-static void surface_image(limen_drawlist *dl, const dl_view *v, const limen_drawable *node,
+void limen__dl_surface_image(limen_drawlist *dl, const dl_view *v, const limen_drawable *node,
                           const float *rgb, limen_draw_image image, const float map[4],
                           int target)
 {
@@ -468,8 +476,7 @@ static void shape_at(limen_drawlist *dl, const dl_view *v, const limen_drawable 
         limen__dl_mesh(dl, v, node, world, albedo);
         return;
     }
-    if (node->kind != LIMEN_NODE_BOX && node->kind != LIMEN_NODE_SPHERE &&
-        node->kind != LIMEN_NODE_CYLINDER && node->kind != LIMEN_NODE_QUAD && !is_surface(node))
+    if (!kind_of(node)->unit)
         return;
     limen_draw_cmd *c = limen__dl_emit(dl, LIMEN_DRAW_SHAPE);
     if (!c)
@@ -486,8 +493,7 @@ static void shape_at(limen_drawlist *dl, const dl_view *v, const limen_drawable 
     }
     c->state.depth_clamp = limen__dl_depth_clamped(v->pub, is_surface(node));
     /* closed shapes hide their back faces; flat ones are seen from both sides */
-    c->state.cull_back = node->kind == LIMEN_NODE_BOX || node->kind == LIMEN_NODE_SPHERE ||
-                         node->kind == LIMEN_NODE_CYLINDER;
+    c->state.cull_back = kind_of(node)->closed != 0;
 }
 
 static void thing_lit(limen_drawlist *dl, const dl_view *v, const limen_drawable *node,
@@ -506,24 +512,25 @@ static int by_distance(const void *a, const void *b)
 /* A shape (not a surface, not a light) that view v may show. */
 static bool shows(const dl_view *v, const limen_drawable *d)
 {
-    return d->visible && (d->kind == LIMEN_NODE_BOX || d->kind == LIMEN_NODE_SPHERE ||
-                          d->kind == LIMEN_NODE_CYLINDER || d->kind == LIMEN_NODE_QUAD ||
-                          d->kind == LIMEN_NODE_MESH) &&
-           !outside(v, d, NULL);
+    return d->visible && kind_of(d)->shape && !outside(v, d, NULL);
 }
 
 /* The shapes view v can show, nearest first (so that, without a depth-only pass, what lies
- * behind fails the depth test before it is shaded; ties in list order), in dl->order.
+ * behind fails the depth test before it is shaded; ties in list order), in dl->order: of
+ * the things the plan keeps for the view (limen_plan_things), those within v's cull planes.
  * Returns the count, or -1 when out of memory. */
 static int view_order(limen_drawlist *dl, const dl_view *v)
 {
-    if (!limen__reserve((void **)&dl->order, &dl->order_cap, dl->nitems, sizeof *dl->order)) {
+    const limen_node *things;
+    int nt = limen_plan_things(dl->plan, v->index, &things);
+    if (!limen__reserve((void **)&dl->order, &dl->order_cap, nt, sizeof *dl->order)) {
         dl->nomem = true;
         return -1;
     }
     int n = 0;
-    for (int i = 0; i < dl->nitems; i++) {
-        if (!shows(v, &dl->items[i]))
+    for (int k = 0; k < nt; k++) {
+        int i = limen_drawables_find(dl->d, things[k]);
+        if (i < 0 || !shows(v, &dl->items[i]))
             continue;
         const float *c = dl->items[i].centre, *eye = v->pub->eye;
         double dx = (double)c[0] - eye[0], dy = (double)c[1] - eye[1], dz = (double)c[2] - eye[2];
@@ -647,7 +654,7 @@ static bool draw_previous(limen_drawlist *dl, const dl_view *v, const limen_view
         ((v->img_map[2] - (float)rt[0]) * kx + (float)r1[0]) / W,
         ((v->img_map[3] - (float)rt[1]) * ky + (float)r1[1]) / H,
     };
-    surface_image(dl, v, n, v->pub->tint, LIMEN_IMAGE_PREVIOUS, map, 0);
+    limen__dl_surface_image(dl, v, n, v->pub->tint, LIMEN_IMAGE_PREVIOUS, map, 0);
     return true;
 }
 
@@ -662,7 +669,7 @@ static void draw_terminal_surface(limen_drawlist *dl, const dl_view *v,
     if (vs->state == LIMEN_SURFACE_BACK)
         thing_lit(dl, v, n, n->back);
     else if (vs->state == LIMEN_SURFACE_FILL && !draw_previous(dl, v, vs, n))
-        surface_flat(dl, v, n, n->fill, NULL);
+        limen__dl_surface_fill(dl, v, n, n->fill, NULL);
 }
 
 /* The view's opaque things: the surfaces that end here (flat, cheap to shade twice), then
@@ -679,118 +686,6 @@ void limen__dl_opaque(limen_drawlist *dl, const dl_view *v, const limen_view_sur
 const limen_drawable *limen__dl_recursed(const limen_drawlist *dl, const limen_view_surface *vs)
 {
     return vs->state == LIMEN_SURFACE_RECURSE ? item_of(dl, vs->node) : NULL;
-}
-
-/* ------------------------------------------------------------------ texture method */
-
-/* Where a view's pixels land in its target: image pixel rect -> target viewport. */
-typedef struct placement {
-    int target;             /* 0: the frame; k: target k */
-    int tw, th;             /* the target's size (0: the frame) */
-    int ox, oy;             /* the viewport's corner in the target */
-    int vw, vh;             /* viewport size in the target */
-    float sx, sy;           /* target pixels per image pixel */
-    int rect[4];            /* image rectangle the viewport covers */
-} placement;
-
-static void bind_placement(limen_drawlist *dl, const placement *pl)
-{
-    dl->st.scissor[0] = pl->ox, dl->st.scissor[1] = pl->oy;
-    dl->st.scissor[2] = pl->vw, dl->st.scissor[3] = pl->vh;
-    limen_draw_cmd *c = limen__dl_emit(dl, LIMEN_DRAW_TARGET);
-    if (!c)
-        return;
-    c->target = pl->target;
-    c->target_w = pl->tw, c->target_h = pl->th;
-    c->viewport[0] = pl->ox, c->viewport[1] = pl->oy;
-    c->viewport[2] = pl->vw, c->viewport[3] = pl->vh;
-}
-
-/* Renders view `index` into the placement. */
-static void texture_view(limen_drawlist *dl, int index, const placement *pl)
-{
-    /* narrow the projection from the whole image to this view's rectangle */
-    mat4 narrow;
-    narrow_to(dl, pl->rect, narrow);
-    dl_view v;
-    if (!view_make(dl, index, narrow, &v))
-        return;
-    v.img_map[0] = 1.0f / pl->sx;
-    v.img_map[1] = 1.0f / pl->sy;
-    /* the image pixels of the target's first fragment */
-    const float px0 = (float)pl->rect[0] - (float)pl->ox / pl->sx;
-    const float py0 = (float)pl->rect[1] - (float)pl->oy / pl->sy;
-    v.img_map[2] = px0;
-    v.img_map[3] = py0;
-    v.target = pl->target;
-    view_pass(dl, &v);
-    limen__dl_view_cull(dl, &v, NULL);
-
-    bind_placement(dl, pl);
-    const float *tint = v.pub->tint;
-    limen_draw_cmd *clr = limen__dl_emit(dl, LIMEN_DRAW_CLEAR);
-    if (clr) {
-        clr->color[0] = dl->background[0] * tint[0];
-        clr->color[1] = dl->background[1] * tint[1];
-        clr->color[2] = dl->background[2] * tint[2];
-        clr->state.color_write = clr->state.depth_write = 1;
-        clr->state.stencil_write_mask = 0;
-    }
-    limen__dl_view_apply(dl, &v);
-    const limen_view_surface *vs;
-    int n = limen_plan_view_surfaces(dl->plan, index, &vs);
-    const limen_drawable *node;
-    /* the surfaces that show a child's image go into depth first, so that nothing behind
-     * them is shaded; then the view's own things, nearest first */
-    dl->st.color_write = 0;
-    for (int k = 0; k < n; k++)
-        if ((node = limen__dl_recursed(dl, &vs[k])))
-            surface_flat(dl, &v, node, dl->background, NULL);
-    dl->st.color_write = 1;
-    dl->st.counted = 1;
-    limen__dl_opaque(dl, &v, vs, n);
-    dl->st.counted = 0;
-
-    const float scale = dl->desc.texture_scale;
-    for (int k = 0; k < n; k++) {
-        if (!(node = limen__dl_recursed(dl, &vs[k])))
-            continue;
-        int ci = vs[k].child;
-        const limen_view *c = limen_plan_view(dl->plan, ci);
-        placement cp;
-        cp.target = c->depth;
-        cp.tw = (int)ceilf((float)dl->width * scale);
-        cp.th = (int)ceilf((float)dl->height * scale);
-        cp.ox = cp.oy = 0;
-        cp.vw = (int)ceilf((float)c->scissor[2] * scale);
-        cp.vh = (int)ceilf((float)c->scissor[3] * scale);
-        cp.sx = (float)cp.vw / (float)c->scissor[2];
-        cp.sy = (float)cp.vh / (float)c->scissor[3];
-        memcpy(cp.rect, c->scissor, sizeof cp.rect);
-        texture_view(dl, ci, &cp);
-
-        /* back in this view: the surface samples the child's image where it appears on
-         * screen (the child applied the tints already) */
-        bind_placement(dl, pl);
-        limen__dl_view_apply(dl, &v);
-        /* fragment (this target) -> image pixel -> child texel -> uv */
-        float map[4] = {
-            cp.sx / (pl->sx * (float)cp.tw),
-            cp.sy / (pl->sy * (float)cp.th),
-            (px0 - (float)cp.rect[0]) * cp.sx / (float)cp.tw,
-            (py0 - (float)cp.rect[1]) * cp.sy / (float)cp.th,
-        };
-        static const float white[3] = { 1, 1, 1 };
-        dl->st.depth_test = limen__dl_lequal(dl);         /* its own depth is there already */
-        dl->st.counted = 1;
-        surface_image(dl, &v, node, white, LIMEN_IMAGE_TARGET, map, cp.target);
-        dl->st.counted = 0;
-        dl->st.depth_test = limen__dl_less(dl);
-    }
-    /* blended parts over the finished picture, the surfaces' images included */
-    bind_placement(dl, pl);
-    limen__dl_view_apply(dl, &v);
-    limen__dl_blended(dl, &v);
 }
 
 /* ------------------------------------------------------------------ building */
@@ -813,15 +708,6 @@ static bool scene_blends(const limen_drawlist *dl)
             dl->items[i].mesh->has_blend)
             return true;
     return false;
-}
-
-limen_drawlist_desc limen_drawlist_desc_defaults(const limen_drawlist_desc *desc)
-{
-    limen_drawlist_desc d = desc ? *desc : (limen_drawlist_desc){ 0 };
-    if (d.texture_scale == 0 || d.method == LIMEN_METHOD_NAIVE)
-        d.texture_scale = 1.0f;
-    d.limits = limen_limits_defaults(&d.limits, d.width, d.height);
-    return d;
 }
 
 limen_status limen_drawlist_build(limen_drawlist *dl, const limen_plan *p, const limen_drawables *d,
@@ -847,6 +733,13 @@ limen_status limen_drawlist_build(limen_drawlist *dl, const limen_plan *p, const
         return dl_fail(dl, LIMEN_ERR_ARG, "draw list: size %dx%d", in.width, in.height);
     if (in.width == 0 || in.height == 0)
         in.width = p->width, in.height = p->height;
+    /* the plan's scissors and projections are for its own image and range */
+    if (in.width != p->width || in.height != p->height)
+        return dl_fail(dl, LIMEN_ERR_ARG, "draw list: a %dx%d frame of a plan for %dx%d",
+                       in.width, in.height, p->width, p->height);
+    if (in.range != p->range)
+        return dl_fail(dl, LIMEN_ERR_ARG, "draw list: depth range %d, but the plan's is %d",
+                       (int)in.range, (int)p->range);
     dl->desc = limen_drawlist_desc_defaults(&in);
     dl->desc.limits.lod_pixels = in.limits.lod_pixels;   /* as limen_view_mesh_lod reads it */
     if (!(dl->desc.texture_scale > 0 && dl->desc.texture_scale <= 1))
@@ -885,9 +778,7 @@ limen_status limen_drawlist_build(limen_drawlist *dl, const limen_plan *p, const
     if (dl->desc.method == LIMEN_METHOD_STENCIL) {
         limen__dl_stencil(dl);
     } else {
-        placement root = { 0, 0, 0, 0, 0, dl->width, dl->height, 1.0f, 1.0f,
-                           { 0, 0, dl->width, dl->height } };
-        texture_view(dl, 0, &root);
+        limen__dl_texture(dl);
     }
     if (dl->nomem)
         return dl_fail(dl, LIMEN_ERR_NOMEM, "draw list: out of memory");

@@ -1,6 +1,6 @@
 /* drawlist.h - the draw list's builder, shared by its files (drawlist.c: the list, views,
- * surfaces, things and the texture method; drawlist_stencil.c: the stencil method;
- * drawlist_batch.c: meshes, their batches and the triangle budget). */
+ * surfaces and things; drawlist_stencil.c: the stencil method; drawlist_texture.c: the
+ * texture method; drawlist_batch.c: meshes, their batches and the triangle budget). */
 #ifndef LIMEN_DRAWLIST_H
 #define LIMEN_DRAWLIST_H
 
@@ -105,8 +105,23 @@ void limen__dl_blended(limen_drawlist *dl, const dl_view *v);
 float limen__dl_far_z(const limen_drawlist *dl);
 limen_compare limen__dl_lequal(const limen_drawlist *dl);
 
-/* drawlist_stencil.c: the stencil method's commands. */
+/* drawlist.c, for the texture method: the clip-space transform that stretches the image's
+ * pixel rectangle rect over [-1, 1]^2; a view with its projection narrowed by proj_pre, as a
+ * new current pass (written by limen__dl_view_pass once its image map and target are set);
+ * a surface's flat pass in one colour (sp: its parts, NULL: computed), and the surface
+ * showing an image times rgb. */
+void limen__dl_narrow_to(const limen_drawlist *dl, const int rect[4], mat4 out);
+bool limen__dl_view_new(limen_drawlist *dl, int index, mat4 proj_pre, dl_view *v);
+void limen__dl_view_pass(limen_drawlist *dl, const dl_view *v);
+void limen__dl_surface_fill(limen_drawlist *dl, const dl_view *v, const limen_drawable *node,
+                            const float *rgb, const limen__spoly *sp);
+void limen__dl_surface_image(limen_drawlist *dl, const dl_view *v, const limen_drawable *node,
+                             const float *rgb, limen_draw_image image, const float map[4],
+                             int target);
+
+/* drawlist_stencil.c and drawlist_texture.c: the methods' commands. */
 void limen__dl_stencil(limen_drawlist *dl);
+void limen__dl_texture(limen_drawlist *dl);
 
 /* drawlist_batch.c: one mesh lit at a world matrix (a copy carried through a portal, a node
  * cut at one); the batches of the meshes among a view's things (dl->order[0..n), not those

@@ -155,17 +155,17 @@ static void flush_now_and_then(limen_drawlist *dl, stencil_ids *ids)
         limen__dl_emit(dl, LIMEN_DRAW_FLUSH);
 }
 
-/* Marks the visible pixels of the surface of sp (its depth still there) with value cv. */
+/* Marks the visible pixels of the surface of sp (its depth still there) with child_value. */
 static void mark_surface(limen_drawlist *dl, const dl_view *v, const limen_drawable *node,
-                         const limen__spoly *sp, int sv, int cv)
+                         const limen__spoly *sp, int value, int child_value)
 {
     limen_draw_state *st = &dl->st;
     st->stencil_test = 1;
     st->color_write = 0;
     st->depth_write = 0;
     st->depth_test = limen__dl_lequal(dl);
-    st->stencil_ref = (unsigned char)sv;
-    st->stencil_write_mask = (unsigned char)(sv ^ cv);
+    st->stencil_ref = (unsigned char)value;
+    st->stencil_write_mask = (unsigned char)(value ^ child_value);
     st->stencil_pass = LIMEN_STENCIL_INVERT;
     limen__dl_surface_flat(dl, v, sp, node->fill, false, 0);
     st->stencil_write_mask = 0xFF;
@@ -183,10 +183,10 @@ static void region_fill(limen_drawlist *dl, const dl_view *v, const limen__spoly
 
 /* The background of a nested view where nothing landed (depth still at the far plane). */
 static void view_background(limen_drawlist *dl, const dl_view *v, const limen__spoly *reg,
-                            int sv)
+                            int value)
 {
     dl->st.color_write = 1;
-    dl->st.stencil_ref = (unsigned char)sv;
+    dl->st.stencil_ref = (unsigned char)value;
     dl->st.depth_test = LIMEN_COMPARE_EQUAL;
     dl->st.counted = 1;
     region_fill(dl, v, reg);
@@ -208,15 +208,15 @@ static const limen_drawable *live_child(limen_drawlist *dl, const dl_view *v,
     return area_within(dl, sp, ar, child) ? node : NULL;
 }
 
-/* Pixels of view `index` hold stencil == sv when this is called, reg the parts of the surface
- * the view is seen through (NULL for the root view).
+/* Pixels of view `index` hold stencil == value when this is called, reg the parts of the
+ * surface the view is seen through (NULL for the root view).
  *
  * Each pixel is shaded once, without a depth-only pass over the scene: the surfaces the view
  * recurses into are laid into depth first (flat polygons, cheap), so that the view's things
  * are shaded only where nothing nearer, surface or thing, covers them; then each surface is
  * marked where its depth survived (its visible pixels) and its view drawn there. */
 static void stencil_view(limen_drawlist *dl, int index, const limen__spoly *reg, const area *ar,
-                         int sv, stencil_ids *ids)
+                         int value, stencil_ids *ids)
 {
     dl_view v;
     if (!limen__dl_view_make(dl, index, &v))
@@ -234,7 +234,7 @@ static void stencil_view(limen_drawlist *dl, int index, const limen__spoly *reg,
     /* the camera's view draws before any mark, where every pixel holds 0: its passes need
      * no stencil test (the first mark turns it on) */
     st->stencil_test = reg != NULL;
-    st->stencil_ref = (unsigned char)sv;
+    st->stencil_ref = (unsigned char)value;
     st->stencil_pass = LIMEN_STENCIL_KEEP;
 
     /* depth: reset inside the view, then the surfaces it recurses into. With a value per
@@ -278,14 +278,14 @@ static void stencil_view(limen_drawlist *dl, int index, const limen__spoly *reg,
         const int first = ids->next;
         for (int k = 0; k < n; k++)
             if ((node = live_child(dl, &v, &vs[k], ar, &sp, &child)))
-                mark_surface(dl, &v, node, &sp, sv, ids->next++);
+                mark_surface(dl, &v, node, &sp, value, ids->next++);
         if (reg && !paint)
-            view_background(dl, &v, reg, sv);
+            view_background(dl, &v, reg, value);
         flush_now_and_then(dl, ids);
-        int cv = first;
+        int child_value = first;
         for (int k = 0; k < n; k++)
             if (live_child(dl, &v, &vs[k], ar, &sp, &child))
-                stencil_view(dl, vs[k].child, &sp, &child, cv++, ids);
+                stencil_view(dl, vs[k].child, &sp, &child, child_value++, ids);
         st->color_write = 1;
         return;
     }
@@ -293,31 +293,31 @@ static void stencil_view(limen_drawlist *dl, int index, const limen__spoly *reg,
     for (int k = 0; k < n; k++) {
         if (!(node = live_child(dl, &v, &vs[k], ar, &sp, &child)))
             continue;
-        mark_surface(dl, &v, node, &sp, sv, sv + 1);
+        mark_surface(dl, &v, node, &sp, value, value + 1);
         flush_now_and_then(dl, ids);
-        stencil_view(dl, vs[k].child, &sp, &child, sv + 1, ids);
+        stencil_view(dl, vs[k].child, &sp, &child, value + 1, ids);
 
         /* seal: back to this view's value, with the surface's depth over the child's */
         memcpy(st->scissor, rect, sizeof rect);
         limen__dl_view_apply(dl, &v);
         st->color_write = 0;
-        st->stencil_ref = (unsigned char)(sv + 1);
+        st->stencil_ref = (unsigned char)(value + 1);
         st->stencil_pass = LIMEN_STENCIL_DECR;
         st->depth_test = LIMEN_COMPARE_ALWAYS;
         limen__dl_surface_flat(dl, &v, &sp, node->fill, false, 0);
         st->depth_test = limen__dl_less(dl);
-        st->stencil_ref = (unsigned char)sv;
+        st->stencil_ref = (unsigned char)value;
         st->stencil_pass = LIMEN_STENCIL_KEEP;
     }
     if (reg)
-        view_background(dl, &v, reg, sv);
+        view_background(dl, &v, reg, value);
     st->color_write = 1;
-    /* blended parts over the finished view (its surfaces sealed back to sv) */
+    /* blended parts over the finished view (its surfaces sealed back to value) */
     if (dl->blends) {
         memcpy(st->scissor, rect, sizeof rect);
         limen__dl_view_apply(dl, &v);
         st->stencil_test = 1;
-        st->stencil_ref = (unsigned char)sv;
+        st->stencil_ref = (unsigned char)value;
         st->stencil_pass = LIMEN_STENCIL_KEEP;
         limen__dl_blended(dl, &v);
     }

@@ -122,8 +122,9 @@ float limen__lod_pixels(float pixels);
 limen_status limen__write_jpeg(const char *path, int width, int height,
                                const unsigned char *rgb, int quality);
 
-/* Live node for a handle, or NULL. */
-limen__node *limen__node_get(const limen_scene *s, limen_node n);
+/* The live node of handle n, or NULL (a null, stale or foreign handle), for readers: const
+ * from a const scene. Callers that write the node look it up with limen__node_lookup. */
+const limen__node *limen__node_get(const limen_scene *s, limen_node n);
 /* Bit of a node kind in a set of kinds (limen__node_lookup's kinds). */
 #define LIMEN__KIND(k) (1u << (unsigned)(k))
 /* The live node of handle n, looked up for an edit or a call that may write the scene:

@@ -5,6 +5,7 @@
 #include <string.h>
 
 #include "core/json.h"
+#include "core/reserve.h"
 
 #define MAX_DEPTH 64
 
@@ -25,14 +26,8 @@ static int new_value(reader *r, int type)
     limen__json *j = r->j;
     if (j->n >= r->max_values)
         return -1;
-    if (j->n == j->cap) {
-        int cap = j->cap ? j->cap * 2 : 64;
-        limen__json_value *v = realloc(j->v, sizeof *v * (size_t)cap);
-        if (!v)
-            return -1;
-        j->v = v;
-        j->cap = cap;
-    }
+    if (!limen__reserve((void **)&j->v, &j->cap, j->n + 1, sizeof *j->v))
+        return -1;
     j->v[j->n] = (limen__json_value){ .type = type, .child = -1, .next = -1 };
     return j->n++;
 }

@@ -19,7 +19,7 @@ static const limen_kind_info kinds[] = {
                             .unit = 1, .closed = 1, .round = 2, .scale = { 0, 0, 0 },
                             .lo = { -1, -1, -1 }, .hi = { 1, 1, 1 } },
     [LIMEN_NODE_CYLINDER] = { .name = "cylinder", .size = 2, .dims = { 0.5f, 1, 0 }, .shape = 1,
-                              .unit = 1, .closed = 1, .round = 1, .scale = { 0, 1, 0 },
+                              .unit = 1, .closed = 1, .round = 1, .axis = 1, .scale = { 0, 1, 0 },
                               .lo = { -1, 0, -1 }, .hi = { 1, 1, 1 } },
     [LIMEN_NODE_QUAD] = { .name = "plane", .size = 2, .dims = { 1, 1, 0 }, .shape = 1,
                           .unit = 1, .flat = 1, .uv = LIMEN_UV_PLANE, .scale = { 0, 1, -1 },
@@ -90,8 +90,9 @@ void limen__kind_sphere(limen_node_kind k, const double lo[3], const double hi[3
     switch (ki ? ki->round : 0) {
     case 2: *radius = fmax(h[0], fmax(h[1], h[2])); break;
     case 1: {
-        double r = fmax(h[0], h[2]);
-        *radius = sqrt(r * r + h[1] * h[1]);
+        int a = ki->axis;
+        double r = fmax(h[(a + 1) % 3], h[(a + 2) % 3]);
+        *radius = sqrt(r * r + h[a] * h[a]);
         break;
     }
     default: *radius = sqrt(h[0] * h[0] + h[1] * h[1] + h[2] * h[2]); break;

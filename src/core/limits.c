@@ -48,6 +48,15 @@ limen_plan_desc limen_plan_desc_defaults(const limen_plan_desc *desc)
     return d;
 }
 
+limen_drawlist_desc limen_drawlist_desc_defaults(const limen_drawlist_desc *desc)
+{
+    limen_drawlist_desc d = desc ? *desc : (limen_drawlist_desc){ 0 };
+    if (d.texture_scale == 0 || d.method == LIMEN_METHOD_NAIVE)
+        d.texture_scale = 1.0f;
+    d.limits = limen_limits_defaults(&d.limits, d.width, d.height);
+    return d;
+}
+
 limen_renderer_desc limen_renderer_desc_defaults(const limen_renderer_desc *desc)
 {
     limen_renderer_desc d = desc ? *desc : (limen_renderer_desc){ 0 };

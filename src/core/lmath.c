@@ -364,33 +364,46 @@ limen_status limen__perspective(float fovy, float aspect, float n, float f,
     return LIMEN_OK;
 }
 
-/* Gribb-Hartmann in double: rows 3 and 4 of the projection combined per range. */
-static bool dprojection_planes(const double p[16], limen_depth_range range, double np[4],
-                               double fp[4])
+void limen__frustum_planes(const double m[16], const double ndc[4], limen_depth_range range,
+                           double out[6][4])
 {
-    double r3[4], r4[4];
+    static const double whole[4] = { -1, 1, -1, 1 };
+    const double *w = ndc ? ndc : whole;
     for (int c = 0; c < 4; c++) {
-        r3[c] = p[c * 4 + 2];
-        r4[c] = p[c * 4 + 3];
-    }
-    for (int c = 0; c < 4; c++) {
+        /* the rows of m (column-major: row r of column c is m[c * 4 + r]) */
+        double r1 = m[c * 4], r2 = m[c * 4 + 1], r3 = m[c * 4 + 2], r4 = m[c * 4 + 3];
+        out[0][c] = r1 - w[0] * r4;
+        out[1][c] = w[1] * r4 - r1;
+        out[2][c] = r2 - w[2] * r4;
+        out[3][c] = w[3] * r4 - r2;
         switch (range) {
         case LIMEN_DEPTH_NO:
-            np[c] = r4[c] + r3[c];
-            fp[c] = r4[c] - r3[c];
+            out[4][c] = r4 + r3;
+            out[5][c] = r4 - r3;
             break;
         case LIMEN_DEPTH_ZO:
-            np[c] = r3[c];
-            fp[c] = r4[c] - r3[c];
+            out[4][c] = r3;
+            out[5][c] = r4 - r3;
             break;
         case LIMEN_DEPTH_ZO_REVERSED:
-            np[c] = r4[c] - r3[c];
-            fp[c] = r3[c];
+            out[4][c] = r4 - r3;
+            out[5][c] = r3;
             break;
         case LIMEN_DEPTH_RANGE_COUNT:   /* refused by the callers */
+            out[4][c] = out[5][c] = 0;
             break;
         }
     }
+}
+
+/* The near and far planes of projection p (limen__frustum_planes), normalised. */
+static bool dprojection_planes(const double p[16], limen_depth_range range, double np[4],
+                               double fp[4])
+{
+    double planes[6][4];
+    limen__frustum_planes(p, NULL, range, planes);
+    memcpy(np, planes[4], sizeof planes[4]);
+    memcpy(fp, planes[5], sizeof planes[5]);
     return dplane_normalize(np) && dplane_normalize(fp);
 }
 

@@ -98,6 +98,15 @@ limen_status limen__oblique(const mat4 proj, const vec4 c_view, limen_depth_rang
  * zero normal -> DEGENERATE. */
 limen_status limen__projection_planes(const mat4 proj, limen_depth_range range, vec4 near_plane,
                                       vec4 far_plane);
+/* The six planes of a frustum (Gribb-Hartmann), kept side >= 0, not normalised, in the space
+ * m maps from (m = a projection: eye space; projection x view: world space): out[0..3] the
+ * sides left, right, bottom, top of the window x/w in [ndc[0], ndc[1]], y/w in
+ * [ndc[2], ndc[3]] (NULL: [-1, 1] both ways; a smaller one narrows the frustum to a
+ * scissor rectangle): row1 - x0 row4, x1 row4 - row1, row2 - y0 row4, y1 row4 - row2;
+ * out[4] near and out[5] far under range, as limen__projection_planes has them. The one
+ * place the planner, its spatial queries and renderers build a frustum's planes. */
+void limen__frustum_planes(const double m[16], const double ndc[4], limen_depth_range range,
+                           double out[6][4]);
 
 /* ---------------------------------------------------------------- small helpers */
 

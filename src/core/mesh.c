@@ -1480,19 +1480,10 @@ static limen_status mesh_from_block(limen_scene *s, const limen__import *blk, ui
 
 /* ------------------------------------------------------------------ API */
 
-static limen__node *mesh_node(limen_scene *s, limen_node n, const char *fn)
+/* The mesh node of handle n, for a call named fn that edits it (limen__node_lookup). */
+static limen_status mesh_node(limen_scene *s, limen_node n, const char *fn, limen__node **out)
 {
-    limen__node *node = limen__node_get(s, n);
-    if (!node) {
-        limen__fail(s, LIMEN_ERR_HANDLE, "%s: %s node handle", fn,
-                    n.id ? "stale or foreign" : "null");
-        return NULL;
-    }
-    if (node->kind != LIMEN_NODE_MESH) {
-        limen__fail(s, LIMEN_ERR_HANDLE, "%s: '%s' is not a mesh", fn, limen__node_title(node));
-        return NULL;
-    }
-    return node;
+    return limen__node_lookup(s, n, LIMEN__KIND(LIMEN_NODE_MESH), "a mesh", fn, out);
 }
 
 limen_status limen__mesh_load(limen_scene *s, limen_node n, const char *path, size_t max_bytes,
@@ -1501,9 +1492,10 @@ limen_status limen__mesh_load(limen_scene *s, limen_node n, const char *path, si
     *charged = 0;
     if (!s)
         return LIMEN_ERR_ARG;
-    limen__node *node = mesh_node(s, n, "mesh_load");
-    if (!node)
-        return LIMEN_ERR_HANDLE;
+    limen__node *node;
+    limen_status found = mesh_node(s, n, "mesh_load", &node);
+    if (found)
+        return found;
     if (!path || !path[0])
         return limen__fail(s, LIMEN_ERR_ARG, "mesh_load: no file name");
     char key[LIMEN__FILE_KEY];
@@ -1539,9 +1531,10 @@ limen_status limen__mesh_from_import(limen_scene *s, limen_node n, const limen__
                                      size_t *charged)
 {
     *charged = 0;
-    limen__node *nd = mesh_node(s, n, "model");
-    if (!nd)
-        return LIMEN_ERR_HANDLE;
+    limen__node *nd;
+    limen_status found = mesh_node(s, n, "model", &nd);
+    if (found)
+        return found;
     limen__mesh *m;
     limen_status st = mesh_from_block(s, b, node, path, max_bytes, &m);
     if (!st)
@@ -1563,9 +1556,10 @@ limen_status limen_mesh_set_triangles(limen_scene *s, limen_node n, const limen_
 {
     if (!s)
         return LIMEN_ERR_ARG;
-    limen__node *node = mesh_node(s, n, "mesh_set_triangles");
-    if (!node)
-        return LIMEN_ERR_HANDLE;
+    limen__node *node;
+    limen_status found = mesh_node(s, n, "mesh_set_triangles", &node);
+    if (found)
+        return found;
     limen__mesh *m;
     limen_status st = mesh_from_arrays(s, data, "mesh_set_triangles", SIZE_MAX, &m);
     if (!st)
@@ -1578,20 +1572,23 @@ limen_status limen_mesh_set_triangles(limen_scene *s, limen_node n, const limen_
 
 limen_status limen_mesh_set_smooth(limen_scene *s, limen_node n, int smooth)
 {
-    limen__node *node = mesh_node(s, n, "mesh_set_smooth");
-    if (!node)
-        return s ? LIMEN_ERR_HANDLE : LIMEN_ERR_ARG;
+    limen__node *node;
+    limen_status found = mesh_node(s, n, "mesh_set_smooth", &node);
+    if (found)
+        return found;
     node->smooth = smooth != 0;
     return LIMEN_OK;
 }
 
 limen_status limen_mesh_get(const limen_scene *s, limen_node n, limen_mesh_info *out)
 {
-    limen__node *node = mesh_node((limen_scene *)s, n, "mesh_get");
-    if (!node)
-        return s ? LIMEN_ERR_HANDLE : LIMEN_ERR_ARG;
+    /* a const reader: the status alone, no message (see limen_scene_error) */
+    const limen__node *node;
+    limen_status found = limen__node_lookup_const(s, n, LIMEN__KIND(LIMEN_NODE_MESH), &node);
+    if (found)
+        return found;
     if (!out)
-        return limen__fail((limen_scene *)s, LIMEN_ERR_ARG, "mesh_get: NULL output");
+        return LIMEN_ERR_ARG;
     memset(out, 0, sizeof *out);
     out->smooth = node->smooth;
     const limen__mesh *m = node->mesh;

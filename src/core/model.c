@@ -22,6 +22,7 @@
 #include "core/mesh.h"
 #include "core/model.h"
 #include "core/texture.h"
+#include "core/reserve.h"
 
 #define MAX_NODES 100000        /* a file's nodes at most */
 #define MAX_SURFACE_TRIS 256    /* a mirror's or portal's polygon, in triangles at most */
@@ -601,14 +602,8 @@ static limen_status refail(builder *b, limen_status st, const char *what, const 
 static limen_status make(builder *b, limen_node_kind kind, const char *name, limen_node parent,
                          limen_node *out)
 {
-    if (b->nmade == b->made_cap) {
-        int nc = b->made_cap ? b->made_cap * 2 : 64;
-        limen_node *p = realloc(b->made, sizeof *p * (size_t)nc);
-        if (!p)
-            return limen__fail(b->s, LIMEN_ERR_NOMEM, "%s: out of memory", b->path);
-        b->made = p;
-        b->made_cap = nc;
-    }
+    if (!limen__reserve((void **)&b->made, &b->made_cap, b->nmade + 1, sizeof *b->made))
+        return limen__fail(b->s, LIMEN_ERR_NOMEM, "%s: out of memory", b->path);
     limen_status st = limen_node_create(b->s, kind, name && name[0] ? name : NULL, out);
     if (st)
         return st;
@@ -778,7 +773,8 @@ static limen_status build_node(builder *b, int i)
      * (limen view reloads the script when it changes); its own key never matches a
      * limen_mesh_load's, so it is never shared by one */
     if (!b->keyed) {
-        limen__node *nd = limen__node_get(b->s, n);
+        limen__node *nd;
+        limen__node_lookup(b->s, n, 0, NULL, "model", &nd);     /* made above: it is there */
         struct stat stt;
         char key[LIMEN__FILE_KEY];
         if (nd && nd->mesh && !limen__file_key(b->s, b->path, key, &stt) &&

@@ -86,14 +86,14 @@ static limen_status set_world(limen_scene *s, limen__node *node, const double wo
 limen_status limen_node_move(limen_scene *s, limen_node n, const float d[3],
                              limen_move_result *out)
 {
-    limen__node *node = limen__node_get(s, n);
     if (out) {
         memset(out, 0, sizeof *out);
         out->matrix[0] = out->matrix[5] = out->matrix[10] = out->matrix[15] = 1.0f;
     }
-    if (!node)
-        return s ? limen__fail(s, LIMEN_ERR_HANDLE, "move: stale or null node handle")
-                 : LIMEN_ERR_ARG;
+    limen__node *node;
+    limen_status found = limen__node_lookup(s, n, 0, NULL, "move", &node);
+    if (found)
+        return found;
     if (!d || !limen__finite3(d) || fabsf(d[0]) > LIMEN_MAX_MAGNITUDE ||
         fabsf(d[1]) > LIMEN_MAX_MAGNITUDE || fabsf(d[2]) > LIMEN_MAX_MAGNITUDE)
         return limen__fail(s, LIMEN_ERR_ARG, "move: displacement needs three numbers from -1e9 "

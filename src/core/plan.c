@@ -4,7 +4,10 @@
  * ones, and then stored depth first (draw order). A child view exists only where its surface
  * faces the parent's eye, survives the parent's clip plane and near plane, and covers at
  * least one pixel centre inside the parent's scissor rectangle; the child's scissor is that
- * rectangle. Matrices are composed in double precision. */
+ * rectangle. Matrices are composed in double precision. Each view also lists the shapes it
+ * may show (limen_plan_things), found once, as the triangle budget counts them.
+ *
+ * limen_plan_build is its phases, in order (see "the phases of a build" below). */
 #include <float.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -12,6 +15,7 @@
 
 #include "core/dmath.h"
 #include "core/internal.h"
+#include "core/lmath.h"
 #include "core/mesh.h"
 #include "core/plan.h"
 #include "core/reserve.h"
@@ -84,25 +88,6 @@ void limen_plan_get_work(const limen_plan *p, limen_plan_work *out)
 
 /* ------------------------------------------------------------------ screen rectangles */
 
-/* Keeps the part of the polygon where plane . p >= 0 (Sutherland-Hodgman). */
-static int clip_poly(double in[][3], int n, const double plane[4], double out[][3])
-{
-    int m = 0;
-    for (int i = 0; i < n; i++) {
-        const double *a = in[i], *b = in[(i + 1) % n];
-        double da = limen__d_plane_dist(plane, a), db = limen__d_plane_dist(plane, b);
-        if (da >= 0 && m < MAX_POLY)
-            memcpy(out[m++], a, sizeof(double) * 3);
-        if ((da >= 0) != (db >= 0) && m < MAX_POLY) {
-            double t = da / (da - db);
-            for (int k = 0; k < 3; k++)
-                out[m][k] = a[k] + t * (b[k] - a[k]);
-            m++;
-        }
-    }
-    return m;
-}
-
 /* Multisampled frames: the rectangle of the pixels (within scissor s) that the convex
  * polygon (sx, sy) meets at all, not only at their centres, as a sample anywhere in a pixel
  * may fall inside it; false if none. Row by row: the polygon's x extent over the row's
@@ -168,7 +153,7 @@ static bool surface_rect(const limen_plan *p, const limen__plan_view *v, const l
         for (int k = 0; k < 3; k++)
             tol += fabs(c[k]) * (sf->err[k] + v->clip_err[k]);
         c[3] -= 4.0 * tol;
-        n = clip_poly(a, n, c, b);
+        n = limen__d_clip3((const double(*)[3])a, n, c, b, MAX_POLY - 1);
         memcpy(a, b, sizeof(double) * 3 * (size_t)n);
     }
     /* to view space, then keep what is in front of the eye: surfaces are not cut by the
@@ -177,12 +162,10 @@ static bool surface_rect(const limen_plan *p, const limen__plan_view *v, const l
         limen__d_point(v->view, a[i], a[i]);
     /* keep what lies inside the four sides of the frustum (planes through the eye, so no
      * distance scale enters): the projection of what is left is bounded, however close
-     * the surface is to the eye */
-    const double P0 = p->proj_d[0], P8 = p->proj_d[8], P5 = p->proj_d[5], P9 = p->proj_d[9];
-    const double sides[4][4] = { { -P0, 0, -(1 + P8), 0 }, { P0, 0, P8 - 1, 0 },
-                                 { 0, -P5, -(1 + P9), 0 }, { 0, P5, P9 - 1, 0 } };
+     * the surface is to the eye. Right, left, top, bottom. */
+    static const int sides[4] = { 1, 0, 3, 2 };
     for (int k = 0; k < 4 && n >= 3; k++) {
-        n = clip_poly(a, n, sides[k], b);
+        n = limen__d_clip3((const double(*)[3])a, n, p->frustum[sides[k]], b, MAX_POLY - 1);
         memcpy(a, b, sizeof(double) * 3 * (size_t)n);
     }
     if (n < 3)
@@ -326,6 +309,12 @@ static bool push_view_surface(limen_plan *p, limen__plan_view *v, int surf, int 
     return true;
 }
 
+/* |v| in float, as glm_vec3_norm has it, of a const vector. */
+static float norm3f(const float v[3])
+{
+    return sqrtf(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+}
+
 /* Per world axis r, a bound on how far float rounding of the world matrix W (half an ulp
  * per entry) can move a corner (+-w/2, +-h/2, 0) of the surface: sum over the columns j of
  * ulp(W[j][r]) times the corner's local coordinate, plus the translation's. */
@@ -381,10 +370,10 @@ static limen_status collect_surfaces(limen_plan *p, limen_scene *s)
         sf->exit = n->kind == LIMEN_NODE_PORTAL ? (int)n->pair - 1 : i;
         if (n->kind == LIMEN_NODE_PORTAL && n->pair) {
             const limen__node *b = &s->nodes[n->pair - 1];
-            double wa = glm_vec3_norm((float *)n->world[0]) * n->dims[0];
-            double ha = glm_vec3_norm((float *)n->world[1]) * n->dims[1];
-            double wb = glm_vec3_norm((float *)b->world[0]) * b->dims[0];
-            double hb = glm_vec3_norm((float *)b->world[1]) * b->dims[1];
+            double wa = norm3f(n->world[0]) * n->dims[0];
+            double ha = norm3f(n->world[1]) * n->dims[1];
+            double wb = norm3f(b->world[0]) * b->dims[0];
+            double hb = norm3f(b->world[1]) * b->dims[1];
             if (fabs((wa / ha) / (wb / hb) - 1.0) > 1e-3)
                 return limen__fail(s, LIMEN_ERR_ARG,
                                    "%s%sportals '%s' and '%s' differ in shape in the world "
@@ -503,6 +492,7 @@ static limen_status check_inputs(limen_plan *p, limen_scene *s, const limen_plan
                                     p->proj_f)))
         return st;
     limen__d_from_f(p->proj_f, p->proj_d);
+    limen__frustum_planes(p->proj_d, NULL, p->range, p->frustum);
     limen_camera_get_lens(s, limen_scene_get_camera(s), NULL, &p->znear, NULL);
     return LIMEN_OK;
 }
@@ -541,7 +531,8 @@ static int64_t view_things(limen_plan *p, limen_scene *s, limen__plan_view *v)
         return -1;
     v->first_thing = p->nthing_slots;
     v->nthings = n;
-    memcpy(p->thing_slots + p->nthing_slots, p->shape_hits, sizeof *p->shape_hits * (size_t)n);
+    if (n)      /* both arrays are NULL before any shape */
+        memcpy(p->thing_slots + p->nthing_slots, p->shape_hits, sizeof *p->shape_hits * (size_t)n);
     p->nthing_slots += n;
     if (!s->nmeshes)
         return 0;
@@ -832,7 +823,7 @@ int limen_plan_view_things(const limen_plan *p, limen_scene *s, int i, limen_nod
     }
     const limen_node *things;
     int n = limen_plan_things(p, i, &things);
-    if (n)
+    if (n && max)
         memcpy(out, things, sizeof *things * (size_t)(n < max ? n : max));
     return n;
 }

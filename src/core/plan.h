@@ -54,6 +54,7 @@ struct limen_plan {
     float znear;
     float proj_f[16];
     double proj_d[16];
+    double frustum[6][4];   /* proj_d's planes in eye space (limen__frustum_planes) */
 
     limen__plan_view *found;        /* the views in the order they are found: breadth first */
     int nviews, found_cap;

@@ -25,17 +25,24 @@ limen_node limen__node_handle(const limen_scene *s, int index)
     return make_handle((uint32_t)index, s->nodes[index].gen);
 }
 
-limen__node *limen__node_get(const limen_scene *s, limen_node n)
+/* The slot of handle n's live node, or -1. */
+static int live_slot(const limen_scene *s, limen_node n)
 {
     if (!s || !n.id)
-        return NULL;
+        return -1;
     uint64_t index = (n.id & 0xFFFFFFFFu) - 1u;
     if (index >= (uint64_t)s->cap)
-        return NULL;
-    limen__node *node = &s->nodes[index];
+        return -1;
+    const limen__node *node = &s->nodes[index];
     if (!(node->gen & 1u) || node->gen != (uint32_t)(n.id >> 32))
-        return NULL;
-    return node;
+        return -1;
+    return (int)index;
+}
+
+const limen__node *limen__node_get(const limen_scene *s, limen_node n)
+{
+    int i = live_slot(s, n);
+    return i >= 0 ? &s->nodes[i] : NULL;
 }
 
 limen_status limen__node_lookup(limen_scene *s, limen_node n, unsigned kinds, const char *what,
@@ -44,7 +51,8 @@ limen_status limen__node_lookup(limen_scene *s, limen_node n, unsigned kinds, co
     *out = NULL;
     if (!s)
         return LIMEN_ERR_ARG;
-    limen__node *node = limen__node_get(s, n);
+    int slot = live_slot(s, n);
+    limen__node *node = slot >= 0 ? &s->nodes[slot] : NULL;
     if (!node)
         return limen__fail(s, LIMEN_ERR_HANDLE, "%s: %s node handle", fn,
                            n.id ? "stale or foreign" : "null");
@@ -448,13 +456,13 @@ limen_status limen_node_find(const limen_scene *s, const char *name, limen_node 
 
 const char *limen_node_get_name(const limen_scene *s, limen_node n)
 {
-    limen__node *node = limen__node_get(s, n);
+    const limen__node *node = limen__node_get(s, n);
     return node ? node->name : NULL;
 }
 
 limen_node_kind limen_node_get_kind(const limen_scene *s, limen_node n)
 {
-    limen__node *node = limen__node_get(s, n);
+    const limen__node *node = limen__node_get(s, n);
     return node ? node->kind : LIMEN_NODE_KIND_COUNT;
 }
 
@@ -512,7 +520,7 @@ limen_status limen_node_set_parent(limen_scene *s, limen_node n, limen_node pare
 
 limen_node limen_node_get_parent(const limen_scene *s, limen_node n)
 {
-    limen__node *node = limen__node_get(s, n);
+    const limen__node *node = limen__node_get(s, n);
     if (!node || !node->parent)
         return (limen_node){ 0 };
     return limen__node_handle(s, (int)node->parent - 1);
@@ -825,7 +833,7 @@ limen_status limen_node_set_color(limen_scene *s, limen_node n, const float rgb[
     limen_status found = limen__node_lookup(s, n, 0, NULL, __func__, &node);
     if (found)
         return found;
-    limen_status st = check_color(s, rgb, node->kind != LIMEN_NODE_LIGHT, "color");
+    limen_status st = check_color(s, rgb, !limen_kind_get(node->kind)->light, "color");
     if (st)
         return st;
     glm_vec3_copy((float *)rgb, node->color);
@@ -952,7 +960,7 @@ limen_status limen_node_set_visible(limen_scene *s, limen_node n, int visible)
 
 int limen_node_get_visible(const limen_scene *s, limen_node n)
 {
-    limen__node *node = limen__node_get(s, n);
+    const limen__node *node = limen__node_get(s, n);
     return node ? node->visible : 0;
 }
 
@@ -974,7 +982,7 @@ limen_status limen_light_set_range(limen_scene *s, limen_node n, float range)
 
 float limen_light_get_range(const limen_scene *s, limen_node n)
 {
-    limen__node *node = limen__node_get(s, n);
+    const limen__node *node = limen__node_get(s, n);
     return node && node->kind == LIMEN_NODE_LIGHT ? node->range : 0.0f;
 }
 

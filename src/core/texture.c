@@ -516,10 +516,10 @@ limen_status limen__node_texture(limen_scene *s, limen_node n, const char *path,
                                  size_t max_bytes, size_t *charged)
 {
     *charged = 0;
-    limen__node *node = limen__node_get(s, n);
-    if (!node)
-        return limen__fail(s, LIMEN_ERR_HANDLE, "texture: %s node handle",
-                           n.id ? "stale or foreign" : "null");
+    limen__node *node;
+    limen_status found = limen__node_lookup(s, n, 0, NULL, "texture", &node);
+    if (found)
+        return found;
     if (limen_kind_get(node->kind)->uv == LIMEN_UV_NONE)
         return limen__fail(s, LIMEN_ERR_HANDLE, "texture: '%s' is a %s, which takes no texture",
                            limen__node_title(node), limen__kind_name(node->kind));

@@ -1,7 +1,7 @@
 /* trace.c - the reference ray tracer: the ground truth that the rasterizer is measured
  * against (docs/DESIGN.md, "Ground truth"). Every rule below copies what the planner
- * (core/plan.c) and the renderer (gl/views.c, gl/render.c) do, so that a difference between
- * the two pictures is an error of the rasterizing method, not of the rules.
+ * (core/plan.c) and the renderer (core/drawlist.c, gl/backend.c) do, so that a difference
+ * between the two pictures is an error of the rasterizing method, not of the rules.
  *
  * Camera. limen_camera_matrices(s, W/H, NO): pixel column x, GL row y (0 = bottom; PNG row
  * r is GL row H-1-r) is sampled at its centre, NDC ((x+0.5)*2/W-1, (y+0.5)*2/H-1), or at
@@ -70,10 +70,16 @@
  *
  * Not modelled, on purpose: the far plane (scenes fit well inside it; the oblique far plane
  * of a nested view is an artefact of the method, not of the scene), the view budget
- * max_views (a truncated tree is an error the comparison should see), MSAA (one sample at
- * the pixel centre), 8-bit rounding of intermediate colours in a framebuffer (the tracer
+ * max_views (a truncated tree is an error the comparison should see), a multisampled
+ * frame's resolve beyond averaging its samples (limen_trace_desc.samples), 8-bit rounding of intermediate colours in a framebuffer (the tracer
  * multiplies the clamped shade by the product of the tints in double and rounds once), and
  * the tessellation of curved shapes (the tracer is what the meshes approximate).
+ *
+ * Levels of detail (limen_trace_desc.lod_pixels, lod_level): the full mesh unless asked;
+ * asked, each mesh prim is traced at one level, the one the camera's view draws its node at
+ * (limen_view_mesh_lod) or the one forced, through a copy of its asset that holds the
+ * level's triangles, parts and a hierarchy over them (tracer_levels). A mesh seen in a
+ * mirror or through a portal keeps that level, where the renderer chooses per view.
  *
  * Images are traced by pthreads over interleaved rows; every thread only reads a snapshot
  * of the scene (`tracer`) taken before they start. Each segment tests only the prims whose
@@ -141,7 +147,16 @@ typedef struct tracer {
     int *prim_of;               /* per node slot: its prim, or -1 */
     double (*spheres)[4];       /* per prim: bc, br, packed for the ray's first test */
     int nbase;                  /* prims [nbase, n) are copies of straddlers, not indexed */
+    struct level *levels;       /* meshes at a level of detail (limen_trace_desc.lod_*) */
+    int nlevels;
 } tracer;
+
+/* An asset at level k: a copy with the level's triangles, owned by the tracer. */
+typedef struct level {
+    const limen__mesh *src;
+    int k;
+    limen__mesh *mesh;
+} level;
 
 /* Texture coordinates at a hit: u, v, then (meshes) how each changes with the unit-space
  * point, du/dpu and dv/dpu, for the pixel's footprint (flat shapes' follow from the face). */
@@ -289,8 +304,25 @@ static void setup_prim(limen_scene *s, const limen__node *n, prim *p)
     }
 }
 
+static void level_mesh_free(limen__mesh *m)
+{
+    if (!m)
+        return;
+    free(m->idx);
+    free(m->parts);
+    free(m->tri_part);
+    free(m->bvh);
+    free(m->tri_order);
+    free(m);
+}
+
 static void tracer_free(tracer *t)
 {
+    for (int i = 0; i < t->nlevels; i++)
+        level_mesh_free(t->levels[i].mesh);
+    free(t->levels);
+    t->levels = NULL;
+    t->nlevels = 0;
     free(t->prims);
     free(t->prim_of);
     free(t->spheres);
@@ -390,6 +422,94 @@ static limen_status tracer_init(tracer *t, limen_scene *s, const char *fn)
     }
     t->ambient = s->ambient;
     copy3f(s->background, t->background);
+    return LIMEN_OK;
+}
+
+/* ------------------------------------------------------------------ levels of detail */
+
+/* Asset src with level k's triangles in place of the full mesh's: the same vertices,
+ * normals, texture coordinates, colours and materials, the level's triangles and parts, and
+ * a hierarchy over them, so that every test and every lookup below works on it unchanged.
+ * NULL when out of memory. */
+static limen__mesh *level_mesh_make(const limen__mesh *src, int k)
+{
+    const limen_mesh_lod *l = &src->lods[k];
+    limen__mesh *m = malloc(sizeof *m);
+    if (!m)
+        return NULL;
+    *m = *src;
+    m->ntris = (uint32_t)l->triangle_count;
+    m->idx = malloc(sizeof *m->idx * 3 * (size_t)m->ntris);
+    m->parts = malloc(sizeof *m->parts * (size_t)(src->nparts ? src->nparts : 1));
+    m->tri_part = malloc(sizeof *m->tri_part * (size_t)m->ntris);
+    m->bvh = NULL;
+    m->tri_order = NULL;
+    m->lod_job = NULL;
+    if (!m->idx || !m->parts || !m->tri_part || !m->ntris) {
+        level_mesh_free(m);
+        return NULL;
+    }
+    memcpy(m->idx, l->indices, sizeof *m->idx * 3 * (size_t)m->ntris);
+    memcpy(m->parts, l->parts, sizeof *m->parts * src->nparts);
+    memset(m->tri_part, 0, sizeof *m->tri_part * (size_t)m->ntris);
+    for (uint32_t p = 0; p < src->nparts; p++)
+        for (int t = 0; t < m->parts[p].triangle_count; t++)
+            if ((uint32_t)(m->parts[p].first_triangle + t) < m->ntris)
+                m->tri_part[m->parts[p].first_triangle + t] = p;
+    if (!limen__mesh_bvh(m)) {
+        level_mesh_free(m);
+        return NULL;
+    }
+    return m;
+}
+
+/* The level of detail each mesh prim is traced at (limen_trace_desc.lod_pixels and
+ * lod_level): the level the camera's view draws its node at, chosen as the renderer
+ * chooses (limen_view_mesh_lod), or the one asked for. Prims of one asset at one level
+ * share one copy. */
+static limen_status tracer_levels(tracer *t, limen_scene *s, const limen_trace_desc *d,
+                                  int width, int height)
+{
+    bool by_view = d->lod_level == 0 && d->lod_pixels > 0;
+    if (d->lod_level == 0 && !by_view)
+        return LIMEN_OK;
+    limen_view root;
+    memset(&root, 0, sizeof root);
+    limen_status st = limen_camera_matrices(s, (float)width / (float)height, LIMEN_DEPTH_NO,
+                                            root.view, root.proj);
+    if (st)
+        return st;
+    t->levels = malloc(sizeof *t->levels * (size_t)(t->n > 0 ? t->n : 1));
+    if (!t->levels)
+        return limen__fail(s, LIMEN_ERR_NOMEM, "trace: out of memory");
+    for (int i = 0; i < t->n; i++) {
+        prim *p = &t->prims[i];
+        if (p->shape != SHAPE_MESH || p->mesh->nlods < 2)
+            continue;
+        int k = d->lod_level;
+        if (by_view) {
+            limen_drawable it;
+            limen__drawable_read(s, p->node, &it);
+            k = limen_view_mesh_lod(&root, height, &it, d->lod_pixels);
+        }
+        if (k > (int)p->mesh->nlods - 1)
+            k = (int)p->mesh->nlods - 1;
+        if (k <= 0)
+            continue;
+        const limen__mesh *lm = NULL;
+        for (int j = 0; j < t->nlevels && !lm; j++)
+            if (t->levels[j].src == p->mesh && t->levels[j].k == k)
+                lm = t->levels[j].mesh;
+        if (!lm) {
+            limen__mesh *made = level_mesh_make(p->mesh, k);
+            if (!made)
+                return limen__fail(s, LIMEN_ERR_NOMEM, "trace: out of memory for level %d of "
+                                   "mesh '%s'", k, p->mesh->name);
+            t->levels[t->nlevels++] = (level){ p->mesh, k, made };
+            lm = made;
+        }
+        p->mesh = lm;
+    }
     return LIMEN_OK;
 }
 
@@ -1127,12 +1247,17 @@ limen_status limen_trace_image(limen_scene *s, const limen_trace_desc *desc, uns
     if (d.threads < 0)
         return limen__fail(s, LIMEN_ERR_ARG, "trace: thread count must be >= 0 (got %d)",
                            d.threads);
+    if (d.lod_level < 0 || !(d.lod_pixels >= 0 || d.lod_pixels == LIMEN_LOD_FULL) ||
+        !isfinite(d.lod_pixels))
+        return limen__fail(s, LIMEN_ERR_ARG, "trace: lod_level must be >= 0 and lod_pixels >= 0 "
+                           "or LIMEN_LOD_FULL (got %d and %g)", d.lod_level, (double)d.lod_pixels);
     double samples[MAX_SAMPLES][2];
     int nsamples = d.samples ? d.samples : 1;
     if (!sample_positions(nsamples, samples))
         return limen__fail(s, LIMEN_ERR_ARG, "trace: samples must be 1, 4 (the 4x MSAA pattern) "
                            "or a square up to 256 (a grid: 9, 16, 25, ...), got %d", d.samples);
-    int width = d.width ? d.width : 640, height = d.height ? d.height : 480;
+    int width = d.width ? d.width : LIMEN_DEFAULT_WIDTH;
+    int height = d.height ? d.height : LIMEN_DEFAULT_HEIGHT;
     limen_status cst = limen__scene_check(s);
     if (cst)
         return cst;
@@ -1152,6 +1277,10 @@ limen_status limen_trace_image(limen_scene *s, const limen_trace_desc *desc, uns
     tracer tr;
     if ((st = tracer_init(&tr, s, "trace")))
         return st;
+    if ((st = tracer_levels(&tr, s, &d, width, height))) {
+        tracer_free(&tr);
+        return st;
+    }
     if (!s->brute_force)
         tracer_index(&tr, s);
     base.tr = &tr;

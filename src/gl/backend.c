@@ -26,22 +26,6 @@ typedef struct limen__instance {
 _Static_assert(sizeof(instance) == sizeof(float) * LIMEN__INSTANCE_FLOATS,
                "an instance is LIMEN__INSTANCE_FLOATS floats");
 
-/* Makes *p hold at least n elements of size bytes; false when out of memory. */
-static bool grow(void **p, int *cap, int n, size_t size)
-{
-    if (n <= *cap)
-        return true;
-    int c = *cap ? *cap : 64;
-    while (c < n)
-        c *= 2;
-    void *q = realloc(*p, size * (size_t)c);
-    if (!q)
-        return false;
-    *p = q;
-    *cap = c;
-    return true;
-}
-
 /* ------------------------------------------------------------------ state */
 
 static GLenum compare_gl(limen_compare c)
@@ -65,8 +49,10 @@ static void toggle(limen_renderer *r, GLenum cap, bool on)
 }
 
 /* Sets what of state s differs from what is set (all of it at a frame's start); target:
- * the frame's scissor is offset by its origin in the framebuffer. */
-static void apply_state(limen_renderer *r, const limen_draw_state *s, int target)
+ * the frame's scissor is offset by its origin in the framebuffer; planes: false for the fill
+ * program, whose clip distances cut nothing, so that flat polygons between lit draws leave
+ * the clip planes (and the variants' uploaded values) as they are. */
+static void apply_state(limen_renderer *r, const limen_draw_state *s, int target, bool planes)
 {
     limen_draw_state *o = &r->applied;
     bool all = !r->applied_valid;
@@ -103,13 +89,14 @@ static void apply_state(limen_renderer *r, const limen_draw_state *s, int target
         GL(StencilOp)(GL_KEEP, GL_KEEP, stencil_gl(s->stencil_pass));
     if (all || s->depth_test != o->depth_test)
         GL(DepthFunc)(compare_gl(s->depth_test));
-    if (all || s->clip_on != o->clip_on || memcmp(s->clip, o->clip, sizeof s->clip)) {
+    bool clip = planes || all, cut = planes || all;
+    if (clip && (all || s->clip_on != o->clip_on || memcmp(s->clip, o->clip, sizeof s->clip))) {
         memcpy(r->shared.clip_plane, s->clip_on ? s->clip : keep_all, sizeof s->clip);
         r->clip0_on = s->clip_on;
         toggle(r, GL_CLIP_DISTANCE0, s->clip_on);
         r->shared_stamp++;
     }
-    if (all || s->cut_on != o->cut_on || memcmp(s->cut, o->cut, sizeof s->cut)) {
+    if (cut && (all || s->cut_on != o->cut_on || memcmp(s->cut, o->cut, sizeof s->cut))) {
         memcpy(r->shared.cut_plane, s->cut_on ? s->cut : keep_all, sizeof s->cut);
         r->clip1_on = s->cut_on;
         toggle(r, GL_CLIP_DISTANCE1, s->cut_on);
@@ -120,7 +107,16 @@ static void apply_state(limen_renderer *r, const limen_draw_state *s, int target
         limen__samples_begin(r);
     else if (!s->counted && r->q_active)
         limen__samples_end(r);
+    limen_draw_state was = *o;
     *o = *s;
+    if (!clip) {
+        o->clip_on = was.clip_on;
+        memcpy(o->clip, was.clip, sizeof o->clip);
+    }
+    if (!cut) {
+        o->cut_on = was.cut_on;
+        memcpy(o->cut, was.cut, sizeof o->cut);
+    }
     r->applied_valid = true;
 }
 
@@ -179,7 +175,7 @@ static bool upload_polygons(limen_renderer *r, const float (*v)[3], int n)
     }
     if (!n)
         return true;
-    if (!grow((void **)&r->poly, &r->poly_cap, n, sizeof *r->poly))
+    if (!limen__gl_grow((void **)&r->poly, &r->poly_cap, n, sizeof *r->poly))
         return false;
     for (int i = 0; i < n; i++) {
         limen__vertex *b = &r->poly[i];
@@ -315,7 +311,7 @@ static void draw_meshes(limen_renderer *r, const limen_draw_cmd *c, const limen_
     int n = c->count;
     if (!g || n <= 0 || (blended && (simple || !g->has_blend)))
         return;
-    if (!grow((void **)&r->inst, &r->inst_cap, n, sizeof(instance))) {
+    if (!limen__gl_grow((void **)&r->inst, &r->inst_cap, n, sizeof(instance))) {
         limen__draw_fail(r, LIMEN_ERR_NOMEM, "out of memory for %d instances", n);
         return;
     }
@@ -470,26 +466,26 @@ limen_status limen__execute(limen_renderer *r, const limen_drawlist *dl)
             target = c->target;
             break;
         case LIMEN_DRAW_CLEAR:
-            apply_state(r, &c->state, target);
+            apply_state(r, &c->state, target, true);
             clear(r, c);
             break;
         case LIMEN_DRAW_POLYGON:
             if (c->first < 0 || c->count < 0 || c->first + c->count > nvert || !p)
                 break;
-            apply_state(r, &c->state, target);
+            apply_state(r, &c->state, target, c->image != LIMEN_IMAGE_NONE);
             draw_polygon(r, c, p, target);
             break;
         case LIMEN_DRAW_SHAPE:
             if (c->item < 0 || c->item >= nitems || !p)
                 break;
-            apply_state(r, &c->state, target);
+            apply_state(r, &c->state, target, true);
             draw_shape(r, c, p, &items[c->item]);
             break;
         case LIMEN_DRAW_MESHES:
             if (c->item < 0 || c->item >= nitems || !items[c->item].mesh || c->first < 0 ||
                 c->count < 0 || c->first + c->count > ninst)
                 break;
-            apply_state(r, &c->state, target);
+            apply_state(r, &c->state, target, true);
             draw_meshes(r, c, &items[c->item], inst + c->first);
             break;
         case LIMEN_DRAW_FLUSH:

@@ -4,7 +4,9 @@
 #ifndef LIMEN_GL_INTERNAL_H
 #define LIMEN_GL_INTERNAL_H
 
+#include <limits.h>
 #include <stdbool.h>
+#include <stdlib.h>
 
 #include <cglm/cglm.h>
 
@@ -19,7 +21,7 @@
 typedef struct uniforms {
     GLint model, normal_mat, view_proj, eye, clip_plane, clip_plane2, albedo, albedo_b, cell,
         scale, tint, tex, tex_map, ambient, light_pos, light_col, light_inv_r2, uv_repeat;
-    GLint base, emissive, cutoff, emissive_on, blend;     /* materials (gl/batch.c) */
+    GLint base, emissive, cutoff, emissive_on, blend;     /* materials (gl/backend.c) */
 } uniforms;
 
 /* Shader variants (shader.c): what a draw shades. */
@@ -95,6 +97,7 @@ struct limen_renderer {
     GLuint *q_pool;                         /* occlusion queries around shading passes */
     int q_cap, q_used;
     bool q_active;
+    bool counting;              /* this frame's stats were asked for: queries count it */
     limen__target targets[LIMEN__MAX_TARGETS];
 
     GLuint prev_fbo, prev_tex;              /* the previous frame, for LIMEN_FILL_PREVIOUS */
@@ -126,6 +129,23 @@ struct limen_renderer {
 };
 
 #define GL(fn) r->gl.fn
+
+/* Makes *p hold at least n elements of size bytes, doubling *cap (src/gl's own growth: it
+ * sees no core header); false, *p untouched, when out of memory. */
+static inline bool limen__gl_grow(void **p, int *cap, int n, size_t size)
+{
+    if (n <= *cap)
+        return true;
+    int c = *cap > 0 ? *cap : 64;
+    while (c < n)
+        c = c > INT_MAX / 2 ? n : c * 2;
+    void *q = realloc(*p, size * (size_t)c);
+    if (!q)
+        return false;
+    *p = q;
+    *cap = c;
+    return true;
+}
 
 /* The normal matrix of a model matrix: the inverse transpose of its 3x3 part. The one-node
  * draws (uniforms) and the instanced ones (gl/backend.c) both take it from here, so a node

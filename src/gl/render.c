@@ -450,14 +450,13 @@ static limen_status begin_frame(limen_renderer *r)
 
 void limen__samples_begin(limen_renderer *r)
 {
+    if (!r->counting)
+        return;     /* no stats asked for: nothing to count */
     if (r->q_used == r->q_cap) {
-        int cap = r->q_cap ? 2 * r->q_cap : 64;
-        GLuint *pool = realloc(r->q_pool, sizeof *pool * (size_t)cap);
-        if (!pool)
+        int old = r->q_cap;
+        if (!limen__gl_grow((void **)&r->q_pool, &r->q_cap, r->q_used + 1, sizeof *r->q_pool))
             return;     /* this pass goes uncounted; the frame still renders */
-        GL(GenQueries)(cap - r->q_cap, pool + r->q_cap);
-        r->q_pool = pool;
-        r->q_cap = cap;
+        GL(GenQueries)(r->q_cap - old, r->q_pool + old);
     }
     GL(BeginQuery)(GL_SAMPLES_PASSED, r->q_pool[r->q_used++]);
     r->q_active = true;
@@ -557,14 +556,15 @@ static limen_status frame(limen_renderer *r, limen_scene *s, limen_frame_stats *
     if ((st = begin_frame(r)))
         return st;
     r->q_used = 0;
+    r->counting = stats != NULL;
     r->bound_prog = 0;
     r->draw_status = LIMEN_OK;
     r->draw_calls = 0;
     r->triangles = 0;
-    if (r->has_fragment_stats)
+    if (r->has_fragment_stats && r->counting)
         GL(BeginQuery)(GL_FRAGMENT_SHADER_INVOCATIONS_ARB, r->q_fragments);
     st = limen__execute(r, r->list);
-    if (r->has_fragment_stats)
+    if (r->has_fragment_stats && r->counting)
         GL(EndQuery)(GL_FRAGMENT_SHADER_INVOCATIONS_ARB);
     if (!st)
         st = r->draw_status;    /* something could not be drawn: the message is set */
@@ -578,7 +578,13 @@ static limen_status frame(limen_renderer *r, limen_scene *s, limen_frame_stats *
     }
     if (r->opts.fill == LIMEN_FILL_PREVIOUS)
         keep_previous(r);
-    GL(Finish)();
+    /* stats.ms is the time to the frame's end; without stats the frame is only submitted,
+     * so that a game's next frame is prepared while llvmpipe's threads shade this one (a
+     * read-back or a swap waits for it) */
+    if (stats)
+        GL(Finish)();
+    else
+        GL(Flush)();
     double t1 = now_ms();
     limen__gpu_assets_sweep(r);
 

@@ -102,8 +102,14 @@ enum elem { ELEM_FINITE, ELEM_POSITIVE, ELEM_UNIT, ELEM_NONNEG };
 
 /* ------------------------------------------------------------------ l_fields.c */
 
-/* Which constructor fields each kind takes (a kind's name is limen_kind_get(k)->name). */
+/* Which constructor fields each kind takes (none out of range). */
 unsigned limen__lua_kind_fields(limen_node_kind k);
+/* A kind's name as scripts spell it (limen_kind_get), "node" out of range. */
+static inline const char *limen__lua_kind_name(limen_node_kind k)
+{
+    const limen_kind_info *ki = limen_kind_get(k);
+    return ki ? ki->name : "node";
+}
 
 int limen__lua_field_index(const char *key);
 

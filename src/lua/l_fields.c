@@ -27,6 +27,8 @@ const char *const limen__lua_filter_names[3] = { "trilinear", "linear", "nearest
 unsigned limen__lua_kind_fields(limen_node_kind k)
 {
     const limen_kind_info *ki = limen_kind_get(k);
+    if (!ki)
+        return 0;
     unsigned f = ki->surface ? F_SURFACE : ki->shape ? F_SHAPE : F_TRANSFORM;
     if (ki->size == 3 || (ki->size == 2 && ki->flat))
         f |= BIT(F_SIZE);
@@ -420,7 +422,7 @@ void limen__lua_parse_field(lua_State *L, int v, int f, limen_node_kind kind, in
         break;
     case F_COLOR:
         limen__lua_read_vec(L, v, ctx, what, 3,
-                            kind == LIMEN_NODE_LIGHT ? ELEM_NONNEG : ELEM_UNIT, sp->color);
+                            limen_kind_get(kind)->light ? ELEM_NONNEG : ELEM_UNIT, sp->color);
         break;
     case F_SIZE:
         limen__lua_read_vec(L, v, ctx, what, limen_kind_get(kind)->size, ELEM_POSITIVE,
@@ -613,7 +615,7 @@ void limen__lua_read_ctor(lua_State *L, int t, int scene_idx, limen_node_kind ki
             luaL_error(L, "%s: field '%s' cannot be used here", ctx, key);
         if (!(allowed & BIT(f)))
             luaL_error(L, "%s: field '%s' does not apply to a %s", ctx, key,
-                       limen_kind_get(kind)->name);
+                       limen__lua_kind_name(kind));
     }
     memset(sp, 0, sizeof *sp);
     for (int f = 0; f < F_COUNT; f++) {

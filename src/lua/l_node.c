@@ -13,9 +13,9 @@
 const char *limen__lua_node_ctx(const lnode *nd, char *buf, size_t size)
 {
     if (nd->name[0])
-        snprintf(buf, size, "%s '%s'", limen_kind_get(nd->kind)->name, nd->name);
+        snprintf(buf, size, "%s '%s'", limen__lua_kind_name(nd->kind), nd->name);
     else
-        snprintf(buf, size, "%s", limen_kind_get(nd->kind)->name);
+        snprintf(buf, size, "%s", limen__lua_kind_name(nd->kind));
     return buf;
 }
 
@@ -158,7 +158,7 @@ static int field_access_error(lua_State *L, const lnode *nd, const char *ctx, co
                           f == F_LOOK_AT ? "node:look_at(target, up)" : "node:face(normal, up)");
     if (f >= 0)
         return luaL_error(L, "%s: field '%s' does not apply to a %s", ctx, key,
-                          limen_kind_get(nd->kind)->name);
+                          limen__lua_kind_name(nd->kind));
     return limen__lua_unknown_node_field(L, ctx, unknown, key, allowed);
 }
 
@@ -191,7 +191,7 @@ int limen__lua_node_index(lua_State *L)
     lua_pop(L, 1);
     /* these stay readable after destroy(), for messages and for tostring */
     if (strcmp(key, "kind") == 0) {
-        lua_pushstring(L, limen_kind_get(nd->kind)->name);
+        lua_pushstring(L, limen__lua_kind_name(nd->kind));
         return 1;
     }
     if (strcmp(key, "name") == 0) {

@@ -70,7 +70,7 @@ static int make_node(lua_State *L, limen_node_kind kind)
 {
     lscene *ls = limen__lua_check_scene(L, 1);
     limen__lua_table_arg(L, 2);
-    const char *name = limen_kind_get(kind)->name;
+    const char *name = limen__lua_kind_name(kind);
     spec sp;
     limen__lua_read_ctor(L, 2, 1, kind, limen__lua_kind_fields(kind), name, ls->s, &sp);
     char label[LABEL_LEN];

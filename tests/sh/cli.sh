@@ -241,4 +241,15 @@ model_warnings() {   # a texture the model names but lacks: loaded, one warning 
 }
 t_ok "a model's missing texture: loaded, 'file: warning: ...' on stderr, s:warnings() lists it" model_warnings
 
+trace_lod() {   # a level of detail traced as render draws it: the statue at --lod 8
+    "$LIMEN" render scenes/portal_statue.lua -o "$TMP/lr.png" --size 96x72 --lod 8 &&
+    "$LIMEN" trace scenes/portal_statue.lua -o "$TMP/lt.png" --size 96x72 --lod 8 &&
+    "$LIMEN" trace scenes/portal_statue.lua -o "$TMP/lf.png" --size 96x72 &&
+    "$LIMEN" diff "$TMP/lr.png" "$TMP/lt.png" --max-bad 0.005 > /dev/null &&
+    ! "$LIMEN" diff "$TMP/lr.png" "$TMP/lf.png" --max-bad 0.005 > /dev/null
+}
+t_ok "trace --lod 8 traces the levels render --lod 8 draws (the full mesh's truth is further off)" trace_lod
+t_ok "trace --lod 0 -> exit 2" expect_fail 2 "limen: --lod: expected a number of pixels > 0 or 'full'" "$LIMEN" trace scenes/plain.lua -o "$TMP/x.png" --lod 0
+t_ok "trace --lod-level -1 -> exit 2" expect_fail 2 "limen: --lod-level: expected 0 to 255" "$LIMEN" trace scenes/plain.lua -o "$TMP/x.png" --lod-level -1
+
 t_done

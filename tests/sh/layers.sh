@@ -26,4 +26,17 @@ no_gl_no_lua() {
 }
 t_ok "src/core includes no GL and no Lua header" no_gl_no_lua
 
+# The renderer is the draw list's backend: it keeps no scene (only render.c's frame hands one
+# to the plan and the drawables), and the draw list reads the plan and the drawables, never
+# the scene.
+gl_holds_no_scene() {
+    ! grep -n 'limen_scene' src/gl/*.h $(ls src/gl/*.c | grep -v 'src/gl/render.c') &&
+    ! grep -n 'limen_scene *\*[a-z_]*;' src/gl/render.c
+}
+t_ok "src/gl holds no scene" gl_holds_no_scene
+drawlist_reads_no_scene() {
+    ! grep -n 'limen_scene\|limen_node_\|limen_plan_view_things' src/core/drawlist*.c src/core/drawlist*.h
+}
+t_ok "the draw list reads no scene" drawlist_reads_no_scene
+
 t_done

@@ -2,18 +2,17 @@
  * method replaced: how the sweeps measure a method the library would not choose (the
  * oblique projection forced where the planner falls back to the user clip plane).
  *
- * The drawing is tests/test_example_game.c's game (the stencil method, the engine-agnostic
- * way of drawing limen's view tree; that test keeps it within 0.5% of limen's own frames),
- * through its hooks: the replaced projections and clip methods, and optionally the surfaces'
- * flat passes from their polygon clipped on the CPU in double (pgl_surface_poly), the remedy
- * the approach sweep tests for the GPU's float clipping of a surface nearly touching the eye.
+ * The drawing is plan_game.h's game (the stencil method written out over the plan, as
+ * examples/own_renderer.c drew it before the draw list), through its hooks: the replaced
+ * projections and clip methods, and optionally the surfaces' flat passes from their polygon
+ * clipped on the CPU in double (pgl_surface_poly), the remedy the approach sweep tests for
+ * the GPU's float clipping of a surface nearly touching the eye.
  * OpenGL depth (NO), a depth24/stencil8 buffer, any size. Include it in one test program only.
  */
 #ifndef LIMEN_PLAN_GL_H
 #define LIMEN_PLAN_GL_H
 
-#define LIMEN_EXAMPLE_GAME_NO_MAIN
-#include "../test_example_game.c"
+#include "plan_game.h"
 #include "sweep.h"
 
 typedef struct pgl {
