@@ -422,6 +422,7 @@ static void op_meshes(game *g, const limen_draw_cmd *c)
     if (!gm)
         return;
     int lod = c->lod < m->lod_count && c->lod < 16 ? c->lod : 0;
+    size_t first = (size_t)gm->first[lod];      /* (an image's upload may move the cache) */
     glBindVertexArray(gm->vao), glBindBuffer(GL_ARRAY_BUFFER, g->inst_vbo);
     for (GLuint a = 4; a < 9; a++) {            /* world matrix columns, albedo */
         glEnableVertexAttribArray(a), glVertexAttribDivisor(a, 1);
@@ -439,7 +440,7 @@ static void op_meshes(game *g, const limen_draw_cmd *c)
         use_item(g, d, d->texture ? d->texture : mt->base_texture);
         glUniform4fv(g->u.base, 1, mt->base_color), glUniform3fv(g->u.emissive, 1, mt->emissive);
         glUniform1f(g->u.cutoff, mt->alpha_mode == LIMEN_ALPHA_MASK ? mt->alpha_cutoff : -1);
-        size_t at = (size_t)gm->first[lod] + 3 * (size_t)parts[p].first_triangle;
+        size_t at = first + 3 * (size_t)parts[p].first_triangle;
         glDrawElementsInstanced(GL_TRIANGLES, 3 * parts[p].triangle_count, GL_UNSIGNED_INT,
                                 (void *)(sizeof(GLuint) * at), c->count);
     }
