@@ -221,6 +221,16 @@ typedef enum limen_uv_rule {
     LIMEN_UV_COUNT              /* the number of rules (not one itself) */
 } limen_uv_rule;
 
+/* The unit shapes that kinds draw as, scaled by their dims (limen_kind_info.unit). */
+typedef enum limen_unit_shape {
+    LIMEN_UNIT_NONE = 0,        /* none: draws nothing, or its own triangles (MESH) */
+    LIMEN_UNIT_BOX,             /* [-0.5, 0.5]^3 */
+    LIMEN_UNIT_BALL,            /* radius 1 about the origin */
+    LIMEN_UNIT_CYLINDER,        /* radius 1 about +Y, from y = 0 to y = 1, capped */
+    LIMEN_UNIT_SQUARE,          /* [-0.5, 0.5]^2 on z = 0, facing +Z */
+    LIMEN_UNIT_COUNT            /* the number of unit shapes (not one itself) */
+} limen_unit_shape;
+
 /* What every layer knows of a node kind, from one table (core, renderer, tracer, bindings;
  * a game's own renderer may read it too). A kind that draws as a unit shape (unit) is that
  * shape, whose local box is [lo, hi], with local axis a stretched by dims[scale[a]] (by 1
@@ -234,7 +244,7 @@ typedef struct limen_kind_info {
     int shape;                  /* 1: shows a lit surface: BOX, SPHERE, CYLINDER, QUAD, MESH */
     int surface;                /* 1: a mirror or portal (limen_surface_get) */
     int light;                  /* 1: lights the scene (LIGHT) */
-    int unit;                   /* 1: draws a unit shape scaled by dims (MESH: its own triangles) */
+    limen_unit_shape unit;      /* the unit shape it draws as, scaled by dims; NONE: not one */
     int flat;                   /* 1: on local z = 0, facing +Z; passes no portal; a flat shape's
                                  * checker is in xy (limen_node_set_checker) */
     int closed;                 /* 1: a solid: back faces hidden (BOX, SPHERE, CYLINDER) */
@@ -872,11 +882,6 @@ LIMEN_API int limen_view_mesh_lod(const limen_view *v, int height, const limen_d
  * may still be hidden. Sets *out to the view's handles, in node order (owned by the plan, valid
  * until its next build; NULL when there are none, or i is out of range), and returns how many. */
 LIMEN_API int limen_plan_things(const limen_plan *p, int i, const limen_node **out);
-/* Deprecated: limen_plan_things. Copies up to max of view i's shapes into out and returns how
- * many there are (more than max when out is too small); -1 when there is no view i or out is
- * NULL with max > 0 (the message in s, which may be NULL: the plan needs no scene). */
-LIMEN_API int limen_plan_view_things(const limen_plan *p, limen_scene *s, int i, limen_node *out,
-                                     int max);
 /* A closed shape (box, sphere, cylinder, mesh) passing through a portal, its centre over the
  * rectangle: it is drawn twice in every view, itself cut at the portal's plane and a copy
  * carried by the portal matrix, cut at the partner's plane. */
@@ -1553,6 +1558,13 @@ static inline void limen_renderer_size(const limen_renderer *r, int *width, int 
 {
     limen_renderer_get_size(r, width, height);
 }
+/* The things of a view before the plan kept them (limen_plan_things, which needs no scene and
+ * no buffer): copies up to max of view i's shapes into out and returns how many there are
+ * (more than max when out is too small); -1 when there is no view i or out is NULL with
+ * max > 0 (the message in s, which may be NULL). */
+LIMEN_DEPRECATED("limen_plan_things")
+LIMEN_API int limen_plan_view_things(const limen_plan *p, limen_scene *s, int i, limen_node *out,
+                                     int max);
 
 #ifdef __cplusplus
 }

@@ -228,7 +228,7 @@ static void test_bad_files(void)
     expect_refused(s, m, write_text("nan.ply",
         "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
         "property float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n"
-        "0 0 0\nnan 0 0\n0 1 0\n3 0 1 2\n"), "fewer than a triangle needs");
+        "0 0 0\nnan 0 0\n0 1 0\n3 0 1 2\n"), "vertex 1 has a position that is not finite");
     /* a header that promises ten million triangles and holds none */
     expect_refused(s, m, write_text("huge.ply",
         "ply\nformat binary_little_endian 1.0\nelement vertex 30000000\nproperty float x\n"

@@ -206,38 +206,42 @@ static void add_node(sweeper *w, int slot, const limen__box *q, const gate *ghos
     const limen__node *n = &w->s->nodes[slot];
     double m[16];
     limen__d_from_f(&n->world[0][0], m);
-    switch (n->kind) {
-    case LIMEN_NODE_SPHERE:
-    case LIMEN_NODE_CYLINDER: {
+    /* by the kind's unit shape, its dims as the row's scale says (core/kinds.c) */
+    const limen_kind_info *ki = limen_kind_get(n->kind);
+    const int *dim = ki->scale;
+    switch (ki->unit) {
+    case LIMEN_UNIT_BALL:
+    case LIMEN_UNIT_CYLINDER: {
+        bool ball = ki->unit == LIMEN_UNIT_BALL;
         double sc = 0;
         for (int c = 0; c < 3; c++)
-            if (n->kind == LIMEN_NODE_SPHERE || c != 1)
+            if (ball || c != 1)
                 sc = fmax(sc, sqrt(m[c * 4] * m[c * 4] + m[c * 4 + 1] * m[c * 4 + 1] +
                                    m[c * 4 + 2] * m[c * 4 + 2]));
         double o[3] = { 0, 0, 0 }, c[3], up[3] = { m[4], m[5], m[6] }, ly = len3(up);
         limen__d_point(m, o, c);
-        if (n->kind == LIMEN_NODE_CYLINDER && !(ly > 0))
+        if (!ball && !(ly > 0))
             return;
-        piece *p = piece_add(w, n->kind == LIMEN_NODE_SPHERE ? LIMEN__PIECE_BALL
-                                                             : LIMEN__PIECE_CYL, slot);
+        piece *p = piece_add(w, ball ? LIMEN__PIECE_BALL : LIMEN__PIECE_CYL, slot);
         if (!p)
             return;
         memcpy(p->c, c, sizeof c);
-        p->r = n->dims[0] * sc;
-        if (n->kind == LIMEN_NODE_CYLINDER) {
+        p->r = n->dims[dim[0]] * sc;
+        if (!ball) {
             for (int k = 0; k < 3; k++)
                 p->axis[k] = up[k] / ly;
-            p->h = n->dims[1] * ly;
+            p->h = n->dims[dim[1]] * ly;
         }
         return;
     }
-    case LIMEN_NODE_BOX: {
+    case LIMEN_UNIT_BOX: {
         static const int faces[6][4] = { { 0, 2, 6, 4 }, { 1, 5, 7, 3 }, { 0, 4, 5, 1 },
                                          { 2, 3, 7, 6 }, { 0, 1, 3, 2 }, { 4, 6, 7, 5 } };
         double c8[8][3];
         for (int i = 0; i < 8; i++) {
-            double l[3] = { (i & 1 ? 0.5 : -0.5) * n->dims[0], (i & 2 ? 0.5 : -0.5) * n->dims[1],
-                            (i & 4 ? 0.5 : -0.5) * n->dims[2] };
+            double l[3] = { (i & 1 ? 0.5 : -0.5) * n->dims[dim[0]],
+                            (i & 2 ? 0.5 : -0.5) * n->dims[dim[1]],
+                            (i & 4 ? 0.5 : -0.5) * n->dims[dim[2]] };
             limen__d_point(m, l, c8[i]);
         }
         for (int f = 0; f < 6; f++) {
@@ -248,15 +252,14 @@ static void add_node(sweeper *w, int slot, const limen__box *q, const gate *ghos
         }
         return;
     }
-    case LIMEN_NODE_QUAD:
-    case LIMEN_NODE_MIRROR:
-    case LIMEN_NODE_PORTAL: {
+    case LIMEN_UNIT_SQUARE: {  /* (w, h) = dims[0], dims[1], as limen__surface_corners has it */
         double fv[4][3];
         limen__surface_corners(n, fv);
         add_poly_in(w, slot, (const double(*)[3])fv, 4, q, ghost, holes, nholes);
         return;
     }
-    case LIMEN_NODE_MESH: {
+    case LIMEN_UNIT_NONE:      /* a mesh's triangles, where it has some */
+    case LIMEN_UNIT_COUNT: {
         const limen__mesh *me = n->mesh;
         if (!me || !me->ntris || !me->bvh)
             return;
@@ -304,10 +307,6 @@ static void add_node(sweeper *w, int slot, const limen__box *q, const gate *ghos
         }
         return;
     }
-    case LIMEN_NODE_GROUP:
-    case LIMEN_NODE_LIGHT:
-    case LIMEN_NODE_CAMERA:
-    case LIMEN_NODE_KIND_COUNT: return;    /* nothing to meet */
     }
 }
 

@@ -14,6 +14,7 @@
 #include "core/index.h"
 #include "core/lmath.h"
 #include "core/plan.h"
+#include "core/reserve.h"
 
 /* The world planes of the view's narrowed region (kept side >= 0); returns their count. */
 static int view_planes(const limen_plan *p, const limen__plan_view *v, double planes[5][4])
@@ -108,9 +109,27 @@ int limen__plan_view_shapes(limen_plan *p, limen_scene *s, const limen__plan_vie
     if (limen__bvh_query_planes(b, (const double(*)[4])planes, np, slack_for(b, v),
                                 &p->shape_hits, &n, &p->shape_hits_cap, NULL) < 0)
         return -1;
+    /* in node order, the hidden left out: where the hits are many against the slots, read
+     * back from a bitmap of the slots (linear in both), else sorted (each shape is one leaf
+     * of the index, so it is hit once) */
+    int words = (s->cap + 63) / 64, m = 0;
+    if (n > 16 && words <= 4 * n && !p->sort_hits) {
+        if (!limen__reserve((void **)&p->slot_bits, &p->slot_bits_cap, words,
+                            sizeof *p->slot_bits))
+            return -1;
+        memset(p->slot_bits, 0, sizeof *p->slot_bits * (size_t)words);
+        for (int k = 0; k < n; k++)
+            p->slot_bits[p->shape_hits[k] >> 6] |= 1ull << (p->shape_hits[k] & 63);
+        for (int w = 0; w < words; w++)
+            for (uint64_t bits = p->slot_bits[w]; bits; bits &= bits - 1) {
+                int slot = w * 64 + __builtin_ctzll(bits);
+                if (s->nodes[slot].visible)
+                    p->shape_hits[m++] = slot;
+            }
+        return m;
+    }
     if (n > 1)
         qsort(p->shape_hits, (size_t)n, sizeof *p->shape_hits, cmp_int);
-    int m = 0;
     for (int k = 0; k < n; k++)
         if (s->nodes[p->shape_hits[k]].visible)
             p->shape_hits[m++] = p->shape_hits[k];

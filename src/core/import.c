@@ -1033,6 +1033,30 @@ static double ply_value(ply_in *in, int type)
 }
 
 /* The header; false if it is not one read here (then assimp reads the file). */
+static int prop_slot(const char *n);
+
+/* Whether the elements are a plain mesh: vertices of positions (x, y, z, as floats) and
+ * perhaps normals, then faces of vertex indices alone, nothing else. */
+static bool ply_plain(const ply_elem *el, int nel)
+{
+    if (nel != 2 || strcmp(el[0].name, "vertex") != 0 || strcmp(el[1].name, "face") != 0 ||
+        el[1].nprops != 1 || !el[1].props[0].list || el[1].props[0].type == 40 ||
+        el[1].props[0].type == 80 ||
+        (strcmp(el[1].props[0].name, "vertex_indices") != 0 &&
+         strcmp(el[1].props[0].name, "vertex_index") != 0))
+        return false;
+    unsigned seen = 0;
+    for (int k = 0; k < el[0].nprops; k++) {
+        const ply_prop *pp = &el[0].props[k];
+        int slot = prop_slot(pp->name);
+        if (pp->list || slot < 0 || slot >= 6 || (pp->type != 40 && pp->type != 80) ||
+            (seen & 1u << slot))
+            return false;
+        seen |= 1u << slot;
+    }
+    return (seen & 7u) == 7u && ((seen >> 3) == 0 || (seen >> 3) == 7u);
+}
+
 static bool ply_header(const unsigned char *buf, size_t len, ply_in *in, ply_elem *el, int *nel)
 {
     const char *end = memmem(buf, len, "end_header", 10);
@@ -1087,7 +1111,7 @@ static bool ply_header(const unsigned char *buf, size_t len, ply_in *in, ply_ele
     }
     in->p = (const unsigned char *)body + 1;
     in->end = buf + len;
-    return strips && in->format >= 0;
+    return (strips || ply_plain(el, *nel)) && in->format >= 0;
 }
 
 static int prop_slot(const char *n)
@@ -1257,13 +1281,15 @@ limen_status limen__import_file(const char *path, unsigned flags, size_t max_byt
 {
     *out = NULL;
     {
-        /* a PLY of triangle strips: read here (assimp takes it for one triangle) */
+        /* a PLY of triangle strips: read here (assimp takes it for one triangle); and a
+         * plain one (positions, perhaps normals, and faces), whose reading by assimp held
+         * 450 MB of temporaries at 1.6M triangles (its vertices one per corner, then joined)
+         * where this holds the vertices and triangles once */
         /* read through the same way in as the rest (never opened by name here) */
         size_t len = 0, plen = strlen(path);
         unsigned char *buf = plen >= 4 && strcasecmp(path + plen - 4, ".ply") == 0
                                  ? read_whole(path, max_bytes, &len) : NULL;
-        if (buf && len >= 3 && memcmp(buf, "ply", 3) == 0 &&
-            memmem(buf, len < 65536 ? len : 65536, "tristrips", 9)) {
+        if (buf && len >= 3 && memcmp(buf, "ply", 3) == 0) {
             builder b = { .path = path, .flags = flags, .max_bytes = max_bytes };
             builder_elems(&b);
             bool handled = false;

@@ -57,6 +57,7 @@
 #define LOD_NICE 10            /* how much a build beside the scene's thread yields to it */
 #define MEASURERS 2           /* threads bounding a level's pieces (this machine's cores) */
 #define SLICE 256               /* triangles a measurer takes in turn with the others */
+#define THREAD_TRIS 8192        /* a mesh this big has its levels measured on threads */
 #define NEAR_ENOUGH 0.8         /* a cut's point this near a corner's triangle (of what the
                                  * floor asks; not of the largest bound, which it would raise)
                                  * takes its distance there, unsearched */
@@ -686,7 +687,8 @@ static double level_error(const target *full, const uint32_t *weld, const uint32
             for (int i = 0; i < MEASURERS; i++) {
                 w[i] = (measurer){ .there = there, .back = back, .floor = floor,
                                    .upper = upper, .share = i };
-                if (i > 0 && measure_threads)
+                /* a thread for a small mesh costs more than it saves */
+                if (i > 0 && measure_threads && m->ntris >= THREAD_TRIS)
                     started[i] = pthread_create(&th[i], NULL, measure, &w[i]) == 0;
             }
             measure(&w[0]);

@@ -9,6 +9,7 @@
  *
  * limen_plan_build is its phases, in order (see "the phases of a build" below). */
 #include <float.h>
+#include <limits.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -50,6 +51,7 @@ void limen_plan_destroy(limen_plan *p)
     free(p->surface_of);
     free(p->candidates);
     free(p->shape_hits);
+    free(p->slot_bits);
     free(p->thing_slots);
     free(p->things);
     free(p->things_first);
@@ -526,8 +528,9 @@ static limen_status root_view(limen_plan *p, limen_scene *s)
 static int64_t view_things(limen_plan *p, limen_scene *s, limen__plan_view *v)
 {
     int n = limen__plan_view_shapes(p, s, v);
-    if (n < 0 || !limen__reserve((void **)&p->thing_slots, &p->thing_slots_cap,
-                                 p->nthing_slots + n, sizeof *p->thing_slots))
+    if (n < 0 || n > INT_MAX - p->nthing_slots ||  /* more than an int counts: no memory */
+        !limen__reserve((void **)&p->thing_slots, &p->thing_slots_cap, p->nthing_slots + n,
+                        sizeof *p->thing_slots))
         return -1;
     v->first_thing = p->nthing_slots;
     v->nthings = n;

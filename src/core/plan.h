@@ -87,6 +87,9 @@ struct limen_plan {
     int *surface_of, surface_of_cap;    /* per node slot: index in surfaces, or -1 */
     int *candidates, candidates_cap;    /* one view's candidate surfaces */
     int *shape_hits, shape_hits_cap;    /* one view's shapes, as the index returns them */
+    uint64_t *slot_bits;            /* one bit per node slot: shape_hits put in node order */
+    int slot_bits_cap;
+    bool sort_hits;                 /* tests: order shape_hits by sorting alone, never the bits */
     limen__bvh_stats stat_index;    /* the index's box tests */
 };
 

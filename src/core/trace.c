@@ -244,25 +244,20 @@ static void setup_prim(limen_scene *s, const limen__node *n, prim *p)
     p->node = limen__index(s, n);
     p->kind = n->kind;
     p->exit = -1;
-    /* the kind's intersection; the rest of the kind's facts from its row (core/kinds.c) */
-    switch (n->kind) {
-    case LIMEN_NODE_BOX: p->shape = SHAPE_BOX; break;
-    case LIMEN_NODE_SPHERE: p->shape = SHAPE_SPHERE; break;
-    case LIMEN_NODE_CYLINDER: p->shape = SHAPE_CYLINDER; break;
-    case LIMEN_NODE_QUAD:
-    case LIMEN_NODE_MIRROR:
-    case LIMEN_NODE_PORTAL: p->shape = SHAPE_FLAT; break;
-    case LIMEN_NODE_MESH:
+    /* the kind's unit shape's intersection; the rest of its facts from its row (core/kinds.c) */
+    const limen_kind_info *ki = limen_kind_get(n->kind);
+    switch (ki->unit) {
+    case LIMEN_UNIT_BOX: p->shape = SHAPE_BOX; break;
+    case LIMEN_UNIT_BALL: p->shape = SHAPE_SPHERE; break;
+    case LIMEN_UNIT_CYLINDER: p->shape = SHAPE_CYLINDER; break;
+    case LIMEN_UNIT_SQUARE: p->shape = SHAPE_FLAT; break;
+    case LIMEN_UNIT_NONE:       /* hittable without one: a mesh's triangles */
+    case LIMEN_UNIT_COUNT:
         p->shape = SHAPE_MESH;
         p->mesh = n->mesh;
         p->smooth = n->smooth || n->mesh->file_normals;
         break;
-    case LIMEN_NODE_GROUP:
-    case LIMEN_NODE_LIGHT:
-    case LIMEN_NODE_CAMERA:
-    case LIMEN_NODE_KIND_COUNT: break;     /* not hittable */
     }
-    const limen_kind_info *ki = limen_kind_get(n->kind);
     p->flat = ki->flat && ki->shape;   /* a mirror's back is checked in xyz, as drawn */
     p->uv = ki->uv;
     /* unit space: the unit shape's (the mesh's own frame), scaled to the node's dims */
