@@ -4,20 +4,15 @@
  * it, every frame, a draw list: commands in the order to run them, each with what to draw and
  * the pipeline state to draw it with (docs/DESIGN.md, "The draw list"). The game needs no plan
  * logic, clipping or sorting; tests/test_example_game.c holds its frames to limen's own.
- *
  *     make examples && build/examples/own_renderer scenes/portals.lua portals.png
- *
  * THE STEPS
  *   1. Once (game_create): the context (OSMesa, OpenGL 3.3 core, a framebuffer object with
- *      depth24/stencil8) and the shader: limen's shading (docs/DESIGN.md, "Ground truth") and
- *      the unit shapes (quad, box, sphere, cylinder), made from the vertex index.
- *   2. Every frame (game_frame): the game moves things (limen_node_move, ...), then
- *      limen_plan_build, limen_drawables_build and limen_drawlist_build (stencil or texture).
- *   3. Walk the list (game_draw): lights from the drawables, the list's vertices and
- *      instances into buffers, then each command in order: set_state (its pipeline state and
- *      pass), then one function per op: op_target, op_clear, op_polygon, op_shape (the unit
- *      shape its kind's facts name, of the list's segments), op_meshes, op_flush. Meshes
- *      and images go up once, keyed on their id. Read the frame back.
+ *      depth24/stencil8: the stencil method nests the views in it) and the shader: limen's
+ *      shading (docs/DESIGN.md, "Ground truth") and the unit shapes, made from vertex indices.
+ *   2. Every frame (game_frame): limen_plan_build, limen_drawables_build, limen_drawlist_build.
+ *   3. Walk the list (game_draw): its lights, vertices and instances into the shader and
+ *      buffers, then each command: set_state (its pipeline state and pass), then one function
+ *      per op. Meshes and images go up once, keyed on their id. Read the frame back.
  */
 #define GL_GLEXT_PROTOTYPES
 #include <GL/glcorearb.h>
@@ -28,8 +23,6 @@
 
 #include "limen.h"
 
-enum { QUAD = 1, BOX, SPHERE, CYLINDER };   /* u_unit (0: the attributes); u_uv: limen_uv_rule */
-enum { MAX_TARGETS = 64 };
 #define UNIFORMS(X) X(view_proj) X(clip) X(cut) X(scale) X(unit) X(uv) X(facets) X(S) X(eye) \
     X(albedo_b) X(cell) X(tint) X(ambient) X(textured) X(repeat) X(base) X(emissive) X(cutoff) \
     X(nlights) X(light_pos) X(light_col) X(light_inv_r2)
@@ -37,18 +30,16 @@ enum { MAX_TARGETS = 64 };
 #define U_FIND(name) g->u.name = glGetUniformLocation(g->prog, "u_" #name);
 
 typedef struct gpu { uint64_t id; GLuint vao, tex; GLsizei first[16]; } gpu;  /* by id */
-typedef struct target { GLuint fbo, tex, rb; int w, h; } target;
 
 typedef struct game {
     int w, h, ncache, npasses;
     OSMesaContext ctx;
     unsigned char token[64];            /* OSMesa wants a buffer; we draw into our FBO */
     PFNGLCLIPCONTROLPROC clip_control;  /* GL 4.5 (NULL on a 3.3 context) */
-    GLuint prog, flat[2], vao, poly_vao, poly_vbo, inst_vbo;  /* flat: the polygons' */
+    GLuint fbo, prog, flat, vao, poly_vao, poly_vbo, inst_vbo;  /* flat: the polygons' */
     struct { UNIFORMS(U_FIELD) } u;
-    GLint flat_color[2], flat_map[2];
+    GLint flat_color;
     gpu *cache;                         /* the meshes and images uploaded so far */
-    target targets[MAX_TARGETS];        /* [0]: the frame; [k]: offscreen target k */
     limen_plan *plan;
     limen_drawables *draw;
     limen_drawlist *list;
@@ -68,30 +59,30 @@ static const char *vs_src = GLSL(
     uniform vec3 u_scale;                           /* unit shape -> node-local units */
     out vec3 v_world, v_local, v_normal; out vec2 v_uv; out vec4 v_col; flat out vec3 v_albedo;
     const vec2 corner[6] = vec2[6](vec2(0), vec2(1, 0), vec2(1), vec2(0), vec2(1), vec2(0, 1));
-    /* The unit shapes, two triangles a cell, counter-clockwise from outside: quad 1x1 on z = 0
-     * facing +Z, box 1x1x1 (face q: axis q / 2, + where odd), sphere of radius 1, cylinder of
-     * radius 1 over y in [0, 1] (rows: top, side, bottom), of u_S segments around. Their
-     * normals interpolate to the true shape's at every pixel. */
+    /* The unit shapes (limen_unit_shape: 1 box, 2 ball, 3 cylinder, 4 square), two triangles
+     * a cell, counter-clockwise from outside: box 1x1x1 (face q: axis q / 2, + where odd),
+     * ball of radius 1, cylinder of radius 1 over y in [0, 1] (rows: top, side, bottom), of
+     * u_S segments around, square 1x1 on z = 0 facing +Z. */
     void unit(out vec3 p, out vec3 n) {
-        int S = u_S, q = gl_VertexID / 6, row = q / S, a = u_unit == 1 ? 2 : q / 2;
+        int S = u_S, q = gl_VertexID / 6, row = q / S, a = u_unit == 4 ? 2 : q / 2;
         vec2 k = corner[gl_VertexID % 6];
-        if (u_unit <= 2) {
-            float s = u_unit == 1 || q % 2 == 1 ? 1.0 : -1.0;
+        if (u_unit == 1 || u_unit == 4) {
+            float s = u_unit == 4 || q % 2 == 1 ? 1.0 : -1.0;
             vec3 u = vec3(0.0), v = vec3(0.0);
             n = vec3(0.0); n[a] = s; u[(a + 1) % 3] = 1.0; v[(a + 2) % 3] = s;
-            p = (u_unit == 1 ? 0.0 : 0.5) * n + (k.x - 0.5) * u + (k.y - 0.5) * v;
+            p = (u_unit == 4 ? 0.0 : 0.5) * n + (k.x - 0.5) * u + (k.y - 0.5) * v;
             return;
         }
         float th = 6.28318531 * (float(q % S) + k.y) / float(S), t = k.x;
         float f = 3.14159265 * (float(row) + t) / float(S / 2);
         vec4 r = vec4(sin(f), cos(f), sin(f), cos(f));     /* radius, height, normal */
-        if (u_unit == 4)                                    /* top, side, bottom */
+        if (u_unit == 3)                                    /* top, side, bottom */
             r = row == 0 ? vec4(t, 1.0, 0.0, 1.0) : row == 1 ? vec4(1.0, 1.0 - t, 1.0, 0.0)
                          : vec4(1.0 - t, 0.0, 0.0, -1.0);
         vec2 cs = vec2(cos(th), -sin(th));
         p = vec3(r.x * cs.x, r.y, r.x * cs.y); n = vec3(r.z * cs.x, r.w, r.z * cs.y);
         float c = cos(3.14159265 / float(S));       /* out by half the sag, as limen does */
-        p *= u_unit == 3 ? vec3(2.0 / (1.0 + c * c)) : vec3(2.0 / (1.0 + c), 1.0, 2.0 / (1.0 + c));
+        p *= u_unit == 2 ? vec3(2.0 / (1.0 + c * c)) : vec3(2.0 / (1.0 + c), 1.0, 2.0 / (1.0 + c));
     }
     void main() {
         vec3 p = a_pos, n = a_nrm;
@@ -134,19 +125,14 @@ static const char *fs_src = GLSL(
         o_color = vec4(clamp(lit + u_emissive, 0.0, 1.0) * u_tint, alpha);
     });
 
-/* The polygons' own programs, flat (IMAGE 0) and sampling a target (1), so that marks, seals
- * and fills (many, and large) pay for no more: llvmpipe runs every branch of a shader. */
+/* The polygons' own program (marks, seals, fills: many, and large), so that they pay for no
+ * more than a colour: llvmpipe runs every branch of a shader. */
 static const char *flat_vs = GLSL(
     layout(location = 0) in vec3 a_pos;
     void main() { gl_Position = vec4(a_pos, 1.0); });
-
 static const char *flat_fs = GLSL(
-    uniform vec3 u_color; uniform vec4 u_map; uniform sampler2D u_tex;
-    out vec4 o_color;
-    void main() {                                   /* the colour, or a target's texel times it */
-        vec2 at = u_map.xy * gl_FragCoord.xy + u_map.zw;
-        o_color = vec4((IMAGE != 0 ? texture(u_tex, at).rgb : vec3(1.0)) * u_color, 1.0);
-    });
+    uniform vec3 u_color; out vec4 o_color;
+    void main() { o_color = vec4(u_color, 1.0); });
 
 static GLuint program(const char *head, const char *vs, const char *fs)
 {
@@ -164,16 +150,10 @@ static GLuint program(const char *head, const char *vs, const char *fs)
 
 static int programs_create(game *g)
 {
-    static const char *head[2] = { "#version 330 core\nconst int IMAGE = 0;\n",
-                                   "#version 330 core\nconst int IMAGE = 1;\n" };
-    for (int k = 0; k < 2; k++) {
-        if (!(g->flat[k] = program(head[k], flat_vs, flat_fs)))
-            return -1;
-        g->flat_color[k] = glGetUniformLocation(g->flat[k], "u_color");
-        g->flat_map[k] = glGetUniformLocation(g->flat[k], "u_map");
-    }
-    if (!(g->prog = program(head[0], vs_src, fs_src)))
+    const char *head = "#version 330 core\n";
+    if (!(g->flat = program(head, flat_vs, flat_fs)) || !(g->prog = program(head, vs_src, fs_src)))
         return -1;
+    g->flat_color = glGetUniformLocation(g->flat, "u_color");
     UNIFORMS(U_FIND)
     glUseProgram(g->prog);
     glVertexAttrib4f(3, 1, 1, 1, 1);            /* the colour of vertices without one */
@@ -182,7 +162,7 @@ static int programs_create(game *g)
     return 0;
 }
 
-/* ============================================================ 2. meshes, images, targets */
+/* ============================================================ 2. meshes, images, context */
 
 /* The GPU copy of what has this id, or a new zeroed entry (*fresh); NULL out of memory. */
 static gpu *cached(game *g, uint64_t id, int *fresh)
@@ -252,29 +232,6 @@ static GLuint image_upload(game *g, const limen_image *im)
     return c->tex;
 }
 
-/* Target k at w x h (colour RGBA8 linear and clamped, depth-stencil), made or remade at that
- * size; target 0 is the frame. */
-static const target *target_get(game *g, int k, int w, int h)
-{
-    target *t = &g->targets[k > 0 && k < MAX_TARGETS ? k : 0];
-    if (t->fbo && t->w == w && t->h == h)
-        return t;
-    glDeleteFramebuffers(1, &t->fbo), glDeleteTextures(1, &t->tex);
-    glDeleteRenderbuffers(1, &t->rb);
-    t->w = w, t->h = h;
-    glGenTextures(1, &t->tex), glBindTexture(GL_TEXTURE_2D, t->tex);
-    glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, w, h, 0, GL_RGBA, GL_UNSIGNED_BYTE, NULL);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
-    glGenRenderbuffers(1, &t->rb), glBindRenderbuffer(GL_RENDERBUFFER, t->rb);
-    glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH24_STENCIL8, w, h);
-    glGenFramebuffers(1, &t->fbo), glBindFramebuffer(GL_FRAMEBUFFER, t->fbo);
-    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, t->tex, 0);
-    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_STENCIL_ATTACHMENT, GL_RENDERBUFFER, t->rb);
-    return t;
-}
-
 /* (Destroying the context deletes every GL object the game made in it.) */
 static void game_destroy(game *g)
 {
@@ -307,7 +264,15 @@ static game *game_create(int w, int h)
         return NULL;
     }
     g->w = w, g->h = h;
-    target_get(g, 0, w, h);
+    GLuint rb[2];                               /* the frame: colour, depth and stencil */
+    glGenRenderbuffers(2, rb), glGenFramebuffers(1, &g->fbo);
+    glBindFramebuffer(GL_FRAMEBUFFER, g->fbo);
+    for (int i = 0; i < 2; i++) {
+        glBindRenderbuffer(GL_RENDERBUFFER, rb[i]);
+        glRenderbufferStorage(GL_RENDERBUFFER, i ? GL_DEPTH24_STENCIL8 : GL_RGBA8, w, h);
+        glFramebufferRenderbuffer(GL_FRAMEBUFFER, i ? GL_DEPTH_STENCIL_ATTACHMENT
+                                                    : GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, rb[i]);
+    }
     glGenVertexArrays(1, &g->vao);              /* the unit shapes read no attributes */
     glGenVertexArrays(1, &g->poly_vao), glBindVertexArray(g->poly_vao);
     glGenBuffers(1, &g->poly_vbo), glBindBuffer(GL_ARRAY_BUFFER, g->poly_vbo);
@@ -345,15 +310,6 @@ static void set_state(game *g, const limen_draw_state *s, const limen_draw_pass 
     glUniform3fv(g->u.eye, 1, p->eye), glUniform3fv(g->u.tint, 1, p->tint);
 }
 
-/* Draws into the frame (0) or offscreen target k from now on. */
-static void op_target(game *g, const limen_draw_cmd *c)
-{
-    const target *t = target_get(g, c->target, c->target ? c->target_w : g->w,
-                                 c->target ? c->target_h : g->h);
-    glBindFramebuffer(GL_FRAMEBUFFER, t->fbo);
-    glViewport(c->viewport[0], c->viewport[1], c->viewport[2], c->viewport[3]);
-}
-
 /* Within the scissor, what the state's masks let through: depth to the far plane (the game
  * draws no reversed depth), colour, stencil to 0. */
 static void op_clear(game *g, const limen_draw_cmd *c)
@@ -362,14 +318,10 @@ static void op_clear(game *g, const limen_draw_cmd *c)
     glClear(GL_DEPTH_BUFFER_BIT | GL_COLOR_BUFFER_BIT | GL_STENCIL_BUFFER_BIT);
 }
 
-/* A fan in normalized device coordinates, with the polygons' program: flat, or a target's
- * texels times the colour. */
+/* A fan in normalized device coordinates, in its flat colour, with the polygons' program. */
 static void op_polygon(game *g, const limen_draw_cmd *c)
 {
-    int k = c->image == LIMEN_IMAGE_TARGET;
-    glUseProgram(g->flat[k]);
-    glUniform3fv(g->flat_color[k], 1, c->color), glUniform4fv(g->flat_map[k], 1, c->image_map);
-    glBindTexture(GL_TEXTURE_2D, g->targets[c->target < MAX_TARGETS ? c->target : 0].tex);
+    glUseProgram(g->flat), glUniform3fv(g->flat_color, 1, c->color);
     glBindVertexArray(g->poly_vao), glDrawArrays(GL_TRIANGLE_FAN, c->first, c->count);
     glUseProgram(g->prog);
 }
@@ -394,21 +346,20 @@ static void op_shape(game *g, const limen_draw_cmd *c)
 {
     const limen_drawable *d = &g->items[c->item];
     const limen_kind_info *k = limen_kind_get(d->kind);
-    int unit = k->round == 2 ? SPHERE : k->round == 1 ? CYLINDER : k->flat ? QUAD : BOX;
     float scale[3];
     for (int a = 0; a < 3; a++)
         scale[a] = k->scale[a] >= 0 ? d->dims[k->scale[a]] : 1.0f;
-    int S = unit < SPHERE || c->segments < 3 ? 1 : c->segments;   /* as limen tessellates */
-    const int count[5] = { 0, 6, 36, 3 * S * S, 18 * S };
+    int S = c->segments >= 3 ? c->segments : 1;     /* balls and cylinders, as limen's */
+    const int count[LIMEN_UNIT_COUNT] = { 0, 36, 3 * S * S, 18 * S, 6 };
     for (GLuint col = 0; col < 4; col++) {     /* world times the unit shape's scale */
         const float *w = c->world + 4 * col, s = col < 3 ? scale[col] : 1.0f;
         glVertexAttrib4f(4 + col, w[0] * s, w[1] * s, w[2] * s, w[3] * s);
     }
     glVertexAttrib3fv(8, c->color), glUniform3fv(g->u.scale, 1, scale);
-    glUniform1i(g->u.unit, unit), glUniform1i(g->u.uv, k->uv);
+    glUniform1i(g->u.unit, (int)k->unit), glUniform1i(g->u.uv, k->uv);
     glUniform1i(g->u.S, S);
     use_item(g, d, d->texture);
-    glBindVertexArray(g->vao), glDrawArrays(GL_TRIANGLES, 0, count[unit]);
+    glBindVertexArray(g->vao), glDrawArrays(GL_TRIANGLES, 0, count[k->unit]);
     glUniform1i(g->u.unit, 0);
 }
 
@@ -455,22 +406,16 @@ static void op_flush(game *g, const limen_draw_cmd *c)
 
 /* ============================================================ 4. one frame */
 
-/* The lights (the first LIMEN_MAX_LIGHTS visible), the ambient term, the list's passes, and
- * its vertices and instances into their buffers. */
+/* The frame's lights and ambient term, the list's passes, its vertices and instances. */
 static void frame_begin(game *g)
 {
-    float pos[LIMEN_MAX_LIGHTS][3], col[LIMEN_MAX_LIGHTS][3], inv_r2[LIMEN_MAX_LIGHTS];
-    float ambient, background[3];
-    int n = limen_drawables_items(g->draw, &g->items), nl = 0;
-    for (const limen_drawable *d = g->items; d < g->items + n && nl < LIMEN_MAX_LIGHTS; d++)
-        if (d->visible && d->kind == LIMEN_NODE_LIGHT) {
-            memcpy(pos[nl], d->world + 12, sizeof pos[0]), memcpy(col[nl], d->color, sizeof col[0]);
-            inv_r2[nl++] = d->range > 0 ? 1.0f / (d->range * d->range) : 0.0f;
-        }
-    limen_drawables_environment(g->draw, background, &ambient);
+    const limen_draw_light *l;
+    float ambient;
+    int nl = limen_drawlist_lights(g->list, &l, &ambient);
+    for (int i = 0; i < nl; i++)                /* (an array's elements: one location each) */
+        glUniform3fv(g->u.light_pos + i, 1, l[i].pos), glUniform3fv(g->u.light_col + i, 1, l[i].color),
+        glUniform1f(g->u.light_inv_r2 + i, l[i].inv_range2);
     glUniform1f(g->u.ambient, ambient), glUniform1i(g->u.nlights, nl);
-    glUniform3fv(g->u.light_pos, nl, pos[0]), glUniform3fv(g->u.light_col, nl, col[0]);
-    glUniform1fv(g->u.light_inv_r2, nl, inv_r2);
     const float (*v)[3];
     const limen_draw_instance *inst;
     int nv = limen_drawlist_vertices(g->list, &v), ni = limen_drawlist_instances(g->list, &inst);
@@ -479,6 +424,7 @@ static void frame_begin(game *g)
     glBindBuffer(GL_ARRAY_BUFFER, g->inst_vbo);
     glBufferData(GL_ARRAY_BUFFER, (GLsizeiptr)sizeof *inst * ni, inst, GL_STREAM_DRAW);
     g->npasses = limen_drawlist_passes(g->list, &g->passes);
+    limen_drawables_items(g->draw, &g->items);
 }
 
 /* Runs commands cmd[0 .. n) of the built list in order; rgb (w*h*3, top row first) gets
@@ -487,35 +433,36 @@ static int game_draw(game *g, const limen_draw_cmd *cmd, int n, limen_depth_rang
                      unsigned char *rgb)
 {
     static void (*const op[LIMEN_DRAW_OP_COUNT])(game *, const limen_draw_cmd *) = {
-        op_target, op_clear, op_polygon, op_shape, op_meshes, op_flush
+        NULL, op_clear, op_polygon, op_shape, op_meshes, op_flush   /* (no TARGET: stencil) */
     };
-    const limen_draw_cmd frame = { .op = LIMEN_DRAW_TARGET, .viewport = { 0, 0, g->w, g->h } };
     if (make_current(g) || range == LIMEN_DEPTH_ZO_REVERSED ||
         (range == LIMEN_DEPTH_ZO && !g->clip_control))
         return -1;      /* (reversed depth would want a float depth buffer) */
     if (g->clip_control)
         g->clip_control(GL_LOWER_LEFT, range ? GL_ZERO_TO_ONE : GL_NEGATIVE_ONE_TO_ONE);
-    glUseProgram(g->prog), frame_begin(g), op_target(g, &frame);
+    glUseProgram(g->prog), frame_begin(g);
+    glBindFramebuffer(GL_FRAMEBUFFER, g->fbo), glViewport(0, 0, g->w, g->h);
     glEnable(GL_DEPTH_TEST), glEnable(GL_SCISSOR_TEST);
     for (int i = 0; i < n; i++)
-        if (cmd[i].pass >= 0 && cmd[i].pass < g->npasses && cmd[i].op < LIMEN_DRAW_OP_COUNT) {
+        if (cmd[i].pass >= 0 && cmd[i].pass < g->npasses && cmd[i].op < LIMEN_DRAW_OP_COUNT &&
+            op[cmd[i].op]) {
             set_state(g, &cmd[i].state, &g->passes[cmd[i].pass]);
             op[cmd[i].op](g, &cmd[i]);
         }
-    op_target(g, &frame), glPixelStorei(GL_PACK_ALIGNMENT, 1);
+    glPixelStorei(GL_PACK_ALIGNMENT, 1);
     for (int y = 0; y < g->h; y++)              /* OpenGL's rows run bottom-up */
         glReadPixels(0, g->h - 1 - y, g->w, 1, GL_RGB, GL_UNSIGNED_BYTE, rgb + 3 * g->w * y);
     return glGetError() == GL_NO_ERROR ? 0 : -1;
 }
 
-/* Plans scene s for this game's size and depth range, lists the frame's commands for
- * `method` (STENCIL or TEXTURE; the game keeps no previous frame) and draws them into rgb. */
+/* Plans scene s for this game's size and depth range, lists the frame's commands for the
+ * stencil method (one framebuffer; the game keeps no previous frame) and draws them. */
 static int game_frame(game *g, limen_scene *s, limen_depth_range range, limen_clip_method clip,
-                      limen_method method, unsigned char *rgb)
+                      unsigned char *rgb)
 {
     limen_plan_desc pd = { .width = g->w, .height = g->h, .range = range, .limits.clip = clip };
-    limen_drawlist_desc dd = { .width = g->w, .height = g->h, .method = method, .range = range,
-                               .limits = pd.limits };
+    limen_drawlist_desc dd = { .width = g->w, .height = g->h, .method = LIMEN_METHOD_STENCIL,
+                               .range = range, .limits = pd.limits };
     const limen_draw_cmd *cmd;
     if (limen_plan_build(g->plan, s, &pd) || limen_drawables_build(g->draw, s))
         return fprintf(stderr, "  plan: %s\n", limen_scene_error(s)), -1;
@@ -525,19 +472,17 @@ static int game_frame(game *g, limen_scene *s, limen_depth_range range, limen_cl
 }
 
 #ifndef LIMEN_EXAMPLE_NO_MAIN
-/* own_renderer SCENE.lua OUT.png [WxH [texture]]: one frame of the scene, drawn by the game. */
+/* own_renderer SCENE.lua OUT.png [WxH]: one frame of the scene, drawn by the game. */
 int main(int argc, char **argv)
 {
     int w = 640, h = 480, rc = 1;
     limen_script *sc = NULL;
     if (argc < 3 || (argc > 3 && sscanf(argv[3], "%dx%d", &w, &h) != 2) || w < 1 || h < 1)
-        return fprintf(stderr, "usage: own_renderer SCENE.lua OUT.png [WxH [texture]]\n"), 2;
+        return fprintf(stderr, "usage: own_renderer SCENE.lua OUT.png [WxH]\n"), 2;
     game *g = limen_script_load(argv[1], NULL, &sc) ? NULL : game_create(w, h);
     unsigned char *rgb = malloc((size_t)w * (size_t)h * 3);
     if (g && rgb)                               /* (limen_write_png writes whole or not) */
-        rc = game_frame(g, limen_script_scene(sc), LIMEN_DEPTH_NO, LIMEN_CLIP_OBLIQUE,
-                        argc > 4 && !strcmp(argv[4], "texture") ? LIMEN_METHOD_TEXTURE
-                                                                : LIMEN_METHOD_STENCIL, rgb) ||
+        rc = game_frame(g, limen_script_scene(sc), LIMEN_DEPTH_NO, LIMEN_CLIP_OBLIQUE, rgb) ||
              limen_write_png(argv[2], w, h, rgb);
     if (rc)
         fprintf(stderr, "own_renderer: cannot draw %s (%s)\n", argv[1],

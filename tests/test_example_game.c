@@ -1,6 +1,6 @@
 /* test_example_game.c - examples/own_renderer.c, a game that draws limen's draw list with
- * OpenGL of its own, against limen's own renderer: its frames must match, with either method,
- * and must stop matching where the game leaves out a step the list asks for. */
+ * OpenGL of its own, against limen's own renderer: its frames must match (the stencil
+ * method's list), and must stop matching where the game leaves out a step the list asks for. */
 #define LIMEN_EXAMPLE_NO_MAIN
 #include "../examples/own_renderer.c"
 
@@ -38,10 +38,10 @@ typedef int (*tamper_fn)(limen_draw_cmd *c);
 /* The game's frame with the list changed by tamper: the list built (and drawn) as the game
  * does, then a changed copy drawn. */
 static int tampered_frame(game *g, limen_scene *s, limen_depth_range range,
-                          limen_clip_method clip, limen_method method, tamper_fn tamper,
+                          limen_clip_method clip, tamper_fn tamper,
                           unsigned char *rgb)
 {
-    int rc = game_frame(g, s, range, clip, method, rgb);
+    int rc = game_frame(g, s, range, clip, rgb);
     if (rc || !tamper)
         return rc;
     const limen_draw_cmd *cmd;
@@ -58,14 +58,14 @@ static int tampered_frame(game *g, limen_scene *s, limen_depth_range range,
 /* Draws the scene with the game and with limen's renderer; returns how the frames differ
  * (largest difference 256 where a frame failed). */
 static limen_diff frame_diff(const char *name, limen_scene *s, limen_depth_range range,
-                             limen_clip_method clip, limen_method method, tamper_fn tamper)
+                             limen_clip_method clip, tamper_fn tamper)
 {
     static unsigned char mine[W * H * 3], ref[W * H * 3], heat[W * H * 3];
     limen_diff d = { 1.0, 0, 0, 256 };
     game *g = get_game();
     if (!g || !s)
         return d;
-    int ok = tampered_frame(g, s, range, clip, method, tamper, mine) == 0;
+    int ok = tampered_frame(g, s, range, clip, tamper, mine) == 0;
     CHECK_MSG(ok, "%s: the game's frame failed", name);
     int views = limen_plan_count(g->plan), planes = 0;
     for (int i = 1; i < views; i++)
@@ -82,7 +82,7 @@ static limen_diff frame_diff(const char *name, limen_scene *s, limen_depth_range
             return d;
         }
     }
-    limen_render_opts o = { .method = method, .limits.clip = clip };
+    limen_render_opts o = { .method = LIMEN_METHOD_STENCIL, .limits.clip = clip };
     CHECK_OK(limen_render_frame(*r, s, &o, NULL));
     CHECK_OK(limen_renderer_read_rgb(*r, ref));
     CHECK_OK(limen_image_diff(mine, ref, W, H, 8, &d, heat));
@@ -102,9 +102,9 @@ static limen_diff frame_diff(const char *name, limen_scene *s, limen_depth_range
 /* No pixel of the game's frame may differ from limen's by more than 1/255: the game draws
  * the same list with the same tessellation, so only rounding may differ. */
 static void compare(const char *name, limen_scene *s, limen_depth_range range,
-                    limen_clip_method clip, limen_method method)
+                    limen_clip_method clip)
 {
-    limen_diff d = frame_diff(name, s, range, clip, method, NULL);
+    limen_diff d = frame_diff(name, s, range, clip, NULL);
     CHECK_MSG(d.max_delta <= 1, "%s: pixels differ from limen's by up to %d/255 (%.3f%% by "
               "more than 8/255)", name, d.max_delta, 100.0 * d.bad_share);
 }
@@ -115,7 +115,7 @@ static void compare_script(const char *path, const char *name, limen_depth_range
     limen_script *sc = check_load_script(path);
     if (!sc)
         return;
-    compare(name, limen_script_scene(sc), range, clip, LIMEN_METHOD_STENCIL);
+    compare(name, limen_script_scene(sc), range, clip);
     CHECK_MSG(the_game && limen_plan_count(the_game->plan) >= min_views,
               "%s: expected at least %d views", name, min_views);
     limen_script_destroy(sc);
@@ -215,7 +215,7 @@ static void test_game_loop(void)
                                          (float[3]){ 0, 0.5f + 0.4f * sinf((float)f), -2 }));
         char name[32];
         snprintf(name, sizeof name, "walk_%d", f);
-        compare(name, s, LIMEN_DEPTH_NO, LIMEN_CLIP_OBLIQUE, LIMEN_METHOD_STENCIL);
+        compare(name, s, LIMEN_DEPTH_NO, LIMEN_CLIP_OBLIQUE);
     }
     CHECK_OK(limen_node_get_position(s, cam, pos));
     CHECK_MSG(crossed == 1, "the camera passed %d portals, expected 1", crossed);
@@ -223,31 +223,12 @@ static void test_game_loop(void)
     limen_script_destroy(sc);
 }
 
-/* The texture method: the list draws each view into an offscreen target the game makes at
- * the size the list says, and the parent samples it (POLYGON with LIMEN_IMAGE_TARGET);
- * meshes in batches too (hall_of_mirrors). */
-static void test_texture_method(void)
-{
-    static const char *const scenes[][2] = { { "scenes/mirror_room.lua", "mirror_room_tex" },
-                                             { "scenes/portals.lua", "portals_tex" },
-                                             { "scenes/corridor.lua", "corridor_tex" },
-                                             { "scenes/hall_of_mirrors.lua", "hall_tex" } };
-    for (int i = 0; i < 4; i++) {
-        limen_script *sc = check_load_script(scenes[i][0]);
-        if (!sc)
-            continue;
-        compare(scenes[i][1], limen_script_scene(sc), LIMEN_DEPTH_NO, LIMEN_CLIP_OBLIQUE,
-                LIMEN_METHOD_TEXTURE);
-        limen_script_destroy(sc);
-    }
-}
-
 static int by_name(const void *a, const void *b)
 {
     return strcmp(*(const char *const *)a, *(const char *const *)b);
 }
 
-/* Every gallery scene (each .lua in scenes/, however many there are), both methods. */
+/* Every gallery scene (each .lua in scenes/, however many there are). */
 static void test_gallery(void)
 {
     char *names[256];
@@ -267,12 +248,9 @@ static void test_gallery(void)
         char path[512], name[300];
         snprintf(path, sizeof path, "scenes/%s", names[i]);
         limen_script *sc = check_load_script(path);
-        for (int m = 0; sc && m < 2; m++) {
-            snprintf(name, sizeof name, "g_%.*s%s", (int)strlen(names[i]) - 4, names[i],
-                     m ? "_tex" : "");
-            compare(name, limen_script_scene(sc), LIMEN_DEPTH_NO, LIMEN_CLIP_OBLIQUE,
-                    m ? LIMEN_METHOD_TEXTURE : LIMEN_METHOD_STENCIL);
-        }
+        snprintf(name, sizeof name, "g_%.*s", (int)strlen(names[i]) - 4, names[i]);
+        if (sc)
+            compare(name, limen_script_scene(sc), LIMEN_DEPTH_NO, LIMEN_CLIP_OBLIQUE);
         limen_script_destroy(sc);
         free(names[i]);
     }
@@ -317,9 +295,8 @@ static void test_steps_matter(void)
             continue;
         limen_scene *s = limen_script_scene(sc);
         if (cases[i].name)                      /* (the untouched list matches) */
-            compare(cases[i].name, s, LIMEN_DEPTH_NO, cases[i].clip, LIMEN_METHOD_STENCIL);
-        limen_diff d = frame_diff(cases[i].tampered, s, LIMEN_DEPTH_NO, cases[i].clip,
-                                  LIMEN_METHOD_STENCIL, cases[i].fn);
+            compare(cases[i].name, s, LIMEN_DEPTH_NO, cases[i].clip);
+        limen_diff d = frame_diff(cases[i].tampered, s, LIMEN_DEPTH_NO, cases[i].clip, cases[i].fn);
         CHECK_MSG(d.max_delta <= 255 && d.bad_share > 0.01, "%s: only %.3f%% of pixels differ",
                   cases[i].tampered, 100 * d.bad_share);
         limen_script_destroy(sc);
@@ -332,7 +309,7 @@ static const check_case cases[] = {
     { "clip_plane", test_clip_plane },   { "game_loop", test_game_loop },
     { "crossing_walls", test_crossing_walls }, { "meshes", test_meshes },
     { "textures_ranges", test_textures_ranges }, { "clones", test_clones },
-    { "texture_method", test_texture_method }, { "steps_matter", test_steps_matter },
+    { "steps_matter", test_steps_matter },
     { "gallery", test_gallery },
     { 0 },
 };
