@@ -16,13 +16,12 @@
  *   3. Walk the list (game_draw): lights from the drawables, the list's vertices and
  *      instances into buffers, then each command in order: set_state (its pipeline state and
  *      pass), then one function per op: op_target, op_clear, op_polygon, op_shape (the unit
- *      shape its kind's facts name, tessellated as limen does), op_meshes, op_flush. Meshes
+ *      shape its kind's facts name, of the list's segments), op_meshes, op_flush. Meshes
  *      and images go up once, keyed on their id. Read the frame back.
  */
 #define GL_GLEXT_PROTOTYPES
 #include <GL/glcorearb.h>
 #include <GL/osmesa.h>
-#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -389,25 +388,6 @@ static void use_item(game *g, const limen_drawable *d, const limen_image *im)
                     f == LIMEN_FILTER_NEAREST ? GL_NEAREST : GL_LINEAR);
 }
 
-/* The segments of a sphere or cylinder of that radius at world matrix w, as limen chooses
- * them: the fewest whose silhouette stays within 0.2 pixel of the true shape's. */
-static int segments(const limen_draw_pass *p, const float *w, float radius)
-{
-    static const int seg[] = { 8, 12, 16, 24, 32, 48, 64, 96, 128, 192, 256 };
-    const float *v = p->view_mat;
-    float r = 0, dist = -(v[2] * w[12] + v[6] * w[13] + v[10] * w[14] + v[14]);
-    for (int c = 0; c < 3; c++)                 /* the longest axis, in the view's units */
-        r = fmaxf(r, sqrtf(w[4 * c] * w[4 * c] + w[4 * c + 1] * w[4 * c + 1] +
-                           w[4 * c + 2] * w[4 * c + 2]));
-    r *= radius * sqrtf(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
-    for (int k = 0; dist > 1.01f * r && k < 11; k++) {
-        double cs = cos(3.14159265358979 / seg[k]);
-        if (r * p->px_scale / (dist - r) * (1 - cs * cs) / (1 + cs * cs) <= 0.2)
-            return seg[k];
-    }
-    return 256;
-}
-
 /* A unit shape scaled to its node's size, lit in its colours; which shape and how it scales
  * and takes a texture are the kind's facts (limen_kind_get), not a list of kinds. */
 static void op_shape(game *g, const limen_draw_cmd *c)
@@ -418,8 +398,7 @@ static void op_shape(game *g, const limen_draw_cmd *c)
     float scale[3];
     for (int a = 0; a < 3; a++)
         scale[a] = k->scale[a] >= 0 ? d->dims[k->scale[a]] : 1.0f;
-    int S = unit < SPHERE ? 1 : segments(&g->passes[c->pass], c->world,
-                                         fmaxf(scale[0], unit == SPHERE ? 0 : scale[1] / 2));
+    int S = unit < SPHERE || c->segments < 3 ? 1 : c->segments;   /* as limen tessellates */
     const int count[5] = { 0, 6, 36, 3 * S * S, 18 * S };
     for (GLuint col = 0; col < 4; col++) {     /* world times the unit shape's scale */
         const float *w = c->world + 4 * col, s = col < 3 ? scale[col] : 1.0f;
@@ -443,6 +422,7 @@ static void op_meshes(game *g, const limen_draw_cmd *c)
     if (!gm)
         return;
     int lod = c->lod < m->lod_count && c->lod < 16 ? c->lod : 0;
+    size_t first = (size_t)gm->first[lod];      /* (an image's upload may move the cache) */
     glBindVertexArray(gm->vao), glBindBuffer(GL_ARRAY_BUFFER, g->inst_vbo);
     for (GLuint a = 4; a < 9; a++) {            /* world matrix columns, albedo */
         glEnableVertexAttribArray(a), glVertexAttribDivisor(a, 1);
@@ -460,7 +440,7 @@ static void op_meshes(game *g, const limen_draw_cmd *c)
         use_item(g, d, d->texture ? d->texture : mt->base_texture);
         glUniform4fv(g->u.base, 1, mt->base_color), glUniform3fv(g->u.emissive, 1, mt->emissive);
         glUniform1f(g->u.cutoff, mt->alpha_mode == LIMEN_ALPHA_MASK ? mt->alpha_cutoff : -1);
-        size_t at = (size_t)gm->first[lod] + 3 * (size_t)parts[p].first_triangle;
+        size_t at = first + 3 * (size_t)parts[p].first_triangle;
         glDrawElementsInstanced(GL_TRIANGLES, 3 * parts[p].triangle_count, GL_UNSIGNED_INT,
                                 (void *)(sizeof(GLuint) * at), c->count);
     }

@@ -1125,12 +1125,15 @@ typedef enum limen_draw_op {
                                  * state.stencil_write_mask (the frame's first clear) */
     LIMEN_DRAW_POLYGON,         /* a triangle fan of list vertices [first, first + count):
                                  * x, y, z in normalized device coordinates, already clipped
-                                 * (clip nothing), in flat `color` (tint included); with `image`
+                                 * (clip nothing: its state's clip_on and cut_on are always
+                                 * 0), in flat `color` (tint included); with `image`
                                  * not NONE: the image's texel at uv = image_map.xy *
                                  * fragment.xy + image_map.zw (fragment: the pixel in the
                                  * target, frame origin 0, 0), times `color` */
     LIMEN_DRAW_SHAPE,           /* drawable `item` (box, sphere, cylinder, quad, or a mirror's
-                                 * or portal's quad) at model matrix `world` with albedo
+                                 * or portal's quad) at model matrix `world` (the drawable's,
+                                 * or a portal copy's: carried; like limen_drawable.world it
+                                 * holds not the unit shape's scale, dims) with albedo
                                  * `color`, lit: limen's shading, checker and texture as the
                                  * drawable says */
     LIMEN_DRAW_MESHES,          /* mesh drawable `item` at level of detail `lod` (clamp it to
@@ -1169,6 +1172,10 @@ typedef struct limen_draw_cmd {
     int target;                 /* TARGET; POLYGON with LIMEN_IMAGE_TARGET: the image's */
     int target_w, target_h;     /* TARGET: the target's size (0 for the frame) */
     int viewport[4];            /* TARGET: x, y, w, h in it */
+    int segments;               /* SHAPE: a sphere's or cylinder's segments around (8, 12, 16,
+                                 * 24, 32, 48, 64, 96, 128, 192 or 256: the fewest whose
+                                 * silhouette stays within 0.2 pixel, 0.2 / msaa where
+                                 * multisampled, of the true one); 0 for other shapes */
 } limen_draw_cmd;
 
 typedef struct limen_draw_instance {

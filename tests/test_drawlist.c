@@ -100,7 +100,8 @@ static void check_ranges(const frame *f)
     const float (*v)[3];
     int n = limen_drawlist_commands(f->dl, &c), np = limen_drawlist_passes(f->dl, &p);
     int nv = limen_drawlist_vertices(f->dl, &v), ni = limen_drawlist_instances(f->dl, NULL);
-    int nitems = limen_drawables_items(f->d, NULL);
+    const limen_drawable *items;
+    int nitems = limen_drawables_items(f->d, &items);
     bool drawn[256] = { false };
     CHECK(n > 0 && np > 0);
     for (int i = 0; i < n; i++) {
@@ -114,12 +115,25 @@ static void check_ranges(const frame *f)
             for (int k = c[i].first; k < c[i].first + c[i].count && k < nv; k++)
                 CHECK_MSG(fabsf(v[k][0]) <= 1.00001f && fabsf(v[k][1]) <= 1.00001f,
                           "vertex %d at %g, %g", k, v[k][0], v[k][1]);
+            /* already clipped: a backend may draw it with no clip distances */
+            CHECK(!c[i].state.clip_on && !c[i].state.cut_on);
             if (c[i].image == LIMEN_IMAGE_TARGET)
                 CHECK(c[i].target > 0 && c[i].target < 256 && drawn[c[i].target]);
             break;
-        case LIMEN_DRAW_SHAPE:
+        case LIMEN_DRAW_SHAPE: {
             CHECK(c[i].item >= 0 && c[i].item < nitems);
+            if (c[i].item < 0 || c[i].item >= nitems)
+                break;
+            /* curved shapes come tessellated, the others not */
+            limen_node_kind k = items[c[i].item].kind;
+            bool curved = k == LIMEN_NODE_SPHERE || k == LIMEN_NODE_CYLINDER, known = false;
+            static const int segments[] = { 8, 12, 16, 24, 32, 48, 64, 96, 128, 192, 256 };
+            for (int j = 0; j < 11; j++)
+                known |= c[i].segments == segments[j];
+            CHECK_MSG(curved ? known : c[i].segments == 0, "command %d: kind %d, %d segments",
+                      i, (int)k, c[i].segments);
             break;
+        }
         case LIMEN_DRAW_MESHES:
             CHECK(c[i].item >= 0 && c[i].item < nitems);
             CHECK(c[i].first >= 0 && c[i].count > 0 && c[i].first + c[i].count <= ni);

@@ -468,6 +468,61 @@ void limen__dl_surface_image(limen_drawlist *dl, const dl_view *v, const limen_d
 
 /* ------------------------------------------------------------------ things */
 
+/* The tessellations of curved shapes a backend keeps: segments around, and the tolerance
+ * (pixels) within which a silhouette must stay of the true shape (the ray tracer's). */
+static const int segments_of[] = { 8, 12, 16, 24, 32, 48, 64, 96, 128, 192, 256 };
+enum { NSEGMENTS = (int)(sizeof segments_of / sizeof segments_of[0]) };
+#define SILHOUETTE_PX 0.2f
+
+/* The coarsest tessellation whose polygon stays within tol_px of a circle of radius_px. */
+static int segments_for(float radius_px, float tol_px)
+{
+    for (int l = 0; l < NSEGMENTS; l++) {
+        /* largest gap between the pushed-out sphere and the true one, either way */
+        double c = cos(M_PI / segments_of[l]);
+        double sag = radius_px * (1.0 - c * c) / (1.0 + c * c);
+        if (sag <= tol_px)
+            return segments_of[l];
+    }
+    return segments_of[NSEGMENTS - 1];
+}
+
+/* A sphere's or cylinder's segments in view v at world matrix w, from its projected size:
+ * the largest world-space stretch of its axes times its radius, over the view distance of
+ * its centre (0 for other kinds). Multisampled, a silhouette's error band holds msaa samples
+ * per pixel of its area, each changing its pixel by 1/msaa of the contrast, so it takes a
+ * band msaa times thinner to leave as few pixels off the area-averaged truth as one sample
+ * per pixel leaves. */
+static int shape_segments(const limen_drawlist *dl, const dl_view *v, const limen_drawable *node,
+                          const float w[16])
+{
+    float radius;
+    if (node->kind == LIMEN_NODE_SPHERE)
+        radius = node->dims[0];
+    else if (node->kind == LIMEN_NODE_CYLINDER)
+        radius = fmaxf(node->dims[0], 0.5f * node->dims[1]);
+    else
+        return 0;
+    mat4 world, view;
+    memcpy(world, w, sizeof world);
+    memcpy(view, v->view, sizeof view);
+    float stretch = fmaxf(glm_vec3_norm(world[0]),
+                          fmaxf(glm_vec3_norm(world[1]), glm_vec3_norm(world[2])));
+    float world_r = radius * stretch;
+    vec4 centre = { world[3][0], world[3][1], world[3][2], 1.0f };
+    vec4 vc;
+    glm_mat4_mulv(view, centre, vc);
+    /* a view matrix through scaled portals scales distances: measure in its own units */
+    float view_scale = glm_vec3_norm(view[0]);
+    float dist = -vc[2];
+    world_r *= view_scale;
+    int msaa = dl->desc.msaa;
+    float tol = msaa > 1 ? SILHOUETTE_PX / (float)msaa : SILHOUETTE_PX;
+    if (dist > world_r * 1.01f)
+        return segments_for(world_r * v->px_scale / (dist - world_r), tol);
+    return segments_of[NSEGMENTS - 1];
+}
+
 /* One shape lit at a world matrix (a copy carried through a portal has its own). */
 static void shape_at(limen_drawlist *dl, const dl_view *v, const limen_drawable *node,
                      const float world[16], const float *albedo)
@@ -483,6 +538,7 @@ static void shape_at(limen_drawlist *dl, const dl_view *v, const limen_drawable 
         return;
     c->item = (int)(node - dl->items);
     memcpy(c->world, world, sizeof c->world);
+    c->segments = shape_segments(dl, v, node, world);
     memcpy(c->color, albedo, sizeof c->color);
     /* In an oblique view the near plane is the exit plane, and clamping would keep what of a
      * surface lies beyond it (a neighbour poking through a mirror shows its back there):

@@ -244,17 +244,16 @@ static void draw_polygon(limen_renderer *r, const limen_draw_cmd *c, const limen
 /* ------------------------------------------------------------------ shapes */
 
 /* A box, sphere, cylinder or quad from the unit meshes, lit, at the command's world matrix;
- * the sphere's and cylinder's level of detail from the pass's view. */
+ * a sphere or cylinder at the command's segments. */
 static void draw_shape(limen_renderer *r, const limen_draw_cmd *c, const limen_draw_pass *p,
                        const limen_drawable *node)
 {
     limen__range range = { 0, 0 };
     vec3 scale = { 1, 1, 1 };
     int shape = 0;
-    mat4 world, view;
+    mat4 world;
     memcpy(world, c->world, sizeof world);
-    memcpy(view, p->view_mat, sizeof view);
-    if (!limen__unit_mesh(r, view, p->px_scale, node, world, &range, scale, &shape))
+    if (!limen__unit_mesh(r, node, c->segments, &range, scale, &shape))
         return;
     int checker = !(node->cell > 0) ? 0 : node->kind == LIMEN_NODE_QUAD ? 1 : 2;
     /* an albedo texture, bound on unit 1, its coordinates as limen.h says */

@@ -14,8 +14,6 @@
 #include "gl/glapi.h"
 #include "gl/shapes.h"
 
-/* A silhouette may stray this far (pixels) from the true curved shape. */
-#define LOD_TOLERANCE_PX 0.2f
 #define LIMEN__MAX_TARGETS 256
 
 typedef struct uniforms {
@@ -196,11 +194,11 @@ limen_status limen__execute(limen_renderer *r, const limen_drawlist *dl);
 const limen__target *limen__target_get(limen_renderer *r, int k, int w, int h);
 void limen__targets_free(limen_renderer *r);
 
-/* gl/shapes.c: which unit mesh, and how it is scaled, for a node seen through a view (its
- * view matrix and pixels per unit at distance 1, for the level of detail); shape: the
- * normals it needs (LIMEN__SHAPE_*). False if the node is not drawn with one. */
-bool limen__unit_mesh(limen_renderer *r, const vec4 *view, float px_scale, const limen_drawable *node,
-                      mat4 world, limen__range *range, vec3 scale, int *shape);
+/* gl/shapes.c: which unit mesh, and how it is scaled, for a node (a sphere or cylinder at
+ * the draw list's segments); shape: the normals it needs (LIMEN__SHAPE_*). False if the node
+ * is not drawn with one. */
+bool limen__unit_mesh(limen_renderer *r, const limen_drawable *node, int segments,
+                      limen__range *range, vec3 scale, int *shape);
 
 /* gl/assets.c: a mesh's vertex arrays at a level of detail, bound with the flat or smooth
  * normals (what to draw: first and count of corners, or of indices where indexed; false if

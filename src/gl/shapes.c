@@ -1,6 +1,6 @@
 /* shapes.c - builds the unit meshes once per renderer. Curved shapes come in levels of
- * detail: the renderer picks, per view, the coarsest whose silhouette stays within a
- * fraction of a pixel of the true shape (the ray tracer's). */
+ * detail: the draw list says, per view, how many segments (the coarsest whose silhouette
+ * stays within a fraction of a pixel of the true shape, the ray tracer's). */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -204,23 +204,10 @@ void limen__meshes_free(limen__meshes *m)
     memset(m, 0, sizeof *m);
 }
 
-int limen__lod_for(float radius_px, float tol_px)
-{
-    for (int l = 0; l < LIMEN__LODS; l++) {
-        /* largest gap between the pushed-out sphere and the true one, either way */
-        double c = cos(M_PI / limen__lod_segments[l]);
-        double sag = radius_px * (1.0 - c * c) / (1.0 + c * c);
-        if (sag <= tol_px)
-            return l;
-    }
-    return LIMEN__LODS - 1;
-}
-
 /* Which mesh, and how the unit mesh is scaled, for a node (gl_internal.h). */
-bool limen__unit_mesh(limen_renderer *r, const vec4 *view, float px_scale, const limen_drawable *node,
-                      mat4 world, limen__range *range, vec3 scale, int *shape)
+bool limen__unit_mesh(limen_renderer *r, const limen_drawable *node, int segments,
+                      limen__range *range, vec3 scale, int *shape)
 {
-    float radius = 0;
     *shape = 0;
     switch (node->kind) {
     case LIMEN_NODE_BOX:
@@ -234,37 +221,21 @@ bool limen__unit_mesh(limen_renderer *r, const vec4 *view, float px_scale, const
         glm_vec3_copy((vec3){ node->dims[0], node->dims[1], 1.0f }, scale);
         return true;
     case LIMEN_NODE_SPHERE:
-        radius = node->dims[0];
-        glm_vec3_broadcast(radius, scale);
+        glm_vec3_broadcast(node->dims[0], scale);
         *shape = LIMEN__SHAPE_SPHERE;
         break;
     case LIMEN_NODE_CYLINDER:
         glm_vec3_copy((vec3){ node->dims[0], node->dims[1], node->dims[0] }, scale);
-        radius = fmaxf(node->dims[0], 0.5f * node->dims[1]);
         *shape = LIMEN__SHAPE_CYLINDER;
         break;
     default:
         return false;
     }
-    /* Level of detail from the projected size: the largest world-space stretch of the
-     * node's axes times the radius, over the view distance of its centre. */
-    float stretch = fmaxf(glm_vec3_norm(world[0]),
-                          fmaxf(glm_vec3_norm(world[1]), glm_vec3_norm(world[2])));
-    float world_r = radius * stretch;
-    vec4 centre = { world[3][0], world[3][1], world[3][2], 1.0f };
-    vec4 vc;
-    glm_mat4_mulv((vec4 *)view, centre, vc);
-    /* a view matrix through scaled portals scales distances: measure in its own units */
-    float view_scale = glm_vec3_norm((float *)view[0]);
-    float dist = -vc[2];
-    world_r *= view_scale;
-    int lod = LIMEN__LODS - 1;
-    /* multisampled: a silhouette's error band holds msaa samples per pixel of its area, each
-     * changing its pixel by 1/msaa of the contrast, so it takes a band msaa times thinner
-     * to leave as few pixels off the area-averaged truth as one sample per pixel leaves */
-    float tol = r->msaa > 1 ? LOD_TOLERANCE_PX / (float)r->msaa : LOD_TOLERANCE_PX;
-    if (dist > world_r * 1.01f)
-        lod = limen__lod_for(world_r * px_scale / (dist - world_r), tol);
+    /* the draw list's tessellation (limen_draw_cmd.segments): the level that has as many
+     * segments, or the next finer */
+    int lod = 0;
+    while (lod < LIMEN__LODS - 1 && limen__lod_segments[lod] < segments)
+        lod++;
     *range = node->kind == LIMEN_NODE_SPHERE ? r->meshes.sphere[lod] : r->meshes.cylinder[lod];
     return true;
 }

@@ -23,7 +23,5 @@ extern const int limen__lod_segments[LIMEN__LODS];
 
 int limen__meshes_build(limen__meshes *m);     /* 0 or -1 (out of memory) */
 void limen__meshes_free(limen__meshes *m);
-/* Level whose polygon stays within tol_px of a circle of radius_px pixels. */
-int limen__lod_for(float radius_px, float tol_px);
 
 #endif
