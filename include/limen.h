@@ -1216,6 +1216,16 @@ LIMEN_API int limen_drawlist_vertices(const limen_drawlist *dl, const float (**o
 /* The MESHES commands' instances; returns their count. */
 LIMEN_API int limen_drawlist_instances(const limen_drawlist *dl,
                                        const limen_draw_instance **out);
+/* A light that shades the frame (the first LIMEN_MAX_LIGHTS visible LIGHT drawables). */
+typedef struct limen_draw_light {
+    float pos[3];               /* world position */
+    float color[3];             /* colour times intensity */
+    float inv_range2;           /* 1 / range^2 (limen_light_set_range), 0 for no range */
+} limen_draw_light;
+/* The frame's lights (at most LIMEN_MAX_LIGHTS) and the ambient term (where ambient is not
+ * NULL), as limen's shading reads them; returns their count. */
+LIMEN_API int limen_drawlist_lights(const limen_drawlist *dl, const limen_draw_light **out,
+                                    float *ambient);
 /* The message of the last failed build ("" after a success). */
 LIMEN_API const char *limen_drawlist_error(const limen_drawlist *dl);
 /* texture_scale (1, and 1 for NAIVE); width, height and range stay (0: the plan's); the

@@ -428,6 +428,33 @@ static void test_rebuild(void)
     frame_close(&f);
 }
 
+/* The lights that shade: the first LIMEN_MAX_LIGHTS visible ones, with 1/range^2. */
+static void test_lights(void)
+{
+    limen_scene *s = mirror_box();
+    for (int i = 0; i < LIMEN_MAX_LIGHTS + 2; i++) {
+        limen_node l;
+        CHECK_OK(limen_node_create(s, LIMEN_NODE_LIGHT, NULL, &l));
+        CHECK_OK(limen_node_set_position(s, l, (float[3]){ (float)i, 2, 0 }));
+        if (i == 0)
+            CHECK_OK(limen_node_set_visible(s, l, 0));
+        if (i == 1)
+            CHECK_OK(limen_light_set_range(s, l, 4));
+    }
+    frame f;
+    frame_open(&f, s, (limen_plan_desc){ 0 });
+    CHECK_OK(frame_list(&f, (limen_drawlist_desc){ 0 }));
+    const limen_draw_light *l;
+    float ambient = -1;
+    int n = limen_drawlist_lights(f.dl, &l, &ambient);
+    CHECK(n == LIMEN_MAX_LIGHTS && ambient >= 0);
+    if (n == LIMEN_MAX_LIGHTS) {
+        CHECK(l[0].pos[0] == 1 && l[0].inv_range2 == 1.0f / 16);
+        CHECK(l[1].pos[0] == 2 && l[1].inv_range2 == 0);
+    }
+    frame_close(&f);
+}
+
 static void test_defaults(void)
 {
     limen_drawlist_desc d = limen_drawlist_desc_defaults(NULL);
@@ -446,6 +473,7 @@ static const check_case cases[] = {
     { "batches_and_budget", test_batches_and_budget },
     { "bad_input", test_bad_input },
     { "rebuild", test_rebuild },
+    { "lights", test_lights },
     { "defaults", test_defaults },
     { 0 },
 };

@@ -709,7 +709,7 @@ static void test_samples(void)
  * exact (gl/shader.c's EXACT: llvmpipe divides a sample's perspective numerators by the
  * pixel centre's 1/w), a view's scissor holding every pixel its surface meets, not only
  * those whose centre it covers (limen_plan_desc.multisample), and curved silhouettes within
- * a quarter of the one-sample tolerance (gl/shapes.c). */
+ * a quarter of the one-sample tolerance (core/drawlist.c). */
 static void test_msaa_truth(void)
 {
     static const char *const scenes[] = {

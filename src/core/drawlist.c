@@ -71,6 +71,15 @@ int limen_drawlist_instances(const limen_drawlist *dl, const limen_draw_instance
     return dl ? dl->ninst : 0;
 }
 
+int limen_drawlist_lights(const limen_drawlist *dl, const limen_draw_light **out, float *ambient)
+{
+    if (out)
+        *out = dl && dl->nlights ? dl->lights : NULL;
+    if (ambient)
+        *ambient = dl ? dl->ambient : 0;
+    return dl ? dl->nlights : 0;
+}
+
 const char *limen_drawlist_error(const limen_drawlist *dl)
 {
     return dl ? dl->err : "no draw list";
@@ -84,7 +93,7 @@ static limen_status dl_fail(limen_drawlist *dl, limen_status st, const char *fmt
     va_start(ap, fmt);
     vsnprintf(dl->err, sizeof dl->err, fmt, ap);
     va_end(ap);
-    dl->ncmd = dl->npass = dl->nvert = dl->ninst = 0;
+    dl->ncmd = dl->npass = dl->nvert = dl->ninst = dl->nlights = 0;
     return st;
 }
 
@@ -757,6 +766,22 @@ static void find_clones(limen_drawlist *dl)
     }
 }
 
+/* The lights that shade: the first visible LIGHT items. */
+static void find_lights(limen_drawlist *dl)
+{
+    dl->nlights = 0;
+    for (int i = 0; i < dl->nitems && dl->nlights < LIMEN_MAX_LIGHTS; i++) {
+        const limen_drawable *d = &dl->items[i];
+        if (d->kind != LIMEN_NODE_LIGHT || !d->visible)
+            continue;
+        limen_draw_light *l = &dl->lights[dl->nlights++];
+        memcpy(l->pos, d->world + 12, sizeof l->pos);
+        memcpy(l->color, d->color, sizeof l->color);
+        /* 1/R^2: the shader's falloff takes (d/R)^2 as d^2 times it; 0 weighs 1 */
+        l->inv_range2 = d->range > 0 ? 1.0f / (d->range * d->range) : 0.0f;
+    }
+}
+
 static bool scene_blends(const limen_drawlist *dl)
 {
     for (int i = 0; i < dl->nitems; i++)
@@ -813,8 +838,8 @@ limen_status limen_drawlist_build(limen_drawlist *dl, const limen_plan *p, const
     if (!limen__reserve((void **)&dl->clone_of, &dl->clone_cap, dl->nitems, sizeof *dl->clone_of))
         return dl_fail(dl, LIMEN_ERR_NOMEM, "draw list: out of memory");
     find_clones(dl);
-    float ambient;
-    limen_drawables_environment(d, dl->background, &ambient);
+    limen_drawables_environment(d, dl->background, &dl->ambient);
+    find_lights(dl);
     dl->blends = scene_blends(dl);
     dl->tris_left = (uint64_t)dl->desc.limits.budget.triangles;
 

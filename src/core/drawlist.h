@@ -54,6 +54,9 @@ struct limen_drawlist {
     int nvert, vert_cap;
     limen_draw_instance *inst;
     int ninst, inst_cap;
+    limen_draw_light lights[LIMEN_MAX_LIGHTS];
+    int nlights;
+    float ambient;
     char err[256];
 
     /* one build's inputs and scratch */

@@ -131,26 +131,19 @@ static void bind_pass(limen_renderer *r, const limen_draw_pass *p)
     GL(FrontFace)(p->front_cw ? GL_CW : GL_CCW);
 }
 
-/* The scene's lights, once per frame. */
-static void lights_set(limen_renderer *r)
+/* The list's lights and ambient term, once per frame. */
+static void lights_set(limen_renderer *r, const limen_drawlist *dl)
 {
-    float (*pos)[3] = r->shared.light_pos, (*col)[3] = r->shared.light_col;
-    float *inv_r2 = r->shared.light_inv_r2;
+    const limen_draw_light *l;
+    int n = limen_drawlist_lights(dl, &l, &r->ambient);
     bool ranged = false;
-    const limen_drawable *items;
-    int count = limen_drawables_items(r->draw, &items), n = 0;
-    for (int i = 0; i < count && n < LIMEN_MAX_LIGHTS; i++) {
-        const limen_drawable *d = &items[i];
-        if (d->kind != LIMEN_NODE_LIGHT || !d->visible)
-            continue;
-        memcpy(pos[n], d->world + 12, sizeof(float) * 3);
-        memcpy(col[n], d->color, sizeof(float) * 3);
-        /* 1/R^2: the shader's falloff takes (d/R)^2 as d^2 times it; 0 weighs 1 */
-        inv_r2[n] = d->range > 0 ? 1.0f / (d->range * d->range) : 0.0f;
-        ranged |= d->range > 0;
-        n++;
+    for (int i = 0; i < n && i < LIMEN_MAX_LIGHTS; i++) {
+        memcpy(r->shared.light_pos[i], l[i].pos, sizeof l[i].pos);
+        memcpy(r->shared.light_col[i], l[i].color, sizeof l[i].color);
+        r->shared.light_inv_r2[i] = l[i].inv_range2;
+        ranged |= l[i].inv_range2 > 0;
     }
-    r->shared.nlights = n;
+    r->shared.nlights = n < LIMEN_MAX_LIGHTS ? n : LIMEN_MAX_LIGHTS;
     r->shared.ranged = ranged;
     r->shared_stamp++;
 }
@@ -443,7 +436,7 @@ limen_status limen__execute(limen_renderer *r, const limen_drawlist *dl)
     int ninst = limen_drawlist_instances(dl, &inst);
     int nvert = limen_drawlist_vertices(dl, &verts);
     int nitems = limen_drawables_items(r->draw, &items);
-    lights_set(r);
+    lights_set(r, dl);
     if (!upload_polygons(r, verts, nvert))
         return limen__rfail(r, LIMEN_ERR_NOMEM, "out of memory for %d polygon vertices", nvert);
     GL(BindVertexArray)(r->vao);
