@@ -811,14 +811,20 @@ static int unmatched_within(const unsigned char *img, const unsigned char *ref, 
  * mesh's moved by at most the level's bound: every pixel has its colour in the full mesh's
  * truth within the bound's pixels (plus one), so no texture smears across a seam, where the
  * margin's or another chart's colour would show. */
-static void test_lod_levels(void)
+static void lod_levels(int tile, int min_levels)
 {
-    enum { N = 40, NT = 5 * N * N * 2, W = 160, H = 120, T = 192, CELL = 64 };
-    int nv = charted_verts(N, N);
+    /* the atlas: cells of CELL texels, side x side of them (tests/charted.h), with a margin
+     * of a texel or two that the charts' coordinates keep inside */
+    enum { N = 40, NT = 5 * N * N * 2, W = 160, H = 120 };
+    int per = N / tile, side = 1;
+    while (side * side < 5 * per * per)
+        side++;
+    const int CELL = tile == N ? 64 : 32, T = side * CELL, MARGIN = CELL / 32;
+    int nv = charted_verts(N, tile);
     float *pos = malloc(sizeof(float) * 3 * nv), *nrm = malloc(sizeof(float) * 3 * nv),
           *uv = malloc(sizeof(float) * 2 * nv);
     uint32_t *idx = malloc(sizeof(uint32_t) * 3 * NT);
-    unsigned char *tex = malloc(T * T * 3), *img = malloc(W * H * 3), *full = malloc(W * H * 3),
+    unsigned char *tex = malloc((size_t)T * T * 3), *img = malloc(W * H * 3), *full = malloc(W * H * 3),
                   *lvl = malloc(W * H * 3), *by_px = malloc(W * H * 3);
     char dir[] = "/tmp/limen_lod_XXXXXX", path[64] = "";
     bool made = false;
@@ -832,19 +838,24 @@ static void test_lod_levels(void)
         CHECK(!"setup");
         goto done;
     }
-    /* the atlas: 3 x 3 cells, chart c's colour checkered light and dark; margins magenta */
+    /* chart c's colour checkered light and dark (of five: a chart's neighbours on its face
+     * another's); margins and unused cells magenta */
     for (int y = 0; y < T; y++)
         for (int x = 0; x < T; x++) {
-            int c = (T - 1 - y) / CELL * 3 + x / CELL, ix = x % CELL, iy = y % CELL;
-            bool margin = c >= 5 || ix < 2 || ix >= CELL - 2 || iy < 2 || iy >= CELL - 2;
+            int c = (T - 1 - y) / CELL * side + x / CELL, ix = x % CELL, iy = y % CELL;
+            int f = c / (per * per), cj = c / per % per, ci = c % per;
+            int colour = (f + ci + 2 * cj) % 5;
+            bool margin = c >= 5 * per * per || ix < MARGIN || ix >= CELL - MARGIN ||
+                          iy < MARGIN || iy >= CELL - MARGIN;
             for (int k = 0; k < 3; k++)
-                tex[(y * T + x) * 3 + k] =
+                tex[((size_t)y * T + x) * 3 + k] =
                     margin ? lod_colour[5][k]
-                           : (unsigned char)(lod_colour[c][k] * ((ix / 8 + iy / 8) % 2 ? 1.0 : 0.55));
+                           : (unsigned char)(lod_colour[colour][k] *
+                                             ((ix / 8 + iy / 8) % 2 ? 1.0 : 0.55));
         }
     snprintf(path, sizeof path, "%s/atlas.png", dir);
     CHECK_OK(limen_write_png(path, T, T, tex));
-    charted_ball(N, N, pos, nrm, uv, idx);
+    charted_ball(N, tile, pos, nrm, uv, idx);
     limen_node cam = add(s, LIMEN_NODE_CAMERA, "cam", 0, 0, 0), ball = { 0 };
     CHECK_OK(limen_node_look_at(s, cam, (float[3]){ 0.6f, 0.9f, 2.6f }, (float[3]){ 0, 0, 0 },
                                 (float[3]){ 0, 1, 0 }));
@@ -870,7 +881,7 @@ static void test_lod_levels(void)
     }
     const limen_drawable *d = &all[di];
     const limen_mesh_geometry *g = d->mesh;
-    CHECK_MSG(g->lod_count >= 5, "%d levels", g->lod_count);
+    CHECK_MSG(g->lod_count >= min_levels, "%d levels", g->lod_count);
     CHECK_OK(limen_trace_image(s, &(limen_trace_desc){ .width = W, .height = H }, full));
     /* pixels per unit of the mesh at the ball's nearest point (limen_view_mesh_lod's) */
     const float *m = root->view;
@@ -906,12 +917,17 @@ static void test_lod_levels(void)
         int moved = unmatched_within(lvl, full, W, H, radius);
         CHECK_MSG(moved <= W * H / 2000, "level %d (error %.2f px): %d pixels with no colour of "
                   "the full mesh's within %d px", k, g->lods[k].error * to_px, moved, radius);
+        if (getenv("LIMEN_TEST_PNGS")) {
+            char png[96];
+            snprintf(png, sizeof png, "%s/lod_%d_%d.png", getenv("LIMEN_TEST_PNGS"), tile, k);
+            limen_write_png(png, W, H, lvl);
+        }
         if (getenv("LIMEN_TEST_VERBOSE"))
-            fprintf(stderr, "level %d: %d triangles, error %.3f px, render %.3f%% off its trace, "
-                    "%d pixels unmatched within %d px\n", k, g->lods[k].triangle_count,
+            fprintf(stderr, "charts of %d, level %d: %d triangles, error %.3f px, render %.3f%% off its trace, "
+                    "%d pixels unmatched within %d px\n", tile, k, g->lods[k].triangle_count,
                     g->lods[k].error * to_px, 100 * dl.bad_share, moved, radius);
     }
-    CHECK_MSG(reached >= 5, "%d levels reached", reached);
+    CHECK_MSG(reached >= min_levels, "%d levels reached", reached);
     CHECK(limen_trace_image(s, &(limen_trace_desc){ .width = W, .height = H, .lod_level = -1 },
                             lvl) == LIMEN_ERR_ARG);
     CHECK(limen_trace_image(s, &(limen_trace_desc){ .width = W, .height = H,
@@ -936,6 +952,21 @@ done:
     free(by_px);
 }
 
+static void test_lod_levels(void)
+{
+    lod_levels(40, 5);
+}
+
+/* The same with 500 charts of 4 x 4 squares (a margin around each): a triangle whose
+ * corners lie on two charts (the clustered levels have them) shows the atlas between its
+ * corners' coordinates, other charts' colours and the margin, which the full mesh shows
+ * nowhere near, so no distance bounds it: no level has one, and each level shows no colour
+ * farther than its error from where the full mesh shows it. */
+static void test_lod_charts(void)
+{
+    lod_levels(4, 3);
+}
+
 static const check_case cases[] = {
     { "sphere_analytic", test_sphere_analytic },
     { "shapes_scaled", test_shapes_scaled },
@@ -952,6 +983,7 @@ static const check_case cases[] = {
     { "samples", test_samples },
     { "msaa_truth", test_msaa_truth },
     { "lod_levels", test_lod_levels },
+    { "lod_charts", test_lod_charts },
     { 0 },
 };
 

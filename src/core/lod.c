@@ -44,7 +44,7 @@
 #include "core/texture.h"
 
 #define MAX_LEVELS 12           /* the full mesh and up to 11 coarser ones */
-#define LOD_VERSION 5           /* of how levels are made and measured: levels kept between
+#define LOD_VERSION 7           /* of how levels are made and measured: levels kept between
                                  * runs (core/lod_cache.c) are keyed by it, so change it with
                                  * anything that changes a level or its error */
 #define MIN_TRIS 16             /* a level this small gets no halved successor */
@@ -1109,8 +1109,21 @@ static bool lods_make(const limen__mesh *m, const atomic_bool *stop, made *out)
     scratch = NULL;
     heap_give_back();
     ok = ok && limen__lod_target_make(&full, m, shadow);
+    /* a textured mesh's charts: a level's triangle whose corners are of two charts shows,
+     * between them, the texture's coordinates blended across the atlas (other charts'
+     * texels, the margins between them), which the full mesh shows nowhere near, perhaps
+     * nowhere: no distance bounds it, so the levels end before the first such one */
+    uint32_t *chart = ok && m->uv ? malloc(sizeof(uint32_t) * (m->nverts ? m->nverts : 1)) : NULL;
+    ok = ok && (!m->uv || chart);
+    if (chart)
+        limen__lod_charts(m, attr, chart);
     double prev = 0;
     for (uint32_t k = 1; ok && k < nlods; k++) {
+        if (chart && limen__lod_across_charts(chart, store + at[k],
+                                              (size_t)lods[k].triangle_count * 3)) {
+            nlods = k;
+            break;
+        }
         /* the simplifier's own estimate (from its source) may not be undercut; nor, while
          * halving, the level before (a coarser level no better than a finer one takes its
          * place, below): what lies below them needs no measuring */
@@ -1131,6 +1144,7 @@ static bool lods_make(const limen__mesh *m, const atomic_bool *stop, made *out)
         drop_beaten(lods, at, store, &nlods, &used);
         limen__lod_seam_sides(m, attr, store, used);
     }
+    free(chart);
     if (attr != shadow)
         free(attr);
     free(shadow);

@@ -150,6 +150,52 @@ bool limen__lod_pick_charts(const limen__mesh *m, const uint32_t *shadow, const 
     return true;
 }
 
+/* The root of v's set in up (halving the path on the way). */
+static uint32_t chart_root(uint32_t *up, uint32_t v)
+{
+    while (up[v] != v) {
+        up[v] = up[up[v]];
+        v = up[v];
+    }
+    return v;
+}
+
+static void chart_join(uint32_t *up, uint32_t a, uint32_t b)
+{
+    a = chart_root(up, a);
+    b = chart_root(up, b);
+    /* the lesser root stays: the same sets whatever the order of joining */
+    if (a < b)
+        up[b] = a;
+    else if (b < a)
+        up[a] = b;
+}
+
+void limen__lod_charts(const limen__mesh *m, const uint32_t *attr, uint32_t *chart)
+{
+    for (uint32_t v = 0; v < m->nverts; v++)
+        chart[v] = v;
+    for (size_t t = 0; t < m->ntris; t++) {
+        const uint32_t *c = &m->idx[t * 3];
+        chart_join(chart, c[0], c[1]);
+        chart_join(chart, c[0], c[2]);
+        for (int k = 0; k < 3; k++)
+            chart_join(chart, c[k], attr[t * 3 + k]);
+    }
+    for (uint32_t v = 0; v < m->nverts; v++)
+        chart[v] = chart_root(chart, v);
+}
+
+size_t limen__lod_across_charts(const uint32_t *chart, const uint32_t *idx, size_t n)
+{
+    size_t across = 0;
+    for (size_t t = 0; t < n / 3; t++) {
+        const uint32_t *c = &idx[t * 3];
+        across += chart[c[0]] != chart[c[1]] || chart[c[0]] != chart[c[2]];
+    }
+    return across;
+}
+
 void limen__lod_welded_free(limen__lod_welded *pk)
 {
     free(pk->pos);

@@ -46,4 +46,13 @@ bool limen__lod_seam_sides(const limen__mesh *m, const uint32_t *shadow, uint32_
 bool limen__lod_pick_charts(const limen__mesh *m, const uint32_t *shadow, const uint32_t *attr,
                             const uint32_t *vpart, uint32_t *idx, size_t n);
 
+/* The texture's charts of m (its regions over which the texture is continuous): per vertex
+ * of m, a number its chart's vertices share, into chart (m->nverts). Two corners are of one
+ * chart where one triangle of m has both, or where attr (per corner of m, its weld by
+ * position and texture coordinates) names one vertex for both. */
+void limen__lod_charts(const limen__mesh *m, const uint32_t *attr, uint32_t *chart);
+/* How many triangles of a level (idx, n indices into the mesh's vertices) have corners of
+ * two charts (chart: limen__lod_charts'). */
+size_t limen__lod_across_charts(const uint32_t *chart, const uint32_t *idx, size_t n);
+
 #endif
