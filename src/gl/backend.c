@@ -248,11 +248,13 @@ static void draw_shape(limen_renderer *r, const limen_draw_cmd *c, const limen_d
     memcpy(world, c->world, sizeof world);
     if (!limen__unit_mesh(r, node, c->segments, &range, scale, &shape))
         return;
-    int checker = !(node->cell > 0) ? 0 : node->kind == LIMEN_NODE_QUAD ? 1 : 2;
-    /* an albedo texture, bound on unit 1, its coordinates as limen.h says */
-    int textured = LIMEN__UV_NONE;
+    /* the checker's cells and an albedo texture's coordinates as the kind's facts say: a
+     * flat shape's over x + y (plane uvs), a solid's over x + y + z (a box face's) */
+    const limen_kind_info *k = limen_kind_get(node->kind);
+    int checker = !(node->cell > 0) ? 0 : k->flat && k->shape ? 1 : 2;
+    int textured = LIMEN__UV_NONE;      /* (the same numbers as limen_uv_rule) */
     if (node->texture && limen__gpu_texture(r, node->texture, node->texture_filter))
-        textured = node->kind == LIMEN_NODE_QUAD ? LIMEN__UV_PLANE : LIMEN__UV_BOX;
+        textured = (int)k->uv;
     if (!limen__variant_use(r, LIMEN__MODE_LIT, shape, checker, textured))
         return;
     mat4 model;

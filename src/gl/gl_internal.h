@@ -31,6 +31,8 @@ enum { LIMEN__SHAPE_FACE = 0, LIMEN__SHAPE_SPHERE = 1, LIMEN__SHAPE_CYLINDER = 2
 /* ... and where an albedo texture's coordinates come from (limen.h): none, a plane's unit
  * point, a box face's two other axes, a mesh's own. */
 enum { LIMEN__UV_NONE = 0, LIMEN__UV_PLANE = 1, LIMEN__UV_BOX = 2, LIMEN__UV_MESH = 3 };
+_Static_assert(LIMEN__UV_PLANE == (int)LIMEN_UV_PLANE && LIMEN__UV_BOX == (int)LIMEN_UV_BOX &&
+               LIMEN__UV_MESH == (int)LIMEN_UV_MESH, "a kind's limen_uv_rule is the variant's");
 #define LIMEN__MAX_VARIANTS 256
 
 typedef struct limen__variant {

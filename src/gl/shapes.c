@@ -204,38 +204,39 @@ void limen__meshes_free(limen__meshes *m)
     memset(m, 0, sizeof *m);
 }
 
-/* Which mesh, and how the unit mesh is scaled, for a node (gl_internal.h). */
+/* Which mesh, and how the unit mesh is scaled, for a node (gl_internal.h): the unit shape
+ * its kind draws as, stretched along each local axis by the dim the kind's facts name. */
 bool limen__unit_mesh(limen_renderer *r, const limen_drawable *node, int segments,
                       limen__range *range, vec3 scale, int *shape)
 {
+    const limen_kind_info *k = limen_kind_get(node->kind);
+    if (!k)
+        return false;
+    for (int a = 0; a < 3; a++)
+        scale[a] = k->scale[a] >= 0 ? node->dims[k->scale[a]] : 1.0f;
     *shape = 0;
-    switch (node->kind) {
-    case LIMEN_NODE_BOX:
+    switch (k->unit) {
+    case LIMEN_UNIT_NONE:
+    case LIMEN_UNIT_COUNT:
+        return false;
+    case LIMEN_UNIT_BOX:
         *range = r->meshes.box;
-        memcpy(scale, node->dims, sizeof(vec3));
         return true;
-    case LIMEN_NODE_QUAD:
-    case LIMEN_NODE_MIRROR:
-    case LIMEN_NODE_PORTAL:
+    case LIMEN_UNIT_SQUARE:
         *range = r->meshes.quad;
-        glm_vec3_copy((vec3){ node->dims[0], node->dims[1], 1.0f }, scale);
         return true;
-    case LIMEN_NODE_SPHERE:
-        glm_vec3_broadcast(node->dims[0], scale);
+    case LIMEN_UNIT_BALL:
         *shape = LIMEN__SHAPE_SPHERE;
         break;
-    case LIMEN_NODE_CYLINDER:
-        glm_vec3_copy((vec3){ node->dims[0], node->dims[1], node->dims[0] }, scale);
+    case LIMEN_UNIT_CYLINDER:
         *shape = LIMEN__SHAPE_CYLINDER;
         break;
-    default:
-        return false;
     }
     /* the draw list's tessellation (limen_draw_cmd.segments): the level that has as many
      * segments, or the next finer */
     int lod = 0;
     while (lod < LIMEN__LODS - 1 && limen__lod_segments[lod] < segments)
         lod++;
-    *range = node->kind == LIMEN_NODE_SPHERE ? r->meshes.sphere[lod] : r->meshes.cylinder[lod];
+    *range = *shape == LIMEN__SHAPE_SPHERE ? r->meshes.sphere[lod] : r->meshes.cylinder[lod];
     return true;
 }
