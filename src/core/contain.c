@@ -19,6 +19,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/resource.h>
+#include <sys/socket.h>
 #include <sys/time.h>
 #include <sys/wait.h>
 #include <time.h>
@@ -121,11 +122,12 @@ static int read_exact(int fd, void *p, size_t n, double deadline)
     return 0;
 }
 
-static bool write_all(int fd, const void *p, size_t n)
+/* Writes n bytes to a pipe, or to a socket (without SIGPIPE where the reader has gone). */
+static bool put_all(int fd, bool sock, const void *p, size_t n)
 {
     const unsigned char *c = p;
     while (n) {
-        ssize_t w = write(fd, c, n);
+        ssize_t w = sock ? send(fd, c, n, MSG_NOSIGNAL) : write(fd, c, n);
         if (w < 0 && errno == EINTR)
             continue;
         if (w <= 0)
@@ -194,9 +196,9 @@ static void child(int fd, limen__contained_fn fn, void *arg, const limen__contai
     }
     uint32_t wl = rc ? (uint32_t)strnlen(why, sizeof why - 1) : 0;
     uint64_t len = rc ? 0 : out.len;
-    bool ok = write_all(fd, &rc, sizeof rc) && write_all(fd, &wl, sizeof wl) &&
-              write_all(fd, why, wl) && write_all(fd, &len, sizeof len) &&
-              write_all(fd, out.data, (size_t)len);
+    bool ok = put_all(fd, false, &rc, sizeof rc) && put_all(fd, false, &wl, sizeof wl) &&
+              put_all(fd, false, why, wl) && put_all(fd, false, &len, sizeof len) &&
+              put_all(fd, false, out.data, (size_t)len);
     _exit(ok ? 0 : 3);
 }
 
@@ -308,7 +310,6 @@ int limen__contain_run(limen__contained_fn fn, void *arg, const limen__contain_l
  * starts. */
 #include <pthread.h>
 #include <sys/prctl.h>
-#include <sys/socket.h>
 #include <sys/stat.h>
 #include <sys/syscall.h>
 
@@ -364,19 +365,9 @@ static double self_cpu(void)
     return seconds(ru.ru_utime) + seconds(ru.ru_stime);
 }
 
-static bool send_all(int fd, const void *p, size_t n)
+static bool send_all(int sock, const void *p, size_t n)
 {
-    const unsigned char *c = p;
-    while (n) {
-        ssize_t w = send(fd, c, n, MSG_NOSIGNAL);
-        if (w < 0 && errno == EINTR)
-            continue;
-        if (w <= 0)
-            return false;
-        c += w;
-        n -= (size_t)w;
-    }
-    return true;
+    return put_all(sock, true, p, n);
 }
 
 /* The head with fd beside it (fd < 0: none). */

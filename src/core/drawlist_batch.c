@@ -113,18 +113,6 @@ int limen__dl_batch_first(const limen_drawlist *dl, int b)
     return dl->bitems[dl->batches[b].first].k;
 }
 
-/* Whether mesh g shades as before materials: one white opaque part without textures,
- * emission or vertex colours (it has no blended part to draw). */
-static bool plain(const limen_mesh_geometry *g)
-{
-    if (g->colors || g->part_count > 1 || !g->materials)
-        return !g->materials && !g->colors;
-    const limen_material *m = &g->materials[0];
-    return m->base_color[0] == 1 && m->base_color[1] == 1 && m->base_color[2] == 1 &&
-           m->base_color[3] == 1 && !m->base_texture && m->alpha_mode == LIMEN_ALPHA_OPAQUE &&
-           m->emissive[0] == 0 && m->emissive[1] == 0 && m->emissive[2] == 0;
-}
-
 /* Triangles of mesh g at level lod as a renderer keeps its levels (at most 16; a coarser one
  * asked for gets the last). */
 static uint64_t level_triangles(const limen_mesh_geometry *g, int lod)
@@ -144,7 +132,7 @@ static void meshes_cmd(limen_drawlist *dl, const dl_view *v, const limen_drawabl
                        int n)
 {
     const limen_mesh_geometry *g = d->mesh;
-    if (dl->blend_pass && (plain(g) || !g->has_blend))
+    if (dl->blend_pass && !g->has_blend)     /* (a plain mesh has no blended part) */
         return;
     uint64_t per = level_triangles(g, lod);
     if (!dl->blend_pass) {

@@ -301,10 +301,11 @@ static void draw_meshes(limen_renderer *r, const limen_draw_cmd *c, const limen_
                         const limen_draw_instance *inst)
 {
     const limen_mesh_geometry *g = d->mesh;
-    bool blended = c->parts == LIMEN_PARTS_BLENDED, simple = plain(g);
+    bool blended = c->parts == LIMEN_PARTS_BLENDED;
     int n = c->count;
-    if (!g || n <= 0 || (blended && (simple || !g->has_blend)))
+    if (!g || n <= 0 || (blended && !g->has_blend))
         return;
+    bool simple = plain(g);
     if (!limen__gl_grow((void **)&r->inst, &r->inst_cap, n, sizeof(instance))) {
         limen__draw_fail(r, LIMEN_ERR_NOMEM, "out of memory for %d instances", n);
         return;
