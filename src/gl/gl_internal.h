@@ -195,6 +195,9 @@ void limen__variants_free(limen_renderer *r);
 limen_status limen__execute(limen_renderer *r, const limen_drawlist *dl);
 const limen__target *limen__target_get(limen_renderer *r, int k, int w, int h);
 void limen__targets_free(limen_renderer *r);
+/* gl/targets.c: a w x h RGBA8 texture sampled linear and clamped at its edges, left bound
+ * (a target's colour, the previous frame's copy). */
+GLuint limen__color_texture(limen_renderer *r, int w, int h);
 
 /* gl/shapes.c: which unit mesh, and how it is scaled, for a node (a sphere or cylinder at
  * the draw list's segments); shape: the normals it needs (LIMEN__SHAPE_*). False if the node

@@ -473,14 +473,7 @@ void limen__samples_end(limen_renderer *r)
 static void keep_previous(limen_renderer *r)
 {
     if (!r->prev_fbo) {
-        GL(GenTextures)(1, &r->prev_tex);
-        GL(BindTexture)(GL_TEXTURE_2D, r->prev_tex);
-        GL(TexImage2D)(GL_TEXTURE_2D, 0, GL_RGBA8, r->width, r->height, 0, GL_RGBA,
-                       GL_UNSIGNED_BYTE, NULL);
-        GL(TexParameteri)(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
-        GL(TexParameteri)(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-        GL(TexParameteri)(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-        GL(TexParameteri)(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+        r->prev_tex = limen__color_texture(r, r->width, r->height);
         GL(GenFramebuffers)(1, &r->prev_fbo);
         GL(BindFramebuffer)(GL_FRAMEBUFFER, r->prev_fbo);
         GL(FramebufferTexture2D)(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D,

@@ -25,6 +25,19 @@ static void target_free(limen_renderer *r, limen__target *t)
     memset(t, 0, sizeof *t);
 }
 
+GLuint limen__color_texture(limen_renderer *r, int w, int h)
+{
+    GLuint tex;
+    GL(GenTextures)(1, &tex);
+    GL(BindTexture)(GL_TEXTURE_2D, tex);
+    GL(TexImage2D)(GL_TEXTURE_2D, 0, GL_RGBA8, w, h, 0, GL_RGBA, GL_UNSIGNED_BYTE, NULL);
+    GL(TexParameteri)(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+    GL(TexParameteri)(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    GL(TexParameteri)(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+    GL(TexParameteri)(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    return tex;
+}
+
 const limen__target *limen__target_get(limen_renderer *r, int k, int w, int h)
 {
     if (k < 1 || k >= LIMEN__MAX_TARGETS || w < 1 || h < 1 || w > 16384 || h > 16384)
@@ -36,13 +49,7 @@ const limen__target *limen__target_get(limen_renderer *r, int k, int w, int h)
         return t;
     t->w = w;
     t->h = h;
-    GL(GenTextures)(1, &t->tex);
-    GL(BindTexture)(GL_TEXTURE_2D, t->tex);
-    GL(TexImage2D)(GL_TEXTURE_2D, 0, GL_RGBA8, t->w, t->h, 0, GL_RGBA, GL_UNSIGNED_BYTE, NULL);
-    GL(TexParameteri)(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
-    GL(TexParameteri)(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-    GL(TexParameteri)(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-    GL(TexParameteri)(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    t->tex = limen__color_texture(r, t->w, t->h);
     GL(GenRenderbuffers)(1, &t->depth_rb);
     GL(BindRenderbuffer)(GL_RENDERBUFFER, t->depth_rb);
     GL(RenderbufferStorage)(GL_RENDERBUFFER, limen__depth_format(r), t->w, t->h);
