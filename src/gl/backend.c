@@ -126,7 +126,6 @@ static void bind_pass(limen_renderer *r, const limen_draw_pass *p)
     memcpy(r->shared.view_proj, p->view_proj, sizeof r->shared.view_proj);
     memcpy(r->shared.eye, p->eye, sizeof r->shared.eye);
     memcpy(r->shared.tint, p->tint, sizeof r->shared.tint);
-    r->shared.ambient = r->ambient;
     r->shared_stamp++;
     GL(FrontFace)(p->front_cw ? GL_CW : GL_CCW);
 }
@@ -135,7 +134,7 @@ static void bind_pass(limen_renderer *r, const limen_draw_pass *p)
 static void lights_set(limen_renderer *r, const limen_drawlist *dl)
 {
     const limen_draw_light *l;
-    int n = limen_drawlist_lights(dl, &l, &r->ambient);
+    int n = limen_drawlist_lights(dl, &l, &r->shared.ambient);
     bool ranged = false;
     for (int i = 0; i < n && i < LIMEN_MAX_LIGHTS; i++) {
         memcpy(r->shared.light_pos[i], l[i].pos, sizeof l[i].pos);

@@ -122,7 +122,7 @@ struct limen_renderer {
     limen_plan *plan;                       /* what to draw: the view tree of the frame ... */
     limen_drawables *draw;                  /* ... and the nodes, read once per frame ... */
     limen_drawlist *list;                   /* ... and the frame's commands */
-    float background[3], ambient;           /* the scene's, as the drawables read them */
+    float background[3];                    /* the scene's, as the drawables read it */
     limen_render_opts opts;
     unsigned char *rgba;                    /* read-back buffer */
     bool have_frame;

@@ -538,7 +538,7 @@ static limen_status frame(limen_renderer *r, limen_scene *s, limen_frame_stats *
         st = limen_drawables_build(r->draw, s);
     if (st)
         return limen__rfail(r, st, "%s", limen_scene_error(s));
-    limen_drawables_environment(r->draw, r->background, &r->ambient);
+    limen_drawables_environment(r->draw, r->background, NULL);   /* ambient: the list's */
     limen_drawlist_desc dd = { .width = r->width, .height = r->height,
                                .method = r->opts.method, .fill = r->opts.fill,
                                .texture_scale = r->opts.texture_scale, .msaa = r->msaa,
