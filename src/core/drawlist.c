@@ -11,6 +11,7 @@
 #include <string.h>
 
 #include "core/drawlist.h"
+#include "core/lmath.h"
 #include "core/plan.h"
 
 static const float keep_all[4] = { 0, 0, 0, 1 };
@@ -244,29 +245,23 @@ void limen__dl_surface_flat(limen_drawlist *dl, const dl_view *v, const limen__s
  * pixel. */
 void limen__dl_view_cull(const limen_drawlist *dl, dl_view *v, const int *rect)
 {
-    mat4 m, narrow;
-    glm_mat4_identity(narrow);
-    if (rect)
-        limen__dl_narrow_to(dl, rect, narrow);
-    glm_mat4_mul(narrow, v->view_proj, m);
-    /* Gribb-Hartmann: rows of m (m[col][row]) */
+    double m[16], planes[6][4], ndc[4];
+    for (int k = 0; k < 16; k++)
+        m[k] = v->view_proj[k / 4][k % 4];
+    if (rect) {
+        ndc[0] = 2.0 * rect[0] / dl->width - 1, ndc[1] = 2.0 * (rect[0] + rect[2]) / dl->width - 1;
+        ndc[2] = 2.0 * rect[1] / dl->height - 1, ndc[3] = 2.0 * (rect[1] + rect[3]) / dl->height - 1;
+    }
+    limen__frustum_planes(m, rect ? ndc : NULL, dl->range, planes);
     v->ncull = 0;
-    for (int i = 0; i < 5; i++) {
-        vec4 pl;
-        for (int c = 0; c < 4; c++) {
-            float row = i < 4 ? m[c][i / 2] : m[c][2];
-            float sign = (i & 1) ? -1.0f : 1.0f;
-            if (i == 4 && dl->range != LIMEN_DEPTH_NO) {
-                /* zero-to-one depth: near is row 3 alone (reversed: row 4 - row 3) */
-                pl[c] = dl->range == LIMEN_DEPTH_ZO ? m[c][2] : m[c][3] - m[c][2];
-                continue;
-            }
-            pl[c] = m[c][3] + sign * row;
-        }
-        float len = sqrtf(pl[0] * pl[0] + pl[1] * pl[1] + pl[2] * pl[2]);
+    for (int i = 0; i < 5; i++) {       /* the sides and the near plane (the far one: none) */
+        const double *pl = planes[i];
+        double len = sqrt(pl[0] * pl[0] + pl[1] * pl[1] + pl[2] * pl[2]);
         if (!(len > 0))
             continue;
-        glm_vec4_scale(pl, 1.0f / len, v->cull[v->ncull++]);
+        for (int c = 0; c < 4; c++)
+            v->cull[v->ncull][c] = (float)(pl[c] / len);
+        v->ncull++;
     }
     if (v->pub->clip == LIMEN_CLIP_PLANE)
         memcpy(v->cull[v->ncull++], v->pub->clip_plane, sizeof(float) * 4);
