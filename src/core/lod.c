@@ -802,7 +802,7 @@ static bool lods_make(const limen__mesh *m, const atomic_bool *stop, made *out);
 static bool build_here(limen__mesh *m, const limen__lod_where *w, const limen__lod_key *key)
 {
     made mk;
-    if (!lods_make(m, NULL, &mk))
+    if (!limen__mesh_hierarchy(m) || !lods_make(m, NULL, &mk))
         return false;
     to_cache(m, w, key, &mk);
     install(m, &mk);
@@ -862,7 +862,7 @@ static void *job_run(void *arg)
 {
     struct limen__lod_job *j = arg;
     yield_to_frames();
-    j->ok = lods_make(j->m, &j->stop, &j->mk);
+    j->ok = limen__mesh_hierarchy(j->m) && lods_make(j->m, &j->stop, &j->mk);
     if (j->ok)
         to_cache(j->m, &j->where, &j->key, &j->mk);
     atomic_store(&j->done, true);

@@ -180,7 +180,7 @@ static void bvh_nodes(uint32_t n, uint64_t out[2])
 /* Nodes are claimed as they are made, a left child in the slot after its parent; as many as
  * bvh_nodes counts (not the 2 * triangles a hierarchy may have at most, which at 1.6M
  * triangles held 120 MB more while it was built). */
-bool limen__mesh_bvh(limen__mesh *m)
+static bool hierarchy_make(limen__mesh *m)
 {
     uint64_t nodes[2];
     bvh_nodes(m->ntris, nodes);
@@ -189,6 +189,10 @@ bool limen__mesh_bvh(limen__mesh *m)
     double *centre = malloc(sizeof *centre * 3 * (size_t)m->ntris);
     if (!m->bvh || !m->tri_order || !centre) {
         free(centre);
+        free(m->bvh);
+        free(m->tri_order);
+        m->bvh = NULL;
+        m->tri_order = NULL;
         return false;
     }
     for (uint32_t t = 0; t < m->ntris; t++) {
@@ -204,8 +208,42 @@ bool limen__mesh_bvh(limen__mesh *m)
     m->nbvh = 1;
     build_node(&bd, 0, 0, m->ntris, 0);
     free(centre);
-    m->bytes -= sizeof *m->bvh * (size_t)(2 * m->ntris - m->nbvh);
     return true;
+}
+
+/* The bytes of the nodes a hierarchy over ntris triangles does not need of the 2 * ntris
+ * that limen__mesh_bytes counts. */
+static size_t nodes_unneeded(uint32_t ntris)
+{
+    uint64_t nodes[2];
+    bvh_nodes(ntris, nodes);
+    return sizeof(limen__tri_node) * (size_t)(2 * (uint64_t)ntris - nodes[0]);
+}
+
+bool limen__mesh_bvh(limen__mesh *m)
+{
+    if (!hierarchy_make(m))
+        return false;
+    m->bytes -= nodes_unneeded(m->ntris);
+    atomic_store(&m->bvh_ready, true);
+    return true;
+}
+
+/* One lock for every mesh's first hierarchy: made rarely, and by one thread at a time. */
+static pthread_mutex_t hierarchy_lock = PTHREAD_MUTEX_INITIALIZER;
+
+bool limen__mesh_hierarchy(const limen__mesh *cm)
+{
+    /* made once and never changed after: a cache of the mesh's, hence behind const */
+    limen__mesh *m = (limen__mesh *)cm;
+    if (atomic_load_explicit(&m->bvh_ready, memory_order_acquire))
+        return true;
+    pthread_mutex_lock(&hierarchy_lock);
+    bool ok = atomic_load_explicit(&m->bvh_ready, memory_order_relaxed) || hierarchy_make(m);
+    if (ok)
+        atomic_store_explicit(&m->bvh_ready, true, memory_order_release);
+    pthread_mutex_unlock(&hierarchy_lock);
+    return ok;
 }
 
 /* ------------------------------------------------------------------ intersection */
@@ -266,7 +304,7 @@ int limen__mesh_intersect(const limen__mesh *m, const double o[3], const double 
                           double tmin, double tmax, const double *cut, double *t_out,
                           double *bu_out, double *bv_out)
 {
-    if (!m || !m->ntris)
+    if (!m || !m->ntris || !limen__mesh_hierarchy(m))
         return -1;
     double inv[3] = { 1.0 / d[0], 1.0 / d[1], 1.0 / d[2] };
     uint32_t stack[STACK_MAX];
@@ -651,7 +689,9 @@ static limen_status mesh_from_arrays(limen_scene *s, const limen_mesh_data *d, c
             m->lo[a] = fmin(m->lo[a], m->pos[v * 3 + a]);
             m->hi[a] = fmax(m->hi[a], m->pos[v * 3 + a]);
         }
-    if (!limen__mesh_bvh(m) || !limen__mesh_lods_start(m) || !limen__mesh_lod_parts(m)) {
+    /* the hierarchy is made when first needed (limen__mesh_hierarchy), counted now */
+    m->bytes -= nodes_unneeded(nt);
+    if (!limen__mesh_lods_start(m) || !limen__mesh_lod_parts(m)) {
         mesh_free(s, m);
         return limen__fail(s, LIMEN_ERR_NOMEM, "%s: out of memory", what);
     }
@@ -1568,6 +1608,13 @@ limen_status limen_mesh_set_triangles(limen_scene *s, limen_node n, const limen_
         return st;
     attach(s, node, m);
     return LIMEN_OK;
+}
+
+bool limen__mesh_hierarchy_made(limen_scene *s, limen_node n)
+{
+    limen__node *node;
+    return s && !mesh_node(s, n, "mesh_hierarchy_made", &node) && node->mesh &&
+           atomic_load(&node->mesh->bvh_ready);
 }
 
 limen_status limen_mesh_set_smooth(limen_scene *s, limen_node n, int smooth)

@@ -3,6 +3,7 @@
 #ifndef LIMEN_CORE_MESH_H
 #define LIMEN_CORE_MESH_H
 
+#include <stdatomic.h>
 #include <stdbool.h>
 #include <stddef.h>
 #include <stdint.h>
@@ -31,9 +32,11 @@ typedef struct limen__mesh {
     uint32_t *idx;              /* ntris * 3, counter-clockwise from the front */
     bool file_normals;          /* nrm came with the data: smooth shading always */
     double lo[3], hi[3];        /* local bounds */
-    limen__tri_node *bvh;
+    limen__tri_node *bvh;       /* the hierarchy: made on first need, where bvh_ready says
+                                 * (limen__mesh_hierarchy) */
     uint32_t *tri_order;
     uint32_t nbvh;
+    atomic_bool bvh_ready;
     size_t bytes;               /* what it holds, counted against a script's memory cap */
     struct limen__texture *tex; /* the file's base-colour texture (with uvs), or NULL */
     uint64_t serial;            /* unique per asset: the renderer keys its buffers on it */
@@ -77,8 +80,16 @@ void limen__mesh_material_at(const limen__mesh *m, const struct limen__texture *
  * bookkeeping): an upper bound, known before any of it is made. */
 size_t limen__mesh_bytes(uint64_t nverts, uint64_t ntris, bool uvs);
 /* Builds m's triangle hierarchy (bvh, tri_order, nbvh) over idx; false when out of memory.
- * Uses pos, idx, ntris; lowers bytes by the nodes it did not need. */
+ * Uses pos, idx, ntris; lowers bytes by the nodes it did not need. For a mesh of its own
+ * (a level's), not a scene's asset, whose hierarchy limen__mesh_hierarchy makes. */
 bool limen__mesh_bvh(limen__mesh *m);
+/* A scene's mesh gets its hierarchy when something first needs it (a ray, a collision, the
+ * measuring of its levels), not when it is loaded: the first frame of a big mesh does not
+ * wait for it. Makes it where it is not made yet, once, from any thread (the others wait);
+ * false when out of memory (nothing then is made). Its bytes are counted from the start. */
+bool limen__mesh_hierarchy(const limen__mesh *m);
+/* Tests only: whether mesh node n's hierarchy is made (false for a node without a mesh). */
+bool limen__mesh_hierarchy_made(limen_scene *s, limen_node n);
 /* Builds m's levels of detail (lods, nlods; core/lod.c) from pos and idx with the hierarchy
  * made, and sets bytes to what they hold; false when out of memory. */
 bool limen__mesh_lods_build(limen__mesh *m);
