@@ -102,13 +102,13 @@ static void select_first(const build *bd, int depth, uint32_t *t, uint32_t n, ui
         swap_tris(t, lo, lo + 1);
 }
 
-static void tri_box(const limen__mesh *m, uint32_t t, double lo[3], double hi[3])
+static void tri_box(const limen__mesh *m, uint32_t t, float lo[3], float hi[3])
 {
     for (int k = 0; k < 3; k++) {
         const float *p = &m->pos[m->idx[t * 3 + k] * 3];
         for (int a = 0; a < 3; a++) {
-            lo[a] = fmin(lo[a], p[a]);
-            hi[a] = fmax(hi[a], p[a]);
+            lo[a] = fminf(lo[a], p[a]);
+            hi[a] = fmaxf(hi[a], p[a]);
         }
     }
 }
@@ -157,8 +157,8 @@ static void build_node(build *bd, uint32_t at, uint32_t first, uint32_t count, i
     n->index = right;
     n->count = 0;
     for (int a = 0; a < 3; a++) {
-        n->lo[a] = fmin(m->bvh[left].lo[a], m->bvh[right].lo[a]);
-        n->hi[a] = fmax(m->bvh[left].hi[a], m->bvh[right].hi[a]);
+        n->lo[a] = fminf(m->bvh[left].lo[a], m->bvh[right].lo[a]);
+        n->hi[a] = fmaxf(m->bvh[left].hi[a], m->bvh[right].hi[a]);
     }
 }
 

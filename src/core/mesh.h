@@ -13,9 +13,11 @@
 #define LIMEN__MESH_PATH_MAX 512
 
 /* A node of the triangle hierarchy: a box, and either two children (count == 0; the left one
- * follows the node, the right one at `index`) or `count` triangles from tri_order[index]. */
+ * follows the node, the right one at `index`) or `count` triangles from tri_order[index].
+ * The box is in float, exactly: its sides are the float vertices' own coordinates (32 bytes
+ * a node, not 56: 25 MB less at 1.6M triangles). */
 typedef struct limen__tri_node {
-    double lo[3], hi[3];
+    float lo[3], hi[3];
     uint32_t index, count;
 } limen__tri_node;
 
