@@ -14,6 +14,9 @@
 #include <string.h>
 #include <sys/stat.h>
 #include <unistd.h>
+#ifdef __GLIBC__
+#include <malloc.h>
+#endif
 
 #include <assimp/cfileio.h>
 #include <assimp/types.h>
@@ -1481,6 +1484,11 @@ static limen_status load_file(limen_scene *s, const char *path, unsigned flags,
         limen__block_free(&files);
     }
     free(blk);
+#ifdef __GLIBC__
+    /* the file's bytes, the import's block and the flattened copy (several times what the
+     * mesh holds) are gone: their pages go back rather than stay in the heap */
+    malloc_trim(0);
+#endif
     return st;
 }
 
