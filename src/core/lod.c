@@ -862,7 +862,7 @@ static void *job_run(void *arg)
 {
     struct limen__lod_job *j = arg;
     yield_to_frames();
-    j->ok = limen__mesh_hierarchy(j->m) && lods_make(j->m, &j->stop, &j->mk);
+    j->ok = limen__mesh_hierarchy_unless(j->m, &j->stop) && lods_make(j->m, &j->stop, &j->mk);
     if (j->ok)
         to_cache(j->m, &j->where, &j->key, &j->mk);
     atomic_store(&j->done, true);

@@ -90,6 +90,9 @@ bool limen__mesh_bvh(limen__mesh *m);
  * wait for it. Makes it where it is not made yet, once, from any thread (the others wait);
  * false when out of memory (nothing then is made). Its bytes are counted from the start. */
 bool limen__mesh_hierarchy(const limen__mesh *m);
+/* As limen__mesh_hierarchy, but abandoned (false, nothing made) once *stop is set: for the
+ * levels' thread, whose mesh may go while it is made. */
+bool limen__mesh_hierarchy_unless(const limen__mesh *m, const atomic_bool *stop);
 /* Tests only: whether mesh node n's hierarchy is made (false for a node without a mesh). */
 bool limen__mesh_hierarchy_made(limen_scene *s, limen_node n);
 /* Builds m's levels of detail (lods, nlods; core/lod.c) from pos and idx with the hierarchy
