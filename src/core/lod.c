@@ -821,12 +821,15 @@ bool limen__mesh_lods_build(limen__mesh *m)
 /* ------------------------------------------------------------------ on another thread */
 
 /* A level build running beside the scene's thread. The thread only reads the mesh (its
- * geometry and hierarchy, which nothing changes once it is made) and writes only here; the
+ * geometry, which nothing changes once it is made) and writes only here; the
  * scene's thread takes the levels from here (limen__meshes_settle) once `done`, joining the
  * thread first, so that everything it wrote is seen. */
 struct limen__lod_job {
     pthread_t thread;
-    const limen__mesh *m;
+    limen__mesh own;            /* the mesh as it was at the start (its arrays shared, read
+                                 * only) with a hierarchy of the build's own for the
+                                 * measuring, given back when done: the mesh's own (the
+                                 * tracer's) is made only where a ray or a sweep needs it */
     limen__lod_key key;
     limen__lod_where where;     /* the cache, as the scene's thread found it */
     atomic_bool stop;           /* set by the scene's thread: the mesh is going */
@@ -862,9 +865,15 @@ static void *job_run(void *arg)
 {
     struct limen__lod_job *j = arg;
     yield_to_frames();
-    j->ok = limen__mesh_hierarchy_unless(j->m, &j->stop) && lods_make(j->m, &j->stop, &j->mk);
+    limen__mesh *m = &j->own;
+    j->ok = limen__mesh_hierarchy_unless(m, &j->stop) && lods_make(m, &j->stop, &j->mk);
+    free(m->bvh);
+    free(m->tri_order);
+    m->bvh = NULL;
+    m->tri_order = NULL;
+    heap_give_back();
     if (j->ok)
-        to_cache(j->m, &j->where, &j->key, &j->mk);
+        to_cache(m, &j->where, &j->key, &j->mk);
     atomic_store(&j->done, true);
     return NULL;
 }
@@ -895,7 +904,10 @@ bool limen__mesh_lods_start(limen__mesh *m)
     install(m, &one);
     j->extra = HEAD + sizeof(limen_mesh_part) * m->nparts * (MAX_LEVELS - 1);
     m->bytes = counted + j->extra;
-    j->m = m;
+    j->own = *m;
+    j->own.bvh = NULL;
+    j->own.tri_order = NULL;
+    atomic_init(&j->own.bvh_ready, false);
     j->key = key;
     j->where = w;
     atomic_init(&j->stop, false);

@@ -103,8 +103,9 @@ bool limen__mesh_lods_build(limen__mesh *m);
 #define LIMEN__LOD_ASYNC_TRIS 100000    /* a mesh this big makes its levels on another thread */
 /* As limen__mesh_lods_build, but for a mesh of at least LIMEN__LOD_ASYNC_TRIS triangles
  * whose levels are not in the cache: m gets the full mesh alone as its one level, and a
- * thread makes the rest (reading m's geometry and hierarchy, which must not change), which
- * limen__mesh_lods_settle hands over. Before m->pub is made. */
+ * thread makes the rest (reading m's geometry, which must not change, and measuring them
+ * against a hierarchy of its own, given back when done), which limen__mesh_lods_settle
+ * hands over. Before m->pub is made. */
 bool limen__mesh_lods_start(limen__mesh *m);
 /* Where m's levels are made (waiting for them where wait), gives them to m, with a new
  * serial and m->pub to match; true where it did. On the scene's thread. */
