@@ -8,7 +8,7 @@
  * THE STEPS
  *   1. Once (game_create): the context (OSMesa, OpenGL 3.3 core, a framebuffer object with
  *      depth24/stencil8: the stencil method nests the views in it) and the shader: limen's
- *      shading (docs/DESIGN.md, "Ground truth") and the unit shapes, made from vertex indices.
+ *      shading (docs/DESIGN.md, "Ground truth").
  *   2. Every frame (game_frame): limen_plan_build, limen_drawables_build, limen_drawlist_build.
  *   3. Walk the list (game_draw): its lights, vertices and instances into the shader and
  *      buffers, then each command: set_state (its pipeline state and pass), then one function
@@ -23,7 +23,7 @@
 
 #include "limen.h"
 
-#define UNIFORMS(X) X(view_proj) X(clip) X(cut) X(scale) X(unit) X(uv) X(facets) X(S) X(eye) \
+#define UNIFORMS(X) X(view_proj) X(clip) X(cut) X(scale) X(uv) X(facets) X(eye) \
     X(albedo_b) X(cell) X(tint) X(ambient) X(textured) X(repeat) X(base) X(emissive) X(cutoff) \
     X(nlights) X(light_pos) X(light_col) X(light_inv_r2)
 #define U_FIELD(name) GLint name;
@@ -36,7 +36,7 @@ typedef struct game {
     OSMesaContext ctx;
     unsigned char token[64];            /* OSMesa wants a buffer; we draw into our FBO */
     PFNGLCLIPCONTROLPROC clip_control;  /* GL 4.5 (NULL on a 3.3 context) */
-    GLuint fbo, prog, flat, vao, poly_vao, poly_vbo, inst_vbo;  /* flat: the polygons' */
+    GLuint fbo, prog, flat, poly_vao, poly_vbo, inst_vbo;  /* flat: the polygons' */
     struct { UNIFORMS(U_FIELD) } u;
     GLint flat_color;
     gpu *cache;                         /* the meshes and images uploaded so far */
@@ -55,38 +55,11 @@ static const char *vs_src = GLSL(
     layout(location = 0) in vec3 a_pos;   layout(location = 1) in vec3 a_nrm;
     layout(location = 2) in vec2 a_uv;    layout(location = 3) in vec4 a_col;
     layout(location = 4) in mat4 a_world; layout(location = 8) in vec3 a_albedo;
-    uniform mat4 u_view_proj; uniform vec4 u_clip, u_cut; uniform int u_unit, u_uv, u_S;
+    uniform mat4 u_view_proj; uniform vec4 u_clip, u_cut; uniform int u_uv;
     uniform vec3 u_scale;                           /* unit shape -> node-local units */
     out vec3 v_world, v_local, v_normal; out vec2 v_uv; out vec4 v_col; flat out vec3 v_albedo;
-    const vec2 corner[6] = vec2[6](vec2(0), vec2(1, 0), vec2(1), vec2(0), vec2(1), vec2(0, 1));
-    /* The unit shapes (limen_unit_shape: 1 box, 2 ball, 3 cylinder, 4 square), two triangles
-     * a cell, counter-clockwise from outside: box 1x1x1 (face q: axis q / 2, + where odd),
-     * ball of radius 1, cylinder of radius 1 over y in [0, 1] (rows: top, side, bottom), of
-     * u_S segments around, square 1x1 on z = 0 facing +Z. */
-    void unit(out vec3 p, out vec3 n) {
-        int S = u_S, q = gl_VertexID / 6, row = q / S, a = u_unit == 4 ? 2 : q / 2;
-        vec2 k = corner[gl_VertexID % 6];
-        if (u_unit == 1 || u_unit == 4) {
-            float s = u_unit == 4 || q % 2 == 1 ? 1.0 : -1.0;
-            vec3 u = vec3(0.0), v = vec3(0.0);
-            n = vec3(0.0); n[a] = s; u[(a + 1) % 3] = 1.0; v[(a + 2) % 3] = s;
-            p = (u_unit == 4 ? 0.0 : 0.5) * n + (k.x - 0.5) * u + (k.y - 0.5) * v;
-            return;
-        }
-        float th = 6.28318531 * (float(q % S) + k.y) / float(S), t = k.x;
-        float f = 3.14159265 * (float(row) + t) / float(S / 2);
-        vec4 r = vec4(sin(f), cos(f), sin(f), cos(f));     /* radius, height, normal */
-        if (u_unit == 3)                                    /* top, side, bottom */
-            r = row == 0 ? vec4(t, 1.0, 0.0, 1.0) : row == 1 ? vec4(1.0, 1.0 - t, 1.0, 0.0)
-                         : vec4(1.0 - t, 0.0, 0.0, -1.0);
-        vec2 cs = vec2(cos(th), -sin(th));
-        p = vec3(r.x * cs.x, r.y, r.x * cs.y); n = vec3(r.z * cs.x, r.w, r.z * cs.y);
-        float c = cos(3.14159265 / float(S));       /* out by half the sag, as limen does */
-        p *= u_unit == 2 ? vec3(2.0 / (1.0 + c * c)) : vec3(2.0 / (1.0 + c), 1.0, 2.0 / (1.0 + c));
-    }
     void main() {
         vec3 p = a_pos, n = a_nrm;
-        if (u_unit > 0) unit(p, n);
         vec4 w = a_world * vec4(p, 1.0);
         v_world = w.xyz; v_local = p * u_scale; v_col = a_col; v_albedo = a_albedo;
         v_normal = transpose(inverse(mat3(a_world))) * n;
@@ -273,7 +246,6 @@ static game *game_create(int w, int h)
         glFramebufferRenderbuffer(GL_FRAMEBUFFER, i ? GL_DEPTH_STENCIL_ATTACHMENT
                                                     : GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, rb[i]);
     }
-    glGenVertexArrays(1, &g->vao);              /* the unit shapes read no attributes */
     glGenVertexArrays(1, &g->poly_vao), glBindVertexArray(g->poly_vao);
     glGenBuffers(1, &g->poly_vbo), glBindBuffer(GL_ARRAY_BUFFER, g->poly_vbo);
     glEnableVertexAttribArray(0), glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, 0, NULL);
@@ -340,27 +312,26 @@ static void use_item(game *g, const limen_drawable *d, const limen_image *im)
                     f == LIMEN_FILTER_NEAREST ? GL_NEAREST : GL_LINEAR);
 }
 
-/* A unit shape scaled to its node's size, lit in its colours; which shape and how it scales
- * and takes a texture are the kind's facts (limen_kind_get), not a list of kinds. */
+/* A unit shape (limen_unit_geometry: the kind's, at the command's level) stretched to its
+ * node's size, lit in its colours; how it takes a texture is the kind's (limen_kind_get). */
 static void op_shape(game *g, const limen_draw_cmd *c)
 {
     const limen_drawable *d = &g->items[c->item];
     const limen_kind_info *k = limen_kind_get(d->kind);
-    float scale[3];
-    for (int a = 0; a < 3; a++)
-        scale[a] = k->scale[a] >= 0 ? d->dims[k->scale[a]] : 1.0f;
-    int S = c->segments >= 3 ? c->segments : 1;     /* balls and cylinders, as limen's */
-    const int count[LIMEN_UNIT_COUNT] = { 0, 36, 3 * S * S, 18 * S, 6 };
-    for (GLuint col = 0; col < 4; col++) {     /* world times the unit shape's scale */
-        const float *w = c->world + 4 * col, s = col < 3 ? scale[col] : 1.0f;
+    const limen_mesh_geometry *m = limen_unit_geometry(k->unit);
+    const gpu *gm = m && c->lod < m->lod_count ? mesh_upload(g, m) : NULL;
+    if (!gm)
+        return;
+    size_t first = (size_t)gm->first[c->lod];
+    glBindVertexArray(gm->vao);                 /* (an image's upload may move the cache) */
+    for (GLuint col = 0; col < 4; col++) {      /* world times the unit shape's scale */
+        const float *w = c->world + 4 * col, s = col < 3 ? c->scale[col] : 1.0f;
         glVertexAttrib4f(4 + col, w[0] * s, w[1] * s, w[2] * s, w[3] * s);
     }
-    glVertexAttrib3fv(8, c->color), glUniform3fv(g->u.scale, 1, scale);
-    glUniform1i(g->u.unit, (int)k->unit), glUniform1i(g->u.uv, k->uv);
-    glUniform1i(g->u.S, S);
-    use_item(g, d, d->texture);
-    glBindVertexArray(g->vao), glDrawArrays(GL_TRIANGLES, 0, count[k->unit]);
-    glUniform1i(g->u.unit, 0);
+    glVertexAttrib3fv(8, c->color), glUniform3fv(g->u.scale, 1, c->scale);
+    glUniform1i(g->u.uv, k->uv), use_item(g, d, d->texture);
+    glDrawElements(GL_TRIANGLES, 3 * m->lods[c->lod].triangle_count, GL_UNSIGNED_INT,
+                   (void *)(sizeof(GLuint) * first));
 }
 
 /* A batch: `count` instances of a mesh at one level, its opaque or its blended parts, each

@@ -595,6 +595,18 @@ typedef struct limen_mesh_geometry {
     int has_blend;              /* some part's material is LIMEN_ALPHA_BLEND */
 } limen_mesh_geometry;
 
+/* The triangles limen draws a unit shape with (limen_kind_info.unit; the local frame that
+ * enum describes, before the kind's scale), for a backend of the draw list to upload once
+ * and draw SHAPE commands from: positions and normals (the true shape's), counter-clockwise
+ * from outside, one part and one white material, no uvs or colours (a kind's uv rule makes
+ * them from the position). A BOX or SQUARE has one level; a BALL or CYLINDER 11, one per
+ * tessellation limen_draw_cmd.segments names (level 0: 256 segments around, then 192, 128,
+ * 96, 64, 48, 32, 24, 16, 12, 8), its vertices pushed out so that the true surface lies
+ * halfway, lods[k].error the largest distance either way (radius 1). Made on the first call
+ * for a shape (safe from any thread) and kept, unchanged, until the process ends; NULL for
+ * NONE, an unknown value, or when out of memory. */
+LIMEN_API const limen_mesh_geometry *limen_unit_geometry(limen_unit_shape shape);
+
 /* One mipmap level of an image: 8-bit RGB, top row first. */
 typedef struct limen_image_level {
     int width, height;
@@ -1162,11 +1174,16 @@ typedef struct limen_draw_cmd {
     int pass;                   /* index into the list's passes (the camera it draws with) */
     limen_draw_state state;     /* how */
     int item;                   /* SHAPE, MESHES: an index into limen_drawables_items */
-    int lod;                    /* MESHES: level of detail (an index into d->mesh->lods) */
+    int lod;                    /* MESHES: level of detail (an index into d->mesh->lods);
+                                 * SHAPE: the level of the kind's limen_unit_geometry to draw
+                                 * (the one with `segments`; 0 for a box or square) */
     limen_draw_parts parts;     /* MESHES: which parts */
     int first, count;           /* POLYGON: vertices; MESHES: instances */
     float color[3];             /* CLEAR, POLYGON, SHAPE */
     float world[16];            /* SHAPE: model matrix (a portal's copy: carried) */
+    float scale[3];             /* SHAPE: the unit shape's stretch along each local axis
+                                 * before world (limen_kind_info.scale over the drawable's
+                                 * dims): a unit point p is at world * (scale * p) */
     limen_draw_image image;     /* POLYGON */
     float image_map[4];         /* POLYGON with an image: fragment -> uv */
     int target;                 /* TARGET; POLYGON with LIMEN_IMAGE_TARGET: the image's */

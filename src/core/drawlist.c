@@ -13,6 +13,7 @@
 #include "core/drawlist.h"
 #include "core/lmath.h"
 #include "core/plan.h"
+#include "core/shapes.h"
 
 static const float keep_all[4] = { 0, 0, 0, 1 };
 
@@ -472,23 +473,22 @@ void limen__dl_surface_image(limen_drawlist *dl, const dl_view *v, const limen_d
 
 /* ------------------------------------------------------------------ things */
 
-/* The tessellations of curved shapes a backend keeps: segments around, and the tolerance
- * (pixels) within which a silhouette must stay of the true shape (the ray tracer's). */
-static const int segments_of[] = { 8, 12, 16, 24, 32, 48, 64, 96, 128, 192, 256 };
-enum { NSEGMENTS = (int)(sizeof segments_of / sizeof segments_of[0]) };
+/* The tolerance (pixels) within which a curved shape's silhouette must stay of the true
+ * shape (the ray tracer's). */
 #define SILHOUETTE_PX 0.2f
 
-/* The coarsest tessellation whose polygon stays within tol_px of a circle of radius_px. */
+/* The coarsest tessellation of the unit shapes' (core/shapes.c) whose polygon stays within
+ * tol_px of a circle of radius_px. */
 static int segments_for(float radius_px, float tol_px)
 {
-    for (int l = 0; l < NSEGMENTS; l++) {
+    for (int k = LIMEN__UNIT_LEVELS - 1; k > 0; k--) {
         /* largest gap between the pushed-out sphere and the true one, either way */
-        double c = cos(M_PI / segments_of[l]);
+        double c = cos(M_PI / limen__unit_segments[k]);
         double sag = radius_px * (1.0 - c * c) / (1.0 + c * c);
         if (sag <= tol_px)
-            return segments_of[l];
+            return limen__unit_segments[k];
     }
-    return segments_of[NSEGMENTS - 1];
+    return limen__unit_segments[0];
 }
 
 /* A sphere's or cylinder's segments in view v at world matrix w, from its projected size:
@@ -524,7 +524,7 @@ static int shape_segments(const limen_drawlist *dl, const dl_view *v, const lime
     float tol = msaa > 1 ? SILHOUETTE_PX / (float)msaa : SILHOUETTE_PX;
     if (dist > world_r * 1.01f)
         return segments_for(world_r * v->px_scale / (dist - world_r), tol);
-    return segments_of[NSEGMENTS - 1];
+    return limen__unit_segments[0];
 }
 
 /* One shape lit at a world matrix (a copy carried through a portal has its own). */
@@ -543,6 +543,10 @@ static void shape_at(limen_drawlist *dl, const dl_view *v, const limen_drawable 
     c->item = (int)(node - dl->items);
     memcpy(c->world, world, sizeof c->world);
     c->segments = shape_segments(dl, v, node, world);
+    c->lod = c->segments ? limen__unit_level(c->segments) : 0;
+    const limen_kind_info *k = kind_of(node);
+    for (int a = 0; a < 3; a++)
+        c->scale[a] = k->scale[a] >= 0 ? node->dims[k->scale[a]] : 1.0f;
     memcpy(c->color, albedo, sizeof c->color);
     /* In an oblique view the near plane is the exit plane, and clamping would keep what of a
      * surface lies beyond it (a neighbour poking through a mirror shows its back there):
