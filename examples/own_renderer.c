@@ -312,34 +312,18 @@ static void use_item(game *g, const limen_drawable *d, const limen_image *im)
                     f == LIMEN_FILTER_NEAREST ? GL_NEAREST : GL_LINEAR);
 }
 
-/* A unit shape (limen_unit_geometry: the kind's, at the command's level) stretched to its
- * node's size, lit in its colours; how it takes a texture is the kind's (limen_kind_get). */
-static void op_shape(game *g, const limen_draw_cmd *c)
+/* SHAPE and MESHES alike: `count` list instances from `first` (world matrix, albedo) of a
+ * geometry at level `lod`: a mesh's, its opaque or its blended parts, each in its material
+ * (base colour and texture, alpha mask, emission); or the kind's unit shape
+ * (limen_unit_geometry: one white part) with its stretch `scale` for the local point (the
+ * checker's). How it takes a texture is the kind's (limen_kind_get). */
+static void op_draw(game *g, const limen_draw_cmd *c)
 {
+    static const float one[3] = { 1, 1, 1 };
     const limen_drawable *d = &g->items[c->item];
     const limen_kind_info *k = limen_kind_get(d->kind);
-    const limen_mesh_geometry *m = limen_unit_geometry(k->unit);
-    const gpu *gm = m && c->lod < m->lod_count ? mesh_upload(g, m) : NULL;
-    if (!gm)
-        return;
-    size_t first = (size_t)gm->first[c->lod];
-    glBindVertexArray(gm->vao);                 /* (an image's upload may move the cache) */
-    for (GLuint col = 0; col < 4; col++) {      /* world times the unit shape's scale */
-        const float *w = c->world + 4 * col, s = col < 3 ? c->scale[col] : 1.0f;
-        glVertexAttrib4f(4 + col, w[0] * s, w[1] * s, w[2] * s, w[3] * s);
-    }
-    glVertexAttrib3fv(8, c->color), glUniform3fv(g->u.scale, 1, c->scale);
-    glUniform1i(g->u.uv, k->uv), use_item(g, d, d->texture);
-    glDrawElements(GL_TRIANGLES, 3 * m->lods[c->lod].triangle_count, GL_UNSIGNED_INT,
-                   (void *)(sizeof(GLuint) * first));
-}
-
-/* A batch: `count` instances of a mesh at one level, its opaque or its blended parts, each
- * part in its material (base colour and texture, alpha mask, emission). */
-static void op_meshes(game *g, const limen_draw_cmd *c)
-{
-    const limen_drawable *d = &g->items[c->item];
-    const limen_mesh_geometry *m = d->mesh;
+    int shape = c->op == LIMEN_DRAW_SHAPE;
+    const limen_mesh_geometry *m = shape ? limen_unit_geometry(k->unit) : d->mesh;
     const gpu *gm = m ? mesh_upload(g, m) : NULL;
     if (!gm)
         return;
@@ -352,8 +336,8 @@ static void op_meshes(game *g, const limen_draw_cmd *c)
                               (void *)(sizeof(limen_draw_instance) * (size_t)c->first +
                                        sizeof(float) * 4 * (a - 4)));
     }
-    glUniform3f(g->u.scale, 1, 1, 1), glUniform1i(g->u.facets, !d->smooth);
-    glUniform1i(g->u.uv, LIMEN_UV_MESH);
+    glUniform3fv(g->u.scale, 1, shape ? c->scale : one), glUniform1i(g->u.uv, k->uv);
+    glUniform1i(g->u.facets, !shape && !d->smooth);
     const limen_mesh_part *parts = m->lods[lod].parts ? m->lods[lod].parts : m->parts;
     for (int p = 0; p < m->part_count; p++) {
         const limen_material *mt = &m->materials[parts[p].material];
@@ -367,7 +351,7 @@ static void op_meshes(game *g, const limen_draw_cmd *c)
                                 (void *)(sizeof(GLuint) * at), c->count);
     }
     glUniform4f(g->u.base, 1, 1, 1, 1), glUniform3f(g->u.emissive, 0, 0, 0);
-    glUniform1f(g->u.cutoff, -1), glUniform1i(g->u.facets, 0);
+    glUniform1f(g->u.cutoff, -1);
 }
 
 static void op_flush(game *g, const limen_draw_cmd *c)
@@ -404,7 +388,7 @@ static int game_draw(game *g, const limen_draw_cmd *cmd, int n, limen_depth_rang
                      unsigned char *rgb)
 {
     static void (*const op[LIMEN_DRAW_OP_COUNT])(game *, const limen_draw_cmd *) = {
-        NULL, op_clear, op_polygon, op_shape, op_meshes, op_flush   /* (no TARGET: stencil) */
+        NULL, op_clear, op_polygon, op_draw, op_draw, op_flush   /* (no TARGET: stencil) */
     };
     if (make_current(g) || range == LIMEN_DEPTH_ZO_REVERSED ||
         (range == LIMEN_DEPTH_ZO && !g->clip_control))

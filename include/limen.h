@@ -1147,7 +1147,10 @@ typedef enum limen_draw_op {
                                  * or a portal copy's: carried; like limen_drawable.world it
                                  * holds not the unit shape's scale, dims) with albedo
                                  * `color`, lit: limen's shading, checker and texture as the
-                                 * drawable says */
+                                 * drawable says. The same as `count` = 1 list instance from
+                                 * `first` (world times `scale`, the albedo) of the kind's
+                                 * limen_unit_geometry at level `lod`: a backend may draw
+                                 * shapes as it draws MESHES */
     LIMEN_DRAW_MESHES,          /* mesh drawable `item` at level of detail `lod` (clamp it to
                                  * the levels you keep), `count` instances from list instance
                                  * `first` (a batch of nodes sharing the geometry), its parts
@@ -1178,7 +1181,7 @@ typedef struct limen_draw_cmd {
                                  * SHAPE: the level of the kind's limen_unit_geometry to draw
                                  * (the one with `segments`; 0 for a box or square) */
     limen_draw_parts parts;     /* MESHES: which parts */
-    int first, count;           /* POLYGON: vertices; MESHES: instances */
+    int first, count;           /* POLYGON: vertices; MESHES, SHAPE: instances */
     float color[3];             /* CLEAR, POLYGON, SHAPE */
     float world[16];            /* SHAPE: model matrix (a portal's copy: carried) */
     float scale[3];             /* SHAPE: the unit shape's stretch along each local axis
@@ -1230,7 +1233,7 @@ LIMEN_API int limen_drawlist_commands(const limen_drawlist *dl, const limen_draw
 LIMEN_API int limen_drawlist_passes(const limen_drawlist *dl, const limen_draw_pass **out);
 /* The POLYGON commands' vertices (NDC x, y, z); returns their count. */
 LIMEN_API int limen_drawlist_vertices(const limen_drawlist *dl, const float (**out)[3]);
-/* The MESHES commands' instances; returns their count. */
+/* The MESHES and SHAPE commands' instances; returns their count. */
 LIMEN_API int limen_drawlist_instances(const limen_drawlist *dl,
                                        const limen_draw_instance **out);
 /* A light that shades the frame (the first LIMEN_MAX_LIGHTS visible LIGHT drawables). */

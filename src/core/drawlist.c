@@ -535,18 +535,23 @@ static void shape_at(limen_drawlist *dl, const dl_view *v, const limen_drawable 
         limen__dl_mesh(dl, v, node, world, albedo);
         return;
     }
-    if (!kind_of(node)->unit)
-        return;
-    limen_draw_cmd *c = limen__dl_emit(dl, LIMEN_DRAW_SHAPE);
+    const limen_kind_info *k = kind_of(node);
+    limen_draw_instance *inst = k->unit ? limen__dl_instances(dl, 1) : NULL;
+    limen_draw_cmd *c = inst ? limen__dl_emit(dl, LIMEN_DRAW_SHAPE) : NULL;
     if (!c)
         return;
     c->item = (int)(node - dl->items);
     memcpy(c->world, world, sizeof c->world);
     c->segments = shape_segments(dl, v, node, world);
     c->lod = c->segments ? limen__unit_level(c->segments) : 0;
-    const limen_kind_info *k = kind_of(node);
     for (int a = 0; a < 3; a++)
         c->scale[a] = k->scale[a] >= 0 ? node->dims[k->scale[a]] : 1.0f;
+    /* and as an instance of the unit geometry: world times the stretch (by column), albedo */
+    for (int i = 0; i < 16; i++)
+        inst->world[i] = world[i] * (i < 12 ? c->scale[i / 4] : 1.0f);
+    memcpy(inst->color, albedo, sizeof inst->color);
+    c->first = dl->ninst++;
+    c->count = 1;
     memcpy(c->color, albedo, sizeof c->color);
     /* In an oblique view the near plane is the exit plane, and clamping would keep what of a
      * surface lies beyond it (a neighbour poking through a mirror shows its back there):
