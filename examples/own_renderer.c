@@ -23,7 +23,7 @@
 
 #include "limen.h"
 
-#define UNIFORMS(X) X(view_proj) X(clip) X(cut) X(scale) X(uv) X(facets) X(eye) \
+#define UNIFORMS(X) X(view_proj) X(clip) X(cut) X(scale) X(facets) X(eye) \
     X(albedo_b) X(cell) X(tint) X(ambient) X(textured) X(repeat) X(base) X(emissive) X(cutoff) \
     X(nlights) X(light_pos) X(light_col) X(light_inv_r2)
 #define U_FIELD(name) GLint name;
@@ -55,17 +55,14 @@ static const char *vs_src = GLSL(
     layout(location = 0) in vec3 a_pos;   layout(location = 1) in vec3 a_nrm;
     layout(location = 2) in vec2 a_uv;    layout(location = 3) in vec4 a_col;
     layout(location = 4) in mat4 a_world; layout(location = 8) in vec3 a_albedo;
-    uniform mat4 u_view_proj; uniform vec4 u_clip, u_cut; uniform int u_uv;
+    uniform mat4 u_view_proj; uniform vec4 u_clip, u_cut;
     uniform vec3 u_scale;                           /* unit shape -> node-local units */
     out vec3 v_world, v_local, v_normal; out vec2 v_uv; out vec4 v_col; flat out vec3 v_albedo;
     void main() {
         vec3 p = a_pos, n = a_nrm;
         vec4 w = a_world * vec4(p, 1.0);
-        v_world = w.xyz; v_local = p * u_scale; v_col = a_col; v_albedo = a_albedo;
+        v_world = w.xyz; v_local = p * u_scale; v_uv = a_uv; v_col = a_col; v_albedo = a_albedo;
         v_normal = transpose(inverse(mat3(a_world))) * n;
-        vec3 e = p + 0.5;                           /* a plane's, a box face's, a mesh's */
-        v_uv = u_uv == 3 ? a_uv : u_uv == 1 ? e.xy : abs(n.x) > 0.5 ? e.yz
-             : abs(n.y) > 0.5 ? e.zx : e.xy;
         gl_ClipDistance[0] = dot(u_clip, w); gl_ClipDistance[1] = dot(u_cut, w);
         gl_Position = u_view_proj * w;
     });
@@ -314,16 +311,16 @@ static void use_item(game *g, const limen_drawable *d, const limen_image *im)
 
 /* SHAPE and MESHES alike: `count` list instances from `first` (world matrix, albedo) of a
  * geometry at level `lod`: a mesh's, its opaque or its blended parts, each in its material
- * (base colour and texture, alpha mask, emission); or the kind's unit shape
- * (limen_unit_geometry: one white part) with its stretch `scale` for the local point (the
- * checker's). How it takes a texture is the kind's (limen_kind_get). */
+ * (base colour and texture, alpha mask, emission); or the unit shape of the drawable's kind
+ * (limen_unit_geometry: one white part, its uvs the kind's) with its stretch `scale` for
+ * the local point (the checker's). */
 static void op_draw(game *g, const limen_draw_cmd *c)
 {
     static const float one[3] = { 1, 1, 1 };
     const limen_drawable *d = &g->items[c->item];
-    const limen_kind_info *k = limen_kind_get(d->kind);
     int shape = c->op == LIMEN_DRAW_SHAPE;
-    const limen_mesh_geometry *m = shape ? limen_unit_geometry(k->unit) : d->mesh;
+    const limen_mesh_geometry *m = shape ? limen_unit_geometry(limen_kind_get(d->kind)->unit)
+                                         : d->mesh;
     const gpu *gm = m ? mesh_upload(g, m) : NULL;
     if (!gm)
         return;
@@ -336,7 +333,7 @@ static void op_draw(game *g, const limen_draw_cmd *c)
                               (void *)(sizeof(limen_draw_instance) * (size_t)c->first +
                                        sizeof(float) * 4 * (a - 4)));
     }
-    glUniform3fv(g->u.scale, 1, shape ? c->scale : one), glUniform1i(g->u.uv, k->uv);
+    glUniform3fv(g->u.scale, 1, shape ? c->scale : one);
     glUniform1i(g->u.facets, !shape && !d->smooth);
     const limen_mesh_part *parts = m->lods[lod].parts ? m->lods[lod].parts : m->parts;
     for (int p = 0; p < m->part_count; p++) {

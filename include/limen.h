@@ -598,8 +598,9 @@ typedef struct limen_mesh_geometry {
 /* The triangles limen draws a unit shape with (limen_kind_info.unit; the local frame that
  * enum describes, before the kind's scale), for a backend of the draw list to upload once
  * and draw SHAPE commands from: positions and normals (the true shape's), counter-clockwise
- * from outside, one part and one white material, no uvs or colours (a kind's uv rule makes
- * them from the position). A BOX or SQUARE has one level; a BALL or CYLINDER 11, one per
+ * from outside, one part and one white material, no colours; uvs by the rule of the kinds
+ * drawn with it (limen_kind_info.uv: a box face's for BOX, a plane's for SQUARE; none for
+ * the curved shapes, which take no texture). A BOX or SQUARE has one level; a BALL or CYLINDER 11, one per
  * tessellation limen_draw_cmd.segments names (level 0: 256 segments around, then 192, 128,
  * 96, 64, 48, 32, 24, 16, 12, 8), its vertices pushed out so that the true surface lies
  * halfway, lods[k].error the largest distance either way (radius 1). Made on the first call

@@ -25,15 +25,17 @@ int limen__unit_level(int segments)
     return k;
 }
 
-/* One shape's arrays as they grow: positions and normals, each level's indices after the
- * last. */
+/* One shape's arrays as they grow: positions, normals and uvs, each level's indices after
+ * the last. */
 typedef struct builder {
-    float *pos, *nrm;
+    float *pos, *nrm, *uv;
     uint32_t *idx;
     uint32_t nverts, nidx, vcap, icap;
     int failed;
 } builder;
 
+/* A vertex; its uv by the rule of a box face, which is a square's too (limen_uv_rule): the
+ * two other axes of the face's normal, in order, over [0, 1]. */
 static uint32_t vert(builder *b, float px, float py, float pz, float nx, float ny, float nz)
 {
     if (b->failed)
@@ -44,16 +46,22 @@ static uint32_t vert(builder *b, float px, float py, float pz, float nx, float n
         if (p)
             b->pos = p;
         float *n = p ? realloc(b->nrm, sizeof *n * 3 * cap) : NULL;
-        if (!n) {
+        if (n)
+            b->nrm = n;
+        float *uv = n ? realloc(b->uv, sizeof *uv * 2 * cap) : NULL;
+        if (!uv) {
             b->failed = 1;
             return 0;
         }
-        b->nrm = n;
+        b->uv = uv;
         b->vcap = cap;
     }
     const float v[2][3] = { { px, py, pz }, { nx, ny, nz } };
+    int a = fabsf(nx) > 0.5f ? 0 : fabsf(ny) > 0.5f ? 1 : 2;
     memcpy(b->pos + 3 * b->nverts, v[0], sizeof v[0]);
     memcpy(b->nrm + 3 * b->nverts, v[1], sizeof v[1]);
+    b->uv[2 * b->nverts] = v[0][(a + 1) % 3] + 0.5f;
+    b->uv[2 * b->nverts + 1] = v[0][(a + 2) % 3] + 0.5f;
     return b->nverts++;
 }
 
@@ -212,7 +220,7 @@ static pthread_mutex_t units_lock = PTHREAD_MUTEX_INITIALIZER;
 static unit *unit_make(limen_unit_shape shape)
 {
     void (*build)(builder *, int) = NULL;
-    int levels = 1;
+    int levels = 1;                 /* a curved shape's: one per tessellation, and no uvs */
     switch (shape) {
     case LIMEN_UNIT_NONE:
     case LIMEN_UNIT_COUNT:
@@ -244,7 +252,7 @@ static unit *unit_make(limen_unit_shape shape)
     }
     first[levels] = u->b.nidx;
     if (u->b.failed) {
-        free(u->b.pos), free(u->b.nrm), free(u->b.idx), free(u);
+        free(u->b.pos), free(u->b.nrm), free(u->b.uv), free(u->b.idx), free(u);
         return NULL;
     }
     u->material = (limen_material){ .name = "", .base_color = { 1, 1, 1, 1 },
@@ -261,6 +269,7 @@ static unit *unit_make(limen_unit_shape shape)
     u->pub = (limen_mesh_geometry){ .id = limen__next_serial(), .vertex_count = (int)u->b.nverts,
                                     .triangle_count = u->lods[0].triangle_count,
                                     .positions = u->b.pos, .normals = u->b.nrm,
+                                    .uvs = levels == 1 ? u->b.uv : NULL,
                                     .indices = u->lods[0].indices, .lod_count = levels,
                                     .lods = u->lods, .part_count = 1, .parts = u->parts,
                                     .material_count = 1, .materials = &u->material };
