@@ -25,17 +25,17 @@
 
 #define UNIFORMS(X) X(view_proj) X(clip) X(cut) X(scale) X(facets) X(eye) \
     X(albedo_b) X(cell) X(tint) X(ambient) X(textured) X(repeat) X(base) X(emissive) X(cutoff) \
-    X(nlights) X(light_pos) X(light_col) X(light_inv_r2)
+    X(nlights) X(lights)
 #define U_FIELD(name) GLint name;
 #define U_FIND(name) g->u.name = glGetUniformLocation(g->prog, "u_" #name);
 
 typedef struct gpu { uint64_t id; GLuint vao, tex; GLsizei first[16]; } gpu;  /* by id */
 
 typedef struct game {
-    int w, h, ncache, npasses;
+    int w, h, ncache;
     OSMesaContext ctx;
     unsigned char token[64];            /* OSMesa wants a buffer; we draw into our FBO */
-    PFNGLCLIPCONTROLPROC clip_control;  /* GL 4.5 (NULL on a 3.3 context) */
+    PFNGLCLIPCONTROLPROC clip_control;  /* GL 4.5's, for LIMEN_DEPTH_ZO */
     GLuint fbo, prog, flat, poly_vao, poly_vbo, inst_vbo;  /* flat: the polygons' */
     struct { UNIFORMS(U_FIELD) } u;
     GLint flat_color;
@@ -70,8 +70,9 @@ static const char *vs_src = GLSL(
 static const char *fs_src = GLSL(
     in vec3 v_world, v_local, v_normal; in vec2 v_uv; in vec4 v_col; flat in vec3 v_albedo;
     uniform int u_facets, u_textured, u_nlights;
-    uniform vec3 u_eye, u_albedo_b, u_tint, u_emissive, u_light_pos[8], u_light_col[8];
-    uniform float u_cell, u_ambient, u_cutoff, u_light_inv_r2[8];
+    uniform vec3 u_eye, u_albedo_b, u_tint, u_emissive;
+    uniform vec4 u_lights[16];                  /* limen_draw_light: pos, 1/range^2; colour */
+    uniform float u_cell, u_ambient, u_cutoff;
     uniform vec4 u_base; uniform vec2 u_repeat; uniform sampler2D u_tex;
     out vec4 o_color;
     void main() {
@@ -87,9 +88,9 @@ static const char *fs_src = GLSL(
         if (alpha < u_cutoff) discard;
         vec3 light = vec3(0.0);
         for (int i = 0; i < u_nlights; i++) {       /* w: a light's falloff with its range */
-            vec3 d = u_light_pos[i] - v_world;
-            float q = dot(d, d) * u_light_inv_r2[i], w = clamp(1.0 - q * q, 0.0, 1.0);
-            light += u_light_col[i] * w * w * max(0.0, dot(n, normalize(d)));
+            vec3 d = u_lights[2 * i].xyz - v_world;
+            float q = dot(d, d) * u_lights[2 * i].w, w = clamp(1.0 - q * q, 0.0, 1.0);
+            light += u_lights[2 * i + 1].rgb * w * w * max(0.0, dot(n, normalize(d)));
         }
         vec3 lit = clamp(albedo * (u_ambient + (1.0 - u_ambient) * light), 0.0, 1.0);
         o_color = vec4(clamp(lit + u_emissive, 0.0, 1.0) * u_tint, alpha);
@@ -127,7 +128,6 @@ static int programs_create(game *g)
     UNIFORMS(U_FIND)
     glUseProgram(g->prog);
     glVertexAttrib4f(3, 1, 1, 1, 1);            /* the colour of vertices without one */
-    glUniform4f(g->u.base, 1, 1, 1, 1), glUniform1f(g->u.cutoff, -1);    /* no material */
     glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
     return 0;
 }
@@ -179,7 +179,7 @@ static const gpu *mesh_upload(game *g, const limen_mesh_geometry *m)
 }
 
 /* An image on the GPU with limen's own mipmap levels (so that the texels are the tracer's),
- * repeating; with alpha (a material's) its first level only, RGBA. 0 if out of memory. */
+ * repeating; with alpha (a material's) RGBA. 0 if out of memory. */
 static GLuint image_upload(game *g, const limen_image *im)
 {
     int fresh, n = im->width * im->height;
@@ -191,13 +191,11 @@ static GLuint image_upload(game *g, const limen_image *im)
         memcpy(rgba + 4 * i, im->rgb + 3 * i, 3), rgba[4 * i + 3] = im->alpha[i];
     glGenTextures(1, &c->tex), glBindTexture(GL_TEXTURE_2D, c->tex);
     glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
-    if (im->alpha)
-        glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, im->width, im->height, 0, GL_RGBA,
-                     GL_UNSIGNED_BYTE, rgba);
-    for (int k = 0; !im->alpha && k < im->level_count; k++)
-        glTexImage2D(GL_TEXTURE_2D, k, GL_RGB8, im->levels[k].width, im->levels[k].height, 0,
-                     GL_RGB, GL_UNSIGNED_BYTE, im->levels[k].rgb);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAX_LEVEL, im->alpha ? 0 : im->level_count - 1);
+    for (int k = 0; k < im->level_count; k++)   /* (an image with alpha has one level) */
+        glTexImage2D(GL_TEXTURE_2D, k, rgba ? GL_RGBA8 : GL_RGB8, im->levels[k].width,
+                     im->levels[k].height, 0, rgba ? GL_RGBA : GL_RGB, GL_UNSIGNED_BYTE,
+                     rgba ? rgba : im->levels[k].rgb);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAX_LEVEL, im->level_count - 1);
     free(rgba);
     return c->tex;
 }
@@ -219,15 +217,13 @@ static int make_current(game *g)
 static game *game_create(int w, int h)
 {
     game *g = calloc(1, sizeof *g);
-    for (int v = 45; g && v >= 33 && !g->ctx; v -= 12) {   /* 4.5 has glClipControl */
-        const int attribs[] = { OSMESA_FORMAT, OSMESA_RGBA, OSMESA_DEPTH_BITS, 0,
-                                OSMESA_STENCIL_BITS, 0, OSMESA_PROFILE, OSMESA_CORE_PROFILE,
-                                OSMESA_CONTEXT_MAJOR_VERSION, v / 10,
-                                OSMESA_CONTEXT_MINOR_VERSION, v % 10, 0 };
-        if ((g->ctx = OSMesaCreateContextAttribs(attribs, NULL)) && v == 45)
-            g->clip_control = (PFNGLCLIPCONTROLPROC)OSMesaGetProcAddress("glClipControl");
-    }
-    if (!g || !g->ctx || make_current(g) || programs_create(g) || limen_plan_create(&g->plan) ||
+    const int attribs[] = { OSMESA_FORMAT, OSMESA_RGBA, OSMESA_DEPTH_BITS, 0,
+                            OSMESA_STENCIL_BITS, 0, OSMESA_PROFILE, OSMESA_CORE_PROFILE,
+                            OSMESA_CONTEXT_MAJOR_VERSION, 4, OSMESA_CONTEXT_MINOR_VERSION, 5, 0 };
+    if (g && (g->ctx = OSMesaCreateContextAttribs(attribs, NULL)))
+        g->clip_control = (PFNGLCLIPCONTROLPROC)OSMesaGetProcAddress("glClipControl");
+    if (!g || !g->clip_control || make_current(g) || programs_create(g) ||
+        limen_plan_create(&g->plan) ||
         limen_drawables_create(&g->draw) || limen_drawlist_create(&g->list)) {
         if (g)
             game_destroy(g);
@@ -347,8 +343,6 @@ static void op_draw(game *g, const limen_draw_cmd *c)
         glDrawElementsInstanced(GL_TRIANGLES, 3 * parts[p].triangle_count, GL_UNSIGNED_INT,
                                 (void *)(sizeof(GLuint) * at), c->count);
     }
-    glUniform4f(g->u.base, 1, 1, 1, 1), glUniform3f(g->u.emissive, 0, 0, 0);
-    glUniform1f(g->u.cutoff, -1);
 }
 
 static void op_flush(game *g, const limen_draw_cmd *c)
@@ -364,10 +358,7 @@ static void frame_begin(game *g)
     const limen_draw_light *l;
     float ambient;
     int nl = limen_drawlist_lights(g->list, &l, &ambient);
-    for (int i = 0; i < nl; i++)                /* (an array's elements: one location each) */
-        glUniform3fv(g->u.light_pos + i, 1, l[i].pos), glUniform3fv(g->u.light_col + i, 1, l[i].color),
-        glUniform1f(g->u.light_inv_r2 + i, l[i].inv_range2);
-    glUniform1f(g->u.ambient, ambient), glUniform1i(g->u.nlights, nl);
+    glUniform4fv(g->u.lights, 2 * nl, l->pos), glUniform1f(g->u.ambient, ambient), glUniform1i(g->u.nlights, nl);
     const float (*v)[3];
     const limen_draw_instance *inst;
     int nv = limen_drawlist_vertices(g->list, &v), ni = limen_drawlist_instances(g->list, &inst);
@@ -375,7 +366,7 @@ static void frame_begin(game *g)
     glBufferData(GL_ARRAY_BUFFER, (GLsizeiptr)sizeof *v * nv, v, GL_STREAM_DRAW);
     glBindBuffer(GL_ARRAY_BUFFER, g->inst_vbo);
     glBufferData(GL_ARRAY_BUFFER, (GLsizeiptr)sizeof *inst * ni, inst, GL_STREAM_DRAW);
-    g->npasses = limen_drawlist_passes(g->list, &g->passes);
+    limen_drawlist_passes(g->list, &g->passes);
     limen_drawables_items(g->draw, &g->items);
 }
 
@@ -387,20 +378,15 @@ static int game_draw(game *g, const limen_draw_cmd *cmd, int n, limen_depth_rang
     static void (*const op[LIMEN_DRAW_OP_COUNT])(game *, const limen_draw_cmd *) = {
         NULL, op_clear, op_polygon, op_draw, op_draw, op_flush   /* (no TARGET: stencil) */
     };
-    if (make_current(g) || range == LIMEN_DEPTH_ZO_REVERSED ||
-        (range == LIMEN_DEPTH_ZO && !g->clip_control))
+    if (make_current(g) || range == LIMEN_DEPTH_ZO_REVERSED)
         return -1;      /* (reversed depth would want a float depth buffer) */
-    if (g->clip_control)
-        g->clip_control(GL_LOWER_LEFT, range ? GL_ZERO_TO_ONE : GL_NEGATIVE_ONE_TO_ONE);
+    g->clip_control(GL_LOWER_LEFT, range ? GL_ZERO_TO_ONE : GL_NEGATIVE_ONE_TO_ONE);
     glUseProgram(g->prog), frame_begin(g);
     glBindFramebuffer(GL_FRAMEBUFFER, g->fbo), glViewport(0, 0, g->w, g->h);
     glEnable(GL_DEPTH_TEST), glEnable(GL_SCISSOR_TEST);
     for (int i = 0; i < n; i++)
-        if (cmd[i].pass >= 0 && cmd[i].pass < g->npasses && cmd[i].op < LIMEN_DRAW_OP_COUNT &&
-            op[cmd[i].op]) {
-            set_state(g, &cmd[i].state, &g->passes[cmd[i].pass]);
-            op[cmd[i].op](g, &cmd[i]);
-        }
+        if (op[cmd[i].op])
+            set_state(g, &cmd[i].state, &g->passes[cmd[i].pass]), op[cmd[i].op](g, &cmd[i]);
     glPixelStorei(GL_PACK_ALIGNMENT, 1);
     for (int y = 0; y < g->h; y++)              /* OpenGL's rows run bottom-up */
         glReadPixels(0, g->h - 1 - y, g->w, 1, GL_RGB, GL_UNSIGNED_BYTE, rgb + 3 * g->w * y);

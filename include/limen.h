@@ -620,7 +620,8 @@ typedef struct limen_image {
     uint64_t id;                /* unique in the process: key a GPU copy on it */
     int width, height;
     const unsigned char *rgb;
-    const unsigned char *alpha; /* width * height alpha values (same order), or NULL: opaque */
+    const unsigned char *alpha; /* width * height alpha values (same order), or NULL: opaque;
+                                 * an image with alpha has one level */
     int level_count;            /* mipmap levels (limen_node_set_texture_filter), down to */
     const limen_image_level *levels;  /* 1 x 1; levels[0] is the image itself */
 } limen_image;
@@ -1237,11 +1238,14 @@ LIMEN_API int limen_drawlist_vertices(const limen_drawlist *dl, const float (**o
 /* The MESHES and SHAPE commands' instances; returns their count. */
 LIMEN_API int limen_drawlist_instances(const limen_drawlist *dl,
                                        const limen_draw_instance **out);
-/* A light that shades the frame (the first LIMEN_MAX_LIGHTS visible LIGHT drawables). */
+/* A light that shades the frame (the first LIMEN_MAX_LIGHTS visible LIGHT drawables), laid
+ * out as two vec4 (pos, inv_range2; color, 0) so that an array of them goes to a shader as
+ * it is (glUniform4fv of 2 * count, a std140 block). */
 typedef struct limen_draw_light {
     float pos[3];               /* world position */
-    float color[3];             /* colour times intensity */
     float inv_range2;           /* 1 / range^2 (limen_light_set_range), 0 for no range */
+    float color[3];             /* colour times intensity */
+    float zero;                 /* 0 */
 } limen_draw_light;
 /* The frame's lights (at most LIMEN_MAX_LIGHTS) and the ambient term (where ambient is not
  * NULL), as limen's shading reads them; returns their count. */

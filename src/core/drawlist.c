@@ -776,9 +776,10 @@ static void find_lights(limen_drawlist *dl)
     dl->nlights = 0;
     for (int i = 0; i < dl->nitems && dl->nlights < LIMEN_MAX_LIGHTS; i++) {
         const limen_drawable *d = &dl->items[i];
-        if (d->kind != LIMEN_NODE_LIGHT || !d->visible)
+        if (!kind_of(d)->light || !d->visible)
             continue;
         limen_draw_light *l = &dl->lights[dl->nlights++];
+        *l = (limen_draw_light){ .zero = 0 };
         memcpy(l->pos, d->world + 12, sizeof l->pos);
         memcpy(l->color, d->color, sizeof l->color);
         /* 1/R^2: the shader's falloff takes (d/R)^2 as d^2 times it; 0 weighs 1 */
