@@ -3,16 +3,12 @@
  * limen keeps the game's scene graph (nodes, mirrors, portals, moving through them) and hands
  * it, every frame, a draw list: commands in the order to run them, each with what to draw and
  * the pipeline state to draw it with (docs/DESIGN.md, "The draw list"). The game needs no plan
- * logic, clipping or sorting; tests/test_example_game.c holds its frames to limen's own.
+ * logic, clipping or sorting: it makes a context and limen's shading once (game_create), and
+ * every frame builds the plan, the drawables and the list (game_frame), uploads the list's
+ * lights, vertices and instances, then runs each command: its state, then one function per
+ * op (game_draw). Meshes, unit shapes and images go up once, keyed on their id.
+ * tests/test_example_game.c holds its frames to limen's own.
  *     make examples && build/examples/own_renderer scenes/portals.lua portals.png
- * THE STEPS
- *   1. Once (game_create): the context (OSMesa, OpenGL 3.3 core, a framebuffer object with
- *      depth24/stencil8: the stencil method nests the views in it) and the shader: limen's
- *      shading (docs/DESIGN.md, "Ground truth").
- *   2. Every frame (game_frame): limen_plan_build, limen_drawables_build, limen_drawlist_build.
- *   3. Walk the list (game_draw): its lights, vertices and instances into the shader and
- *      buffers, then each command: set_state (its pipeline state and pass), then one function
- *      per op. Meshes and images go up once, keyed on their id. Read the frame back.
  */
 #define GL_GLEXT_PROTOTYPES
 #include <GL/glcorearb.h>
@@ -29,7 +25,7 @@
 #define U_FIELD(name) GLint name;
 #define U_FIND(name) g->u.name = glGetUniformLocation(g->prog, "u_" #name);
 
-typedef struct gpu { uint64_t id; GLuint vao, tex; GLsizei first[16]; } gpu;  /* by id */
+typedef struct gpu { uint64_t id; GLuint vao, tex, ibo[16]; } gpu;   /* by id; ibo: levels */
 
 typedef struct game {
     int w, h, ncache;
@@ -40,16 +36,14 @@ typedef struct game {
     struct { UNIFORMS(U_FIELD) } u;
     GLint flat_color;
     gpu *cache;                         /* the meshes and images uploaded so far */
-    limen_plan *plan;
-    limen_drawables *draw;
-    limen_drawlist *list;
+    limen_plan *plan; limen_drawables *draw; limen_drawlist *list;  /* limen's, per frame */
     const limen_drawable *items;        /* this frame's, and its list's passes */
     const limen_draw_pass *passes;
 } game;
 
 /* ============================================================ 1. shader */
 
-#define GLSL(...) #__VA_ARGS__                      /* after a head: #version and constants */
+#define GLSL(...) "#version 330 core\n" #__VA_ARGS__
 
 static const char *vs_src = GLSL(
     layout(location = 0) in vec3 a_pos;   layout(location = 1) in vec3 a_nrm;
@@ -59,10 +53,9 @@ static const char *vs_src = GLSL(
     uniform vec3 u_scale;                           /* unit shape -> node-local units */
     out vec3 v_world, v_local, v_normal; out vec2 v_uv; out vec4 v_col; flat out vec3 v_albedo;
     void main() {
-        vec3 p = a_pos, n = a_nrm;
-        vec4 w = a_world * vec4(p, 1.0);
-        v_world = w.xyz; v_local = p * u_scale; v_uv = a_uv; v_col = a_col; v_albedo = a_albedo;
-        v_normal = transpose(inverse(mat3(a_world))) * n;
+        vec4 w = a_world * vec4(a_pos, 1.0);
+        v_world = w.xyz; v_local = a_pos * u_scale; v_uv = a_uv; v_col = a_col; v_albedo = a_albedo;
+        v_normal = transpose(inverse(mat3(a_world))) * a_nrm;
         gl_ClipDistance[0] = dot(u_clip, w); gl_ClipDistance[1] = dot(u_cut, w);
         gl_Position = u_view_proj * w;
     });
@@ -105,14 +98,13 @@ static const char *flat_fs = GLSL(
     uniform vec3 u_color; out vec4 o_color;
     void main() { o_color = vec4(u_color, 1.0); });
 
-static GLuint program(const char *head, const char *vs, const char *fs)
+static GLuint program(const char *vs, const char *fs)
 {
-    const char *src[2][2] = { { head, vs }, { head, fs } };
     GLint ok = 0;
     GLuint prog = glCreateProgram();
     for (int i = 0; i < 2; i++) {
         GLuint sh = glCreateShader(i ? GL_FRAGMENT_SHADER : GL_VERTEX_SHADER);
-        glShaderSource(sh, 2, src[i], NULL), glCompileShader(sh);
+        glShaderSource(sh, 1, i ? &fs : &vs, NULL), glCompileShader(sh);
         glAttachShader(prog, sh), glDeleteShader(sh);       /* goes with the program */
     }
     glLinkProgram(prog), glGetProgramiv(prog, GL_LINK_STATUS, &ok);
@@ -121,8 +113,7 @@ static GLuint program(const char *head, const char *vs, const char *fs)
 
 static int programs_create(game *g)
 {
-    const char *head = "#version 330 core\n";
-    if (!(g->flat = program(head, flat_vs, flat_fs)) || !(g->prog = program(head, vs_src, fs_src)))
+    if (!(g->flat = program(flat_vs, flat_fs)) || !(g->prog = program(vs_src, fs_src)))
         return -1;
     g->flat_color = glGetUniformLocation(g->flat, "u_color");
     UNIFORMS(U_FIND)
@@ -147,13 +138,13 @@ static gpu *cached(game *g, uint64_t id, int *fresh)
     return memset(&grown[g->ncache++], 0, sizeof *grown);
 }
 
-/* A scene mesh on the GPU: an attribute per array it has (one it lacks keeps its constant:
- * uv 0, colour white), every level's indices in one buffer (first[k]: where k starts). */
+/* A mesh on the GPU: an attribute per array it has (one it lacks keeps its constant: uv 0,
+ * colour white), each level's indices a buffer of its own. */
 static const gpu *mesh_upload(game *g, const limen_mesh_geometry *m)
 {
     const float *data[4] = { m->positions, m->normals, m->uvs, m->colors };
     static const int size[4] = { 3, 3, 2, 4 };
-    int fresh, ni = 0;
+    int fresh;
     gpu *c = cached(g, m->id, &fresh);
     GLuint buf;
     if (!c || !fresh)
@@ -167,14 +158,11 @@ static const gpu *mesh_upload(game *g, const limen_mesh_geometry *m)
                      data[a], GL_STATIC_DRAW);
         glEnableVertexAttribArray(a), glVertexAttribPointer(a, size[a], GL_FLOAT, 0, 0, NULL);
     }
+    glGenBuffers(m->lod_count < 16 ? m->lod_count : 16, c->ibo);
     for (int k = 0; k < m->lod_count && k < 16; k++)
-        c->first[k] = ni, ni += 3 * m->lods[k].triangle_count;
-    glGenBuffers(1, &buf), glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, buf);
-    glBufferData(GL_ELEMENT_ARRAY_BUFFER, (GLsizeiptr)sizeof(GLuint) * ni, NULL, GL_STATIC_DRAW);
-    for (int k = 0; k < m->lod_count && k < 16; k++)
-        glBufferSubData(GL_ELEMENT_ARRAY_BUFFER, (GLintptr)sizeof(GLuint) * c->first[k],
-                        (GLsizeiptr)sizeof(GLuint) * 3 * m->lods[k].triangle_count,
-                        m->lods[k].indices);
+        glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, c->ibo[k]),
+        glBufferData(GL_ELEMENT_ARRAY_BUFFER, (GLsizeiptr)sizeof(GLuint) * 3 *
+                     m->lods[k].triangle_count, m->lods[k].indices, GL_STATIC_DRAW);
     return c;
 }
 
@@ -223,8 +211,8 @@ static game *game_create(int w, int h)
     if (g && (g->ctx = OSMesaCreateContextAttribs(attribs, NULL)))
         g->clip_control = (PFNGLCLIPCONTROLPROC)OSMesaGetProcAddress("glClipControl");
     if (!g || !g->clip_control || make_current(g) || programs_create(g) ||
-        limen_plan_create(&g->plan) ||
-        limen_drawables_create(&g->draw) || limen_drawlist_create(&g->list)) {
+        limen_plan_create(&g->plan) || limen_drawables_create(&g->draw) ||
+        limen_drawlist_create(&g->list)) {
         if (g)
             game_destroy(g);
         return NULL;
@@ -275,8 +263,7 @@ static void set_state(game *g, const limen_draw_state *s, const limen_draw_pass 
     glUniform3fv(g->u.eye, 1, p->eye), glUniform3fv(g->u.tint, 1, p->tint);
 }
 
-/* Within the scissor, what the state's masks let through: depth to the far plane (the game
- * draws no reversed depth), colour, stencil to 0. */
+/* Within the scissor, what the state's masks let through: depth (far), colour, stencil (0). */
 static void op_clear(game *g, const limen_draw_cmd *c)
 {
     glClearColor(c->color[0], c->color[1], c->color[2], 1.0f);
@@ -321,8 +308,9 @@ static void op_draw(game *g, const limen_draw_cmd *c)
     if (!gm)
         return;
     int lod = c->lod < m->lod_count && c->lod < 16 ? c->lod : 0;
-    size_t first = (size_t)gm->first[lod];      /* (an image's upload may move the cache) */
-    glBindVertexArray(gm->vao), glBindBuffer(GL_ARRAY_BUFFER, g->inst_vbo);
+    GLuint ibo = gm->ibo[lod];                  /* (an image's upload may move the cache) */
+    glBindVertexArray(gm->vao), glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, ibo);
+    glBindBuffer(GL_ARRAY_BUFFER, g->inst_vbo);
     for (GLuint a = 4; a < 9; a++) {            /* world matrix columns, albedo */
         glEnableVertexAttribArray(a), glVertexAttribDivisor(a, 1);
         glVertexAttribPointer(a, a < 8 ? 4 : 3, GL_FLOAT, GL_FALSE, sizeof(limen_draw_instance),
@@ -339,9 +327,8 @@ static void op_draw(game *g, const limen_draw_cmd *c)
         use_item(g, d, d->texture ? d->texture : mt->base_texture);
         glUniform4fv(g->u.base, 1, mt->base_color), glUniform3fv(g->u.emissive, 1, mt->emissive);
         glUniform1f(g->u.cutoff, mt->alpha_mode == LIMEN_ALPHA_MASK ? mt->alpha_cutoff : -1);
-        size_t at = first + 3 * (size_t)parts[p].first_triangle;
         glDrawElementsInstanced(GL_TRIANGLES, 3 * parts[p].triangle_count, GL_UNSIGNED_INT,
-                                (void *)(sizeof(GLuint) * at), c->count);
+                                (void *)(sizeof(GLuint) * 3 * parts[p].first_triangle), c->count);
     }
 }
 
@@ -358,7 +345,8 @@ static void frame_begin(game *g)
     const limen_draw_light *l;
     float ambient;
     int nl = limen_drawlist_lights(g->list, &l, &ambient);
-    glUniform4fv(g->u.lights, 2 * nl, l->pos), glUniform1f(g->u.ambient, ambient), glUniform1i(g->u.nlights, nl);
+    glUniform4fv(g->u.lights, 2 * nl, l->pos), glUniform1i(g->u.nlights, nl);
+    glUniform1f(g->u.ambient, ambient);
     const float (*v)[3];
     const limen_draw_instance *inst;
     int nv = limen_drawlist_vertices(g->list, &v), ni = limen_drawlist_instances(g->list, &inst);
