@@ -188,11 +188,10 @@ static GLuint image_upload(game *g, const limen_image *im)
     return c->tex;
 }
 
-/* (Destroying the context deletes every GL object the game made in it.) */
+/* (Destroying the context, NULL or not, deletes every GL object the game made in it.) */
 static void game_destroy(game *g)
 {
-    if (g->ctx)
-        OSMesaDestroyContext(g->ctx);
+    OSMesaDestroyContext(g->ctx);
     limen_plan_destroy(g->plan), limen_drawables_destroy(g->draw);
     limen_drawlist_destroy(g->list), free(g->cache), free(g);
 }
@@ -230,7 +229,7 @@ static game *game_create(int w, int h)
     glGenVertexArrays(1, &g->poly_vao), glBindVertexArray(g->poly_vao);
     glGenBuffers(1, &g->poly_vbo), glBindBuffer(GL_ARRAY_BUFFER, g->poly_vbo);
     glEnableVertexAttribArray(0), glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, 0, NULL);
-    glGenBuffers(1, &g->inst_vbo);
+    glGenBuffers(1, &g->inst_vbo), glEnable(GL_CLIP_DISTANCE0), glEnable(GL_CLIP_DISTANCE1);
     return g;
 }
 
@@ -242,20 +241,17 @@ static void set_state(game *g, const limen_draw_state *s, const limen_draw_pass 
     static const GLenum compare[LIMEN_COMPARE_COUNT] = { GL_ALWAYS, GL_LESS, GL_LEQUAL,
                                                          GL_EQUAL, GL_GREATER, GL_GEQUAL };
     static const GLenum stencil_op[LIMEN_STENCIL_OP_COUNT] = { GL_KEEP, GL_INVERT, GL_DECR };
-    static const GLenum caps[6] = { GL_DEPTH_CLAMP, GL_CULL_FACE, GL_BLEND, GL_STENCIL_TEST,
-                                    GL_CLIP_DISTANCE0, GL_CLIP_DISTANCE1 };
+    static const GLenum caps[4] = { GL_DEPTH_CLAMP, GL_CULL_FACE, GL_BLEND, GL_STENCIL_TEST };
     static const float keep_all[4] = { 0, 0, 0, 1 };
-    const int on[6] = { s->depth_clamp, s->cull_back, s->blend, s->stencil_test, s->clip_on,
-                        s->cut_on };
-    for (int i = 0; i < 6; i++)
+    const int on[4] = { s->depth_clamp, s->cull_back, s->blend, s->stencil_test };
+    for (int i = 0; i < 4; i++)
         (on[i] ? glEnable : glDisable)(caps[i]);
     glScissor(s->scissor[0], s->scissor[1], s->scissor[2], s->scissor[3]);
     glColorMask(s->color_write, s->color_write, s->color_write, s->color_write);
     glDepthMask(s->depth_write), glDepthFunc(compare[s->depth_test]);
     glStencilFunc(GL_EQUAL, s->stencil_ref, 0xFF), glStencilMask(s->stencil_write_mask);
     glStencilOp(GL_KEEP, GL_KEEP, stencil_op[s->stencil_pass]);
-    /* where off, a plane that keeps all as well (llvmpipe was seen to go on clipping by the
-     * last plane after glDisable(GL_CLIP_DISTANCE0)) */
+    /* both clip distances stay on (game_create): a plane that is off keeps all */
     glUniform4fv(g->u.clip, 1, s->clip_on ? s->clip : keep_all);
     glUniform4fv(g->u.cut, 1, s->cut_on ? s->cut : keep_all);
     glFrontFace(p->front_cw ? GL_CW : GL_CCW);
@@ -332,31 +328,7 @@ static void op_draw(game *g, const limen_draw_cmd *c)
     }
 }
 
-static void op_flush(game *g, const limen_draw_cmd *c)
-{
-    glFlush();
-}
-
 /* ============================================================ 4. one frame */
-
-/* The frame's lights and ambient term, the list's passes, its vertices and instances. */
-static void frame_begin(game *g)
-{
-    const limen_draw_light *l;
-    float ambient;
-    int nl = limen_drawlist_lights(g->list, &l, &ambient);
-    glUniform4fv(g->u.lights, 2 * nl, l->pos), glUniform1i(g->u.nlights, nl);
-    glUniform1f(g->u.ambient, ambient);
-    const float (*v)[3];
-    const limen_draw_instance *inst;
-    int nv = limen_drawlist_vertices(g->list, &v), ni = limen_drawlist_instances(g->list, &inst);
-    glBindBuffer(GL_ARRAY_BUFFER, g->poly_vbo);
-    glBufferData(GL_ARRAY_BUFFER, (GLsizeiptr)sizeof *v * nv, v, GL_STREAM_DRAW);
-    glBindBuffer(GL_ARRAY_BUFFER, g->inst_vbo);
-    glBufferData(GL_ARRAY_BUFFER, (GLsizeiptr)sizeof *inst * ni, inst, GL_STREAM_DRAW);
-    limen_drawlist_passes(g->list, &g->passes);
-    limen_drawables_items(g->draw, &g->items);
-}
 
 /* Runs commands cmd[0 .. n) of the built list in order; rgb (w*h*3, top row first) gets
  * the frame. The context is made current first (a test runs limen's renderer beside it). */
@@ -364,12 +336,24 @@ static int game_draw(game *g, const limen_draw_cmd *cmd, int n, limen_depth_rang
                      unsigned char *rgb)
 {
     static void (*const op[LIMEN_DRAW_OP_COUNT])(game *, const limen_draw_cmd *) = {
-        NULL, op_clear, op_polygon, op_draw, op_draw, op_flush   /* (no TARGET: stencil) */
+        NULL, op_clear, op_polygon, op_draw, op_draw, NULL  /* no TARGET (stencil); FLUSH: a hint */
     };
     if (make_current(g) || range == LIMEN_DEPTH_ZO_REVERSED)
         return -1;      /* (reversed depth would want a float depth buffer) */
     g->clip_control(GL_LOWER_LEFT, range ? GL_ZERO_TO_ONE : GL_NEGATIVE_ONE_TO_ONE);
-    glUseProgram(g->prog), frame_begin(g);
+    const limen_draw_light *l;                  /* the frame's lights, vertices, instances */
+    const float (*v)[3];
+    const limen_draw_instance *inst;
+    float ambient;
+    int nl = limen_drawlist_lights(g->list, &l, &ambient);
+    int nv = limen_drawlist_vertices(g->list, &v), ni = limen_drawlist_instances(g->list, &inst);
+    glUseProgram(g->prog), glUniform1i(g->u.nlights, nl), glUniform1f(g->u.ambient, ambient);
+    glUniform4fv(g->u.lights, 2 * nl, l->pos);
+    glBindBuffer(GL_ARRAY_BUFFER, g->poly_vbo);
+    glBufferData(GL_ARRAY_BUFFER, (GLsizeiptr)sizeof *v * nv, v, GL_STREAM_DRAW);
+    glBindBuffer(GL_ARRAY_BUFFER, g->inst_vbo);
+    glBufferData(GL_ARRAY_BUFFER, (GLsizeiptr)sizeof *inst * ni, inst, GL_STREAM_DRAW);
+    limen_drawlist_passes(g->list, &g->passes), limen_drawables_items(g->draw, &g->items);
     glBindFramebuffer(GL_FRAMEBUFFER, g->fbo), glViewport(0, 0, g->w, g->h);
     glEnable(GL_DEPTH_TEST), glEnable(GL_SCISSOR_TEST);
     for (int i = 0; i < n; i++)
