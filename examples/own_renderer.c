@@ -21,7 +21,7 @@
 
 #define UNIFORMS(X) X(view_proj) X(clip) X(cut) X(scale) X(facets) X(eye) \
     X(albedo_b) X(cell) X(tint) X(ambient) X(textured) X(repeat) X(base) X(emissive) X(cutoff) \
-    X(nlights) X(lights)
+    X(nlights) X(lights) X(flat)
 #define U_FIELD(name) GLint name;
 #define U_FIND(name) g->u.name = glGetUniformLocation(g->prog, "u_" #name);
 
@@ -32,9 +32,8 @@ typedef struct game {
     OSMesaContext ctx;
     unsigned char token[64];            /* OSMesa wants a buffer; we draw into our FBO */
     PFNGLCLIPCONTROLPROC clip_control;  /* GL 4.5's, for LIMEN_DEPTH_ZO */
-    GLuint fbo, prog, flat, poly_vao, poly_vbo, inst_vbo;  /* flat: the polygons' */
+    GLuint fbo, prog, poly_vao, poly_vbo, inst_vbo;
     struct { UNIFORMS(U_FIELD) } u;
-    GLint flat_color;
     gpu *cache;                         /* the meshes and images uploaded so far */
     limen_plan *plan; limen_drawables *draw; limen_drawlist *list;  /* limen's, per frame */
     const limen_drawable *items;        /* this frame's, and its list's passes */
@@ -62,13 +61,14 @@ static const char *vs_src = GLSL(
 
 static const char *fs_src = GLSL(
     in vec3 v_world, v_local, v_normal; in vec2 v_uv; in vec4 v_col; flat in vec3 v_albedo;
-    uniform int u_facets, u_textured, u_nlights;
+    uniform int u_facets, u_textured, u_nlights, u_flat;
     uniform vec3 u_eye, u_albedo_b, u_tint, u_emissive;
     uniform vec4 u_lights[16];                  /* limen_draw_light: pos, 1/range^2; colour */
     uniform float u_cell, u_ambient, u_cutoff;
     uniform vec4 u_base; uniform vec2 u_repeat; uniform sampler2D u_tex;
     out vec4 o_color;
     void main() {
+        if (u_flat != 0) { o_color = vec4(v_albedo, 1.0); return; }  /* a POLYGON's */
         vec3 n = normalize(u_facets != 0 ? cross(dFdx(v_world), dFdy(v_world)) : v_normal);
         if (dot(n, u_eye - v_world) < 0.0) n = -n;  /* two-sided: face the eye */
         vec3 albedo = v_albedo * u_base.rgb * v_col.rgb, c = floor(v_local / u_cell);
@@ -89,15 +89,6 @@ static const char *fs_src = GLSL(
         o_color = vec4(clamp(lit + u_emissive, 0.0, 1.0) * u_tint, alpha);
     });
 
-/* The polygons' own program (marks, seals, fills: many, and large), so that they pay for no
- * more than a colour: llvmpipe runs every branch of a shader. */
-static const char *flat_vs = GLSL(
-    layout(location = 0) in vec3 a_pos;
-    void main() { gl_Position = vec4(a_pos, 1.0); });
-static const char *flat_fs = GLSL(
-    uniform vec3 u_color; out vec4 o_color;
-    void main() { o_color = vec4(u_color, 1.0); });
-
 static GLuint program(const char *vs, const char *fs)
 {
     GLint ok = 0;
@@ -113,9 +104,8 @@ static GLuint program(const char *vs, const char *fs)
 
 static int programs_create(game *g)
 {
-    if (!(g->flat = program(flat_vs, flat_fs)) || !(g->prog = program(vs_src, fs_src)))
+    if (!(g->prog = program(vs_src, fs_src)))
         return -1;
-    g->flat_color = glGetUniformLocation(g->flat, "u_color");
     UNIFORMS(U_FIND)
     glUseProgram(g->prog);
     glVertexAttrib4f(3, 1, 1, 1, 1);            /* the colour of vertices without one */
@@ -266,12 +256,15 @@ static void op_clear(game *g, const limen_draw_cmd *c)
     glClear(GL_DEPTH_BUFFER_BIT | GL_COLOR_BUFFER_BIT | GL_STENCIL_BUFFER_BIT);
 }
 
-/* A fan in normalized device coordinates, in its flat colour, with the polygons' program. */
+/* A fan in normalized device coordinates (world and camera the identity), flat colour. */
 static void op_polygon(game *g, const limen_draw_cmd *c)
 {
-    glUseProgram(g->flat), glUniform3fv(g->flat_color, 1, c->color);
-    glBindVertexArray(g->poly_vao), glDrawArrays(GL_TRIANGLE_FAN, c->first, c->count);
-    glUseProgram(g->prog);
+    static const float id[16] = { 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1 };
+    for (GLuint col = 0; col < 4; col++)
+        glVertexAttrib4fv(4 + col, id + 4 * col);
+    glVertexAttrib3fv(8, c->color), glUniformMatrix4fv(g->u.view_proj, 1, GL_FALSE, id);
+    glUniform1i(g->u.flat, 1), glBindVertexArray(g->poly_vao);
+    glDrawArrays(GL_TRIANGLE_FAN, c->first, c->count), glUniform1i(g->u.flat, 0);
 }
 
 /* What a drawable's shading takes besides its colour: checker, texture (im: NULL none). */
