@@ -491,22 +491,23 @@ static int segments_for(float radius_px, float tol_px)
     return limen__unit_segments[0];
 }
 
-/* A sphere's or cylinder's segments in view v at world matrix w, from its projected size:
- * the largest world-space stretch of its axes times its radius, over the view distance of
- * its centre (0 for other kinds). Multisampled, a silhouette's error band holds msaa samples
- * per pixel of its area, each changing its pixel by 1/msaa of the contrast, so it takes a
- * band msaa times thinner to leave as few pixels off the area-averaged truth as one sample
- * per pixel leaves. */
+/* A curved shape's segments in view v at world matrix w, from its projected size: the
+ * largest world-space stretch of its axes times its radius (the largest half-extent of its
+ * unit box, stretched by its dims: a ball's radius, a cylinder's radius or half height),
+ * over the view distance of its centre (0 for a shape without tessellations). Multisampled,
+ * a silhouette's error band holds msaa samples per pixel of its area, each changing its
+ * pixel by 1/msaa of the contrast, so it takes a band msaa times thinner to leave as few
+ * pixels off the area-averaged truth as one sample per pixel leaves. */
 static int shape_segments(const limen_drawlist *dl, const dl_view *v, const limen_drawable *node,
                           const float w[16])
 {
-    float radius;
-    if (node->kind == LIMEN_NODE_SPHERE)
-        radius = node->dims[0];
-    else if (node->kind == LIMEN_NODE_CYLINDER)
-        radius = fmaxf(node->dims[0], 0.5f * node->dims[1]);
-    else
+    const limen_kind_info *k = kind_of(node);
+    if (limen__unit_levels(k->unit) < 2)
         return 0;
+    float radius = 0;
+    for (int a = 0; a < 3; a++)
+        radius = fmaxf(radius, 0.5f * (k->hi[a] - k->lo[a]) *
+                                   (k->scale[a] >= 0 ? node->dims[k->scale[a]] : 1.0f));
     mat4 world, view;
     memcpy(world, w, sizeof world);
     memcpy(view, v->view, sizeof view);

@@ -6,6 +6,7 @@
 #include <math.h>
 #include <pthread.h>
 #include <stdatomic.h>
+#include <stdbool.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -216,28 +217,42 @@ typedef struct unit {
 static _Atomic(unit *) units[LIMEN_UNIT_COUNT];
 static pthread_mutex_t units_lock = PTHREAD_MUTEX_INITIALIZER;
 
-/* Makes shape's geometry; NULL when out of memory. */
-static unit *unit_make(limen_unit_shape shape)
+/* What builds each shape, and whether it is curved (a level per tessellation, no uvs). */
+static void (*builder_of(limen_unit_shape shape, bool *curved))(builder *, int)
 {
-    void (*build)(builder *, int) = NULL;
-    int levels = 1;                 /* a curved shape's: one per tessellation, and no uvs */
+    *curved = false;
     switch (shape) {
     case LIMEN_UNIT_NONE:
     case LIMEN_UNIT_COUNT:
-        return NULL;
+        break;
     case LIMEN_UNIT_BOX:
-        build = build_box;
-        break;
+        return build_box;
     case LIMEN_UNIT_SQUARE:
-        build = build_square;
-        break;
+        return build_square;
     case LIMEN_UNIT_BALL:
-        build = build_ball, levels = LIMEN__UNIT_LEVELS;
-        break;
+        *curved = true;
+        return build_ball;
     case LIMEN_UNIT_CYLINDER:
-        build = build_cylinder, levels = LIMEN__UNIT_LEVELS;
-        break;
+        *curved = true;
+        return build_cylinder;
     }
+    return NULL;
+}
+
+int limen__unit_levels(limen_unit_shape shape)
+{
+    bool curved;
+    return !builder_of(shape, &curved) ? 0 : curved ? LIMEN__UNIT_LEVELS : 1;
+}
+
+/* Makes shape's geometry; NULL when out of memory. */
+static unit *unit_make(limen_unit_shape shape)
+{
+    bool curved;
+    void (*build)(builder *, int) = builder_of(shape, &curved);
+    int levels = limen__unit_levels(shape);
+    if (!build)
+        return NULL;
     unit *u = calloc(1, sizeof *u);
     if (!u)
         return NULL;
@@ -269,7 +284,7 @@ static unit *unit_make(limen_unit_shape shape)
     u->pub = (limen_mesh_geometry){ .id = limen__next_serial(), .vertex_count = (int)u->b.nverts,
                                     .triangle_count = u->lods[0].triangle_count,
                                     .positions = u->b.pos, .normals = u->b.nrm,
-                                    .uvs = levels == 1 ? u->b.uv : NULL,
+                                    .uvs = curved ? NULL : u->b.uv,
                                     .indices = u->lods[0].indices, .lod_count = levels,
                                     .lods = u->lods, .part_count = 1, .parts = u->parts,
                                     .material_count = 1, .materials = &u->material };
