@@ -19,16 +19,17 @@
  * bound above may take in place of the nearest; a piece these leave above the goal has them
  * searched before it is cut (or, at MAX_DEPTH, let go). The surface measured against, and
  * its distances, are core/lod_target.c's. */
+#include <errno.h>
 #include <float.h>
 #include <math.h>
 #include <pthread.h>
 #include <stdatomic.h>
 #include <string.h>
+#include <time.h>
 #ifdef __GLIBC__
 #include <malloc.h>
 #endif
 #ifdef __linux__
-#include <errno.h>
 #include <sys/resource.h>
 #include <sys/syscall.h>
 #include <unistd.h>
@@ -834,6 +835,9 @@ struct limen__lod_job {
     limen__lod_where where;     /* the cache, as the scene's thread found it */
     atomic_bool stop;           /* set by the scene's thread: the mesh is going */
     atomic_bool done;           /* set by the build's thread, last */
+    pthread_mutex_t gate_lock;  /* the gate the build waits at before it begins: */
+    pthread_cond_t gate;
+    bool go;                    /* opened (limen__meshes_go, a wait, a stop) */
     bool ok;
     size_t extra;               /* counted in the mesh's bytes beyond the estimate meanwhile */
     made mk;
@@ -861,9 +865,30 @@ static void yield_to_frames(void)
 #endif
 }
 
+/* The build begins once its mesh's first frame is drawn (the renderer opens the gate when
+ * a frame is done: limen__meshes_go), so that the frame neither waits for it nor holds its
+ * memory beside its own, or after GATE_S seconds where no frame comes (a host that draws
+ * by itself, or only traces). */
+#define GATE_S 2
+
+static void job_open(struct limen__lod_job *j)
+{
+    pthread_mutex_lock(&j->gate_lock);
+    j->go = true;
+    pthread_cond_signal(&j->gate);
+    pthread_mutex_unlock(&j->gate_lock);
+}
+
 static void *job_run(void *arg)
 {
     struct limen__lod_job *j = arg;
+    struct timespec until;
+    clock_gettime(CLOCK_REALTIME, &until);
+    until.tv_sec += GATE_S;
+    pthread_mutex_lock(&j->gate_lock);
+    while (!j->go && pthread_cond_timedwait(&j->gate, &j->gate_lock, &until) != ETIMEDOUT)
+        ;
+    pthread_mutex_unlock(&j->gate_lock);
     yield_to_frames();
     limen__mesh *m = &j->own;
     j->ok = limen__mesh_hierarchy_unless(m, &j->stop) && lods_make(m, &j->stop, &j->mk);
@@ -912,7 +937,16 @@ bool limen__mesh_lods_start(limen__mesh *m)
     j->where = w;
     atomic_init(&j->stop, false);
     atomic_init(&j->done, false);
-    if (pthread_create(&j->thread, NULL, job_run, j) != 0) {
+    bool gated = !pthread_mutex_init(&j->gate_lock, NULL);
+    if (gated && pthread_cond_init(&j->gate, NULL)) {
+        pthread_mutex_destroy(&j->gate_lock);
+        gated = false;
+    }
+    if (!gated || pthread_create(&j->thread, NULL, job_run, j) != 0) {
+        if (gated) {
+            pthread_cond_destroy(&j->gate);
+            pthread_mutex_destroy(&j->gate_lock);
+        }
         /* no thread: made here and now, over the full level alone as counted */
         m->bytes = counted - lods_bytes(&(limen__mesh){ .ntris = m->ntris }) + HEAD;
         free(j);
@@ -929,7 +963,10 @@ static bool job_end(limen__mesh *m, bool stop)
     struct limen__lod_job *j = m->lod_job;
     if (stop)
         atomic_store(&j->stop, true);
+    job_open(j);        /* stopped or waited for: not at the gate */
     pthread_join(j->thread, NULL);
+    pthread_cond_destroy(&j->gate);
+    pthread_mutex_destroy(&j->gate_lock);
     bool got = j->ok && !stop;
     /* counted as the estimate had them until now (limen__mesh_lods_start), now as the full
      * level alone, before the levels come or where none will (a build out of memory) */
@@ -969,6 +1006,15 @@ void limen__meshes_settle(limen_scene *s, bool wait)
 {
     for (int i = 0; s && i < s->nmeshes; i++)
         limen__mesh_lods_settle(s->meshes[i], wait);
+}
+
+void limen__meshes_go(limen_scene *s)
+{
+    for (int i = 0; s && i < s->nmeshes; i++) {
+        limen__mesh *m = s->meshes[i];
+        if (m->lod_job && !m->lod_job->go)
+            job_open(m->lod_job);
+    }
 }
 
 /* Welds m's corners into attr by position and what else a seam runs along: texture
