@@ -891,7 +891,7 @@ static void *job_run(void *arg)
     pthread_mutex_unlock(&j->gate_lock);
     yield_to_frames();
     limen__mesh *m = &j->own;
-    j->ok = limen__mesh_hierarchy_unless(m, &j->stop) && lods_make(m, &j->stop, &j->mk);
+    j->ok = limen__mesh_bvh_unless(m, &j->stop) && lods_make(m, &j->stop, &j->mk);
     free(m->bvh);
     free(m->tri_order);
     m->bvh = NULL;

@@ -239,7 +239,12 @@ static size_t nodes_unneeded(uint32_t ntris)
 
 bool limen__mesh_bvh(limen__mesh *m)
 {
-    if (!hierarchy_make(m, NULL))
+    return limen__mesh_bvh_unless(m, NULL);
+}
+
+bool limen__mesh_bvh_unless(limen__mesh *m, const atomic_bool *stop)
+{
+    if (!hierarchy_make(m, stop))
         return false;
     m->bytes -= nodes_unneeded(m->ntris);
     atomic_store(&m->bvh_ready, true);
@@ -249,12 +254,7 @@ bool limen__mesh_bvh(limen__mesh *m)
 /* One lock for every mesh's first hierarchy: made rarely, and by one thread at a time. */
 static pthread_mutex_t hierarchy_lock = PTHREAD_MUTEX_INITIALIZER;
 
-bool limen__mesh_hierarchy(const limen__mesh *m)
-{
-    return limen__mesh_hierarchy_unless(m, NULL);
-}
-
-bool limen__mesh_hierarchy_unless(const limen__mesh *cm, const atomic_bool *stop)
+bool limen__mesh_hierarchy(const limen__mesh *cm)
 {
     /* made once and never changed after: a cache of the mesh's, hence behind const */
     limen__mesh *m = (limen__mesh *)cm;
@@ -262,7 +262,7 @@ bool limen__mesh_hierarchy_unless(const limen__mesh *cm, const atomic_bool *stop
         return true;
     pthread_mutex_lock(&hierarchy_lock);
     bool ok = atomic_load_explicit(&m->bvh_ready, memory_order_relaxed) ||
-              hierarchy_make(m, stop);
+              hierarchy_make(m, NULL);
     if (ok)
         atomic_store_explicit(&m->bvh_ready, true, memory_order_release);
     pthread_mutex_unlock(&hierarchy_lock);
