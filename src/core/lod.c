@@ -44,7 +44,7 @@
 #include "core/texture.h"
 
 #define MAX_LEVELS 12           /* the full mesh and up to 11 coarser ones */
-#define LOD_VERSION 7           /* of how levels are made and measured: levels kept between
+#define LOD_VERSION 8           /* of how levels are made and measured: levels kept between
                                  * runs (core/lod_cache.c) are keyed by it, so change it with
                                  * anything that changes a level or its error */
 #define MIN_TRIS 16             /* a level this small gets no halved successor */
@@ -100,6 +100,7 @@ typedef struct side {
     uint32_t seen_mask, nseen;
     bool nomem;
     uint32_t *marks, mark;      /* per triangle of to: the last cover_bound that met it */
+    uint32_t *queue;            /* LAY_LOOK triangles of to, for lay_bound */
     const atomic_bool *stop;    /* where not NULL and set: give up (a build no longer wanted) */
     bool stopped;
 } side;
@@ -359,6 +360,212 @@ static double cover_bound(side *sd, const point *v[3], double goal)
     return (worst + sqrt(2 * greater(gap, 0) / sharpest)) * (1 + 1e-12);
 }
 
+#define LAY_LOOK 4096          /* triangles of the other surface lay_bound looks at, at most */
+
+/* Whether the segment ab (seen) and triangle t (counter-clockwise) share no point but of
+ * t's border: an edge line of t leaves ab wholly outside, or ab's line leaves t wholly on
+ * one side. */
+static bool seg_apart2(const double a[2], const double b[2], const double t[3][2])
+{
+    for (int e = 0; e < 3; e++) {
+        const double *p = t[e], *q = t[e == 2 ? 0 : e + 1];
+        if (orient2(p, q, a) <= 0 && orient2(p, q, b) <= 0)
+            return true;
+    }
+    double s0 = orient2(a, b, t[0]), s1 = orient2(a, b, t[1]), s2 = orient2(a, b, t[2]);
+    return (s0 >= 0 && s1 >= 0 && s2 >= 0) || (s0 <= 0 && s1 <= 0 && s2 <= 0);
+}
+
+/* A bound from laying the piece over the other surface, seen along the piece's normal, for
+ * a piece of any size (cover_bound's argument needs no two triangles to overlap, which it
+ * checks pair by pair; this one needs no such check). S: the triangles of sd->to met by a
+ * walk across edges from the corners' own whose projections meet the piece's inside. Where
+ * every edge of a triangle of S is shared (run the opposite way) with another of S, or lies
+ * outside the piece as seen, or has no length, S's border (as a chain of edges) stays
+ * outside the piece, so the number of times S covers a point of the piece, counting a
+ * triangle seen turned over (clockwise) as -1, is the same at every point of the piece:
+ * their signed clipped areas add up to that number times the piece's. Where it is at least
+ * 1, every point of the piece lies under a triangle of S seen counter-clockwise, straight
+ * along the normal, no farther than the largest offset of such a triangle over its clipped
+ * part (the offset is linear over each). The offset is checked against `goal` as the
+ * triangles come: INFINITY at once where one exceeds it, or where S is not closed off
+ * within LAY_LOOK triangles. */
+static double lay_bound(side *sd, const point *v[3], double goal)
+{
+    const target *to = sd->to;
+    double e1[3], e2[3], n[3], u[3], w[3];
+    limen__sub3(v[1]->p, v[0]->p, e1);
+    limen__sub3(v[2]->p, v[0]->p, e2);
+    n[0] = e1[1] * e2[2] - e1[2] * e2[1];
+    n[1] = e1[2] * e2[0] - e1[0] * e2[2];
+    n[2] = e1[0] * e2[1] - e1[1] * e2[0];
+    double nn = sqrt(limen__dot3(n, n)), ne = sqrt(limen__dot3(e1, e1));
+    if (!(nn > 0) || !(ne > 0) || !sd->queue)
+        return INFINITY;
+    for (int a = 0; a < 3; a++) {
+        n[a] /= nn;
+        u[a] = e1[a] / ne;
+    }
+    w[0] = n[1] * u[2] - n[2] * u[1];
+    w[1] = n[2] * u[0] - n[0] * u[2];
+    w[2] = n[0] * u[1] - n[1] * u[0];
+    double pp[3][2];
+    for (int k = 0; k < 3; k++) {
+        double d[3];
+        limen__sub3(v[k]->p, v[0]->p, d);
+        pp[k][0] = limen__dot3(d, u);
+        pp[k][1] = limen__dot3(d, w);
+    }
+    double plo[2] = { lesser(pp[0][0], lesser(pp[1][0], pp[2][0])),
+                      lesser(pp[0][1], lesser(pp[1][1], pp[2][1])) },
+           phi[2] = { greater(pp[0][0], greater(pp[1][0], pp[2][0])),
+                      greater(pp[0][1], greater(pp[1][1], pp[2][1])) };
+    double twice_piece = orient2(pp[0], pp[1], pp[2]);
+    if (!(twice_piece > 0))
+        return INFINITY;
+    uint32_t *queue = sd->queue, mark = ++sd->mark;
+    if (mark == 0) {
+        memset(sd->marks, 0, sizeof *sd->marks * to->m->ntris);
+        mark = sd->mark = 1;
+    }
+    int nq = 0, seeds = 0;
+    for (int k = 0; k < 3; k++) {
+        uint32_t t = v[k]->tri;
+        if (t != UINT32_MAX && sd->marks[t] != mark) {
+            sd->marks[t] = mark;
+            queue[nq++] = t;
+        }
+    }
+    seeds = nq;
+    double covered = 0, worst = 0;  /* twice the signed clipped areas */
+    for (int next = 0; next < nq; next++) {
+        uint32_t at = queue[next];
+        double c[9], tt[3][2];
+        limen__lod_corners(to, at, c);
+        for (int k = 0; k < 3; k++) {
+            double d[3];
+            limen__sub3(c + 3 * k, v[0]->p, d);
+            tt[k][0] = limen__dot3(d, u);
+            tt[k][1] = limen__dot3(d, w);
+        }
+        /* where it meets the piece's inside: not where their boxes (as seen) only touch,
+         * nor where an edge line of either leaves the other wholly on its outer side */
+        bool meets = !(greater(tt[0][0], greater(tt[1][0], tt[2][0])) <= plo[0] ||
+                       lesser(tt[0][0], lesser(tt[1][0], tt[2][0])) >= phi[0] ||
+                       greater(tt[0][1], greater(tt[1][1], tt[2][1])) <= plo[1] ||
+                       lesser(tt[0][1], lesser(tt[1][1], tt[2][1])) >= phi[1]);
+        int inside = 0;
+        double twice = 0;
+        if (meets) {
+            bool in[3] = { true, true, true };
+            for (int e = 0; e < 3 && meets; e++) {
+                const double *a = pp[e], *b = pp[e == 2 ? 0 : e + 1];
+                bool out = true;
+                for (int k = 0; k < 3; k++) {
+                    double f = orient2(a, b, tt[k]);
+                    in[k] = in[k] && f >= 0;
+                    out = out && f <= 0;
+                }
+                meets = !out;
+            }
+            inside = in[0] + in[1] + in[2];
+            twice = orient2(tt[0], tt[1], tt[2]);
+        }
+        if (meets && inside < 3) {
+            if (twice == 0) {
+                meets = !(seg_apart2(tt[0], tt[1], pp) && seg_apart2(tt[1], tt[2], pp) &&
+                          seg_apart2(tt[2], tt[0], pp));
+            } else {
+                /* its edges, run counter-clockwise as seen */
+                for (int e = 0; e < 3 && meets; e++) {
+                    const double *a = tt[e], *b = tt[e == 2 ? 0 : e + 1];
+                    if (twice < 0) {
+                        const double *x = a;
+                        a = b;
+                        b = x;
+                    }
+                    meets = !(orient2(a, b, pp[0]) <= 0 && orient2(a, b, pp[1]) <= 0 &&
+                              orient2(a, b, pp[2]) <= 0);
+                }
+            }
+        }
+        if (!meets) {
+            /* beside the piece: a seed's neighbours are looked at still (the corners'
+             * triangles may lie just beside it) */
+            if (next >= seeds)
+                continue;
+        } else if (twice != 0) {
+            double h[3];
+            for (int k = 0; k < 3; k++) {
+                double d[3];
+                limen__sub3(c + 3 * k, v[0]->p, d);
+                h[k] = limen__dot3(d, n);
+            }
+            if (inside == 3) {
+                covered += twice;
+                if (twice > 0)
+                    worst = greater(worst, greater(fabs(h[0]), greater(fabs(h[1]), fabs(h[2]))));
+            } else {
+                if (twice < 0) {        /* counter-clockwise as seen, for the clipping */
+                    for (int a = 0; a < 2; a++) {
+                        double sw = tt[1][a];
+                        tt[1][a] = tt[2][a];
+                        tt[2][a] = sw;
+                    }
+                    double sh = h[1];
+                    h[1] = h[2];
+                    h[2] = sh;
+                }
+                double part[9][2];
+                int np = clip_tri((const double (*)[2])pp, (const double (*)[2])tt, part);
+                double area2 = np >= 3 ? 2 * poly_area((const double (*)[2])part, np) : 0;
+                covered += twice > 0 ? area2 : -area2;
+                if (twice > 0 && area2 > 0)
+                    for (int k = 0; k < np; k++) {
+                        double l1 = orient2(tt[2], tt[0], part[k]) / twice,
+                               l2 = orient2(tt[0], tt[1], part[k]) / twice;
+                        worst = greater(worst, fabs(h[0] + (h[1] - h[0]) * l1 +
+                                                    (h[2] - h[0]) * l2));
+                    }
+            }
+        }
+        if (!(worst <= goal))
+            return INFINITY;
+        for (int e = 0; e < 3; e++) {
+            uint32_t o = to->across[at][e];
+            if (o == UINT32_MAX) {
+                if (!meets)
+                    continue;
+                /* an edge of S's border: where it has a length, it must lie outside */
+                const double *a = c + 3 * e, *b = c + 3 * (e == 2 ? 0 : e + 1);
+                if (a[0] == b[0] && a[1] == b[1] && a[2] == b[2])
+                    continue;
+                double sa[2], sb[2], da[3], db[3];
+                limen__sub3(a, v[0]->p, da);
+                limen__sub3(b, v[0]->p, db);
+                sa[0] = limen__dot3(da, u);
+                sa[1] = limen__dot3(da, w);
+                sb[0] = limen__dot3(db, u);
+                sb[1] = limen__dot3(db, w);
+                if (!seg_apart2(sa, sb, pp))
+                    return INFINITY;
+                continue;
+            }
+            if (sd->marks[o] == mark)
+                continue;
+            if (nq == LAY_LOOK)
+                return INFINITY;
+            sd->marks[o] = mark;
+            queue[nq++] = o;
+        }
+    }
+    /* covered / twice_piece: how many times S covers each point, an integer (rounding
+     * moves it a little) */
+    if (!(covered >= 0.5 * twice_piece))
+        return INFINITY;
+    return worst * (1 + 1e-12) + 1e-12 * ne;
+}
+
 static uint32_t point_hash(const double p[3])
 {
     uint64_t h = 0x9e3779b97f4a7c15ull;
@@ -515,6 +722,8 @@ static double piece_bound(side *sd, const point *v[3], double goal)
      * its triangles */
     if (bound > goal)
         bound = fmin(bound, convex_bound(sd, v));
+    if (bound > goal)
+        bound = fmin(bound, lay_bound(sd, v, goal));
     if (bound > goal && piece_area(v) <= COVER_AREA * sd->to->mean_area)
         bound = fmin(bound, cover_bound(sd, v, goal));
     return bound;
@@ -629,6 +838,8 @@ static void *measure(void *arg)
     w->there.upper = w->back.upper = &w->upper;
     w->there.marks = calloc(w->there.to->m->ntris, sizeof *w->there.marks);
     w->back.marks = calloc(w->back.to->m->ntris, sizeof *w->back.marks);
+    w->there.queue = malloc(sizeof *w->there.queue * LAY_LOOK);
+    w->back.queue = malloc(sizeof *w->back.queue * LAY_LOOK);
     w->e = NAN;
     if (w->there.marks && w->back.marks) {
         double a = side_bound(&w->there, w->share),
@@ -640,6 +851,8 @@ static void *measure(void *arg)
     free(w->back.seen);
     free(w->there.marks);
     free(w->back.marks);
+    free(w->there.queue);
+    free(w->back.queue);
     return NULL;
 }
 
