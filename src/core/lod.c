@@ -720,9 +720,11 @@ static double piece_bound(side *sd, const point *v[3], double goal)
     double bound = sqrt(far) + sqrt(longest / 3);
     /* laying the piece over the other surface, where it is small enough to lie on a few of
      * its triangles */
+    if (bound > goal && !sd->weld)
+        bound = fmin(bound, lay_bound(sd, v, goal));
     if (bound > goal)
         bound = fmin(bound, convex_bound(sd, v));
-    if (bound > goal)
+    if (bound > goal && sd->weld)
         bound = fmin(bound, lay_bound(sd, v, goal));
     if (bound > goal && piece_area(v) <= COVER_AREA * sd->to->mean_area)
         bound = fmin(bound, cover_bound(sd, v, goal));
