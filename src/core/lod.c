@@ -437,7 +437,16 @@ static double lay_bound(side *sd, const point *v[3], double goal)
         }
     }
     seeds = nq;
-    double covered = 0, worst = 0;  /* twice the signed clipped areas */
+    /* two probes inside the piece: how many triangles of S cover each, counting those
+     * turned over as -1 (where an edge runs through one, it cannot tell) */
+    double probe[2][2];
+    for (int a = 0; a < 2; a++) {
+        probe[0][a] = (pp[0][a] + pp[1][a] + pp[2][a]) / 3;
+        probe[1][a] = (pp[0][a] * 2 + pp[1][a] * 3 + pp[2][a] * 4) / 9;
+    }
+    int count[2] = { 0, 0 };
+    bool unsure[2] = { false, false };
+    double worst = 0;
     for (int next = 0; next < nq; next++) {
         uint32_t at = queue[next];
         double c[9], tt[3][2];
@@ -495,38 +504,45 @@ static double lay_bound(side *sd, const point *v[3], double goal)
             if (next >= seeds)
                 continue;
         } else if (twice != 0) {
-            double h[3];
-            for (int k = 0; k < 3; k++) {
-                double d[3];
-                limen__sub3(c + 3 * k, v[0]->p, d);
-                h[k] = limen__dot3(d, n);
-            }
-            if (inside == 3) {
-                covered += twice;
-                if (twice > 0)
-                    worst = greater(worst, greater(fabs(h[0]), greater(fabs(h[1]), fabs(h[2]))));
-            } else {
-                if (twice < 0) {        /* counter-clockwise as seen, for the clipping */
-                    for (int a = 0; a < 2; a++) {
-                        double sw = tt[1][a];
-                        tt[1][a] = tt[2][a];
-                        tt[2][a] = sw;
-                    }
-                    double sh = h[1];
-                    h[1] = h[2];
-                    h[2] = sh;
+            if (twice < 0) {            /* counter-clockwise as seen (c as it was) */
+                for (int a = 0; a < 2; a++) {
+                    double sw = tt[1][a];
+                    tt[1][a] = tt[2][a];
+                    tt[2][a] = sw;
                 }
-                double part[9][2];
-                int np = clip_tri((const double (*)[2])pp, (const double (*)[2])tt, part);
-                double area2 = np >= 3 ? 2 * poly_area((const double (*)[2])part, np) : 0;
-                covered += twice > 0 ? area2 : -area2;
-                if (twice > 0 && area2 > 0)
-                    for (int k = 0; k < np; k++) {
+            }
+            /* the count at the two probes: strictly inside adds its sign; on its border
+             * leaves that probe's count unknown */
+            for (int x = 0; x < 2; x++) {
+                double f0 = orient2(tt[0], tt[1], probe[x]), f1 = orient2(tt[1], tt[2], probe[x]),
+                       f2 = orient2(tt[2], tt[0], probe[x]);
+                if (f0 > 0 && f1 > 0 && f2 > 0)
+                    count[x] += twice > 0 ? 1 : -1;
+                else if (f0 >= 0 && f1 >= 0 && f2 >= 0)
+                    unsure[x] = true;
+            }
+            if (twice > 0) {
+                double h[3];
+                for (int k = 0; k < 3; k++) {
+                    double d[3];
+                    limen__sub3(c + 3 * k, v[0]->p, d);
+                    h[k] = limen__dot3(d, n);
+                }
+                /* over the whole triangle, where that raises nothing; else over its part
+                 * inside the piece */
+                double whole = greater(fabs(h[0]), greater(fabs(h[1]), fabs(h[2])));
+                if (inside == 3 || whole <= greater(worst, *sd->upper)) {
+                    worst = greater(worst, whole);
+                } else {
+                    double part[9][2];
+                    int np = clip_tri((const double (*)[2])pp, (const double (*)[2])tt, part);
+                    for (int k = 0; k < np && np >= 3; k++) {
                         double l1 = orient2(tt[2], tt[0], part[k]) / twice,
                                l2 = orient2(tt[0], tt[1], part[k]) / twice;
                         worst = greater(worst, fabs(h[0] + (h[1] - h[0]) * l1 +
                                                     (h[2] - h[0]) * l2));
                     }
+                }
             }
         }
         if (!(worst <= goal))
@@ -559,9 +575,9 @@ static double lay_bound(side *sd, const point *v[3], double goal)
             queue[nq++] = o;
         }
     }
-    /* covered / twice_piece: how many times S covers each point, an integer (rounding
-     * moves it a little) */
-    if (!(covered >= 0.5 * twice_piece))
+    /* how many times S covers each point of the piece, at a probe no edge runs through */
+    int times = !unsure[0] ? count[0] : !unsure[1] ? count[1] : 0;
+    if (times < 1)
         return INFINITY;
     return worst * (1 + 1e-12) + 1e-12 * ne;
 }
