@@ -943,6 +943,16 @@ static double level_error(const target *full, const uint32_t *weld, const uint32
     return e;
 }
 
+double limen__lod_measure(const limen__mesh *m, const uint32_t *idx, uint32_t ntris)
+{
+    target full = { 0 };
+    if (!limen__lod_target_make(&full, m, m->idx))
+        return NAN;
+    double e = level_error(&full, m->idx, idx, ntris, 0, NULL);
+    limen__lod_target_free(&full);
+    return e;
+}
+
 /* ------------------------------------------------------------------ building */
 
 /* Gives the heap's free pages back to the system: a level's making frees hundreds of

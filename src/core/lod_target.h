@@ -63,4 +63,9 @@ static inline double limen__lod_d2(const limen__lod_target *t, uint32_t i, const
     return limen__tri_d2(p, c, c + 3, c + 6);
 }
 
+/* core/lod.c's bound on the two-sided distance between the surface idx (ntris triangles over
+ * m's vertices) and m's (its hierarchy made, its bounds lo and hi set), as a level's error is
+ * measured: for tests. NAN when out of memory. */
+double limen__lod_measure(const limen__mesh *m, const uint32_t *idx, uint32_t ntris);
+
 #endif
