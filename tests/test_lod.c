@@ -1439,7 +1439,7 @@ static void test_lay_bound(void)
         }
         CHECK(limen__mesh_bvh(&m));
         double e = m.bvh ? limen__lod_measure(&m, lidx, (uint32_t)lt) : NAN;
-        double found = fmax(lattice_dist(pos, lidx, lt, idx, nt, 24),
+        double found = fmax(lattice_dist(pos, lidx, lt, idx, nt, 16),
                             lattice_dist(pos, idx, nt, lidx, lt, 4));
         CHECK_MSG(found <= e * (1 + 1e-5), "seed %d%s: bound %g, found %g", seed,
                   hole ? " (hole)" : fold ? " (fold)" : tile ? " (tile)" : "", e, found);
