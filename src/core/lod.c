@@ -101,6 +101,9 @@ typedef struct side {
     bool nomem;
     uint32_t *marks, mark;      /* per triangle of to: the last cover_bound that met it */
     uint32_t *queue;            /* LAY_LOOK triangles of to, for lay_bound */
+    bool lay_far;               /* lay_bound's last answer: a triangle under the piece lies
+                                 * farther than the goal (not a border or a count it could
+                                 * not prove) */
     const atomic_bool *stop;    /* where not NULL and set: give up (a build no longer wanted) */
     bool stopped;
 } side;
@@ -428,6 +431,7 @@ static double lay_bound(side *sd, const point *v[3], double goal)
         memset(sd->marks, 0, sizeof *sd->marks * to->m->ntris);
         mark = sd->mark = 1;
     }
+    sd->lay_far = false;
     int nq = 0, seeds = 0;
     for (int k = 0; k < 3; k++) {
         uint32_t t = v[k]->tri;
@@ -545,8 +549,10 @@ static double lay_bound(side *sd, const point *v[3], double goal)
                 }
             }
         }
-        if (!(worst <= goal))
+        if (!(worst <= goal)) {
+            sd->lay_far = true;
             return INFINITY;
+        }
         for (int e = 0; e < 3; e++) {
             uint32_t o = to->across[at][e];
             if (o == UINT32_MAX) {
@@ -736,13 +742,16 @@ static double piece_bound(side *sd, const point *v[3], double goal)
     double bound = sqrt(far) + sqrt(longest / 3);
     /* laying the piece over the other surface, where it is small enough to lie on a few of
      * its triangles */
+    sd->lay_far = false;
     if (bound > goal && !sd->weld)
         bound = fmin(bound, lay_bound(sd, v, goal));
     if (bound > goal)
         bound = fmin(bound, convex_bound(sd, v));
     if (bound > goal && sd->weld)
         bound = fmin(bound, lay_bound(sd, v, goal));
-    if (bound > goal && piece_area(v) <= COVER_AREA * sd->to->mean_area)
+    /* where lay_bound found the surface under the piece too far, cover_bound (which leaves
+     * out what lies too far, and looks for a nearer sheet) seldom does better */
+    if (bound > goal && !sd->lay_far && piece_area(v) <= COVER_AREA * sd->to->mean_area)
         bound = fmin(bound, cover_bound(sd, v, goal));
     return bound;
 }
