@@ -903,7 +903,7 @@ static double level_error(const target *full, const uint32_t *weld, const uint32
                        .idx = (uint32_t *)idx };
     target level = { 0 };
     double e = NAN;
-    if (limen__mesh_bvh(&lv) && limen__lod_target_make(&level, &lv, NULL)) {
+    if (limen__lod_tree(&lv) && limen__lod_target_make(&level, &lv, NULL)) {
         double diag = 0;
         for (int a = 0; a < 3; a++)
             diag += (m->hi[a] - m->lo[a]) * (m->hi[a] - m->lo[a]);
