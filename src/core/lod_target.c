@@ -386,11 +386,12 @@ double limen__lod_target_nearest(const limen__lod_target *to, const double p[3],
 double limen__lod_target_walk(const limen__lod_target *to, const double p[3], uint32_t *t)
 {
     double best = limen__lod_d2(to, *t, p);
+    uint32_t from = UINT32_MAX;     /* the triangle stepped from: farther, not looked at again */
     for (int step = 0; step < WALK_MAX && best > 0; step++) {
         uint32_t next = UINT32_MAX;
         for (int e = 0; e < 3; e++) {
             uint32_t o = to->across[*t][e];
-            double d2 = o == UINT32_MAX ? INFINITY : limen__lod_d2(to, o, p);
+            double d2 = o == UINT32_MAX || o == from ? INFINITY : limen__lod_d2(to, o, p);
             if (d2 < best) {
                 best = d2;
                 next = o;
@@ -398,6 +399,7 @@ double limen__lod_target_walk(const limen__lod_target *to, const double p[3], ui
         }
         if (next == UINT32_MAX)
             break;
+        from = *t;
         *t = next;
     }
     return best;
