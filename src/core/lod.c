@@ -469,16 +469,22 @@ static double lay_bound(side *sd, const point *v[3], double goal)
                        lesser(tt[0][1], lesser(tt[1][1], tt[2][1])) >= phi[1]);
         int inside = 0;
         double twice = 0;
+        /* per edge of the triangle (corners k, k + 1): whether an edge line of the piece
+         * leaves it wholly outside (where it meets the piece) */
+        bool edge_out[3] = { false, false, false };
         if (meets) {
             bool in[3] = { true, true, true };
             for (int e = 0; e < 3 && meets; e++) {
                 const double *a = pp[e], *b = pp[e == 2 ? 0 : e + 1];
-                bool out = true;
+                bool out = true, beyond[3];
                 for (int k = 0; k < 3; k++) {
                     double f = orient2(a, b, tt[k]);
                     in[k] = in[k] && f >= 0;
-                    out = out && f <= 0;
+                    beyond[k] = f <= 0;
+                    out = out && beyond[k];
                 }
+                for (int k = 0; k < 3; k++)
+                    edge_out[k] = edge_out[k] || (beyond[k] && beyond[k == 2 ? 0 : k + 1]);
                 meets = !out;
             }
             inside = in[0] + in[1] + in[2];
@@ -555,6 +561,10 @@ static double lay_bound(side *sd, const point *v[3], double goal)
         }
         for (int e = 0; e < 3; e++) {
             uint32_t o = to->across[at][e];
+            /* an edge outside the piece leaves S's border outside it, whatever lies across
+             * it (a seed beside the piece leads on to its neighbours still) */
+            if (meets && edge_out[e])
+                continue;
             if (o == UINT32_MAX) {
                 if (!meets)
                     continue;
