@@ -5,20 +5,22 @@
  * The error of a level is an upper bound on the two-sided Hausdorff distance between its
  * surface and the full mesh's. For one side (surface A against surface B): every corner of
  * A finds a near triangle of B (one it shares, or by walking across B's edges from the last
- * corner's), and is searched for (through a hierarchy over B, the ray tracer's for the full
- * mesh) where that leaves it near the largest distance found so far, which is a lower bound.
- * Then each triangle of A, a piece, is bounded over its whole area by the least of: its
- * farthest corner's distance plus how far a point can be from a corner (the distance is
- * 1-Lipschitz); the planes through the corners' distances to each corner's nearest triangle
- * (the distance to one triangle is convex); the largest offset to the triangles of B it lies
- * over, seen along its normal (found by walking across B's edges from its corners'
- * triangles). A piece whose bound exceeds the lower bound by more than REL_TOL is cut in
- * four, down to MAX_DEPTH; the answer is the largest bound of a finished piece. A point a
- * cut makes is searched for only where its edge's corners' triangles leave it far from the
- * other surface: near enough, the distance to one of them is an upper bound that every
- * bound above may take in place of the nearest; a piece these leave above the goal has them
- * searched before it is cut (or, at MAX_DEPTH, let go). The surface measured against, and
- * its distances, are core/lod_target.c's. */
+ * corner's), and is searched for (through a hierarchy over B: the ray tracer's for the full
+ * mesh, limen__lod_tree's for a level) where that leaves it near the largest distance found
+ * so far, which is a lower bound. Then each triangle of A, a piece, is bounded over its
+ * whole area by the least of: its farthest corner's distance plus how far a point can be
+ * from a corner (the distance is 1-Lipschitz); the planes through the corners' distances to
+ * each corner's nearest triangle (the distance to one triangle is convex); the largest
+ * offset to the triangles of B it lies over, seen along its normal, found by walking across
+ * B's edges from its corners' triangles: lay_bound, for a piece of any size (that they
+ * cover it is proven by where their border runs and how many cover one point), then
+ * cover_bound for a small one (pair by pair). A piece whose bound exceeds the lower bound
+ * by more than REL_TOL is cut in four, down to MAX_DEPTH; the answer is the largest bound
+ * of a finished piece. A point a cut makes is searched for only where its edge's corners'
+ * triangles leave it far from the other surface: near enough, the distance to one of them
+ * is an upper bound that every bound above may take in place of the nearest; a piece these
+ * leave above the goal has them searched before it is cut (or, at MAX_DEPTH, let go). The
+ * surface measured against, and its distances, are core/lod_target.c's. */
 #include <float.h>
 #include <math.h>
 #include <pthread.h>
@@ -750,8 +752,8 @@ static double piece_bound(side *sd, const point *v[3], double goal)
         far = greater(far, v[k]->d2);
     }
     double bound = sqrt(far) + sqrt(longest / 3);
-    /* laying the piece over the other surface, where it is small enough to lie on a few of
-     * its triangles */
+    /* laying the piece over the other surface: a level's piece first (the convex bound
+     * seldom holds for it over the finer full mesh), a full mesh's after the convex bound */
     sd->lay_far = false;
     if (bound > goal && !sd->weld)
         bound = fmin(bound, lay_bound(sd, v, goal));
@@ -829,7 +831,10 @@ static bool side_corners(side *sd)
         } else {
             double enough = NEAR_ENOUGH * (*sd->floor * (1 + REL_TOL) + sd->abs_tol);
             q->tri = hint;
-            q->d2 = limen__lod_target_walk(sd->to, q->p, &q->tri);
+            /* the last one's triangle, where it is near enough; else a walk from it */
+            q->d2 = limen__lod_d2(sd->to, hint, q->p);
+            if (q->d2 > enough * enough)
+                q->d2 = limen__lod_target_walk(sd->to, q->p, &q->tri);
             q->rough = q->d2 <= enough * enough;
             if (!q->rough)
                 locate(sd, q, q->tri);
