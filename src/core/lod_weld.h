@@ -55,4 +55,15 @@ void limen__lod_charts(const limen__mesh *m, const uint32_t *attr, uint32_t *cha
  * two charts (chart: limen__lod_charts'). */
 size_t limen__lod_across_charts(const uint32_t *chart, const uint32_t *idx, size_t n);
 
+/* A level within the texture's charts: from src (n indices into the mesh's vertices, NULL:
+ * the whole mesh), edge collapses towards want indices over m welded by position (shadow: per
+ * corner of m, its weld), each triangle keeping its corners' sides of every seam of the weld
+ * attr (texture coordinates, colours, parts), so none takes corners from two charts, while
+ * seams and borders simplify as polylines both sides share. Into out (room for n indices) in
+ * the mesh's vertices, each a vertex of attr; returns the indices made; *ok false when out of
+ * memory. */
+size_t limen__lod_simplify_charts(const limen__mesh *m, const uint32_t *shadow,
+                                  const uint32_t *attr, const uint32_t *src, size_t n,
+                                  size_t want, uint32_t *out, bool *ok);
+
 #endif
