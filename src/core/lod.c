@@ -44,7 +44,7 @@
 #include "core/texture.h"
 
 #define MAX_LEVELS 12           /* the full mesh and up to 11 coarser ones */
-#define LOD_VERSION 8           /* of how levels are made and measured: levels kept between
+#define LOD_VERSION 9           /* of how levels are made and measured: levels kept between
                                  * runs (core/lod_cache.c) are keyed by it, so change it with
                                  * anything that changes a level or its error */
 #define MIN_TRIS 16             /* a level this small gets no halved successor */
@@ -1045,8 +1045,9 @@ static bool lods_make(const limen__mesh *m, const atomic_bool *stop, made *out)
      * along themselves); once stuck (or untextured), seams let go; once stuck even so, by
      * clustering */
     enum { SEAMS, CHARTS, NO_SEAMS, CLUSTERED } mode = SEAMS;
-    /* the first level within the charts: the levels it makes are simplified from their
-     * own (the simplifier's may hold folds, which it keeps in place), else the full mesh */
+    /* the first level within the charts: the later ones are simplified from those (the
+     * level SOURCE_STEP before, or the first), not from meshoptimizer's, which may hold
+     * fins (two triangles back to back) that stay where they are */
     uint32_t charts_from = MAX_LEVELS;
     while (ok && nlods < MAX_LEVELS && cur_n >= 6) {
         /* half the triangles of the last level while there is much to halve; then once only
@@ -1062,9 +1063,11 @@ static bool lods_make(const limen__mesh *m, const atomic_bool *stop, made *out)
         bool halve = cur_n / 3 >= MIN_TRIS;
         float err = 0;
         bool from_full = nlods <= SOURCE_STEP || mode > CHARTS ||
-                         (mode == CHARTS && nlods < charts_from + SOURCE_STEP);
-        const uint32_t *src = from_full ? NULL : store + at[nlods - SOURCE_STEP];
-        size_t src_n = from_full ? n0 : (size_t)lods[nlods - SOURCE_STEP].triangle_count * 3;
+                         (mode == CHARTS && nlods <= charts_from);
+        uint32_t from = mode == CHARTS && nlods - SOURCE_STEP < charts_from ? charts_from
+                                                                              : nlods - SOURCE_STEP;
+        const uint32_t *src = from_full ? NULL : store + at[from];
+        size_t src_n = from_full ? n0 : (size_t)lods[from].triangle_count * 3;
         size_t n = 0;
         if (mode == CHARTS)
             n = limen__lod_simplify_charts(m, shadow, attr, src, src_n, halve ? cur_n / 6 * 3 : 0,

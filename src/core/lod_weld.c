@@ -444,14 +444,50 @@ static bool cs_edge_open(cs *c, uint32_t v, uint32_t w, bool *many)
            c->tri[on[0] * 3 + cs_corner(c, on[0], w)] != c->tri[on[1] * 3 + cs_corner(c, on[1], w)];
 }
 
-/* Whether v may move onto its neighbour u (see above), its choice of vertices in *map and
- * its cost in *cost. */
-static bool cs_check(cs *c, uint32_t v, uint32_t u, cs_map *map, double *cost)
+/* What v's collapses have in common: its neighbours (in the cs's nb, until the next
+ * cs_vert_make) and the edges at it on a seam or border. */
+typedef struct cs_vert {
+    uint32_t v;
+    int nn;                     /* neighbours */
+    int nopen;                  /* edges on a seam or a border */
+    uint32_t open[2];           /* their other ends */
+    bool locked;                /* it stays: too many triangles, an edge of three, a seam's
+                                 * end or a corner where three charts meet */
+} cs_vert;
+
+static void cs_vert_make(cs *c, uint32_t v, cs_vert *x)
 {
     uint32_t nf;
-    const uint32_t *f = cs_fan(c, v, &nf);
-    if (nf > CS_FAN)
+    cs_fan(c, v, &nf);
+    x->v = v;
+    x->nopen = 0;
+    x->locked = nf > CS_FAN;
+    x->nn = x->locked ? 0 : cs_neighbours(c, v, c->nb);
+    if (x->nn < 0) {
+        x->locked = true;
+        x->nn = 0;
+    }
+    for (int j = 0; j < x->nn && !x->locked; j++) {
+        bool many;
+        if (cs_edge_open(c, v, c->nb[j], &many)) {
+            if (many || x->nopen == 2)
+                x->locked = true;
+            else
+                x->open[x->nopen++] = c->nb[j];
+        }
+    }
+    x->locked |= x->nopen == 1;
+}
+
+/* Whether v (x) may move onto its neighbour u (see above), its choice of vertices in *map
+ * and its cost in *cost. */
+static bool cs_check(cs *c, const cs_vert *x, uint32_t u, cs_map *map, double *cost)
+{
+    uint32_t v = x->v, nf;
+    /* on a seam or border, only along it */
+    if (x->locked || (x->nopen == 2 && x->open[0] != u && x->open[1] != u))
         return false;
+    const uint32_t *f = cs_fan(c, v, &nf);
     map->n = 0;
     int on_edge = 0;
     for (uint32_t i = 0; i < nf; i++) {
@@ -485,22 +521,7 @@ static bool cs_check(cs *c, uint32_t v, uint32_t u, cs_map *map, double *cost)
         if (j == map->n)
             return false;
     }
-    /* on a seam or border, only along it */
-    int nn = cs_neighbours(c, v, c->nb), open = 0;
-    if (nn < 0)
-        return false;
-    bool along = false;
-    for (int j = 0; j < nn; j++) {
-        bool many;
-        if (cs_edge_open(c, v, c->nb[j], &many)) {
-            if (many)
-                return false;
-            open++;
-            along |= c->nb[j] == u;
-        }
-    }
-    if (open != 0 && (open != 2 || !along))
-        return false;
+    int nn = x->nn;
     /* the neighbours v and u share are the edge's triangles' third corners alone (else
      * the surface would fold onto itself) */
     int nu = cs_neighbours(c, u, c->nb2), common = 0;
@@ -610,17 +631,20 @@ static bool cs_offer(cs *c, uint32_t v)
 {
     if (c->gone[v])
         return true;
-    int nn = cs_neighbours(c, v, c->nb2);
-    if (nn <= 0)
+    cs_vert x;
+    cs_vert_make(c, v, &x);
+    if (x.locked)
         return true;
-    /* cs_check gathers into nb and nb2: the candidates kept apart */
-    uint32_t cand[CS_FAN * 2];
-    memcpy(cand, c->nb2, sizeof(uint32_t) * (size_t)nn);
+    const uint32_t *cand = x.nopen == 2 ? x.open : c->nb;
+    int n = x.nopen == 2 ? 2 : x.nn;
     cs_entry best = { .cost = INFINITY, .v = v, .u = UINT32_MAX, .ver = c->ver[v] };
-    for (int j = 0; j < nn; j++) {
+    for (int j = 0; j < n; j++) {
         cs_map map;
         double cost;
-        if (cs_check(c, v, cand[j], &map, &cost) && cost < best.cost) {
+        /* the cost first: the checks only where it would be the cheapest */
+        if (quadric_eval(&c->q[(size_t)v * 10], &c->pos[(size_t)cand[j] * 3]) >= best.cost)
+            continue;
+        if (cs_check(c, &x, cand[j], &map, &cost) && cost < best.cost) {
             best.cost = cost;
             best.u = cand[j];
         }
@@ -807,7 +831,9 @@ size_t limen__lod_simplify_charts(const limen__mesh *m, const uint32_t *shadow,
             continue;
         cs_map map;
         double cost;
-        if (!cs_check(&c, e.v, e.u, &map, &cost)) {
+        cs_vert x;
+        cs_vert_make(&c, e.v, &x);
+        if (!cs_check(&c, &x, e.u, &map, &cost)) {
             /* its neighbourhood changed since: offered again */
             c.ver[e.v]++;
             if (!cs_offer(&c, e.v))
