@@ -601,6 +601,19 @@ static bool cs_heap_push(cs *c, cs_entry e)
     return true;
 }
 
+/* Drops the entries no longer current (each collapse offers its neighbours again, so the
+ * heap would grow by several entries a collapse) and orders the rest again. */
+static void cs_heap_prune(cs *c)
+{
+    size_t n = c->nheap;
+    c->nheap = 0;
+    for (size_t i = 0; i < n; i++) {
+        cs_entry e = c->heap[i];
+        if (!c->gone[e.v] && !c->gone[e.u] && e.ver == c->ver[e.v])
+            cs_heap_push(c, e);         /* in place: never more than were there */
+    }
+}
+
 static cs_entry cs_heap_pop(cs *c)
 {
     cs_entry top = c->heap[0], last = c->heap[--c->nheap];
@@ -826,6 +839,8 @@ size_t limen__lod_simplify_charts(const limen__mesh *m, const uint32_t *shadow,
         if (!cs_offer(&c, v))
             goto done;
     while (c.live * 3 > want && c.nheap > 0) {
+        if (c.nheap > (size_t)c.np * 2 + 1024)
+            cs_heap_prune(&c);
         cs_entry e = cs_heap_pop(&c);
         if (c.gone[e.v] || c.gone[e.u] || e.ver != c.ver[e.v])
             continue;
