@@ -1435,6 +1435,76 @@ done:
     free(rim);
 }
 
+/* Vertices in the order of their positions and texture coordinates (sort_pos, sort_uv). */
+static const float *sort_uv;
+
+static int pos_uv_cmp(const void *a, const void *b)
+{
+    uint32_t x = *(const uint32_t *)a, y = *(const uint32_t *)b;
+    int c = memcmp(&sort_pos[x * 3], &sort_pos[y * 3], sizeof(float) * 3);
+    if (!c)
+        c = memcmp(&sort_uv[x * 2], &sort_uv[y * 2], sizeof(float) * 2);
+    return c ? c : (x > y) - (x < y);
+}
+
+static uint32_t chart_of(uint32_t *up, uint32_t v)
+{
+    while (up[v] != v)
+        v = up[v] = up[up[v]];
+    return v;
+}
+
+/* A textured model with parts (the spider: five materials, each its own texture) keeps its
+ * levels (five, down to 1/16 of its triangles), and no triangle of any level takes corners
+ * from two of its charts (found here: corners joined by the full mesh's triangles and where
+ * two vertices share position and texture coordinates), which would show the texture
+ * between them smeared. */
+static void test_textured_levels_in_charts(void)
+{
+    fixture f = open_scene((float[3]){ 0, 60, 110 }, (float[3]){ 0, 0, 0 });
+    CHECK_OK(limen_mesh_load(f.s, f.mesh, "scenes/data/spider/spider.obj"));
+    const limen_drawable *d = item(&f);
+    const limen_mesh_geometry *g = d ? d->mesh : NULL;
+    uint32_t *up = g ? malloc(sizeof *up * g->vertex_count) : NULL,
+             *order = g ? malloc(sizeof *order * g->vertex_count) : NULL;
+    if (!g || !g->uvs || !up || !order) {
+        CHECK(!"no textured mesh, or no memory");
+        goto done;
+    }
+    int nv = g->vertex_count;
+    for (int v = 0; v < nv; v++)
+        up[v] = order[v] = (uint32_t)v;
+    for (int t = 0; t < g->triangle_count; t++)
+        for (int k = 1; k < 3; k++)
+            up[chart_of(up, g->indices[t * 3 + k])] = chart_of(up, g->indices[t * 3]);
+    sort_pos = g->positions;
+    sort_uv = g->uvs;
+    qsort(order, nv, sizeof *order, pos_uv_cmp);
+    for (int i = 1; i < nv; i++)
+        if (!memcmp(&g->positions[order[i] * 3], &g->positions[order[i - 1] * 3],
+                    sizeof(float) * 3) &&
+            !memcmp(&g->uvs[order[i] * 2], &g->uvs[order[i - 1] * 2], sizeof(float) * 2))
+            up[chart_of(up, order[i])] = chart_of(up, order[i - 1]);
+    int last = g->lods[g->lod_count - 1].triangle_count;
+    CHECK_MSG(g->lod_count >= 5 && last * 16 <= g->triangle_count, "%d levels, the coarsest %d "
+              "triangles of %d", g->lod_count, last, g->triangle_count);
+    for (int k = 1; k < g->lod_count; k++) {
+        const limen_mesh_lod *lv = &g->lods[k];
+        int across = 0;
+        for (int t = 0; t < lv->triangle_count; t++) {
+            uint32_t c = chart_of(up, lv->indices[t * 3]);
+            across += chart_of(up, lv->indices[t * 3 + 1]) != c ||
+                      chart_of(up, lv->indices[t * 3 + 2]) != c;
+        }
+        CHECK_MSG(across == 0, "level %d: %d of %d triangles across charts", k, across,
+                  lv->triangle_count);
+    }
+done:
+    free(up);
+    free(order);
+    close_scene(&f);
+}
+
 static const check_case cases[] = {
     { "bunny_levels", test_bunny_levels },
     { "error_bounds", test_error_bounds },
@@ -1452,6 +1522,7 @@ static const check_case cases[] = {
     { "part_seams", test_part_seams },
     { "async", test_async },
     { "chart_levels_whole", test_chart_levels_whole },
+    { "textured_levels_in_charts", test_textured_levels_in_charts },
     { 0 },
 };
 
