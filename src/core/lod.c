@@ -1069,10 +1069,13 @@ static bool lods_make(const limen__mesh *m, const atomic_bool *stop, made *out)
         const uint32_t *src = from_full ? NULL : store + at[from];
         size_t src_n = from_full ? n0 : (size_t)lods[from].triangle_count * 3;
         size_t n = 0;
-        if (mode == CHARTS)
-            n = limen__lod_simplify_charts(m, shadow, attr, src, src_n, halve ? cur_n / 6 * 3 : 0,
-                                           scratch, &ok);
-        else if (mode < CLUSTERED)
+        if (mode == CHARTS) {
+            /* halving only: it has no bound of its own to stop at, for the last level's
+             * "what costs nothing" */
+            if (halve)
+                n = limen__lod_simplify_charts(m, shadow, attr, src, src_n, cur_n / 6 * 3,
+                                               scratch, &ok);
+        } else if (mode < CLUSTERED)
             n = limen__lod_simplify(mode == SEAMS ? &pk_attr : &pk_pos, from_full ? NULL : src, src_n, false,
                          halve ? cur_n / 6 * 3 : 0, halve ? FLT_MAX : 1e-5f, &err, scratch);
         if (halve && (n == 0 || n * 4 > cur_n * 3) && mode == SEAMS && m->uv &&
