@@ -532,8 +532,11 @@ static bool cs_check(cs *c, const cs_vert *x, uint32_t u, cs_map *map, double *c
             common += c->nb[j] == c->nb2[k];
     if (common != on_edge)
         return false;
-    /* no triangle turns over, in space or in the texture, nor lands on one at u (where v,
-     * u and two neighbours make a closed tetrahedron, which the test above lets by) */
+    /* no triangle turns over, in space or in the texture, nor lands on one at u facing the
+     * same way. Facing the other way, v, u and two neighbours are a closed tetrahedron
+     * (which the test above lets by), flattened into a fin: two triangles back to back,
+     * each with its own side's vertices, whose edges then stay (as a thin closed part of a
+     * model, a leg, becomes a flat one) */
     const float *pu = &c->pos[(size_t)u * 3];
     const limen__mesh *m = c->m;
     uint32_t nfu;
@@ -545,7 +548,8 @@ static bool cs_check(cs *c, const cs_vert *x, uint32_t u, cs_map *map, double *c
         int kv = cs_corner(c, t, v);
         uint32_t p1 = c->tp[t * 3 + (kv + 1) % 3], p2 = c->tp[t * 3 + (kv + 2) % 3];
         for (uint32_t j = 0; j < nfu; j++)
-            if (cs_corner(c, fu[j], p1) >= 0 && cs_corner(c, fu[j], p2) >= 0)
+            if (cs_corner(c, fu[j], p1) >= 0 && cs_corner(c, fu[j], p2) >= 0 &&
+                c->tp[(size_t)fu[j] * 3 + (cs_corner(c, fu[j], u) + 1) % 3] == p1)
                 return false;
         const float *p[3], *q[3];
         for (int k = 0; k < 3; k++)
