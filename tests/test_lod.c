@@ -1457,10 +1457,9 @@ static uint32_t chart_of(uint32_t *up, uint32_t v)
 /* A textured model with parts (the spider: five materials, each its own texture) keeps its
  * levels (seven, down to 1/50 of its triangles, where levels that ended at the first
  * across its charts left five: its legs, closed thin parts, flatten into fins; six asked,
- * down to 1/20),
- * and no triangle of any level takes corners from two of its charts (found here: corners
- * joined by the full mesh's triangles and where two vertices share position and texture
- * coordinates), which would show the texture between them smeared. */
+ * down to 1/20), and no triangle of any level takes corners from two of its charts (found
+ * here: corners joined by the full mesh's triangles and where two vertices share position
+ * and texture coordinates), which would show the texture between them smeared. */
 static void test_textured_levels_in_charts(void)
 {
     fixture f = open_scene((float[3]){ 0, 60, 110 }, (float[3]){ 0, 0, 0 });
