@@ -44,7 +44,7 @@
 #include "core/texture.h"
 
 #define MAX_LEVELS 12           /* the full mesh and up to 11 coarser ones */
-#define LOD_VERSION 10          /* of how levels are made and measured: levels kept between
+#define LOD_VERSION 11          /* of how levels are made and measured: levels kept between
                                  * runs (core/lod_cache.c) are keyed by it, so change it with
                                  * anything that changes a level or its error */
 #define MIN_TRIS 16             /* a level this small gets no halved successor */
@@ -1062,10 +1062,11 @@ static bool lods_make(const limen__mesh *m, const atomic_bool *stop, made *out)
         }
         bool halve = cur_n / 3 >= MIN_TRIS;
         float err = 0;
-        bool from_full = nlods <= SOURCE_STEP || mode > CHARTS ||
-                         (mode == CHARTS && nlods <= charts_from);
-        uint32_t from = mode == CHARTS && nlods - SOURCE_STEP < charts_from ? charts_from
-                                                                              : nlods - SOURCE_STEP;
+        bool from_full = mode == CHARTS ? nlods <= charts_from
+                                        : nlods <= SOURCE_STEP || mode > CHARTS;
+        uint32_t from = nlods > SOURCE_STEP ? nlods - SOURCE_STEP : 0;
+        if (mode == CHARTS && from < charts_from)
+            from = charts_from;
         const uint32_t *src = from_full ? NULL : store + at[from];
         size_t src_n = from_full ? n0 : (size_t)lods[from].triangle_count * 3;
         size_t n = 0;
