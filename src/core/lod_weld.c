@@ -1,7 +1,8 @@
 /* lod_weld.c - what the simplifier is given and what its levels' corners become (see
  * lod_weld.h): core/lod.c makes levels over a mesh welded where the texture allows, then
- * by position alone, then by clustering, and here each corner of a level then takes its
- * side of a seam (in the normals, in the texture). */
+ * (textured) by collapses within the texture's charts (below), then by position alone, then
+ * by clustering, and here each corner of a level then takes its side of a seam (in the
+ * normals, in the texture). */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -272,8 +273,11 @@ size_t limen__lod_simplify(limen__lod_welded *pk, const uint32_t *src, size_t n,
  * all of them), so no triangle ever takes corners from two charts. A vertex on a seam or a
  * border (two such edges at it) moves only along it, onto its next vertex there, both sides
  * at once: seams and borders stay polylines the two sides share (no crack), simplified as
- * the rest is. Costs are quadrics of the planes of the triangles around each vertex, and of
- * planes across the seams and borders, which keep them in place. */
+ * the rest is. The surface stays as whole as it was: a collapse that would join two
+ * vertices' neighbourhoods elsewhere than along the edge, or turn a triangle over, is
+ * refused; one that would close a tetrahedron flattens it into a fin. Costs are quadrics of
+ * the planes of the triangles around each vertex, and of planes across the seams and
+ * borders, which keep them in place. */
 
 #define CS_SEAM_WEIGHT 2.0      /* of a seam's or border's planes, beside a triangle's */
 #define CS_FLIP 0.05            /* a collapse may turn no triangle (in space or in the
