@@ -444,8 +444,9 @@ static bool cs_edge_open(cs *c, uint32_t v, uint32_t w, bool *many)
     *many = false;
     if (n != 2)
         return true;
-    return c->tri[on[0] * 3 + cs_corner(c, on[0], v)] != c->tri[on[1] * 3 + cs_corner(c, on[1], v)] ||
-           c->tri[on[0] * 3 + cs_corner(c, on[0], w)] != c->tri[on[1] * 3 + cs_corner(c, on[1], w)];
+    const uint32_t *a = &c->tri[(size_t)on[0] * 3], *b = &c->tri[(size_t)on[1] * 3];
+    return a[cs_corner(c, on[0], v)] != b[cs_corner(c, on[1], v)] ||
+           a[cs_corner(c, on[0], w)] != b[cs_corner(c, on[1], w)];
 }
 
 /* What v's collapses have in common: its neighbours (in the cs's nb, until the next
