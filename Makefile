@@ -40,13 +40,15 @@ CORE_SRC += src/core/drawlist.c src/core/drawlist_stencil.c src/core/drawlist_te
 CORE_SRC += src/core/import.c
 # levels of detail: the weld the simplifier is given (core/lod_weld.c)
 CORE_SRC += src/core/lod_weld.c
+# the unit shapes' triangles (core/shapes.c)
+CORE_SRC += src/core/shapes.c
 # model files as scenes (limen_model_load), the JSON reader for what assimp drops, and
 # finding and measuring nodes below a node (limen_node_find_below, limen_node_get_bounds)
 CORE_SRC += src/core/model.c src/core/json.c src/core/find.c
 # the table of node kinds' facts (limen_kind_get) and their extents
 CORE_SRC += src/core/kinds.c
 TEST_C   += tests/test_kinds.c
-GL_SRC   := src/gl/render.c src/gl/backend.c src/gl/targets.c src/gl/shader.c src/gl/shapes.c src/gl/assets.c src/gl/ctx_osmesa.c \
+GL_SRC   := src/gl/render.c src/gl/backend.c src/gl/targets.c src/gl/shader.c src/gl/assets.c src/gl/ctx_osmesa.c \
             src/gl/ctx_egl.c src/gl/ctx_host.c
 LUA_SRC  := src/lua/l_fields.c src/lua/l_node.c src/lua/l_scene.c src/lua/l_render.c src/lua/script.c src/lua/safe.c src/lua/guards.c
 # sorted: a file listed twice (two branches adding it) is built once

@@ -3,16 +3,12 @@
  * limen keeps the game's scene graph (nodes, mirrors, portals, moving through them) and hands
  * it, every frame, a draw list: commands in the order to run them, each with what to draw and
  * the pipeline state to draw it with (docs/DESIGN.md, "The draw list"). The game needs no plan
- * logic, clipping or sorting; tests/test_example_game.c holds its frames to limen's own.
+ * logic, clipping or sorting: it makes a context and limen's shading once (game_create), and
+ * every frame builds the plan, the drawables and the list (game_frame), uploads the list's
+ * lights, vertices and instances, then runs each command: its state, then one function per
+ * op (game_draw). Meshes, unit shapes and images go up once, keyed on their id.
+ * tests/test_example_game.c holds its frames to limen's own.
  *     make examples && build/examples/own_renderer scenes/portals.lua portals.png
- * THE STEPS
- *   1. Once (game_create): the context (OSMesa, OpenGL 3.3 core, a framebuffer object with
- *      depth24/stencil8: the stencil method nests the views in it) and the shader: limen's
- *      shading (docs/DESIGN.md, "Ground truth") and the unit shapes, made from vertex indices.
- *   2. Every frame (game_frame): limen_plan_build, limen_drawables_build, limen_drawlist_build.
- *   3. Walk the list (game_draw): its lights, vertices and instances into the shader and
- *      buffers, then each command: set_state (its pipeline state and pass), then one function
- *      per op. Meshes and images go up once, keyed on their id. Read the frame back.
  */
 #define GL_GLEXT_PROTOTYPES
 #include <GL/glcorearb.h>
@@ -23,88 +19,56 @@
 
 #include "limen.h"
 
-#define UNIFORMS(X) X(view_proj) X(clip) X(cut) X(scale) X(unit) X(uv) X(facets) X(S) X(eye) \
+#define UNIFORMS(X) X(view_proj) X(clip) X(cut) X(scale) X(facets) X(eye) \
     X(albedo_b) X(cell) X(tint) X(ambient) X(textured) X(repeat) X(base) X(emissive) X(cutoff) \
-    X(nlights) X(light_pos) X(light_col) X(light_inv_r2)
+    X(nlights) X(lights) X(flat)
 #define U_FIELD(name) GLint name;
 #define U_FIND(name) g->u.name = glGetUniformLocation(g->prog, "u_" #name);
 
-typedef struct gpu { uint64_t id; GLuint vao, tex; GLsizei first[16]; } gpu;  /* by id */
+typedef struct gpu { uint64_t id; GLuint vao, tex, ibo[16]; } gpu;   /* by id; ibo: levels */
 
 typedef struct game {
-    int w, h, ncache, npasses;
+    int w, h, ncache;
     OSMesaContext ctx;
     unsigned char token[64];            /* OSMesa wants a buffer; we draw into our FBO */
-    PFNGLCLIPCONTROLPROC clip_control;  /* GL 4.5 (NULL on a 3.3 context) */
-    GLuint fbo, prog, flat, vao, poly_vao, poly_vbo, inst_vbo;  /* flat: the polygons' */
+    PFNGLCLIPCONTROLPROC clip_control;  /* GL 4.5's, for LIMEN_DEPTH_ZO */
+    GLuint fbo, prog, poly_vao, poly_vbo, inst_vbo;
     struct { UNIFORMS(U_FIELD) } u;
-    GLint flat_color;
     gpu *cache;                         /* the meshes and images uploaded so far */
-    limen_plan *plan;
-    limen_drawables *draw;
-    limen_drawlist *list;
+    limen_plan *plan; limen_drawables *draw; limen_drawlist *list;  /* limen's, per frame */
     const limen_drawable *items;        /* this frame's, and its list's passes */
     const limen_draw_pass *passes;
 } game;
 
 /* ============================================================ 1. shader */
 
-#define GLSL(...) #__VA_ARGS__                      /* after a head: #version and constants */
+#define GLSL(...) "#version 330 core\n" #__VA_ARGS__
 
 static const char *vs_src = GLSL(
     layout(location = 0) in vec3 a_pos;   layout(location = 1) in vec3 a_nrm;
     layout(location = 2) in vec2 a_uv;    layout(location = 3) in vec4 a_col;
     layout(location = 4) in mat4 a_world; layout(location = 8) in vec3 a_albedo;
-    uniform mat4 u_view_proj; uniform vec4 u_clip, u_cut; uniform int u_unit, u_uv, u_S;
+    uniform mat4 u_view_proj; uniform vec4 u_clip, u_cut;
     uniform vec3 u_scale;                           /* unit shape -> node-local units */
     out vec3 v_world, v_local, v_normal; out vec2 v_uv; out vec4 v_col; flat out vec3 v_albedo;
-    const vec2 corner[6] = vec2[6](vec2(0), vec2(1, 0), vec2(1), vec2(0), vec2(1), vec2(0, 1));
-    /* The unit shapes (limen_unit_shape: 1 box, 2 ball, 3 cylinder, 4 square), two triangles
-     * a cell, counter-clockwise from outside: box 1x1x1 (face q: axis q / 2, + where odd),
-     * ball of radius 1, cylinder of radius 1 over y in [0, 1] (rows: top, side, bottom), of
-     * u_S segments around, square 1x1 on z = 0 facing +Z. */
-    void unit(out vec3 p, out vec3 n) {
-        int S = u_S, q = gl_VertexID / 6, row = q / S, a = u_unit == 4 ? 2 : q / 2;
-        vec2 k = corner[gl_VertexID % 6];
-        if (u_unit == 1 || u_unit == 4) {
-            float s = u_unit == 4 || q % 2 == 1 ? 1.0 : -1.0;
-            vec3 u = vec3(0.0), v = vec3(0.0);
-            n = vec3(0.0); n[a] = s; u[(a + 1) % 3] = 1.0; v[(a + 2) % 3] = s;
-            p = (u_unit == 4 ? 0.0 : 0.5) * n + (k.x - 0.5) * u + (k.y - 0.5) * v;
-            return;
-        }
-        float th = 6.28318531 * (float(q % S) + k.y) / float(S), t = k.x;
-        float f = 3.14159265 * (float(row) + t) / float(S / 2);
-        vec4 r = vec4(sin(f), cos(f), sin(f), cos(f));     /* radius, height, normal */
-        if (u_unit == 3)                                    /* top, side, bottom */
-            r = row == 0 ? vec4(t, 1.0, 0.0, 1.0) : row == 1 ? vec4(1.0, 1.0 - t, 1.0, 0.0)
-                         : vec4(1.0 - t, 0.0, 0.0, -1.0);
-        vec2 cs = vec2(cos(th), -sin(th));
-        p = vec3(r.x * cs.x, r.y, r.x * cs.y); n = vec3(r.z * cs.x, r.w, r.z * cs.y);
-        float c = cos(3.14159265 / float(S));       /* out by half the sag, as limen does */
-        p *= u_unit == 2 ? vec3(2.0 / (1.0 + c * c)) : vec3(2.0 / (1.0 + c), 1.0, 2.0 / (1.0 + c));
-    }
     void main() {
-        vec3 p = a_pos, n = a_nrm;
-        if (u_unit > 0) unit(p, n);
-        vec4 w = a_world * vec4(p, 1.0);
-        v_world = w.xyz; v_local = p * u_scale; v_col = a_col; v_albedo = a_albedo;
-        v_normal = transpose(inverse(mat3(a_world))) * n;
-        vec3 e = p + 0.5;                           /* a plane's, a box face's, a mesh's */
-        v_uv = u_uv == 3 ? a_uv : u_uv == 1 ? e.xy : abs(n.x) > 0.5 ? e.yz
-             : abs(n.y) > 0.5 ? e.zx : e.xy;
+        vec4 w = a_world * vec4(a_pos, 1.0);
+        v_world = w.xyz; v_local = a_pos * u_scale; v_uv = a_uv; v_col = a_col; v_albedo = a_albedo;
+        v_normal = transpose(inverse(mat3(a_world))) * a_nrm;
         gl_ClipDistance[0] = dot(u_clip, w); gl_ClipDistance[1] = dot(u_cut, w);
         gl_Position = u_view_proj * w;
     });
 
 static const char *fs_src = GLSL(
     in vec3 v_world, v_local, v_normal; in vec2 v_uv; in vec4 v_col; flat in vec3 v_albedo;
-    uniform int u_facets, u_textured, u_nlights;
-    uniform vec3 u_eye, u_albedo_b, u_tint, u_emissive, u_light_pos[8], u_light_col[8];
-    uniform float u_cell, u_ambient, u_cutoff, u_light_inv_r2[8];
+    uniform int u_facets, u_textured, u_nlights, u_flat;
+    uniform vec3 u_eye, u_albedo_b, u_tint, u_emissive;
+    uniform vec4 u_lights[16];                  /* limen_draw_light: pos, 1/range^2; colour */
+    uniform float u_cell, u_ambient, u_cutoff;
     uniform vec4 u_base; uniform vec2 u_repeat; uniform sampler2D u_tex;
     out vec4 o_color;
     void main() {
+        if (u_flat != 0) { o_color = vec4(v_albedo, 1.0); return; }  /* a POLYGON's */
         vec3 n = normalize(u_facets != 0 ? cross(dFdx(v_world), dFdy(v_world)) : v_normal);
         if (dot(n, u_eye - v_world) < 0.0) n = -n;  /* two-sided: face the eye */
         vec3 albedo = v_albedo * u_base.rgb * v_col.rgb, c = floor(v_local / u_cell);
@@ -117,31 +81,21 @@ static const char *fs_src = GLSL(
         if (alpha < u_cutoff) discard;
         vec3 light = vec3(0.0);
         for (int i = 0; i < u_nlights; i++) {       /* w: a light's falloff with its range */
-            vec3 d = u_light_pos[i] - v_world;
-            float q = dot(d, d) * u_light_inv_r2[i], w = clamp(1.0 - q * q, 0.0, 1.0);
-            light += u_light_col[i] * w * w * max(0.0, dot(n, normalize(d)));
+            vec3 d = u_lights[2 * i].xyz - v_world;
+            float q = dot(d, d) * u_lights[2 * i].w, w = clamp(1.0 - q * q, 0.0, 1.0);
+            light += u_lights[2 * i + 1].rgb * w * w * max(0.0, dot(n, normalize(d)));
         }
         vec3 lit = clamp(albedo * (u_ambient + (1.0 - u_ambient) * light), 0.0, 1.0);
         o_color = vec4(clamp(lit + u_emissive, 0.0, 1.0) * u_tint, alpha);
     });
 
-/* The polygons' own program (marks, seals, fills: many, and large), so that they pay for no
- * more than a colour: llvmpipe runs every branch of a shader. */
-static const char *flat_vs = GLSL(
-    layout(location = 0) in vec3 a_pos;
-    void main() { gl_Position = vec4(a_pos, 1.0); });
-static const char *flat_fs = GLSL(
-    uniform vec3 u_color; out vec4 o_color;
-    void main() { o_color = vec4(u_color, 1.0); });
-
-static GLuint program(const char *head, const char *vs, const char *fs)
+static GLuint program(const char *vs, const char *fs)
 {
-    const char *src[2][2] = { { head, vs }, { head, fs } };
     GLint ok = 0;
     GLuint prog = glCreateProgram();
     for (int i = 0; i < 2; i++) {
         GLuint sh = glCreateShader(i ? GL_FRAGMENT_SHADER : GL_VERTEX_SHADER);
-        glShaderSource(sh, 2, src[i], NULL), glCompileShader(sh);
+        glShaderSource(sh, 1, i ? &fs : &vs, NULL), glCompileShader(sh);
         glAttachShader(prog, sh), glDeleteShader(sh);       /* goes with the program */
     }
     glLinkProgram(prog), glGetProgramiv(prog, GL_LINK_STATUS, &ok);
@@ -150,14 +104,11 @@ static GLuint program(const char *head, const char *vs, const char *fs)
 
 static int programs_create(game *g)
 {
-    const char *head = "#version 330 core\n";
-    if (!(g->flat = program(head, flat_vs, flat_fs)) || !(g->prog = program(head, vs_src, fs_src)))
+    if (!(g->prog = program(vs_src, fs_src)))
         return -1;
-    g->flat_color = glGetUniformLocation(g->flat, "u_color");
     UNIFORMS(U_FIND)
     glUseProgram(g->prog);
     glVertexAttrib4f(3, 1, 1, 1, 1);            /* the colour of vertices without one */
-    glUniform4f(g->u.base, 1, 1, 1, 1), glUniform1f(g->u.cutoff, -1);    /* no material */
     glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
     return 0;
 }
@@ -177,13 +128,13 @@ static gpu *cached(game *g, uint64_t id, int *fresh)
     return memset(&grown[g->ncache++], 0, sizeof *grown);
 }
 
-/* A scene mesh on the GPU: an attribute per array it has (one it lacks keeps its constant:
- * uv 0, colour white), every level's indices in one buffer (first[k]: where k starts). */
+/* A mesh on the GPU: an attribute per array it has (one it lacks keeps its constant: uv 0,
+ * colour white), each level's indices a buffer of its own. */
 static const gpu *mesh_upload(game *g, const limen_mesh_geometry *m)
 {
     const float *data[4] = { m->positions, m->normals, m->uvs, m->colors };
     static const int size[4] = { 3, 3, 2, 4 };
-    int fresh, ni = 0;
+    int fresh;
     gpu *c = cached(g, m->id, &fresh);
     GLuint buf;
     if (!c || !fresh)
@@ -197,19 +148,16 @@ static const gpu *mesh_upload(game *g, const limen_mesh_geometry *m)
                      data[a], GL_STATIC_DRAW);
         glEnableVertexAttribArray(a), glVertexAttribPointer(a, size[a], GL_FLOAT, 0, 0, NULL);
     }
+    glGenBuffers(m->lod_count < 16 ? m->lod_count : 16, c->ibo);
     for (int k = 0; k < m->lod_count && k < 16; k++)
-        c->first[k] = ni, ni += 3 * m->lods[k].triangle_count;
-    glGenBuffers(1, &buf), glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, buf);
-    glBufferData(GL_ELEMENT_ARRAY_BUFFER, (GLsizeiptr)sizeof(GLuint) * ni, NULL, GL_STATIC_DRAW);
-    for (int k = 0; k < m->lod_count && k < 16; k++)
-        glBufferSubData(GL_ELEMENT_ARRAY_BUFFER, (GLintptr)sizeof(GLuint) * c->first[k],
-                        (GLsizeiptr)sizeof(GLuint) * 3 * m->lods[k].triangle_count,
-                        m->lods[k].indices);
+        glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, c->ibo[k]),
+        glBufferData(GL_ELEMENT_ARRAY_BUFFER, (GLsizeiptr)sizeof(GLuint) * 3 *
+                     m->lods[k].triangle_count, m->lods[k].indices, GL_STATIC_DRAW);
     return c;
 }
 
 /* An image on the GPU with limen's own mipmap levels (so that the texels are the tracer's),
- * repeating; with alpha (a material's) its first level only, RGBA. 0 if out of memory. */
+ * repeating; with alpha (a material's) RGBA. 0 if out of memory. */
 static GLuint image_upload(game *g, const limen_image *im)
 {
     int fresh, n = im->width * im->height;
@@ -221,22 +169,19 @@ static GLuint image_upload(game *g, const limen_image *im)
         memcpy(rgba + 4 * i, im->rgb + 3 * i, 3), rgba[4 * i + 3] = im->alpha[i];
     glGenTextures(1, &c->tex), glBindTexture(GL_TEXTURE_2D, c->tex);
     glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
-    if (im->alpha)
-        glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, im->width, im->height, 0, GL_RGBA,
-                     GL_UNSIGNED_BYTE, rgba);
-    for (int k = 0; !im->alpha && k < im->level_count; k++)
-        glTexImage2D(GL_TEXTURE_2D, k, GL_RGB8, im->levels[k].width, im->levels[k].height, 0,
-                     GL_RGB, GL_UNSIGNED_BYTE, im->levels[k].rgb);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAX_LEVEL, im->alpha ? 0 : im->level_count - 1);
+    for (int k = 0; k < im->level_count; k++)   /* (an image with alpha has one level) */
+        glTexImage2D(GL_TEXTURE_2D, k, rgba ? GL_RGBA8 : GL_RGB8, im->levels[k].width,
+                     im->levels[k].height, 0, rgba ? GL_RGBA : GL_RGB, GL_UNSIGNED_BYTE,
+                     rgba ? rgba : im->levels[k].rgb);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAX_LEVEL, im->level_count - 1);
     free(rgba);
     return c->tex;
 }
 
-/* (Destroying the context deletes every GL object the game made in it.) */
+/* (Destroying the context, NULL or not, deletes every GL object the game made in it.) */
 static void game_destroy(game *g)
 {
-    if (g->ctx)
-        OSMesaDestroyContext(g->ctx);
+    OSMesaDestroyContext(g->ctx);
     limen_plan_destroy(g->plan), limen_drawables_destroy(g->draw);
     limen_drawlist_destroy(g->list), free(g->cache), free(g);
 }
@@ -249,16 +194,14 @@ static int make_current(game *g)
 static game *game_create(int w, int h)
 {
     game *g = calloc(1, sizeof *g);
-    for (int v = 45; g && v >= 33 && !g->ctx; v -= 12) {   /* 4.5 has glClipControl */
-        const int attribs[] = { OSMESA_FORMAT, OSMESA_RGBA, OSMESA_DEPTH_BITS, 0,
-                                OSMESA_STENCIL_BITS, 0, OSMESA_PROFILE, OSMESA_CORE_PROFILE,
-                                OSMESA_CONTEXT_MAJOR_VERSION, v / 10,
-                                OSMESA_CONTEXT_MINOR_VERSION, v % 10, 0 };
-        if ((g->ctx = OSMesaCreateContextAttribs(attribs, NULL)) && v == 45)
-            g->clip_control = (PFNGLCLIPCONTROLPROC)OSMesaGetProcAddress("glClipControl");
-    }
-    if (!g || !g->ctx || make_current(g) || programs_create(g) || limen_plan_create(&g->plan) ||
-        limen_drawables_create(&g->draw) || limen_drawlist_create(&g->list)) {
+    const int attribs[] = { OSMESA_FORMAT, OSMESA_RGBA, OSMESA_DEPTH_BITS, 0,
+                            OSMESA_STENCIL_BITS, 0, OSMESA_PROFILE, OSMESA_CORE_PROFILE,
+                            OSMESA_CONTEXT_MAJOR_VERSION, 4, OSMESA_CONTEXT_MINOR_VERSION, 5, 0 };
+    if (g && (g->ctx = OSMesaCreateContextAttribs(attribs, NULL)))
+        g->clip_control = (PFNGLCLIPCONTROLPROC)OSMesaGetProcAddress("glClipControl");
+    if (!g || !g->clip_control || make_current(g) || programs_create(g) ||
+        limen_plan_create(&g->plan) || limen_drawables_create(&g->draw) ||
+        limen_drawlist_create(&g->list)) {
         if (g)
             game_destroy(g);
         return NULL;
@@ -273,11 +216,10 @@ static game *game_create(int w, int h)
         glFramebufferRenderbuffer(GL_FRAMEBUFFER, i ? GL_DEPTH_STENCIL_ATTACHMENT
                                                     : GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, rb[i]);
     }
-    glGenVertexArrays(1, &g->vao);              /* the unit shapes read no attributes */
     glGenVertexArrays(1, &g->poly_vao), glBindVertexArray(g->poly_vao);
     glGenBuffers(1, &g->poly_vbo), glBindBuffer(GL_ARRAY_BUFFER, g->poly_vbo);
     glEnableVertexAttribArray(0), glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, 0, NULL);
-    glGenBuffers(1, &g->inst_vbo);
+    glGenBuffers(1, &g->inst_vbo), glEnable(GL_CLIP_DISTANCE0), glEnable(GL_CLIP_DISTANCE1);
     return g;
 }
 
@@ -289,20 +231,17 @@ static void set_state(game *g, const limen_draw_state *s, const limen_draw_pass 
     static const GLenum compare[LIMEN_COMPARE_COUNT] = { GL_ALWAYS, GL_LESS, GL_LEQUAL,
                                                          GL_EQUAL, GL_GREATER, GL_GEQUAL };
     static const GLenum stencil_op[LIMEN_STENCIL_OP_COUNT] = { GL_KEEP, GL_INVERT, GL_DECR };
-    static const GLenum caps[6] = { GL_DEPTH_CLAMP, GL_CULL_FACE, GL_BLEND, GL_STENCIL_TEST,
-                                    GL_CLIP_DISTANCE0, GL_CLIP_DISTANCE1 };
+    static const GLenum caps[4] = { GL_DEPTH_CLAMP, GL_CULL_FACE, GL_BLEND, GL_STENCIL_TEST };
     static const float keep_all[4] = { 0, 0, 0, 1 };
-    const int on[6] = { s->depth_clamp, s->cull_back, s->blend, s->stencil_test, s->clip_on,
-                        s->cut_on };
-    for (int i = 0; i < 6; i++)
+    const int on[4] = { s->depth_clamp, s->cull_back, s->blend, s->stencil_test };
+    for (int i = 0; i < 4; i++)
         (on[i] ? glEnable : glDisable)(caps[i]);
     glScissor(s->scissor[0], s->scissor[1], s->scissor[2], s->scissor[3]);
     glColorMask(s->color_write, s->color_write, s->color_write, s->color_write);
     glDepthMask(s->depth_write), glDepthFunc(compare[s->depth_test]);
     glStencilFunc(GL_EQUAL, s->stencil_ref, 0xFF), glStencilMask(s->stencil_write_mask);
     glStencilOp(GL_KEEP, GL_KEEP, stencil_op[s->stencil_pass]);
-    /* where off, a plane that keeps all as well (llvmpipe was seen to go on clipping by the
-     * last plane after glDisable(GL_CLIP_DISTANCE0)) */
+    /* both clip distances stay on (game_create): a plane that is off keeps all */
     glUniform4fv(g->u.clip, 1, s->clip_on ? s->clip : keep_all);
     glUniform4fv(g->u.cut, 1, s->cut_on ? s->cut : keep_all);
     glFrontFace(p->front_cw ? GL_CW : GL_CCW);
@@ -310,20 +249,22 @@ static void set_state(game *g, const limen_draw_state *s, const limen_draw_pass 
     glUniform3fv(g->u.eye, 1, p->eye), glUniform3fv(g->u.tint, 1, p->tint);
 }
 
-/* Within the scissor, what the state's masks let through: depth to the far plane (the game
- * draws no reversed depth), colour, stencil to 0. */
+/* Within the scissor, what the state's masks let through: depth (far), colour, stencil (0). */
 static void op_clear(game *g, const limen_draw_cmd *c)
 {
     glClearColor(c->color[0], c->color[1], c->color[2], 1.0f);
     glClear(GL_DEPTH_BUFFER_BIT | GL_COLOR_BUFFER_BIT | GL_STENCIL_BUFFER_BIT);
 }
 
-/* A fan in normalized device coordinates, in its flat colour, with the polygons' program. */
+/* A fan in normalized device coordinates (world and camera the identity), flat colour. */
 static void op_polygon(game *g, const limen_draw_cmd *c)
 {
-    glUseProgram(g->flat), glUniform3fv(g->flat_color, 1, c->color);
-    glBindVertexArray(g->poly_vao), glDrawArrays(GL_TRIANGLE_FAN, c->first, c->count);
-    glUseProgram(g->prog);
+    static const float id[16] = { 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1 };
+    for (GLuint col = 0; col < 4; col++)
+        glVertexAttrib4fv(4 + col, id + 4 * col);
+    glVertexAttrib3fv(8, c->color), glUniformMatrix4fv(g->u.view_proj, 1, GL_FALSE, id);
+    glUniform1i(g->u.flat, 1), glBindVertexArray(g->poly_vao);
+    glDrawArrays(GL_TRIANGLE_FAN, c->first, c->count), glUniform1i(g->u.flat, 0);
 }
 
 /* What a drawable's shading takes besides its colour: checker, texture (im: NULL none). */
@@ -340,49 +281,33 @@ static void use_item(game *g, const limen_drawable *d, const limen_image *im)
                     f == LIMEN_FILTER_NEAREST ? GL_NEAREST : GL_LINEAR);
 }
 
-/* A unit shape scaled to its node's size, lit in its colours; which shape and how it scales
- * and takes a texture are the kind's facts (limen_kind_get), not a list of kinds. */
-static void op_shape(game *g, const limen_draw_cmd *c)
+/* SHAPE and MESHES alike: `count` list instances from `first` (world matrix, albedo) of a
+ * geometry at level `lod`: a mesh's, its opaque or its blended parts, each in its material
+ * (base colour and texture, alpha mask, emission); or the unit shape of the drawable's kind
+ * (limen_unit_geometry: one white part, its uvs the kind's) with its stretch `scale` for
+ * the local point (the checker's). */
+static void op_draw(game *g, const limen_draw_cmd *c)
 {
+    static const float one[3] = { 1, 1, 1 };
     const limen_drawable *d = &g->items[c->item];
-    const limen_kind_info *k = limen_kind_get(d->kind);
-    float scale[3];
-    for (int a = 0; a < 3; a++)
-        scale[a] = k->scale[a] >= 0 ? d->dims[k->scale[a]] : 1.0f;
-    int S = c->segments >= 3 ? c->segments : 1;     /* balls and cylinders, as limen's */
-    const int count[LIMEN_UNIT_COUNT] = { 0, 36, 3 * S * S, 18 * S, 6 };
-    for (GLuint col = 0; col < 4; col++) {     /* world times the unit shape's scale */
-        const float *w = c->world + 4 * col, s = col < 3 ? scale[col] : 1.0f;
-        glVertexAttrib4f(4 + col, w[0] * s, w[1] * s, w[2] * s, w[3] * s);
-    }
-    glVertexAttrib3fv(8, c->color), glUniform3fv(g->u.scale, 1, scale);
-    glUniform1i(g->u.unit, (int)k->unit), glUniform1i(g->u.uv, k->uv);
-    glUniform1i(g->u.S, S);
-    use_item(g, d, d->texture);
-    glBindVertexArray(g->vao), glDrawArrays(GL_TRIANGLES, 0, count[k->unit]);
-    glUniform1i(g->u.unit, 0);
-}
-
-/* A batch: `count` instances of a mesh at one level, its opaque or its blended parts, each
- * part in its material (base colour and texture, alpha mask, emission). */
-static void op_meshes(game *g, const limen_draw_cmd *c)
-{
-    const limen_drawable *d = &g->items[c->item];
-    const limen_mesh_geometry *m = d->mesh;
+    int shape = c->op == LIMEN_DRAW_SHAPE;
+    const limen_mesh_geometry *m = shape ? limen_unit_geometry(limen_kind_get(d->kind)->unit)
+                                         : d->mesh;
     const gpu *gm = m ? mesh_upload(g, m) : NULL;
     if (!gm)
         return;
     int lod = c->lod < m->lod_count && c->lod < 16 ? c->lod : 0;
-    size_t first = (size_t)gm->first[lod];      /* (an image's upload may move the cache) */
-    glBindVertexArray(gm->vao), glBindBuffer(GL_ARRAY_BUFFER, g->inst_vbo);
+    GLuint ibo = gm->ibo[lod];                  /* (an image's upload may move the cache) */
+    glBindVertexArray(gm->vao), glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, ibo);
+    glBindBuffer(GL_ARRAY_BUFFER, g->inst_vbo);
     for (GLuint a = 4; a < 9; a++) {            /* world matrix columns, albedo */
         glEnableVertexAttribArray(a), glVertexAttribDivisor(a, 1);
         glVertexAttribPointer(a, a < 8 ? 4 : 3, GL_FLOAT, GL_FALSE, sizeof(limen_draw_instance),
                               (void *)(sizeof(limen_draw_instance) * (size_t)c->first +
                                        sizeof(float) * 4 * (a - 4)));
     }
-    glUniform3f(g->u.scale, 1, 1, 1), glUniform1i(g->u.facets, !d->smooth);
-    glUniform1i(g->u.uv, LIMEN_UV_MESH);
+    glUniform3fv(g->u.scale, 1, shape ? c->scale : one);
+    glUniform1i(g->u.facets, !shape && !d->smooth);
     const limen_mesh_part *parts = m->lods[lod].parts ? m->lods[lod].parts : m->parts;
     for (int p = 0; p < m->part_count; p++) {
         const limen_material *mt = &m->materials[parts[p].material];
@@ -391,41 +316,12 @@ static void op_meshes(game *g, const limen_draw_cmd *c)
         use_item(g, d, d->texture ? d->texture : mt->base_texture);
         glUniform4fv(g->u.base, 1, mt->base_color), glUniform3fv(g->u.emissive, 1, mt->emissive);
         glUniform1f(g->u.cutoff, mt->alpha_mode == LIMEN_ALPHA_MASK ? mt->alpha_cutoff : -1);
-        size_t at = first + 3 * (size_t)parts[p].first_triangle;
         glDrawElementsInstanced(GL_TRIANGLES, 3 * parts[p].triangle_count, GL_UNSIGNED_INT,
-                                (void *)(sizeof(GLuint) * at), c->count);
+                                (void *)(sizeof(GLuint) * 3 * parts[p].first_triangle), c->count);
     }
-    glUniform4f(g->u.base, 1, 1, 1, 1), glUniform3f(g->u.emissive, 0, 0, 0);
-    glUniform1f(g->u.cutoff, -1), glUniform1i(g->u.facets, 0);
-}
-
-static void op_flush(game *g, const limen_draw_cmd *c)
-{
-    glFlush();
 }
 
 /* ============================================================ 4. one frame */
-
-/* The frame's lights and ambient term, the list's passes, its vertices and instances. */
-static void frame_begin(game *g)
-{
-    const limen_draw_light *l;
-    float ambient;
-    int nl = limen_drawlist_lights(g->list, &l, &ambient);
-    for (int i = 0; i < nl; i++)                /* (an array's elements: one location each) */
-        glUniform3fv(g->u.light_pos + i, 1, l[i].pos), glUniform3fv(g->u.light_col + i, 1, l[i].color),
-        glUniform1f(g->u.light_inv_r2 + i, l[i].inv_range2);
-    glUniform1f(g->u.ambient, ambient), glUniform1i(g->u.nlights, nl);
-    const float (*v)[3];
-    const limen_draw_instance *inst;
-    int nv = limen_drawlist_vertices(g->list, &v), ni = limen_drawlist_instances(g->list, &inst);
-    glBindBuffer(GL_ARRAY_BUFFER, g->poly_vbo);
-    glBufferData(GL_ARRAY_BUFFER, (GLsizeiptr)sizeof *v * nv, v, GL_STREAM_DRAW);
-    glBindBuffer(GL_ARRAY_BUFFER, g->inst_vbo);
-    glBufferData(GL_ARRAY_BUFFER, (GLsizeiptr)sizeof *inst * ni, inst, GL_STREAM_DRAW);
-    g->npasses = limen_drawlist_passes(g->list, &g->passes);
-    limen_drawables_items(g->draw, &g->items);
-}
 
 /* Runs commands cmd[0 .. n) of the built list in order; rgb (w*h*3, top row first) gets
  * the frame. The context is made current first (a test runs limen's renderer beside it). */
@@ -433,22 +329,29 @@ static int game_draw(game *g, const limen_draw_cmd *cmd, int n, limen_depth_rang
                      unsigned char *rgb)
 {
     static void (*const op[LIMEN_DRAW_OP_COUNT])(game *, const limen_draw_cmd *) = {
-        NULL, op_clear, op_polygon, op_shape, op_meshes, op_flush   /* (no TARGET: stencil) */
+        NULL, op_clear, op_polygon, op_draw, op_draw, NULL  /* no TARGET (stencil); FLUSH: a hint */
     };
-    if (make_current(g) || range == LIMEN_DEPTH_ZO_REVERSED ||
-        (range == LIMEN_DEPTH_ZO && !g->clip_control))
+    if (make_current(g) || range == LIMEN_DEPTH_ZO_REVERSED)
         return -1;      /* (reversed depth would want a float depth buffer) */
-    if (g->clip_control)
-        g->clip_control(GL_LOWER_LEFT, range ? GL_ZERO_TO_ONE : GL_NEGATIVE_ONE_TO_ONE);
-    glUseProgram(g->prog), frame_begin(g);
+    g->clip_control(GL_LOWER_LEFT, range ? GL_ZERO_TO_ONE : GL_NEGATIVE_ONE_TO_ONE);
+    const limen_draw_light *l;                  /* the frame's lights, vertices, instances */
+    const float (*v)[3];
+    const limen_draw_instance *inst;
+    float ambient;
+    int nl = limen_drawlist_lights(g->list, &l, &ambient);
+    int nv = limen_drawlist_vertices(g->list, &v), ni = limen_drawlist_instances(g->list, &inst);
+    glUseProgram(g->prog), glUniform1i(g->u.nlights, nl), glUniform1f(g->u.ambient, ambient);
+    glUniform4fv(g->u.lights, 2 * nl, l->pos);
+    glBindBuffer(GL_ARRAY_BUFFER, g->poly_vbo);
+    glBufferData(GL_ARRAY_BUFFER, (GLsizeiptr)sizeof *v * nv, v, GL_STREAM_DRAW);
+    glBindBuffer(GL_ARRAY_BUFFER, g->inst_vbo);
+    glBufferData(GL_ARRAY_BUFFER, (GLsizeiptr)sizeof *inst * ni, inst, GL_STREAM_DRAW);
+    limen_drawlist_passes(g->list, &g->passes), limen_drawables_items(g->draw, &g->items);
     glBindFramebuffer(GL_FRAMEBUFFER, g->fbo), glViewport(0, 0, g->w, g->h);
     glEnable(GL_DEPTH_TEST), glEnable(GL_SCISSOR_TEST);
     for (int i = 0; i < n; i++)
-        if (cmd[i].pass >= 0 && cmd[i].pass < g->npasses && cmd[i].op < LIMEN_DRAW_OP_COUNT &&
-            op[cmd[i].op]) {
-            set_state(g, &cmd[i].state, &g->passes[cmd[i].pass]);
-            op[cmd[i].op](g, &cmd[i]);
-        }
+        if (op[cmd[i].op])
+            set_state(g, &cmd[i].state, &g->passes[cmd[i].pass]), op[cmd[i].op](g, &cmd[i]);
     glPixelStorei(GL_PACK_ALIGNMENT, 1);
     for (int y = 0; y < g->h; y++)              /* OpenGL's rows run bottom-up */
         glReadPixels(0, g->h - 1 - y, g->w, 1, GL_RGB, GL_UNSIGNED_BYTE, rgb + 3 * g->w * y);

@@ -595,6 +595,19 @@ typedef struct limen_mesh_geometry {
     int has_blend;              /* some part's material is LIMEN_ALPHA_BLEND */
 } limen_mesh_geometry;
 
+/* The triangles limen draws a unit shape with (limen_kind_info.unit; the local frame that
+ * enum describes, before the kind's scale), for a backend of the draw list to upload once
+ * and draw SHAPE commands from: positions and normals (the true shape's), counter-clockwise
+ * from outside, one part and one white material, no colours; uvs by the rule of the kinds
+ * drawn with it (limen_kind_info.uv: a box face's for BOX, a plane's for SQUARE; none for
+ * the curved shapes, which take no texture). A BOX or SQUARE has one level; a BALL or CYLINDER 11, one per
+ * tessellation limen_draw_cmd.segments names (level 0: 256 segments around, then 192, 128,
+ * 96, 64, 48, 32, 24, 16, 12, 8), its vertices pushed out so that the true surface lies
+ * halfway, lods[k].error the largest distance either way (radius 1). Made on the first call
+ * for a shape (safe from any thread) and kept, unchanged, until the process ends; NULL for
+ * NONE, an unknown value, or when out of memory. */
+LIMEN_API const limen_mesh_geometry *limen_unit_geometry(limen_unit_shape shape);
+
 /* One mipmap level of an image: 8-bit RGB, top row first. */
 typedef struct limen_image_level {
     int width, height;
@@ -607,7 +620,8 @@ typedef struct limen_image {
     uint64_t id;                /* unique in the process: key a GPU copy on it */
     int width, height;
     const unsigned char *rgb;
-    const unsigned char *alpha; /* width * height alpha values (same order), or NULL: opaque */
+    const unsigned char *alpha; /* width * height alpha values (same order), or NULL: opaque;
+                                 * an image with alpha has one level */
     int level_count;            /* mipmap levels (limen_node_set_texture_filter), down to */
     const limen_image_level *levels;  /* 1 x 1; levels[0] is the image itself */
 } limen_image;
@@ -1135,7 +1149,10 @@ typedef enum limen_draw_op {
                                  * or a portal copy's: carried; like limen_drawable.world it
                                  * holds not the unit shape's scale, dims) with albedo
                                  * `color`, lit: limen's shading, checker and texture as the
-                                 * drawable says */
+                                 * drawable says. The same as `count` = 1 list instance from
+                                 * `first` (world times `scale`, the albedo) of the kind's
+                                 * limen_unit_geometry at level `lod`: a backend may draw
+                                 * shapes as it draws MESHES */
     LIMEN_DRAW_MESHES,          /* mesh drawable `item` at level of detail `lod` (clamp it to
                                  * the levels you keep), `count` instances from list instance
                                  * `first` (a batch of nodes sharing the geometry), its parts
@@ -1162,11 +1179,16 @@ typedef struct limen_draw_cmd {
     int pass;                   /* index into the list's passes (the camera it draws with) */
     limen_draw_state state;     /* how */
     int item;                   /* SHAPE, MESHES: an index into limen_drawables_items */
-    int lod;                    /* MESHES: level of detail (an index into d->mesh->lods) */
+    int lod;                    /* MESHES: level of detail (an index into d->mesh->lods);
+                                 * SHAPE: the level of the kind's limen_unit_geometry to draw
+                                 * (the one with `segments`; 0 for a box or square) */
     limen_draw_parts parts;     /* MESHES: which parts */
-    int first, count;           /* POLYGON: vertices; MESHES: instances */
+    int first, count;           /* POLYGON: vertices; MESHES, SHAPE: instances */
     float color[3];             /* CLEAR, POLYGON, SHAPE */
     float world[16];            /* SHAPE: model matrix (a portal's copy: carried) */
+    float scale[3];             /* SHAPE: the unit shape's stretch along each local axis
+                                 * before world (limen_kind_info.scale over the drawable's
+                                 * dims): a unit point p is at world * (scale * p) */
     limen_draw_image image;     /* POLYGON */
     float image_map[4];         /* POLYGON with an image: fragment -> uv */
     int target;                 /* TARGET; POLYGON with LIMEN_IMAGE_TARGET: the image's */
@@ -1213,14 +1235,17 @@ LIMEN_API int limen_drawlist_commands(const limen_drawlist *dl, const limen_draw
 LIMEN_API int limen_drawlist_passes(const limen_drawlist *dl, const limen_draw_pass **out);
 /* The POLYGON commands' vertices (NDC x, y, z); returns their count. */
 LIMEN_API int limen_drawlist_vertices(const limen_drawlist *dl, const float (**out)[3]);
-/* The MESHES commands' instances; returns their count. */
+/* The MESHES and SHAPE commands' instances; returns their count. */
 LIMEN_API int limen_drawlist_instances(const limen_drawlist *dl,
                                        const limen_draw_instance **out);
-/* A light that shades the frame (the first LIMEN_MAX_LIGHTS visible LIGHT drawables). */
+/* A light that shades the frame (the first LIMEN_MAX_LIGHTS visible LIGHT drawables), laid
+ * out as two vec4 (pos, inv_range2; color, 0) so that an array of them goes to a shader as
+ * it is (glUniform4fv of 2 * count, a std140 block). */
 typedef struct limen_draw_light {
     float pos[3];               /* world position */
-    float color[3];             /* colour times intensity */
     float inv_range2;           /* 1 / range^2 (limen_light_set_range), 0 for no range */
+    float color[3];             /* colour times intensity */
+    float zero;                 /* 0 */
 } limen_draw_light;
 /* The frame's lights (at most LIMEN_MAX_LIGHTS) and the ambient term (where ambient is not
  * NULL), as limen's shading reads them; returns their count. */

@@ -99,7 +99,8 @@ static void check_ranges(const frame *f)
     const limen_draw_pass *p;
     const float (*v)[3];
     int n = limen_drawlist_commands(f->dl, &c), np = limen_drawlist_passes(f->dl, &p);
-    int nv = limen_drawlist_vertices(f->dl, &v), ni = limen_drawlist_instances(f->dl, NULL);
+    const limen_draw_instance *inst;
+    int nv = limen_drawlist_vertices(f->dl, &v), ni = limen_drawlist_instances(f->dl, &inst);
     const limen_drawable *items;
     int nitems = limen_drawables_items(f->d, &items);
     bool drawn[256] = { false };
@@ -132,6 +133,21 @@ static void check_ranges(const frame *f)
                 known |= c[i].segments == segments[j];
             CHECK_MSG(curved ? known : c[i].segments == 0, "command %d: kind %d, %d segments",
                       i, (int)k, c[i].segments);
+            /* its level of the unit geometry has those segments (a ball's S (S - 2) triangles,
+             * a cylinder's 4 S), and its instance is world times scale, with its albedo */
+            const limen_mesh_geometry *g = limen_unit_geometry(limen_kind_get(k)->unit);
+            CHECK(g && c[i].lod >= 0 && c[i].lod < g->lod_count);
+            int S = c[i].segments, tris = g && c[i].lod >= 0 && c[i].lod < g->lod_count
+                                              ? g->lods[c[i].lod].triangle_count : -1;
+            if (curved)
+                CHECK_MSG(tris == (k == LIMEN_NODE_SPHERE ? S * (S - 2) : 4 * S),
+                          "command %d: %d segments, %d triangles", i, S, tris);
+            CHECK(c[i].count == 1 && c[i].first >= 0 && c[i].first < ni);
+            const limen_draw_instance *in = c[i].first >= 0 && c[i].first < ni ? &inst[c[i].first]
+                                                                             : NULL;
+            for (int e = 0; in && e < 16; e++)
+                CHECK(in->world[e] == c[i].world[e] * (e < 12 ? c[i].scale[e / 4] : 1.0f));
+            CHECK(in && memcmp(in->color, c[i].color, sizeof in->color) == 0);
             break;
         }
         case LIMEN_DRAW_MESHES:
@@ -455,6 +471,62 @@ static void test_lights(void)
     frame_close(&f);
 }
 
+/* The unit shapes' triangles every backend draws: made once; each level's indices within its
+ * vertices; counter-clockwise from outside; a curved shape's vertices pushed out by its
+ * level's error (the true surface halfway), errors growing as levels coarsen; uvs (a box
+ * face's, a square's) over [0, 1]; NULL for no shape. */
+static void test_unit_geometry(void)
+{
+    CHECK(!limen_unit_geometry(LIMEN_UNIT_NONE) && !limen_unit_geometry(LIMEN_UNIT_COUNT) &&
+          !limen_unit_geometry((limen_unit_shape)-1));
+    for (int u = LIMEN_UNIT_BOX; u < LIMEN_UNIT_COUNT; u++) {
+        const limen_mesh_geometry *g = limen_unit_geometry((limen_unit_shape)u);
+        CHECK(g && g == limen_unit_geometry((limen_unit_shape)u));
+        if (!g)
+            continue;
+        bool curved = u == LIMEN_UNIT_BALL || u == LIMEN_UNIT_CYLINDER;
+        CHECK(g->lod_count == (curved ? 11 : 1) && g->part_count == 1 && g->material_count == 1);
+        CHECK(curved ? !g->uvs : g->uvs != NULL);
+        for (int i = 0; g->uvs && i < 2 * g->vertex_count; i++)
+            CHECK(g->uvs[i] >= 0 && g->uvs[i] <= 1);
+        /* the centre whose direction to a face is outward: the origin, a cylinder's mid-axis */
+        const float mid[3] = { 0, u == LIMEN_UNIT_CYLINDER ? 0.5f : 0, 0 };
+        for (int k = 0; k < g->lod_count; k++) {
+            const limen_mesh_lod *l = &g->lods[k];
+            int inward = 0, outside = 0;
+            CHECK(l->triangle_count > 0 && l->parts[0].triangle_count == l->triangle_count);
+            CHECK(k == 0 || l->error > g->lods[k - 1].error);
+            for (int t = 0; t < l->triangle_count; t++) {
+                const float *p[3];
+                for (int j = 0; j < 3; j++) {
+                    uint32_t vi = l->indices[3 * t + j];
+                    CHECK(vi < (uint32_t)g->vertex_count);
+                    p[j] = g->positions + 3 * (vi < (uint32_t)g->vertex_count ? vi : 0);
+                }
+                float e1[3], e2[3], n[3], c[3];
+                for (int a = 0; a < 3; a++)
+                    e1[a] = p[1][a] - p[0][a], e2[a] = p[2][a] - p[0][a],
+                    c[a] = (p[0][a] + p[1][a] + p[2][a]) / 3 - mid[a];
+                n[0] = e1[1] * e2[2] - e1[2] * e2[1];
+                n[1] = e1[2] * e2[0] - e1[0] * e2[2];
+                n[2] = e1[0] * e2[1] - e1[1] * e2[0];
+                if (u == LIMEN_UNIT_SQUARE)
+                    c[0] = c[1] = 0, c[2] = 1;      /* facing +Z */
+                inward += n[0] * c[0] + n[1] * c[1] + n[2] * c[2] <= 0;
+            }
+            /* a ball's vertices at 1 + error; a cylinder's rim the same, off its axis */
+            for (int t = 0; curved && t < 3 * l->triangle_count; t++) {
+                const float *q = g->positions + 3 * l->indices[t];
+                float r = sqrtf(q[0] * q[0] + q[2] * q[2] +
+                                (u == LIMEN_UNIT_BALL ? q[1] * q[1] : 0));
+                outside += r > 1e-6f && fabsf(r - (1 + l->error)) > 1e-5f;
+            }
+            CHECK_MSG(!inward && !outside, "unit %d level %d: %d faces inward, %d vertices off "
+                      "1 + error (%g)", u, k, inward, outside, l->error);
+        }
+    }
+}
+
 static void test_defaults(void)
 {
     limen_drawlist_desc d = limen_drawlist_desc_defaults(NULL);
@@ -475,6 +547,7 @@ static const check_case cases[] = {
     { "rebuild", test_rebuild },
     { "lights", test_lights },
     { "defaults", test_defaults },
+    { "unit_geometry", test_unit_geometry },
     { 0 },
 };
 

@@ -13,6 +13,7 @@
 #include "core/drawlist.h"
 #include "core/lmath.h"
 #include "core/plan.h"
+#include "core/shapes.h"
 
 static const float keep_all[4] = { 0, 0, 0, 1 };
 
@@ -472,41 +473,41 @@ void limen__dl_surface_image(limen_drawlist *dl, const dl_view *v, const limen_d
 
 /* ------------------------------------------------------------------ things */
 
-/* The tessellations of curved shapes a backend keeps: segments around, and the tolerance
- * (pixels) within which a silhouette must stay of the true shape (the ray tracer's). */
-static const int segments_of[] = { 8, 12, 16, 24, 32, 48, 64, 96, 128, 192, 256 };
-enum { NSEGMENTS = (int)(sizeof segments_of / sizeof segments_of[0]) };
+/* The tolerance (pixels) within which a curved shape's silhouette must stay of the true
+ * shape (the ray tracer's). */
 #define SILHOUETTE_PX 0.2f
 
-/* The coarsest tessellation whose polygon stays within tol_px of a circle of radius_px. */
+/* The coarsest tessellation of the unit shapes' (core/shapes.c) whose polygon stays within
+ * tol_px of a circle of radius_px. */
 static int segments_for(float radius_px, float tol_px)
 {
-    for (int l = 0; l < NSEGMENTS; l++) {
+    for (int k = LIMEN__UNIT_LEVELS - 1; k > 0; k--) {
         /* largest gap between the pushed-out sphere and the true one, either way */
-        double c = cos(M_PI / segments_of[l]);
+        double c = cos(M_PI / limen__unit_segments[k]);
         double sag = radius_px * (1.0 - c * c) / (1.0 + c * c);
         if (sag <= tol_px)
-            return segments_of[l];
+            return limen__unit_segments[k];
     }
-    return segments_of[NSEGMENTS - 1];
+    return limen__unit_segments[0];
 }
 
-/* A sphere's or cylinder's segments in view v at world matrix w, from its projected size:
- * the largest world-space stretch of its axes times its radius, over the view distance of
- * its centre (0 for other kinds). Multisampled, a silhouette's error band holds msaa samples
- * per pixel of its area, each changing its pixel by 1/msaa of the contrast, so it takes a
- * band msaa times thinner to leave as few pixels off the area-averaged truth as one sample
- * per pixel leaves. */
+/* A curved shape's segments in view v at world matrix w, from its projected size: the
+ * largest world-space stretch of its axes times its radius (the largest half-extent of its
+ * unit box, stretched by its dims: a ball's radius, a cylinder's radius or half height),
+ * over the view distance of its centre (0 for a shape without tessellations). Multisampled,
+ * a silhouette's error band holds msaa samples per pixel of its area, each changing its
+ * pixel by 1/msaa of the contrast, so it takes a band msaa times thinner to leave as few
+ * pixels off the area-averaged truth as one sample per pixel leaves. */
 static int shape_segments(const limen_drawlist *dl, const dl_view *v, const limen_drawable *node,
                           const float w[16])
 {
-    float radius;
-    if (node->kind == LIMEN_NODE_SPHERE)
-        radius = node->dims[0];
-    else if (node->kind == LIMEN_NODE_CYLINDER)
-        radius = fmaxf(node->dims[0], 0.5f * node->dims[1]);
-    else
+    const limen_kind_info *k = kind_of(node);
+    if (limen__unit_levels(k->unit) < 2)
         return 0;
+    float radius = 0;
+    for (int a = 0; a < 3; a++)
+        radius = fmaxf(radius, 0.5f * (k->hi[a] - k->lo[a]) *
+                                   (k->scale[a] >= 0 ? node->dims[k->scale[a]] : 1.0f));
     mat4 world, view;
     memcpy(world, w, sizeof world);
     memcpy(view, v->view, sizeof view);
@@ -524,7 +525,7 @@ static int shape_segments(const limen_drawlist *dl, const dl_view *v, const lime
     float tol = msaa > 1 ? SILHOUETTE_PX / (float)msaa : SILHOUETTE_PX;
     if (dist > world_r * 1.01f)
         return segments_for(world_r * v->px_scale / (dist - world_r), tol);
-    return segments_of[NSEGMENTS - 1];
+    return limen__unit_segments[0];
 }
 
 /* One shape lit at a world matrix (a copy carried through a portal has its own). */
@@ -535,14 +536,23 @@ static void shape_at(limen_drawlist *dl, const dl_view *v, const limen_drawable 
         limen__dl_mesh(dl, v, node, world, albedo);
         return;
     }
-    if (!kind_of(node)->unit)
-        return;
-    limen_draw_cmd *c = limen__dl_emit(dl, LIMEN_DRAW_SHAPE);
+    const limen_kind_info *k = kind_of(node);
+    limen_draw_instance *inst = k->unit ? limen__dl_instances(dl, 1) : NULL;
+    limen_draw_cmd *c = inst ? limen__dl_emit(dl, LIMEN_DRAW_SHAPE) : NULL;
     if (!c)
         return;
     c->item = (int)(node - dl->items);
     memcpy(c->world, world, sizeof c->world);
     c->segments = shape_segments(dl, v, node, world);
+    c->lod = c->segments ? limen__unit_level(c->segments) : 0;
+    for (int a = 0; a < 3; a++)
+        c->scale[a] = k->scale[a] >= 0 ? node->dims[k->scale[a]] : 1.0f;
+    /* and as an instance of the unit geometry: world times the stretch (by column), albedo */
+    for (int i = 0; i < 16; i++)
+        inst->world[i] = world[i] * (i < 12 ? c->scale[i / 4] : 1.0f);
+    memcpy(inst->color, albedo, sizeof inst->color);
+    c->first = dl->ninst++;
+    c->count = 1;
     memcpy(c->color, albedo, sizeof c->color);
     /* In an oblique view the near plane is the exit plane, and clamping would keep what of a
      * surface lies beyond it (a neighbour poking through a mirror shows its back there):
@@ -767,9 +777,10 @@ static void find_lights(limen_drawlist *dl)
     dl->nlights = 0;
     for (int i = 0; i < dl->nitems && dl->nlights < LIMEN_MAX_LIGHTS; i++) {
         const limen_drawable *d = &dl->items[i];
-        if (d->kind != LIMEN_NODE_LIGHT || !d->visible)
+        if (!kind_of(d)->light || !d->visible)
             continue;
         limen_draw_light *l = &dl->lights[dl->nlights++];
+        *l = (limen_draw_light){ .zero = 0 };
         memcpy(l->pos, d->world + 12, sizeof l->pos);
         memcpy(l->color, d->color, sizeof l->color);
         /* 1/R^2: the shader's falloff takes (d/R)^2 as d^2 times it; 0 weighs 1 */

@@ -235,21 +235,34 @@ static void draw_polygon(limen_renderer *r, const limen_draw_cmd *c, const limen
 
 /* ------------------------------------------------------------------ shapes */
 
-/* A box, sphere, cylinder or quad from the unit meshes, lit, at the command's world matrix;
- * a sphere or cylinder at the command's segments. */
+/* A box, sphere, cylinder or quad from the unit shapes' buffers (render.c), lit, at the
+ * command's world matrix and scale, at the command's level (a sphere's or cylinder's
+ * segments). The normals a curved shape shades with are the true shape's (LIMEN__SHAPE_*). */
 static void draw_shape(limen_renderer *r, const limen_draw_cmd *c, const limen_draw_pass *p,
                        const limen_drawable *node)
 {
-    limen__range range = { 0, 0 };
-    vec3 scale = { 1, 1, 1 };
-    int shape = 0;
-    mat4 world;
-    memcpy(world, c->world, sizeof world);
-    if (!limen__unit_mesh(r, node, c->segments, &range, scale, &shape))
-        return;
+    const limen_kind_info *k = limen_kind_get(node->kind);
+    int shape = LIMEN__SHAPE_FACE;
+    if (!k || (unsigned)k->unit >= LIMEN_UNIT_COUNT || !r->unit_levels[k->unit])
+        return;                         /* (NONE has no levels) */
+    switch (k->unit) {
+    case LIMEN_UNIT_NONE:
+    case LIMEN_UNIT_COUNT:
+    case LIMEN_UNIT_BOX:
+    case LIMEN_UNIT_SQUARE:
+        break;
+    case LIMEN_UNIT_BALL:
+        shape = LIMEN__SHAPE_SPHERE;
+        break;
+    case LIMEN_UNIT_CYLINDER:
+        shape = LIMEN__SHAPE_CYLINDER;
+        break;
+    }
+    int level = c->lod >= 0 && c->lod < r->unit_levels[k->unit] ? c->lod : 0;
+    limen__range range = r->units[k->unit][level];
+    vec3 scale = { c->scale[0], c->scale[1], c->scale[2] };
     /* the checker's cells and an albedo texture's coordinates as the kind's facts say: a
      * flat shape's over x + y (plane uvs), a solid's over x + y + z (a box face's) */
-    const limen_kind_info *k = limen_kind_get(node->kind);
     int checker = !(node->cell > 0) ? 0 : k->flat && k->shape ? 1 : 2;
     int textured = LIMEN__UV_NONE;      /* (the same numbers as limen_uv_rule) */
     if (node->texture && limen__gpu_texture(r, node->texture, node->texture_filter))
@@ -258,7 +271,7 @@ static void draw_shape(limen_renderer *r, const limen_draw_cmd *c, const limen_d
         return;
     mat4 model;
     mat3 nm;
-    glm_mat4_copy(world, model);
+    memcpy(model, c->world, sizeof model);
     glm_scale(model, scale);
     limen__normal_matrix(model, nm);
     GL(UniformMatrix4fv)(r->u.model, 1, GL_FALSE, (const GLfloat *)model);

@@ -1,6 +1,6 @@
 /* gl_internal.h - the renderer's state, shared by its files (render.c: set-up and frames;
  * backend.c: executing a frame's draw list; targets.c: the texture method's targets;
- * shapes.c: the unit meshes; assets.c: meshes and textures on the GPU; shader.c). */
+ * assets.c: meshes and textures on the GPU; shader.c). */
 #ifndef LIMEN_GL_INTERNAL_H
 #define LIMEN_GL_INTERNAL_H
 
@@ -12,9 +12,12 @@
 
 #include "limen.h"
 #include "gl/glapi.h"
-#include "gl/shapes.h"
 
 #define LIMEN__MAX_TARGETS 256
+#define LIMEN__UNIT_SLOTS 16    /* levels of a unit shape kept (limen_unit_geometry has 11) */
+
+typedef struct limen__vertex { float pos[3], nrm[3]; } limen__vertex;
+typedef struct limen__range { uint32_t first, count; } limen__range;   /* in indices */
 
 typedef struct uniforms {
     GLint model, normal_mat, view_proj, eye, clip_plane, clip_plane2, albedo, albedo_b, cell,
@@ -72,7 +75,6 @@ struct limen_renderer {
     char err[512];
     char info[256];
 
-    GLuint vao, vbo, ibo;
     limen__variant variants[LIMEN__MAX_VARIANTS];
     int nvariants;
     GLuint bound_prog;                      /* the program last bound (0: unknown) */
@@ -88,7 +90,9 @@ struct limen_renderer {
     GLuint fill_prog;                       /* flat polygons in NDC */
     GLint u_fill_color;
     uniforms u;                             /* the bound variant's */
-    limen__meshes meshes;
+    GLuint vao, vbo, ibo;                   /* the unit shapes (limen_unit_geometry) */
+    limen__range units[LIMEN_UNIT_COUNT][LIMEN__UNIT_SLOTS];    /* [shape][level] */
+    int unit_levels[LIMEN_UNIT_COUNT];
 
     GLuint fbo, color_rb, depth_rb;         /* the frame (multisampled if msaa); host: the
                                              * game's framebuffer, no renderbuffers */
@@ -199,11 +203,6 @@ void limen__targets_free(limen_renderer *r);
  * (a target's colour, the previous frame's copy). */
 GLuint limen__color_texture(limen_renderer *r, int w, int h);
 
-/* gl/shapes.c: which unit mesh, and how it is scaled, for a node (a sphere or cylinder at
- * the draw list's segments); shape: the normals it needs (LIMEN__SHAPE_*). False if the node
- * is not drawn with one. */
-bool limen__unit_mesh(limen_renderer *r, const limen_drawable *node, int segments,
-                      limen__range *range, vec3 scale, int *shape);
 
 /* gl/assets.c: a mesh's vertex arrays at a level of detail, bound with the flat or smooth
  * normals (what to draw: first and count of corners, or of indices where indexed; false if

@@ -85,25 +85,55 @@ static limen_status build_program(limen_renderer *r)
     return LIMEN_OK;
 }
 
-static limen_status upload_meshes(limen_renderer *r)
+/* The unit shapes' triangles (limen_unit_geometry), every level of each, in one vertex and
+ * one index buffer: r->units[shape][level] is where a level's indices lie. */
+static limen_status upload_units(limen_renderer *r)
 {
-    if (limen__meshes_build(&r->meshes))
-        return limen__rfail(r, LIMEN_ERR_NOMEM, "out of memory building meshes");
+    const limen_mesh_geometry *g[LIMEN_UNIT_COUNT] = { NULL };
+    size_t nv = 0, ni = 0;
+    for (int s = 1; s < LIMEN_UNIT_COUNT; s++) {
+        if (!(g[s] = limen_unit_geometry((limen_unit_shape)s)))
+            return limen__rfail(r, LIMEN_ERR_NOMEM, "out of memory building the unit shapes");
+        r->unit_levels[s] = g[s]->lod_count < LIMEN__UNIT_SLOTS ? g[s]->lod_count
+                                                                : LIMEN__UNIT_SLOTS;
+        nv += (size_t)g[s]->vertex_count;
+        for (int k = 0; k < r->unit_levels[s]; k++)
+            ni += 3 * (size_t)g[s]->lods[k].triangle_count;
+    }
+    limen__vertex *verts = malloc(sizeof *verts * nv);
+    uint32_t *idx = malloc(sizeof *idx * ni);
+    if (!verts || !idx) {
+        free(verts), free(idx);
+        return limen__rfail(r, LIMEN_ERR_NOMEM, "out of memory building the unit shapes");
+    }
+    nv = ni = 0;
+    for (int s = 1; s < LIMEN_UNIT_COUNT; s++) {
+        for (int i = 0; i < g[s]->vertex_count; i++) {
+            memcpy(verts[nv + (size_t)i].pos, g[s]->positions + 3 * i, sizeof verts->pos);
+            memcpy(verts[nv + (size_t)i].nrm, g[s]->normals + 3 * i, sizeof verts->nrm);
+        }
+        for (int k = 0; k < r->unit_levels[s]; k++) {
+            uint32_t n = 3 * (uint32_t)g[s]->lods[k].triangle_count;
+            r->units[s][k] = (limen__range){ (uint32_t)ni, n };
+            for (uint32_t i = 0; i < n; i++)
+                idx[ni++] = (uint32_t)nv + g[s]->lods[k].indices[i];
+        }
+        nv += (size_t)g[s]->vertex_count;
+    }
     GL(GenVertexArrays)(1, &r->vao);
     GL(BindVertexArray)(r->vao);
     GL(GenBuffers)(1, &r->vbo);
     GL(BindBuffer)(GL_ARRAY_BUFFER, r->vbo);
-    GL(BufferData)(GL_ARRAY_BUFFER, (GLsizeiptr)(sizeof(limen__vertex) * r->meshes.nverts),
-                   r->meshes.verts, GL_STATIC_DRAW);
+    GL(BufferData)(GL_ARRAY_BUFFER, (GLsizeiptr)(sizeof *verts * nv), verts, GL_STATIC_DRAW);
     GL(GenBuffers)(1, &r->ibo);
     GL(BindBuffer)(GL_ELEMENT_ARRAY_BUFFER, r->ibo);
-    GL(BufferData)(GL_ELEMENT_ARRAY_BUFFER, (GLsizeiptr)(sizeof(uint32_t) * r->meshes.nidx),
-                   r->meshes.idx, GL_STATIC_DRAW);
+    GL(BufferData)(GL_ELEMENT_ARRAY_BUFFER, (GLsizeiptr)(sizeof *idx * ni), idx, GL_STATIC_DRAW);
     GL(EnableVertexAttribArray)(0);
     GL(VertexAttribPointer)(0, 3, GL_FLOAT, GL_FALSE, sizeof(limen__vertex), (void *)0);
     GL(EnableVertexAttribArray)(1);
     GL(VertexAttribPointer)(1, 3, GL_FLOAT, GL_FALSE, sizeof(limen__vertex),
                             (void *)offsetof(limen__vertex, nrm));
+    free(verts), free(idx);
     return LIMEN_OK;
 }
 
@@ -275,7 +305,7 @@ static limen_status setup_gl(limen_renderer *r)
 
     limen_status st = build_program(r);
     if (!st)
-        st = upload_meshes(r);
+        st = upload_units(r);
     if (!st)
         st = build_targets(r);
     if (st)
@@ -355,7 +385,6 @@ void limen_renderer_destroy(limen_renderer *r)
     free(r->poly);
     if (r->ctx)
         r->ops->destroy(r->ctx);
-    limen__meshes_free(&r->meshes);
     free(r->assets);
     free(r->rgba);
     free(r);

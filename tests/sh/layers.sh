@@ -39,4 +39,11 @@ drawlist_reads_no_scene() {
 }
 t_ok "the draw list reads no scene" drawlist_reads_no_scene
 
+# What the seam is measured by: a game draws the list with OpenGL of its own in at most 400
+# lines (tests/test_example_game.c holds its frames to limen's).
+example_small() {
+    n=$(wc -l < examples/own_renderer.c); echo "examples/own_renderer.c: $n lines"; [ "$n" -le 400 ]
+}
+t_ok "the example draws the list in at most 400 lines" example_small
+
 t_done
