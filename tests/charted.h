@@ -106,4 +106,58 @@ static inline void charted_ball(int n, int tile, float *pos, float *nrm, float *
     }
 }
 
+
+/* The same ball in another layout of charts, as an exporter packs a model's islands: each
+ * face's charts are bricks of bw x bh squares in rows, every other row shifted by half a
+ * brick (bricks cut at the face's edges), so where charts meet, three do (one brick's side
+ * runs on past the corner of two others), not four; each its own cell of the atlas.
+ * charted_bricks(n, bw, bh, pos, nrm, uv, idx, chart): returns the vertex count, and with
+ * pos not NULL fills pos and nrm (3 floats a vertex), uv (2), chart (the chart of each
+ * vertex) and idx (5 * n * n * 6 indices, counter-clockwise from outside). */
+static inline int charted_bricks(int n, int bw, int bh, float *pos, float *nrm, float *uv,
+                                 uint32_t *idx, int *chart)
+{
+    int charts = 0, side = 1;
+    for (int pass = 0; pass < 2; pass++) {
+        size_t k = 0, v = 0;
+        int c = 0;
+        for (int f = 0; f < 5; f++)
+            for (int y0 = 0, r = 0; y0 < n; y0 += bh, r++)
+                for (int x = -(r % 2) * (bw / 2); x < n; x += bw) {
+                    int x0 = x > 0 ? x : 0, x1 = x + bw < n ? x + bw : n,
+                        y1 = y0 + bh < n ? y0 + bh : n;
+                    if (x1 <= x0)
+                        continue;
+                    uint32_t first = (uint32_t)v, w = (uint32_t)(x1 - x0 + 1);
+                    for (int j = y0; j <= y1; j++)
+                        for (int i = x0; i <= x1; i++, v++) {
+                            if (pass == 0 || !pos)
+                                continue;
+                            charted_vertex(f, n, i, j, pos, nrm, v);
+                            uv[v * 2] = (float)((c % side + 0.05 + 0.9 * (i - x) / bw) / side);
+                            uv[v * 2 + 1] =
+                                (float)((c / side + 0.05 + 0.9 * (j - y0) / bh) / side);
+                            chart[v] = c;
+                        }
+                    for (int j = 0; pass == 1 && pos && j < y1 - y0; j++)
+                        for (int i = 0; i < x1 - x0; i++) {
+                            uint32_t a = first + (uint32_t)j * w + (uint32_t)i, b = a + 1,
+                                     cc = a + w, e = cc + 1;
+                            uint32_t q[6] = { a, b, e, a, e, cc };
+                            for (int t = 0; t < 6; t++)
+                                idx[k++] = q[t];
+                        }
+                    c++;
+                }
+        if (pass == 0) {
+            charts = c;
+            while (side * side < charts)
+                side++;
+        } else {
+            return (int)v;
+        }
+    }
+    return 0;
+}
+
 #endif

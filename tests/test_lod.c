@@ -1506,6 +1506,66 @@ done:
     close_scene(&f);
 }
 
+/* The ball's charts as bricks (tests/charted.h charted_bricks: 8 x 4 squares, every other
+ * row shifted by half a brick, 275 charts), where three charts meet at each corner, as on a
+ * model an exporter unwrapped: such a corner stays where it is (no neighbour lies on all
+ * three charts), and a brick keeps its four corners and the two where its neighbours'
+ * sides end on it, so at least four triangles, 1,100 in all. The levels reach five, down to
+ * 1/12 of the triangles (meshoptimizer alone stuck at 2,531 triangles: four levels), no
+ * triangle of any across two charts, and each level's error bounds a brute force's largest
+ * distance. */
+static void test_brick_charts(void)
+{
+    enum { N = 40, BW = 8, BH = 4, NT = 5 * N * N * 2 };
+    int nv = charted_bricks(N, BW, BH, NULL, NULL, NULL, NULL, NULL);
+    float *pos = malloc(sizeof(float) * 3 * nv), *nrm = malloc(sizeof(float) * 3 * nv),
+          *uv = malloc(sizeof(float) * 2 * nv);
+    uint32_t *idx = malloc(sizeof(uint32_t) * 3 * NT);
+    int *chart = malloc(sizeof(int) * nv);
+    if (!pos || !nrm || !uv || !idx || !chart) {
+        CHECK(!"out of memory");
+        goto done;
+    }
+    CHECK(charted_bricks(N, BW, BH, pos, nrm, uv, idx, chart) == nv);
+    fixture f = open_scene((float[3]){ 0, 0, 5 }, (float[3]){ 0, 0, 0 });
+    CHECK_OK(limen_mesh_set_triangles(f.s, f.mesh, &(limen_mesh_data){
+        .positions = pos, .normals = nrm, .uvs = uv, .vertex_count = nv, .indices = idx,
+        .triangle_count = NT }));
+    const limen_drawable *d = item(&f);
+    tri_box *ft = d ? boxes_of(d->mesh, &d->mesh->lods[0]) : NULL;
+    grid full = { 0 };
+    if (ft && grid_make(&full, ft, d->mesh->triangle_count)) {
+        const limen_mesh_geometry *g = d->mesh;
+        int last = g->lods[g->lod_count - 1].triangle_count;
+        CHECK_MSG(g->lod_count >= 5 && last * 12 <= NT, "%d levels, the coarsest %d triangles",
+                  g->lod_count, last);
+        for (int k = 1; k < g->lod_count; k++) {
+            const limen_mesh_lod *lv = &g->lods[k];
+            int across = 0;
+            for (int t = 0; t < lv->triangle_count; t++) {
+                const uint32_t *c = &lv->indices[t * 3];
+                across += chart[c[0]] != chart[c[1]] || chart[c[0]] != chart[c[2]];
+            }
+            CHECK_MSG(across == 0, "level %d: %d of %d triangles across charts", k, across,
+                      lv->triangle_count);
+            double found = brute_sampled(g, &full, k, 1, 4, 400);
+            CHECK_MSG(found <= lv->error * (1 + 1e-5), "level %d: error %g, found %g", k,
+                      lv->error, found);
+        }
+    } else {
+        CHECK(!"no mesh, or no memory for the brute force");
+    }
+    grid_free(&full);
+    free(ft);
+    close_scene(&f);
+done:
+    free(pos);
+    free(nrm);
+    free(uv);
+    free(idx);
+    free(chart);
+}
+
 static const check_case cases[] = {
     { "bunny_levels", test_bunny_levels },
     { "error_bounds", test_error_bounds },
@@ -1524,6 +1584,7 @@ static const check_case cases[] = {
     { "async", test_async },
     { "chart_levels_whole", test_chart_levels_whole },
     { "textured_levels_in_charts", test_textured_levels_in_charts },
+    { "brick_charts", test_brick_charts },
     { 0 },
 };
 
