@@ -1,7 +1,8 @@
 /* lod_weld.h - what the simplifier is given and what its levels' corners become
  * (core/lod_weld.c): a mesh welded for it, meshoptimizer's simplifiers over that, one that
- * keeps within the texture's charts, and each corner's choice among the vertices at its
- * position (its side of a seam in the normals or the texture). Not part of the public API. */
+ * keeps within the texture's charts (core/lod_charts.c), and each corner's choice among the
+ * vertices at its position (its side of a seam in the normals or the texture). Not part of
+ * the public API. */
 #ifndef LIMEN_CORE_LOD_WELD_H
 #define LIMEN_CORE_LOD_WELD_H
 
