@@ -939,7 +939,7 @@ done:
 /* One chart a face; and 500 charts of 4 x 4 squares, whose corners (where four charts meet)
  * meshoptimizer's simplifier cannot move, nor the seams' vertices next to them, so it is
  * stuck at a quarter of the triangles: the coarse levels are made by collapses within the
- * charts (core/lod_weld.c), which move the seams along themselves up to those corners,
+ * charts (core/lod_charts.c), which move the seams along themselves up to those corners,
  * down to two triangles a chart, 1/16 of the triangles (five levels, the full mesh's
  * included). */
 static void test_asset_levels(void)

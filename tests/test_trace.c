@@ -967,7 +967,7 @@ static void test_lod_levels(void)
  * coordinates, other charts' colours and the margin, which the full mesh shows nowhere
  * near, so no distance bounds it: no level has one, and each level shows no colour farther
  * than its error from where the full mesh shows it. The coarse levels, made within the
- * charts (core/lod_weld.c), reach 1/16 of the triangles in five levels. */
+ * charts (core/lod_charts.c), reach 1/16 of the triangles in five levels. */
 static void test_lod_charts(void)
 {
     lod_levels(4, 5);
