@@ -1067,7 +1067,11 @@ LIMEN_API limen_status limen_renderer_write_png(limen_renderer *r, const char *p
  * texture), each self-contained: what to draw and the pipeline state to draw it with,
  * already resolved for the depth range (reversed depth: GREATER where the plain range says
  * LESS). A backend walks the list in order and does what each command says: it needs no
- * scene, no plan logic, no clipping and no sorting.
+ * scene, no plan logic, no clipping and no sorting. What it draws is geometry it uploads
+ * once, keyed on limen_mesh_geometry.id: a MESHES command's mesh (limen_drawable.mesh) and
+ * a SHAPE command's unit shape (limen_unit_geometry of limen_kind_get(kind)->unit), both at
+ * the command's level and both as instances from limen_drawlist_instances
+ * (examples/own_renderer.c draws the two with one function).
  *     limen_drawlist *dl;  limen_drawlist_create(&dl);
  *     limen_drawlist_desc dd = { .width = w, .height = h, .method = LIMEN_METHOD_STENCIL };
  *     limen_drawlist_build(dl, plan, drawables, &dd);

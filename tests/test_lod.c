@@ -1333,6 +1333,124 @@ static void test_async(void)
     free(idx);
 }
 
+/* ------------------------------------------------------------------ laying a piece over */
+
+/* The largest distance a brute force finds from the triangles a (na of them, a lattice of
+ * `steps` on each) to the triangles b (nb), both over pos. */
+static double lattice_dist(const float *pos, const uint32_t *a, int na, const uint32_t *b, int nb,
+                           int steps)
+{
+    double worst = 0;
+    for (int t = 0; t < na; t++)
+        for (int i = 0; i <= steps; i++)
+            for (int j = 0; i + j <= steps; j++) {
+                double p[3], best = INFINITY;
+                for (int x = 0; x < 3; x++)
+                    p[x] = (1 - (double)(i + j) / steps) * pos[a[t * 3] * 3 + x] +
+                           (double)i / steps * pos[a[t * 3 + 1] * 3 + x] +
+                           (double)j / steps * pos[a[t * 3 + 2] * 3 + x];
+                for (int u = 0; u < nb; u++) {
+                    double c[3][3];
+                    for (int k = 0; k < 3; k++)
+                        for (int x = 0; x < 3; x++)
+                            c[k][x] = pos[b[u * 3 + k] * 3 + x];
+                    best = fmin(best, tri_dist(p, c[0], c[1], c[2]));
+                }
+                worst = fmax(worst, best);
+            }
+    return worst;
+}
+
+/* A level's triangle far larger than the full mesh's is bounded by laying it over them whole
+ * (core/lod.c lay_bound: the triangles under it, seen along its normal, cover it where their
+ * border stays outside it). On random bumpy grids, some with a hole or a fold (an overhang,
+ * seen turned over) under a coarse triangle: the bound (limen__lod_measure) is at least a
+ * brute force's largest distance, either way, and within 30% of it. Fails where a border
+ * inside the piece (the hole's) is let pass, or where nothing covers the piece (a hole that
+ * is exactly a level's triangle) and the count of covering triangles is not checked. */
+static void test_lay_bound(void)
+{
+    enum { G = 16, K = 4, NV = (G + 1) * (G + 1) };
+    float pos[NV * 3];
+    uint32_t idx[G * G * 6], lidx[(G / K) * (G / K) * 6];
+    for (int seed = 0; seed < 9; seed++) {
+        double f[3][3];
+        for (int k = 0; k < 3; k++)
+            for (int x = 0; x < 3; x++)
+                f[k][x] = uniform();
+        for (int j = 0; j <= G; j++)
+            for (int i = 0; i <= G; i++) {
+                double x = (double)i / G, y = (double)j / G, z = 0;
+                for (int k = 0; k < 3; k++)
+                    z += 0.004 * sin(6.28 * (1 + 3 * f[k][0]) * x + 6.28 * (1 + 3 * f[k][1]) * y +
+                                    6.28 * f[k][2]);
+                z += 0.002 * (uniform() - 0.5);
+                pos[(j * (G + 1) + i) * 3] = (float)x;
+                pos[(j * (G + 1) + i) * 3 + 1] = (float)y;
+                pos[(j * (G + 1) + i) * 3 + 2] = (float)z;
+            }
+        /* a hole of 2 x 2 cells (seeds 1, 3, ...), or a fold (seeds 2, 6): a column of
+         * vertices pushed past its neighbours, so that a strip of cells is seen turned over
+         * and the sheet runs back over itself */
+        int hx = 1 + (int)(uniform() * (G - 3)), hy = 1 + (int)(uniform() * (G - 3));
+        bool hole = seed % 2 == 1, fold = seed % 4 == 2;
+        if (fold)
+            for (int j = 0; j <= G; j++)
+                pos[(j * (G + 1) + hx) * 3] += (float)(1.6 / G);
+        /* or (seed 8) a hole that is exactly a level's triangle: the full mesh meets it
+         * only along its border */
+        bool tile = seed == 8;
+        int lt = 0;
+        for (int j = 0; j < G; j += K)
+            for (int i = 0; i < G; i += K) {
+                uint32_t a = (uint32_t)(j * (G + 1) + i), b = a + K, c = a + K * (G + 1),
+                         d = c + K;
+                bool flip = uniform() < 0.5 && !(tile && lt == 0);
+                uint32_t q[2][6] = { { a, b, d, a, d, c }, { a, b, c, b, d, c } };
+                memcpy(&lidx[lt * 3], q[flip], sizeof q[0]);
+                lt += 2;
+            }
+        int nt = 0;
+        for (int j = 0; j < G; j++)
+            for (int i = 0; i < G; i++) {
+                if (hole && i >= hx && i < hx + 2 && j >= hy && j < hy + 2)
+                    continue;
+                uint32_t a = (uint32_t)(j * (G + 1) + i), b = a + 1, c = a + G + 1, d = c + 1;
+                uint32_t q[6] = { a, b, d, a, d, c };
+                /* the first level triangle, (0,0) (K,0) (K,K), holds the cells below its
+                 * diagonal and the lower halves of those on it */
+                if (tile && i < K && j < K && j <= i) {
+                    if (j == i) {
+                        memcpy(&idx[nt * 3], q + 3, sizeof q / 2);
+                        nt++;
+                    }
+                    continue;
+                }
+                memcpy(&idx[nt * 3], q, sizeof q);
+                nt += 2;
+            }
+        limen__mesh m = { .nverts = NV, .ntris = (uint32_t)nt, .pos = pos, .idx = idx };
+        for (int x = 0; x < 3; x++) {
+            m.lo[x] = INFINITY;
+            m.hi[x] = -INFINITY;
+        }
+        for (int v = 0; v < NV * 3; v++) {
+            m.lo[v % 3] = fmin(m.lo[v % 3], pos[v]);
+            m.hi[v % 3] = fmax(m.hi[v % 3], pos[v]);
+        }
+        CHECK(limen__mesh_bvh(&m));
+        double e = m.bvh ? limen__lod_measure(&m, lidx, (uint32_t)lt) : NAN;
+        double found = fmax(lattice_dist(pos, lidx, lt, idx, nt, 16),
+                            lattice_dist(pos, idx, nt, lidx, lt, 4));
+        CHECK_MSG(found <= e * (1 + 1e-5), "seed %d%s: bound %g, found %g", seed,
+                  hole ? " (hole)" : fold ? " (fold)" : tile ? " (tile)" : "", e, found);
+        CHECK_MSG(e <= found * 1.3, "seed %d%s: bound %g, found %g", seed,
+                  hole ? " (hole)" : fold ? " (fold)" : tile ? " (tile)" : "", e, found);
+        free(m.bvh);
+        free(m.tri_order);
+    }
+}
+
 /* ------------------------------------------------------------------ whole across charts */
 
 /* Vertices in the order of their positions (sort_pos: the mesh's), by index where the same. */
@@ -1582,6 +1700,7 @@ static const check_case cases[] = {
     { "asset_levels", test_asset_levels },
     { "part_seams", test_part_seams },
     { "async", test_async },
+    { "lay_bound", test_lay_bound },
     { "chart_levels_whole", test_chart_levels_whole },
     { "textured_levels_in_charts", test_textured_levels_in_charts },
     { "brick_charts", test_brick_charts },

@@ -5,20 +5,22 @@
  * The error of a level is an upper bound on the two-sided Hausdorff distance between its
  * surface and the full mesh's. For one side (surface A against surface B): every corner of
  * A finds a near triangle of B (one it shares, or by walking across B's edges from the last
- * corner's), and is searched for (through a hierarchy over B, the ray tracer's for the full
- * mesh) where that leaves it near the largest distance found so far, which is a lower bound.
- * Then each triangle of A, a piece, is bounded over its whole area by the least of: its
- * farthest corner's distance plus how far a point can be from a corner (the distance is
- * 1-Lipschitz); the planes through the corners' distances to each corner's nearest triangle
- * (the distance to one triangle is convex); the largest offset to the triangles of B it lies
- * over, seen along its normal (found by walking across B's edges from its corners'
- * triangles). A piece whose bound exceeds the lower bound by more than REL_TOL is cut in
- * four, down to MAX_DEPTH; the answer is the largest bound of a finished piece. A point a
- * cut makes is searched for only where its edge's corners' triangles leave it far from the
- * other surface: near enough, the distance to one of them is an upper bound that every
- * bound above may take in place of the nearest; a piece these leave above the goal has them
- * searched before it is cut (or, at MAX_DEPTH, let go). The surface measured against, and
- * its distances, are core/lod_target.c's. */
+ * corner's), and is searched for (through a hierarchy over B: the ray tracer's for the full
+ * mesh, limen__lod_tree's for a level) where that leaves it near the largest distance found
+ * so far, which is a lower bound. Then each triangle of A, a piece, is bounded over its
+ * whole area by the least of: its farthest corner's distance plus how far a point can be
+ * from a corner (the distance is 1-Lipschitz); the planes through the corners' distances to
+ * each corner's nearest triangle (the distance to one triangle is convex); the largest
+ * offset to the triangles of B it lies over, seen along its normal, found by walking across
+ * B's edges from its corners' triangles: lay_bound, for a piece of any size (that they
+ * cover it is proven by where their border runs and how many cover one point), then
+ * cover_bound for a small one (pair by pair). A piece whose bound exceeds the lower bound
+ * by more than REL_TOL is cut in four, down to MAX_DEPTH; the answer is the largest bound
+ * of a finished piece. A point a cut makes is searched for only where its edge's corners'
+ * triangles leave it far from the other surface: near enough, the distance to one of them
+ * is an upper bound that every bound above may take in place of the nearest; a piece these
+ * leave above the goal has them searched before it is cut (or, at MAX_DEPTH, let go). The
+ * surface measured against, and its distances, are core/lod_target.c's. */
 #include <float.h>
 #include <math.h>
 #include <pthread.h>
@@ -44,7 +46,7 @@
 #include "core/texture.h"
 
 #define MAX_LEVELS 12           /* the full mesh and up to 11 coarser ones */
-#define LOD_VERSION 11          /* of how levels are made and measured: levels kept between
+#define LOD_VERSION 12          /* of how levels are made and measured: levels kept between
                                  * runs (core/lod_cache.c) are keyed by it, so change it with
                                  * anything that changes a level or its error */
 #define MIN_TRIS 16             /* a level this small gets no halved successor */
@@ -100,6 +102,10 @@ typedef struct side {
     uint32_t seen_mask, nseen;
     bool nomem;
     uint32_t *marks, mark;      /* per triangle of to: the last cover_bound that met it */
+    uint32_t *queue;            /* LAY_LOOK triangles of to, for lay_bound */
+    bool lay_far;               /* lay_bound's last answer: a triangle under the piece lies
+                                 * farther than the goal (not a border or a count it could
+                                 * not prove) */
     const atomic_bool *stop;    /* where not NULL and set: give up (a build no longer wanted) */
     bool stopped;
 } side;
@@ -359,6 +365,241 @@ static double cover_bound(side *sd, const point *v[3], double goal)
     return (worst + sqrt(2 * greater(gap, 0) / sharpest)) * (1 + 1e-12);
 }
 
+#define LAY_LOOK 4096          /* triangles of the other surface lay_bound looks at, at most */
+
+/* Whether the segment ab (seen) and triangle t (counter-clockwise) share no point but of
+ * t's border: an edge line of t leaves ab wholly outside, or ab's line leaves t wholly on
+ * one side. */
+static bool seg_apart2(const double a[2], const double b[2], const double t[3][2])
+{
+    for (int e = 0; e < 3; e++) {
+        const double *p = t[e], *q = t[e == 2 ? 0 : e + 1];
+        if (orient2(p, q, a) <= 0 && orient2(p, q, b) <= 0)
+            return true;
+    }
+    double s0 = orient2(a, b, t[0]), s1 = orient2(a, b, t[1]), s2 = orient2(a, b, t[2]);
+    return (s0 >= 0 && s1 >= 0 && s2 >= 0) || (s0 <= 0 && s1 <= 0 && s2 <= 0);
+}
+
+/* A bound from laying the piece over the other surface, seen along the piece's normal, for
+ * a piece of any size (cover_bound's argument needs no two triangles to overlap, which it
+ * checks pair by pair; this one needs no such check). S: the triangles of sd->to met by a
+ * walk across edges from the corners' own whose projections meet the piece's inside. Where
+ * every edge of a triangle of S is shared (run the opposite way) with another of S, or lies
+ * outside the piece as seen, or has no length, S's border (as a chain of edges) stays
+ * outside the piece, so the number of times S covers a point of the piece, counting a
+ * triangle seen turned over (clockwise) as -1, is the same at every point of the piece:
+ * their signed clipped areas add up to that number times the piece's. Where it is at least
+ * 1, every point of the piece lies under a triangle of S seen counter-clockwise, straight
+ * along the normal, no farther than the largest offset of such a triangle over its clipped
+ * part (the offset is linear over each). The offset is checked against `goal` as the
+ * triangles come: INFINITY at once where one exceeds it, or where S is not closed off
+ * within LAY_LOOK triangles. */
+static double lay_bound(side *sd, const point *v[3], double goal)
+{
+    const target *to = sd->to;
+    double e1[3], e2[3], n[3], u[3], w[3];
+    limen__sub3(v[1]->p, v[0]->p, e1);
+    limen__sub3(v[2]->p, v[0]->p, e2);
+    n[0] = e1[1] * e2[2] - e1[2] * e2[1];
+    n[1] = e1[2] * e2[0] - e1[0] * e2[2];
+    n[2] = e1[0] * e2[1] - e1[1] * e2[0];
+    double nn = sqrt(limen__dot3(n, n)), ne = sqrt(limen__dot3(e1, e1));
+    if (!(nn > 0) || !(ne > 0) || !sd->queue)
+        return INFINITY;
+    for (int a = 0; a < 3; a++) {
+        n[a] /= nn;
+        u[a] = e1[a] / ne;
+    }
+    w[0] = n[1] * u[2] - n[2] * u[1];
+    w[1] = n[2] * u[0] - n[0] * u[2];
+    w[2] = n[0] * u[1] - n[1] * u[0];
+    double pp[3][2];
+    for (int k = 0; k < 3; k++) {
+        double d[3];
+        limen__sub3(v[k]->p, v[0]->p, d);
+        pp[k][0] = limen__dot3(d, u);
+        pp[k][1] = limen__dot3(d, w);
+    }
+    double plo[2] = { lesser(pp[0][0], lesser(pp[1][0], pp[2][0])),
+                      lesser(pp[0][1], lesser(pp[1][1], pp[2][1])) },
+           phi[2] = { greater(pp[0][0], greater(pp[1][0], pp[2][0])),
+                      greater(pp[0][1], greater(pp[1][1], pp[2][1])) };
+    double twice_piece = orient2(pp[0], pp[1], pp[2]);
+    if (!(twice_piece > 0))
+        return INFINITY;
+    uint32_t *queue = sd->queue, mark = ++sd->mark;
+    if (mark == 0) {
+        memset(sd->marks, 0, sizeof *sd->marks * to->m->ntris);
+        mark = sd->mark = 1;
+    }
+    sd->lay_far = false;
+    int nq = 0, seeds = 0;
+    for (int k = 0; k < 3; k++) {
+        uint32_t t = v[k]->tri;
+        if (t != UINT32_MAX && sd->marks[t] != mark) {
+            sd->marks[t] = mark;
+            queue[nq++] = t;
+        }
+    }
+    seeds = nq;
+    /* two probes inside the piece: how many triangles of S cover each, counting those
+     * turned over as -1 (where an edge runs through one, it cannot tell) */
+    double probe[2][2];
+    for (int a = 0; a < 2; a++) {
+        probe[0][a] = (pp[0][a] + pp[1][a] + pp[2][a]) / 3;
+        probe[1][a] = (pp[0][a] * 2 + pp[1][a] * 3 + pp[2][a] * 4) / 9;
+    }
+    int count[2] = { 0, 0 };
+    bool unsure[2] = { false, false };
+    double worst = 0;
+    for (int next = 0; next < nq; next++) {
+        uint32_t at = queue[next];
+        double c[9], tt[3][2];
+        limen__lod_corners(to, at, c);
+        for (int k = 0; k < 3; k++) {
+            double d[3];
+            limen__sub3(c + 3 * k, v[0]->p, d);
+            tt[k][0] = limen__dot3(d, u);
+            tt[k][1] = limen__dot3(d, w);
+        }
+        /* where it meets the piece's inside: not where their boxes (as seen) only touch,
+         * nor where an edge line of either leaves the other wholly on its outer side */
+        bool meets = !(greater(tt[0][0], greater(tt[1][0], tt[2][0])) <= plo[0] ||
+                       lesser(tt[0][0], lesser(tt[1][0], tt[2][0])) >= phi[0] ||
+                       greater(tt[0][1], greater(tt[1][1], tt[2][1])) <= plo[1] ||
+                       lesser(tt[0][1], lesser(tt[1][1], tt[2][1])) >= phi[1]);
+        int inside = 0;
+        double twice = 0;
+        /* per edge of the triangle (corners k, k + 1): whether an edge line of the piece
+         * leaves it wholly outside (where it meets the piece) */
+        bool edge_out[3] = { false, false, false };
+        if (meets) {
+            bool in[3] = { true, true, true };
+            for (int e = 0; e < 3 && meets; e++) {
+                const double *a = pp[e], *b = pp[e == 2 ? 0 : e + 1];
+                bool out = true, beyond[3];
+                for (int k = 0; k < 3; k++) {
+                    double f = orient2(a, b, tt[k]);
+                    in[k] = in[k] && f >= 0;
+                    beyond[k] = f <= 0;
+                    out = out && beyond[k];
+                }
+                for (int k = 0; k < 3; k++)
+                    edge_out[k] = edge_out[k] || (beyond[k] && beyond[k == 2 ? 0 : k + 1]);
+                meets = !out;
+            }
+            inside = in[0] + in[1] + in[2];
+            twice = orient2(tt[0], tt[1], tt[2]);
+        }
+        if (meets && inside < 3) {
+            if (twice == 0) {
+                meets = !(seg_apart2(tt[0], tt[1], pp) && seg_apart2(tt[1], tt[2], pp) &&
+                          seg_apart2(tt[2], tt[0], pp));
+            } else {
+                /* its edges, run counter-clockwise as seen */
+                for (int e = 0; e < 3 && meets; e++) {
+                    const double *a = tt[e], *b = tt[e == 2 ? 0 : e + 1];
+                    if (twice < 0) {
+                        const double *x = a;
+                        a = b;
+                        b = x;
+                    }
+                    meets = !(orient2(a, b, pp[0]) <= 0 && orient2(a, b, pp[1]) <= 0 &&
+                              orient2(a, b, pp[2]) <= 0);
+                }
+            }
+        }
+        if (!meets) {
+            /* beside the piece: a seed's neighbours are looked at still (the corners'
+             * triangles may lie just beside it) */
+            if (next >= seeds)
+                continue;
+        } else if (twice != 0) {
+            if (twice < 0) {            /* counter-clockwise as seen (c as it was) */
+                for (int a = 0; a < 2; a++) {
+                    double sw = tt[1][a];
+                    tt[1][a] = tt[2][a];
+                    tt[2][a] = sw;
+                }
+            }
+            /* the count at the two probes: strictly inside adds its sign; on its border
+             * leaves that probe's count unknown */
+            for (int x = 0; x < 2; x++) {
+                double f0 = orient2(tt[0], tt[1], probe[x]), f1 = orient2(tt[1], tt[2], probe[x]),
+                       f2 = orient2(tt[2], tt[0], probe[x]);
+                if (f0 > 0 && f1 > 0 && f2 > 0)
+                    count[x] += twice > 0 ? 1 : -1;
+                else if (f0 >= 0 && f1 >= 0 && f2 >= 0)
+                    unsure[x] = true;
+            }
+            if (twice > 0) {
+                double h[3];
+                for (int k = 0; k < 3; k++) {
+                    double d[3];
+                    limen__sub3(c + 3 * k, v[0]->p, d);
+                    h[k] = limen__dot3(d, n);
+                }
+                /* over the whole triangle, where that raises nothing; else over its part
+                 * inside the piece */
+                double whole = greater(fabs(h[0]), greater(fabs(h[1]), fabs(h[2])));
+                if (inside == 3 || whole <= greater(worst, *sd->upper)) {
+                    worst = greater(worst, whole);
+                } else {
+                    double part[9][2];
+                    int np = clip_tri((const double (*)[2])pp, (const double (*)[2])tt, part);
+                    for (int k = 0; k < np && np >= 3; k++) {
+                        double l1 = orient2(tt[2], tt[0], part[k]) / twice,
+                               l2 = orient2(tt[0], tt[1], part[k]) / twice;
+                        worst = greater(worst, fabs(h[0] + (h[1] - h[0]) * l1 +
+                                                    (h[2] - h[0]) * l2));
+                    }
+                }
+            }
+        }
+        if (!(worst <= goal)) {
+            sd->lay_far = true;
+            return INFINITY;
+        }
+        for (int e = 0; e < 3; e++) {
+            uint32_t o = to->across[at][e];
+            /* an edge outside the piece leaves S's border outside it, whatever lies across
+             * it (a seed beside the piece leads on to its neighbours still) */
+            if (meets && edge_out[e])
+                continue;
+            if (o == UINT32_MAX) {
+                if (!meets)
+                    continue;
+                /* an edge of S's border: where it has a length, it must lie outside */
+                const double *a = c + 3 * e, *b = c + 3 * (e == 2 ? 0 : e + 1);
+                if (a[0] == b[0] && a[1] == b[1] && a[2] == b[2])
+                    continue;
+                double sa[2], sb[2], da[3], db[3];
+                limen__sub3(a, v[0]->p, da);
+                limen__sub3(b, v[0]->p, db);
+                sa[0] = limen__dot3(da, u);
+                sa[1] = limen__dot3(da, w);
+                sb[0] = limen__dot3(db, u);
+                sb[1] = limen__dot3(db, w);
+                if (!seg_apart2(sa, sb, pp))
+                    return INFINITY;
+                continue;
+            }
+            if (sd->marks[o] == mark)
+                continue;
+            if (nq == LAY_LOOK)
+                return INFINITY;
+            sd->marks[o] = mark;
+            queue[nq++] = o;
+        }
+    }
+    /* how many times S covers each point of the piece, at a probe no edge runs through */
+    int times = !unsure[0] ? count[0] : !unsure[1] ? count[1] : 0;
+    if (times < 1)
+        return INFINITY;
+    return worst * (1 + 1e-12) + 1e-12 * ne;
+}
+
 static uint32_t point_hash(const double p[3])
 {
     uint64_t h = 0x9e3779b97f4a7c15ull;
@@ -511,11 +752,18 @@ static double piece_bound(side *sd, const point *v[3], double goal)
         far = greater(far, v[k]->d2);
     }
     double bound = sqrt(far) + sqrt(longest / 3);
-    /* laying the piece over the other surface, where it is small enough to lie on a few of
-     * its triangles */
+    /* laying the piece over the other surface: a level's piece first (the convex bound
+     * seldom holds for it over the finer full mesh), a full mesh's after the convex bound */
+    sd->lay_far = false;
+    if (bound > goal && !sd->weld)
+        bound = fmin(bound, lay_bound(sd, v, goal));
     if (bound > goal)
         bound = fmin(bound, convex_bound(sd, v));
-    if (bound > goal && piece_area(v) <= COVER_AREA * sd->to->mean_area)
+    if (bound > goal && sd->weld)
+        bound = fmin(bound, lay_bound(sd, v, goal));
+    /* where lay_bound found the surface under the piece too far, cover_bound (which leaves
+     * out what lies too far, and looks for a nearer sheet) seldom does better */
+    if (bound > goal && !sd->lay_far && piece_area(v) <= COVER_AREA * sd->to->mean_area)
         bound = fmin(bound, cover_bound(sd, v, goal));
     return bound;
 }
@@ -583,7 +831,10 @@ static bool side_corners(side *sd)
         } else {
             double enough = NEAR_ENOUGH * (*sd->floor * (1 + REL_TOL) + sd->abs_tol);
             q->tri = hint;
-            q->d2 = limen__lod_target_walk(sd->to, q->p, &q->tri);
+            /* the last one's triangle, where it is near enough; else a walk from it */
+            q->d2 = limen__lod_d2(sd->to, hint, q->p);
+            if (q->d2 > enough * enough)
+                q->d2 = limen__lod_target_walk(sd->to, q->p, &q->tri);
             q->rough = q->d2 <= enough * enough;
             if (!q->rough)
                 locate(sd, q, q->tri);
@@ -629,6 +880,8 @@ static void *measure(void *arg)
     w->there.upper = w->back.upper = &w->upper;
     w->there.marks = calloc(w->there.to->m->ntris, sizeof *w->there.marks);
     w->back.marks = calloc(w->back.to->m->ntris, sizeof *w->back.marks);
+    w->there.queue = malloc(sizeof *w->there.queue * LAY_LOOK);
+    w->back.queue = malloc(sizeof *w->back.queue * LAY_LOOK);
     w->e = NAN;
     if (w->there.marks && w->back.marks) {
         double a = side_bound(&w->there, w->share),
@@ -640,6 +893,8 @@ static void *measure(void *arg)
     free(w->back.seen);
     free(w->there.marks);
     free(w->back.marks);
+    free(w->there.queue);
+    free(w->back.queue);
     return NULL;
 }
 
@@ -663,7 +918,7 @@ static double level_error(const target *full, const uint32_t *weld, const uint32
                        .idx = (uint32_t *)idx };
     target level = { 0 };
     double e = NAN;
-    if (limen__mesh_bvh(&lv) && limen__lod_target_make(&level, &lv, NULL)) {
+    if (limen__lod_tree(&lv) && limen__lod_target_make(&level, &lv, NULL)) {
         double diag = 0;
         for (int a = 0; a < 3; a++)
             diag += (m->hi[a] - m->lo[a]) * (m->hi[a] - m->lo[a]);
@@ -709,6 +964,16 @@ static double level_error(const target *full, const uint32_t *weld, const uint32
     limen__lod_target_free(&level);
     free(lv.bvh);
     free(lv.tri_order);
+    return e;
+}
+
+double limen__lod_measure(const limen__mesh *m, const uint32_t *idx, uint32_t ntris)
+{
+    target full = { 0 };
+    if (!limen__lod_target_make(&full, m, m->idx))
+        return NAN;
+    double e = level_error(&full, m->idx, idx, ntris, 0, NULL);
+    limen__lod_target_free(&full);
     return e;
 }
 

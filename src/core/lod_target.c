@@ -201,6 +201,128 @@ bool limen__lod_target_make(limen__lod_target *t, const limen__mesh *m, const ui
     return true;
 }
 
+/* ------------------------------------------------------------------ a level's hierarchy */
+
+#define TREE_LEAF 4             /* triangles a leaf of limen__lod_tree holds, at most */
+
+/* The nodes tree_node makes over n and over n + 1 triangles (out[0], out[1]): the halves of
+ * both are of n / 2 and n / 2 + 1 triangles, so one step a depth. */
+static void tree_nodes(uint32_t n, uint64_t out[2])
+{
+    if (n + 1 <= TREE_LEAF) {
+        out[0] = out[1] = 1;
+        return;
+    }
+    uint64_t half[2];
+    tree_nodes(n / 2, half);
+    bool odd = n % 2;
+    out[0] = n <= TREE_LEAF ? 1 : odd ? 1 + half[0] + half[1] : 1 + 2 * half[0];
+    out[1] = odd ? 1 + 2 * half[1] : 1 + half[0] + half[1];
+}
+
+/* The node at m->bvh[at] over tri_order[first, first + count): halved in order, a left
+ * child in the slot after its parent; its box its triangles' (a leaf) or its children's. */
+static void tree_node(limen__mesh *m, uint32_t at, uint32_t first, uint32_t count)
+{
+    limen__tri_node *n = &m->bvh[at];
+    if (count <= TREE_LEAF) {
+        for (int a = 0; a < 3; a++) {
+            n->lo[a] = INFINITY;
+            n->hi[a] = -INFINITY;
+        }
+        for (uint32_t i = first; i < first + count; i++)
+            for (int k = 0; k < 3; k++) {
+                const float *p = &m->pos[m->idx[m->tri_order[i] * 3 + k] * 3];
+                for (int a = 0; a < 3; a++) {
+                    n->lo[a] = fmin(n->lo[a], p[a]);
+                    n->hi[a] = fmax(n->hi[a], p[a]);
+                }
+            }
+        n->index = first;
+        n->count = count;
+        return;
+    }
+    uint32_t half = count / 2, left = m->nbvh++;
+    tree_node(m, left, first, half);
+    uint32_t right = m->nbvh++;
+    tree_node(m, right, first + half, count - half);
+    n = &m->bvh[at];
+    n->index = right;
+    n->count = 0;
+    for (int a = 0; a < 3; a++) {
+        n->lo[a] = fmin(m->bvh[left].lo[a], m->bvh[right].lo[a]);
+        n->hi[a] = fmax(m->bvh[left].hi[a], m->bvh[right].hi[a]);
+    }
+}
+
+/* x's low 10 bits spread to every third bit. */
+static uint32_t spread3(uint32_t x)
+{
+    x &= 0x3ff;
+    x = (x | x << 16) & 0x030000ff;
+    x = (x | x << 8) & 0x0300f00f;
+    x = (x | x << 4) & 0x030c30c3;
+    x = (x | x << 2) & 0x09249249;
+    return x;
+}
+
+bool limen__lod_tree(limen__mesh *m)
+{
+    uint64_t nodes[2];
+    tree_nodes(m->ntris, nodes);
+    size_t n = m->ntris;
+    m->bvh = malloc(sizeof *m->bvh * (size_t)nodes[0]);
+    m->tri_order = malloc(sizeof *m->tri_order * (n ? n : 1));
+    uint32_t *key = malloc(sizeof *key * (n ? n : 1)), *other = malloc(sizeof *other * (n ? n : 1));
+    if (!m->bvh || !m->tri_order || !key || !other) {
+        free(m->bvh);
+        free(m->tri_order);
+        m->bvh = NULL;
+        m->tri_order = NULL;
+        free(key);
+        free(other);
+        return false;
+    }
+    /* each triangle's centre on a 1024^3 grid over the centres' box, as a Morton code */
+    double lo[3] = { INFINITY, INFINITY, INFINITY }, hi[3] = { -INFINITY, -INFINITY, -INFINITY };
+    for (size_t t = 0; t < n; t++)
+        for (int a = 0; a < 3; a++) {
+            double c = ((double)m->pos[m->idx[t * 3] * 3 + a] + m->pos[m->idx[t * 3 + 1] * 3 + a] +
+                        m->pos[m->idx[t * 3 + 2] * 3 + a]) / 3;
+            lo[a] = fmin(lo[a], c);
+            hi[a] = fmax(hi[a], c);
+        }
+    for (size_t t = 0; t < n; t++) {
+        uint32_t q[3];
+        for (int a = 0; a < 3; a++) {
+            double c = ((double)m->pos[m->idx[t * 3] * 3 + a] + m->pos[m->idx[t * 3 + 1] * 3 + a] +
+                        m->pos[m->idx[t * 3 + 2] * 3 + a]) / 3;
+            double f = hi[a] > lo[a] ? (c - lo[a]) / (hi[a] - lo[a]) * 1023 : 0;
+            q[a] = f > 0 ? (uint32_t)f : 0;
+        }
+        key[t] = spread3(q[0]) | spread3(q[1]) << 1 | spread3(q[2]) << 2;
+        m->tri_order[t] = (uint32_t)t;
+    }
+    /* sorted by code, 8 bits a pass, the least first (stable) */
+    for (int shift = 0; shift < 32; shift += 8) {
+        size_t count[257] = { 0 };
+        for (size_t i = 0; i < n; i++)
+            count[(key[m->tri_order[i]] >> shift & 0xff) + 1]++;
+        for (int b = 0; b < 256; b++)
+            count[b + 1] += count[b];
+        for (size_t i = 0; i < n; i++)
+            other[count[key[m->tri_order[i]] >> shift & 0xff]++] = m->tri_order[i];
+        uint32_t *swap = m->tri_order;
+        m->tri_order = other;
+        other = swap;
+    }
+    free(key);
+    free(other);
+    m->nbvh = 1;
+    tree_node(m, 0, 0, m->ntris);
+    return true;
+}
+
 static double box_d2(const limen__tri_node *n, const double p[3])
 {
     double d2 = 0;
@@ -264,11 +386,12 @@ double limen__lod_target_nearest(const limen__lod_target *to, const double p[3],
 double limen__lod_target_walk(const limen__lod_target *to, const double p[3], uint32_t *t)
 {
     double best = limen__lod_d2(to, *t, p);
+    uint32_t from = UINT32_MAX;     /* the triangle stepped from: farther, not looked at again */
     for (int step = 0; step < WALK_MAX && best > 0; step++) {
         uint32_t next = UINT32_MAX;
         for (int e = 0; e < 3; e++) {
             uint32_t o = to->across[*t][e];
-            double d2 = o == UINT32_MAX ? INFINITY : limen__lod_d2(to, o, p);
+            double d2 = o == UINT32_MAX || o == from ? INFINITY : limen__lod_d2(to, o, p);
             if (d2 < best) {
                 best = d2;
                 next = o;
@@ -276,6 +399,7 @@ double limen__lod_target_walk(const limen__lod_target *to, const double p[3], ui
         }
         if (next == UINT32_MAX)
             break;
+        from = *t;
         *t = next;
     }
     return best;

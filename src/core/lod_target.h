@@ -63,4 +63,14 @@ static inline double limen__lod_d2(const limen__lod_target *t, uint32_t i, const
     return limen__tri_d2(p, c, c + 3, c + 6);
 }
 
+/* m's triangle hierarchy (bvh, tri_order, nbvh) as limen__mesh_bvh lays it out, for a
+ * level's nearest searches: the triangles in the order of their centres' Morton codes,
+ * halved in that order (no split is searched for: linear but for the sort, which is by
+ * radix). False when out of memory (nothing held). */
+bool limen__lod_tree(limen__mesh *m);
+/* core/lod.c's bound on the two-sided distance between the surface idx (ntris triangles over
+ * m's vertices) and m's (its hierarchy made, its bounds lo and hi set), as a level's error is
+ * measured: for tests. NAN when out of memory. */
+double limen__lod_measure(const limen__mesh *m, const uint32_t *idx, uint32_t ntris);
+
 #endif

@@ -207,13 +207,19 @@ static void draw_polygon(limen_renderer *r, const limen_draw_cmd *c, const limen
         draw_fan(r, c);
         return;
     }
-    GLuint tex = c->image == LIMEN_IMAGE_PREVIOUS ? r->prev_tex
-                 : c->target > 0 && c->target < LIMEN__MAX_TARGETS ? r->targets[c->target].tex
-                                                                   : 0;
+    /* multisampled, a target over the frame pixel for pixel gives each sample its own;
+     * another image is read once a pixel, at its centre: the average of the samples it
+     * holds (a resolved target's pixel), not a blend of its neighbours' */
+    const limen__target *t = c->image == LIMEN_IMAGE_TARGET && c->target > 0 &&
+                             c->target < LIMEN__MAX_TARGETS ? &r->targets[c->target] : NULL;
+    bool samples = t && t->ms_tex && r->opts.texture_scale == 1 && r->gl.MinSampleShading;
+    GLuint bound = target > 0 && target < LIMEN__MAX_TARGETS ? r->targets[target].fbo : r->fbo;
+    GLuint tex = samples ? t->ms_tex : c->image == LIMEN_IMAGE_PREVIOUS ? r->prev_tex
+                                     : limen__target_texture(r, c->target, bound);
     if (!tex)
         return;
     GL(ActiveTexture)(GL_TEXTURE0);
-    GL(BindTexture)(GL_TEXTURE_2D, tex);
+    GL(BindTexture)(samples ? GL_TEXTURE_2D_MULTISAMPLE : GL_TEXTURE_2D, tex);
     /* the list's fragments start at the target's corner; the frame's lie at its origin */
     float map[4];
     memcpy(map, c->image_map, sizeof map);
@@ -224,11 +230,17 @@ static void draw_polygon(limen_renderer *r, const limen_draw_cmd *c, const limen
     memcpy(r->shared.tex_map, map, sizeof map);
     memcpy(r->shared.view_proj, ident, sizeof ident);
     r->shared_stamp++;
-    if (limen__variant_use(r, LIMEN__MODE_TEXTURE, 0, 0, LIMEN__UV_NONE)) {
+    bool per_pixel = r->msaa && r->gl.MinSampleShading && !samples;
+    if (per_pixel)
+        GL(Disable)(GL_SAMPLE_SHADING);
+    if (limen__variant_use(r, samples ? LIMEN__MODE_SAMPLES : LIMEN__MODE_TEXTURE, 0, 0,
+                           LIMEN__UV_NONE)) {
         GL(UniformMatrix4fv)(r->u.model, 1, GL_FALSE, ident);
         GL(Uniform3fv)(r->u.albedo, 1, c->color);
         draw_fan(r, c);
     }
+    if (per_pixel)
+        GL(Enable)(GL_SAMPLE_SHADING);
     memcpy(r->shared.view_proj, p->view_proj, sizeof r->shared.view_proj);
     r->shared_stamp++;
 }
@@ -431,9 +443,10 @@ static bool bind_target(limen_renderer *r, const limen_draw_cmd *c)
         GL(Viewport)(r->origin[0] + vp[0], r->origin[1] + vp[1], vp[2], vp[3]);
         return true;
     }
-    const limen__target *t = limen__target_get(r, c->target, c->target_w, c->target_h);
+    limen__target *t = limen__target_get(r, c->target, c->target_w, c->target_h);
     if (!t)
         return false;
+    t->dirty = true;
     GL(BindFramebuffer)(GL_FRAMEBUFFER, t->fbo);
     GL(Viewport)(vp[0], vp[1], vp[2], vp[3]);
     return true;

@@ -26,7 +26,8 @@ typedef struct uniforms {
 } uniforms;
 
 /* Shader variants (shader.c): what a draw shades. */
-enum { LIMEN__MODE_LIT = 0, LIMEN__MODE_FLAT = 1, LIMEN__MODE_TEXTURE = 2 };
+enum { LIMEN__MODE_LIT = 0, LIMEN__MODE_FLAT = 1, LIMEN__MODE_TEXTURE = 2,
+       LIMEN__MODE_SAMPLES = 3 };  /* a multisampled target's sample of the same number */
 /* ... the normals of a lit draw: the vertices' (flat per face), the true sphere's or
  * cylinder's, or a mesh's vertex normals interpolated (smooth) ... */
 enum { LIMEN__SHAPE_FACE = 0, LIMEN__SHAPE_SPHERE = 1, LIMEN__SHAPE_CYLINDER = 2,
@@ -56,7 +57,12 @@ typedef struct limen__shared {
 
 /* An offscreen target for the texture method: one per depth of nesting. */
 typedef struct limen__target {
-    GLuint fbo, tex, depth_rb;
+    GLuint fbo, tex, depth_rb;      /* drawn into: tex and depth, or with msaa the
+                                     * multisampled color_rb and depth */
+    GLuint ms_tex, resolve_fbo;     /* msaa: the samples (a multisample texture), and tex's
+                                     * framebuffer they are averaged into where a target
+                                     * is sampled at another scale */
+    bool dirty;                     /* msaa: drawn since the last resolve */
     int w, h;
 } limen__target;
 
@@ -197,7 +203,10 @@ void limen__variants_free(limen_renderer *r);
  * (bound by the caller). gl/targets.c: offscreen target k of w x h (made, or remade at
  * another size; NULL where it cannot be); all of them freed. */
 limen_status limen__execute(limen_renderer *r, const limen_drawlist *dl);
-const limen__target *limen__target_get(limen_renderer *r, int k, int w, int h);
+limen__target *limen__target_get(limen_renderer *r, int k, int w, int h);
+/* Target k's colour as a 2D texture to sample: resolved first where multisampled and drawn
+ * since; 0 where there is none. Leaves GL_FRAMEBUFFER bound to `bound`. */
+GLuint limen__target_texture(limen_renderer *r, int k, GLuint bound);
 void limen__targets_free(limen_renderer *r);
 /* gl/targets.c: a w x h RGBA8 texture sampled linear and clamped at its edges, left bound
  * (a target's colour, the previous frame's copy). */

@@ -92,6 +92,8 @@
     X(void, RenderbufferStorage, (GLenum t, GLenum fmt, GLsizei w, GLsizei h))           \
     X(void, RenderbufferStorageMultisample, (GLenum t, GLsizei samples, GLenum fmt,      \
                                              GLsizei w, GLsizei h))                      \
+    X(void, TexImage2DMultisample, (GLenum t, GLsizei samples, GLenum fmt, GLsizei w,    \
+                                    GLsizei h, GLboolean fixed))                         \
     X(void, BlitFramebuffer, (GLint sx0, GLint sy0, GLint sx1, GLint sy1, GLint dx0,     \
                               GLint dy0, GLint dx1, GLint dy1, GLbitfield mask,          \
                               GLenum filter))                                            \

@@ -132,7 +132,11 @@ static const char *fs_body =
     "uniform int u_emissive_on, u_blend;\n"  /* an emissive texture on unit 2; blended */
     "uniform sampler2D u_emissive_tex;\n"
     "#endif\n"
+    "#if MODE == 3\n"
+    "uniform sampler2DMS u_tex;\n"
+    "#else\n"
     "uniform sampler2D u_tex;\n"
+    "#endif\n"
     "uniform vec4 u_tex_map;\n"
     "out vec4 o_color;\n"
     "void main() {\n"
@@ -151,6 +155,10 @@ static const char *fs_body =
     "#elif MODE == 2\n"
     "    vec2 uv = gl_FragCoord.xy * u_tex_map.xy + u_tex_map.zw;\n"
     "    o_color = vec4(texture(u_tex, uv).rgb * u_albedo, 1.0);\n"
+    "#elif MODE == 3\n"
+    "    ivec2 px = ivec2(floor((gl_FragCoord.xy * u_tex_map.xy + u_tex_map.zw) *\n"
+    "                           vec2(textureSize(u_tex))));\n"
+    "    o_color = vec4(texelFetch(u_tex, px, gl_SampleID).rgb * u_albedo, 1.0);\n"
     "#else\n"
     "#if SHAPE == 1\n"
     "    vec3 nl = v_local;\n"
@@ -299,10 +307,12 @@ static limen__variant *variant_build(limen_renderer *r, unsigned key)
     }
     char head[480];
     snprintf(head, sizeof head,
-             "#version 330 core\n#define MODE %u\n#define SHAPE %u\n#define CHECKER %u\n"
+             "#version 330 core\n%s#define MODE %u\n#define SHAPE %u\n#define CHECKER %u\n"
              "#define NLIGHTS %u\n#define CLIP0 %u\n#define CLIP1 %u\n#define TINTED %s\n"
              "#define TEXTURED %u\n#define RANGE %u\n#define INSTANCED %u\n#define MATERIAL %u\n"
              "#define EXACT %u\n",
+             (key & 3) == LIMEN__MODE_SAMPLES ? "#extension GL_ARB_sample_shading : require\n"
+                                              : "",
              key & 3, key >> 2 & 3, key >> 4 & 3, key >> 6 & 15, key >> 10 & 1, key >> 11 & 1,
              key >> 12 & 1 ? "* u_tint" : "", key >> 13 & 3, key >> 15 & 1, key >> 16 & 1, key >> 17 & 1,
              key >> 18 & 1);
@@ -368,7 +378,7 @@ static void upload_shared(limen_renderer *r, limen__variant *v)
 bool limen__variant_use(limen_renderer *r, int mode, int shape, int checker, int textured)
 {
     const float *t = r->shared.tint;
-    bool tint = mode != LIMEN__MODE_TEXTURE && (t[0] != 1 || t[1] != 1 || t[2] != 1);
+    bool tint = mode < LIMEN__MODE_TEXTURE && (t[0] != 1 || t[1] != 1 || t[2] != 1);
     unsigned key = variant_key(mode, shape, checker, r->shared.nlights, r->clip0_on,
                                r->clip1_on, tint, textured, r->shared.ranged, r->instanced,
                                r->material, r->msaa && r->gl.MinSampleShading);
