@@ -40,6 +40,8 @@ CORE_SRC += src/core/drawlist.c src/core/drawlist_stencil.c src/core/drawlist_te
 CORE_SRC += src/core/import.c
 # levels of detail: the weld the simplifier is given (core/lod_weld.c)
 CORE_SRC += src/core/lod_weld.c
+# levels of detail within a texture's charts (core/lod_charts.c)
+CORE_SRC += src/core/lod_charts.c
 # the unit shapes' triangles (core/shapes.c)
 CORE_SRC += src/core/shapes.c
 # model files as scenes (limen_model_load), the JSON reader for what assimp drops, and

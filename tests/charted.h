@@ -37,55 +37,59 @@ static inline void charted_point(const double d[3], double out[3])
     out[2] = r * z;
 }
 
+/* The faces: each its centre direction and two axes across it (right-handed: a x b = c). */
+static const int charted_face[5][3][3] = {
+    { { 1, 0, 0 }, { 0, 1, 0 }, { 0, 0, 1 } },      /* +x: y, z */
+    { { -1, 0, 0 }, { 0, 0, 1 }, { 0, 1, 0 } },     /* -x: z, y */
+    { { 0, 1, 0 }, { 0, 0, 1 }, { 1, 0, 0 } },      /* +y: z, x */
+    { { 0, -1, 0 }, { 1, 0, 0 }, { 0, 0, 1 } },     /* -y: x, z */
+    { { 0, 0, 1 }, { 1, 0, 0 }, { 0, 1, 0 } },      /* +z: x, y (-z is open) */
+};
+
+/* The point of face f at square corner (i, j) of n x n, and its normal (across two small
+ * steps on the surface), into pos[v * 3] and nrm[v * 3]. */
+static inline void charted_vertex(int f, int n, int i, int j, float *pos, float *nrm, size_t v)
+{
+    const int(*c)[3] = charted_face[f];
+    double s = -1 + 2.0 * i / n, t = -1 + 2.0 * j / n, d[3], p[3], q[3], r[3];
+    for (int a = 0; a < 3; a++)
+        d[a] = c[0][a] + s * c[1][a] + t * c[2][a];
+    charted_point(d, p);
+    double h = 1e-4, ds[3], dt[3], e1[3], e2[3];
+    for (int a = 0; a < 3; a++) {
+        ds[a] = d[a] + h * c[1][a];
+        dt[a] = d[a] + h * c[2][a];
+    }
+    charted_point(ds, q);
+    charted_point(dt, r);
+    for (int a = 0; a < 3; a++) {
+        e1[a] = q[a] - p[a];
+        e2[a] = r[a] - p[a];
+    }
+    double nn[3] = { e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2],
+                     e1[0] * e2[1] - e1[1] * e2[0] };
+    double l = sqrt(nn[0] * nn[0] + nn[1] * nn[1] + nn[2] * nn[2]);
+    for (int a = 0; a < 3; a++) {
+        pos[v * 3 + a] = (float)p[a];
+        nrm[v * 3 + a] = (float)(nn[a] / l);
+    }
+}
+
 static inline void charted_ball(int n, int tile, float *pos, float *nrm, float *uv,
                                 uint32_t *idx)
 {
-    /* each face: its centre direction and two axes across it (right-handed: a x b = c) */
-    static const int face[5][3][3] = {
-        { { 1, 0, 0 }, { 0, 1, 0 }, { 0, 0, 1 } },      /* +x: y, z */
-        { { -1, 0, 0 }, { 0, 0, 1 }, { 0, 1, 0 } },     /* -x: z, y */
-        { { 0, 1, 0 }, { 0, 0, 1 }, { 1, 0, 0 } },      /* +y: z, x */
-        { { 0, -1, 0 }, { 1, 0, 0 }, { 0, 0, 1 } },     /* -y: x, z */
-        { { 0, 0, 1 }, { 1, 0, 0 }, { 0, 1, 0 } },      /* +z: x, y (-z is open) */
-    };
     int per = n / tile, charts = 5 * per * per, side = 1;
     while (side * side < charts)
         side++;                 /* the atlas: side x side cells, a chart in each */
     size_t k = 0, v = 0;
     for (int f = 0; f < 5; f++) {
-        const int(*c)[3] = face[f];
         for (int cj = 0; cj < per; cj++)
             for (int ci = 0; ci < per; ci++) {
                 int chart = (f * per + cj) * per + ci;
                 uint32_t first = (uint32_t)v;
                 for (int jj = 0; jj <= tile; jj++)
                     for (int ii = 0; ii <= tile; ii++, v++) {
-                        int i = ci * tile + ii, j = cj * tile + jj;
-                        double s = -1 + 2.0 * i / n, t = -1 + 2.0 * j / n, d[3], p[3], q[3],
-                               r[3];
-                        for (int a = 0; a < 3; a++)
-                            d[a] = c[0][a] + s * c[1][a] + t * c[2][a];
-                        charted_point(d, p);
-                        /* the normal: across two small steps on the surface */
-                        double h = 1e-4, ds[3], dt[3], e1[3], e2[3];
-                        for (int a = 0; a < 3; a++) {
-                            ds[a] = d[a] + h * c[1][a];
-                            dt[a] = d[a] + h * c[2][a];
-                        }
-                        charted_point(ds, q);
-                        charted_point(dt, r);
-                        for (int a = 0; a < 3; a++) {
-                            e1[a] = q[a] - p[a];
-                            e2[a] = r[a] - p[a];
-                        }
-                        double nn[3] = { e1[1] * e2[2] - e1[2] * e2[1],
-                                         e1[2] * e2[0] - e1[0] * e2[2],
-                                         e1[0] * e2[1] - e1[1] * e2[0] };
-                        double l = sqrt(nn[0] * nn[0] + nn[1] * nn[1] + nn[2] * nn[2]);
-                        for (int a = 0; a < 3; a++) {
-                            pos[v * 3 + a] = (float)p[a];
-                            nrm[v * 3 + a] = (float)(nn[a] / l);
-                        }
+                        charted_vertex(f, n, ci * tile + ii, cj * tile + jj, pos, nrm, v);
                         /* the chart's cell of the atlas, a margin inside it */
                         uv[v * 2] = (float)((chart % side + 0.05 + 0.9 * ii / tile) / side);
                         uv[v * 2 + 1] = (float)((chart / side + 0.05 + 0.9 * jj / tile) / side);
@@ -100,6 +104,60 @@ static inline void charted_ball(int n, int tile, float *pos, float *nrm, float *
                     }
             }
     }
+}
+
+
+/* The same ball in another layout of charts, as an exporter packs a model's islands: each
+ * face's charts are bricks of bw x bh squares in rows, every other row shifted by half a
+ * brick (bricks cut at the face's edges), so where charts meet, three do (one brick's side
+ * runs on past the corner of two others), not four; each its own cell of the atlas.
+ * charted_bricks(n, bw, bh, pos, nrm, uv, idx, chart): returns the vertex count, and with
+ * pos not NULL fills pos and nrm (3 floats a vertex), uv (2), chart (the chart of each
+ * vertex) and idx (5 * n * n * 6 indices, counter-clockwise from outside). */
+static inline int charted_bricks(int n, int bw, int bh, float *pos, float *nrm, float *uv,
+                                 uint32_t *idx, int *chart)
+{
+    int charts = 0, side = 1;
+    for (int pass = 0; pass < 2; pass++) {
+        size_t k = 0, v = 0;
+        int c = 0;
+        for (int f = 0; f < 5; f++)
+            for (int y0 = 0, r = 0; y0 < n; y0 += bh, r++)
+                for (int x = -(r % 2) * (bw / 2); x < n; x += bw) {
+                    int x0 = x > 0 ? x : 0, x1 = x + bw < n ? x + bw : n,
+                        y1 = y0 + bh < n ? y0 + bh : n;
+                    if (x1 <= x0)
+                        continue;
+                    uint32_t first = (uint32_t)v, w = (uint32_t)(x1 - x0 + 1);
+                    for (int j = y0; j <= y1; j++)
+                        for (int i = x0; i <= x1; i++, v++) {
+                            if (pass == 0 || !pos)
+                                continue;
+                            charted_vertex(f, n, i, j, pos, nrm, v);
+                            uv[v * 2] = (float)((c % side + 0.05 + 0.9 * (i - x) / bw) / side);
+                            uv[v * 2 + 1] =
+                                (float)((c / side + 0.05 + 0.9 * (j - y0) / bh) / side);
+                            chart[v] = c;
+                        }
+                    for (int j = 0; pass == 1 && pos && j < y1 - y0; j++)
+                        for (int i = 0; i < x1 - x0; i++) {
+                            uint32_t a = first + (uint32_t)j * w + (uint32_t)i, b = a + 1,
+                                     cc = a + w, e = cc + 1;
+                            uint32_t q[6] = { a, b, e, a, e, cc };
+                            for (int t = 0; t < 6; t++)
+                                idx[k++] = q[t];
+                        }
+                    c++;
+                }
+        if (pass == 0) {
+            charts = c;
+            while (side * side < charts)
+                side++;
+        } else {
+            return (int)v;
+        }
+    }
+    return 0;
 }
 
 #endif

@@ -935,7 +935,12 @@ static void lod_levels(int tile, int min_levels)
                     "%d pixels unmatched within %d px\n", tile, k, g->lods[k].triangle_count,
                     g->lods[k].error * to_px, 100 * dl.bad_share, moved, radius);
     }
-    CHECK_MSG(reached >= min_levels, "%d levels reached", reached);
+    /* every level kept is drawn and checked (each is the coarsest within some bound), and
+     * five or more reach 1/16 of the triangles */
+    CHECK_MSG(reached >= min_levels && reached == g->lod_count, "%d of %d levels reached",
+              reached, g->lod_count);
+    CHECK_MSG(min_levels < 5 || g->lods[g->lod_count - 1].triangle_count * 16 <= NT,
+              "the coarsest level %d triangles", g->lods[g->lod_count - 1].triangle_count);
     CHECK(limen_trace_image(s, &(limen_trace_desc){ .width = W, .height = H, .lod_level = -1 },
                             lvl) == LIMEN_ERR_ARG);
     CHECK(limen_trace_image(s, &(limen_trace_desc){ .width = W, .height = H,
@@ -966,13 +971,14 @@ static void test_lod_levels(void)
 }
 
 /* The same with 500 charts of 4 x 4 squares (a margin around each): a triangle whose
- * corners lie on two charts (the clustered levels have them) shows the atlas between its
- * corners' coordinates, other charts' colours and the margin, which the full mesh shows
- * nowhere near, so no distance bounds it: no level has one, and each level shows no colour
- * farther than its error from where the full mesh shows it. */
+ * corners lie on two charts (clustering makes them) shows the atlas between its corners'
+ * coordinates, other charts' colours and the margin, which the full mesh shows nowhere
+ * near, so no distance bounds it: no level has one, and each level shows no colour farther
+ * than its error from where the full mesh shows it. The coarse levels, made within the
+ * charts (core/lod_charts.c), reach 1/16 of the triangles in five levels. */
 static void test_lod_charts(void)
 {
-    lod_levels(4, 3);
+    lod_levels(4, 5);
 }
 
 static const check_case cases[] = {

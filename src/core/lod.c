@@ -47,7 +47,7 @@
 #include "core/texture.h"
 
 #define MAX_LEVELS 12           /* the full mesh and up to 11 coarser ones */
-#define LOD_VERSION 9           /* of how levels are made and measured: levels kept between
+#define LOD_VERSION 12          /* of how levels are made and measured: levels kept between
                                  * runs (core/lod_cache.c) are keyed by it, so change it with
                                  * anything that changes a level or its error */
 #define MIN_TRIS 16             /* a level this small gets no halved successor */
@@ -1363,9 +1363,15 @@ static bool lods_make(const limen__mesh *m, const atomic_bool *stop, made *out)
     float scale = ok ? meshopt_simplifyScale(m->pos, m->nverts, sizeof(float) * 3) : 0;
     double estimate[MAX_LEVELS] = { 0 };   /* the simplifier's own, of each level */
     bool halved[MAX_LEVELS] = { false };
-    /* how levels are made: seams kept; once the simplifier is stuck on them, let go; once
-     * it is stuck even so, by clustering */
-    enum { SEAMS, NO_SEAMS, CLUSTERED } mode = SEAMS;
+    /* how levels are made: seams kept; once the simplifier is stuck on them, a textured
+     * mesh's by collapses within its charts (limen__lod_simplify_charts, which moves seams
+     * along themselves); once stuck (or untextured), seams let go; once stuck even so, by
+     * clustering */
+    enum { SEAMS, CHARTS, NO_SEAMS, CLUSTERED } mode = SEAMS;
+    /* the first level within the charts: the later ones are simplified from those (the
+     * level SOURCE_STEP before, or the first), not from meshoptimizer's, which may hold
+     * fins (two triangles back to back) that stay where they are */
+    uint32_t charts_from = MAX_LEVELS;
     while (ok && nlods < MAX_LEVELS && cur_n >= 6) {
         /* half the triangles of the last level while there is much to halve; then once only
          * what costs (next to) nothing, which takes a flat patch down to its outline. Each
@@ -1379,14 +1385,39 @@ static bool lods_make(const limen__mesh *m, const atomic_bool *stop, made *out)
         }
         bool halve = cur_n / 3 >= MIN_TRIS;
         float err = 0;
-        bool from_full = nlods <= SOURCE_STEP || mode != SEAMS;
-        const uint32_t *src = from_full ? NULL : store + at[nlods - SOURCE_STEP];
-        size_t src_n = from_full ? n0 : (size_t)lods[nlods - SOURCE_STEP].triangle_count * 3;
+        bool from_full = mode == CHARTS ? nlods <= charts_from
+                                        : nlods <= SOURCE_STEP || mode > CHARTS;
+        uint32_t from = nlods > SOURCE_STEP ? nlods - SOURCE_STEP : 0;
+        if (mode == CHARTS && from < charts_from)
+            from = charts_from;
+        const uint32_t *src = from_full ? NULL : store + at[from];
+        size_t src_n = from_full ? n0 : (size_t)lods[from].triangle_count * 3;
         size_t n = 0;
-        if (mode < CLUSTERED)
+        if (mode == CHARTS) {
+            /* halving only: it has no bound of its own to stop at, for the last level's
+             * "what costs nothing" */
+            if (halve)
+                n = limen__lod_simplify_charts(m, shadow, attr, src, src_n, cur_n / 6 * 3,
+                                               scratch, &ok);
+        } else if (mode < CLUSTERED)
             n = limen__lod_simplify(mode == SEAMS ? &pk_attr : &pk_pos, from_full ? NULL : src, src_n, false,
                          halve ? cur_n / 6 * 3 : 0, halve ? FLT_MAX : 1e-5f, &err, scratch);
-        if (halve && (n == 0 || n * 4 > cur_n * 3) && mode == SEAMS && attr != shadow &&
+        if (halve && (n == 0 || n * 4 > cur_n * 3) && mode == SEAMS && m->uv &&
+            cur_n > n0 / STUCK_ABOVE && ok) {
+            /* the simplifier is stuck on the seams (where three charts or more meet, which it
+             * keeps in place, and the seams' vertices next to them, which it moves only along
+             * the seam onto one another) while the levels are still fine: from here on by
+             * collapses that keep every triangle within a chart of the texture, moving the
+             * seams along themselves as far as their corners */
+            mode = CHARTS;
+            charts_from = nlods;
+            n = limen__lod_simplify_charts(m, shadow, attr, NULL, n0, cur_n / 6 * 3, scratch,
+                                           &ok);
+            err = 0;
+        }
+        if (!ok)
+            break;
+        if (halve && (n == 0 || n * 4 > cur_n * 3) && mode <= CHARTS && attr != shadow &&
             cur_n > n0 / STUCK_ABOVE) {
             /* the simplifier is stuck on the seams (where many charts meet) while the levels
              * are still fine: from here on the seams are let go (welded by position alone,
@@ -1407,7 +1438,7 @@ static bool lods_make(const limen__mesh *m, const atomic_bool *stop, made *out)
             n = limen__lod_simplify(&pk_attr, NULL, n0, true, cur_n / 6 * 3, FLT_MAX, NULL, scratch);
             err = 0;
         }
-        if (n > 0 && mode != SEAMS && attr != shadow &&
+        if (n > 0 && mode > CHARTS && attr != shadow &&
             !limen__lod_pick_charts(m, shadow, attr, vpart, scratch, n)) {
             ok = false;
             break;

@@ -1,7 +1,8 @@
 /* lod_weld.c - what the simplifier is given and what its levels' corners become (see
  * lod_weld.h): core/lod.c makes levels over a mesh welded where the texture allows, then
- * by position alone, then by clustering, and here each corner of a level then takes its
- * side of a seam (in the normals, in the texture). */
+ * (textured) by collapses within the texture's charts (core/lod_charts.c), then by position
+ * alone, then by clustering, and here each corner of a level then takes its side of a seam
+ * (in the normals, in the texture). */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>

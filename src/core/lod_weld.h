@@ -1,7 +1,8 @@
 /* lod_weld.h - what the simplifier is given and what its levels' corners become
- * (core/lod_weld.c): a mesh welded for it, meshoptimizer's simplifiers over that, and each
- * corner's choice among the vertices at its position (its side of a seam in the normals or
- * the texture). Not part of the public API. */
+ * (core/lod_weld.c): a mesh welded for it, meshoptimizer's simplifiers over that, one that
+ * keeps within the texture's charts (core/lod_charts.c), and each corner's choice among the
+ * vertices at its position (its side of a seam in the normals or the texture). Not part of
+ * the public API. */
 #ifndef LIMEN_CORE_LOD_WELD_H
 #define LIMEN_CORE_LOD_WELD_H
 
@@ -54,5 +55,16 @@ void limen__lod_charts(const limen__mesh *m, const uint32_t *attr, uint32_t *cha
 /* How many triangles of a level (idx, n indices into the mesh's vertices) have corners of
  * two charts (chart: limen__lod_charts'). */
 size_t limen__lod_across_charts(const uint32_t *chart, const uint32_t *idx, size_t n);
+
+/* A level within the texture's charts: from src (n indices into the mesh's vertices, NULL:
+ * the whole mesh), edge collapses towards want indices over m welded by position (shadow: per
+ * corner of m, its weld), each triangle keeping its corners' sides of every seam of the weld
+ * attr (texture coordinates, colours, parts), so none takes corners from two charts, while
+ * seams and borders simplify as polylines both sides share. Into out (room for n indices) in
+ * the mesh's vertices, each a vertex of attr; returns the indices made; *ok false when out of
+ * memory. */
+size_t limen__lod_simplify_charts(const limen__mesh *m, const uint32_t *shadow,
+                                  const uint32_t *attr, const uint32_t *src, size_t n,
+                                  size_t want, uint32_t *out, bool *ok);
 
 #endif
