@@ -6,7 +6,9 @@
 #include <stdlib.h>
 #include <unistd.h>
 
+#include "bumpy.h"
 #include "check.h"
+#include "core/mesh.h"
 #include "limen.h"
 
 static char dir[64];
@@ -763,6 +765,118 @@ static void test_threads(void)
     }
 }
 
+/* The nearest hit of the ray o + t d on the triangles, each tested in turn (Moller-Trumbore
+ * in double, both sides); INFINITY where none. */
+static double brute_hit(const float *pos, const uint32_t *idx, int nt, const double o[3],
+                        const double d[3])
+{
+    double best = INFINITY;
+    for (int t = 0; t < nt; t++) {
+        const float *a = &pos[idx[t * 3] * 3], *b = &pos[idx[t * 3 + 1] * 3],
+                    *c = &pos[idx[t * 3 + 2] * 3];
+        double e1[3], e2[3], sv[3];
+        for (int i = 0; i < 3; i++) {
+            e1[i] = (double)b[i] - a[i];
+            e2[i] = (double)c[i] - a[i];
+            sv[i] = o[i] - a[i];
+        }
+        double p[3] = { d[1] * e2[2] - d[2] * e2[1], d[2] * e2[0] - d[0] * e2[2],
+                        d[0] * e2[1] - d[1] * e2[0] };
+        double det = e1[0] * p[0] + e1[1] * p[1] + e1[2] * p[2];
+        if (det == 0)
+            continue;
+        double u = (sv[0] * p[0] + sv[1] * p[1] + sv[2] * p[2]) / det;
+        double q[3] = { sv[1] * e1[2] - sv[2] * e1[1], sv[2] * e1[0] - sv[0] * e1[2],
+                        sv[0] * e1[1] - sv[1] * e1[0] };
+        double v = (d[0] * q[0] + d[1] * q[1] + d[2] * q[2]) / det;
+        double tt = (e2[0] * q[0] + e2[1] * q[1] + e2[2] * q[2]) / det;
+        if (u >= 0 && v >= 0 && u + v <= 1 && tt > 0 && tt < best)
+            best = tt;
+    }
+    return best;
+}
+
+/* A mesh's hierarchy (the ray tracer's, the sweeps') is made when a ray or a sweep first
+ * needs it, not when the mesh is made: with its levels read from the cache, nothing at
+ * loading makes it. A ray cast then makes it, and finds what every triangle tested in turn
+ * finds; a sweep makes it too (without it, the sweep went through the mesh); rays cast
+ * while another thread makes its levels find the same; and levels made on another thread
+ * leave the mesh without one (their measuring's own is given back). */
+static void test_hierarchy_on_first_need(void)
+{
+    enum { U = 60, V = 40, NV = (U + 1) * (V + 1), NT = U * V * 2, RAYS = 64 };
+    char cache[] = "/tmp/limen_hierarchyXXXXXX";
+    static float pos[NV * 3];
+    static uint32_t idx[NT * 3];
+    if (!mkdtemp(cache)) {
+        CHECK(!"no temporary folder");
+        return;
+    }
+    bumpy_sphere(U, V, pos, idx);
+    limen_mesh_data data = { .positions = pos, .vertex_count = NV, .indices = idx,
+                             .triangle_count = NT };
+    setenv("LIMEN_CACHE_DIR", cache, 1);
+    unsetenv("LIMEN_CACHE");
+    limen_scene *s = new_scene();
+    limen_node m = new_mesh(s, "ball");
+    CHECK_OK(limen_mesh_set_triangles(s, m, &data));   /* levels made here, and stored */
+    CHECK(limen__mesh_hierarchy_made(s, m));           /* their measuring made it */
+    limen_scene_destroy(s);
+    for (int round = 0; round < 4; round++) {
+        if (round == 2) {
+            /* levels made on another thread beside the rays (whichever makes the hierarchy
+             * first, the other waits for it) */
+            setenv("LIMEN_CACHE", "off", 1);
+            limen__lod_set_async_above(1000);
+        }
+        s = new_scene();
+        m = new_mesh(s, "ball");
+        CHECK_OK(limen_mesh_set_triangles(s, m, &data));
+        if (round == 2)
+            limen__meshes_go(s);    /* the build begins now, not after a first frame */
+        if (round == 3)
+            limen__meshes_settle(s, true);
+        if (round != 2)
+            CHECK_MSG(!limen__mesh_hierarchy_made(s, m), "round %d: made at loading", round);
+        if (round == 1) {
+            /* a sphere of radius 0.2 dropped onto the ball from above stops on it */
+            limen_sweep_result r;
+            CHECK_OK(limen_sweep_sphere(s, (float[3]){ 0, 3, 0 }, (float[3]){ 0, -3, 0 }, 0.2f,
+                                        NULL, &r));
+            CHECK_MSG(r.hit && r.node.id == m.id && r.centre[1] > 0.9f && r.centre[1] < 1.5f,
+                      "sweep: hit %d at y = %g", r.hit, r.centre[1]);
+            CHECK(limen__mesh_hierarchy_made(s, m));
+        }
+        int bad = 0;
+        for (int i = 0; i < RAYS; i++) {
+            /* from points around the ball towards points near its centre */
+            double a = 2 * M_PI * i / RAYS, b = 0.3 + 2.5 * i / RAYS;
+            float from[3] = { (float)(3 * cos(a) * sin(b)), (float)(3 * cos(b)),
+                              (float)(3 * sin(a) * sin(b)) };
+            float to[3] = { -from[0] + 0.1f * (float)sin(3.0 * i), -from[1],
+                             -from[2] + 0.1f * (float)cos(5.0 * i) };
+            limen_hit h;
+            CHECK_OK(limen_ray_cast(s, from, to, NULL, &h));
+            double len = sqrt((double)to[0] * to[0] + (double)to[1] * to[1] +
+                              (double)to[2] * to[2]);
+            double o[3] = { from[0], from[1], from[2] },
+                   d[3] = { to[0] / len, to[1] / len, to[2] / len };
+            double want = brute_hit(pos, idx, NT, o, d);
+            if (!h.hit || fabs(h.distance - want) > 1e-5 * want)
+                bad++;
+        }
+        CHECK_MSG(bad == 0, "round %d: %d of %d rays off", round, bad, RAYS);
+        CHECK(limen__mesh_hierarchy_made(s, m));
+        limen_scene_destroy(s);
+    }
+    limen__lod_set_async_above(LIMEN__LOD_ASYNC_TRIS);
+    setenv("LIMEN_CACHE", "off", 1);
+    unsetenv("LIMEN_CACHE_DIR");
+    char cmd[128];
+    snprintf(cmd, sizeof cmd, "rm -rf %s", cache);
+    CHECK(system(cmd) == 0);
+}
+
 static void test_portal_clone(void)
 {
     limen_scene *s = new_scene();
@@ -812,6 +926,7 @@ static const check_case cases[] = {
     { "trace_box", test_trace_box },
     { "bunny_cast", test_bunny_cast },
     { "portal_clone", test_portal_clone },
+    { "hierarchy_on_first_need", test_hierarchy_on_first_need },
     { "threads", test_threads },
     { "light_range", test_light_range },
     { "texture_sampling", test_texture_sampling },

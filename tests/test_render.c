@@ -402,6 +402,86 @@ static void test_triangle_budget(void)
     limen_scene_destroy(s);
 }
 
+/* A flat mesh drawn indexed (gl/assets.c) takes each triangle's face normal from its last
+ * corner: a pyramid whose four sides all end at the apex (one vertex) shows each side with
+ * its own normal, as the formula has it, not the first side's at all four. */
+static void test_flat_shared_corners(void)
+{
+    static const float pos[5 * 3] = { -0.8f, 0, 0.8f, 0.8f, 0, 0.8f, 0.8f, 0, -0.8f,
+                                      -0.8f, 0, -0.8f, 0, 1, 0 };
+    static const uint32_t idx[4 * 3] = { 0, 1, 4, 1, 2, 4, 2, 3, 4, 3, 0, 4 };
+    const float albedo[3] = { 0.9f, 0.8f, 0.7f };
+    limen_scene *s = NULL;
+    limen_node cam, light, m;
+    CHECK_OK(limen_scene_create(NULL, &s));
+    if (!s)
+        return;
+    CHECK_OK(limen_scene_set_ambient(s, AMBIENT));
+    CHECK_OK(limen_node_create(s, LIMEN_NODE_CAMERA, "cam", &cam));
+    CHECK_OK(limen_node_look_at(s, cam, (float[3]){ 1.6f, 2.2f, 3.2f }, (float[3]){ 0, 0.4f, 0 },
+                                (float[3]){ 0, 1, 0 }));
+    CHECK_OK(limen_scene_set_camera(s, cam));
+    CHECK_OK(limen_node_create(s, LIMEN_NODE_LIGHT, "light", &light));
+    CHECK_OK(limen_node_set_position(s, light, LIGHT));
+    CHECK_OK(limen_node_create(s, LIMEN_NODE_MESH, "pyramid", &m));
+    CHECK_OK(limen_mesh_set_triangles(s, m, &(limen_mesh_data){ .positions = pos,
+                                                                .vertex_count = 5,
+                                                                .indices = idx,
+                                                                .triangle_count = 4 }));
+    CHECK_OK(limen_node_set_color(s, m, albedo));
+    unsigned char *img = render(s, (limen_renderer_desc){ 0 }, NULL);
+    int checked[4] = { 0 }, bad = 0;
+    for (int y = 0; y < H; y += 2)
+        for (int x = 0; x < W; x += 2) {
+            double o[3], d[3], best = INFINITY, n[3] = { 0 };
+            int face = -1;
+            pixel_ray(s, x, y, o, d);
+            for (int f = 0; f < 4; f++) {
+                /* Moller-Trumbore; pixels near an edge are not called */
+                const float *a = &pos[idx[f * 3] * 3], *b = &pos[idx[f * 3 + 1] * 3],
+                            *c = &pos[idx[f * 3 + 2] * 3];
+                double e1[3], e2[3], sv[3];
+                for (int i = 0; i < 3; i++) {
+                    e1[i] = (double)b[i] - a[i];
+                    e2[i] = (double)c[i] - a[i];
+                    sv[i] = o[i] - a[i];
+                }
+                double pv[3] = { d[1] * e2[2] - d[2] * e2[1], d[2] * e2[0] - d[0] * e2[2],
+                                 d[0] * e2[1] - d[1] * e2[0] };
+                double det = e1[0] * pv[0] + e1[1] * pv[1] + e1[2] * pv[2];
+                double u = (sv[0] * pv[0] + sv[1] * pv[1] + sv[2] * pv[2]) / det;
+                double q[3] = { sv[1] * e1[2] - sv[2] * e1[1], sv[2] * e1[0] - sv[0] * e1[2],
+                                sv[0] * e1[1] - sv[1] * e1[0] };
+                double v = (d[0] * q[0] + d[1] * q[1] + d[2] * q[2]) / det;
+                double t = (e2[0] * q[0] + e2[1] * q[1] + e2[2] * q[2]) / det;
+                if (!(t > 0) || t >= best || u < 0 || v < 0 || u + v > 1)
+                    continue;
+                best = t;
+                face = u < 0.05 || v < 0.05 || u + v > 0.95 ? -1 : f;
+                double cr[3] = { e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2],
+                                 e1[0] * e2[1] - e1[1] * e2[0] };
+                double len = sqrt(cr[0] * cr[0] + cr[1] * cr[1] + cr[2] * cr[2]);
+                for (int i = 0; i < 3; i++)
+                    n[i] = cr[i] / len;
+            }
+            if (face < 0)
+                continue;
+            double p[3] = { o[0] + best * d[0], o[1] + best * d[1], o[2] + best * d[2] };
+            int want[3];
+            shade(p, n, albedo, want);
+            checked[face]++;
+            if (px_diff(img, x, y, want) > 2 && bad++ < 3)
+                CHECK_MSG(0, "face %d at (%d, %d): (%d %d %d), predicted (%d %d %d)", face, x, y,
+                          img[(y * W + x) * 3], img[(y * W + x) * 3 + 1],
+                          img[(y * W + x) * 3 + 2], want[0], want[1], want[2]);
+        }
+    /* the camera sees two sides, lit differently */
+    CHECK_MSG(checked[0] > 50 && checked[1] > 50, "pixels called: %d %d", checked[0], checked[1]);
+    CHECK(bad == 0);
+    free(img);
+    limen_scene_destroy(s);
+}
+
 static const check_case cases[] = {
     { "sphere_and_background", test_sphere_and_background },
     { "floor_checker", test_floor_checker },
@@ -412,6 +492,7 @@ static const check_case cases[] = {
     { "errors", test_errors },
     { "upload_failure", test_upload_failure },
     { "triangle_budget", test_triangle_budget },
+    { "flat_shared_corners", test_flat_shared_corners },
     { 0 },
 };
 

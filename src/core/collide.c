@@ -261,7 +261,7 @@ static void add_node(sweeper *w, int slot, const limen__box *q, const gate *ghos
     case LIMEN_UNIT_NONE:      /* a mesh's triangles, where it has some */
     case LIMEN_UNIT_COUNT: {
         const limen__mesh *me = n->mesh;
-        if (!me || !me->ntris || !me->bvh)
+        if (!me || !me->ntris || !limen__mesh_hierarchy(me))
             return;
         /* the query box in the mesh's frame: the local box of its eight corners */
         double inv[16], lo[3] = { 1e300, 1e300, 1e300 }, hi[3] = { -1e300, -1e300, -1e300 };

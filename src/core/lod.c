@@ -21,16 +21,17 @@
  * is an upper bound that every bound above may take in place of the nearest; a piece these
  * leave above the goal has them searched before it is cut (or, at MAX_DEPTH, let go). The
  * surface measured against, and its distances, are core/lod_target.c's. */
+#include <errno.h>
 #include <float.h>
 #include <math.h>
 #include <pthread.h>
 #include <stdatomic.h>
 #include <string.h>
+#include <time.h>
 #ifdef __GLIBC__
 #include <malloc.h>
 #endif
 #ifdef __linux__
-#include <errno.h>
 #include <sys/resource.h>
 #include <sys/syscall.h>
 #include <unistd.h>
@@ -1067,7 +1068,7 @@ static bool lods_make(const limen__mesh *m, const atomic_bool *stop, made *out);
 static bool build_here(limen__mesh *m, const limen__lod_where *w, const limen__lod_key *key)
 {
     made mk;
-    if (!lods_make(m, NULL, &mk))
+    if (!limen__mesh_hierarchy(m) || !lods_make(m, NULL, &mk))
         return false;
     to_cache(m, w, key, &mk);
     install(m, &mk);
@@ -1086,16 +1087,22 @@ bool limen__mesh_lods_build(limen__mesh *m)
 /* ------------------------------------------------------------------ on another thread */
 
 /* A level build running beside the scene's thread. The thread only reads the mesh (its
- * geometry and hierarchy, which nothing changes once it is made) and writes only here; the
+ * geometry, which nothing changes once it is made) and writes only here; the
  * scene's thread takes the levels from here (limen__meshes_settle) once `done`, joining the
  * thread first, so that everything it wrote is seen. */
 struct limen__lod_job {
     pthread_t thread;
-    const limen__mesh *m;
+    limen__mesh own;            /* the mesh as it was at the start (its arrays shared, read
+                                 * only) with a hierarchy of the build's own for the
+                                 * measuring, given back when done: the mesh's own (the
+                                 * tracer's) is made only where a ray or a sweep needs it */
     limen__lod_key key;
     limen__lod_where where;     /* the cache, as the scene's thread found it */
     atomic_bool stop;           /* set by the scene's thread: the mesh is going */
     atomic_bool done;           /* set by the build's thread, last */
+    pthread_mutex_t gate_lock;  /* the gate the build waits at before it begins: */
+    pthread_cond_t gate;
+    bool go;                    /* opened (limen__meshes_go, a wait, a stop) */
     bool ok;
     size_t extra;               /* counted in the mesh's bytes beyond the estimate meanwhile */
     made mk;
@@ -1123,13 +1130,40 @@ static void yield_to_frames(void)
 #endif
 }
 
+/* The build begins once its mesh's first frame is drawn (the renderer opens the gate when
+ * a frame is done: limen__meshes_go), so that the frame neither waits for it nor holds its
+ * memory beside its own, or after GATE_S seconds where no frame comes (a host that draws
+ * by itself, or only traces). */
+#define GATE_S 2
+
+static void job_open(struct limen__lod_job *j)
+{
+    pthread_mutex_lock(&j->gate_lock);
+    j->go = true;
+    pthread_cond_signal(&j->gate);
+    pthread_mutex_unlock(&j->gate_lock);
+}
+
 static void *job_run(void *arg)
 {
     struct limen__lod_job *j = arg;
+    struct timespec until;
+    clock_gettime(CLOCK_REALTIME, &until);
+    until.tv_sec += GATE_S;
+    pthread_mutex_lock(&j->gate_lock);
+    while (!j->go && pthread_cond_timedwait(&j->gate, &j->gate_lock, &until) != ETIMEDOUT)
+        ;
+    pthread_mutex_unlock(&j->gate_lock);
     yield_to_frames();
-    j->ok = lods_make(j->m, &j->stop, &j->mk);
+    limen__mesh *m = &j->own;
+    j->ok = limen__mesh_bvh_unless(m, &j->stop) && lods_make(m, &j->stop, &j->mk);
+    free(m->bvh);
+    free(m->tri_order);
+    m->bvh = NULL;
+    m->tri_order = NULL;
+    heap_give_back();
     if (j->ok)
-        to_cache(j->m, &j->where, &j->key, &j->mk);
+        to_cache(m, &j->where, &j->key, &j->mk);
     atomic_store(&j->done, true);
     return NULL;
 }
@@ -1160,12 +1194,24 @@ bool limen__mesh_lods_start(limen__mesh *m)
     install(m, &one);
     j->extra = HEAD + sizeof(limen_mesh_part) * m->nparts * (MAX_LEVELS - 1);
     m->bytes = counted + j->extra;
-    j->m = m;
+    j->own = *m;
+    j->own.bvh = NULL;
+    j->own.tri_order = NULL;
+    atomic_init(&j->own.bvh_ready, false);
     j->key = key;
     j->where = w;
     atomic_init(&j->stop, false);
     atomic_init(&j->done, false);
-    if (pthread_create(&j->thread, NULL, job_run, j) != 0) {
+    bool gated = !pthread_mutex_init(&j->gate_lock, NULL);
+    if (gated && pthread_cond_init(&j->gate, NULL)) {
+        pthread_mutex_destroy(&j->gate_lock);
+        gated = false;
+    }
+    if (!gated || pthread_create(&j->thread, NULL, job_run, j) != 0) {
+        if (gated) {
+            pthread_cond_destroy(&j->gate);
+            pthread_mutex_destroy(&j->gate_lock);
+        }
         /* no thread: made here and now, over the full level alone as counted */
         m->bytes = counted - lods_bytes(&(limen__mesh){ .ntris = m->ntris }) + HEAD;
         free(j);
@@ -1182,7 +1228,10 @@ static bool job_end(limen__mesh *m, bool stop)
     struct limen__lod_job *j = m->lod_job;
     if (stop)
         atomic_store(&j->stop, true);
+    job_open(j);        /* stopped or waited for: not at the gate */
     pthread_join(j->thread, NULL);
+    pthread_cond_destroy(&j->gate);
+    pthread_mutex_destroy(&j->gate_lock);
     bool got = j->ok && !stop;
     /* counted as the estimate had them until now (limen__mesh_lods_start), now as the full
      * level alone, before the levels come or where none will (a build out of memory) */
@@ -1222,6 +1271,15 @@ void limen__meshes_settle(limen_scene *s, bool wait)
 {
     for (int i = 0; s && i < s->nmeshes; i++)
         limen__mesh_lods_settle(s->meshes[i], wait);
+}
+
+void limen__meshes_go(limen_scene *s)
+{
+    for (int i = 0; s && i < s->nmeshes; i++) {
+        limen__mesh *m = s->meshes[i];
+        if (m->lod_job && !m->lod_job->go)
+            job_open(m->lod_job);
+    }
 }
 
 /* Welds m's corners into attr by position and what else a seam runs along: texture

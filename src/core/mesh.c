@@ -14,6 +14,9 @@
 #include <string.h>
 #include <sys/stat.h>
 #include <unistd.h>
+#ifdef __GLIBC__
+#include <malloc.h>
+#endif
 
 #include <assimp/cfileio.h>
 #include <assimp/types.h>
@@ -44,6 +47,8 @@ typedef struct build {
     limen__mesh *m;
     double *centre;             /* per triangle */
     int axes[STACK_MAX];        /* the split axes from the root down to the node being built */
+    const atomic_bool *stop;    /* where set, the build is abandoned (NULL: never) */
+    bool stopped;
 } build;
 
 /* Whether triangle a comes before b in the order a stable sort at every split would leave
@@ -102,13 +107,13 @@ static void select_first(const build *bd, int depth, uint32_t *t, uint32_t n, ui
         swap_tris(t, lo, lo + 1);
 }
 
-static void tri_box(const limen__mesh *m, uint32_t t, double lo[3], double hi[3])
+static void tri_box(const limen__mesh *m, uint32_t t, float lo[3], float hi[3])
 {
     for (int k = 0; k < 3; k++) {
         const float *p = &m->pos[m->idx[t * 3 + k] * 3];
         for (int a = 0; a < 3; a++) {
-            lo[a] = fmin(lo[a], p[a]);
-            hi[a] = fmax(hi[a], p[a]);
+            lo[a] = fminf(lo[a], p[a]);
+            hi[a] = fmaxf(hi[a], p[a]);
         }
     }
 }
@@ -118,6 +123,11 @@ static void tri_box(const limen__mesh *m, uint32_t t, double lo[3], double hi[3]
  * the order of the split above it. Depth is log2 of the count. */
 static void build_node(build *bd, uint32_t at, uint32_t first, uint32_t count, int depth)
 {
+    /* asked now and then (every 4096 nodes): a split near the root takes milliseconds */
+    if (bd->stop && at % 4096 == 0 && atomic_load_explicit(bd->stop, memory_order_relaxed))
+        bd->stopped = true;
+    if (bd->stopped)
+        return;
     limen__mesh *m = bd->m;
     uint32_t *t = &m->tri_order[first];
     limen__tri_node *n = &m->bvh[at];
@@ -157,8 +167,8 @@ static void build_node(build *bd, uint32_t at, uint32_t first, uint32_t count, i
     n->index = right;
     n->count = 0;
     for (int a = 0; a < 3; a++) {
-        n->lo[a] = fmin(m->bvh[left].lo[a], m->bvh[right].lo[a]);
-        n->hi[a] = fmax(m->bvh[left].hi[a], m->bvh[right].hi[a]);
+        n->lo[a] = fminf(m->bvh[left].lo[a], m->bvh[right].lo[a]);
+        n->hi[a] = fmaxf(m->bvh[left].hi[a], m->bvh[right].hi[a]);
     }
 }
 
@@ -180,7 +190,7 @@ static void bvh_nodes(uint32_t n, uint64_t out[2])
 /* Nodes are claimed as they are made, a left child in the slot after its parent; as many as
  * bvh_nodes counts (not the 2 * triangles a hierarchy may have at most, which at 1.6M
  * triangles held 120 MB more while it was built). */
-bool limen__mesh_bvh(limen__mesh *m)
+static bool hierarchy_make(limen__mesh *m, const atomic_bool *stop)
 {
     uint64_t nodes[2];
     bvh_nodes(m->ntris, nodes);
@@ -189,6 +199,10 @@ bool limen__mesh_bvh(limen__mesh *m)
     double *centre = malloc(sizeof *centre * 3 * (size_t)m->ntris);
     if (!m->bvh || !m->tri_order || !centre) {
         free(centre);
+        free(m->bvh);
+        free(m->tri_order);
+        m->bvh = NULL;
+        m->tri_order = NULL;
         return false;
     }
     for (uint32_t t = 0; t < m->ntris; t++) {
@@ -200,12 +214,59 @@ bool limen__mesh_bvh(limen__mesh *m)
             centre[t * 3 + a] = c / 3.0;
         }
     }
-    build bd = { .m = m, .centre = centre };
+    build bd = { .m = m, .centre = centre, .stop = stop };
     m->nbvh = 1;
     build_node(&bd, 0, 0, m->ntris, 0);
     free(centre);
-    m->bytes -= sizeof *m->bvh * (size_t)(2 * m->ntris - m->nbvh);
+    if (bd.stopped) {
+        free(m->bvh);
+        free(m->tri_order);
+        m->bvh = NULL;
+        m->tri_order = NULL;
+        return false;
+    }
     return true;
+}
+
+/* The bytes of the nodes a hierarchy over ntris triangles does not need of the 2 * ntris
+ * that limen__mesh_bytes counts. */
+static size_t nodes_unneeded(uint32_t ntris)
+{
+    uint64_t nodes[2];
+    bvh_nodes(ntris, nodes);
+    return sizeof(limen__tri_node) * (size_t)(2 * (uint64_t)ntris - nodes[0]);
+}
+
+bool limen__mesh_bvh(limen__mesh *m)
+{
+    return limen__mesh_bvh_unless(m, NULL);
+}
+
+bool limen__mesh_bvh_unless(limen__mesh *m, const atomic_bool *stop)
+{
+    if (!hierarchy_make(m, stop))
+        return false;
+    m->bytes -= nodes_unneeded(m->ntris);
+    atomic_store(&m->bvh_ready, true);
+    return true;
+}
+
+/* One lock for every mesh's first hierarchy: made rarely, and by one thread at a time. */
+static pthread_mutex_t hierarchy_lock = PTHREAD_MUTEX_INITIALIZER;
+
+bool limen__mesh_hierarchy(const limen__mesh *cm)
+{
+    /* made once and never changed after: a cache of the mesh's, hence behind const */
+    limen__mesh *m = (limen__mesh *)cm;
+    if (atomic_load_explicit(&m->bvh_ready, memory_order_acquire))
+        return true;
+    pthread_mutex_lock(&hierarchy_lock);
+    bool ok = atomic_load_explicit(&m->bvh_ready, memory_order_relaxed) ||
+              hierarchy_make(m, NULL);
+    if (ok)
+        atomic_store_explicit(&m->bvh_ready, true, memory_order_release);
+    pthread_mutex_unlock(&hierarchy_lock);
+    return ok;
 }
 
 /* ------------------------------------------------------------------ intersection */
@@ -266,7 +327,7 @@ int limen__mesh_intersect(const limen__mesh *m, const double o[3], const double 
                           double tmin, double tmax, const double *cut, double *t_out,
                           double *bu_out, double *bv_out)
 {
-    if (!m || !m->ntris)
+    if (!m || !m->ntris || !limen__mesh_hierarchy(m))
         return -1;
     double inv[3] = { 1.0 / d[0], 1.0 / d[1], 1.0 / d[2] };
     uint32_t stack[STACK_MAX];
@@ -651,7 +712,9 @@ static limen_status mesh_from_arrays(limen_scene *s, const limen_mesh_data *d, c
             m->lo[a] = fmin(m->lo[a], m->pos[v * 3 + a]);
             m->hi[a] = fmax(m->hi[a], m->pos[v * 3 + a]);
         }
-    if (!limen__mesh_bvh(m) || !limen__mesh_lods_start(m) || !limen__mesh_lod_parts(m)) {
+    /* the hierarchy is made when first needed (limen__mesh_hierarchy), counted now */
+    m->bytes -= nodes_unneeded(nt);
+    if (!limen__mesh_lods_start(m) || !limen__mesh_lod_parts(m)) {
         mesh_free(s, m);
         return limen__fail(s, LIMEN_ERR_NOMEM, "%s: out of memory", what);
     }
@@ -1441,6 +1504,11 @@ static limen_status load_file(limen_scene *s, const char *path, unsigned flags,
         limen__block_free(&files);
     }
     free(blk);
+#ifdef __GLIBC__
+    /* the file's bytes, the import's block and the flattened copy (several times what the
+     * mesh holds) are gone: their pages go back rather than stay in the heap */
+    malloc_trim(0);
+#endif
     return st;
 }
 
@@ -1568,6 +1636,13 @@ limen_status limen_mesh_set_triangles(limen_scene *s, limen_node n, const limen_
         return st;
     attach(s, node, m);
     return LIMEN_OK;
+}
+
+bool limen__mesh_hierarchy_made(limen_scene *s, limen_node n)
+{
+    limen__node *node;
+    return s && !mesh_node(s, n, "mesh_hierarchy_made", &node) && node->mesh &&
+           atomic_load(&node->mesh->bvh_ready);
 }
 
 limen_status limen_mesh_set_smooth(limen_scene *s, limen_node n, int smooth)

@@ -380,6 +380,14 @@ static limen_status tracer_init(tracer *t, limen_scene *s, const char *fn)
         }
     }
     t->nbase = t->n;
+    /* the meshes' hierarchies, where not made yet (limen__mesh_hierarchy), before any ray */
+    for (int i = 0; i < t->n; i++)
+        if (t->prims[i].mesh && !limen__mesh_hierarchy(t->prims[i].mesh)) {
+            free(slot);
+            free(through);
+            tracer_free(t);
+            return limen__fail(s, LIMEN_ERR_NOMEM, "%s: out of memory", fn);
+        }
     for (int i = 0; i < t->n; i++) {
         prim *p = &t->prims[i];
         const limen__node *n = &s->nodes[p->node];

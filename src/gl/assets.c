@@ -1,16 +1,20 @@
-/* assets.c - what the renderer keeps on the GPU for mesh and texture assets: one vertex
- * buffer per mesh asset and one texture per image, shared by every node that shows it, kept
- * while a frame uses them and dropped after the first frame that does not.
+/* assets.c - what the renderer keeps on the GPU for mesh and texture assets: vertex and
+ * index buffers per mesh asset and one texture per image, shared by every node that shows
+ * it, kept while a frame uses them and dropped after the first frame that does not.
  *
- * A flat-shaded mesh is drawn unindexed, three corners per triangle, each with its
- * position, its triangle's face normal (computed as the ray tracer does), its vertex normal
- * and, where the mesh has them, its texture coordinates and colour (else one of each in a
- * buffer of their own that every corner reads). Smooth shading needs no face normal, so a smooth mesh's own
- * vertices are drawn indexed instead, which runs the vertex shader about once per vertex
- * rather than once per corner (its corners stand in where that buffer cannot be made). Each
- * buffer is made when a draw first needs it: the smooth one holds the levels of detail one
- * after another (their indices), the corners a buffer a level. Both vertex arrays also read the renderer's instance buffer (gl/batch.c): a
- * model matrix, a normal matrix and an albedo per node. */
+ * Every mesh is drawn indexed. A flat-shaded mesh shows each triangle's face normal
+ * (computed as the ray tracer does), which the shaders take from the triangle's provoking
+ * vertex (its last corner, GL's default convention) as a flat varying: so each triangle's
+ * last corner is a vertex that holds its face normal, a vertex of the mesh where no earlier
+ * triangle has taken it, else a copy of one, and its other corners share the mesh's
+ * vertices. A 1.6M-triangle sphere is then about 1.6M vertices of 24 bytes and its indices
+ * (58 MB), not 4.8M corners of 36 bytes (173 MB), and draws the same pixels. A vertex holds
+ * texture coordinates and a colour only where the mesh has them (else one of each in a
+ * buffer of their own that every vertex reads). Smooth shading interpolates the vertex
+ * normals, so a smooth mesh's own vertices are drawn as they are. Each buffer is made when a
+ * draw first needs it: the smooth one holds the levels of detail one after another (their
+ * indices), the flat ones a level each. Both vertex arrays also read the renderer's instance
+ * buffer (gl/batch.c): a model matrix, a normal matrix and an albedo per node. */
 #include <stdlib.h>
 #include <string.h>
 
@@ -41,21 +45,20 @@
 #define GL_LINEAR_MIPMAP_LINEAR 0x2703
 #endif
 
-/* a corner: position, face normal, vertex normal, then texture coordinates and colour where
- * the mesh has them (a mesh without takes them from a buffer of one of each, read by every
- * corner: a 1.6M-triangle mesh's corners are 115 MB less) */
-enum { CORNER_FLOATS = 9, AT_FLAT = 3, AT_SMOOTH = 6, UV_FLOATS = 2, COL_FLOATS = 4 };
+/* a flat vertex: position, normal (a triangle's face normal where it is one's last corner),
+ * then texture coordinates and colour where the mesh has them (a mesh without takes them
+ * from a buffer of one of each, read by every vertex) */
+enum { FLAT_FLOATS = 6, UV_FLOATS = 2, COL_FLOATS = 4 };
 #define EVERY_CORNER (1u << 30)         /* an instanced attribute's divisor no draw reaches:
                                          * every corner of every instance reads element 0 */
 enum { GPU_LODS = 16 };         /* levels kept; a coarser one asked for gets the last */
 
 struct limen__gpu_asset {
     uint64_t serial;
-    GLuint vao[GPU_LODS], vbo[GPU_LODS];        /* a mesh's corners, each level's own */
+    GLuint vao[GPU_LODS], vbo[GPU_LODS], ibo[GPU_LODS];     /* flat: each level's own */
     GLuint tex;                 /* an image's texture */
-    GLuint cvbo;                /* the texture coordinates and colour of every corner, for a
+    GLuint cvbo;                /* the texture coordinates and colour of every vertex, for a
                                  * mesh without its own */
-    int corner_floats;          /* floats a corner */
     GLuint svao, svbo, sibo;    /* smooth: the vertices, and each level's indices */
     GLint sfirst[GPU_LODS];     /* each level's first index and indices */
     GLsizei scount[GPU_LODS];
@@ -99,34 +102,10 @@ static void face_normal(const limen_mesh_geometry *m, const uint32_t *ix, float 
         n[k] = len > 0 ? (float)(c[k] / len) : 0.0f;
 }
 
-/* Floats a corner of m holds. */
-static int corner_floats(const limen_mesh_geometry *m)
+/* Floats a flat vertex of m holds. */
+static int flat_floats(const limen_mesh_geometry *m)
 {
-    return CORNER_FLOATS + (m->uvs ? UV_FLOATS : 0) + (m->colors ? COL_FLOATS : 0);
-}
-
-/* The corners of ntris triangles (their indices ix) from buf on. */
-static float *lay_corners(const limen_mesh_geometry *m, const uint32_t *ix, int ntris, float *buf)
-{
-    for (int t = 0; t < ntris; t++, ix += 3) {
-        float fn[3];
-        face_normal(m, ix, fn);
-        for (int k = 0; k < 3; k++) {
-            memcpy(buf, &m->positions[ix[k] * 3], sizeof(float) * 3);
-            memcpy(buf + AT_FLAT, fn, sizeof fn);
-            memcpy(buf + AT_SMOOTH, &m->normals[ix[k] * 3], sizeof(float) * 3);
-            buf += CORNER_FLOATS;
-            if (m->uvs) {
-                memcpy(buf, &m->uvs[ix[k] * 2], sizeof(float) * UV_FLOATS);
-                buf += UV_FLOATS;
-            }
-            if (m->colors) {
-                memcpy(buf, &m->colors[ix[k] * 4], sizeof(float) * COL_FLOATS);
-                buf += COL_FLOATS;
-            }
-        }
-    }
-    return buf;
+    return FLAT_FLOATS + (m->uvs ? UV_FLOATS : 0) + (m->colors ? COL_FLOATS : 0);
 }
 
 /* Per-instance attributes from the instance buffer: model matrix (locations 3-6), normal
@@ -190,36 +169,23 @@ static void *upload_alloc(const limen_renderer *r, size_t bytes)
     return r->faults & LIMEN__RFAULT_UPLOAD ? NULL : malloc(bytes);
 }
 
-enum { STAGE_TRIS = 16384 };     /* triangles laid out at a time for an upload */
+enum { STAGE = 16384 };         /* triangles or vertices laid out at a time for an upload */
+#define NO_VERTEX UINT32_MAX
+#define TAKEN 0x80000000u       /* a flat vertex that is triangle (what & ~TAKEN)'s last
+                                 * corner; else what names the mesh's vertex it copies */
 
-/* Level k's corners, a buffer of their own made when a draw first needs that level: a
- * mesh drawn at one level holds no other's (a 1.6M-triangle mesh's levels together hold as
- * many corners as the mesh again). They go up a slice of triangles at a time, so that what
- * the upload holds besides the buffer itself stays small however big the mesh. */
-static bool upload_level(limen_renderer *r, const limen_mesh_geometry *m,
-                         struct limen__gpu_asset *a, int k)
+/* The attributes of a vertex array whose buffer holds `floats` floats a vertex:
+ * position, normal, then texture coordinates and colour where m has them (else every
+ * vertex reads one of each from a buffer of their own), then the instances'. */
+static void vertex_attributes(limen_renderer *r, const limen_mesh_geometry *m,
+                              struct limen__gpu_asset *a, int floats)
 {
-    const uint32_t *ix;
-    int ntris = level(m, k, &ix), stage = ntris < STAGE_TRIS ? ntris : STAGE_TRIS;
-    const int cf = corner_floats(m);
-    const GLsizei stride = (GLsizei)sizeof(float) * cf;
-    float *buf = upload_alloc(r, sizeof(float) * (size_t)cf * 3 * (size_t)(stage ? stage : 1));
-    if (!buf)
-        return false;
-    a->corner_floats = cf;
-    vertex_arrays(r, &a->vao[k], &a->vbo[k], sizeof(float) * (size_t)cf * 3 * (size_t)ntris,
-                  NULL);
-    for (int t = 0; t < ntris; t += STAGE_TRIS) {
-        int n = ntris - t < STAGE_TRIS ? ntris - t : STAGE_TRIS;
-        lay_corners(m, ix + (size_t)t * 3, n, buf);
-        GL(BufferSubData)(GL_ARRAY_BUFFER, (GLintptr)(sizeof(float) * (size_t)cf * 3 * (size_t)t),
-                          (GLsizeiptr)(sizeof(float) * (size_t)cf * 3 * (size_t)n), buf);
-    }
-    free(buf);
+    const GLsizei stride = (GLsizei)sizeof(float) * floats;
     GL(EnableVertexAttribArray)(0);
     GL(VertexAttribPointer)(0, 3, GL_FLOAT, GL_FALSE, stride, (void *)0);
     GL(EnableVertexAttribArray)(1);
-    size_t at_uv = CORNER_FLOATS, at_col = at_uv + (m->uvs ? UV_FLOATS : 0);
+    GL(VertexAttribPointer)(1, 3, GL_FLOAT, GL_FALSE, stride, (void *)(sizeof(float) * 3));
+    size_t at_uv = FLAT_FLOATS, at_col = at_uv + (m->uvs ? UV_FLOATS : 0);
     GL(EnableVertexAttribArray)(2);
     if (m->uvs)
         GL(VertexAttribPointer)(2, 2, GL_FLOAT, GL_FALSE, stride, (void *)(sizeof(float) * at_uv));
@@ -247,48 +213,148 @@ static bool upload_level(limen_renderer *r, const limen_mesh_geometry *m,
         }
     }
     instance_arrays(r);
+}
+
+/* Level k drawn flat, buffers of its own made when a draw first needs that level (a mesh
+ * drawn at one level holds no other's): its indices, each triangle's last corner a vertex
+ * holding its face normal (the mesh's own vertex where no triangle before has taken it,
+ * else a copy), the others the mesh's vertices as they are; then those vertices. Both go up
+ * a slice at a time, so that what the upload holds besides the buffers stays small (a word
+ * per vertex of the mesh and per vertex made) however big the mesh. */
+static bool upload_level(limen_renderer *r, const limen_mesh_geometry *m,
+                         struct limen__gpu_asset *a, int k)
+{
+    const uint32_t *ix;
+    size_t ntris = (size_t)level(m, k, &ix), nv = (size_t)m->vertex_count;
+    const int vf = flat_floats(m);
+    /* map: each mesh vertex's vertex here, or NO_VERTEX; what: of each vertex here, TAKEN |
+     * the triangle whose last corner it is, or the mesh's vertex it copies */
+    uint32_t *map = upload_alloc(r, sizeof(uint32_t) * (nv ? nv : 1));
+    uint32_t *what = upload_alloc(r, sizeof(uint32_t) * (nv + ntris ? nv + ntris : 1));
+    uint32_t *sidx = upload_alloc(r, sizeof(uint32_t) * 3 * STAGE);
+    float *svtx = upload_alloc(r, sizeof(float) * (size_t)vf * STAGE);
+    if (!map || !what || !sidx || !svtx) {
+        free(map);
+        free(what);
+        free(sidx);
+        free(svtx);
+        return false;
+    }
+    memset(map, 0xff, sizeof(uint32_t) * nv);
+    GL(GenVertexArrays)(1, &a->vao[k]);
+    GL(BindVertexArray)(a->vao[k]);
+    GL(GenBuffers)(1, &a->ibo[k]);
+    GL(BindBuffer)(GL_ELEMENT_ARRAY_BUFFER, a->ibo[k]);
+    GL(BufferData)(GL_ELEMENT_ARRAY_BUFFER, (GLsizeiptr)(sizeof(uint32_t) * 3 * ntris), NULL,
+                   GL_STATIC_DRAW);
+    uint32_t made = 0;
+    for (size_t t0 = 0; t0 < ntris; t0 += STAGE) {
+        size_t n = ntris - t0 < STAGE ? ntris - t0 : STAGE;
+        for (size_t i = 0; i < n; i++) {
+            const uint32_t *c = &ix[(t0 + i) * 3];
+            for (int j = 0; j < 2; j++) {
+                if (map[c[j]] == NO_VERTEX) {
+                    map[c[j]] = made;
+                    what[made++] = c[j];
+                }
+                sidx[i * 3 + j] = map[c[j]];
+            }
+            uint32_t v = map[c[2]];
+            if (v == NO_VERTEX)
+                v = map[c[2]] = made++;
+            else if (what[v] & TAKEN)
+                v = made++;     /* taken: a copy (the corners of others may share either) */
+            what[v] = TAKEN | (uint32_t)(t0 + i);
+            sidx[i * 3 + 2] = v;
+        }
+        GL(BufferSubData)(GL_ELEMENT_ARRAY_BUFFER, (GLintptr)(sizeof(uint32_t) * 3 * t0),
+                          (GLsizeiptr)(sizeof(uint32_t) * 3 * n), sidx);
+    }
+    free(map);
+    free(sidx);
+    GL(GenBuffers)(1, &a->vbo[k]);
     GL(BindBuffer)(GL_ARRAY_BUFFER, a->vbo[k]);
+    GL(BufferData)(GL_ARRAY_BUFFER, (GLsizeiptr)(sizeof(float) * (size_t)vf * made), NULL,
+                   GL_STATIC_DRAW);
+    for (size_t v0 = 0; v0 < made; v0 += STAGE) {
+        size_t n = made - v0 < STAGE ? made - v0 : STAGE;
+        float *o = svtx;
+        for (size_t i = 0; i < n; i++) {
+            uint32_t w = what[v0 + i], src;
+            float nrm[3] = { 0, 0, 0 };
+            if (w & TAKEN) {
+                const uint32_t *c = &ix[(size_t)(w & ~TAKEN) * 3];
+                src = c[2];
+                face_normal(m, c, nrm);
+            } else {
+                src = w;
+                if (m->normals)
+                    memcpy(nrm, &m->normals[(size_t)src * 3], sizeof nrm);
+            }
+            memcpy(o, &m->positions[(size_t)src * 3], sizeof(float) * 3);
+            memcpy(o + 3, nrm, sizeof nrm);
+            o += FLAT_FLOATS;
+            if (m->uvs) {
+                memcpy(o, &m->uvs[(size_t)src * 2], sizeof(float) * UV_FLOATS);
+                o += UV_FLOATS;
+            }
+            if (m->colors) {
+                memcpy(o, &m->colors[(size_t)src * 4], sizeof(float) * COL_FLOATS);
+                o += COL_FLOATS;
+            }
+        }
+        GL(BufferSubData)(GL_ARRAY_BUFFER, (GLintptr)(sizeof(float) * (size_t)vf * v0),
+                          (GLsizeiptr)(sizeof(float) * (size_t)vf * n), svtx);
+    }
+    free(what);
+    free(svtx);
+    vertex_attributes(r, m, a, vf);
     return true;
 }
 
 enum { VERTEX_FLOATS = 12 };    /* smooth: position, vertex normal, texture coordinates,
                                  * colour */
 
+/* The smooth buffer: the mesh's vertices, and every kept level's indices one after
+ * another; the vertices go up a slice at a time, the indices straight from the levels. */
 static bool upload_smooth(limen_renderer *r, const limen_mesh_geometry *m,
                           struct limen__gpu_asset *a)
 {
     size_t nv = (size_t)m->vertex_count, nidx = level_corners(m);
-    float *buf = upload_alloc(r, sizeof(float) * VERTEX_FLOATS * nv);
-    uint32_t *idx = upload_alloc(r, sizeof(uint32_t) * nidx), *at = idx;
-    if (!buf || !idx) {
-        free(buf);
-        free(idx);
+    float *buf = upload_alloc(r, sizeof(float) * VERTEX_FLOATS * STAGE);
+    if (!buf)
         return false;
+    vertex_arrays(r, &a->svao, &a->svbo, sizeof(float) * VERTEX_FLOATS * nv, NULL);
+    for (size_t v0 = 0; v0 < nv; v0 += STAGE) {
+        size_t n = nv - v0 < STAGE ? nv - v0 : STAGE;
+        for (size_t i = 0; i < n; i++) {
+            size_t v = v0 + i;
+            float *c = buf + i * VERTEX_FLOATS;
+            memcpy(c, &m->positions[v * 3], sizeof(float) * 3);
+            memcpy(c + 3, &m->normals[v * 3], sizeof(float) * 3);
+            c[6] = m->uvs ? m->uvs[v * 2] : 0.0f;
+            c[7] = m->uvs ? m->uvs[v * 2 + 1] : 0.0f;
+            for (int k = 0; k < 4; k++)
+                c[8 + k] = m->colors ? m->colors[v * 4 + k] : 1.0f;
+        }
+        GL(BufferSubData)(GL_ARRAY_BUFFER, (GLintptr)(sizeof(float) * VERTEX_FLOATS * v0),
+                          (GLsizeiptr)(sizeof(float) * VERTEX_FLOATS * n), buf);
     }
-    for (size_t v = 0; v < nv; v++) {
-        float *c = buf + v * VERTEX_FLOATS;
-        memcpy(c, &m->positions[v * 3], sizeof(float) * 3);
-        memcpy(c + 3, &m->normals[v * 3], sizeof(float) * 3);
-        c[6] = m->uvs ? m->uvs[v * 2] : 0.0f;
-        c[7] = m->uvs ? m->uvs[v * 2 + 1] : 0.0f;
-        for (int k = 0; k < 4; k++)
-            c[8 + k] = m->colors ? m->colors[v * 4 + k] : 1.0f;
-    }
+    free(buf);
+    GL(GenBuffers)(1, &a->sibo);
+    GL(BindBuffer)(GL_ELEMENT_ARRAY_BUFFER, a->sibo);
+    GL(BufferData)(GL_ELEMENT_ARRAY_BUFFER, (GLsizeiptr)(sizeof(uint32_t) * nidx), NULL,
+                   GL_STATIC_DRAW);
+    size_t at = 0;
     for (int k = 0; k < levels(m); k++) {
         const uint32_t *ix;
         size_t n = (size_t)level(m, k, &ix) * 3;
-        a->sfirst[k] = (GLint)(at - idx);
+        a->sfirst[k] = (GLint)at;
         a->scount[k] = (GLsizei)n;
-        memcpy(at, ix, sizeof(uint32_t) * n);
+        GL(BufferSubData)(GL_ELEMENT_ARRAY_BUFFER, (GLintptr)(sizeof(uint32_t) * at),
+                          (GLsizeiptr)(sizeof(uint32_t) * n), ix);
         at += n;
     }
-    vertex_arrays(r, &a->svao, &a->svbo, sizeof(float) * VERTEX_FLOATS * nv, buf);
-    GL(GenBuffers)(1, &a->sibo);
-    GL(BindBuffer)(GL_ELEMENT_ARRAY_BUFFER, a->sibo);
-    GL(BufferData)(GL_ELEMENT_ARRAY_BUFFER, (GLsizeiptr)(sizeof(uint32_t) * nidx), idx,
-                   GL_STATIC_DRAW);
-    free(buf);
-    free(idx);
     const GLsizei stride = sizeof(float) * VERTEX_FLOATS;
     for (int i = 0; i < 3; i++) {
         GL(EnableVertexAttribArray)((GLuint)i);
@@ -312,9 +378,14 @@ bool limen__gpu_mesh_bind(limen_renderer *r, const limen_mesh_geometry *m, bool 
     int nlods = levels(m);
     lod = lod < 0 ? 0 : lod >= nlods ? nlods - 1 : lod;
     /* each buffer is made when a draw first needs it: a mesh only ever drawn smooth has no
-     * corners (the corners stand in where the smooth buffer cannot be made) */
-    *indexed = smooth && (a->svao || upload_smooth(r, m, a));
-    if (*indexed) {
+     * flat one, and the reverse */
+    *indexed = true;
+    if (smooth) {
+        if (!a->svao && !upload_smooth(r, m, a)) {
+            limen__draw_fail(r, LIMEN_ERR_NOMEM, "out of memory uploading a mesh of %d "
+                             "triangles (it is not drawn)", m->triangle_count);
+            return false;
+        }
         GL(BindVertexArray)(a->svao);
         *first = a->sfirst[lod];
         *count = a->scount[lod];
@@ -326,9 +397,6 @@ bool limen__gpu_mesh_bind(limen_renderer *r, const limen_mesh_geometry *m, bool 
         return false;
     }
     GL(BindVertexArray)(a->vao[lod]);
-    GL(BindBuffer)(GL_ARRAY_BUFFER, a->vbo[lod]);
-    GL(VertexAttribPointer)(1, 3, GL_FLOAT, GL_FALSE, (GLsizei)sizeof(float) * a->corner_floats,
-                            (void *)(sizeof(float) * (smooth ? AT_SMOOTH : AT_FLAT)));
     const uint32_t *ix;
     *first = 0;
     *count = (GLsizei)level(m, lod, &ix) * 3;
@@ -422,6 +490,8 @@ static void drop(limen_renderer *r, struct limen__gpu_asset *a)
     for (int k = 0; k < GPU_LODS; k++) {
         if (a->vbo[k])
             GL(DeleteBuffers)(1, &a->vbo[k]);
+        if (a->ibo[k])
+            GL(DeleteBuffers)(1, &a->ibo[k]);
         if (a->vao[k])
             GL(DeleteVertexArrays)(1, &a->vao[k]);
     }
