@@ -1080,14 +1080,15 @@ static void to_cache(const limen__mesh *m, const limen__lod_where *w, const lime
     limen__lod_cache_store(w, key, m->nverts, m->ntris, lv, mk->nlods);
 }
 
-static bool lods_make(const limen__mesh *m, const atomic_bool *stop, made *out);
+static bool lods_make(const limen__mesh *m, limen__mesh *tree, const atomic_bool *stop,
+                      made *out);
 
 /* Makes m's levels here and now, stores them in the cache w under key and gives them to m;
  * false when out of memory. */
 static bool build_here(limen__mesh *m, const limen__lod_where *w, const limen__lod_key *key)
 {
     made mk;
-    if (!limen__mesh_hierarchy(m) || !lods_make(m, NULL, &mk))
+    if (!limen__mesh_hierarchy(m) || !lods_make(m, NULL, NULL, &mk))
         return false;
     to_cache(m, w, key, &mk);
     install(m, &mk);
@@ -1175,7 +1176,9 @@ static void *job_run(void *arg)
     pthread_mutex_unlock(&j->gate_lock);
     yield_to_frames();
     limen__mesh *m = &j->own;
-    j->ok = limen__mesh_bvh_unless(m, &j->stop) && lods_make(m, &j->stop, &j->mk);
+    /* its hierarchy made by lods_make once the simplifier's tables are gone: not held
+     * beside them, where the build's memory peaks */
+    j->ok = lods_make(m, m, &j->stop, &j->mk);
     free(m->bvh);
     free(m->tri_order);
     m->bvh = NULL;
@@ -1347,8 +1350,11 @@ static void drop_beaten(limen_mesh_lod *lods, size_t at[MAX_LEVELS], uint32_t *s
 }
 
 /* Makes m's levels (see the top of the file) into *out, reading m only; false when out of
- * memory or stopped (stop, where not NULL, set). */
-static bool lods_make(const limen__mesh *m, const atomic_bool *stop, made *out)
+ * memory or stopped (stop, where not NULL, set). The measuring needs m's hierarchy: where
+ * tree is not NULL (m itself, a copy of the mesh of the build's own), it is made there once
+ * the levels are simplified, else the caller made it. */
+static bool lods_make(const limen__mesh *m, limen__mesh *tree, const atomic_bool *stop,
+                      made *out)
 {
     size_t n0 = (size_t)m->ntris * 3, cap = n0;     /* the coarse levels' indices, in all */
     size_t head = HEAD;
@@ -1481,6 +1487,7 @@ static bool lods_make(const limen__mesh *m, const atomic_bool *stop, made *out)
     free(scratch);
     scratch = NULL;
     heap_give_back();
+    ok = ok && (!tree || limen__mesh_bvh_unless(tree, stop));
     ok = ok && limen__lod_target_make(&full, m, shadow);
     /* a textured mesh's charts: a level's triangle whose corners are of two charts shows,
      * between them, the texture's coordinates blended across the atlas (other charts'
