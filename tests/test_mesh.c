@@ -832,8 +832,10 @@ static void test_hierarchy_on_first_need(void)
         s = new_scene();
         m = new_mesh(s, "ball");
         CHECK_OK(limen_mesh_set_triangles(s, m, &data));
-        if (round == 2)
-            limen__meshes_go(s);    /* the build begins now, not after a first frame */
+        if (round == 2) {           /* the build begins now, as after a first frame */
+            limen__meshes_framed(s);
+            limen__meshes_framed(s);
+        }
         if (round == 3)
             limen__meshes_settle(s, true);
         if (round != 2)

@@ -112,6 +112,7 @@ limen_status limen_drawables_build(limen_drawables *d, limen_scene *s)
     d->slots = s->cap;
     memcpy(d->background, s->background, sizeof d->background);
     d->ambient = s->ambient;
+    limen__meshes_framed(s);    /* the frame before is drawn: big meshes' levels may begin */
     return LIMEN_OK;
 }
 

@@ -1122,7 +1122,8 @@ struct limen__lod_job {
     atomic_bool done;           /* set by the build's thread, last */
     pthread_mutex_t gate_lock;  /* the gate the build waits at before it begins: */
     pthread_cond_t gate;
-    bool go;                    /* opened (limen__meshes_go, a wait, a stop) */
+    bool go;                    /* opened (limen__meshes_framed, a wait, a stop) */
+    bool framed;                /* a frame was prepared since it started (scene's thread) */
     bool ok;
     size_t extra;               /* counted in the mesh's bytes beyond the estimate meanwhile */
     made mk;
@@ -1150,8 +1151,8 @@ static void yield_to_frames(void)
 #endif
 }
 
-/* The build begins once its mesh's first frame is drawn (the renderer opens the gate when
- * a frame is done: limen__meshes_go), so that the frame neither waits for it nor holds its
+/* The build begins once its mesh's first frame is drawn (the next frame's preparation
+ * opens the gate: limen__meshes_framed), so that the frame neither waits for it nor holds its
  * memory beside its own, or after GATE_S seconds where no frame comes (a host that draws
  * by itself, or only traces). */
 #define GATE_S 2
@@ -1295,12 +1296,15 @@ void limen__meshes_settle(limen_scene *s, bool wait)
         limen__mesh_lods_settle(s->meshes[i], wait);
 }
 
-void limen__meshes_go(limen_scene *s)
+void limen__meshes_framed(limen_scene *s)
 {
     for (int i = 0; s && i < s->nmeshes; i++) {
         limen__mesh *m = s->meshes[i];
-        if (m->lod_job && !m->lod_job->go)
-            job_open(m->lod_job);
+        struct limen__lod_job *j = m->lod_job;
+        if (j && !j->go && j->framed)
+            job_open(j);
+        else if (j)
+            j->framed = true;
     }
 }
 

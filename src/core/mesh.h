@@ -112,9 +112,11 @@ bool limen__mesh_lods_start(limen__mesh *m);
 bool limen__mesh_lods_settle(limen__mesh *m, bool wait);
 /* limen__mesh_lods_settle for every mesh of s: the scene's refresh calls it (wait false). */
 void limen__meshes_settle(limen_scene *s, bool wait);
-/* Lets the level builds of s's meshes begin: each waits for it (at most a few seconds) so
- * that a big mesh's first frame is drawn first. The renderer calls it after a frame. */
-void limen__meshes_go(limen_scene *s);
+/* A frame is being prepared (limen_drawables_build, which every renderer's frame calls, a
+ * game's own too): the level builds of s's meshes that were there at the one before begin
+ * (that frame is drawn by now). Each waits for it (at most a few seconds) so that a big
+ * mesh's first frame is drawn first. */
+void limen__meshes_framed(limen_scene *s);
 /* Stops m's build, if any, and waits for its thread (before m is freed). */
 void limen__mesh_lods_stop(limen__mesh *m);
 /* Tests only: the size from which levels are made on another thread (default

@@ -7,7 +7,6 @@
 #include <string.h>
 #include <time.h>
 
-#include "core/mesh.h"
 #include "gl/gl_internal.h"
 
 limen_status limen__rfail(limen_renderer *r, limen_status st, const char *fmt, ...)
@@ -549,7 +548,6 @@ limen_status limen_render_frame(limen_renderer *r, limen_scene *s, const limen_r
         return st;
     st = frame(r, s, stats);
     leave(r);
-    limen__meshes_go(s);    /* level builds waiting for a first frame (core/lod.c) */
     if (!st)
         r->err[0] = '\0';     /* a successful call leaves no old failure behind */
     return st;
