@@ -88,11 +88,18 @@ typedef struct point {
     bool rough;                 /* d2 is the distance to tri, unsearched */
 } point;
 
+/* A vertex's point, less its position (from->pos, exactly): 16 bytes, not 40, a vertex. */
+typedef struct corner {
+    double d2;
+    uint32_t tri;               /* UINT32_MAX: not yet located */
+    bool rough;
+} corner;
+
 typedef struct side {
     const limen__mesh *from;    /* the surface measured: from->idx over from->pos */
     const target *to;           /* the surface measured against */
     const uint32_t *weld;       /* per corner of from, where not NULL: its vertex of to */
-    point *pts;                 /* per vertex of from */
+    corner *pts;                /* per vertex of from */
     double lower;               /* the largest distance found at a point */
     double *upper;              /* the largest bound of a finished piece (both sides share
                                  * it): a piece bounded below it need not be cut */
@@ -811,16 +818,17 @@ static void piece(side *sd, const point *a, const point *b, const point *c, int 
 static bool side_corners(side *sd)
 {
     const limen__mesh *from = sd->from;
-    sd->pts = malloc(sizeof *sd->pts * from->nverts);
+    sd->pts = malloc(sizeof *sd->pts * (from->nverts ? from->nverts : 1));
     if (!sd->pts)
         return false;
     for (uint32_t v = 0; v < from->nverts; v++)
         sd->pts[v].tri = UINT32_MAX;
     uint32_t hint = 0;
     for (uint32_t i = 0; i < from->ntris * 3; i++) {
-        point *q = &sd->pts[from->idx[i]];
-        if (q->tri != UINT32_MAX)
+        corner *kept = &sd->pts[from->idx[i]];
+        if (kept->tri != UINT32_MAX)
             continue;
+        point at, *q = &at;
         for (int a = 0; a < 3; a++)
             q->p[a] = from->pos[from->idx[i] * 3 + a];
         /* a corner the other surface shares lies on a triangle there: found at once; another
@@ -840,9 +848,18 @@ static bool side_corners(side *sd)
             if (!q->rough)
                 locate(sd, q, q->tri);
         }
+        *kept = (corner){ .d2 = q->d2, .tri = q->tri, .rough = q->rough };
         hint = q->tri;
     }
     return true;
+}
+
+/* Vertex v of sd->from as a point, its distance as side_corners found it. */
+static void corner_point(const side *sd, uint32_t v, point *q)
+{
+    const float *p = &sd->from->pos[(size_t)v * 3];
+    const corner *c = &sd->pts[v];
+    *q = (point){ .p = { p[0], p[1], p[2] }, .d2 = c->d2, .tri = c->tri, .rough = c->rough };
 }
 
 /* An upper bound on the largest distance from a point of from's surface to to's over its
@@ -858,8 +875,10 @@ static double side_bound(side *sd, int share)
             sd->stopped = true;
             break;
         }
-        piece(sd, &sd->pts[from->idx[t * 3]], &sd->pts[from->idx[t * 3 + 1]],
-              &sd->pts[from->idx[t * 3 + 2]], 0);
+        point v[3];
+        for (int k = 0; k < 3; k++)
+            corner_point(sd, from->idx[(size_t)t * 3 + k], &v[k]);
+        piece(sd, &v[0], &v[1], &v[2], 0);
     }
     return greater(sd->lower, *sd->upper);
 }
@@ -1061,14 +1080,15 @@ static void to_cache(const limen__mesh *m, const limen__lod_where *w, const lime
     limen__lod_cache_store(w, key, m->nverts, m->ntris, lv, mk->nlods);
 }
 
-static bool lods_make(const limen__mesh *m, const atomic_bool *stop, made *out);
+static bool lods_make(const limen__mesh *m, limen__mesh *tree, const atomic_bool *stop,
+                      made *out);
 
 /* Makes m's levels here and now, stores them in the cache w under key and gives them to m;
  * false when out of memory. */
 static bool build_here(limen__mesh *m, const limen__lod_where *w, const limen__lod_key *key)
 {
     made mk;
-    if (!limen__mesh_hierarchy(m) || !lods_make(m, NULL, &mk))
+    if (!limen__mesh_hierarchy(m) || !lods_make(m, NULL, NULL, &mk))
         return false;
     to_cache(m, w, key, &mk);
     install(m, &mk);
@@ -1157,7 +1177,9 @@ static void *job_run(void *arg)
     pthread_mutex_unlock(&j->gate_lock);
     yield_to_frames();
     limen__mesh *m = &j->own;
-    j->ok = limen__mesh_bvh_unless(m, &j->stop) && lods_make(m, &j->stop, &j->mk);
+    /* its hierarchy made by lods_make once the simplifier's tables are gone: not held
+     * beside them, where the build's memory peaks */
+    j->ok = lods_make(m, m, &j->stop, &j->mk);
     free(m->bvh);
     free(m->tri_order);
     m->bvh = NULL;
@@ -1332,8 +1354,11 @@ static void drop_beaten(limen_mesh_lod *lods, size_t at[MAX_LEVELS], uint32_t *s
 }
 
 /* Makes m's levels (see the top of the file) into *out, reading m only; false when out of
- * memory or stopped (stop, where not NULL, set). */
-static bool lods_make(const limen__mesh *m, const atomic_bool *stop, made *out)
+ * memory or stopped (stop, where not NULL, set). The measuring needs m's hierarchy: where
+ * tree is not NULL (m itself, a copy of the mesh of the build's own), it is made there once
+ * the levels are simplified, else the caller made it. */
+static bool lods_make(const limen__mesh *m, limen__mesh *tree, const atomic_bool *stop,
+                      made *out)
 {
     size_t n0 = (size_t)m->ntris * 3, cap = n0;     /* the coarse levels' indices, in all */
     size_t head = HEAD;
@@ -1466,6 +1491,7 @@ static bool lods_make(const limen__mesh *m, const atomic_bool *stop, made *out)
     free(scratch);
     scratch = NULL;
     heap_give_back();
+    ok = ok && (!tree || limen__mesh_bvh_unless(tree, stop));
     ok = ok && limen__lod_target_make(&full, m, shadow);
     /* a textured mesh's charts: a level's triangle whose corners are of two charts shows,
      * between them, the texture's coordinates blended across the atlas (other charts'

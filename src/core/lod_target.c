@@ -69,7 +69,6 @@ double limen__tri_d2(const double p[3], const double a[3], const double b[3], co
 
 void limen__lod_target_free(limen__lod_target *t)
 {
-    free(t->tri);
     free(t->ball);
     free(t->at_vertex);
     free(t->across);
@@ -155,10 +154,9 @@ static bool pair_edges(limen__lod_target *t, const uint32_t *weld)
 bool limen__lod_target_make(limen__lod_target *t, const limen__mesh *m, const uint32_t *weld)
 {
     t->m = m;
-    t->tri = malloc(sizeof *t->tri * m->ntris);
     t->ball = malloc(sizeof *t->ball * m->ntris);
     t->at_vertex = malloc(sizeof *t->at_vertex * m->nverts);
-    if (!t->tri || !t->ball || !t->at_vertex || !pair_edges(t, weld)) {
+    if (!t->ball || !t->at_vertex || !pair_edges(t, weld)) {
         limen__lod_target_free(t);
         return false;
     }
@@ -171,8 +169,6 @@ bool limen__lod_target_make(limen__lod_target *t, const limen__mesh *m, const ui
     }
     for (uint32_t i = 0; i < m->ntris; i++) {
         double c[3], r2 = 0, tri[9];
-        for (int k = 0; k < 9; k++)
-            t->tri[i][k] = m->pos[m->idx[i * 3 + k / 3] * 3 + k % 3];
         limen__lod_corners(t, i, tri);
         /* the centre rounded to float, the radius measured from it and rounded up: the
          * sphere still holds the triangle */

@@ -1,5 +1,5 @@
 /* lod_target.h - a mesh that levels of detail are measured against (core/lod.c): its
- * triangles in double, the distance from a point to them (the nearest through the mesh's
+ * triangles in double (read from the mesh's own arrays), the distance from a point to them (the nearest through the mesh's
  * hierarchy, or a walk across edges), and each triangle's neighbours. Not part of the
  * public API. */
 #ifndef LIMEN_CORE_LOD_TARGET_H
@@ -11,8 +11,7 @@
 #include "core/mesh.h"
 
 typedef struct limen__lod_target {
-    const limen__mesh *m;
-    float (*tri)[9];            /* per triangle: its corners (the mesh's floats, exactly) */
+    const limen__mesh *m;       /* its corners read through m->idx and m->pos (no copy) */
     float (*ball)[4];           /* per triangle: a sphere around it (centre, radius) */
     uint32_t *at_vertex;        /* per vertex: a triangle with a corner there, or UINT32_MAX */
     uint32_t (*across)[3];      /* per triangle and edge (corners k, k + 1): the triangle on
@@ -48,11 +47,17 @@ double limen__lod_target_nearest(const limen__lod_target *t, const double p[3], 
  * the surface near p is a single sheet). */
 double limen__lod_target_walk(const limen__lod_target *t, const double p[3], uint32_t *tri);
 
-/* Triangle i of t's corners, in double (exactly). */
+/* Triangle i of t's corners, in double (the mesh's floats, exactly). */
 static inline void limen__lod_corners(const limen__lod_target *t, uint32_t i, double c[9])
 {
-    for (int k = 0; k < 9; k++)
-        c[k] = t->tri[i][k];
+    const uint32_t *v = t->m->idx + (size_t)i * 3;
+    const float *pos = t->m->pos;
+    for (int k = 0; k < 3; k++) {
+        const float *p = pos + (size_t)v[k] * 3;
+        c[3 * k] = p[0];
+        c[3 * k + 1] = p[1];
+        c[3 * k + 2] = p[2];
+    }
 }
 
 /* Squared distance from p to triangle i of t. */
