@@ -206,6 +206,46 @@ static bool apart2(const double a[3][2], const double b[3][2])
 #define COVER_AREA 8            /* a piece is laid over the other surface when it is at most
                                  * this many times that surface's mean triangle */
 
+/* A piece seen along its normal n: (u, w, n) right-handed, u along its first edge, so that
+ * it runs counter-clockwise in (u, w); its corners there from the first, their box, and its
+ * doubled area nn. False where it has no area or no first edge. */
+typedef struct seen {
+    double n[3], u[3], w[3], p[3][2], lo[2], hi[2], nn, ne;   /* ne: the first edge's length */
+} seen;
+
+static bool piece_seen(const point *v[3], seen *f)
+{
+    double e1[3], e2[3], *n = f->n, *u = f->u, *w = f->w;
+    limen__sub3(v[1]->p, v[0]->p, e1);
+    limen__sub3(v[2]->p, v[0]->p, e2);
+    n[0] = e1[1] * e2[2] - e1[2] * e2[1];
+    n[1] = e1[2] * e2[0] - e1[0] * e2[2];
+    n[2] = e1[0] * e2[1] - e1[1] * e2[0];
+    double nn = sqrt(limen__dot3(n, n)), ne = sqrt(limen__dot3(e1, e1));
+    if (!(nn > 0) || !(ne > 0))
+        return false;
+    for (int a = 0; a < 3; a++) {
+        n[a] /= nn;
+        u[a] = e1[a] / ne;
+    }
+    w[0] = n[1] * u[2] - n[2] * u[1];
+    w[1] = n[2] * u[0] - n[0] * u[2];
+    w[2] = n[0] * u[1] - n[1] * u[0];
+    for (int k = 0; k < 3; k++) {
+        double d[3];
+        limen__sub3(v[k]->p, v[0]->p, d);
+        f->p[k][0] = limen__dot3(d, u);
+        f->p[k][1] = limen__dot3(d, w);
+    }
+    for (int a = 0; a < 2; a++) {
+        f->lo[a] = lesser(f->p[0][a], lesser(f->p[1][a], f->p[2][a]));
+        f->hi[a] = greater(f->p[0][a], greater(f->p[1][a], f->p[2][a]));
+    }
+    f->nn = nn;
+    f->ne = ne;
+    return true;
+}
+
 /* A bound from laying the piece over the other surface: seen along the piece's normal,
  * where triangles of sd->to that lie within `goal` of its plane along that normal, and
  * overlap no other, together cover it (their clipped areas add up to its own), every point
@@ -216,34 +256,12 @@ static bool apart2(const double a[3][2], const double b[3][2])
 static double cover_bound(side *sd, const point *v[3], double goal)
 {
     const target *to = sd->to;
-    double e1[3], e2[3], n[3], u[3], w[3];
-    limen__sub3(v[1]->p, v[0]->p, e1);
-    limen__sub3(v[2]->p, v[0]->p, e2);
-    n[0] = e1[1] * e2[2] - e1[2] * e2[1];
-    n[1] = e1[2] * e2[0] - e1[0] * e2[2];
-    n[2] = e1[0] * e2[1] - e1[1] * e2[0];
-    double nn = sqrt(limen__dot3(n, n)), ne = sqrt(limen__dot3(e1, e1));
-    if (!(nn > 0) || !(ne > 0))
+    seen sn;
+    if (!piece_seen(v, &sn))
         return INFINITY;
-    for (int a = 0; a < 3; a++) {
-        n[a] /= nn;
-        u[a] = e1[a] / ne;
-    }
-    /* (u, w, n) right-handed: the piece runs counter-clockwise in (u, w) */
-    w[0] = n[1] * u[2] - n[2] * u[1];
-    w[1] = n[2] * u[0] - n[0] * u[2];
-    w[2] = n[0] * u[1] - n[1] * u[0];
-    double pp[3][2], lo[3], hi[3];
-    for (int k = 0; k < 3; k++) {
-        double d[3];
-        limen__sub3(v[k]->p, v[0]->p, d);
-        pp[k][0] = limen__dot3(d, u);
-        pp[k][1] = limen__dot3(d, w);
-    }
-    double plo[2] = { lesser(pp[0][0], lesser(pp[1][0], pp[2][0])),
-                      lesser(pp[0][1], lesser(pp[1][1], pp[2][1])) },
-           phi[2] = { greater(pp[0][0], greater(pp[1][0], pp[2][0])),
-                      greater(pp[0][1], greater(pp[1][1], pp[2][1])) };
+    const double *n = sn.n, *u = sn.u, *w = sn.w, *plo = sn.lo, *phi = sn.hi, nn = sn.nn;
+    const double (*pp)[2] = sn.p;
+    double lo[3], hi[3];
     for (int a = 0; a < 3; a++) {
         lo[a] = lesser(v[0]->p[a], lesser(v[1]->p[a], v[2]->p[a])) - goal;
         hi[a] = greater(v[0]->p[a], greater(v[1]->p[a], v[2]->p[a])) + goal;
@@ -406,33 +424,11 @@ static bool seg_apart2(const double a[2], const double b[2], const double t[3][2
 static double lay_bound(side *sd, const point *v[3], double goal)
 {
     const target *to = sd->to;
-    double e1[3], e2[3], n[3], u[3], w[3];
-    limen__sub3(v[1]->p, v[0]->p, e1);
-    limen__sub3(v[2]->p, v[0]->p, e2);
-    n[0] = e1[1] * e2[2] - e1[2] * e2[1];
-    n[1] = e1[2] * e2[0] - e1[0] * e2[2];
-    n[2] = e1[0] * e2[1] - e1[1] * e2[0];
-    double nn = sqrt(limen__dot3(n, n)), ne = sqrt(limen__dot3(e1, e1));
-    if (!(nn > 0) || !(ne > 0) || !sd->queue)
+    seen sn;
+    if (!sd->queue || !piece_seen(v, &sn))
         return INFINITY;
-    for (int a = 0; a < 3; a++) {
-        n[a] /= nn;
-        u[a] = e1[a] / ne;
-    }
-    w[0] = n[1] * u[2] - n[2] * u[1];
-    w[1] = n[2] * u[0] - n[0] * u[2];
-    w[2] = n[0] * u[1] - n[1] * u[0];
-    double pp[3][2];
-    for (int k = 0; k < 3; k++) {
-        double d[3];
-        limen__sub3(v[k]->p, v[0]->p, d);
-        pp[k][0] = limen__dot3(d, u);
-        pp[k][1] = limen__dot3(d, w);
-    }
-    double plo[2] = { lesser(pp[0][0], lesser(pp[1][0], pp[2][0])),
-                      lesser(pp[0][1], lesser(pp[1][1], pp[2][1])) },
-           phi[2] = { greater(pp[0][0], greater(pp[1][0], pp[2][0])),
-                      greater(pp[0][1], greater(pp[1][1], pp[2][1])) };
+    const double *n = sn.n, *u = sn.u, *w = sn.w, *plo = sn.lo, *phi = sn.hi, ne = sn.ne;
+    const double (*pp)[2] = sn.p;
     double twice_piece = orient2(pp[0], pp[1], pp[2]);
     if (!(twice_piece > 0))
         return INFINITY;
