@@ -163,6 +163,27 @@ static void test_files(void)
     limen_scene_destroy(s);
 }
 
+/* A plain PLY (positions and faces) is read by limen's own reader, as the file has it: a
+ * quad becomes two triangles (a fan), and a vertex at another's position stays its own
+ * (assimp, which read it before, joined the two: 4 vertices). */
+static void test_plain_ply(void)
+{
+    static const char *text =
+        "ply\nformat ascii 1.0\nelement vertex 5\nproperty float x\nproperty float y\n"
+        "property float z\nelement face 2\nproperty list uchar int vertex_indices\n"
+        "end_header\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n0 0 0\n4 0 1 2 3\n3 4 3 2\n";
+    limen_scene *s = new_scene();
+    limen_node m = new_mesh(s, "plain");
+    limen_mesh_info info;
+    CHECK_OK(limen_mesh_load(s, m, write_text("plain.ply", text)));
+    CHECK_OK(limen_mesh_get(s, m, &info));
+    CHECK_MSG(info.triangle_count == 3 && info.vertex_count == 5,
+              "%d triangles, %d vertices", info.triangle_count, info.vertex_count);
+    CHECK(!info.has_normals && !info.has_uvs);
+    CHECK(info.lo[0] == 0 && info.hi[0] == 1 && info.hi[1] == 1 && info.hi[2] == 0);
+    limen_scene_destroy(s);
+}
+
 static void test_bunny(void)
 {
     limen_scene *s = new_scene();
@@ -921,6 +942,7 @@ static const check_case cases[] = {
     { "arrays", test_arrays },
     { "array_errors", test_array_errors },
     { "files", test_files },
+    { "plain_ply", test_plain_ply },
     { "bunny", test_bunny },
     { "bad_files", test_bad_files },
     { "ray_cast", test_ray_cast },
