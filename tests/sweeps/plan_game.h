@@ -721,17 +721,7 @@ static void draw_item(game *g, const item *it, int flat, const float albedo[3])
     glUniform1i(g->u.shape, it->shape);
     glUniform1i(g->u.flat, flat);
     glUniform1i(g->u.uv, it->uv);
-    glUniform1i(g->u.textured, !flat && it->tex);
-    if (!flat && it->tex) {
-        glBindTexture(GL_TEXTURE_2D, it->tex);
-        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER,
-                        it->filter == LIMEN_FILTER_NEAREST ? GL_NEAREST
-                        : it->filter == LIMEN_FILTER_LINEAR ? GL_LINEAR
-                                                            : GL_LINEAR_MIPMAP_LINEAR);
-        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER,
-                        it->filter == LIMEN_FILTER_NEAREST ? GL_NEAREST : GL_LINEAR);
-        glUniform2fv(g->u.repeat, 1, it->repeat);
-    }
+    use_texture(g, it, flat ? 0 : it->tex);
     /* mirrors and portals are not cut by the near plane; closed shapes cull back faces (a
      * mesh need not be closed: both its sides show) */
     gl_set(GL_DEPTH_CLAMP, is_surface(it));
