@@ -8,6 +8,7 @@
 
 #include "bumpy.h"
 #include "check.h"
+#include "ray.h"
 #include "core/mesh.h"
 #include "limen.h"
 
@@ -786,34 +787,16 @@ static void test_threads(void)
     }
 }
 
-/* The nearest hit of the ray o + t d on the triangles, each tested in turn (Moller-Trumbore
+/* The nearest hit of the ray o + t d on the triangles, each tested in turn (tests/ray.h:
  * in double, both sides); INFINITY where none. */
 static double brute_hit(const float *pos, const uint32_t *idx, int nt, const double o[3],
                         const double d[3])
 {
-    double best = INFINITY;
-    for (int t = 0; t < nt; t++) {
-        const float *a = &pos[idx[t * 3] * 3], *b = &pos[idx[t * 3 + 1] * 3],
-                    *c = &pos[idx[t * 3 + 2] * 3];
-        double e1[3], e2[3], sv[3];
-        for (int i = 0; i < 3; i++) {
-            e1[i] = (double)b[i] - a[i];
-            e2[i] = (double)c[i] - a[i];
-            sv[i] = o[i] - a[i];
-        }
-        double p[3] = { d[1] * e2[2] - d[2] * e2[1], d[2] * e2[0] - d[0] * e2[2],
-                        d[0] * e2[1] - d[1] * e2[0] };
-        double det = e1[0] * p[0] + e1[1] * p[1] + e1[2] * p[2];
-        if (det == 0)
-            continue;
-        double u = (sv[0] * p[0] + sv[1] * p[1] + sv[2] * p[2]) / det;
-        double q[3] = { sv[1] * e1[2] - sv[2] * e1[1], sv[2] * e1[0] - sv[0] * e1[2],
-                        sv[0] * e1[1] - sv[1] * e1[0] };
-        double v = (d[0] * q[0] + d[1] * q[1] + d[2] * q[2]) / det;
-        double tt = (e2[0] * q[0] + e2[1] * q[1] + e2[2] * q[2]) / det;
-        if (u >= 0 && v >= 0 && u + v <= 1 && tt > 0 && tt < best)
+    double best = INFINITY, tt, u, v;
+    for (int t = 0; t < nt; t++)
+        if (ray_triangle(&pos[idx[t * 3] * 3], &pos[idx[t * 3 + 1] * 3],
+                         &pos[idx[t * 3 + 2] * 3], o, d, &tt, &u, &v) && tt < best)
             best = tt;
-    }
     return best;
 }
 

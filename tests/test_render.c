@@ -3,6 +3,7 @@
 #include <stdlib.h>
 
 #include "check.h"
+#include "ray.h"
 #include "core/testing.h"
 #include "limen.h"
 
@@ -437,25 +438,16 @@ static void test_flat_shared_corners(void)
             int face = -1;
             pixel_ray(s, x, y, o, d);
             for (int f = 0; f < 4; f++) {
-                /* Moller-Trumbore; pixels near an edge are not called */
+                /* tests/ray.h; pixels near an edge are not called */
                 const float *a = &pos[idx[f * 3] * 3], *b = &pos[idx[f * 3 + 1] * 3],
                             *c = &pos[idx[f * 3 + 2] * 3];
-                double e1[3], e2[3], sv[3];
+                double t, u, v, e1[3], e2[3];
+                if (!ray_triangle(a, b, c, o, d, &t, &u, &v) || t >= best)
+                    continue;
                 for (int i = 0; i < 3; i++) {
                     e1[i] = (double)b[i] - a[i];
                     e2[i] = (double)c[i] - a[i];
-                    sv[i] = o[i] - a[i];
                 }
-                double pv[3] = { d[1] * e2[2] - d[2] * e2[1], d[2] * e2[0] - d[0] * e2[2],
-                                 d[0] * e2[1] - d[1] * e2[0] };
-                double det = e1[0] * pv[0] + e1[1] * pv[1] + e1[2] * pv[2];
-                double u = (sv[0] * pv[0] + sv[1] * pv[1] + sv[2] * pv[2]) / det;
-                double q[3] = { sv[1] * e1[2] - sv[2] * e1[1], sv[2] * e1[0] - sv[0] * e1[2],
-                                sv[0] * e1[1] - sv[1] * e1[0] };
-                double v = (d[0] * q[0] + d[1] * q[1] + d[2] * q[2]) / det;
-                double t = (e2[0] * q[0] + e2[1] * q[1] + e2[2] * q[2]) / det;
-                if (!(t > 0) || t >= best || u < 0 || v < 0 || u + v > 1)
-                    continue;
                 best = t;
                 face = u < 0.05 || v < 0.05 || u + v > 0.95 ? -1 : f;
                 double cr[3] = { e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2],
