@@ -879,49 +879,42 @@ static void test_degenerate(void)
  * the triangles), each with an error that bounds a brute force's largest distance. No
  * triangle of any level takes its corners from two charts: the texture is not smeared
  * across a seam, each corner's texture coordinate is its own position's on the full mesh. */
-static void asset_levels(int tile, int min_levels)
+/* The levels of a textured mesh (data, each vertex in chart[v], what: its name in messages):
+ * at least min_levels, the coarsest at most 1/fraction of the triangles where fraction > 0,
+ * no level triangle across charts, each level's error at least the largest distance a
+ * brute force finds on a lattice (and that distance above 0 where positive). */
+static void chart_levels(const limen_mesh_data *data, const int *chart, int min_levels,
+                         int fraction, bool positive, const char *what)
 {
-    enum { N = 40, NT = 5 * N * N * 2 };
-    int nv = charted_verts(N, tile);
-    float *pos = malloc(sizeof(float) * 3 * nv), *nrm = malloc(sizeof(float) * 3 * nv),
-          *uv = malloc(sizeof(float) * 2 * nv);
-    uint32_t *idx = malloc(sizeof(uint32_t) * 3 * NT);
-    if (!pos || !nrm || !uv || !idx) {
-        CHECK(!"out of memory");
-        goto done;
-    }
-    charted_ball(N, tile, pos, nrm, uv, idx);
     fixture f = open_scene((float[3]){ 0, 0, 5 }, (float[3]){ 0, 0, 0 });
-    CHECK_OK(limen_mesh_set_triangles(f.s, f.mesh, &(limen_mesh_data){
-        .positions = pos, .normals = nrm, .uvs = uv, .vertex_count = nv, .indices = idx,
-        .triangle_count = NT }));
+    CHECK_OK(limen_mesh_set_triangles(f.s, f.mesh, data));
     const limen_drawable *d = item(&f);
     tri_box *ft = d ? boxes_of(d->mesh, &d->mesh->lods[0]) : NULL;
     grid full = { 0 };
     if (ft && grid_make(&full, ft, d->mesh->triangle_count)) {
         const limen_mesh_geometry *g = d->mesh;
         int last = g->lods[g->lod_count - 1].triangle_count;
-        CHECK_MSG(g->lod_count >= min_levels && (min_levels < 5 || last * 16 <= NT),
-                  "charts of %d: %d levels, the coarsest %d triangles", tile, g->lod_count, last);
+        CHECK_MSG(g->lod_count >= min_levels && (fraction <= 0 ||
+                                                 last * fraction <= data->triangle_count),
+                  "%s: %d levels, the coarsest %d triangles", what, g->lod_count, last);
         for (int k = 1; k < g->lod_count; k++) {
             const limen_mesh_lod *lv = &g->lods[k];
-            int mixed = 0;
+            int across = 0;
             for (int t = 0; t < lv->triangle_count; t++) {
-                int c = charted_chart(tile, lv->indices[t * 3]);
-                mixed += charted_chart(tile, lv->indices[t * 3 + 1]) != c ||
-                         charted_chart(tile, lv->indices[t * 3 + 2]) != c;
+                const uint32_t *c = &lv->indices[t * 3];
+                across += chart[c[0]] != chart[c[1]] || chart[c[0]] != chart[c[2]];
             }
-            CHECK_MSG(mixed == 0, "level %d: %d of %d triangles across charts", k, mixed,
-                      lv->triangle_count);
+            CHECK_MSG(across == 0, "%s, level %d: %d of %d triangles across charts", what, k,
+                      across, lv->triangle_count);
             if (getenv("LIMEN_TEST_VERBOSE"))
-                fprintf(stderr, "charts of %d, level %d: %d triangles, error %g\n", tile, k,
+                fprintf(stderr, "%s, level %d: %d triangles, error %g\n", what, k,
                         lv->triangle_count, lv->error);
             /* a lattice on every triangle: the largest distance lies where the charts meet
              * as often as anywhere */
             double found = brute_sampled(g, &full, k, 1, 4, 400);
-            CHECK_MSG(found <= lv->error * (1 + 1e-5), "level %d: error %g, found %g", k,
-                      lv->error, found);
-            CHECK(found > 0);
+            CHECK_MSG(found <= lv->error * (1 + 1e-5), "%s, level %d: error %g, found %g",
+                      what, k, lv->error, found);
+            CHECK(!positive || found > 0);
         }
     } else {
         CHECK(!"no mesh, or no memory for the brute force");
@@ -929,11 +922,34 @@ static void asset_levels(int tile, int min_levels)
     grid_free(&full);
     free(ft);
     close_scene(&f);
-done:
+}
+
+static void asset_levels(int tile, int min_levels)
+{
+    enum { N = 40, NT = 5 * N * N * 2 };
+    int nv = charted_verts(N, tile);
+    float *pos = malloc(sizeof(float) * 3 * nv), *nrm = malloc(sizeof(float) * 3 * nv),
+          *uv = malloc(sizeof(float) * 2 * nv);
+    uint32_t *idx = malloc(sizeof(uint32_t) * 3 * NT);
+    int *chart = malloc(sizeof(int) * nv);
+    if (pos && nrm && uv && idx && chart) {
+        charted_ball(N, tile, pos, nrm, uv, idx);
+        for (int v = 0; v < nv; v++)
+            chart[v] = charted_chart(tile, (uint32_t)v);
+        char what[32];
+        snprintf(what, sizeof what, "charts of %d", tile);
+        chart_levels(&(limen_mesh_data){ .positions = pos, .normals = nrm, .uvs = uv,
+                                         .vertex_count = nv, .indices = idx,
+                                         .triangle_count = NT },
+                     chart, min_levels, min_levels >= 5 ? 16 : 0, true, what);
+    } else {
+        CHECK(!"out of memory");
+    }
     free(pos);
     free(nrm);
     free(uv);
     free(idx);
+    free(chart);
 }
 
 /* One chart a face; and 500 charts of 4 x 4 squares, whose corners (where four charts meet)
@@ -1640,43 +1656,15 @@ static void test_brick_charts(void)
           *uv = malloc(sizeof(float) * 2 * nv);
     uint32_t *idx = malloc(sizeof(uint32_t) * 3 * NT);
     int *chart = malloc(sizeof(int) * nv);
-    if (!pos || !nrm || !uv || !idx || !chart) {
-        CHECK(!"out of memory");
-        goto done;
-    }
-    CHECK(charted_bricks(N, BW, BH, pos, nrm, uv, idx, chart) == nv);
-    fixture f = open_scene((float[3]){ 0, 0, 5 }, (float[3]){ 0, 0, 0 });
-    CHECK_OK(limen_mesh_set_triangles(f.s, f.mesh, &(limen_mesh_data){
-        .positions = pos, .normals = nrm, .uvs = uv, .vertex_count = nv, .indices = idx,
-        .triangle_count = NT }));
-    const limen_drawable *d = item(&f);
-    tri_box *ft = d ? boxes_of(d->mesh, &d->mesh->lods[0]) : NULL;
-    grid full = { 0 };
-    if (ft && grid_make(&full, ft, d->mesh->triangle_count)) {
-        const limen_mesh_geometry *g = d->mesh;
-        int last = g->lods[g->lod_count - 1].triangle_count;
-        CHECK_MSG(g->lod_count >= 5 && last * 12 <= NT, "%d levels, the coarsest %d triangles",
-                  g->lod_count, last);
-        for (int k = 1; k < g->lod_count; k++) {
-            const limen_mesh_lod *lv = &g->lods[k];
-            int across = 0;
-            for (int t = 0; t < lv->triangle_count; t++) {
-                const uint32_t *c = &lv->indices[t * 3];
-                across += chart[c[0]] != chart[c[1]] || chart[c[0]] != chart[c[2]];
-            }
-            CHECK_MSG(across == 0, "level %d: %d of %d triangles across charts", k, across,
-                      lv->triangle_count);
-            double found = brute_sampled(g, &full, k, 1, 4, 400);
-            CHECK_MSG(found <= lv->error * (1 + 1e-5), "level %d: error %g, found %g", k,
-                      lv->error, found);
-        }
+    if (pos && nrm && uv && idx && chart) {
+        CHECK(charted_bricks(N, BW, BH, pos, nrm, uv, idx, chart) == nv);
+        chart_levels(&(limen_mesh_data){ .positions = pos, .normals = nrm, .uvs = uv,
+                                         .vertex_count = nv, .indices = idx,
+                                         .triangle_count = NT },
+                     chart, 5, 12, false, "bricks");
     } else {
-        CHECK(!"no mesh, or no memory for the brute force");
+        CHECK(!"out of memory");
     }
-    grid_free(&full);
-    free(ft);
-    close_scene(&f);
-done:
     free(pos);
     free(nrm);
     free(uv);
