@@ -540,10 +540,13 @@ static double lay_bound(side *sd, const point *v[3], double goal)
         }
         /* where it meets the piece's inside: not where their boxes (as seen) only touch,
          * nor where an edge line of either leaves the other wholly on its outer side */
-        bool meets = !(greater(tt[0][0], greater(tt[1][0], tt[2][0])) <= plo[0] ||
-                       lesser(tt[0][0], lesser(tt[1][0], tt[2][0])) >= phi[0] ||
-                       greater(tt[0][1], greater(tt[1][1], tt[2][1])) <= plo[1] ||
-                       lesser(tt[0][1], lesser(tt[1][1], tt[2][1])) >= phi[1]);
+        double tlo[2], thi[2];
+        for (int a = 0; a < 2; a++) {
+            tlo[a] = lesser(tt[0][a], lesser(tt[1][a], tt[2][a]));
+            thi[a] = greater(tt[0][a], greater(tt[1][a], tt[2][a]));
+        }
+        bool meets = !(thi[0] <= plo[0] || tlo[0] >= phi[0] || thi[1] <= plo[1] ||
+                       tlo[1] >= phi[1]);
         int inside = 0;
         double twice = 0;
         /* per edge of the triangle (corners k, k + 1): whether an edge line of the piece
@@ -593,8 +596,11 @@ static double lay_bound(side *sd, const point *v[3], double goal)
                 }
             }
             /* the count at the two probes: strictly inside adds its sign; on its border
-             * leaves that probe's count unknown */
+             * leaves that probe's count unknown (a probe beyond its box is neither) */
             for (int p = 0; p < 2; p++) {
+                if (probe[p][0] < tlo[0] || probe[p][0] > thi[0] || probe[p][1] < tlo[1] ||
+                    probe[p][1] > thi[1])
+                    continue;
                 double f0 = orient2(tt[0], tt[1], probe[p]), f1 = orient2(tt[1], tt[2], probe[p]),
                        f2 = orient2(tt[2], tt[0], probe[p]);
                 if (f0 > 0 && f1 > 0 && f2 > 0)
