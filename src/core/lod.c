@@ -85,6 +85,7 @@ typedef struct point {
     double d2;                  /* squared distance to the other surface, or (a cut's point, a
                                  * corner walked to) an upper bound on it: the distance to tri */
     uint32_t tri;               /* its nearest triangle there */
+    uint32_t vertex;            /* the vertex of the surface measured it is, or UINT32_MAX */
     bool rough;                 /* d2 is the distance to tri, unsearched */
 } point;
 
@@ -112,6 +113,7 @@ typedef struct side {
     uint32_t *marks, mark;      /* per triangle of to: the last cover_bound that met it */
     uint32_t *queue;            /* LAY_LOOK triangles of to, for lay_bound */
     struct lay_vertex *lay_vx;  /* LAY_SLOTS vertices of to as lay_bound's piece sees them */
+    struct memo *memo;          /* MEMO_SLOTS distances from a vertex to a triangle of to */
     uint32_t lay_stamp;         /* lay_bound's pieces so far: which of lay_vx are current */
     bool lay_far;               /* lay_bound's last answer: a triangle under the piece lies
                                  * farther than the goal (not a border or a count it could
@@ -724,12 +726,33 @@ static void locate_shared(side *sd, point *q, uint32_t hint, uint32_t other, dou
     sd->nseen++;
 }
 
+/* The distance from a vertex of sd->from to a triangle of sd->to, as convex_bound asks for
+ * it: the same few pairs come again in the pieces around a vertex, so the last asked are
+ * kept (one a slot, by the pair's hash). */
+typedef struct memo {
+    uint32_t vertex, tri;
+    double d;
+} memo;
+
+#define MEMO_SLOTS 65536
+
+/* The distance from q to triangle t of sd->to (sqrt of limen__lod_d2: the same number). */
+static double vertex_d(side *sd, const point *q, uint32_t t)
+{
+    if (q->vertex == UINT32_MAX || !sd->memo)
+        return sqrt(limen__lod_d2(sd->to, t, q->p));
+    memo *m = &sd->memo[(q->vertex * 0x9e3779b1u ^ t * 0x85ebca6bu) >> 16];
+    if (m->vertex != q->vertex || m->tri != t)
+        *m = (memo){ .vertex = q->vertex, .tri = t, .d = sqrt(limen__lod_d2(sd->to, t, q->p)) };
+    return m->d;
+}
+
 /* The distance to one triangle is convex, so over the piece it lies below the plane through
  * its values at the corners: the distance to sd->to is at most the least of those planes,
  * one per corner's nearest triangle, and this is the largest that least takes over the piece
  * (a concave function, largest at a corner of the piece, where an edge of the piece meets
  * a line on which two planes agree, or where all three agree). */
-static double convex_bound(const side *sd, const point *v[3])
+static double convex_bound(side *sd, const point *v[3])
 {
     double f[3][3];             /* f[k][i]: corner i's distance to corner k's triangle */
     int nk = 0;
@@ -738,7 +761,7 @@ static double convex_bound(const side *sd, const point *v[3])
         if ((k > 0 && t == v[0]->tri) || (k > 1 && t == v[1]->tri))
             continue;
         for (int i = 0; i < 3; i++)
-            f[nk][i] = v[i]->tri == t ? sqrt(v[i]->d2) : sqrt(limen__lod_d2(sd->to, t, v[i]->p));
+            f[nk][i] = v[i]->tri == t ? sqrt(v[i]->d2) : vertex_d(sd, v[i], t);
         nk++;
     }
     double best = 0;
@@ -862,6 +885,7 @@ static void piece(side *sd, const point *a, const point *b, const point *c, int 
     for (int k = 0; k < 3; k++) {
         for (int e = 0; e < 3; e++)
             mid[k].p[e] = 0.5 * (v[k]->p[e] + v[(k + 1) % 3]->p[e]);
+        mid[k].vertex = UINT32_MAX;
         locate_shared(sd, &mid[k], v[k]->tri, v[(k + 1) % 3]->tri, NEAR_ENOUGH * need);
     }
     piece(sd, a, &mid[0], &mid[2], depth + 1);
@@ -884,7 +908,7 @@ static bool side_corners(side *sd)
         corner *kept = &sd->pts[from->idx[i]];
         if (kept->tri != UINT32_MAX)
             continue;
-        point at, *q = &at;
+        point at = { .vertex = from->idx[i] }, *q = &at;
         for (int a = 0; a < 3; a++)
             q->p[a] = from->pos[from->idx[i] * 3 + a];
         /* a corner the other surface shares lies on a triangle there: found at once; another
@@ -915,7 +939,8 @@ static void corner_point(const side *sd, uint32_t v, point *q)
 {
     const float *p = &sd->from->pos[(size_t)v * 3];
     const corner *c = &sd->pts[v];
-    *q = (point){ .p = { p[0], p[1], p[2] }, .d2 = c->d2, .tri = c->tri, .rough = c->rough };
+    *q = (point){ .p = { p[0], p[1], p[2] }, .d2 = c->d2, .tri = c->tri, .vertex = v,
+                  .rough = c->rough };
 }
 
 /* An upper bound on the largest distance from a point of from's surface to to's over its
@@ -949,6 +974,12 @@ typedef struct measurer {
     int share;
 } measurer;
 
+static void memo_clear(memo *m)
+{
+    for (uint32_t i = 0; m && i < MEMO_SLOTS; i++)
+        m[i].vertex = UINT32_MAX;
+}
+
 static void *measure(void *arg)
 {
     measurer *w = arg;
@@ -960,10 +991,14 @@ static void *measure(void *arg)
     w->back.queue = malloc(sizeof *w->back.queue * LAY_LOOK);
     w->there.lay_vx = calloc(LAY_SLOTS, sizeof *w->there.lay_vx);
     w->back.lay_vx = calloc(LAY_SLOTS, sizeof *w->back.lay_vx);
+    /* one memo for both sides, cleared between them (without it: the same bounds, slower) */
+    w->there.memo = w->back.memo = malloc(sizeof *w->there.memo * MEMO_SLOTS);
     w->e = NAN;
     if (w->there.marks && w->back.marks) {
-        double a = side_bound(&w->there, w->share),
-               b = w->there.stopped ? 0 : side_bound(&w->back, w->share);
+        memo_clear(w->there.memo);
+        double a = side_bound(&w->there, w->share);
+        memo_clear(w->back.memo);
+        double b = w->there.stopped ? 0 : side_bound(&w->back, w->share);
         if (!w->there.stopped && !w->back.stopped)
             w->e = greater(greater(a, b), w->floor);
     }
@@ -975,6 +1010,7 @@ static void *measure(void *arg)
     free(w->back.queue);
     free(w->there.lay_vx);
     free(w->back.lay_vx);
+    free(w->there.memo);
     return NULL;
 }
 
