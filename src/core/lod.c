@@ -439,6 +439,13 @@ typedef struct lay_vertex {
 #define LAY_SIDES 0x40
 #define LAY_SLOTS 16384         /* lay_bound's vertices, at most 3 * LAY_LOOK, at most 3/4 full */
 
+static bool measure_memo = true;    /* lay_vertex_of and vertex_d keep what they find */
+
+void limen__lod_set_measure_memo(bool on)
+{
+    measure_memo = on;
+}
+
 /* Vertex vi of sd->to as the piece (sn, its first corner o) sees it. */
 static lay_vertex *lay_vertex_of(side *sd, uint32_t vi, const seen *sn, const double o[3])
 {
@@ -447,7 +454,7 @@ static lay_vertex *lay_vertex_of(side *sd, uint32_t vi, const seen *sn, const do
     while (tab[at].stamp == stamp && tab[at].v != vi)
         at = (at + 1) & (LAY_SLOTS - 1);
     lay_vertex *x = &tab[at];
-    if (x->stamp != stamp) {
+    if (x->stamp != stamp || !measure_memo) {
         const float *p = sd->to->m->pos + (size_t)vi * 3;
         double d[3] = { (double)p[0] - o[0], (double)p[1] - o[1], (double)p[2] - o[2] };
         x->t[0] = limen__dot3(d, sn->u);
@@ -739,7 +746,7 @@ typedef struct memo {
 /* The distance from q to triangle t of sd->to (sqrt of limen__lod_d2: the same number). */
 static double vertex_d(side *sd, const point *q, uint32_t t)
 {
-    if (q->vertex == UINT32_MAX || !sd->memo)
+    if (q->vertex == UINT32_MAX || !sd->memo || !measure_memo)
         return sqrt(limen__lod_d2(sd->to, t, q->p));
     memo *m = &sd->memo[(q->vertex * 0x9e3779b1u ^ t * 0x85ebca6bu) >> 16];
     if (m->vertex != q->vertex || m->tri != t)
