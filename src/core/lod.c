@@ -454,7 +454,7 @@ static lay_vertex *lay_vertex_of(side *sd, uint32_t vi, const seen *sn, const do
     while (tab[at].stamp == stamp && tab[at].v != vi)
         at = (at + 1) & (LAY_SLOTS - 1);
     lay_vertex *x = &tab[at];
-    if (x->stamp != stamp || !measure_memo) {
+    if (x->stamp != stamp) {
         const float *p = sd->to->m->pos + (size_t)vi * 3;
         double d[3] = { (double)p[0] - o[0], (double)p[1] - o[1], (double)p[2] - o[2] };
         x->t[0] = limen__dot3(d, sn->u);
@@ -465,6 +465,16 @@ static lay_vertex *lay_vertex_of(side *sd, uint32_t vi, const seen *sn, const do
         x->sides = 0;
     }
     return x;
+}
+
+/* A new piece (or triangle) for lay_vertex_of: what it kept before is not current. */
+static void lay_renew(side *sd)
+{
+    if (++sd->lay_stamp == 0) {
+        for (uint32_t i = 0; i < LAY_SLOTS; i++)
+            sd->lay_vx[i].stamp = 0;
+        sd->lay_stamp = 1;
+    }
 }
 
 /* The sides bits of x (see lay_vertex), made where not yet. */
@@ -503,6 +513,7 @@ static double lay_bound(side *sd, const point *v[3], double goal)
     if (!sd->queue || !sd->lay_vx || !piece_seen(v, &sn))
         return INFINITY;
     const double *plo = sn.lo, *phi = sn.hi, ne = sn.ne, *o = v[0]->p;
+    bool keep = measure_memo;
     const double (*pp)[2] = sn.p;
     double twice_piece = orient2(pp[0], pp[1], pp[2]);
     if (!(twice_piece > 0))
@@ -512,11 +523,7 @@ static double lay_bound(side *sd, const point *v[3], double goal)
         memset(sd->marks, 0, sizeof *sd->marks * to->m->ntris);
         mark = sd->mark = 1;
     }
-    if (++sd->lay_stamp == 0) {
-        for (uint32_t i = 0; i < LAY_SLOTS; i++)
-            sd->lay_vx[i].stamp = 0;
-        sd->lay_stamp = 1;
-    }
+    lay_renew(sd);
     sd->lay_far = false;
     int nq = 0, seeds = 0;
     for (int k = 0; k < 3; k++) {
@@ -541,6 +548,8 @@ static double lay_bound(side *sd, const point *v[3], double goal)
         uint32_t at = queue[next];
         const uint32_t *vi = to->m->idx + (size_t)at * 3;
         lay_vertex *x[3];
+        if (!keep)
+            lay_renew(sd);      /* each triangle's vertices seen anew */
         double tt[3][2];
         for (int k = 0; k < 3; k++) {
             x[k] = lay_vertex_of(sd, vi[k], &sn, o);
