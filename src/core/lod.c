@@ -47,7 +47,7 @@
 #include "core/texture.h"
 
 #define MAX_LEVELS 12           /* the full mesh and up to 11 coarser ones */
-#define LOD_VERSION 12          /* of how levels are made and measured: levels kept between
+#define LOD_VERSION 13          /* of how levels are made and measured: levels kept between
                                  * runs (core/lod_cache.c) are keyed by it, so change it with
                                  * anything that changes a level or its error */
 #define MIN_TRIS 16             /* a level this small gets no halved successor */
@@ -55,6 +55,12 @@
                                  * triangles lets the seams go, then clusters (below, the
                                  * levels end: both would mix the texture's charts) */
 #define SOURCE_STEP 3           /* a level is simplified from the one this many before */
+#define FROM_FIRST_TRIS 8192    /* a mesh this big has its levels 2 and 3 simplified from level
+                                 * 1, not from the full mesh: half the simplifier's work, and
+                                 * levels no coarser on the whole (the bumpy spheres' errors
+                                 * 0.87-1.0x theirs from the full mesh, geometric mean over the
+                                 * levels), which a smaller mesh's were (the spider's level 2,
+                                 * 2.2x) */
 #define REL_TOL 0.1             /* a piece's bound may exceed the largest distance found by this */
 #define MAX_DEPTH 4             /* pieces per triangle: at most 4^4 */
 #define LOD_NICE 10            /* how much a build beside the scene's thread yields to it */
@@ -1397,19 +1403,19 @@ static bool lods_make(const limen__mesh *m, const atomic_bool *stop, made *out)
     while (ok && nlods < MAX_LEVELS && cur_n >= 6) {
         /* half the triangles of the last level while there is much to halve; then once only
          * what costs (next to) nothing, which takes a flat patch down to its outline. Each
-         * from the level SOURCE_STEP before (or the full mesh): the simplifier's work stays
-         * a few times the full mesh's in all, not once per level, while a level is not
-         * built on the last one's choices alone (which left the bunny's coarse levels
-         * worse) */
+         * from the level SOURCE_STEP before (or the first, or the full mesh): the
+         * simplifier's work stays a few times the full mesh's in all, not once per level,
+         * while a level is not built on the last one's choices alone (which left the
+         * bunny's coarse levels worse) */
         if (stop && atomic_load_explicit(stop, memory_order_relaxed)) {
             ok = false;         /* no longer wanted */
             break;
         }
         bool halve = cur_n / 3 >= MIN_TRIS;
         float err = 0;
-        bool from_full = mode == CHARTS ? nlods <= charts_from
-                                        : nlods <= SOURCE_STEP || mode > CHARTS;
-        uint32_t from = nlods > SOURCE_STEP ? nlods - SOURCE_STEP : 0;
+        uint32_t first = m->ntris >= FROM_FIRST_TRIS ? 1 : SOURCE_STEP;
+        bool from_full = mode == CHARTS ? nlods <= charts_from : nlods <= first || mode > CHARTS;
+        uint32_t from = nlods > SOURCE_STEP ? nlods - SOURCE_STEP : 1;
         if (mode == CHARTS && from < charts_from)
             from = charts_from;
         const uint32_t *src = from_full ? NULL : store + at[from];
