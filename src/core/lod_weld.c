@@ -203,7 +203,6 @@ void limen__lod_welded_free(limen__lod_welded *pk)
     free(pk->to);
     free(pk->from);
     free(pk->idx);
-    free(pk->tmp);
     memset(pk, 0, sizeof *pk);
 }
 
@@ -233,6 +232,7 @@ bool limen__lod_pack(limen__lod_welded *pk, const limen__mesh *m, const uint32_t
         }
     for (size_t i = 0; i < n0; i++)
         pk->idx[i] = pk->to[weld[i]];
+    pk->scale = meshopt_simplifyScale(pk->pos, pk->n, sizeof(float) * 3);
     return true;
 }
 
@@ -241,7 +241,8 @@ bool limen__lod_pack(limen__lod_welded *pk, const limen__mesh *m, const uint32_t
  * vertices; returns the indices made. A source (a level) is given the simplifier over its
  * own vertices alone, numbered in the same order: the simplifier's tables and passes are
  * per vertex it is given, and a coarse level's few thousand would otherwise cost what the
- * full mesh's million do. */
+ * full mesh's million do. Its error, relative to those vertices' extent, is given back
+ * relative to the whole mesh's, as from the whole mesh. */
 size_t limen__lod_simplify(limen__lod_welded *pk, const uint32_t *src, size_t n, bool sloppy, size_t want,
                        float target_error, float *err, uint32_t *out)
 {
@@ -249,16 +250,18 @@ size_t limen__lod_simplify(limen__lod_welded *pk, const uint32_t *src, size_t n,
     const float *pos = pk->pos;
     const uint32_t *back = pk->from;
     uint32_t nv = pk->n;
-    uint32_t *used = NULL, *own = NULL;
+    uint32_t *used = NULL, *own = NULL, *tmp = NULL;
     float *own_pos = NULL;
-    if (src && !pk->tmp && !(pk->tmp = malloc(sizeof *pk->tmp * (n ? n : 1))))
+    if (src && !(tmp = malloc(sizeof *tmp * (n ? n : 1))))
         return 0;
     if (src) {
         /* per packed vertex, its number among those src uses (in the packed order), and
          * per one of those, its vertex of the mesh */
         used = calloc(pk->n ? pk->n : 1, sizeof *used);
-        if (!used)
+        if (!used) {
+            free(tmp);
             return 0;
+        }
         for (size_t i = 0; i < n; i++)
             used[pk->to[src[i]]] = 1;
         nv = 0;
@@ -271,6 +274,7 @@ size_t limen__lod_simplify(limen__lod_welded *pk, const uint32_t *src, size_t n,
             free(used);
             free(own);
             free(own_pos);
+            free(tmp);
             return 0;
         }
         for (uint32_t v = 0; v < pk->n; v++)
@@ -280,9 +284,9 @@ size_t limen__lod_simplify(limen__lod_welded *pk, const uint32_t *src, size_t n,
                        sizeof(float) * 3);
             }
         for (size_t i = 0; i < n; i++)
-            pk->tmp[i] = used[pk->to[src[i]]] - 1;
+            tmp[i] = used[pk->to[src[i]]] - 1;
         free(used);
-        in = pk->tmp;
+        in = tmp;
         pos = own_pos;
         back = own;
     }
@@ -290,9 +294,12 @@ size_t limen__lod_simplify(limen__lod_welded *pk, const uint32_t *src, size_t n,
                                                   want, target_error, NULL)
                          : meshopt_simplify(out, in, n, pos, nv, sizeof(float) * 3, want,
                                             target_error, 0, err);
+    if (src && err && !sloppy && pk->scale > 0)
+        *err *= meshopt_simplifyScale(pos, nv, sizeof(float) * 3) / pk->scale;
     for (size_t i = 0; i < made; i++)
         out[i] = back[out[i]];
     free(own);
     free(own_pos);
+    free(tmp);
     return made;
 }
