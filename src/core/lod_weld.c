@@ -12,6 +12,7 @@
 #include "core/lod_weld.h"
 
 #define SIDES_LOOK 64           /* vertices at one position a corner chooses among */
+#define SPLIT_TRIS 262144       /* a source of twice this is simplified in blocks of it */
 
 /* Groups the vertices that corners name by their weld: corner i of m names the vertex
  * corner[i], which lies at the weld shadow[i]. *group gets, per vertex, its weld
@@ -290,10 +291,18 @@ size_t limen__lod_simplify(limen__lod_welded *pk, const uint32_t *src, size_t n,
         pos = own_pos;
         back = own;
     }
-    size_t made = sloppy ? meshopt_simplifySloppy(out, in, n, pos, nv, sizeof(float) * 3,
-                                                  want, target_error, NULL)
-                         : meshopt_simplify(out, in, n, pos, nv, sizeof(float) * 3, want,
-                                            target_error, 0, err);
+    size_t made;
+    bool ok;    /* out of memory: 0 made, as meshoptimizer's own */
+    if (sloppy)
+        made = meshopt_simplifySloppy(out, in, n, pos, nv, sizeof(float) * 3, want,
+                                      target_error, NULL);
+    else if (n / 3 >= 2 * SPLIT_TRIS)
+        /* in blocks: a block's tables, not the whole mesh's, and two cores */
+        made = limen__lod_simplify_split(pos, nv, in, n, want, target_error, err, out,
+                                         SPLIT_TRIS, true, &ok);
+    else
+        made = meshopt_simplify(out, in, n, pos, nv, sizeof(float) * 3, want, target_error, 0,
+                                err);
     if (src && err && !sloppy && pk->scale > 0)
         *err *= meshopt_simplifyScale(pos, nv, sizeof(float) * 3) / pk->scale;
     for (size_t i = 0; i < made; i++)
