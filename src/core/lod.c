@@ -20,7 +20,10 @@
  * triangles leave it far from the other surface: near enough, the distance to one of them
  * is an upper bound that every bound above may take in place of the nearest; a piece these
  * leave above the goal has them searched before it is cut (or, at MAX_DEPTH, let go). The
- * surface measured against, and its distances, are core/lod_target.c's. */
+ * surface measured against, and its distances, are core/lod_target.c's. What is found and
+ * asked for again is kept, the same numbers: each vertex of the other surface as a piece
+ * sees it, once a piece (lay_bound), and a vertex's distance to a triangle for the pieces
+ * around it (convex_bound). */
 #include <errno.h>
 #include <float.h>
 #include <math.h>
