@@ -47,7 +47,7 @@
 #include "core/texture.h"
 
 #define MAX_LEVELS 12           /* the full mesh and up to 11 coarser ones */
-#define LOD_VERSION 12          /* of how levels are made and measured: levels kept between
+#define LOD_VERSION 13          /* of how levels are made and measured: levels kept between
                                  * runs (core/lod_cache.c) are keyed by it, so change it with
                                  * anything that changes a level or its error */
 #define MIN_TRIS 16             /* a level this small gets no halved successor */
@@ -1397,6 +1397,7 @@ static bool lods_make(const limen__mesh *m, limen__mesh *tree, const atomic_bool
      * level SOURCE_STEP before, or the first), not from meshoptimizer's, which may hold
      * fins (two triangles back to back) that stay where they are */
     uint32_t charts_from = MAX_LEVELS;
+    size_t charts_floor = 0;    /* the fewest triangles within the charts (from the full mesh) */
     while (ok && nlods < MAX_LEVELS && cur_n >= 6) {
         /* half the triangles of the last level while there is much to halve; then once only
          * what costs (next to) nothing, which takes a flat patch down to its outline. Each
@@ -1422,8 +1423,10 @@ static bool lods_make(const limen__mesh *m, limen__mesh *tree, const atomic_bool
             /* halving only: it has no bound of its own to stop at, for the last level's
              * "what costs nothing" */
             if (halve)
-                n = limen__lod_simplify_charts(m, shadow, attr, src, src_n, cur_n / 6 * 3,
-                                               scratch, &ok);
+                n = limen__lod_simplify_charts(
+                    m, shadow, attr, src, src_n,
+                    limen__lod_charts_want(cur_n / 3, charts_floor, (cap - used) / 3) * 3, scratch,
+                    &ok);
         } else if (mode < CLUSTERED)
             n = limen__lod_simplify(mode == SEAMS ? &pk_attr : &pk_pos, from_full ? NULL : src, src_n, false,
                          halve ? cur_n / 6 * 3 : 0, halve ? FLT_MAX : 1e-5f, &err, scratch);
@@ -1436,8 +1439,15 @@ static bool lods_make(const limen__mesh *m, limen__mesh *tree, const atomic_bool
              * seams along themselves as far as their corners */
             mode = CHARTS;
             charts_from = nlods;
-            n = limen__lod_simplify_charts(m, shadow, attr, NULL, n0, cur_n / 6 * 3, scratch,
-                                           &ok);
+            /* the fewest triangles the charts allow (asked for none), so that the levels
+             * step down to them (limen__lod_charts_want) */
+            charts_floor = limen__lod_simplify_charts(m, shadow, attr, NULL, n0, 0, scratch,
+                                                      &ok) / 3;
+            n = ok ? limen__lod_simplify_charts(m, shadow, attr, NULL, n0,
+                                                limen__lod_charts_want(cur_n / 3, charts_floor,
+                                                                       (cap - used) / 3) * 3,
+                                                scratch, &ok)
+                   : 0;
             err = 0;
         }
         if (!ok)

@@ -67,4 +67,12 @@ size_t limen__lod_simplify_charts(const limen__mesh *m, const uint32_t *shadow,
                                   const uint32_t *attr, const uint32_t *src, size_t n,
                                   size_t want, uint32_t *out, bool *ok);
 
+/* The triangles to ask limen__lod_simplify_charts for, for the level after one of cur
+ * triangles, where the charts allow no fewer than floor (its result asked for none) and
+ * room triangles are left for the levels to come: half of cur, unless the floor would then
+ * lie too close below (above 3/4 of the half: a level refused as stuck), where a step
+ * between is asked for, from which the floor is a level of its own, or the floor itself
+ * where the two do not fit in the room. */
+size_t limen__lod_charts_want(size_t cur, size_t floor, size_t room);
+
 #endif
