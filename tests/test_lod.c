@@ -1674,6 +1674,39 @@ static void test_brick_charts(void)
     free(chart);
 }
 
+/* Concave charts (tests/charted.h charted_ells: each 2 x 2 block of 4 x 4 squares an L of
+ * three and the square of the fourth, 250 charts), whose L's inner corner (two charts alone
+ * meet there) moves along its seams: the levels keep to the charts, at least five, and each
+ * level's error bounds a brute force's largest distance. */
+static void test_concave_charts(void)
+{
+    enum { N = 40, NT = 5 * N * N * 2 };
+    int *square = malloc(sizeof(int) * 5 * N * N);
+    int nv = square ? (charted_ells(N, 4, square), charted_layout(N, square, NULL, NULL, NULL,
+                                                                    NULL, NULL))
+                    : -1;
+    float *pos = nv > 0 ? malloc(sizeof(float) * 3 * nv) : NULL,
+          *nrm = nv > 0 ? malloc(sizeof(float) * 3 * nv) : NULL,
+          *uv = nv > 0 ? malloc(sizeof(float) * 2 * nv) : NULL;
+    uint32_t *idx = malloc(sizeof(uint32_t) * 3 * NT);
+    int *chart = nv > 0 ? malloc(sizeof(int) * nv) : NULL;
+    if (pos && nrm && uv && idx && chart) {
+        CHECK(charted_layout(N, square, pos, nrm, uv, idx, chart) == nv);
+        chart_levels(&(limen_mesh_data){ .positions = pos, .normals = nrm, .uvs = uv,
+                                         .vertex_count = nv, .indices = idx,
+                                         .triangle_count = NT },
+                     chart, 5, 0, false, "concave");
+    } else {
+        CHECK(!"out of memory");
+    }
+    free(square);
+    free(pos);
+    free(nrm);
+    free(uv);
+    free(idx);
+    free(chart);
+}
+
 static const check_case cases[] = {
     { "bunny_levels", test_bunny_levels },
     { "error_bounds", test_error_bounds },
@@ -1694,6 +1727,7 @@ static const check_case cases[] = {
     { "chart_levels_whole", test_chart_levels_whole },
     { "textured_levels_in_charts", test_textured_levels_in_charts },
     { "brick_charts", test_brick_charts },
+    { "concave_charts", test_concave_charts },
     { 0 },
 };
 
