@@ -1114,8 +1114,11 @@ static void lod_layout_levels(const char *name, int n, const int *square, bool n
 /* Concave charts (tests/charted.h charted_ells: each 2 x 2 block of 4 x 4 squares an L of
  * three and the square of the fourth, 250 charts): where the L's inner corner moves along
  * its seams, the seam between the L and the square no longer runs where it did, and the L
- * shows, where the square was, what its cell of the atlas holds beside it (its own colour
- * here, as a texture's padding around a chart): by no more than the level's bound. */
+ * shows, where the square was, what its cell of the atlas holds beside it: its own colour
+ * (a texture's padding around a chart), or with notches the margin's (an atlas packs other
+ * charts into a concave chart's notches), which the full mesh shows nowhere. Five levels
+ * down to 1/16 of the triangles; no level's seams lie farther from the full mesh's than its
+ * bound (the next, which would show the notches over half of each square, is not kept). */
 static void test_lod_concave(void)
 {
     enum { N = 40 };
@@ -1123,11 +1126,43 @@ static void test_lod_concave(void)
     if (square) {
         charted_ells(N, 4, square);
         lod_layout_levels("concave", N, square, false, 5, 16);
-        /* NOTCHES_PENDING lod_layout_levels("notches", N, square, true, 5, 16); */
+        lod_layout_levels("notches", N, square, true, 5, 16);
     } else {
         CHECK(!"out of memory");
     }
     free(square);
+}
+
+/* The ball's charts as bricks (tests/charted.h charted_bricks: 275 charts, three meeting at
+ * every corner), down to the fewest triangles the charts allow (990, 1/16): no level shows
+ * a colour farther than its bound from where the full mesh shows it. */
+static void test_lod_bricks(void)
+{
+    enum { N = 40, NT = 5 * N * N * 2 };
+    int nv = charted_bricks(N, 8, 4, NULL, NULL, NULL, NULL, NULL), charts = 0;
+    float *pos = malloc(sizeof(float) * 3 * nv), *nrm = malloc(sizeof(float) * 3 * nv),
+          *uv = malloc(sizeof(float) * 2 * nv);
+    uint32_t *idx = malloc(sizeof(uint32_t) * 3 * NT);
+    int *chart = malloc(sizeof(int) * nv), *colour = NULL;
+    if (pos && nrm && uv && idx && chart &&
+        charted_bricks(N, 8, 4, pos, nrm, uv, idx, chart) == nv) {
+        for (int v = 0; v < nv; v++)
+            charts = chart[v] + 1 > charts ? chart[v] + 1 : charts;
+        colour = malloc(sizeof(int) * charts);
+    }
+    if (colour && lod_colours(pos, chart, nv, charts, colour))
+        lod_asset_levels(&(lod_asset){ .name = "bricks", .nv = nv, .nt = NT, .charts = charts,
+                                       .cell = 32, .pos = pos, .nrm = nrm, .uv = uv,
+                                       .idx = idx, .colour = colour },
+                         5, 16);
+    else
+        CHECK(!"out of memory");
+    free(pos);
+    free(nrm);
+    free(uv);
+    free(idx);
+    free(chart);
+    free(colour);
 }
 
 static const check_case cases[] = {
@@ -1148,6 +1183,7 @@ static const check_case cases[] = {
     { "lod_levels", test_lod_levels },
     { "lod_charts", test_lod_charts },
     { "lod_concave", test_lod_concave },
+    { "lod_bricks", test_lod_bricks },
     { 0 },
 };
 

@@ -47,7 +47,7 @@
 #include "core/texture.h"
 
 #define MAX_LEVELS 12           /* the full mesh and up to 11 coarser ones */
-#define LOD_VERSION 13          /* of how levels are made and measured: levels kept between
+#define LOD_VERSION 15          /* of how levels are made and measured: levels kept between
                                  * runs (core/lod_cache.c) are keyed by it, so change it with
                                  * anything that changes a level or its error */
 #define MIN_TRIS 16             /* a level this small gets no halved successor */
@@ -1388,6 +1388,7 @@ static bool lods_make(const limen__mesh *m, limen__mesh *tree, const atomic_bool
     float scale = ok ? meshopt_simplifyScale(m->pos, m->nverts, sizeof(float) * 3) : 0;
     double estimate[MAX_LEVELS] = { 0 };   /* the simplifier's own, of each level */
     bool halved[MAX_LEVELS] = { false };
+    bool charted[MAX_LEVELS] = { false };   /* made within the charts */
     /* how levels are made: seams kept; once the simplifier is stuck on them, a textured
      * mesh's by collapses within its charts (limen__lod_simplify_charts, which moves seams
      * along themselves); once stuck (or untextured), seams let go; once stuck even so, by
@@ -1484,6 +1485,7 @@ static bool lods_make(const limen__mesh *m, limen__mesh *tree, const atomic_bool
         lods[nlods] = (limen_mesh_lod){ .triangle_count = (int)(n / 3) };
         estimate[nlods] = (double)err * scale;
         halved[nlods] = halve;
+        charted[nlods] = mode == CHARTS;
         at[nlods++] = used;
         cur_n = n;
         used += n;
@@ -1507,6 +1509,7 @@ static bool lods_make(const limen__mesh *m, limen__mesh *tree, const atomic_bool
     ok = ok && (!m->uv || chart);
     if (chart)
         limen__lod_charts(m, attr, chart);
+    limen__lod_rims rims = { 0 };   /* made for the first level within the charts */
     double prev = 0;
     for (uint32_t k = 1; ok && k < nlods; k++) {
         if (chart && limen__lod_across_charts(chart, store + at[k],
@@ -1524,6 +1527,24 @@ static bool lods_make(const limen__mesh *m, limen__mesh *tree, const atomic_bool
             ok = false;
             break;
         }
+        /* within the charts, seams move along themselves, and a chart shows its texture up
+         * to the level's edge, not the full mesh's: where the seam bends (a concave chart's
+         * corner), beyond its own texels. The levels end before the first where that is
+         * farther than its bound */
+        if (charted[k] && chart) {
+            double drift = rims.first || limen__lod_rims_make(&rims, m, attr)
+                               ? limen__lod_rim_drift(m, &rims, store + at[k],
+                                                      (size_t)lods[k].triangle_count * 3)
+                               : NAN;
+            if (isnan(drift)) {
+                ok = false;
+                break;
+            }
+            if (drift > e) {
+                nlods = k;
+                break;
+            }
+        }
         lods[k].error = (float)e;
         /* rounding to float must not undercut the measure either */
         if ((double)lods[k].error < e)
@@ -1535,6 +1556,7 @@ static bool lods_make(const limen__mesh *m, limen__mesh *tree, const atomic_bool
         limen__lod_seam_sides(m, attr, store, used);
     }
     free(chart);
+    limen__lod_rims_free(&rims);
     if (attr != shadow)
         free(attr);
     free(shadow);

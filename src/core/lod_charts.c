@@ -27,9 +27,6 @@
 #define CS_SEAM_WEIGHT 2.0      /* of a seam's or border's planes, beside a triangle's */
 #define CS_FLIP 0.05            /* a collapse may turn no triangle (in space or in the
                                  * texture) by more than acos of this */
-#define CS_STRAIGHT 1e-3        /* a seam's or border's vertex in the texture off the line
-                                 * through its neighbours by this much of its length or less
-                                 * lies on it (rounding) */
 #define CS_FAN 256              /* triangles around a vertex that may move: beyond, it stays */
 
 typedef struct cs_list {
@@ -232,40 +229,6 @@ static void cs_vert_make(cs *c, uint32_t v, cs_vert *x)
     x->locked |= x->nopen == 1;
 }
 
-/* Whether v (x, on a seam or border) may move along it onto u as far as the texture goes:
- * where v's coordinates on each side lie on the straight line between the next vertex's
- * there, p's (the seam's or border's other neighbour of v) and u's (map), so that the edge
- * from p to u runs where p, v and u ran in the texture (by induction, every vertex the edge
- * has taken in lay on it). Else the chart on one side would take, between the old edges
- * and the new, texels beyond its own (a notch of a concave chart, where an atlas packs
- * other charts), however near the surface stays to the full mesh's. */
-static bool cs_seam_straight(cs *c, const cs_vert *x, uint32_t u, const cs_map *map)
-{
-    uint32_t v = x->v, p = x->open[0] == u ? x->open[1] : x->open[0], nf;
-    const uint32_t *f = cs_fan(c, v, &nf);
-    const float *uv = c->m->uv;
-    for (uint32_t i = 0; i < nf; i++) {
-        size_t t = f[i];
-        int kp = cs_corner(c, t, p);
-        if (kp < 0)
-            continue;
-        uint32_t a = c->tri[t * 3 + cs_corner(c, t, v)], b = c->tri[t * 3 + kp], to = a;
-        for (int j = 0; j < map->n; j++)
-            if (map->from[j] == a)
-                to = map->to[j];
-        const float *pv = &uv[(size_t)a * 2], *pp = &uv[(size_t)b * 2], *pu = &uv[(size_t)to * 2];
-        double e[2] = { (double)pu[0] - pp[0], (double)pu[1] - pp[1] },
-               w[2] = { (double)pv[0] - pp[0], (double)pv[1] - pp[1] };
-        double len2 = e[0] * e[0] + e[1] * e[1], cr = e[0] * w[1] - e[1] * w[0],
-               along = e[0] * w[0] + e[1] * w[1];
-        /* off the line by more than CS_STRAIGHT of its length, or not between p and u */
-        if (!(len2 > 0) || cr * cr > CS_STRAIGHT * CS_STRAIGHT * len2 * len2 || along < 0 ||
-            along > len2)
-            return false;
-    }
-    return true;
-}
-
 /* Whether v (x) may move onto its neighbour u (see above), its choice of vertices in *map
  * and its cost in *cost. */
 static bool cs_check(cs *c, const cs_vert *x, uint32_t u, cs_map *map, double *cost)
@@ -308,8 +271,6 @@ static bool cs_check(cs *c, const cs_vert *x, uint32_t u, cs_map *map, double *c
         if (j == map->n)
             return false;
     }
-    if (x->nopen == 2 && c->m->uv && !cs_seam_straight(c, x, u, map))
-        return false;
     int nn = x->nn;
     /* the neighbours v and u share are the edge's triangles' third corners alone (else
      * the surface would fold onto itself) */
