@@ -92,8 +92,8 @@ size_t limen__lod_simplify_charts(const limen__mesh *m, const uint32_t *shadow,
  * triangles, where the charts allow no fewer than floor (its result asked for none) and
  * room triangles are left for the levels to come: half of cur, unless the floor would then
  * lie too close below (above 3/4 of the half: a level refused as stuck), where a step
- * between is asked for, from which the floor is a level of its own, or the floor itself
- * where the two do not fit in the room. */
+ * between is asked for, from which the floor is a level of its own; the floor itself where
+ * the two do not fit in the room. */
 size_t limen__lod_charts_want(size_t cur, size_t floor, size_t room);
 
 #endif
