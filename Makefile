@@ -42,6 +42,8 @@ CORE_SRC += src/core/import.c
 CORE_SRC += src/core/lod_weld.c
 # levels of detail within a texture's charts (core/lod_charts.c)
 CORE_SRC += src/core/lod_charts.c
+# levels of detail of a big mesh, simplified in blocks (core/lod_split.c)
+CORE_SRC += src/core/lod_split.c
 # the unit shapes' triangles (core/shapes.c)
 CORE_SRC += src/core/shapes.c
 # model files as scenes (limen_model_load), the JSON reader for what assimp drops, and
@@ -61,6 +63,7 @@ TEST_C   += tests/test_materials.c
 TEST_C   += tests/test_drawlist.c
 LIB_SRC  += src/core/collide.c src/core/contact.c src/lua/l_collide.c
 TEST_C   += tests/test_collide.c
+TEST_C   += tests/test_lod_split.c
 
 # the API as a user meets it: version, defaults
 TEST_C   += tests/test_api.c

@@ -13,6 +13,7 @@
 
 #define RIM_FORKS 4             /* forks a path along the charts' edges is followed through */
 #define SIDES_LOOK 64           /* vertices at one position a corner chooses among */
+#define SPLIT_TRIS 262144       /* a source of twice this is simplified in blocks of it */
 
 /* Groups the vertices that corners name by their weld: corner i of m names the vertex
  * corner[i], which lies at the weld shadow[i]. *group gets, per vertex, its weld
@@ -417,10 +418,18 @@ size_t limen__lod_simplify(limen__lod_welded *pk, const uint32_t *src, size_t n,
             pk->tmp[i] = pk->to[src[i]];
         in = pk->tmp;
     }
-    size_t made = sloppy ? meshopt_simplifySloppy(out, in, n, pk->pos, pk->n, sizeof(float) * 3,
-                                                  want, target_error, NULL)
-                         : meshopt_simplify(out, in, n, pk->pos, pk->n, sizeof(float) * 3, want,
-                                            target_error, 0, err);
+    size_t made;
+    bool ok;    /* out of memory: 0 made, as meshoptimizer's own */
+    if (sloppy)
+        made = meshopt_simplifySloppy(out, in, n, pk->pos, pk->n, sizeof(float) * 3, want,
+                                      target_error, NULL);
+    else if (n / 3 >= 2 * SPLIT_TRIS)
+        /* in blocks: a block's tables, not the whole mesh's, and two cores */
+        made = limen__lod_simplify_split(pk->pos, pk->n, in, n, want, target_error, err, out,
+                                         SPLIT_TRIS, true, &ok);
+    else
+        made = meshopt_simplify(out, in, n, pk->pos, pk->n, sizeof(float) * 3, want,
+                                target_error, 0, err);
     for (size_t i = 0; i < made; i++)
         out[i] = pk->from[out[i]];
     return made;

@@ -96,4 +96,15 @@ size_t limen__lod_simplify_charts(const limen__mesh *m, const uint32_t *shadow,
  * the two do not fit in the room. */
 size_t limen__lod_charts_want(size_t cur, size_t floor, size_t room);
 
+/* A big mesh simplified in blocks (core/lod_split.c): its triangles cut into blocks of
+ * about block_tris nearby ones, each simplified alone by meshoptimizer towards its share of
+ * want, its border held in place, on two threads where threads. Over pos (nv
+ * vertices), from in (n indices), into out (room for n); *err the simplifier's error
+ * relative to the extent of pos (the largest of the blocks'), target_error likewise (FLT_MAX:
+ * none). Returns the indices made; *ok false when out of memory. The same result on one
+ * thread and two. */
+size_t limen__lod_simplify_split(const float *pos, uint32_t nv, const uint32_t *in, size_t n,
+                                 size_t want, float target_error, float *err, uint32_t *out,
+                                 size_t block_tris, bool threads, bool *ok);
+
 #endif
