@@ -1710,6 +1710,38 @@ static void test_concave_charts(void)
     free(chart);
 }
 
+/* A ball of 980 charts (3 x 3 squares each, four meeting at every corner, 17,640
+ * triangles): a chart keeps at least two triangles, so the charts allow no fewer than
+ * 1,960 (1/9), and the levels reach them (where halving and then the floor did not both fit
+ * in the levels' room, the levels stopped at 2,940: core/lod_charts.c
+ * limen__lod_charts_want); within the charts, each level's error above a brute force's
+ * largest distance. 1/16 would need triangles across charts. */
+static void test_many_charts(void)
+{
+    enum { N = 42, TILE = 3, NT = 5 * N * N * 2, CHARTS = 5 * (N / TILE) * (N / TILE) };
+    int nv = charted_verts(N, TILE);
+    float *pos = malloc(sizeof(float) * 3 * nv), *nrm = malloc(sizeof(float) * 3 * nv),
+          *uv = malloc(sizeof(float) * 2 * nv);
+    uint32_t *idx = malloc(sizeof(uint32_t) * 3 * NT);
+    int *chart = malloc(sizeof(int) * nv);
+    if (pos && nrm && uv && idx && chart) {
+        charted_ball(N, TILE, pos, nrm, uv, idx);
+        for (int v = 0; v < nv; v++)
+            chart[v] = charted_chart(TILE, (uint32_t)v);
+        chart_levels(&(limen_mesh_data){ .positions = pos, .normals = nrm, .uvs = uv,
+                                         .vertex_count = nv, .indices = idx,
+                                         .triangle_count = NT },
+                     chart, 4, NT / (2 * CHARTS), false, "980 charts");
+    } else {
+        CHECK(!"out of memory");
+    }
+    free(pos);
+    free(nrm);
+    free(uv);
+    free(idx);
+    free(chart);
+}
+
 static const check_case cases[] = {
     { "bunny_levels", test_bunny_levels },
     { "error_bounds", test_error_bounds },
@@ -1731,6 +1763,7 @@ static const check_case cases[] = {
     { "textured_levels_in_charts", test_textured_levels_in_charts },
     { "brick_charts", test_brick_charts },
     { "concave_charts", test_concave_charts },
+    { "many_charts", test_many_charts },
     { 0 },
 };
 
