@@ -1742,6 +1742,15 @@ static void test_many_charts(void)
     free(chart);
 }
 
+/* A ball where every square is a chart of its own (8,000 charts): the charts allow no
+ * fewer triangles than the full mesh has, and meshoptimizer is stuck on its seams at once,
+ * before any level: the levels within the charts start from the full mesh (their floor
+ * found from it too), and none is kept where each would cross charts. */
+static void test_square_charts(void)
+{
+    asset_levels(1, 1);
+}
+
 static const check_case cases[] = {
     { "bunny_levels", test_bunny_levels },
     { "error_bounds", test_error_bounds },
@@ -1764,6 +1773,7 @@ static const check_case cases[] = {
     { "brick_charts", test_brick_charts },
     { "concave_charts", test_concave_charts },
     { "many_charts", test_many_charts },
+    { "square_charts", test_square_charts },
     { 0 },
 };
 

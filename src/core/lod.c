@@ -47,7 +47,7 @@
 #include "core/texture.h"
 
 #define MAX_LEVELS 12           /* the full mesh and up to 11 coarser ones */
-#define LOD_VERSION 17          /* of how levels are made and measured: levels kept between
+#define LOD_VERSION 18          /* of how levels are made and measured: levels kept between
                                  * runs (core/lod_cache.c) are keyed by it, so change it with
                                  * anything that changes a level or its error */
 #define MIN_TRIS 16             /* a level this small gets no halved successor */
@@ -1398,7 +1398,7 @@ static bool lods_make(const limen__mesh *m, limen__mesh *tree, const atomic_bool
      * level SOURCE_STEP before, or the first), not from meshoptimizer's, which may hold
      * fins (two triangles back to back) that stay where they are */
     uint32_t charts_from = MAX_LEVELS;
-    size_t charts_floor = 0;    /* the fewest triangles within the charts (from the full mesh) */
+    size_t charts_floor = 0;    /* the fewest triangles within the charts */
     while (ok && nlods < MAX_LEVELS && cur_n >= 6) {
         /* half the triangles of the last level while there is much to halve; then once only
          * what costs (next to) nothing, which takes a flat patch down to its outline. Each
@@ -1441,10 +1441,11 @@ static bool lods_make(const limen__mesh *m, limen__mesh *tree, const atomic_bool
             mode = CHARTS;
             charts_from = nlods;
             /* the fewest triangles the charts allow (asked for none), so that the levels
-             * step down to them (limen__lod_charts_want): from the last level, which costs
-             * a fraction of the full mesh (the corners where charts meet, which set it, are
-             * the same) */
-            charts_floor = limen__lod_simplify_charts(m, shadow, attr, store + at[nlods - 1],
+             * step down to them (limen__lod_charts_want): from the last level made, which
+             * costs a fraction of the full mesh (the corners where charts meet, which set
+             * it, are the same), or the full mesh where none is */
+            charts_floor = limen__lod_simplify_charts(m, shadow, attr,
+                                                      nlods > 1 ? store + at[nlods - 1] : NULL,
                                                       cur_n, 0, scratch, &ok) / 3;
             n = ok ? limen__lod_simplify_charts(m, shadow, attr, NULL, n0,
                                                 limen__lod_charts_want(cur_n / 3, charts_floor,
