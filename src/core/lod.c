@@ -47,7 +47,7 @@
 #include "core/texture.h"
 
 #define MAX_LEVELS 12           /* the full mesh and up to 11 coarser ones */
-#define LOD_VERSION 18          /* of how levels are made and measured: levels kept between
+#define LOD_VERSION 19          /* of how levels are made and measured: levels kept between
                                  * runs (core/lod_cache.c) are keyed by it, so change it with
                                  * anything that changes a level or its error */
 #define MIN_TRIS 16             /* a level this small gets no halved successor */
@@ -1512,7 +1512,7 @@ static bool lods_make(const limen__mesh *m, limen__mesh *tree, const atomic_bool
     ok = ok && (!m->uv || chart);
     if (chart)
         limen__lod_charts(m, attr, chart);
-    limen__lod_rims rims = { 0 };   /* made for the first level within the charts */
+    limen__lod_rims rims = { 0 };   /* made for the first textured level */
     double prev = 0;
     for (uint32_t k = 1; ok && k < nlods; k++) {
         if (chart && limen__lod_across_charts(chart, store + at[k],
@@ -1530,11 +1530,12 @@ static bool lods_make(const limen__mesh *m, limen__mesh *tree, const atomic_bool
             ok = false;
             break;
         }
-        /* within the charts, seams move along themselves, and a chart shows its texture up
-         * to the level's edge, not the full mesh's: where the seam bends (a concave chart's
-         * corner), beyond its own texels. The levels end before the first where that is
-         * farther than its bound */
-        if (charted[k] && chart) {
+        /* seams move along themselves, and a chart shows its texture up to the level's
+         * edge, not the full mesh's: where the seam bends (a concave chart's corner, a
+         * curved seam), beyond its own texels. Within the charts, the levels end before the
+         * first where that is farther than its bound; meshoptimizer's levels (which are
+         * not made down to a floor) take it into their bound */
+        if (chart) {
             double drift = rims.first || limen__lod_rims_make(&rims, m, attr)
                                ? limen__lod_rim_drift(m, &rims, store + at[k],
                                                       (size_t)lods[k].triangle_count * 3)
@@ -1543,10 +1544,11 @@ static bool lods_make(const limen__mesh *m, limen__mesh *tree, const atomic_bool
                 ok = false;
                 break;
             }
-            if (drift > e) {
+            if (drift > e && (charted[k] || isinf(drift))) {
                 nlods = k;
                 break;
             }
+            e = fmax(e, drift);
         }
         lods[k].error = (float)e;
         /* rounding to float must not undercut the measure either */
