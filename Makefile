@@ -67,6 +67,8 @@ TEST_C   += tests/test_lod_split.c
 
 # the API as a user meets it: version, defaults
 TEST_C   += tests/test_api.c
+# how levels of detail are made (the simplifier's sources, threads)
+TEST_C   += tests/test_lod_build.c
 LUA_KIT  := lua/limen/kit.lua
 LIB_OBJ  := $(LIB_SRC:%.c=$(B)/obj/%.o) $(B)/obj/lua_kit.o
 CLI_OBJ  := $(CLI_SRC:%.c=$(B)/obj/%.o)

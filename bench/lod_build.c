@@ -1,5 +1,6 @@
-/* lod_build.c - what making a mesh costs: limen_mesh_set_triangles (the ray tracer's
- * hierarchy, the levels of detail and each level's measured error, src/core/lod.c) on bumpy
+/* lod_build.c - what making a mesh costs: limen_mesh_set_triangles (the levels of detail
+ * and each level's measured error, src/core/lod.c; the ray tracer's hierarchy is made on
+ * a ray's first need, not here) on bumpy
  * spheres of 50,000, 200,000, 800,000 and 1,600,000 triangles made here, on the bunny, and
  * on a textured asset of 16,000 triangles in 500 texture charts (tests/charted.h). Processor
  * time (medians) beside wall time, with the cache of levels off (core/lod_cache.c), and the
@@ -399,7 +400,7 @@ int main(int argc, char **argv)
         fprintf(stderr, "lod_build: %s, %d triangles: %d levels (the coarsest %d triangles) in "
                 "%.1f ms of processor time, %.1f ms wall (the mesh there after %.1f ms), peak "
                 "%.0f MB\n", name, r.nt, r.levels, r.coarsest, r.ms, r.wall, r.first, peak);
-        fprintf(ot.f, "mesh making (hierarchy, levels, their errors): %-16s %7d triangles "
+        fprintf(ot.f, "mesh making (levels, their errors): %-16s %7d triangles "
                       "%8.1f ms processor %8.1f ms wall (the mesh there after %.1f ms wall), "
                       "%d levels to %d triangles, %.0fk triangles a second (processor), peak "
                       "%.0f MB\n",

@@ -371,7 +371,6 @@ void limen__lod_welded_free(limen__lod_welded *pk)
     free(pk->to);
     free(pk->from);
     free(pk->idx);
-    free(pk->tmp);
     memset(pk, 0, sizeof *pk);
 }
 
@@ -401,37 +400,82 @@ bool limen__lod_pack(limen__lod_welded *pk, const limen__mesh *m, const uint32_t
         }
     for (size_t i = 0; i < n0; i++)
         pk->idx[i] = pk->to[weld[i]];
+    pk->scale = meshopt_simplifyScale(pk->pos, pk->n, sizeof(float) * 3);
     return true;
 }
 
 /* meshoptimizer's simplifier (sloppy: its clustering) over pk, from src (n indices into the
  * mesh's vertices, every one a weld's; NULL: the whole mesh), into out in the mesh's
- * vertices; returns the indices made. */
+ * vertices; returns the indices made. A source (a level) is given the simplifier over its
+ * own vertices alone, numbered in the same order: the simplifier's tables and passes are
+ * per vertex it is given, and a coarse level's few thousand would otherwise cost what the
+ * full mesh's million do. Its error, relative to those vertices' extent, is given back
+ * relative to the whole mesh's, as from the whole mesh. */
 size_t limen__lod_simplify(limen__lod_welded *pk, const uint32_t *src, size_t n, bool sloppy, size_t want,
                        float target_error, float *err, uint32_t *out)
 {
     const uint32_t *in = pk->idx;
-    if (src && !pk->tmp && !(pk->tmp = malloc(sizeof *pk->tmp * (n ? n : 1))))
+    const float *pos = pk->pos;
+    const uint32_t *back = pk->from;
+    uint32_t nv = pk->n;
+    uint32_t *used = NULL, *own = NULL, *tmp = NULL;
+    float *own_pos = NULL;
+    if (src && !(tmp = malloc(sizeof *tmp * (n ? n : 1))))
         return 0;
     if (src) {
+        /* per packed vertex, its number among those src uses (in the packed order), and
+         * per one of those, its vertex of the mesh */
+        used = calloc(pk->n ? pk->n : 1, sizeof *used);
+        if (!used) {
+            free(tmp);
+            return 0;
+        }
         for (size_t i = 0; i < n; i++)
-            pk->tmp[i] = pk->to[src[i]];
-        in = pk->tmp;
+            used[pk->to[src[i]]] = 1;
+        nv = 0;
+        for (uint32_t v = 0; v < pk->n; v++)
+            if (used[v])
+                used[v] = ++nv;
+        own = malloc(sizeof *own * (nv ? nv : 1));
+        own_pos = malloc(sizeof(float) * 3 * (nv ? nv : 1));
+        if (!own || !own_pos) {
+            free(used);
+            free(own);
+            free(own_pos);
+            free(tmp);
+            return 0;
+        }
+        for (uint32_t v = 0; v < pk->n; v++)
+            if (used[v]) {
+                own[used[v] - 1] = pk->from[v];
+                memcpy(&own_pos[(size_t)(used[v] - 1) * 3], &pk->pos[(size_t)v * 3],
+                       sizeof(float) * 3);
+            }
+        for (size_t i = 0; i < n; i++)
+            tmp[i] = used[pk->to[src[i]]] - 1;
+        free(used);
+        in = tmp;
+        pos = own_pos;
+        back = own;
     }
     size_t made;
     bool ok;    /* out of memory: 0 made, as meshoptimizer's own */
     if (sloppy)
-        made = meshopt_simplifySloppy(out, in, n, pk->pos, pk->n, sizeof(float) * 3, want,
+        made = meshopt_simplifySloppy(out, in, n, pos, nv, sizeof(float) * 3, want,
                                       target_error, NULL);
     else if (n / 3 >= 2 * SPLIT_TRIS)
         /* in blocks: a block's tables, not the whole mesh's, and two cores */
-        made = limen__lod_simplify_split(pk->pos, pk->n, in, n, want, target_error, err, out,
+        made = limen__lod_simplify_split(pos, nv, in, n, want, target_error, err, out,
                                          SPLIT_TRIS, true, &ok);
     else
-        made = meshopt_simplify(out, in, n, pk->pos, pk->n, sizeof(float) * 3, want,
-                                target_error, 0, err);
+        made = meshopt_simplify(out, in, n, pos, nv, sizeof(float) * 3, want, target_error, 0,
+                                err);
+    if (src && err && !sloppy && pk->scale > 0)
+        *err *= meshopt_simplifyScale(pos, nv, sizeof(float) * 3) / pk->scale;
     for (size_t i = 0; i < made; i++)
-        out[i] = pk->from[out[i]];
+        out[i] = back[out[i]];
+    free(own);
+    free(own_pos);
+    free(tmp);
     return made;
 }
-

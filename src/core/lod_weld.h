@@ -19,8 +19,7 @@ typedef struct limen__lod_welded {
     uint32_t *to;               /* per vertex of the mesh: its packed vertex, or UINT32_MAX */
     uint32_t *from;             /* per packed vertex: the mesh's */
     uint32_t *idx;              /* per corner of the mesh: its weld's vertex, packed */
-    uint32_t *tmp;              /* a source mapped to packed vertices (made when first needed,
-                                 * for the first source, the largest) */
+    float scale;                /* the packed vertices' extent (meshopt_simplifyScale) */
     uint32_t n;
 } limen__lod_welded;
 
@@ -32,7 +31,7 @@ void limen__lod_welded_free(limen__lod_welded *pk);
  * mesh's vertices, each a vertex of the weld; NULL: the whole mesh) towards want indices
  * and target_error, into out in the mesh's vertices; returns the indices made, *err the
  * simplifier's relative error (not the sloppy one's: err may be NULL there); 0 when out of
- * memory. Sources after the first may be no larger than it. */
+ * memory. It only reads pk: two threads may simplify over one pk at once. */
 size_t limen__lod_simplify(limen__lod_welded *pk, const uint32_t *src, size_t n, bool sloppy,
                            size_t want, float target_error, float *err, uint32_t *out);
 /* The corners of a level (idx, n indices) that name a weld's vertex (shadow: per corner of

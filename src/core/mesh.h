@@ -88,15 +88,15 @@ bool limen__mesh_bvh(limen__mesh *m);
 /* As limen__mesh_bvh, but abandoned (false, nothing made) once *stop is set: for the
  * levels' thread, whose mesh may go while it is made. */
 bool limen__mesh_bvh_unless(limen__mesh *m, const atomic_bool *stop);
-/* A scene's mesh gets its hierarchy when something first needs it (a ray, a collision, the
- * measuring of its levels), not when it is loaded: the first frame of a big mesh does not
- * wait for it. Makes it where it is not made yet, once, from any thread (the others wait);
+/* A scene's mesh gets its hierarchy when something first needs it (a ray, a collision; not
+ * the measuring of its levels, which makes its own), not when it is loaded: the first
+ * frame of a big mesh does not wait for it. Makes it where it is not made yet, once, from any thread (the others wait);
  * false when out of memory (nothing then is made). Its bytes are counted from the start. */
 bool limen__mesh_hierarchy(const limen__mesh *m);
 /* Tests only: whether mesh node n's hierarchy is made (false for a node without a mesh). */
 bool limen__mesh_hierarchy_made(limen_scene *s, limen_node n);
-/* Builds m's levels of detail (lods, nlods; core/lod.c) from pos and idx with the hierarchy
- * made, and sets bytes to what they hold; false when out of memory. */
+/* Builds m's levels of detail (lods, nlods; core/lod.c) from pos and idx, and sets bytes to
+ * what they hold; false when out of memory. */
 bool limen__mesh_lods_build(limen__mesh *m);
 
 /* ---- levels made on another thread (core/lod.c) */
