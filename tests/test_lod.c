@@ -1677,7 +1677,7 @@ static void test_brick_charts(void)
 /* Concave charts (tests/charted.h charted_ells: each 2 x 2 block of 4 x 4 squares an L of
  * three and the square of the fourth, 250 charts), whose L's inner corner (two charts alone
  * meet there) moves along its seams: the levels keep to the charts, five down to 1/16 of
- * the triangles (998), and each level's error bounds a brute force's largest distance. The
+ * the triangles (1,000), and each level's error bounds a brute force's largest distance. The
  * level after, where the inner corners have moved onto the seams' ends and the L shows its
  * texture over half the square, is not kept: its seams lie 0.15 from the full mesh's, its
  * bound 0.06 (core/lod.c, limen__lod_rim_drift). */
