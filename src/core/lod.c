@@ -1010,8 +1010,8 @@ static void *measure(void *arg)
     measurer *w = arg;
     w->there.floor = w->back.floor = &w->floor;
     w->there.upper = w->back.upper = &w->upper;
+    /* each side's marks while it is bounded, not both sides' at once */
     w->there.marks = calloc(w->there.to->m->ntris, sizeof *w->there.marks);
-    w->back.marks = calloc(w->back.to->m->ntris, sizeof *w->back.marks);
     w->there.queue = malloc(sizeof *w->there.queue * LAY_LOOK);
     w->back.queue = malloc(sizeof *w->back.queue * LAY_LOOK);
     w->there.lay_vx = calloc(LAY_SLOTS, sizeof *w->there.lay_vx);
@@ -1019,13 +1019,18 @@ static void *measure(void *arg)
     /* one memo for both sides, cleared between them (without it: the same bounds, slower) */
     w->there.memo = w->back.memo = malloc(sizeof *w->there.memo * MEMO_SLOTS);
     w->e = NAN;
-    if (w->there.marks && w->back.marks) {
+    if (w->there.marks) {
         memo_clear(w->there.memo);
         double a = side_bound(&w->there, w->share);
-        memo_clear(w->back.memo);
-        double b = w->there.stopped ? 0 : side_bound(&w->back, w->share);
-        if (!w->there.stopped && !w->back.stopped)
-            w->e = greater(greater(a, b), w->floor);
+        free(w->there.marks);
+        w->there.marks = NULL;
+        w->back.marks = calloc(w->back.to->m->ntris, sizeof *w->back.marks);
+        if (w->back.marks) {
+            memo_clear(w->back.memo);
+            double b = w->there.stopped ? 0 : side_bound(&w->back, w->share);
+            if (!w->there.stopped && !w->back.stopped)
+                w->e = greater(greater(a, b), w->floor);
+        }
     }
     free(w->there.seen);
     free(w->back.seen);
@@ -1071,12 +1076,7 @@ static double level_error(const target *full, const uint32_t *weld, const uint32
                        .abs_tol = tol, .stop = stop };
         side back = { .from = m, .to = &level, .weld = weld, .floor = &floor,
                       .upper = &upper, .abs_tol = tol, .stop = stop };
-        there.marks = calloc(full->m->ntris, sizeof *there.marks);
-        back.marks = calloc(ntris, sizeof *back.marks);
-        if (there.marks && back.marks && side_corners(&there) && side_corners(&back)) {
-            free(there.marks);
-            free(back.marks);
-            there.marks = back.marks = NULL;
+        if (side_corners(&there) && side_corners(&back)) {
             measurer w[MEASURERS];
             pthread_t th[MEASURERS];
             bool started[MEASURERS] = { false };
@@ -1099,8 +1099,6 @@ static double level_error(const target *full, const uint32_t *weld, const uint32
         }
         free(there.pts);
         free(back.pts);
-        free(there.marks);
-        free(back.marks);
     }
     limen__lod_target_free(&level);
     free(lv.bvh);
