@@ -80,14 +80,26 @@ static uint32_t corner_vertex(const limen__lod_target *t, const uint32_t *weld, 
     return weld ? weld[i] : t->m->idx[i];
 }
 
+/* The directed edge half-edge h runs (its corner and the next, welded), as a key. */
+static uint64_t edge_key(const limen__lod_target *t, const uint32_t *weld, size_t h)
+{
+    size_t base = h - h % 3;
+    return (uint64_t)corner_vertex(t, weld, h) << 32 | corner_vertex(t, weld, base + (h + 1) % 3);
+}
+
+#define SLOT_FREE UINT32_MAX    /* a slot of pair_edges' table no key has taken */
+#define SLOT_EMPTY 0x80000000u  /* with a half-edge: its key's slot, none of it waiting */
+
 /* t->across: edges paired through a table keyed on directed edges (two welded vertices, in
  * the order a triangle runs them), each holding the half-edges of its key not yet paired.
  * A half-edge a->b pairs with one waiting under b->a (where the two run the edge opposite
  * ways, their windings agree), else waits under a->b. The table holds each directed edge
  * once, however many triangles repeat it, so its probes stay near one a half-edge
- * (t->probes counts them): repeated and zero-area triangles cost what others do. An edge of
- * more than two triangles pairs some of them; what a pairing misses, the walks over the
- * surface below do without (they only ever find less). False when out of memory. */
+ * (t->probes counts them): repeated and zero-area triangles cost what others do. A slot
+ * holds a half-edge, not its key (read from the mesh where a probe asks: 4 bytes a slot, not
+ * 12, at 1.6M triangles 53 MB for a moment instead of 120). An edge of more than two
+ * triangles pairs some of them; what a pairing misses, the walks over the surface below do
+ * without (they only ever find less). False when out of memory. */
 static bool pair_edges(limen__lod_target *t, const uint32_t *weld)
 {
     /* each directed edge is a key once, and a pair of half-edges takes one key: at most
@@ -95,13 +107,13 @@ static bool pair_edges(limen__lod_target *t, const uint32_t *weld)
      * table of a big mesh stays within 1.5 to 3 slots a half-edge (it was the largest thing
      * a level's making held) */
     size_t n = (size_t)t->m->ntris * 3, size = 16;
+    if (n >= SLOT_EMPTY)
+        return false;   /* a half-edge's number must leave the slot's flag free */
     while (size < n + n / 2)
         size *= 2;
-    uint64_t *key = malloc(sizeof *key * size);
     uint32_t *head = malloc(sizeof *head * size), *next = malloc(sizeof *next * (n ? n : 1));
     t->across = malloc(sizeof *t->across * t->m->ntris);
-    if (!key || !head || !next || !t->across) {
-        free(key);
+    if (!head || !next || !t->across) {
         free(head);
         free(next);
         return false;
@@ -119,33 +131,27 @@ static bool pair_edges(limen__lod_target *t, const uint32_t *weld)
         size_t at = (size_t)((want * 0x9e3779b97f4a7c15ull) >> 20) & (size - 1);
         for (;; at = (at + 1) & (size - 1)) {
             t->probes++;
-            if (head[at] == UINT32_MAX || key[at] == want)
+            if (head[at] == SLOT_FREE || edge_key(t, weld, head[at] & ~SLOT_EMPTY) == want)
                 break;
         }
-        if (head[at] != UINT32_MAX && key[at] == want && head[at] != UINT32_MAX - 1) {
+        if (head[at] != SLOT_FREE && !(head[at] & SLOT_EMPTY)) {
             uint32_t o = head[at];
-            head[at] = next[o] == UINT32_MAX ? UINT32_MAX - 1 : next[o];
+            head[at] = next[o] == UINT32_MAX ? o | SLOT_EMPTY : next[o];
             t->across[o / 3][o % 3] = (uint32_t)(h / 3);
             t->across[h / 3][h % 3] = o / 3;
             continue;
         }
-        /* else it waits under its own direction (a slot emptied by pairing keeps its key:
-         * UINT32_MAX - 1 marks it empty but taken, so the probes past it still find theirs) */
+        /* else it waits under its own direction (a slot emptied by pairing keeps a half-edge
+         * of its key, flagged, so the probes past it still find theirs) */
         at = (size_t)((mine * 0x9e3779b97f4a7c15ull) >> 20) & (size - 1);
         for (;; at = (at + 1) & (size - 1)) {
             t->probes++;
-            if (head[at] == UINT32_MAX || key[at] == mine)
+            if (head[at] == SLOT_FREE || edge_key(t, weld, head[at] & ~SLOT_EMPTY) == mine)
                 break;
         }
-        if (head[at] == UINT32_MAX) {
-            key[at] = mine;
-            next[h] = UINT32_MAX;
-        } else {
-            next[h] = head[at] == UINT32_MAX - 1 ? UINT32_MAX : head[at];
-        }
+        next[h] = head[at] == SLOT_FREE || (head[at] & SLOT_EMPTY) ? UINT32_MAX : head[at];
         head[at] = (uint32_t)h;
     }
-    free(key);
     free(head);
     free(next);
     return true;
