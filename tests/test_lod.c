@@ -1672,6 +1672,91 @@ static void test_brick_charts(void)
     free(chart);
 }
 
+/* ------------------------------------------------------------------ measuring, kept numbers */
+
+/* The measure of each level of g against its full mesh, with what the measuring keeps for
+ * the pieces after (lay_bound's vertices as a piece sees them, convex_bound's distances from
+ * a vertex to a triangle: core/lod.c) on or off, into e[k]; false where it could not run. */
+static bool measures(const limen_mesh_geometry *g, bool memo, double e[12])
+{
+    limen__mesh m = { .nverts = (uint32_t)g->vertex_count, .ntris = (uint32_t)g->triangle_count,
+                      .pos = (float *)g->positions, .idx = (uint32_t *)g->indices };
+    for (int a = 0; a < 3; a++) {
+        m.lo[a] = INFINITY;
+        m.hi[a] = -INFINITY;
+    }
+    for (int v = 0; v < g->vertex_count * 3; v++) {
+        m.lo[v % 3] = fmin(m.lo[v % 3], g->positions[v]);
+        m.hi[v % 3] = fmax(m.hi[v % 3], g->positions[v]);
+    }
+    if (!limen__mesh_bvh(&m))
+        return false;
+    limen__lod_set_measure_memo(memo);
+    for (int k = 1; k < g->lod_count && k < 12; k++)
+        e[k] = limen__lod_measure(&m, g->lods[k].indices, (uint32_t)g->lods[k].triangle_count);
+    limen__lod_set_measure_memo(true);
+    free(m.bvh);
+    free(m.tri_order);
+    return true;
+}
+
+/* What the measuring keeps for the pieces after is what it would find again: every level's
+ * measure (the bunny's, a bumpy sphere's of 34,000 triangles, more vertices than
+ * lay_bound's table has slots, shuffled, measured on two threads) the
+ * same to the bit with it kept and found anew each time. Fails where a kept number is
+ * given to a piece or a pair it is not of (a vertex's distance to another triangle, a
+ * vertex seen from another piece). */
+static void test_measure_memo(void)
+{
+    enum { U = 170, V = 100, NV = (U + 1) * (V + 1), NT = U * V * 2 };
+    float *pos = malloc(sizeof(float) * 3 * NV);
+    uint32_t *idx = malloc(sizeof(uint32_t) * 3 * NT);
+    CHECK(pos && idx);
+    for (int mesh = 0; pos && idx && mesh < 2; mesh++) {
+        fixture f = open_scene((float[3]){ 0, 0, 5 }, (float[3]){ 0, 0, 0 });
+        if (mesh == 0) {
+            CHECK_OK(limen_mesh_load(f.s, f.mesh, "scenes/data/bunny.obj"));
+        } else {
+            bumpy_sphere(U, V, pos, idx);
+            /* its vertices shuffled, so that a piece meets vertices far apart in number */
+            uint32_t *to = malloc(sizeof *to * NV);
+            float *moved = malloc(sizeof(float) * 3 * NV);
+            CHECK(to && moved);
+            for (int v = 0; to && moved && v < NV; v++)
+                to[v] = (uint32_t)v;
+            for (int v = NV - 1; to && moved && v > 0; v--) {
+                int o = (int)(uniform() * (v + 1)) % (v + 1);
+                uint32_t sw = to[v];
+                to[v] = to[o];
+                to[o] = sw;
+            }
+            for (int v = 0; to && moved && v < NV; v++)
+                memcpy(&moved[to[v] * 3], &pos[v * 3], sizeof(float) * 3);
+            for (int i = 0; to && moved && i < NT * 3; i++)
+                idx[i] = to[idx[i]];
+            CHECK_OK(limen_mesh_set_triangles(f.s, f.mesh, &(limen_mesh_data){
+                .positions = moved ? moved : pos, .vertex_count = NV, .indices = idx,
+                .triangle_count = NT }));
+            free(to);
+            free(moved);
+        }
+        const limen_drawable *d = item(&f);
+        double kept[12] = { 0 }, anew[12] = { 0 };
+        CHECK(d && d->mesh->lod_count >= 5);
+        if (d && measures(d->mesh, true, kept) && measures(d->mesh, false, anew)) {
+            for (int k = 1; k < d->mesh->lod_count && k < 12; k++)
+                CHECK_MSG(kept[k] == anew[k] && kept[k] > 0,
+                          "%s, level %d: %a kept, %a found anew", mesh ? "sphere" : "bunny",
+                          k, kept[k], anew[k]);
+        } else {
+            CHECK(!"no mesh, or no memory for its hierarchy");
+        }
+        close_scene(&f);
+    }
+    free(pos);
+    free(idx);
+}
+
 static const check_case cases[] = {
     { "bunny_levels", test_bunny_levels },
     { "error_bounds", test_error_bounds },
@@ -1692,6 +1777,7 @@ static const check_case cases[] = {
     { "chart_levels_whole", test_chart_levels_whole },
     { "textured_levels_in_charts", test_textured_levels_in_charts },
     { "brick_charts", test_brick_charts },
+    { "measure_memo", test_measure_memo },
     { 0 },
 };
 

@@ -20,7 +20,10 @@
  * triangles leave it far from the other surface: near enough, the distance to one of them
  * is an upper bound that every bound above may take in place of the nearest; a piece these
  * leave above the goal has them searched before it is cut (or, at MAX_DEPTH, let go). The
- * surface measured against, and its distances, are core/lod_target.c's. */
+ * surface measured against, and its distances, are core/lod_target.c's. What is found and
+ * asked for again is kept, the same numbers: each vertex of the other surface as a piece
+ * sees it, once a piece (lay_bound), and a vertex's distance to a triangle for the pieces
+ * around it (convex_bound). */
 #include <errno.h>
 #include <float.h>
 #include <math.h>
@@ -91,6 +94,7 @@ typedef struct point {
     double d2;                  /* squared distance to the other surface, or (a cut's point, a
                                  * corner walked to) an upper bound on it: the distance to tri */
     uint32_t tri;               /* its nearest triangle there */
+    uint32_t vertex;            /* the vertex of the surface measured it is, or UINT32_MAX */
     bool rough;                 /* d2 is the distance to tri, unsearched */
 } point;
 
@@ -117,6 +121,9 @@ typedef struct side {
     bool nomem;
     uint32_t *marks, mark;      /* per triangle of to: the last cover_bound that met it */
     uint32_t *queue;            /* LAY_LOOK triangles of to, for lay_bound */
+    struct lay_vertex *lay_vx;  /* LAY_SLOTS vertices of to as lay_bound's piece sees them */
+    struct memo *memo;          /* MEMO_SLOTS distances from a vertex to a triangle of to */
+    uint32_t lay_stamp;         /* lay_bound's pieces so far: which of lay_vx are current */
     bool lay_far;               /* lay_bound's last answer: a triangle under the piece lies
                                  * farther than the goal (not a border or a count it could
                                  * not prove) */
@@ -427,13 +434,95 @@ static bool seg_apart2(const double a[2], const double b[2], const double t[3][2
  * part (the offset is linear over each). The offset is checked against `goal` as the
  * triangles come: INFINITY at once where one exceeds it, or where S is not closed off
  * within LAY_LOOK triangles. */
+/* A vertex of sd->to as lay_bound's piece sees it: where (t) and how high (h) along the
+ * piece's normal, from its first corner, and (bits 0-2) on or inside the line of each edge
+ * of the piece, (bits 3-5) on or outside it; LAY_SIDES where those bits are set. Each vertex
+ * of the triangles a piece meets is met by several: seen once a piece, the same numbers as
+ * seeing it again. */
+typedef struct lay_vertex {
+    double t[2], h;
+    uint32_t v, stamp;          /* which vertex, for which piece (sd->lay_stamp) */
+    unsigned char sides;
+} lay_vertex;
+
+#define LAY_SIDES 0x40
+#define LAY_SLOTS 16384         /* lay_bound's vertices, at most 3 * LAY_LOOK, at most 3/4 full */
+
+static bool measure_memo = true;    /* lay_vertex_of and vertex_d keep what they find */
+
+void limen__lod_set_measure_memo(bool on)
+{
+    measure_memo = on;
+}
+
+/* Vertex vi of sd->to as the piece (sn, its first corner o) sees it. */
+static lay_vertex *lay_vertex_of(side *sd, uint32_t vi, const seen *sn, const double o[3])
+{
+    lay_vertex *tab = sd->lay_vx;
+    uint32_t stamp = sd->lay_stamp, at = vi & (LAY_SLOTS - 1);
+    while (tab[at].stamp == stamp && tab[at].v != vi)
+        at = (at + 1) & (LAY_SLOTS - 1);
+    lay_vertex *x = &tab[at];
+    if (x->stamp != stamp) {
+        const float *p = sd->to->m->pos + (size_t)vi * 3;
+        double d[3] = { (double)p[0] - o[0], (double)p[1] - o[1], (double)p[2] - o[2] };
+        x->t[0] = limen__dot3(d, sn->u);
+        x->t[1] = limen__dot3(d, sn->w);
+        x->h = limen__dot3(d, sn->n);
+        x->v = vi;
+        x->stamp = stamp;
+        x->sides = 0;
+    }
+    return x;
+}
+
+/* A new piece (or triangle) for lay_vertex_of: what it kept before is not current. */
+static void lay_renew(side *sd)
+{
+    if (++sd->lay_stamp == 0) {
+        for (uint32_t i = 0; i < LAY_SLOTS; i++)
+            sd->lay_vx[i].stamp = 0;
+        sd->lay_stamp = 1;
+    }
+}
+
+/* The sides bits of x (see lay_vertex), made where not yet. */
+static unsigned lay_sides(lay_vertex *x, const double (*pp)[2])
+{
+    if (!(x->sides & LAY_SIDES)) {
+        unsigned s = LAY_SIDES;
+        for (int e = 0; e < 3; e++) {
+            double f = orient2(pp[e], pp[e == 2 ? 0 : e + 1], x->t);
+            s |= (f >= 0 ? 1u << e : 0) | (f <= 0 ? 8u << e : 0);
+        }
+        x->sides = (unsigned char)s;
+    }
+    return x->sides;
+}
+
+/* A bound from laying the piece over the other surface, seen along the piece's normal, for
+ * a piece of any size (cover_bound's argument needs no two triangles to overlap, which it
+ * checks pair by pair; this one needs no such check). S: the triangles of sd->to met by a
+ * walk across edges from the corners' own whose projections meet the piece's inside. Where
+ * every edge of a triangle of S is shared (run the opposite way) with another of S, or lies
+ * outside the piece as seen, or has no length, S's border (as a chain of edges) stays
+ * outside the piece, so the number of times S covers a point of the piece, counting a
+ * triangle seen turned over (clockwise) as -1, is the same at every point of the piece:
+ * their signed clipped areas add up to that number times the piece's. Where it is at least
+ * 1, every point of the piece lies under a triangle of S seen counter-clockwise, straight
+ * along the normal, no farther than the largest offset of such a triangle over its clipped
+ * part (the offset is linear over each). The offset is checked against `goal` as the
+ * triangles come: INFINITY at once where one exceeds it, or where S is not closed off
+ * within LAY_LOOK triangles. Each vertex is seen once (lay_vertex_of), however many of the
+ * triangles share it. */
 static double lay_bound(side *sd, const point *v[3], double goal)
 {
     const target *to = sd->to;
     seen sn;
-    if (!sd->queue || !piece_seen(v, &sn))
+    if (!sd->queue || !sd->lay_vx || !piece_seen(v, &sn))
         return INFINITY;
-    const double *n = sn.n, *u = sn.u, *w = sn.w, *plo = sn.lo, *phi = sn.hi, ne = sn.ne;
+    const double *plo = sn.lo, *phi = sn.hi, ne = sn.ne, *o = v[0]->p;
+    bool keep = measure_memo;
     const double (*pp)[2] = sn.p;
     double twice_piece = orient2(pp[0], pp[1], pp[2]);
     if (!(twice_piece > 0))
@@ -443,6 +532,7 @@ static double lay_bound(side *sd, const point *v[3], double goal)
         memset(sd->marks, 0, sizeof *sd->marks * to->m->ntris);
         mark = sd->mark = 1;
     }
+    lay_renew(sd);
     sd->lay_far = false;
     int nq = 0, seeds = 0;
     for (int k = 0; k < 3; k++) {
@@ -465,41 +555,40 @@ static double lay_bound(side *sd, const point *v[3], double goal)
     double worst = 0;
     for (int next = 0; next < nq; next++) {
         uint32_t at = queue[next];
-        double c[9], tt[3][2];
-        limen__lod_corners(to, at, c);
+        const uint32_t *vi = to->m->idx + (size_t)at * 3;
+        lay_vertex *x[3];
+        if (!keep)
+            lay_renew(sd);      /* each triangle's vertices seen anew */
+        double tt[3][2];
         for (int k = 0; k < 3; k++) {
-            double d[3];
-            limen__sub3(c + 3 * k, v[0]->p, d);
-            tt[k][0] = limen__dot3(d, u);
-            tt[k][1] = limen__dot3(d, w);
+            x[k] = lay_vertex_of(sd, vi[k], &sn, o);
+            tt[k][0] = x[k]->t[0];
+            tt[k][1] = x[k]->t[1];
         }
         /* where it meets the piece's inside: not where their boxes (as seen) only touch,
          * nor where an edge line of either leaves the other wholly on its outer side */
-        bool meets = !(greater(tt[0][0], greater(tt[1][0], tt[2][0])) <= plo[0] ||
-                       lesser(tt[0][0], lesser(tt[1][0], tt[2][0])) >= phi[0] ||
-                       greater(tt[0][1], greater(tt[1][1], tt[2][1])) <= plo[1] ||
-                       lesser(tt[0][1], lesser(tt[1][1], tt[2][1])) >= phi[1]);
+        double tlo[2], thi[2];
+        for (int a = 0; a < 2; a++) {
+            tlo[a] = lesser(tt[0][a], lesser(tt[1][a], tt[2][a]));
+            thi[a] = greater(tt[0][a], greater(tt[1][a], tt[2][a]));
+        }
+        bool meets = !(thi[0] <= plo[0] || tlo[0] >= phi[0] || thi[1] <= plo[1] ||
+                       tlo[1] >= phi[1]);
         int inside = 0;
         double twice = 0;
         /* per edge of the triangle (corners k, k + 1): whether an edge line of the piece
          * leaves it wholly outside (where it meets the piece) */
         bool edge_out[3] = { false, false, false };
         if (meets) {
-            bool in[3] = { true, true, true };
-            for (int e = 0; e < 3 && meets; e++) {
-                const double *a = pp[e], *b = pp[e == 2 ? 0 : e + 1];
-                bool out = true, beyond[3];
-                for (int k = 0; k < 3; k++) {
-                    double f = orient2(a, b, tt[k]);
-                    in[k] = in[k] && f >= 0;
-                    beyond[k] = f <= 0;
-                    out = out && beyond[k];
-                }
-                for (int k = 0; k < 3; k++)
-                    edge_out[k] = edge_out[k] || (beyond[k] && beyond[k == 2 ? 0 : k + 1]);
-                meets = !out;
+            unsigned s[3];
+            for (int k = 0; k < 3; k++)
+                s[k] = lay_sides(x[k], pp);
+            /* wholly outside an edge line of the piece: beside it */
+            meets = !(s[0] & s[1] & s[2] & 070);
+            for (int k = 0; k < 3; k++) {
+                edge_out[k] = (s[k] & s[k == 2 ? 0 : k + 1] & 070) != 0;
+                inside += (s[k] & 7) == 7;
             }
-            inside = in[0] + in[1] + in[2];
             twice = orient2(tt[0], tt[1], tt[2]);
         }
         if (meets && inside < 3) {
@@ -511,9 +600,9 @@ static double lay_bound(side *sd, const point *v[3], double goal)
                 for (int e = 0; e < 3 && meets; e++) {
                     const double *a = tt[e], *b = tt[e == 2 ? 0 : e + 1];
                     if (twice < 0) {
-                        const double *x = a;
+                        const double *sw = a;
                         a = b;
-                        b = x;
+                        b = sw;
                     }
                     meets = !(orient2(a, b, pp[0]) <= 0 && orient2(a, b, pp[1]) <= 0 &&
                               orient2(a, b, pp[2]) <= 0);
@@ -526,7 +615,7 @@ static double lay_bound(side *sd, const point *v[3], double goal)
             if (next >= seeds)
                 continue;
         } else if (twice != 0) {
-            if (twice < 0) {            /* counter-clockwise as seen (c as it was) */
+            if (twice < 0) {            /* counter-clockwise as seen */
                 for (int a = 0; a < 2; a++) {
                     double sw = tt[1][a];
                     tt[1][a] = tt[2][a];
@@ -534,22 +623,20 @@ static double lay_bound(side *sd, const point *v[3], double goal)
                 }
             }
             /* the count at the two probes: strictly inside adds its sign; on its border
-             * leaves that probe's count unknown */
-            for (int x = 0; x < 2; x++) {
-                double f0 = orient2(tt[0], tt[1], probe[x]), f1 = orient2(tt[1], tt[2], probe[x]),
-                       f2 = orient2(tt[2], tt[0], probe[x]);
+             * leaves that probe's count unknown (a probe beyond its box is neither) */
+            for (int p = 0; p < 2; p++) {
+                if (probe[p][0] < tlo[0] || probe[p][0] > thi[0] || probe[p][1] < tlo[1] ||
+                    probe[p][1] > thi[1])
+                    continue;
+                double f0 = orient2(tt[0], tt[1], probe[p]), f1 = orient2(tt[1], tt[2], probe[p]),
+                       f2 = orient2(tt[2], tt[0], probe[p]);
                 if (f0 > 0 && f1 > 0 && f2 > 0)
-                    count[x] += twice > 0 ? 1 : -1;
+                    count[p] += twice > 0 ? 1 : -1;
                 else if (f0 >= 0 && f1 >= 0 && f2 >= 0)
-                    unsure[x] = true;
+                    unsure[p] = true;
             }
             if (twice > 0) {
-                double h[3];
-                for (int k = 0; k < 3; k++) {
-                    double d[3];
-                    limen__sub3(c + 3 * k, v[0]->p, d);
-                    h[k] = limen__dot3(d, n);
-                }
+                double h[3] = { x[0]->h, x[1]->h, x[2]->h };
                 /* over the whole triangle, where that raises nothing; else over its part
                  * inside the piece */
                 double whole = greater(fabs(h[0]), greater(fabs(h[1]), fabs(h[2])));
@@ -572,35 +659,29 @@ static double lay_bound(side *sd, const point *v[3], double goal)
             return INFINITY;
         }
         for (int e = 0; e < 3; e++) {
-            uint32_t o = to->across[at][e];
+            uint32_t on = to->across[at][e];
             /* an edge outside the piece leaves S's border outside it, whatever lies across
              * it (a seed beside the piece leads on to its neighbours still) */
             if (meets && edge_out[e])
                 continue;
-            if (o == UINT32_MAX) {
+            if (on == UINT32_MAX) {
                 if (!meets)
                     continue;
                 /* an edge of S's border: where it has a length, it must lie outside */
-                const double *a = c + 3 * e, *b = c + 3 * (e == 2 ? 0 : e + 1);
+                const float *a = to->m->pos + (size_t)vi[e] * 3,
+                            *b = to->m->pos + (size_t)vi[e == 2 ? 0 : e + 1] * 3;
                 if (a[0] == b[0] && a[1] == b[1] && a[2] == b[2])
                     continue;
-                double sa[2], sb[2], da[3], db[3];
-                limen__sub3(a, v[0]->p, da);
-                limen__sub3(b, v[0]->p, db);
-                sa[0] = limen__dot3(da, u);
-                sa[1] = limen__dot3(da, w);
-                sb[0] = limen__dot3(db, u);
-                sb[1] = limen__dot3(db, w);
-                if (!seg_apart2(sa, sb, pp))
+                if (!seg_apart2(x[e]->t, x[e == 2 ? 0 : e + 1]->t, pp))
                     return INFINITY;
                 continue;
             }
-            if (sd->marks[o] == mark)
+            if (sd->marks[on] == mark)
                 continue;
             if (nq == LAY_LOOK)
                 return INFINITY;
-            sd->marks[o] = mark;
-            queue[nq++] = o;
+            sd->marks[on] = mark;
+            queue[nq++] = on;
         }
     }
     /* how many times S covers each point of the piece, at a probe no edge runs through */
@@ -670,12 +751,33 @@ static void locate_shared(side *sd, point *q, uint32_t hint, uint32_t other, dou
     sd->nseen++;
 }
 
+/* The distance from a vertex of sd->from to a triangle of sd->to, as convex_bound asks for
+ * it: the same few pairs come again in the pieces around a vertex, so the last asked are
+ * kept (one a slot, by the pair's hash). */
+typedef struct memo {
+    uint32_t vertex, tri;
+    double d;
+} memo;
+
+#define MEMO_SLOTS 65536
+
+/* The distance from q to triangle t of sd->to (sqrt of limen__lod_d2: the same number). */
+static double vertex_d(side *sd, const point *q, uint32_t t)
+{
+    if (q->vertex == UINT32_MAX || !sd->memo || !measure_memo)
+        return sqrt(limen__lod_d2(sd->to, t, q->p));
+    memo *m = &sd->memo[(q->vertex * 0x9e3779b1u ^ t * 0x85ebca6bu) >> 16];
+    if (m->vertex != q->vertex || m->tri != t)
+        *m = (memo){ .vertex = q->vertex, .tri = t, .d = sqrt(limen__lod_d2(sd->to, t, q->p)) };
+    return m->d;
+}
+
 /* The distance to one triangle is convex, so over the piece it lies below the plane through
  * its values at the corners: the distance to sd->to is at most the least of those planes,
  * one per corner's nearest triangle, and this is the largest that least takes over the piece
  * (a concave function, largest at a corner of the piece, where an edge of the piece meets
  * a line on which two planes agree, or where all three agree). */
-static double convex_bound(const side *sd, const point *v[3])
+static double convex_bound(side *sd, const point *v[3])
 {
     double f[3][3];             /* f[k][i]: corner i's distance to corner k's triangle */
     int nk = 0;
@@ -684,7 +786,7 @@ static double convex_bound(const side *sd, const point *v[3])
         if ((k > 0 && t == v[0]->tri) || (k > 1 && t == v[1]->tri))
             continue;
         for (int i = 0; i < 3; i++)
-            f[nk][i] = v[i]->tri == t ? sqrt(v[i]->d2) : sqrt(limen__lod_d2(sd->to, t, v[i]->p));
+            f[nk][i] = v[i]->tri == t ? sqrt(v[i]->d2) : vertex_d(sd, v[i], t);
         nk++;
     }
     double best = 0;
@@ -808,6 +910,7 @@ static void piece(side *sd, const point *a, const point *b, const point *c, int 
     for (int k = 0; k < 3; k++) {
         for (int e = 0; e < 3; e++)
             mid[k].p[e] = 0.5 * (v[k]->p[e] + v[(k + 1) % 3]->p[e]);
+        mid[k].vertex = UINT32_MAX;
         locate_shared(sd, &mid[k], v[k]->tri, v[(k + 1) % 3]->tri, NEAR_ENOUGH * need);
     }
     piece(sd, a, &mid[0], &mid[2], depth + 1);
@@ -830,7 +933,7 @@ static bool side_corners(side *sd)
         corner *kept = &sd->pts[from->idx[i]];
         if (kept->tri != UINT32_MAX)
             continue;
-        point at, *q = &at;
+        point at = { .vertex = from->idx[i] }, *q = &at;
         for (int a = 0; a < 3; a++)
             q->p[a] = from->pos[from->idx[i] * 3 + a];
         /* a corner the other surface shares lies on a triangle there: found at once; another
@@ -861,7 +964,8 @@ static void corner_point(const side *sd, uint32_t v, point *q)
 {
     const float *p = &sd->from->pos[(size_t)v * 3];
     const corner *c = &sd->pts[v];
-    *q = (point){ .p = { p[0], p[1], p[2] }, .d2 = c->d2, .tri = c->tri, .rough = c->rough };
+    *q = (point){ .p = { p[0], p[1], p[2] }, .d2 = c->d2, .tri = c->tri, .vertex = v,
+                  .rough = c->rough };
 }
 
 /* An upper bound on the largest distance from a point of from's surface to to's over its
@@ -895,6 +999,12 @@ typedef struct measurer {
     int share;
 } measurer;
 
+static void memo_clear(memo *m)
+{
+    for (uint32_t i = 0; m && i < MEMO_SLOTS; i++)
+        m[i].vertex = UINT32_MAX;
+}
+
 static void *measure(void *arg)
 {
     measurer *w = arg;
@@ -904,10 +1014,16 @@ static void *measure(void *arg)
     w->back.marks = calloc(w->back.to->m->ntris, sizeof *w->back.marks);
     w->there.queue = malloc(sizeof *w->there.queue * LAY_LOOK);
     w->back.queue = malloc(sizeof *w->back.queue * LAY_LOOK);
+    w->there.lay_vx = calloc(LAY_SLOTS, sizeof *w->there.lay_vx);
+    w->back.lay_vx = calloc(LAY_SLOTS, sizeof *w->back.lay_vx);
+    /* one memo for both sides, cleared between them (without it: the same bounds, slower) */
+    w->there.memo = w->back.memo = malloc(sizeof *w->there.memo * MEMO_SLOTS);
     w->e = NAN;
     if (w->there.marks && w->back.marks) {
-        double a = side_bound(&w->there, w->share),
-               b = w->there.stopped ? 0 : side_bound(&w->back, w->share);
+        memo_clear(w->there.memo);
+        double a = side_bound(&w->there, w->share);
+        memo_clear(w->back.memo);
+        double b = w->there.stopped ? 0 : side_bound(&w->back, w->share);
         if (!w->there.stopped && !w->back.stopped)
             w->e = greater(greater(a, b), w->floor);
     }
@@ -917,6 +1033,9 @@ static void *measure(void *arg)
     free(w->back.marks);
     free(w->there.queue);
     free(w->back.queue);
+    free(w->there.lay_vx);
+    free(w->back.lay_vx);
+    free(w->there.memo);
     return NULL;
 }
 

@@ -387,7 +387,16 @@ double limen__lod_target_walk(const limen__lod_target *to, const double p[3], ui
         uint32_t next = UINT32_MAX;
         for (int e = 0; e < 3; e++) {
             uint32_t o = to->across[*t][e];
-            double d2 = o == UINT32_MAX || o == from ? INFINITY : limen__lod_d2(to, o, p);
+            if (o == UINT32_MAX || o == from)
+                continue;
+            /* one whose sphere lies beyond the best so far (by far more than rounding) is
+             * no nearer: not measured */
+            const float *c = to->ball[o];
+            double g[3] = { p[0] - c[0], p[1] - c[1], p[2] - c[2] };
+            double gap = sqrt(limen__dot3(g, g)) - c[3];
+            if (gap > 0 && gap * gap > best * (1 + 1e-9))
+                continue;
+            double d2 = limen__lod_d2(to, o, p);
             if (d2 < best) {
                 best = d2;
                 next = o;

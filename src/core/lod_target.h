@@ -77,5 +77,9 @@ bool limen__lod_tree(limen__mesh *m);
  * m's vertices) and m's (its hierarchy made, its bounds lo and hi set), as a level's error is
  * measured: for tests. NAN when out of memory. */
 double limen__lod_measure(const limen__mesh *m, const uint32_t *idx, uint32_t ntris);
+/* Whether core/lod.c's measuring keeps what it has found for the pieces after (a vertex as
+ * a piece sees it, a vertex's distance to a triangle) or finds it again each time: the same
+ * bounds, to the bit, either way (for tests; on by default). */
+void limen__lod_set_measure_memo(bool on);
 
 #endif
