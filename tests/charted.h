@@ -15,6 +15,7 @@
 #include <math.h>
 #include <stddef.h>
 #include <stdint.h>
+#include <stdlib.h>
 
 static inline int charted_verts(int n, int tile)
 {
@@ -158,6 +159,108 @@ static inline int charted_bricks(int n, int bw, int bh, float *pos, float *nrm, 
         }
     }
     return 0;
+}
+
+/* The ball in any layout of charts: square_chart gives each square's chart (face f's square
+ * (i, j) of n x n at square_chart[(f * n + j) * n + i]; a chart's squares on one face, joined
+ * by their sides), charts of them numbered from 0. A chart has a vertex at each corner of
+ * its squares (where two charts meet, each its own: a seam), and its own cell of a
+ * side x side atlas (side * side >= charts), the box around its squares there with a margin
+ * (so a concave chart's cell holds, in its notches, texels no triangle of it shows).
+ * charted_layout(n, square_chart, pos, nrm, uv, idx, chart): returns the vertex count, or
+ * -1 when out of memory, and with pos not NULL fills pos and nrm (3 floats a vertex), uv
+ * (2), chart (per vertex) and idx (5 * n * n * 6 indices, counter-clockwise from outside). */
+static inline int charted_layout(int n, const int *square_chart, float *pos, float *nrm,
+                                 float *uv, uint32_t *idx, int *chart)
+{
+    int charts = 0, side = 1, np = (n + 1) * (n + 1);
+    for (int q = 0; q < 5 * n * n; q++)
+        charts = square_chart[q] + 1 > charts ? square_chart[q] + 1 : charts;
+    while (side * side < charts)
+        side++;
+    /* each chart's box of squares: i0, j0, and its larger side */
+    int *box = malloc(sizeof(int) * 4 * (size_t)(charts ? charts : 1));
+    /* per corner of a face's squares, up to four charts' vertices there (chart, vertex) */
+    int *at = malloc(sizeof(int) * 8 * (size_t)np);
+    if (!box || !at) {
+        free(box);
+        free(at);
+        return -1;
+    }
+    for (int c = 0; c < charts; c++) {
+        box[c * 4] = box[c * 4 + 1] = n;
+        box[c * 4 + 2] = box[c * 4 + 3] = -1;
+    }
+    for (int f = 0; f < 5; f++)
+        for (int j = 0; j < n; j++)
+            for (int i = 0; i < n; i++) {
+                int *b = &box[square_chart[(f * n + j) * n + i] * 4];
+                b[0] = i < b[0] ? i : b[0];
+                b[1] = j < b[1] ? j : b[1];
+                b[2] = i > b[2] ? i : b[2];
+                b[3] = j > b[3] ? j : b[3];
+            }
+    int v = 0;
+    size_t k = 0;
+    for (int f = 0; f < 5; f++) {
+        for (int p = 0; p < np * 8; p++)
+            at[p] = -1;
+        for (int j = 0; j < n; j++)
+            for (int i = 0; i < n; i++) {
+                int c = square_chart[(f * n + j) * n + i];
+                uint32_t corner[4];
+                for (int q = 0; q < 4; q++) {
+                    int ii = i + (q == 1 || q == 2), jj = j + (q >= 2), p = jj * (n + 1) + ii;
+                    int slot = 0;
+                    while (slot < 4 && at[p * 8 + slot * 2] >= 0 && at[p * 8 + slot * 2] != c)
+                        slot++;
+                    if (at[p * 8 + slot * 2] < 0) {
+                        at[p * 8 + slot * 2] = c;
+                        at[p * 8 + slot * 2 + 1] = v;
+                        if (pos) {
+                            const int *b = &box[c * 4];
+                            int span = b[2] - b[0] > b[3] - b[1] ? b[2] - b[0] + 1 : b[3] - b[1] + 1;
+                            charted_vertex(f, n, ii, jj, pos, nrm, (size_t)v);
+                            uv[v * 2] = (float)((c % side + 0.05 + 0.9 * (ii - b[0]) / span) / side);
+                            uv[v * 2 + 1] =
+                                (float)((c / side + 0.05 + 0.9 * (jj - b[1]) / span) / side);
+                            chart[v] = c;
+                        }
+                        v++;
+                    }
+                    corner[q] = (uint32_t)at[p * 8 + slot * 2 + 1];
+                }
+                /* the square (i, j) to (i + 1, j + 1): a b e, a e cc as charted_ball's */
+                uint32_t t[6] = { corner[0], corner[1], corner[2], corner[0], corner[2], corner[3] };
+                for (int x = 0; pos && x < 6; x++)
+                    idx[k++] = t[x];
+            }
+    }
+    free(box);
+    free(at);
+    return v;
+}
+
+/* Concave charts: each face cut into blocks of 2 x 2 cells of cell x cell squares, each
+ * block an L of three cells (a corner turning inward, at the block's centre) and the square
+ * of the fourth, the L turned a quarter further from block to block; into square_chart
+ * (5 * n * n, n a multiple of 2 * cell) for charted_layout. Returns the charts. */
+static inline int charted_ells(int n, int cell, int *square_chart)
+{
+    int per = n / (2 * cell), charts = 0;
+    for (int f = 0; f < 5; f++)
+        for (int bj = 0; bj < per; bj++)
+            for (int bi = 0; bi < per; bi++, charts += 2) {
+                /* the square's cell of the block, 0-3, turning from block to block */
+                int turn = (bi + 2 * bj + f) % 4;
+                for (int j = 0; j < 2 * cell; j++)
+                    for (int i = 0; i < 2 * cell; i++) {
+                        int quarter = (i >= cell) + 2 * (j >= cell);
+                        square_chart[(f * n + bj * 2 * cell + j) * n + bi * 2 * cell + i] =
+                            charts + (quarter == turn);
+                    }
+            }
+    return charts;
 }
 
 #endif

@@ -811,29 +811,40 @@ static int unmatched_within(const unsigned char *img, const unsigned char *ref, 
     return bad;
 }
 
-/* A textured asset with seams (tests/charted.h: 16,000 triangles, five charts, each its own
- * cell of the atlas with a margin of a colour no chart has), unlit, at each of its levels of
- * detail: the renderer forced to the level (the bound that makes limen_view_mesh_lod choose
- * it) draws what the tracer traces at that level (limen_trace_desc.lod_level; lod_pixels
- * chooses the same), within the 0.5% the full mesh meets; and the level's picture is the full
- * mesh's moved by at most the level's bound: every pixel has its colour in the full mesh's
- * truth within the bound's pixels (plus one), so no texture smears across a seam, where the
- * margin's or another chart's colour would show. */
-static void lod_levels(int tile, int min_levels)
+/* A ball of tests/charted.h in charts of the texture (nv vertices, nt triangles), charts of
+ * them, each chart c its own cell of cell x cell texels of the atlas, in colour[c] of
+ * lod_colour; name in messages. */
+typedef struct lod_asset {
+    const char *name;
+    int nv, nt, charts, cell;
+    const float *pos, *nrm, *uv;
+    const uint32_t *idx;
+    const int *colour;
+    bool notches;               /* the texels of a chart's cell that no triangle of it shows
+                                 * (beyond a texel around them) in the margin's colour, as
+                                 * an atlas packs other charts there; else the chart's own */
+} lod_asset;
+
+/* A textured asset with seams (a, each chart's cell checkered in its colour, with a margin
+ * of a colour no chart has), unlit, at each of its levels of detail: the renderer forced to
+ * the level (the bound that makes limen_view_mesh_lod choose it) draws what the tracer
+ * traces at that level (limen_trace_desc.lod_level; lod_pixels chooses the same), within the
+ * 0.5% the full mesh meets; and the level's picture is the full mesh's moved by at most the
+ * level's bound: every pixel has its colour in the full mesh's truth within the bound's
+ * pixels (plus one), so no texture smears across a seam, where the margin's or another
+ * chart's colour would show. At least min_levels levels, the coarsest at most 1/fraction of
+ * the triangles where fraction > 0. */
+static void lod_asset_levels(const lod_asset *a, int min_levels, int fraction)
 {
-    /* the atlas: cells of CELL texels, side x side of them (tests/charted.h), with a margin
-     * of a texel or two that the charts' coordinates keep inside */
-    enum { N = 40, NT = 5 * N * N * 2, W = 160, H = 120 };
-    int per = N / tile, side = 1;
-    while (side * side < 5 * per * per)
+    enum { W = 160, H = 120 };
+    int side = 1;
+    while (side * side < a->charts)
         side++;
-    const int CELL = tile == N ? 64 : 32, T = side * CELL, MARGIN = CELL / 32;
-    int nv = charted_verts(N, tile);
-    float *pos = malloc(sizeof(float) * 3 * nv), *nrm = malloc(sizeof(float) * 3 * nv),
-          *uv = malloc(sizeof(float) * 2 * nv);
-    uint32_t *idx = malloc(sizeof(uint32_t) * 3 * NT);
+    const int CELL = a->cell, T = side * CELL, MARGIN = CELL / 32 ? CELL / 32 : 1;
+    const int NT = a->nt;
     unsigned char *tex = malloc((size_t)T * T * 3), *img = malloc(W * H * 3), *full = malloc(W * H * 3),
                   *lvl = malloc(W * H * 3), *by_px = malloc(W * H * 3);
+    unsigned char *shown = NULL;
     char dir[] = "/tmp/limen_lod_XXXXXX", path[64] = "";
     bool made = false;
     limen_scene *s = new_scene();
@@ -841,29 +852,42 @@ static void lod_levels(int tile, int min_levels)
     limen_drawables *dr = NULL;
     CHECK_OK(limen_renderer_create(&(limen_renderer_desc){ .width = W, .height = H }, &r));
     CHECK_OK(limen_drawables_create(&dr));
-    if (!pos || !nrm || !uv || !idx || !tex || !img || !full || !lvl || !by_px || !s || !r ||
-        !dr || !(made = mkdtemp(dir) != NULL)) {
+    if (!tex || !img || !full || !lvl || !by_px || !s || !r || !dr ||
+        !(made = mkdtemp(dir) != NULL)) {
         CHECK(!"setup");
         goto done;
     }
-    /* chart c's colour checkered light and dark (of five: a chart's neighbours on its face
-     * another's); margins and unused cells magenta */
+    /* the texels the charts' triangles show (in the texture's coordinates: each axis-aligned
+     * box of a square's two), a texel around them included */
+    shown = a->notches ? calloc((size_t)T * T, 1) : NULL;
+    for (int t = 0; shown && t < NT; t += 2) {
+        float lo[2] = { 2, 2 }, hi[2] = { -1, -1 };
+        for (int k = 0; k < 6; k++)
+            for (int d = 0; d < 2; d++) {
+                float u = a->uv[a->idx[t * 3 + k] * 2 + d];
+                lo[d] = u < lo[d] ? u : lo[d];
+                hi[d] = u > hi[d] ? u : hi[d];
+            }
+        for (int y = (int)floorf(lo[1] * T) - 1; y <= (int)ceilf(hi[1] * T); y++)
+            for (int x = (int)floorf(lo[0] * T) - 1; x <= (int)ceilf(hi[0] * T); x++)
+                if (x >= 0 && y >= 0 && x < T && y < T)
+                    shown[(size_t)(T - 1 - y) * T + x] = 1;
+    }
+    /* chart c's colour checkered light and dark; margins and unused cells magenta */
     for (int y = 0; y < T; y++)
         for (int x = 0; x < T; x++) {
             int c = (T - 1 - y) / CELL * side + x / CELL, ix = x % CELL, iy = y % CELL;
-            int f = c / (per * per), cj = c / per % per, ci = c % per;
-            int colour = (f + ci + 2 * cj) % 5;
-            bool margin = c >= 5 * per * per || ix < MARGIN || ix >= CELL - MARGIN ||
-                          iy < MARGIN || iy >= CELL - MARGIN;
+            bool margin = c >= a->charts || ix < MARGIN || ix >= CELL - MARGIN ||
+                          iy < MARGIN || iy >= CELL - MARGIN ||
+                          (shown && !shown[(size_t)y * T + x]);
             for (int k = 0; k < 3; k++)
                 tex[((size_t)y * T + x) * 3 + k] =
                     margin ? lod_colour[5][k]
-                           : (unsigned char)(lod_colour[colour][k] *
+                           : (unsigned char)(lod_colour[a->colour[c]][k] *
                                              ((ix / 8 + iy / 8) % 2 ? 1.0 : 0.55));
         }
     snprintf(path, sizeof path, "%s/atlas.png", dir);
     CHECK_OK(limen_write_png(path, T, T, tex));
-    charted_ball(N, tile, pos, nrm, uv, idx);
     limen_node cam = add(s, LIMEN_NODE_CAMERA, "cam", 0, 0, 0), ball = { 0 };
     CHECK_OK(limen_node_look_at(s, cam, (float[3]){ 0.6f, 0.9f, 2.6f }, (float[3]){ 0, 0, 0 },
                                 (float[3]){ 0, 1, 0 }));
@@ -871,8 +895,8 @@ static void lod_levels(int tile, int min_levels)
     CHECK_OK(limen_scene_set_ambient(s, 1.0f));
     CHECK_OK(limen_node_create(s, LIMEN_NODE_MESH, "ball", &ball));
     CHECK_OK(limen_mesh_set_triangles(s, ball, &(limen_mesh_data){
-        .positions = pos, .normals = nrm, .uvs = uv, .vertex_count = nv, .indices = idx,
-        .triangle_count = NT }));
+        .positions = a->pos, .normals = a->nrm, .uvs = a->uv, .vertex_count = a->nv,
+        .indices = a->idx, .triangle_count = NT }));
     CHECK_OK(limen_node_set_texture(s, ball, path));
     /* one point of the texture per pixel in both: no level of a mipmap to choose */
     CHECK_OK(limen_node_set_texture_filter(s, ball, LIMEN_FILTER_LINEAR));
@@ -889,7 +913,7 @@ static void lod_levels(int tile, int min_levels)
     }
     const limen_drawable *d = &all[di];
     const limen_mesh_geometry *g = d->mesh;
-    CHECK_MSG(g->lod_count >= min_levels, "%d levels", g->lod_count);
+    CHECK_MSG(g->lod_count >= min_levels, "%s: %d levels", a->name, g->lod_count);
     CHECK_OK(limen_trace_image(s, &(limen_trace_desc){ .width = W, .height = H }, full));
     /* pixels per unit of the mesh at the ball's nearest point (limen_view_mesh_lod's) */
     const float *m = root->view;
@@ -927,20 +951,21 @@ static void lod_levels(int tile, int min_levels)
                   "the full mesh's within %d px", k, g->lods[k].error * to_px, moved, radius);
         if (getenv("LIMEN_TEST_PNGS")) {
             char png[96];
-            snprintf(png, sizeof png, "%s/lod_%d_%d.png", getenv("LIMEN_TEST_PNGS"), tile, k);
+            snprintf(png, sizeof png, "%s/lod_%s_%d.png", getenv("LIMEN_TEST_PNGS"), a->name, k);
             limen_write_png(png, W, H, lvl);
         }
         if (getenv("LIMEN_TEST_VERBOSE"))
-            fprintf(stderr, "charts of %d, level %d: %d triangles, error %.3f px, render %.3f%% off its trace, "
-                    "%d pixels unmatched within %d px\n", tile, k, g->lods[k].triangle_count,
+            fprintf(stderr, "%s, level %d: %d triangles, error %.3f px, render %.3f%% off its trace, "
+                    "%d pixels unmatched within %d px\n", a->name, k, g->lods[k].triangle_count,
                     g->lods[k].error * to_px, 100 * dl.bad_share, moved, radius);
     }
     /* every level kept is drawn and checked (each is the coarsest within some bound), and
      * five or more reach 1/16 of the triangles */
     CHECK_MSG(reached >= min_levels && reached == g->lod_count, "%d of %d levels reached",
               reached, g->lod_count);
-    CHECK_MSG(min_levels < 5 || g->lods[g->lod_count - 1].triangle_count * 16 <= NT,
-              "the coarsest level %d triangles", g->lods[g->lod_count - 1].triangle_count);
+    CHECK_MSG(fraction <= 0 || g->lods[g->lod_count - 1].triangle_count * fraction <= NT,
+              "%s: the coarsest level %d triangles", a->name,
+              g->lods[g->lod_count - 1].triangle_count);
     CHECK(limen_trace_image(s, &(limen_trace_desc){ .width = W, .height = H, .lod_level = -1 },
                             lvl) == LIMEN_ERR_ARG);
     CHECK(limen_trace_image(s, &(limen_trace_desc){ .width = W, .height = H,
@@ -954,15 +979,44 @@ done:
     limen_drawables_destroy(dr);
     limen_renderer_destroy(r);
     limen_scene_destroy(s);
-    free(pos);
-    free(nrm);
-    free(uv);
-    free(idx);
+    free(shown);
     free(tex);
     free(img);
     free(full);
     free(lvl);
     free(by_px);
+}
+
+/* The ball of charted_ball (tile x tile squares a chart), chart c's colour by its place,
+ * a chart's neighbours on its face each another colour (of five). */
+static void lod_levels(int tile, int min_levels)
+{
+    enum { N = 40, NT = 5 * N * N * 2 };
+    int per = N / tile, charts = 5 * per * per, nv = charted_verts(N, tile);
+    float *pos = malloc(sizeof(float) * 3 * nv), *nrm = malloc(sizeof(float) * 3 * nv),
+          *uv = malloc(sizeof(float) * 2 * nv);
+    uint32_t *idx = malloc(sizeof(uint32_t) * 3 * NT);
+    int *colour = malloc(sizeof(int) * charts);
+    if (pos && nrm && uv && idx && colour) {
+        charted_ball(N, tile, pos, nrm, uv, idx);
+        for (int c = 0; c < charts; c++) {
+            int f = c / (per * per), cj = c / per % per, ci = c % per;
+            colour[c] = (f + ci + 2 * cj) % 5;
+        }
+        char name[32];
+        snprintf(name, sizeof name, "charts_of_%d", tile);
+        lod_asset_levels(&(lod_asset){ .name = name, .nv = nv, .nt = NT, .charts = charts,
+                                       .cell = tile == N ? 64 : 32, .pos = pos, .nrm = nrm,
+                                       .uv = uv, .idx = idx, .colour = colour },
+                         min_levels, min_levels >= 5 ? 16 : 0);
+    } else {
+        CHECK(!"out of memory");
+    }
+    free(pos);
+    free(nrm);
+    free(uv);
+    free(idx);
+    free(colour);
 }
 
 static void test_lod_levels(void)
@@ -979,6 +1033,136 @@ static void test_lod_levels(void)
 static void test_lod_charts(void)
 {
     lod_levels(4, 5);
+}
+
+/* Colours (of lod_colour's five) for charts (chart per vertex of nv at pos) so that charts
+ * with a vertex at one position differ wherever five allow. */
+static const float *lod_sort_pos;
+
+static int lod_pos_cmp(const void *a, const void *b)
+{
+    return memcmp(&lod_sort_pos[*(const int *)a * 3], &lod_sort_pos[*(const int *)b * 3],
+                  sizeof(float) * 3);
+}
+
+static bool lod_colours(const float *pos, const int *chart, int nv, int charts, int *colour)
+{
+    int *order = malloc(sizeof(int) * nv);
+    unsigned char *near = calloc((size_t)charts * charts, 1);
+    if (!order || !near) {
+        free(order);
+        free(near);
+        return false;
+    }
+    for (int v = 0; v < nv; v++)
+        order[v] = v;
+    lod_sort_pos = pos;
+    qsort(order, nv, sizeof *order, lod_pos_cmp);
+    for (int i = 0, j; i < nv; i = j) {
+        for (j = i + 1; j < nv && !lod_pos_cmp(&order[i], &order[j]); j++)
+            ;
+        for (int a = i; a < j; a++)
+            for (int b = i; b < j; b++)
+                near[(size_t)chart[order[a]] * charts + chart[order[b]]] = 1;
+    }
+    for (int c = 0; c < charts; c++) {
+        int clash[5] = { 0 }, best = 0;
+        for (int d = 0; d < c; d++)
+            if (d != c && near[(size_t)c * charts + d])
+                clash[colour[d]]++;
+        for (int k = 1; k < 5; k++)
+            if (clash[k] < clash[best])
+                best = k;
+        colour[c] = best;
+    }
+    free(order);
+    free(near);
+    return true;
+}
+
+/* A ball of charted_layout's (tests/charted.h) in the charts square_chart gives (n x n
+ * squares a face), checked as lod_asset_levels does. */
+static void lod_layout_levels(const char *name, int n, const int *square, bool notches,
+                              int min_levels, int fraction)
+{
+    int nt = 5 * n * n * 2, nv = charted_layout(n, square, NULL, NULL, NULL, NULL, NULL),
+        charts = 0;
+    for (int q = 0; q < 5 * n * n; q++)
+        charts = square[q] + 1 > charts ? square[q] + 1 : charts;
+    float *pos = nv > 0 ? malloc(sizeof(float) * 3 * nv) : NULL,
+          *nrm = nv > 0 ? malloc(sizeof(float) * 3 * nv) : NULL,
+          *uv = nv > 0 ? malloc(sizeof(float) * 2 * nv) : NULL;
+    uint32_t *idx = malloc(sizeof(uint32_t) * 3 * nt);
+    int *chart = nv > 0 ? malloc(sizeof(int) * nv) : NULL, *colour = malloc(sizeof(int) * charts);
+    if (pos && nrm && uv && idx && chart && colour &&
+        charted_layout(n, square, pos, nrm, uv, idx, chart) == nv &&
+        lod_colours(pos, chart, nv, charts, colour))
+        lod_asset_levels(&(lod_asset){ .name = name, .nv = nv, .nt = nt, .charts = charts,
+                                       .cell = 32, .pos = pos, .nrm = nrm, .uv = uv,
+                                       .idx = idx, .colour = colour, .notches = notches },
+                         min_levels, fraction);
+    else
+        CHECK(!"out of memory");
+    free(pos);
+    free(nrm);
+    free(uv);
+    free(idx);
+    free(chart);
+    free(colour);
+}
+
+/* Concave charts (tests/charted.h charted_ells: each 2 x 2 block of 4 x 4 squares an L of
+ * three and the square of the fourth, 250 charts): where the L's inner corner moves along
+ * its seams, the seam between the L and the square no longer runs where it did, and the L
+ * shows, where the square was, what its cell of the atlas holds beside it: its own colour
+ * (a texture's padding around a chart), or with notches the margin's (an atlas packs other
+ * charts into a concave chart's notches), which the full mesh shows nowhere. Five levels
+ * down to 1/16 of the triangles; no level's seams lie farther from the full mesh's than its
+ * bound (the next, which would show the notches over half of each square, is not kept). */
+static void test_lod_concave(void)
+{
+    enum { N = 40 };
+    int *square = malloc(sizeof(int) * 5 * N * N);
+    if (square) {
+        charted_ells(N, 4, square);
+        lod_layout_levels("concave", N, square, false, 5, 16);
+        lod_layout_levels("notches", N, square, true, 5, 16);
+    } else {
+        CHECK(!"out of memory");
+    }
+    free(square);
+}
+
+/* The ball's charts as bricks (tests/charted.h charted_bricks: 275 charts, three meeting at
+ * every corner), down to the fewest triangles the charts allow (990, 1/16): no level shows
+ * a colour farther than its bound from where the full mesh shows it. */
+static void test_lod_bricks(void)
+{
+    enum { N = 40, NT = 5 * N * N * 2 };
+    int nv = charted_bricks(N, 8, 4, NULL, NULL, NULL, NULL, NULL), charts = 0;
+    float *pos = malloc(sizeof(float) * 3 * nv), *nrm = malloc(sizeof(float) * 3 * nv),
+          *uv = malloc(sizeof(float) * 2 * nv);
+    uint32_t *idx = malloc(sizeof(uint32_t) * 3 * NT);
+    int *chart = malloc(sizeof(int) * nv), *colour = NULL;
+    if (pos && nrm && uv && idx && chart &&
+        charted_bricks(N, 8, 4, pos, nrm, uv, idx, chart) == nv) {
+        for (int v = 0; v < nv; v++)
+            charts = chart[v] + 1 > charts ? chart[v] + 1 : charts;
+        colour = malloc(sizeof(int) * charts);
+    }
+    if (colour && lod_colours(pos, chart, nv, charts, colour))
+        lod_asset_levels(&(lod_asset){ .name = "bricks", .nv = nv, .nt = NT, .charts = charts,
+                                       .cell = 32, .pos = pos, .nrm = nrm, .uv = uv,
+                                       .idx = idx, .colour = colour },
+                         5, 16);
+    else
+        CHECK(!"out of memory");
+    free(pos);
+    free(nrm);
+    free(uv);
+    free(idx);
+    free(chart);
+    free(colour);
 }
 
 static const check_case cases[] = {
@@ -998,6 +1182,8 @@ static const check_case cases[] = {
     { "msaa_truth", test_msaa_truth },
     { "lod_levels", test_lod_levels },
     { "lod_charts", test_lod_charts },
+    { "lod_concave", test_lod_concave },
+    { "lod_bricks", test_lod_bricks },
     { 0 },
 };
 

@@ -50,7 +50,7 @@
 #include "core/texture.h"
 
 #define MAX_LEVELS 12           /* the full mesh and up to 11 coarser ones */
-#define LOD_VERSION 13          /* of how levels are made and measured: levels kept between
+#define LOD_VERSION 20          /* of how levels are made and measured: levels kept between
                                  * runs (core/lod_cache.c) are keyed by it, so change it with
                                  * anything that changes a level or its error */
 #define MIN_TRIS 16             /* a level this small gets no halved successor */
@@ -1010,8 +1010,8 @@ static void *measure(void *arg)
     measurer *w = arg;
     w->there.floor = w->back.floor = &w->floor;
     w->there.upper = w->back.upper = &w->upper;
+    /* each side's marks while it is bounded, not both sides' at once */
     w->there.marks = calloc(w->there.to->m->ntris, sizeof *w->there.marks);
-    w->back.marks = calloc(w->back.to->m->ntris, sizeof *w->back.marks);
     w->there.queue = malloc(sizeof *w->there.queue * LAY_LOOK);
     w->back.queue = malloc(sizeof *w->back.queue * LAY_LOOK);
     w->there.lay_vx = calloc(LAY_SLOTS, sizeof *w->there.lay_vx);
@@ -1019,13 +1019,18 @@ static void *measure(void *arg)
     /* one memo for both sides, cleared between them (without it: the same bounds, slower) */
     w->there.memo = w->back.memo = malloc(sizeof *w->there.memo * MEMO_SLOTS);
     w->e = NAN;
-    if (w->there.marks && w->back.marks) {
+    if (w->there.marks) {
         memo_clear(w->there.memo);
         double a = side_bound(&w->there, w->share);
-        memo_clear(w->back.memo);
-        double b = w->there.stopped ? 0 : side_bound(&w->back, w->share);
-        if (!w->there.stopped && !w->back.stopped)
-            w->e = greater(greater(a, b), w->floor);
+        free(w->there.marks);
+        w->there.marks = NULL;
+        w->back.marks = calloc(w->back.to->m->ntris, sizeof *w->back.marks);
+        if (w->back.marks) {
+            memo_clear(w->back.memo);
+            double b = w->there.stopped ? 0 : side_bound(&w->back, w->share);
+            if (!w->there.stopped && !w->back.stopped)
+                w->e = greater(greater(a, b), w->floor);
+        }
     }
     free(w->there.seen);
     free(w->back.seen);
@@ -1071,12 +1076,7 @@ static double level_error(const target *full, const uint32_t *weld, const uint32
                        .abs_tol = tol, .stop = stop };
         side back = { .from = m, .to = &level, .weld = weld, .floor = &floor,
                       .upper = &upper, .abs_tol = tol, .stop = stop };
-        there.marks = calloc(full->m->ntris, sizeof *there.marks);
-        back.marks = calloc(ntris, sizeof *back.marks);
-        if (there.marks && back.marks && side_corners(&there) && side_corners(&back)) {
-            free(there.marks);
-            free(back.marks);
-            there.marks = back.marks = NULL;
+        if (side_corners(&there) && side_corners(&back)) {
             measurer w[MEASURERS];
             pthread_t th[MEASURERS];
             bool started[MEASURERS] = { false };
@@ -1099,8 +1099,6 @@ static double level_error(const target *full, const uint32_t *weld, const uint32
         }
         free(there.pts);
         free(back.pts);
-        free(there.marks);
-        free(back.marks);
     }
     limen__lod_target_free(&level);
     free(lv.bvh);
@@ -1510,6 +1508,7 @@ static bool lods_make(const limen__mesh *m, const atomic_bool *stop, made *out)
     float scale = ok ? meshopt_simplifyScale(m->pos, m->nverts, sizeof(float) * 3) : 0;
     double estimate[MAX_LEVELS] = { 0 };   /* the simplifier's own, of each level */
     bool halved[MAX_LEVELS] = { false };
+    bool charted[MAX_LEVELS] = { false };   /* made within the charts */
     /* how levels are made: seams kept; once the simplifier is stuck on them, a textured
      * mesh's by collapses within its charts (limen__lod_simplify_charts, which moves seams
      * along themselves); once stuck (or untextured), seams let go; once stuck even so, by
@@ -1519,6 +1518,7 @@ static bool lods_make(const limen__mesh *m, const atomic_bool *stop, made *out)
      * level SOURCE_STEP before, or the first), not from meshoptimizer's, which may hold
      * fins (two triangles back to back) that stay where they are */
     uint32_t charts_from = MAX_LEVELS;
+    size_t charts_floor = 0;    /* the fewest triangles within the charts */
     while (ok && nlods < MAX_LEVELS && cur_n >= 6) {
         /* half the triangles of the last level while there is much to halve; then once only
          * what costs (next to) nothing, which takes a flat patch down to its outline. Each
@@ -1544,8 +1544,10 @@ static bool lods_make(const limen__mesh *m, const atomic_bool *stop, made *out)
             /* halving only: it has no bound of its own to stop at, for the last level's
              * "what costs nothing" */
             if (halve)
-                n = limen__lod_simplify_charts(m, shadow, attr, src, src_n, cur_n / 6 * 3,
-                                               scratch, &ok);
+                n = limen__lod_simplify_charts(
+                    m, shadow, attr, src, src_n,
+                    limen__lod_charts_want(cur_n / 3, charts_floor, (cap - used) / 3) * 3, scratch,
+                    &ok);
         } else if (mode < CLUSTERED)
             n = limen__lod_simplify(mode == SEAMS ? &pk_attr : &pk_pos, from_full ? NULL : src, src_n, false,
                          halve ? cur_n / 6 * 3 : 0, halve ? FLT_MAX : 1e-5f, &err, scratch);
@@ -1558,8 +1560,18 @@ static bool lods_make(const limen__mesh *m, const atomic_bool *stop, made *out)
              * seams along themselves as far as their corners */
             mode = CHARTS;
             charts_from = nlods;
-            n = limen__lod_simplify_charts(m, shadow, attr, NULL, n0, cur_n / 6 * 3, scratch,
-                                           &ok);
+            /* the fewest triangles the charts allow (asked for none), so that the levels
+             * step down to them (limen__lod_charts_want): from the last level made, which
+             * costs a fraction of the full mesh (the corners where charts meet, which set
+             * it, are the same), or the full mesh where none is */
+            charts_floor = limen__lod_simplify_charts(m, shadow, attr,
+                                                      nlods > 1 ? store + at[nlods - 1] : NULL,
+                                                      cur_n, 0, scratch, &ok) / 3;
+            n = ok ? limen__lod_simplify_charts(m, shadow, attr, NULL, n0,
+                                                limen__lod_charts_want(cur_n / 3, charts_floor,
+                                                                       (cap - used) / 3) * 3,
+                                                scratch, &ok)
+                   : 0;
             err = 0;
         }
         if (!ok)
@@ -1596,6 +1608,7 @@ static bool lods_make(const limen__mesh *m, const atomic_bool *stop, made *out)
         lods[nlods] = (limen_mesh_lod){ .triangle_count = (int)(n / 3) };
         estimate[nlods] = (double)err * scale;
         halved[nlods] = halve;
+        charted[nlods] = mode == CHARTS;
         at[nlods++] = used;
         cur_n = n;
         used += n;
@@ -1625,6 +1638,7 @@ static bool lods_make(const limen__mesh *m, const atomic_bool *stop, made *out)
     ok = ok && (!m->uv || chart);
     if (chart)
         limen__lod_charts(m, attr, chart);
+    limen__lod_rims rims = { 0 };   /* made for the first textured level */
     double prev = 0;
     for (uint32_t k = 1; ok && k < nlods; k++) {
         if (chart && limen__lod_across_charts(chart, store + at[k],
@@ -1642,6 +1656,26 @@ static bool lods_make(const limen__mesh *m, const atomic_bool *stop, made *out)
             ok = false;
             break;
         }
+        /* seams move along themselves, and a chart shows its texture up to the level's
+         * edge, not the full mesh's: where the seam bends (a concave chart's corner, a
+         * curved seam), beyond its own texels. Within the charts, the levels end before the
+         * first where that is farther than its bound; meshoptimizer's levels (which are
+         * not made down to a floor) take it into their bound */
+        if (chart) {
+            double drift = rims.first || limen__lod_rims_make(&rims, m, attr)
+                               ? limen__lod_rim_drift(m, &rims, store + at[k],
+                                                      (size_t)lods[k].triangle_count * 3)
+                               : NAN;
+            if (isnan(drift)) {
+                ok = false;
+                break;
+            }
+            if (drift > e && (charted[k] || isinf(drift))) {
+                nlods = k;
+                break;
+            }
+            e = fmax(e, drift);
+        }
         lods[k].error = (float)e;
         /* rounding to float must not undercut the measure either */
         if ((double)lods[k].error < e)
@@ -1653,6 +1687,7 @@ static bool lods_make(const limen__mesh *m, const atomic_bool *stop, made *out)
         limen__lod_seam_sides(m, attr, store, used);
     }
     free(chart);
+    limen__lod_rims_free(&rims);
     if (attr != shadow)
         free(attr);
     free(shadow);

@@ -626,3 +626,18 @@ done:
     cs_free(&c);
     return made;
 }
+
+size_t limen__lod_charts_want(size_t cur, size_t floor, size_t room)
+{
+    size_t half = cur / 2;
+    /* stuck there anyway; or a halving ends at the floor (floor >= half: as asked before) */
+    if (floor * 4 > cur * 3 || floor >= half)
+        return half;
+    /* a halving leaves room for a step of 3/4 or less down to the floor: where both fit */
+    if (floor * 4 <= half * 3)
+        return half + floor <= room ? half : floor;
+    /* else a step the floor is at most 3/4 of, with room for the floor of the level it is
+     * made from to lie a little above the full mesh's (1/64, and two triangles) */
+    size_t step = floor * 4 / 3 + floor / 64 + 2;
+    return step * 4 <= cur * 3 && step + floor <= room ? step : floor;
+}

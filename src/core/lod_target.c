@@ -199,7 +199,7 @@ bool limen__lod_target_make(limen__lod_target *t, const limen__mesh *m, const ui
 
 /* ------------------------------------------------------------------ a level's hierarchy */
 
-#define TREE_LEAF 4             /* triangles a leaf of limen__lod_tree holds, at most */
+#define TREE_LEAF 8             /* triangles a leaf of limen__lod_tree holds, at most */
 
 /* The nodes tree_node makes over n and over n + 1 triangles (out[0], out[1]): the halves of
  * both are of n / 2 and n / 2 + 1 triangles, so one step a depth. */

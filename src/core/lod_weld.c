@@ -11,6 +11,7 @@
 
 #include "core/lod_weld.h"
 
+#define RIM_FORKS 4             /* forks a path along the charts' edges is followed through */
 #define SIDES_LOOK 64           /* vertices at one position a corner chooses among */
 #define SPLIT_TRIS 262144       /* a source of twice this is simplified in blocks of it */
 
@@ -196,6 +197,172 @@ size_t limen__lod_across_charts(const uint32_t *chart, const uint32_t *idx, size
         across += chart[c[0]] != chart[c[1]] || chart[c[0]] != chart[c[2]];
     }
     return across;
+}
+
+/* The directed edges of n indices (a << 32 | b), sorted, into *out (n of them); false when
+ * out of memory. */
+static bool sorted_edges(const uint32_t *idx, size_t n, uint64_t **out)
+{
+    uint64_t *e = malloc(sizeof *e * (n ? n : 1));
+    if (!e)
+        return false;
+    for (size_t t = 0; t < n / 3; t++)
+        for (int k = 0; k < 3; k++)
+            e[t * 3 + k] = (uint64_t)idx[t * 3 + k] << 32 | idx[t * 3 + (k + 1) % 3];
+    /* radix by 16 bits, four passes: the order needs no comparison function's state */
+    uint64_t *tmp = malloc(sizeof *tmp * (n ? n : 1));
+    size_t *count = malloc(sizeof *count * 65537);
+    if (!tmp || !count) {
+        free(e);
+        free(tmp);
+        free(count);
+        return false;
+    }
+    for (int pass = 0; pass < 4; pass++) {
+        int shift = pass * 16;
+        memset(count, 0, sizeof *count * 65537);
+        for (size_t i = 0; i < n; i++)
+            count[((e[i] >> shift) & 0xffff) + 1]++;
+        for (int b = 0; b < 65536; b++)
+            count[b + 1] += count[b];
+        for (size_t i = 0; i < n; i++)
+            tmp[count[(e[i] >> shift) & 0xffff]++] = e[i];
+        uint64_t *sw = e;
+        e = tmp;
+        tmp = sw;
+    }
+    free(tmp);
+    free(count);
+    *out = e;
+    return true;
+}
+
+static bool edge_in(const uint64_t *e, size_t n, uint64_t key)
+{
+    size_t lo = 0, hi = n;
+    while (lo < hi) {
+        size_t mid = lo + (hi - lo) / 2;
+        if (e[mid] < key)
+            lo = mid + 1;
+        else
+            hi = mid;
+    }
+    return lo < n && e[lo] == key;
+}
+
+bool limen__lod_rims_make(limen__lod_rims *r, const limen__mesh *m, const uint32_t *attr)
+{
+    size_t n = (size_t)m->ntris * 3;
+    uint64_t *e;
+    r->first = calloc((size_t)m->nverts + 2, sizeof *r->first);
+    r->to = NULL;
+    if (!r->first || !sorted_edges(attr, n, &e)) {
+        free(r->first);
+        r->first = NULL;
+        return false;
+    }
+    /* the edges with none back along them (each once), in order of their first vertex:
+     * counted, then placed */
+    for (int pass = 0; pass < 2; pass++) {
+        for (size_t i = 0; i < n; i++) {
+            uint32_t a = (uint32_t)(e[i] >> 32), b = (uint32_t)e[i];
+            if (a == b || (i > 0 && e[i - 1] == e[i]) || edge_in(e, n, (uint64_t)b << 32 | a))
+                continue;
+            if (pass == 0)
+                r->first[a + 2]++;
+            else
+                r->to[r->first[a + 1]++] = b;
+        }
+        if (pass == 0) {
+            for (uint32_t v = 0; v < m->nverts; v++)
+                r->first[v + 2] += r->first[v + 1];
+            r->to = malloc(sizeof *r->to * (r->first[m->nverts + 1] ? r->first[m->nverts + 1] : 1));
+            if (!r->to) {
+                free(e);
+                limen__lod_rims_free(r);
+                return false;
+            }
+        }
+    }
+    /* the placing moved each vertex's start to the next one's: first[v] is v's start now */
+    free(e);
+    return true;
+}
+
+void limen__lod_rims_free(limen__lod_rims *r)
+{
+    free(r->first);
+    free(r->to);
+    r->first = r->to = NULL;
+}
+
+/* The distance from p to the segment a b. */
+static double segment_distance(const float *p, const float *a, const float *b)
+{
+    double ab[3], ap[3], l2 = 0, t = 0, d = 0;
+    for (int k = 0; k < 3; k++) {
+        ab[k] = (double)b[k] - a[k];
+        ap[k] = (double)p[k] - a[k];
+        l2 += ab[k] * ab[k];
+        t += ab[k] * ap[k];
+    }
+    t = l2 > 0 ? fmin(fmax(t / l2, 0), 1) : 0;
+    for (int k = 0; k < 3; k++)
+        d += (ap[k] - t * ab[k]) * (ap[k] - t * ab[k]);
+    return sqrt(d);
+}
+
+/* The largest distance from the segment a b of the vertices along the charts' edges (r)
+ * from a (its edge to x first) to b, *steps of them at most (counted down); where edges
+ * touch on the way (forks), each way on, forks more deep at most; -1 where none gets to
+ * b. */
+static double rim_path(const limen__mesh *m, const limen__lod_rims *r, uint32_t a, uint32_t x,
+                       uint32_t b, int forks, size_t *steps)
+{
+    const float *pa = &m->pos[(size_t)a * 3], *pb = &m->pos[(size_t)b * 3];
+    double far = 0;
+    while (x != b) {
+        uint32_t outs = r->first[x + 1] - r->first[x];
+        if (x == a || *steps == 0 || outs == 0)
+            return -1;
+        (*steps)--;
+        far = fmax(far, segment_distance(&m->pos[(size_t)x * 3], pa, pb));
+        if (outs > 1) {
+            if (forks == 0)
+                return -1;
+            for (uint32_t j = r->first[x]; j < r->first[x + 1]; j++) {
+                double rest = rim_path(m, r, a, r->to[j], b, forks - 1, steps);
+                if (rest >= 0)
+                    return fmax(far, rest);
+            }
+            return -1;
+        }
+        x = r->to[r->first[x]];
+    }
+    return far;
+}
+
+double limen__lod_rim_drift(const limen__mesh *m, const limen__lod_rims *r,
+                            const uint32_t *idx, size_t n)
+{
+    uint64_t *e;
+    if (!sorted_edges(idx, n, &e))
+        return NAN;
+    double drift = 0;
+    for (size_t i = 0; i < n && drift < INFINITY; i++) {
+        uint32_t a = (uint32_t)(e[i] >> 32), b = (uint32_t)e[i];
+        if (a == b || (i > 0 && e[i - 1] == e[i]) || edge_in(e, n, (uint64_t)b << 32 | a))
+            continue;
+        /* the full mesh's path from a along its chart's edge to b (of those from a, where
+         * edges touch there, the one that gets there) */
+        double far = -1;
+        size_t steps = (size_t)m->nverts * 2;
+        for (uint32_t j = r->first[a]; j < r->first[a + 1] && far < 0; j++)
+            far = rim_path(m, r, a, r->to[j], b, RIM_FORKS, &steps);
+        drift = far < 0 ? INFINITY : fmax(drift, far);
+    }
+    free(e);
+    return drift;
 }
 
 void limen__lod_welded_free(limen__lod_welded *pk)

@@ -55,6 +55,27 @@ void limen__lod_charts(const limen__mesh *m, const uint32_t *attr, uint32_t *cha
  * two charts (chart: limen__lod_charts'). */
 size_t limen__lod_across_charts(const uint32_t *chart, const uint32_t *idx, size_t n);
 
+/* Where the charts' edges go in the full mesh m (their seams and borders): per vertex named
+ * by attr (per corner of m, its weld by position and texture coordinates), the vertices next
+ * to it along its chart's edge (the edge's triangle on the left): to[first[v]] up to
+ * to[first[v + 1]] (one, or none off the edges; more where edges touch). */
+typedef struct limen__lod_rims {
+    uint32_t *first, *to;
+} limen__lod_rims;
+
+/* r for m and attr; false when out of memory (nothing left allocated). */
+bool limen__lod_rims_make(limen__lod_rims *r, const limen__mesh *m, const uint32_t *attr);
+void limen__lod_rims_free(limen__lod_rims *r);
+/* How far a level (idx, n indices, each a vertex of attr) moves its charts' edges: each edge
+ * of a chart in the level (a triangle's edge with none back along it) replaces a path along
+ * the full mesh's (r), and the texture of the chart on its left ends at the edge, not the
+ * path: between them it shows texels beyond the chart's own. The largest distance of a
+ * vertex of such a path from its edge (which bounds the distance of every point between
+ * them from the path), INFINITY where an edge follows no such path, NAN when out of
+ * memory. */
+double limen__lod_rim_drift(const limen__mesh *m, const limen__lod_rims *r,
+                            const uint32_t *idx, size_t n);
+
 /* A level within the texture's charts: from src (n indices into the mesh's vertices, NULL:
  * the whole mesh), edge collapses towards want indices over m welded by position (shadow: per
  * corner of m, its weld), each triangle keeping its corners' sides of every seam of the weld
@@ -65,6 +86,14 @@ size_t limen__lod_across_charts(const uint32_t *chart, const uint32_t *idx, size
 size_t limen__lod_simplify_charts(const limen__mesh *m, const uint32_t *shadow,
                                   const uint32_t *attr, const uint32_t *src, size_t n,
                                   size_t want, uint32_t *out, bool *ok);
+
+/* The triangles to ask limen__lod_simplify_charts for, for the level after one of cur
+ * triangles, where the charts allow no fewer than floor (its result asked for none) and
+ * room triangles are left for the levels to come: half of cur, unless the floor would then
+ * lie too close below (above 3/4 of the half: a level refused as stuck), where a step
+ * between is asked for, from which the floor is a level of its own; the floor itself where
+ * the two do not fit in the room. */
+size_t limen__lod_charts_want(size_t cur, size_t floor, size_t room);
 
 /* A big mesh simplified in blocks (core/lod_split.c): its triangles cut into blocks of
  * about block_tris nearby ones, each simplified alone by meshoptimizer towards its share of
