@@ -47,8 +47,6 @@ typedef struct build {
     limen__mesh *m;
     double *centre;             /* per triangle */
     int axes[STACK_MAX];        /* the split axes from the root down to the node being built */
-    const atomic_bool *stop;    /* where set, the build is abandoned (NULL: never) */
-    bool stopped;
 } build;
 
 /* Whether triangle a comes before b in the order a stable sort at every split would leave
@@ -123,11 +121,6 @@ static void tri_box(const limen__mesh *m, uint32_t t, float lo[3], float hi[3])
  * the order of the split above it. Depth is log2 of the count. */
 static void build_node(build *bd, uint32_t at, uint32_t first, uint32_t count, int depth)
 {
-    /* asked now and then (every 4096 nodes): a split near the root takes milliseconds */
-    if (bd->stop && at % 4096 == 0 && atomic_load_explicit(bd->stop, memory_order_relaxed))
-        bd->stopped = true;
-    if (bd->stopped)
-        return;
     limen__mesh *m = bd->m;
     uint32_t *t = &m->tri_order[first];
     limen__tri_node *n = &m->bvh[at];
@@ -190,7 +183,7 @@ static void bvh_nodes(uint32_t n, uint64_t out[2])
 /* Nodes are claimed as they are made, a left child in the slot after its parent; as many as
  * bvh_nodes counts (not the 2 * triangles a hierarchy may have at most, which at 1.6M
  * triangles held 120 MB more while it was built). */
-static bool hierarchy_make(limen__mesh *m, const atomic_bool *stop)
+static bool hierarchy_make(limen__mesh *m)
 {
     uint64_t nodes[2];
     bvh_nodes(m->ntris, nodes);
@@ -214,17 +207,10 @@ static bool hierarchy_make(limen__mesh *m, const atomic_bool *stop)
             centre[t * 3 + a] = c / 3.0;
         }
     }
-    build bd = { .m = m, .centre = centre, .stop = stop };
+    build bd = { .m = m, .centre = centre };
     m->nbvh = 1;
     build_node(&bd, 0, 0, m->ntris, 0);
     free(centre);
-    if (bd.stopped) {
-        free(m->bvh);
-        free(m->tri_order);
-        m->bvh = NULL;
-        m->tri_order = NULL;
-        return false;
-    }
     return true;
 }
 
@@ -239,12 +225,7 @@ static size_t nodes_unneeded(uint32_t ntris)
 
 bool limen__mesh_bvh(limen__mesh *m)
 {
-    return limen__mesh_bvh_unless(m, NULL);
-}
-
-bool limen__mesh_bvh_unless(limen__mesh *m, const atomic_bool *stop)
-{
-    if (!hierarchy_make(m, stop))
+    if (!hierarchy_make(m))
         return false;
     m->bytes -= nodes_unneeded(m->ntris);
     atomic_store(&m->bvh_ready, true);
@@ -262,7 +243,7 @@ bool limen__mesh_hierarchy(const limen__mesh *cm)
         return true;
     pthread_mutex_lock(&hierarchy_lock);
     bool ok = atomic_load_explicit(&m->bvh_ready, memory_order_relaxed) ||
-              hierarchy_make(m, NULL);
+              hierarchy_make(m);
     if (ok)
         atomic_store_explicit(&m->bvh_ready, true, memory_order_release);
     pthread_mutex_unlock(&hierarchy_lock);

@@ -85,13 +85,11 @@ size_t limen__mesh_bytes(uint64_t nverts, uint64_t ntris, bool uvs);
  * Uses pos, idx, ntris; lowers bytes by the nodes it did not need. For a mesh of its own
  * (a level's), not a scene's asset, whose hierarchy limen__mesh_hierarchy makes. */
 bool limen__mesh_bvh(limen__mesh *m);
-/* As limen__mesh_bvh, but abandoned (false, nothing made) once *stop is set: for the
- * levels' thread, whose mesh may go while it is made. */
-bool limen__mesh_bvh_unless(limen__mesh *m, const atomic_bool *stop);
 /* A scene's mesh gets its hierarchy when something first needs it (a ray, a collision; not
  * the measuring of its levels, which makes its own), not when it is loaded: the first
- * frame of a big mesh does not wait for it. Makes it where it is not made yet, once, from any thread (the others wait);
- * false when out of memory (nothing then is made). Its bytes are counted from the start. */
+ * frame of a big mesh does not wait for it. Makes it where it is not made yet, once, from
+ * any thread (the others wait); false when out of memory (nothing then is made). Its bytes
+ * are counted from the start. */
 bool limen__mesh_hierarchy(const limen__mesh *m);
 /* Tests only: whether mesh node n's hierarchy is made (false for a node without a mesh). */
 bool limen__mesh_hierarchy_made(limen_scene *s, limen_node n);
