@@ -72,6 +72,10 @@ void limen__lod_target_free(limen__lod_target *t)
     free(t->ball);
     free(t->at_vertex);
     free(t->across);
+    /* freed twice is harmless: a failed making frees, and its caller may free again */
+    t->ball = NULL;
+    t->at_vertex = NULL;
+    t->across = NULL;
 }
 
 /* The vertex at corner i of t's mesh, welded where weld is given. */
