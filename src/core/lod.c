@@ -420,20 +420,6 @@ static bool seg_apart2(const double a[2], const double b[2], const double t[3][2
     return (s0 >= 0 && s1 >= 0 && s2 >= 0) || (s0 <= 0 && s1 <= 0 && s2 <= 0);
 }
 
-/* A bound from laying the piece over the other surface, seen along the piece's normal, for
- * a piece of any size (cover_bound's argument needs no two triangles to overlap, which it
- * checks pair by pair; this one needs no such check). S: the triangles of sd->to met by a
- * walk across edges from the corners' own whose projections meet the piece's inside. Where
- * every edge of a triangle of S is shared (run the opposite way) with another of S, or lies
- * outside the piece as seen, or has no length, S's border (as a chain of edges) stays
- * outside the piece, so the number of times S covers a point of the piece, counting a
- * triangle seen turned over (clockwise) as -1, is the same at every point of the piece:
- * their signed clipped areas add up to that number times the piece's. Where it is at least
- * 1, every point of the piece lies under a triangle of S seen counter-clockwise, straight
- * along the normal, no farther than the largest offset of such a triangle over its clipped
- * part (the offset is linear over each). The offset is checked against `goal` as the
- * triangles come: INFINITY at once where one exceeds it, or where S is not closed off
- * within LAY_LOOK triangles. */
 /* A vertex of sd->to as lay_bound's piece sees it: where (t) and how high (h) along the
  * piece's normal, from its first corner, and (bits 0-2) on or inside the line of each edge
  * of the piece, (bits 3-5) on or outside it; LAY_SIDES where those bits are set. Each vertex
