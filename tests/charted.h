@@ -13,6 +13,7 @@
 #define LIMEN_TESTS_CHARTED_H
 
 #include <math.h>
+#include <stdbool.h>
 #include <stddef.h>
 #include <stdint.h>
 #include <stdlib.h>
@@ -261,6 +262,39 @@ static inline int charted_ells(int n, int cell, int *square_chart)
                     }
             }
     return charts;
+}
+
+/* A charted ball's arrays, made and freed together: nv vertices (positions, normals,
+ * texture coordinates, each one's chart) and nt triangles. charted_arrays_make is false
+ * where nv is not positive or memory runs out (what was made is freed by
+ * charted_arrays_free all the same). */
+typedef struct charted_arrays {
+    float *pos, *nrm, *uv;
+    uint32_t *idx;
+    int *chart;
+} charted_arrays;
+
+static inline bool charted_arrays_make(charted_arrays *a, int nv, int nt)
+{
+    *a = (charted_arrays){ 0 };
+    if (nv <= 0 || nt <= 0)
+        return false;
+    a->pos = malloc(sizeof(float) * 3 * (size_t)nv);
+    a->nrm = malloc(sizeof(float) * 3 * (size_t)nv);
+    a->uv = malloc(sizeof(float) * 2 * (size_t)nv);
+    a->idx = malloc(sizeof(uint32_t) * 3 * (size_t)nt);
+    a->chart = malloc(sizeof(int) * (size_t)nv);
+    return a->pos && a->nrm && a->uv && a->idx && a->chart;
+}
+
+static inline void charted_arrays_free(charted_arrays *a)
+{
+    free(a->pos);
+    free(a->nrm);
+    free(a->uv);
+    free(a->idx);
+    free(a->chart);
+    *a = (charted_arrays){ 0 };
 }
 
 #endif

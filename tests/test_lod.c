@@ -924,32 +924,32 @@ static void chart_levels(const limen_mesh_data *data, const int *chart, int min_
     close_scene(&f);
 }
 
+/* chart_levels over a's arrays (tests/charted.h). */
+static void arrays_levels(const charted_arrays *a, int nv, int nt, int min_levels,
+                          int fraction, bool positive, const char *what)
+{
+    chart_levels(&(limen_mesh_data){ .positions = a->pos, .normals = a->nrm, .uvs = a->uv,
+                                     .vertex_count = nv, .indices = a->idx,
+                                     .triangle_count = nt },
+                 a->chart, min_levels, fraction, positive, what);
+}
+
 static void asset_levels(int tile, int min_levels)
 {
     enum { N = 40, NT = 5 * N * N * 2 };
     int nv = charted_verts(N, tile);
-    float *pos = malloc(sizeof(float) * 3 * nv), *nrm = malloc(sizeof(float) * 3 * nv),
-          *uv = malloc(sizeof(float) * 2 * nv);
-    uint32_t *idx = malloc(sizeof(uint32_t) * 3 * NT);
-    int *chart = malloc(sizeof(int) * nv);
-    if (pos && nrm && uv && idx && chart) {
-        charted_ball(N, tile, pos, nrm, uv, idx);
+    charted_arrays a;
+    if (charted_arrays_make(&a, nv, NT)) {
+        charted_ball(N, tile, a.pos, a.nrm, a.uv, a.idx);
         for (int v = 0; v < nv; v++)
-            chart[v] = charted_chart(tile, (uint32_t)v);
+            a.chart[v] = charted_chart(tile, (uint32_t)v);
         char what[32];
         snprintf(what, sizeof what, "charts of %d", tile);
-        chart_levels(&(limen_mesh_data){ .positions = pos, .normals = nrm, .uvs = uv,
-                                         .vertex_count = nv, .indices = idx,
-                                         .triangle_count = NT },
-                     chart, min_levels, min_levels >= 5 ? 16 : 0, true, what);
+        arrays_levels(&a, nv, NT, min_levels, min_levels >= 5 ? 16 : 0, true, what);
     } else {
         CHECK(!"out of memory");
     }
-    free(pos);
-    free(nrm);
-    free(uv);
-    free(idx);
-    free(chart);
+    charted_arrays_free(&a);
 }
 
 /* One chart a face; and 500 charts of 4 x 4 squares, whose corners (where four charts meet)
@@ -1654,24 +1654,14 @@ static void test_brick_charts(void)
 {
     enum { N = 40, BW = 8, BH = 4, NT = 5 * N * N * 2 };
     int nv = charted_bricks(N, BW, BH, NULL, NULL, NULL, NULL, NULL);
-    float *pos = malloc(sizeof(float) * 3 * nv), *nrm = malloc(sizeof(float) * 3 * nv),
-          *uv = malloc(sizeof(float) * 2 * nv);
-    uint32_t *idx = malloc(sizeof(uint32_t) * 3 * NT);
-    int *chart = malloc(sizeof(int) * nv);
-    if (pos && nrm && uv && idx && chart) {
-        CHECK(charted_bricks(N, BW, BH, pos, nrm, uv, idx, chart) == nv);
-        chart_levels(&(limen_mesh_data){ .positions = pos, .normals = nrm, .uvs = uv,
-                                         .vertex_count = nv, .indices = idx,
-                                         .triangle_count = NT },
-                     chart, 5, 16, false, "bricks");
+    charted_arrays a;
+    if (charted_arrays_make(&a, nv, NT)) {
+        CHECK(charted_bricks(N, BW, BH, a.pos, a.nrm, a.uv, a.idx, a.chart) == nv);
+        arrays_levels(&a, nv, NT, 5, 16, false, "bricks");
     } else {
         CHECK(!"out of memory");
     }
-    free(pos);
-    free(nrm);
-    free(uv);
-    free(idx);
-    free(chart);
+    charted_arrays_free(&a);
 }
 
 /* Concave charts (tests/charted.h charted_ells: each 2 x 2 block of 4 x 4 squares an L of
@@ -1688,26 +1678,15 @@ static void test_concave_charts(void)
     int nv = square ? (charted_ells(N, 4, square), charted_layout(N, square, NULL, NULL, NULL,
                                                                     NULL, NULL))
                     : -1;
-    float *pos = nv > 0 ? malloc(sizeof(float) * 3 * nv) : NULL,
-          *nrm = nv > 0 ? malloc(sizeof(float) * 3 * nv) : NULL,
-          *uv = nv > 0 ? malloc(sizeof(float) * 2 * nv) : NULL;
-    uint32_t *idx = malloc(sizeof(uint32_t) * 3 * NT);
-    int *chart = nv > 0 ? malloc(sizeof(int) * nv) : NULL;
-    if (pos && nrm && uv && idx && chart) {
-        CHECK(charted_layout(N, square, pos, nrm, uv, idx, chart) == nv);
-        chart_levels(&(limen_mesh_data){ .positions = pos, .normals = nrm, .uvs = uv,
-                                         .vertex_count = nv, .indices = idx,
-                                         .triangle_count = NT },
-                     chart, 5, 16, false, "concave");
+    charted_arrays a;
+    if (charted_arrays_make(&a, nv, NT)) {
+        CHECK(charted_layout(N, square, a.pos, a.nrm, a.uv, a.idx, a.chart) == nv);
+        arrays_levels(&a, nv, NT, 5, 16, false, "concave");
     } else {
         CHECK(!"out of memory");
     }
     free(square);
-    free(pos);
-    free(nrm);
-    free(uv);
-    free(idx);
-    free(chart);
+    charted_arrays_free(&a);
 }
 
 /* A ball of 980 charts (3 x 3 squares each, four meeting at every corner, 17,640
@@ -1720,26 +1699,16 @@ static void test_many_charts(void)
 {
     enum { N = 42, TILE = 3, NT = 5 * N * N * 2, CHARTS = 5 * (N / TILE) * (N / TILE) };
     int nv = charted_verts(N, TILE);
-    float *pos = malloc(sizeof(float) * 3 * nv), *nrm = malloc(sizeof(float) * 3 * nv),
-          *uv = malloc(sizeof(float) * 2 * nv);
-    uint32_t *idx = malloc(sizeof(uint32_t) * 3 * NT);
-    int *chart = malloc(sizeof(int) * nv);
-    if (pos && nrm && uv && idx && chart) {
-        charted_ball(N, TILE, pos, nrm, uv, idx);
+    charted_arrays a;
+    if (charted_arrays_make(&a, nv, NT)) {
+        charted_ball(N, TILE, a.pos, a.nrm, a.uv, a.idx);
         for (int v = 0; v < nv; v++)
-            chart[v] = charted_chart(TILE, (uint32_t)v);
-        chart_levels(&(limen_mesh_data){ .positions = pos, .normals = nrm, .uvs = uv,
-                                         .vertex_count = nv, .indices = idx,
-                                         .triangle_count = NT },
-                     chart, 4, NT / (2 * CHARTS), false, "980 charts");
+            a.chart[v] = charted_chart(TILE, (uint32_t)v);
+        arrays_levels(&a, nv, NT, 4, NT / (2 * CHARTS), false, "980 charts");
     } else {
         CHECK(!"out of memory");
     }
-    free(pos);
-    free(nrm);
-    free(uv);
-    free(idx);
-    free(chart);
+    charted_arrays_free(&a);
 }
 
 /* A ball where every square is a chart of its own (8,000 charts): the charts allow no

@@ -1089,25 +1089,18 @@ static void lod_layout_levels(const char *name, int n, const int *square, bool n
         charts = 0;
     for (int q = 0; q < 5 * n * n; q++)
         charts = square[q] + 1 > charts ? square[q] + 1 : charts;
-    float *pos = nv > 0 ? malloc(sizeof(float) * 3 * nv) : NULL,
-          *nrm = nv > 0 ? malloc(sizeof(float) * 3 * nv) : NULL,
-          *uv = nv > 0 ? malloc(sizeof(float) * 2 * nv) : NULL;
-    uint32_t *idx = malloc(sizeof(uint32_t) * 3 * nt);
-    int *chart = nv > 0 ? malloc(sizeof(int) * nv) : NULL, *colour = malloc(sizeof(int) * charts);
-    if (pos && nrm && uv && idx && chart && colour &&
-        charted_layout(n, square, pos, nrm, uv, idx, chart) == nv &&
-        lod_colours(pos, chart, nv, charts, colour))
+    charted_arrays a;
+    int *colour = malloc(sizeof(int) * charts);
+    if (charted_arrays_make(&a, nv, nt) && colour &&
+        charted_layout(n, square, a.pos, a.nrm, a.uv, a.idx, a.chart) == nv &&
+        lod_colours(a.pos, a.chart, nv, charts, colour))
         lod_asset_levels(&(lod_asset){ .name = name, .nv = nv, .nt = nt, .charts = charts,
-                                       .cell = 32, .pos = pos, .nrm = nrm, .uv = uv,
-                                       .idx = idx, .colour = colour, .notches = notches },
+                                       .cell = 32, .pos = a.pos, .nrm = a.nrm, .uv = a.uv,
+                                       .idx = a.idx, .colour = colour, .notches = notches },
                          min_levels, fraction);
     else
         CHECK(!"out of memory");
-    free(pos);
-    free(nrm);
-    free(uv);
-    free(idx);
-    free(chart);
+    charted_arrays_free(&a);
     free(colour);
 }
 
@@ -1140,28 +1133,22 @@ static void test_lod_bricks(void)
 {
     enum { N = 40, NT = 5 * N * N * 2 };
     int nv = charted_bricks(N, 8, 4, NULL, NULL, NULL, NULL, NULL), charts = 0;
-    float *pos = malloc(sizeof(float) * 3 * nv), *nrm = malloc(sizeof(float) * 3 * nv),
-          *uv = malloc(sizeof(float) * 2 * nv);
-    uint32_t *idx = malloc(sizeof(uint32_t) * 3 * NT);
-    int *chart = malloc(sizeof(int) * nv), *colour = NULL;
-    if (pos && nrm && uv && idx && chart &&
-        charted_bricks(N, 8, 4, pos, nrm, uv, idx, chart) == nv) {
+    charted_arrays a;
+    int *colour = NULL;
+    if (charted_arrays_make(&a, nv, NT) &&
+        charted_bricks(N, 8, 4, a.pos, a.nrm, a.uv, a.idx, a.chart) == nv) {
         for (int v = 0; v < nv; v++)
-            charts = chart[v] + 1 > charts ? chart[v] + 1 : charts;
+            charts = a.chart[v] + 1 > charts ? a.chart[v] + 1 : charts;
         colour = malloc(sizeof(int) * charts);
     }
-    if (colour && lod_colours(pos, chart, nv, charts, colour))
+    if (colour && lod_colours(a.pos, a.chart, nv, charts, colour))
         lod_asset_levels(&(lod_asset){ .name = "bricks", .nv = nv, .nt = NT, .charts = charts,
-                                       .cell = 32, .pos = pos, .nrm = nrm, .uv = uv,
-                                       .idx = idx, .colour = colour },
+                                       .cell = 32, .pos = a.pos, .nrm = a.nrm, .uv = a.uv,
+                                       .idx = a.idx, .colour = colour },
                          5, 16);
     else
         CHECK(!"out of memory");
-    free(pos);
-    free(nrm);
-    free(uv);
-    free(idx);
-    free(chart);
+    charted_arrays_free(&a);
     free(colour);
 }
 
