@@ -1037,11 +1037,27 @@ void limen__lod_set_measure_threads(bool on)
     measure_threads = on;
 }
 
+/* The level's side's corners (against the full mesh, which needs nothing of the level's
+ * own surface), on a thread of their own while the level's surface is made. */
+typedef struct corners_job {
+    side *sd;
+    bool ok;
+} corners_job;
+
+static void *corners_run(void *arg)
+{
+    corners_job *j = arg;
+    j->ok = side_corners(j->sd);
+    return NULL;
+}
+
 /* A bound on the two-sided distance between a level (idx, a mesh over the full mesh's
  * vertices, welded: per corner of the full mesh, weld names its vertex at the same position)
  * and the full mesh, or floor where the distance is no more than floor; NAN when out of
- * memory or stopped (stop, where not NULL, set). The pieces are bounded on MEASURERS
- * threads (in turn on this one where no thread starts): the same answer either way. */
+ * memory or stopped (stop, where not NULL, set). The level's corners are found beside the
+ * making of its surface and the full mesh's corners, each side raising a floor of its own
+ * (the larger then taken), and the pieces are bounded on MEASURERS threads (in turn on this
+ * one where no thread starts): the same answer either way. */
 static double level_error(const target *full, const uint32_t *weld, const uint32_t *idx,
                           uint32_t ntris, double floor, const atomic_bool *stop)
 {
@@ -1050,42 +1066,52 @@ static double level_error(const target *full, const uint32_t *weld, const uint32
                        .idx = (uint32_t *)idx };
     target level = { 0 };
     double e = NAN;
-    if (limen__lod_tree(&lv) && limen__lod_target_make(&level, &lv, NULL)) {
-        double diag = 0;
-        for (int a = 0; a < 3; a++)
-            diag += (m->hi[a] - m->lo[a]) * (m->hi[a] - m->lo[a]);
-        double tol = 1e-6 * sqrt(diag);
-        /* both sides share the floor (what one has found, the other need not beat), and
-         * both find their corners' distances before cutting */
-        double upper = 0;
-        side there = { .from = &lv, .to = full, .floor = &floor, .upper = &upper,
-                       .abs_tol = tol, .stop = stop };
-        side back = { .from = m, .to = &level, .weld = weld, .floor = &floor,
-                      .upper = &upper, .abs_tol = tol, .stop = stop };
-        if (side_corners(&there) && side_corners(&back)) {
-            measurer w[MEASURERS];
-            pthread_t th[MEASURERS];
-            bool started[MEASURERS] = { false };
-            for (int i = 0; i < MEASURERS; i++) {
-                w[i] = (measurer){ .there = there, .back = back, .floor = floor,
-                                   .upper = upper, .share = i };
-                /* a thread for a small mesh costs more than it saves */
-                if (i > 0 && measure_threads && m->ntris >= THREAD_TRIS)
-                    started[i] = pthread_create(&th[i], NULL, measure, &w[i]) == 0;
-            }
-            measure(&w[0]);
-            e = w[0].e;
-            for (int i = 1; i < MEASURERS; i++) {
-                if (started[i])
-                    pthread_join(th[i], NULL);
-                else
-                    measure(&w[i]);
-                e = isnan(e) || isnan(w[i].e) ? NAN : greater(e, w[i].e);
-            }
+    double diag = 0;
+    for (int a = 0; a < 3; a++)
+        diag += (m->hi[a] - m->lo[a]) * (m->hi[a] - m->lo[a]);
+    double tol = 1e-6 * sqrt(diag);
+    /* both sides share the floor (what one has found, the other need not beat) once both
+     * have their corners' distances; while they find them, each its own */
+    double upper = 0, floor_there = floor, floor_back = floor;
+    side there = { .from = &lv, .to = full, .floor = &floor_there, .upper = &upper,
+                   .abs_tol = tol, .stop = stop };
+    side back = { .from = m, .to = &level, .weld = weld, .floor = &floor_back,
+                  .upper = &upper, .abs_tol = tol, .stop = stop };
+    corners_job cj = { .sd = &there };
+    pthread_t cth;
+    bool beside = measure_threads && m->ntris >= THREAD_TRIS &&
+                  pthread_create(&cth, NULL, corners_run, &cj) == 0;
+    bool made = limen__lod_tree(&lv) && limen__lod_target_make(&level, &lv, NULL);
+    bool ok = made && side_corners(&back);
+    if (beside)
+        pthread_join(cth, NULL);
+    else
+        corners_run(&cj);
+    if (ok && cj.ok) {
+        floor = greater(floor, greater(floor_there, floor_back));
+        there.floor = back.floor = &floor;
+        measurer w[MEASURERS];
+        pthread_t th[MEASURERS];
+        bool started[MEASURERS] = { false };
+        for (int i = 0; i < MEASURERS; i++) {
+            w[i] = (measurer){ .there = there, .back = back, .floor = floor, .upper = upper,
+                               .share = i };
+            /* a thread for a small mesh costs more than it saves */
+            if (i > 0 && measure_threads && m->ntris >= THREAD_TRIS)
+                started[i] = pthread_create(&th[i], NULL, measure, &w[i]) == 0;
         }
-        free(there.pts);
-        free(back.pts);
+        measure(&w[0]);
+        e = w[0].e;
+        for (int i = 1; i < MEASURERS; i++) {
+            if (started[i])
+                pthread_join(th[i], NULL);
+            else
+                measure(&w[i]);
+            e = isnan(e) || isnan(w[i].e) ? NAN : greater(e, w[i].e);
+        }
     }
+    free(there.pts);
+    free(back.pts);
     limen__lod_target_free(&level);
     free(lv.bvh);
     free(lv.tri_order);
