@@ -872,13 +872,17 @@ static void test_degenerate(void)
 
 /* ------------------------------------------------------------------ assets */
 
-/* A textured asset of 16,000 triangles, as an exporter makes one (tests/charted.h): texture
- * charts of tile x tile squares, so seams along every edge between them (one position, two
- * texture coordinates), and an open side (a border). The seams and the border do not stop
- * the simplifier: at least min_levels levels (five or more: the coarsest at most 1/16 of
- * the triangles), each with an error that bounds a brute force's largest distance. No
- * triangle of any level takes its corners from two charts: the texture is not smeared
- * across a seam, each corner's texture coordinate is its own position's on the full mesh. */
+/* How many of a level's triangles have corners of two charts (chart: per vertex). */
+static int level_across(const limen_mesh_lod *lv, const int *chart)
+{
+    int across = 0;
+    for (int t = 0; t < lv->triangle_count; t++) {
+        const uint32_t *c = &lv->indices[t * 3];
+        across += chart[c[0]] != chart[c[1]] || chart[c[0]] != chart[c[2]];
+    }
+    return across;
+}
+
 /* The levels of a textured mesh (data, each vertex in chart[v], what: its name in messages):
  * at least min_levels, the coarsest at most 1/fraction of the triangles where fraction > 0,
  * no level triangle across charts, each level's error at least the largest distance a
@@ -899,11 +903,7 @@ static void chart_levels(const limen_mesh_data *data, const int *chart, int min_
                   "%s: %d levels, the coarsest %d triangles", what, g->lod_count, last);
         for (int k = 1; k < g->lod_count; k++) {
             const limen_mesh_lod *lv = &g->lods[k];
-            int across = 0;
-            for (int t = 0; t < lv->triangle_count; t++) {
-                const uint32_t *c = &lv->indices[t * 3];
-                across += chart[c[0]] != chart[c[1]] || chart[c[0]] != chart[c[2]];
-            }
+            int across = level_across(lv, chart);
             CHECK_MSG(across == 0, "%s, level %d: %d of %d triangles across charts", what, k,
                       across, lv->triangle_count);
             if (getenv("LIMEN_TEST_VERBOSE"))
@@ -934,6 +934,13 @@ static void arrays_levels(const charted_arrays *a, int nv, int nt, int min_level
                  a->chart, min_levels, fraction, positive, what);
 }
 
+/* A textured asset of 16,000 triangles, as an exporter makes one (tests/charted.h): texture
+ * charts of tile x tile squares, so seams along every edge between them (one position, two
+ * texture coordinates), and an open side (a border). The seams and the border do not stop
+ * the simplifier: at least min_levels levels (five or more: the coarsest at most 1/16 of
+ * the triangles), each with an error that bounds a brute force's largest distance. No
+ * triangle of any level takes its corners from two charts: the texture is not smeared
+ * across a seam, each corner's texture coordinate is its own position's on the full mesh. */
 static void asset_levels(int tile, int min_levels)
 {
     enum { N = 40, NT = 5 * N * N * 2 };
@@ -975,11 +982,14 @@ static void test_part_seams(void)
     float *pos = malloc(sizeof(float) * 3 * NV), *nrm = malloc(sizeof(float) * 3 * NV),
           *uv = malloc(sizeof(float) * 2 * NV);
     uint32_t *idx = malloc(sizeof(uint32_t) * 3 * NT);
-    if (!pos || !nrm || !uv || !idx) {
+    int *part = malloc(sizeof(int) * NV);     /* per vertex, its face: its part */
+    if (!pos || !nrm || !uv || !idx || !part) {
         CHECK(!"out of memory");
         goto done;
     }
     charted_ball(N, N, pos, nrm, uv, idx);
+    for (int v = 0; v < NV; v++)
+        part[v] = charted_chart(N, (uint32_t)v);
     for (int v = 0; v < NV; v++) {      /* the texture laid over the ball from the front */
         uv[v * 2] = 0.5f + 0.5f * pos[v * 3];
         uv[v * 2 + 1] = 0.5f + 0.5f * pos[v * 3 + 1];
@@ -1004,12 +1014,7 @@ static void test_part_seams(void)
         CHECK_MSG(g->lod_count >= 5, "%d levels", g->lod_count);
         for (int k = 1; k < g->lod_count; k++) {
             const limen_mesh_lod *lv = &g->lods[k];
-            int mixed = 0;
-            for (int t = 0; t < lv->triangle_count; t++) {
-                int c = charted_chart(N, lv->indices[t * 3]);
-                mixed += charted_chart(N, lv->indices[t * 3 + 1]) != c ||
-                         charted_chart(N, lv->indices[t * 3 + 2]) != c;
-            }
+            int mixed = level_across(lv, part);
             /* the simplifier keeps them apart; the coarsest, clustered, may not */
             CHECK_MSG(mixed == 0 || lv->triangle_count * 32 < NT,
                       "level %d: %d of %d triangles across parts", k, mixed, lv->triangle_count);
@@ -1021,6 +1026,7 @@ done:
     free(nrm);
     free(uv);
     free(idx);
+    free(part);
 }
 
 /* ------------------------------------------------------------------ the cache */
@@ -1602,7 +1608,8 @@ static void test_textured_levels_in_charts(void)
     const limen_mesh_geometry *g = d ? d->mesh : NULL;
     uint32_t *up = g ? malloc(sizeof *up * g->vertex_count) : NULL,
              *order = g ? malloc(sizeof *order * g->vertex_count) : NULL;
-    if (!g || !g->uvs || !up || !order) {
+    int *chart = g ? malloc(sizeof *chart * g->vertex_count) : NULL;
+    if (!g || !g->uvs || !up || !order || !chart) {
         CHECK(!"no textured mesh, or no memory");
         goto done;
     }
@@ -1623,20 +1630,18 @@ static void test_textured_levels_in_charts(void)
     int last = g->lods[g->lod_count - 1].triangle_count;
     CHECK_MSG(g->lod_count >= 6 && last * 20 <= g->triangle_count, "%d levels, the coarsest %d "
               "triangles of %d", g->lod_count, last, g->triangle_count);
+    for (int v = 0; v < nv; v++)
+        chart[v] = (int)chart_of(up, (uint32_t)v);
     for (int k = 1; k < g->lod_count; k++) {
         const limen_mesh_lod *lv = &g->lods[k];
-        int across = 0;
-        for (int t = 0; t < lv->triangle_count; t++) {
-            uint32_t c = chart_of(up, lv->indices[t * 3]);
-            across += chart_of(up, lv->indices[t * 3 + 1]) != c ||
-                      chart_of(up, lv->indices[t * 3 + 2]) != c;
-        }
+        int across = level_across(lv, chart);
         CHECK_MSG(across == 0, "level %d: %d of %d triangles across charts", k, across,
                   lv->triangle_count);
     }
 done:
     free(up);
     free(order);
+    free(chart);
     close_scene(&f);
 }
 
