@@ -10,8 +10,7 @@
 #define STACK_MAX 64
 #define WALK_MAX 64             /* steps of a walk over the surface */
 
-/* Squared distance from p to the segment ab. */
-static double seg_d2(const double p[3], const double a[3], const double b[3])
+double limen__seg_d2(const double p[3], const double a[3], const double b[3])
 {
     double ab[3], ap[3];
     limen__sub3(b, a, ab);
@@ -48,14 +47,15 @@ double limen__tri_d2(const double p[3], const double a[3], const double b[3], co
         return limen__dot3(cp, cp);
     double va = d3 * d6 - d5 * d4, vb = d5 * d2 - d1 * d6, vc = d1 * d4 - d3 * d2;
     if (vc <= 0 && d1 >= 0 && d3 <= 0)
-        return seg_d2(p, a, b);
+        return limen__seg_d2(p, a, b);
     if (vb <= 0 && d2 >= 0 && d6 <= 0)
-        return seg_d2(p, a, c);
+        return limen__seg_d2(p, a, c);
     if (va <= 0 && d4 - d3 >= 0 && d5 - d6 >= 0)
-        return seg_d2(p, b, c);
+        return limen__seg_d2(p, b, c);
     double sum = va + vb + vc;
     if (!(sum > 0)) {
-        double ab2 = seg_d2(p, a, b), bc2 = seg_d2(p, b, c), ca2 = seg_d2(p, c, a);
+        double ab2 = limen__seg_d2(p, a, b), bc2 = limen__seg_d2(p, b, c),
+               ca2 = limen__seg_d2(p, c, a);
         double m = ab2 < bc2 ? ab2 : bc2;
         return m < ca2 ? m : ca2;
     }

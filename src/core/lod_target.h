@@ -31,6 +31,8 @@ static inline double limen__dot3(const double a[3], const double b[3])
     return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
 }
 
+/* Squared distance from p to the segment ab. */
+double limen__seg_d2(const double p[3], const double a[3], const double b[3]);
 /* Squared distance from p to the triangle abc. */
 double limen__tri_d2(const double p[3], const double a[3], const double b[3], const double c[3]);
 /* t over m's triangles and hierarchy (which it must outlive); weld, where not NULL: per

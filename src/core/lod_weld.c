@@ -9,6 +9,7 @@
 
 #include <meshoptimizer.h>
 
+#include "core/lod_target.h"
 #include "core/lod_weld.h"
 
 #define RIM_FORKS 4             /* forks a path along the charts' edges is followed through */
@@ -301,20 +302,16 @@ void limen__lod_rims_free(limen__lod_rims *r)
     r->first = r->to = NULL;
 }
 
-/* The distance from p to the segment a b. */
+/* The distance from p to the segment a b (the mesh's floats). */
 static double segment_distance(const float *p, const float *a, const float *b)
 {
-    double ab[3], ap[3], l2 = 0, t = 0, d = 0;
+    double dp[3], da[3], db[3];
     for (int k = 0; k < 3; k++) {
-        ab[k] = (double)b[k] - a[k];
-        ap[k] = (double)p[k] - a[k];
-        l2 += ab[k] * ab[k];
-        t += ab[k] * ap[k];
+        dp[k] = p[k];
+        da[k] = a[k];
+        db[k] = b[k];
     }
-    t = l2 > 0 ? fmin(fmax(t / l2, 0), 1) : 0;
-    for (int k = 0; k < 3; k++)
-        d += (ap[k] - t * ab[k]) * (ap[k] - t * ab[k]);
-    return sqrt(d);
+    return sqrt(limen__seg_d2(dp, da, db));
 }
 
 /* The largest distance from the segment a b of the vertices along the charts' edges (r)
