@@ -256,6 +256,14 @@ static bool edge_in(const uint64_t *e, size_t n, uint64_t key)
     return lo < n && e[lo] == key;
 }
 
+/* Whether e[i] (of n sorted directed edges) is an edge of the border: it has a length, it
+ * is the first of its copies, and no edge runs back along it. */
+static bool border_edge(const uint64_t *e, size_t n, size_t i)
+{
+    uint32_t a = (uint32_t)(e[i] >> 32), b = (uint32_t)e[i];
+    return a != b && !(i > 0 && e[i - 1] == e[i]) && !edge_in(e, n, (uint64_t)b << 32 | a);
+}
+
 bool limen__lod_rims_make(limen__lod_rims *r, const limen__mesh *m, const uint32_t *attr)
 {
     size_t n = (size_t)m->ntris * 3;
@@ -271,9 +279,9 @@ bool limen__lod_rims_make(limen__lod_rims *r, const limen__mesh *m, const uint32
      * counted, then placed */
     for (int pass = 0; pass < 2; pass++) {
         for (size_t i = 0; i < n; i++) {
-            uint32_t a = (uint32_t)(e[i] >> 32), b = (uint32_t)e[i];
-            if (a == b || (i > 0 && e[i - 1] == e[i]) || edge_in(e, n, (uint64_t)b << 32 | a))
+            if (!border_edge(e, n, i))
                 continue;
+            uint32_t a = (uint32_t)(e[i] >> 32), b = (uint32_t)e[i];
             if (pass == 0)
                 r->first[a + 2]++;
             else
@@ -352,9 +360,9 @@ double limen__lod_rim_drift(const limen__mesh *m, const limen__lod_rims *r,
         return NAN;
     double drift = 0;
     for (size_t i = 0; i < n && drift < INFINITY; i++) {
-        uint32_t a = (uint32_t)(e[i] >> 32), b = (uint32_t)e[i];
-        if (a == b || (i > 0 && e[i - 1] == e[i]) || edge_in(e, n, (uint64_t)b << 32 | a))
+        if (!border_edge(e, n, i))
             continue;
+        uint32_t a = (uint32_t)(e[i] >> 32), b = (uint32_t)e[i];
         /* the full mesh's path from a along its chart's edge to b (of those from a, where
          * edges touch there, the one that gets there) */
         double far = -1;
