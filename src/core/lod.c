@@ -1658,6 +1658,27 @@ static bool lods_make(const limen__mesh *m, const atomic_bool *stop, made *out)
             nlods = k;
             break;
         }
+        /* seams move along themselves, and a chart shows its texture up to the level's
+         * edge, not the full mesh's: where the seam bends (a concave chart's corner, a
+         * curved seam), beyond its own texels. Within the charts, the levels end before the
+         * first where that is farther than its bound; meshoptimizer's levels (which are
+         * not made down to a floor) take it into their bound. Where a chart's edge follows
+         * no path of the full mesh's (an infinite drift), the levels end here, unmeasured */
+        double drift = 0;
+        if (chart) {
+            drift = rims.first || limen__lod_rims_make(&rims, m, attr)
+                        ? limen__lod_rim_drift(m, &rims, store + at[k],
+                                               (size_t)lods[k].triangle_count * 3)
+                        : NAN;
+            if (isnan(drift)) {
+                ok = false;
+                break;
+            }
+            if (isinf(drift)) {
+                nlods = k;
+                break;
+            }
+        }
         /* the simplifier's own estimate (from its source) may not be undercut; nor, while
          * halving, the level before (a coarser level no better than a finer one takes its
          * place, below): what lies below them needs no measuring */
@@ -1668,26 +1689,11 @@ static bool lods_make(const limen__mesh *m, const atomic_bool *stop, made *out)
             ok = false;
             break;
         }
-        /* seams move along themselves, and a chart shows its texture up to the level's
-         * edge, not the full mesh's: where the seam bends (a concave chart's corner, a
-         * curved seam), beyond its own texels. Within the charts, the levels end before the
-         * first where that is farther than its bound; meshoptimizer's levels (which are
-         * not made down to a floor) take it into their bound */
-        if (chart) {
-            double drift = rims.first || limen__lod_rims_make(&rims, m, attr)
-                               ? limen__lod_rim_drift(m, &rims, store + at[k],
-                                                      (size_t)lods[k].triangle_count * 3)
-                               : NAN;
-            if (isnan(drift)) {
-                ok = false;
-                break;
-            }
-            if (drift > e && (charted[k] || isinf(drift))) {
-                nlods = k;
-                break;
-            }
-            e = fmax(e, drift);
+        if (drift > e && charted[k]) {
+            nlods = k;
+            break;
         }
+        e = fmax(e, drift);
         lods[k].error = (float)e;
         /* rounding to float must not undercut the measure either */
         if ((double)lods[k].error < e)
