@@ -934,6 +934,23 @@ static void arrays_levels(const charted_arrays *a, int nv, int nt, int min_level
                  a->chart, min_levels, fraction, positive, what);
 }
 
+/* chart_levels over charted_ball(n, tile) (tests/charted.h), its charts tile x tile squares. */
+static void ball_levels(int n, int tile, int min_levels, int fraction, bool positive,
+                        const char *what)
+{
+    int nt = 5 * n * n * 2, nv = charted_verts(n, tile);
+    charted_arrays a;
+    if (charted_arrays_make(&a, nv, nt)) {
+        charted_ball(n, tile, a.pos, a.nrm, a.uv, a.idx);
+        for (int v = 0; v < nv; v++)
+            a.chart[v] = charted_chart(tile, (uint32_t)v);
+        arrays_levels(&a, nv, nt, min_levels, fraction, positive, what);
+    } else {
+        CHECK(!"out of memory");
+    }
+    charted_arrays_free(&a);
+}
+
 /* A textured asset of 16,000 triangles, as an exporter makes one (tests/charted.h): texture
  * charts of tile x tile squares, so seams along every edge between them (one position, two
  * texture coordinates), and an open side (a border). The seams and the border do not stop
@@ -943,20 +960,9 @@ static void arrays_levels(const charted_arrays *a, int nv, int nt, int min_level
  * across a seam, each corner's texture coordinate is its own position's on the full mesh. */
 static void asset_levels(int tile, int min_levels)
 {
-    enum { N = 40, NT = 5 * N * N * 2 };
-    int nv = charted_verts(N, tile);
-    charted_arrays a;
-    if (charted_arrays_make(&a, nv, NT)) {
-        charted_ball(N, tile, a.pos, a.nrm, a.uv, a.idx);
-        for (int v = 0; v < nv; v++)
-            a.chart[v] = charted_chart(tile, (uint32_t)v);
-        char what[32];
-        snprintf(what, sizeof what, "charts of %d", tile);
-        arrays_levels(&a, nv, NT, min_levels, min_levels >= 5 ? 16 : 0, true, what);
-    } else {
-        CHECK(!"out of memory");
-    }
-    charted_arrays_free(&a);
+    char what[32];
+    snprintf(what, sizeof what, "charts of %d", tile);
+    ball_levels(40, tile, min_levels, min_levels >= 5 ? 16 : 0, true, what);
 }
 
 /* One chart a face; and 500 charts of 4 x 4 squares, whose corners (where four charts meet)
@@ -1703,17 +1709,7 @@ static void test_concave_charts(void)
 static void test_many_charts(void)
 {
     enum { N = 42, TILE = 3, NT = 5 * N * N * 2, CHARTS = 5 * (N / TILE) * (N / TILE) };
-    int nv = charted_verts(N, TILE);
-    charted_arrays a;
-    if (charted_arrays_make(&a, nv, NT)) {
-        charted_ball(N, TILE, a.pos, a.nrm, a.uv, a.idx);
-        for (int v = 0; v < nv; v++)
-            a.chart[v] = charted_chart(TILE, (uint32_t)v);
-        arrays_levels(&a, nv, NT, 4, NT / (2 * CHARTS), false, "980 charts");
-    } else {
-        CHECK(!"out of memory");
-    }
-    charted_arrays_free(&a);
+    ball_levels(N, TILE, 4, NT / (2 * CHARTS), false, "980 charts");
 }
 
 /* A ball where every square is a chart of its own (8,000 charts): the charts allow no
