@@ -985,14 +985,14 @@ static void test_asset_levels(void)
 static void test_part_seams(void)
 {
     enum { N = 20, NV = 5 * (N + 1) * (N + 1), NT = 5 * N * N * 2 };
-    float *pos = malloc(sizeof(float) * 3 * NV), *nrm = malloc(sizeof(float) * 3 * NV),
-          *uv = malloc(sizeof(float) * 2 * NV);
-    uint32_t *idx = malloc(sizeof(uint32_t) * 3 * NT);
-    int *part = malloc(sizeof(int) * NV);     /* per vertex, its face: its part */
-    if (!pos || !nrm || !uv || !idx || !part) {
+    charted_arrays a;       /* its charts: per vertex, its face, which is its part */
+    if (!charted_arrays_make(&a, NV, NT)) {
         CHECK(!"out of memory");
         goto done;
     }
+    float *pos = a.pos, *nrm = a.nrm, *uv = a.uv;
+    uint32_t *idx = a.idx;
+    int *part = a.chart;
     charted_ball(N, N, pos, nrm, uv, idx);
     for (int v = 0; v < NV; v++)
         part[v] = charted_chart(N, (uint32_t)v);
@@ -1028,11 +1028,7 @@ static void test_part_seams(void)
     }
     close_scene(&f);
 done:
-    free(pos);
-    free(nrm);
-    free(uv);
-    free(idx);
-    free(part);
+    charted_arrays_free(&a);
 }
 
 /* ------------------------------------------------------------------ the cache */
