@@ -50,7 +50,7 @@
 #include "core/texture.h"
 
 #define MAX_LEVELS 12           /* the full mesh and up to 11 coarser ones */
-#define LOD_VERSION 21          /* of how levels are made and measured: levels kept between
+#define LOD_VERSION 22          /* of how levels are made and measured: levels kept between
                                  * runs (core/lod_cache.c) are keyed by it, so change it with
                                  * anything that changes a level or its error */
 #define MIN_TRIS 16             /* a level this small gets no halved successor */
@@ -905,27 +905,27 @@ static void piece(side *sd, const point *a, const point *b, const point *c, int 
     piece(sd, &mid[0], &mid[1], &mid[2], depth + 1);
 }
 
-/* The distances from from's vertices to to's surface; false when out of memory. */
-static bool side_corners(side *sd)
+/* The distances to to's surface of from's vertices met first at corners of triangles [t0,
+ * t1), less those of `taken` (where not NULL: a bit a vertex), each walked to from the
+ * last one's triangle (the first's from triangle 0). */
+static void corners_span(side *sd, uint32_t t0, uint32_t t1, const uint64_t *taken)
 {
     const limen__mesh *from = sd->from;
-    sd->pts = malloc(sizeof *sd->pts * (from->nverts ? from->nverts : 1));
-    if (!sd->pts)
-        return false;
-    for (uint32_t v = 0; v < from->nverts; v++)
-        sd->pts[v].tri = UINT32_MAX;
     uint32_t hint = 0;
-    for (uint32_t i = 0; i < from->ntris * 3; i++) {
-        corner *kept = &sd->pts[from->idx[i]];
+    for (size_t i = (size_t)t0 * 3; i < (size_t)t1 * 3; i++) {
+        uint32_t vx = from->idx[i];
+        if (taken && taken[vx >> 6] >> (vx & 63) & 1)
+            continue;
+        corner *kept = &sd->pts[vx];
         if (kept->tri != UINT32_MAX)
             continue;
-        point at = { .vertex = from->idx[i] }, *q = &at;
+        point at = { .vertex = vx }, *q = &at;
         for (int a = 0; a < 3; a++)
-            q->p[a] = from->pos[from->idx[i] * 3 + a];
+            q->p[a] = from->pos[(size_t)vx * 3 + a];
         /* a corner the other surface shares lies on a triangle there: found at once; another
          * walks there from the last one's triangle, and is searched for only where that
          * leaves it near enough to the floor to raise it */
-        uint32_t on = sd->to->at_vertex[sd->weld ? sd->weld[i] : from->idx[i]];
+        uint32_t on = sd->to->at_vertex[sd->weld ? sd->weld[i] : vx];
         if (on != UINT32_MAX) {
             locate(sd, q, on);
         } else {
@@ -942,6 +942,60 @@ static bool side_corners(side *sd)
         *kept = (corner){ .d2 = q->d2, .tri = q->tri, .rough = q->rough };
         hint = q->tri;
     }
+}
+
+typedef struct span_job {
+    side sd;                    /* a copy, with a floor of its own */
+    double floor;
+    uint32_t t0, t1;
+    const uint64_t *taken;
+} span_job;
+
+static void *span_run(void *arg)
+{
+    span_job *j = arg;
+    corners_span(&j->sd, j->t0, j->t1, j->taken);
+    return NULL;
+}
+
+static bool measure_threads = true;
+
+/* The distances from from's vertices to to's surface; false when out of memory. The full
+ * mesh's side (its many vertices, against a level) in two halves of its triangles, the
+ * second on a thread of its own: each half its own walk and floor (the larger then taken),
+ * its vertices those the first half has none of, so that the answer is the same on one
+ * thread and two. */
+static bool side_corners(side *sd)
+{
+    const limen__mesh *from = sd->from;
+    sd->pts = malloc(sizeof *sd->pts * (from->nverts ? from->nverts : 1));
+    if (!sd->pts)
+        return false;
+    for (uint32_t v = 0; v < from->nverts; v++)
+        sd->pts[v].tri = UINT32_MAX;
+    if (!sd->weld || from->ntris < THREAD_TRIS) {
+        corners_span(sd, 0, from->ntris, NULL);
+        return true;
+    }
+    uint32_t half = from->ntris / 2;
+    uint64_t *taken = calloc((size_t)from->nverts / 64 + 1, sizeof *taken);
+    if (!taken)
+        return false;
+    for (size_t i = 0; i < (size_t)half * 3; i++)
+        taken[from->idx[i] >> 6] |= (uint64_t)1 << (from->idx[i] & 63);
+    span_job j = { .sd = *sd, .floor = *sd->floor, .t0 = half, .t1 = from->ntris,
+                   .taken = taken };
+    j.sd.floor = &j.floor;
+    pthread_t th;
+    bool beside = measure_threads && pthread_create(&th, NULL, span_run, &j) == 0;
+    corners_span(sd, 0, half, NULL);
+    if (beside)
+        pthread_join(th, NULL);
+    else
+        span_run(&j);
+    free(taken);
+    sd->lower = greater(sd->lower, j.sd.lower);
+    *sd->floor = greater(*sd->floor, j.floor);
     return true;
 }
 
@@ -1029,8 +1083,6 @@ static void *measure(void *arg)
     free(w->there.memo);
     return NULL;
 }
-
-static bool measure_threads = true;
 
 void limen__lod_set_measure_threads(bool on)
 {
@@ -1126,6 +1178,47 @@ double limen__lod_measure(const limen__mesh *m, const uint32_t *idx, uint32_t nt
     double e = level_error(&full, m->idx, idx, ntris, 0, NULL);
     limen__lod_target_free(&full);
     return e;
+}
+
+/* The full mesh's surface and hierarchy as the measuring sees them, which need none of the
+ * levels: made on a thread of their own (where a thread starts) while the simplifier runs
+ * on one core, else when they are asked for. */
+typedef struct surface_job {
+    target *t;
+    limen__mesh *whole;         /* the full mesh's triangles, its hierarchy made here */
+    const uint32_t *weld;
+    pthread_t th;
+    bool started, made, ok;
+} surface_job;
+
+static void *surface_run(void *arg)
+{
+    surface_job *j = arg;
+    /* the surface before its hierarchy: the pairing of its edges (what its making holds
+     * for a moment, 53 MB at 1.6M triangles) is not held beside the hierarchy */
+    j->ok = limen__lod_target_make(j->t, j->whole, j->weld);
+    if (!j->ok)
+        *j->t = (target){ 0 };  /* freed by the failed making, not to be freed again */
+    j->ok = j->ok && limen__lod_tree(j->whole);
+    j->made = true;
+    return NULL;
+}
+
+static void surface_start(surface_job *j)
+{
+    if (!j->started && !j->made && measure_threads && j->whole->ntris >= THREAD_TRIS)
+        j->started = pthread_create(&j->th, NULL, surface_run, j) == 0;
+}
+
+/* Waits for the surface (or makes it here, where want and it is not made); whether it is. */
+static bool surface_join(surface_job *j, bool want)
+{
+    if (j->started)
+        pthread_join(j->th, NULL);
+    j->started = false;
+    if (!j->made && want)
+        surface_run(j);
+    return j->made && j->ok;
 }
 
 /* ------------------------------------------------------------------ building */
@@ -1498,6 +1591,7 @@ static bool lods_make(const limen__mesh *m, const atomic_bool *stop, made *out)
     memcpy(whole.lo, m->lo, sizeof whole.lo);
     memcpy(whole.hi, m->hi, sizeof whole.hi);
     limen__lod_welded pk_attr = { 0 }, pk_pos = { 0 };
+    surface_job surface = { .t = &full, .whole = &whole, .weld = shadow };
     bool ok = block && shadow && scratch && attr && (vpart || m->nparts <= 1 || !m->tri_part);
     limen_mesh_lod *lods = (limen_mesh_lod *)block;
     uint32_t *store = (uint32_t *)(block + head);
@@ -1551,6 +1645,9 @@ static bool lods_make(const limen__mesh *m, const atomic_bool *stop, made *out)
             from = charts_from;
         const uint32_t *src = from_full ? NULL : store + at[from];
         size_t src_n = from_full ? n0 : (size_t)lods[from].triangle_count * 3;
+        /* the simplifier on one core from here: the full mesh's surface on the other */
+        if (ok && src_n / 3 < LIMEN__LOD_SPLIT_ABOVE)
+            surface_start(&surface);
         size_t n = 0;
         if (mode == CHARTS) {
             /* halving only: it has no bound of its own to stop at, for the last level's
@@ -1635,13 +1732,7 @@ static bool lods_make(const limen__mesh *m, const atomic_bool *stop, made *out)
     scratch = NULL;
     heap_give_back();
     ok = ok && !(stop && atomic_load_explicit(stop, memory_order_relaxed));
-    /* the surface before its hierarchy: the pairing of its edges (what its making holds
-     * for a moment, 115 MB at 1.6M triangles) is not held beside the hierarchy */
-    if (ok && !limen__lod_target_make(&full, &whole, shadow)) {
-        full = (target){ 0 };   /* freed by the failed making, not to be freed again */
-        ok = false;
-    }
-    ok = ok && limen__lod_tree(&whole);
+    ok = surface_join(&surface, ok) && ok;
     /* a textured mesh's charts: a level's triangle whose corners are of two charts shows,
      * between them, the texture's coordinates blended across the atlas (other charts'
      * texels, the margins between them), which the full mesh shows nowhere near, perhaps

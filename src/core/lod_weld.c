@@ -14,7 +14,7 @@
 
 #define RIM_FORKS 4             /* forks a path along the charts' edges is followed through */
 #define SIDES_LOOK 64           /* vertices at one position a corner chooses among */
-#define SPLIT_ABOVE 524288      /* a source of this many triangles or more is simplified in */
+#define SPLIT_ABOVE LIMEN__LOD_SPLIT_ABOVE /* a source of this many triangles or more is simplified in */
 #define SPLIT_TRIS 131072       /* blocks of this many: less memory than blocks of twice as
                                  * many (at 1.6M triangles 282 MB against 302 for the whole
                                  * build), and levels as near as the mesh simplified whole

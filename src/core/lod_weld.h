@@ -95,6 +95,9 @@ size_t limen__lod_simplify_charts(const limen__mesh *m, const uint32_t *shadow,
  * the two do not fit in the room. */
 size_t limen__lod_charts_want(size_t cur, size_t floor, size_t room);
 
+#define LIMEN__LOD_SPLIT_ABOVE 524288  /* a source of this many triangles or more is simplified
+                                      * in blocks (on two cores); a smaller one on one */
+
 /* A big mesh simplified in blocks (core/lod_split.c): its triangles cut into blocks of
  * about block_tris nearby ones, each simplified alone by meshoptimizer towards its share of
  * want, its border held in place, on two threads where threads. Over pos (nv
