@@ -486,6 +486,32 @@ static unsigned lay_sides(lay_vertex *x, const double (*pp)[2])
     return x->sides;
 }
 
+#define LAY_SCAN 24             /* queued triangles lay_bound looks through, before marks */
+
+/* Whether t is among queue[0, nq): through the marks where mark is not 0, else looked for. */
+static bool lay_queued(const side *sd, const uint32_t *queue, int nq, uint32_t mark, uint32_t t)
+{
+    if (mark)
+        return sd->marks[t] == mark;
+    for (int i = 0; i < nq; i++)
+        if (queue[i] == t)
+            return true;
+    return false;
+}
+
+/* A new mark, set on queue[0, nq): from here the marks tell what is queued. */
+static uint32_t lay_mark(side *sd, const uint32_t *queue, int nq)
+{
+    uint32_t mark = ++sd->mark;
+    if (mark == 0) {            /* the marks have come round: none is current */
+        memset(sd->marks, 0, sizeof *sd->marks * sd->to->m->ntris);
+        mark = sd->mark = 1;
+    }
+    for (int i = 0; i < nq; i++)
+        sd->marks[queue[i]] = mark;
+    return mark;
+}
+
 /* A bound from laying the piece over the other surface, seen along the piece's normal, for
  * a piece of any size (cover_bound's argument needs no two triangles to overlap, which it
  * checks pair by pair; this one needs no such check). S: the triangles of sd->to met by a
@@ -513,20 +539,16 @@ static double lay_bound(side *sd, const point *v[3], double goal)
     double twice_piece = orient2(pp[0], pp[1], pp[2]);
     if (!(twice_piece > 0))
         return INFINITY;
-    uint32_t *queue = sd->queue, mark = ++sd->mark;
-    if (mark == 0) {
-        memset(sd->marks, 0, sizeof *sd->marks * to->m->ntris);
-        mark = sd->mark = 1;
-    }
+    /* which triangles are queued: while they are few, the queue itself is looked through
+     * (a small piece meets a handful); then the marks, one a triangle of sd->to */
+    uint32_t *queue = sd->queue, mark = 0;
     lay_renew(sd);
     sd->lay_far = false;
     int nq = 0, seeds = 0;
     for (int k = 0; k < 3; k++) {
         uint32_t t = v[k]->tri;
-        if (t != UINT32_MAX && sd->marks[t] != mark) {
-            sd->marks[t] = mark;
+        if (t != UINT32_MAX && !lay_queued(sd, queue, nq, mark, t))
             queue[nq++] = t;
-        }
     }
     seeds = nq;
     /* two probes inside the piece: how many triangles of S cover each, counting those
@@ -662,12 +684,15 @@ static double lay_bound(side *sd, const point *v[3], double goal)
                     return INFINITY;
                 continue;
             }
-            if (sd->marks[on] == mark)
+            if (lay_queued(sd, queue, nq, mark, on))
                 continue;
             if (nq == LAY_LOOK)
                 return INFINITY;
-            sd->marks[on] = mark;
+            if (mark)
+                sd->marks[on] = mark;
             queue[nq++] = on;
+            if (!mark && nq > LAY_SCAN)
+                mark = lay_mark(sd, queue, nq);
         }
     }
     /* how many times S covers each point of the piece, at a probe no edge runs through */
