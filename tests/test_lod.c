@@ -1802,6 +1802,79 @@ static void test_measure_memo(void)
     free(idx);
 }
 
+/* A coarse level's pieces laid first over a finer level (within its bound of the full
+ * mesh; core/lod.c's via_bound), as the build does for the coarse levels of a big mesh:
+ * some pieces settle there (fails where none does: the finer level never asked, or asked
+ * to settle more than the answer holds), the bound is no looser than laying every piece
+ * over the full mesh (within 1%: the pieces cut differ) and still bounds a brute force's
+ * largest distance. */
+static void test_via_levels(void)
+{
+    enum { U = 200, V = 160, NV = (U + 1) * (V + 1), NT = U * V * 2 };
+    float *pos = malloc(sizeof(float) * 3 * NV);
+    uint32_t *idx = malloc(sizeof(uint32_t) * 3 * NT);
+    CHECK(pos && idx);
+    if (!pos || !idx) {
+        free(pos);
+        free(idx);
+        return;
+    }
+    bumpy_sphere(U, V, pos, idx);
+    fixture f = open_scene((float[3]){ 0, 0, 5 }, (float[3]){ 0, 0, 0 });
+    CHECK_OK(limen_mesh_set_triangles(f.s, f.mesh, &(limen_mesh_data){
+        .positions = pos, .vertex_count = NV, .indices = idx, .triangle_count = NT }));
+    const limen_drawable *d = item(&f);
+    const limen_mesh_geometry *g = d ? d->mesh : NULL;
+    limen__mesh m = { .nverts = NV, .ntris = NT, .pos = g ? (float *)g->positions : NULL,
+                      .idx = g ? (uint32_t *)g->indices : NULL };
+    for (int a = 0; a < 3; a++) {
+        m.lo[a] = INFINITY;
+        m.hi[a] = -INFINITY;
+    }
+    for (int v = 0; g && v < NV * 3; v++) {
+        m.lo[v % 3] = fmin(m.lo[v % 3], g->positions[v]);
+        m.hi[v % 3] = fmax(m.hi[v % 3], g->positions[v]);
+    }
+    tri_box *ft = g ? boxes_of(g, &g->lods[0]) : NULL;
+    grid full = { 0 };
+    uint64_t settled = 0;
+    int asked = 0;
+    if (g && g->lod_count >= 8 && limen__mesh_bvh(&m) && ft &&
+        grid_make(&full, ft, g->triangle_count)) {
+        for (int k = 3; k < g->lod_count; k++) {
+            /* the coarsest finer level within half the level before's bound */
+            int j = k - 1;
+            while (j >= 1 && !(g->lods[j].error <= 0.5 * g->lods[k - 1].error))
+                j--;
+            if (j < 1 || g->lods[j].triangle_count * 16 > NT)
+                continue;
+            const limen_mesh_lod *lv = &g->lods[k], *fine = &g->lods[j];
+            uint64_t n = 0;
+            double direct = limen__lod_measure(&m, lv->indices, (uint32_t)lv->triangle_count),
+                   via = limen__lod_measure_via(&m, lv->indices, (uint32_t)lv->triangle_count,
+                                                fine->indices, (uint32_t)fine->triangle_count,
+                                                fine->error, &n),
+                   found = brute_sampled(g, &full, k, 1, 6, 400);
+            settled += n;
+            asked++;
+            CHECK_MSG(via <= direct * 1.01 && found <= via * (1 + 1e-5),
+                      "level %d over level %d: %a, over the full mesh %a, found %a", k, j, via,
+                      direct, found);
+        }
+    } else {
+        CHECK(!"no levels, or no memory for the hierarchy or the brute force");
+    }
+    CHECK_MSG(asked >= 2 && settled > 0, "%d levels over a finer one, %llu pieces settled",
+              asked, (unsigned long long)settled);
+    grid_free(&full);
+    free(ft);
+    free(m.bvh);
+    free(m.tri_order);
+    close_scene(&f);
+    free(pos);
+    free(idx);
+}
+
 static const check_case cases[] = {
     { "bunny_levels", test_bunny_levels },
     { "error_bounds", test_error_bounds },
@@ -1826,6 +1899,7 @@ static const check_case cases[] = {
     { "many_charts", test_many_charts },
     { "square_charts", test_square_charts },
     { "measure_memo", test_measure_memo },
+    { "via_levels", test_via_levels },
     { 0 },
 };
 

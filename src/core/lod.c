@@ -129,6 +129,12 @@ typedef struct side {
                                  * not prove) */
     const atomic_bool *stop;    /* where not NULL and set: give up (a build no longer wanted) */
     bool stopped;
+    struct side *via;           /* where not NULL: a finer level's surface (to is the full
+                                 * mesh), within via_e of the full mesh, that a piece is laid
+                                 * over first (see via_bound) */
+    double via_e, via_upper;
+    uint32_t via_hint;          /* the last triangle of via found near a point */
+    uint64_t via_settled;       /* pieces via_bound settled */
 } side;
 
 /* q's nearest triangle and distance (the largest found raises lower and the floor). */
@@ -648,7 +654,7 @@ static double lay_bound(side *sd, const point *v[3], double goal)
                 /* over the whole triangle, where that raises nothing; else over its part
                  * inside the piece */
                 double whole = greater(fabs(h[0]), greater(fabs(h[1]), fabs(h[2])));
-                if (inside == 3 || whole <= greater(worst, *sd->upper)) {
+                if (inside == 3 || whole <= greater(worst, sd->upper ? *sd->upper : sd->via_upper)) {
                     worst = greater(worst, whole);
                 } else {
                     double part[9][2];
@@ -861,6 +867,37 @@ static double piece_area(const point *v[3])
     return sqrt(limen__dot3(n, n)) / 2;
 }
 
+/* A level's piece laid over a finer level (sd->via, far fewer triangles than the full
+ * mesh) instead of the full mesh: every point of the piece lies within lay_bound's offset
+ * of the finer level, each of whose points lies within via_e (its measured bound) of the
+ * full mesh, so the sum bounds the piece's distance to the full mesh. Asked only to settle
+ * a piece at no more than what the answer already holds (the largest bound of a finished
+ * piece, or the floor), it raises nothing: the pieces near the largest distance, which
+ * decide the answer, are laid over the full mesh as before. INFINITY where it does not
+ * settle the piece. */
+static double via_bound(side *sd, const point *v[3])
+{
+    side *vs = sd->via;
+    double cap = greater(*sd->upper, *sd->floor) - sd->via_e;
+    if (!(cap > 0))
+        return INFINITY;
+    /* each corner's triangle there: one with a corner at its vertex, else the nearest */
+    point q[3];
+    const point *qv[3];
+    for (int k = 0; k < 3; k++) {
+        q[k] = *v[k];
+        uint32_t on = q[k].vertex != UINT32_MAX ? vs->to->at_vertex[q[k].vertex] : UINT32_MAX;
+        if (on == UINT32_MAX)
+            limen__lod_target_nearest(vs->to, q[k].p, sd->via_hint, &on);
+        q[k].tri = sd->via_hint = on;
+        qv[k] = &q[k];
+    }
+    vs->via_upper = greater(*sd->upper - sd->via_e, 0);
+    double b = lay_bound(vs, qv, cap);
+    sd->via_settled += b <= cap;
+    return b <= cap ? (b + sd->via_e) * (1 + 1e-12) : INFINITY;
+}
+
 /* The least of the three bounds over the triangle v (see the top of the file), or one
  * above goal. */
 static double piece_bound(side *sd, const point *v[3], double goal)
@@ -878,6 +915,8 @@ static double piece_bound(side *sd, const point *v[3], double goal)
     /* laying the piece over the other surface: a level's piece first (the convex bound
      * seldom holds for it over the finer full mesh), a full mesh's after the convex bound */
     sd->lay_far = false;
+    if (bound > goal && sd->via)
+        bound = fmin(bound, via_bound(sd, v));
     if (bound > goal && !sd->weld)
         bound = fmin(bound, lay_bound(sd, v, goal));
     if (bound > goal)
@@ -1062,6 +1101,8 @@ typedef struct measurer {
     double floor, upper;
     double e;                   /* its bound, or NAN (out of memory, or stopped) */
     int share;
+    side via;                   /* the level's pieces laid over a finer level (via.to, where
+                                 * not NULL) first */
 } measurer;
 
 static void memo_clear(memo *m)
@@ -1069,6 +1110,8 @@ static void memo_clear(memo *m)
     for (uint32_t i = 0; m && i < MEMO_SLOTS; i++)
         m[i].vertex = UINT32_MAX;
 }
+
+static _Atomic uint64_t via_settled;    /* pieces via_bound settled, in all (for tests) */
 
 static void *measure(void *arg)
 {
@@ -1084,6 +1127,13 @@ static void *measure(void *arg)
     /* one memo for both sides, cleared between them (without it: the same bounds, slower) */
     w->there.memo = w->back.memo = malloc(sizeof *w->there.memo * MEMO_SLOTS);
     w->e = NAN;
+    if (w->via.to) {
+        w->via.marks = calloc(w->via.to->m->ntris, sizeof *w->via.marks);
+        w->via.queue = malloc(sizeof *w->via.queue * LAY_LOOK);
+        w->via.lay_vx = calloc(LAY_SLOTS, sizeof *w->via.lay_vx);
+        /* without them, the full mesh alone (out of memory: another answer, still a bound) */
+        w->there.via = w->via.marks && w->via.queue && w->via.lay_vx ? &w->via : NULL;
+    }
     if (w->there.marks) {
         memo_clear(w->there.memo);
         double a = side_bound(&w->there, w->share);
@@ -1105,7 +1155,11 @@ static void *measure(void *arg)
     free(w->back.queue);
     free(w->there.lay_vx);
     free(w->back.lay_vx);
+    atomic_fetch_add_explicit(&via_settled, w->there.via_settled, memory_order_relaxed);
     free(w->there.memo);
+    free(w->via.marks);
+    free(w->via.queue);
+    free(w->via.lay_vx);
     return NULL;
 }
 
@@ -1136,7 +1190,8 @@ static void *corners_run(void *arg)
  * (the larger then taken), and the pieces are bounded on MEASURERS threads (in turn on this
  * one where no thread starts): the same answer either way. */
 static double level_error(const target *full, const uint32_t *weld, const uint32_t *idx,
-                          uint32_t ntris, double floor, const atomic_bool *stop)
+                          uint32_t ntris, double floor, const atomic_bool *stop,
+                          const target *via, double via_e)
 {
     const limen__mesh *m = full->m;
     limen__mesh lv = { .nverts = m->nverts, .ntris = ntris, .pos = m->pos,
@@ -1172,7 +1227,8 @@ static double level_error(const target *full, const uint32_t *weld, const uint32
         bool started[MEASURERS] = { false };
         for (int i = 0; i < MEASURERS; i++) {
             w[i] = (measurer){ .there = there, .back = back, .floor = floor, .upper = upper,
-                               .share = i };
+                               .share = i, .via = { .to = via } };
+            w[i].there.via_e = via_e;
             /* a thread for a small mesh costs more than it saves */
             if (i > 0 && measure_threads && m->ntris >= THREAD_TRIS)
                 started[i] = pthread_create(&th[i], NULL, measure, &w[i]) == 0;
@@ -1200,7 +1256,7 @@ double limen__lod_measure(const limen__mesh *m, const uint32_t *idx, uint32_t nt
     target full = { 0 };
     if (!limen__lod_target_make(&full, m, m->idx))
         return NAN;
-    double e = level_error(&full, m->idx, idx, ntris, 0, NULL);
+    double e = level_error(&full, m->idx, idx, ntris, 0, NULL, NULL, 0);
     limen__lod_target_free(&full);
     return e;
 }
@@ -1244,6 +1300,79 @@ static bool surface_join(surface_job *j, bool want)
     if (!j->made && want)
         surface_run(j);
     return j->made && j->ok;
+}
+
+#define VIA_RATIO 0.5           /* a finer level a level's pieces are laid over first: its
+                                 * bound at most this much of the level before's, */
+#define VIA_SHARE 16            /* and at most this share of the full mesh's triangles */
+
+/* A finer level's surface, which a coarser level's pieces are laid over first (via_bound). */
+typedef struct via_level {
+    limen__mesh mesh;           /* its triangles over the full mesh's vertices, a hierarchy */
+    target t;
+    uint32_t level;             /* which (0: none) */
+} via_level;
+
+static void via_free(via_level *v)
+{
+    limen__lod_target_free(&v->t);
+    free(v->mesh.bvh);
+    free(v->mesh.tri_order);
+    *v = (via_level){ 0 };
+}
+
+/* The finer level for level k (of m's levels lods, their indices store + at[k]): the
+ * coarsest whose bound is at most VIA_RATIO of level k - 1's and which has at most
+ * 1 / VIA_SHARE of the full mesh's triangles, or none; false when out of memory. */
+static bool via_for(via_level *v, const limen__mesh *m, const limen_mesh_lod *lods,
+                    const size_t *at, const uint32_t *store, uint32_t k)
+{
+    uint32_t j = 0;
+    for (uint32_t i = k - 1; i >= 1 && i < k; i--)
+        if (lods[i].error <= VIA_RATIO * lods[k - 1].error) {
+            if ((uint64_t)lods[i].triangle_count * VIA_SHARE <= m->ntris)
+                j = i;
+            break;
+        }
+    if (j == v->level)
+        return true;
+    via_free(v);
+    if (!j)
+        return true;
+    v->mesh = (limen__mesh){ .nverts = m->nverts, .ntris = (uint32_t)lods[j].triangle_count,
+                             .pos = m->pos, .idx = (uint32_t *)(store + at[j]) };
+    if (!limen__lod_tree(&v->mesh))
+        return false;
+    if (!limen__lod_target_make(&v->t, &v->mesh, NULL)) {
+        v->t = (target){ 0 };   /* freed by the failed making */
+        via_free(v);
+        return false;
+    }
+    v->level = j;
+    return true;
+}
+
+double limen__lod_measure_via(const limen__mesh *m, const uint32_t *idx, uint32_t ntris,
+                              const uint32_t *via_idx, uint32_t via_ntris, double via_e,
+                              uint64_t *settled)
+{
+    target full = { 0 }, via = { 0 };
+    limen__mesh vm = { .nverts = m->nverts, .ntris = via_ntris, .pos = m->pos,
+                       .idx = (uint32_t *)via_idx };
+    double e = NAN;
+    uint64_t before = atomic_load(&via_settled);
+    if (limen__lod_target_make(&full, m, m->idx)) {
+        if (limen__lod_tree(&vm) && limen__lod_target_make(&via, &vm, NULL))
+            e = level_error(&full, m->idx, idx, ntris, 0, NULL, &via, via_e);
+        else
+            via = (target){ 0 };
+        limen__lod_target_free(&full);
+    }
+    *settled = atomic_load(&via_settled) - before;
+    limen__lod_target_free(&via);
+    free(vm.bvh);
+    free(vm.tri_order);
+    return e;
 }
 
 /* ------------------------------------------------------------------ building */
@@ -1767,6 +1896,7 @@ static bool lods_make(const limen__mesh *m, const atomic_bool *stop, made *out)
     if (chart)
         limen__lod_charts(m, attr, chart);
     limen__lod_rims rims = { 0 };   /* made for the first textured level */
+    via_level via = { 0 };          /* a finer level the level's pieces are laid over first */
     double prev = 0;
     for (uint32_t k = 1; ok && k < nlods; k++) {
         if (chart && limen__lod_across_charts(chart, store + at[k],
@@ -1798,8 +1928,13 @@ static bool lods_make(const limen__mesh *m, const atomic_bool *stop, made *out)
         /* the simplifier's own estimate (from its source) may not be undercut; nor, while
          * halving, the level before (a coarser level no better than a finer one takes its
          * place, below): what lies below them needs no measuring */
+        if (!via_for(&via, m, lods, at, store, k)) {
+            ok = false;
+            break;
+        }
         double e = level_error(&full, attr, store + at[k], (uint32_t)lods[k].triangle_count,
-                               halved[k] ? fmax(estimate[k], prev) : estimate[k], stop);
+                               halved[k] ? fmax(estimate[k], prev) : estimate[k], stop,
+                               via.level ? &via.t : NULL, via.level ? lods[via.level].error : 0);
         heap_give_back();
         if (isnan(e)) {
             ok = false;
@@ -1820,6 +1955,7 @@ static bool lods_make(const limen__mesh *m, const atomic_bool *stop, made *out)
         drop_beaten(lods, at, store, &nlods, &used);
         limen__lod_seam_sides(m, attr, store, used);
     }
+    via_free(&via);
     free(chart);
     limen__lod_rims_free(&rims);
     if (attr != shadow)

@@ -79,6 +79,12 @@ bool limen__lod_tree(limen__mesh *m);
  * m's vertices) and m's (its hierarchy made, its bounds lo and hi set), as a level's error is
  * measured: for tests. NAN when out of memory. */
 double limen__lod_measure(const limen__mesh *m, const uint32_t *idx, uint32_t ntris);
+/* limen__lod_measure, each piece of the surface idx laid first over the surface via_idx
+ * (via_ntris triangles over m's vertices), which lies within via_e of m's: the bound,
+ * *settled the pieces that settled (for tests). */
+double limen__lod_measure_via(const limen__mesh *m, const uint32_t *idx, uint32_t ntris,
+                              const uint32_t *via_idx, uint32_t via_ntris, double via_e,
+                              uint64_t *settled);
 /* Whether core/lod.c's measuring keeps what it has found for the pieces after (a vertex as
  * a piece sees it, a vertex's distance to a triangle) or finds it again each time: the same
  * bounds, to the bit, either way (for tests; on by default). */
