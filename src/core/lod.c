@@ -1270,6 +1270,7 @@ typedef struct surface_job {
     const uint32_t *weld;
     pthread_t th;
     bool started, made, ok;
+    bool owned;                 /* made by the levels' measuring ahead (ahead_run) */
 } surface_job;
 
 static void *surface_run(void *arg)
@@ -1287,7 +1288,8 @@ static void *surface_run(void *arg)
 
 static void surface_start(surface_job *j)
 {
-    if (!j->started && !j->made && measure_threads && j->whole->ntris >= THREAD_TRIS)
+    if (!j->owned && !j->started && !j->made && measure_threads &&
+        j->whole->ntris >= THREAD_TRIS)
         j->started = pthread_create(&j->th, NULL, surface_run, j) == 0;
 }
 
@@ -1373,6 +1375,113 @@ double limen__lod_measure_via(const limen__mesh *m, const uint32_t *idx, uint32_
     free(vm.bvh);
     free(vm.tri_order);
     return e;
+}
+
+/* The levels of a mesh smaller than the simplifier's blocks, untextured, measured on a
+ * thread of their own as the simplifier makes them (which it does on one core), each as the
+ * measuring after the simplifier would (the same floor, the same finer level to lay its
+ * pieces over first, its error rounded up to float the same way): the same errors, sooner.
+ * The simplifier's tables and a level's measuring at once are a few tens of megabytes at
+ * most at that size. */
+typedef struct ahead {
+    pthread_t th;
+    bool started;
+    pthread_mutex_t mu;
+    pthread_cond_t more;
+    uint32_t ready;             /* levels made (the full mesh counted), under mu */
+    bool last, quit;            /* no more will come; stop (under mu) */
+    uint32_t measured;          /* levels 1 to measured - 1 have their error in e (read once
+                                 * the thread is joined) */
+    double e[MAX_LEVELS];
+    surface_job *surface;
+    const uint32_t *weld;
+    limen_mesh_lod *lods;       /* each measured level's error set there too */
+    const size_t *at;
+    const uint32_t *store;
+    const double *estimate;
+    const bool *halved;
+    const atomic_bool *stop;
+} ahead;
+
+static void *ahead_run(void *arg)
+{
+    ahead *a = arg;
+    const limen__mesh *m = a->surface->whole;
+    via_level via = { 0 };
+    double prev = 0;
+    for (uint32_t k = 1; surface_join(a->surface, true); k++) {
+        pthread_mutex_lock(&a->mu);
+        while (a->ready <= k && !a->last && !a->quit)
+            pthread_cond_wait(&a->more, &a->mu);
+        bool go = a->ready > k && !a->quit;
+        pthread_mutex_unlock(&a->mu);
+        if (!go || !via_for(&via, m, a->lods, a->at, a->store, k))
+            break;
+        double e = level_error(a->surface->t, a->weld, a->store + a->at[k],
+                               (uint32_t)a->lods[k].triangle_count,
+                               a->halved[k] ? fmax(a->estimate[k], prev) : a->estimate[k],
+                               a->stop, via.level ? &via.t : NULL,
+                               via.level ? a->lods[via.level].error : 0);
+        if (isnan(e))
+            break;
+        float f = (float)e;
+        a->lods[k].error = (double)f < e ? nextafterf(f, INFINITY) : f;
+        prev = a->lods[k].error;
+        a->e[k] = e;
+        a->measured = k + 1;
+    }
+    via_free(&via);
+    return NULL;
+}
+
+/* Starts the measuring ahead where m is small, untextured and threads are wanted. */
+static void ahead_start(ahead *a, const limen__mesh *m)
+{
+    a->measured = 1;
+    if (m->uv || !measure_threads || m->ntris < THREAD_TRIS ||
+        m->ntris >= LIMEN__LOD_SPLIT_ABOVE)
+        return;
+    if (pthread_mutex_init(&a->mu, NULL))
+        return;
+    if (pthread_cond_init(&a->more, NULL)) {
+        pthread_mutex_destroy(&a->mu);
+        return;
+    }
+    a->ready = 1;
+    a->surface->owned = true;   /* asked for before the thread starts: none made beside */
+    a->started = pthread_create(&a->th, NULL, ahead_run, a) == 0;
+    if (!a->started) {
+        a->surface->owned = false;
+        pthread_cond_destroy(&a->more);
+        pthread_mutex_destroy(&a->mu);
+    }
+}
+
+/* The simplifier has made levels 1 to made - 1. */
+static void ahead_made(ahead *a, uint32_t made)
+{
+    if (!a->started)
+        return;
+    pthread_mutex_lock(&a->mu);
+    a->ready = made;
+    pthread_cond_signal(&a->more);
+    pthread_mutex_unlock(&a->mu);
+}
+
+/* No more levels come (quit: none of those made is wanted); waits for the thread. */
+static void ahead_end(ahead *a, bool quit)
+{
+    if (!a->started)
+        return;
+    pthread_mutex_lock(&a->mu);
+    a->last = true;
+    a->quit = quit;
+    pthread_cond_signal(&a->more);
+    pthread_mutex_unlock(&a->mu);
+    pthread_join(a->th, NULL);
+    pthread_cond_destroy(&a->more);
+    pthread_mutex_destroy(&a->mu);
+    a->started = false;
 }
 
 /* ------------------------------------------------------------------ building */
@@ -1746,6 +1855,8 @@ static bool lods_make(const limen__mesh *m, const atomic_bool *stop, made *out)
     memcpy(whole.hi, m->hi, sizeof whole.hi);
     limen__lod_welded pk_attr = { 0 }, pk_pos = { 0 };
     surface_job surface = { .t = &full, .whole = &whole, .weld = shadow };
+    double estimate[MAX_LEVELS] = { 0 };   /* the simplifier's own, of each level */
+    bool halved[MAX_LEVELS] = { false };
     bool ok = block && shadow && scratch && attr && (vpart || m->nparts <= 1 || !m->tri_part);
     limen_mesh_lod *lods = (limen_mesh_lod *)block;
     uint32_t *store = (uint32_t *)(block + head);
@@ -1766,9 +1877,12 @@ static bool lods_make(const limen__mesh *m, const atomic_bool *stop, made *out)
     }
     size_t cur_n = n0;
     float scale = ok ? meshopt_simplifyScale(m->pos, m->nverts, sizeof(float) * 3) : 0;
-    double estimate[MAX_LEVELS] = { 0 };   /* the simplifier's own, of each level */
-    bool halved[MAX_LEVELS] = { false };
     bool charted[MAX_LEVELS] = { false };   /* made within the charts */
+    /* a small untextured mesh's levels measured as they are made */
+    ahead ah = { .surface = &surface, .weld = attr, .lods = lods, .at = at, .store = store,
+                 .estimate = estimate, .halved = halved, .stop = stop };
+    if (ok)
+        ahead_start(&ah, m);
     /* how levels are made: seams kept; once the simplifier is stuck on them, a textured
      * mesh's by collapses within its charts (limen__lod_simplify_charts, which moves seams
      * along themselves); once stuck (or untextured), seams let go; once stuck even so, by
@@ -1875,9 +1989,11 @@ static bool lods_make(const limen__mesh *m, const atomic_bool *stop, made *out)
         at[nlods++] = used;
         cur_n = n;
         used += n;
+        ahead_made(&ah, nlods);
         if (!halve)
             break;
     }
+    ahead_end(&ah, !ok);
     /* then measured, once the simplifier's tables (a few hundred megabytes at a few million
      * triangles) are gone, and before the surface they are measured against is made */
     limen__lod_welded_free(&pk_attr);
@@ -1928,13 +2044,17 @@ static bool lods_make(const limen__mesh *m, const atomic_bool *stop, made *out)
         /* the simplifier's own estimate (from its source) may not be undercut; nor, while
          * halving, the level before (a coarser level no better than a finer one takes its
          * place, below): what lies below them needs no measuring */
-        if (!via_for(&via, m, lods, at, store, k)) {
+        if (k >= ah.measured && !via_for(&via, m, lods, at, store, k)) {
             ok = false;
             break;
         }
-        double e = level_error(&full, attr, store + at[k], (uint32_t)lods[k].triangle_count,
-                               halved[k] ? fmax(estimate[k], prev) : estimate[k], stop,
-                               via.level ? &via.t : NULL, via.level ? lods[via.level].error : 0);
+        double e = k < ah.measured
+                       ? ah.e[k]
+                       : level_error(&full, attr, store + at[k],
+                                     (uint32_t)lods[k].triangle_count,
+                                     halved[k] ? fmax(estimate[k], prev) : estimate[k], stop,
+                                     via.level ? &via.t : NULL,
+                                     via.level ? lods[via.level].error : 0);
         heap_give_back();
         if (isnan(e)) {
             ok = false;
