@@ -1842,11 +1842,11 @@ static void test_via_levels(void)
     if (g && g->lod_count >= 8 && limen__mesh_bvh(&m) && ft &&
         grid_make(&full, ft, g->triangle_count)) {
         for (int k = 3; k < g->lod_count; k++) {
-            /* the coarsest finer level within half the level before's bound */
+            /* the coarsest finer level within 0.6 of the level before's bound, as the build */
             int j = k - 1;
-            while (j >= 1 && !(g->lods[j].error <= 0.5 * g->lods[k - 1].error))
+            while (j >= 1 && !(g->lods[j].error <= 0.6 * g->lods[k - 1].error))
                 j--;
-            if (j < 1 || g->lods[j].triangle_count * 16 > NT)
+            if (j < 1 || g->lods[j].triangle_count * 8 > NT)
                 continue;
             const limen_mesh_lod *lv = &g->lods[k], *fine = &g->lods[j];
             uint64_t n = 0;

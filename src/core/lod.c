@@ -1335,9 +1335,9 @@ static bool surface_join(surface_job *j, bool want)
     return j->made && j->ok;
 }
 
-#define VIA_RATIO 0.5           /* a finer level a level's pieces are laid over first: its
+#define VIA_RATIO 0.6           /* a finer level a level's pieces are laid over first: its
                                  * bound at most this much of the level before's, */
-#define VIA_SHARE 16            /* and at most this share of the full mesh's triangles */
+#define VIA_SHARE 8             /* and at most this share of the full mesh's triangles */
 
 /* A finer level's surface, which a coarser level's pieces are laid over first (via_bound). */
 typedef struct via_level {
