@@ -12,6 +12,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include "cache_dir.h"
 #include "charted.h"
 #include "check.h"
 #include "limen.h"
@@ -1255,6 +1256,109 @@ static void test_lod_bricks(void)
     free(colour);
 }
 
+/* A baked level as a load sees it: its triangles, error, and its own vertices' positions,
+ * texture coordinates and texture (NULL where it is not baked), packed for comparing. */
+static size_t baked_summary(const limen_mesh_geometry *g, unsigned char **out)
+{
+    size_t n = 0;
+    for (int pass = 0; pass < 2; pass++) {
+        unsigned char *at = pass ? *out : NULL;
+#define PUT(p, len) (pass ? (void)(memcpy(at + n, (p), (len))) : (void)0, n += (len))
+        for (int k = 0; k < g->lod_count; k++) {
+            const limen_mesh_geometry *b = g->lods[k].baked;
+            PUT(&g->lods[k].triangle_count, sizeof(int));
+            PUT(&g->lods[k].error, sizeof(float));
+            int has = b != NULL;
+            PUT(&has, sizeof has);
+            if (!b)
+                continue;
+            const limen_image *im = b->materials[0].base_texture;
+            PUT(b->positions, sizeof(float) * 3 * (size_t)b->vertex_count);
+            PUT(b->uvs, sizeof(float) * 2 * (size_t)b->vertex_count);
+            PUT(&im->width, sizeof(int));
+            PUT(&im->height, sizeof(int));
+            PUT(im->rgb, (size_t)im->width * (size_t)im->height * 3);
+        }
+#undef PUT
+        if (!pass && !(*out = malloc(n)))
+            return 0;
+        if (!pass)
+            n = 0;
+    }
+    return n;
+}
+
+/* Baked levels kept between runs (core/lod_cache.c keeps their triangles and surface bound;
+ * the texture is baked again when read): a second load of the same file reads the entry and
+ * gets the same levels, errors, vertices and texels. */
+static void test_lod_baked_cache(void)
+{
+    enum { N = 40, NT = 5 * N * N * 2, T = 64 };
+    int nv = charted_verts(N, 2);
+    char dir[] = "/tmp/limen_bakedXXXXXX", cache[64], f[96], obj[96], entry[4200] = "";
+    float *pos = malloc(sizeof(float) * 3 * nv), *nrm = malloc(sizeof(float) * 3 * nv),
+          *uv = malloc(sizeof(float) * 2 * nv);
+    uint32_t *idx = malloc(sizeof(uint32_t) * 3 * NT);
+    unsigned char *tex = malloc(T * T * 3), *sum[2] = { NULL, NULL };
+    size_t len[2] = { 0, 0 };
+    if (!pos || !nrm || !uv || !idx || !tex || !mkdtemp(dir)) {
+        CHECK(!"setup");
+        goto done;
+    }
+    charted_ball(N, 2, pos, nrm, uv, idx);
+    for (int i = 0; i < T * T * 3; i++)
+        tex[i] = (unsigned char)(i * 37 % 251);
+    snprintf(f, sizeof f, "%s/atlas.png", dir);
+    CHECK_OK(limen_write_png(f, T, T, tex));
+    CHECK(lod_asset_obj(&(lod_asset){ .nv = nv, .nt = NT, .pos = pos, .nrm = nrm, .uv = uv,
+                                      .idx = idx }, dir, obj, sizeof obj));
+    snprintf(cache, sizeof cache, "%s/cache", dir);
+    setenv("LIMEN_CACHE_DIR", cache, 1);
+    unsetenv("LIMEN_CACHE");
+    for (int run = 0; run < 2; run++) {
+        limen_scene *s = new_scene();
+        limen_drawables *dr = NULL;
+        limen_node ball;
+        CHECK_OK(limen_drawables_create(&dr));
+        CHECK_OK(limen_node_create(s, LIMEN_NODE_MESH, "ball", &ball));
+        CHECK_OK(limen_mesh_load(s, ball, obj));
+        CHECK_OK(limen_drawables_build(dr, s));
+        const limen_drawable *all = NULL;
+        limen_drawables_items(dr, &all);
+        int di = limen_drawables_find(dr, ball);
+        const limen_mesh_geometry *g = di >= 0 ? all[di].mesh : NULL;
+        CHECK(g && g->lod_count >= 5 && g->lods[g->lod_count - 1].baked);
+        if (g)
+            len[run] = baked_summary(g, &sum[run]);
+        limen_drawables_destroy(dr);
+        limen_scene_destroy(s);
+        CHECK_MSG(entries(cache, entry, sizeof entry) == 1, "run %d: no entry", run);
+    }
+    CHECK_MSG(len[0] > 0 && len[0] == len[1] && !memcmp(sum[0], sum[1], len[0]),
+              "the levels read back differ from those made (%zu and %zu bytes)", len[0], len[1]);
+done:
+    setenv("LIMEN_CACHE", "off", 1);
+    unsetenv("LIMEN_CACHE_DIR");
+    snprintf(f, sizeof f, "%s/atlas.png", dir);
+    remove(f);
+    snprintf(f, sizeof f, "%s/ball.obj", dir);
+    remove(f);
+    snprintf(f, sizeof f, "%s/ball.mtl", dir);
+    remove(f);
+    if (entry[0])
+        remove(entry);
+    snprintf(f, sizeof f, "%s/cache", dir);
+    rmdir(f);
+    rmdir(dir);
+    free(pos);
+    free(nrm);
+    free(uv);
+    free(idx);
+    free(tex);
+    free(sum[0]);
+    free(sum[1]);
+}
+
 static const check_case cases[] = {
     { "sphere_analytic", test_sphere_analytic },
     { "shapes_scaled", test_shapes_scaled },
@@ -1273,6 +1377,7 @@ static const check_case cases[] = {
     { "lod_levels", test_lod_levels },
     { "lod_charts", test_lod_charts },
     { "lod_baked", test_lod_baked },
+    { "lod_baked_cache", test_lod_baked_cache },
     { "lod_concave", test_lod_concave },
     { "lod_bricks", test_lod_bricks },
     { 0 },

@@ -316,7 +316,8 @@ limen__mesh *limen__lod_bake(const limen__mesh *m, const limen__lod_target *full
     limen__mesh *b = calloc(1, sizeof *b);
     uint32_t *first = calloc((size_t)m->nverts + 1, sizeof *first);
     uint32_t *at = malloc(sizeof *at * (m->nverts ? m->nverts : 1));
-    unsigned char *base = malloc(texels * 3), *glows = glow ? malloc(texels * 3) : NULL;
+    /* (texels no square covers, past the last, stay black) */
+    unsigned char *base = calloc(texels, 3), *glows = glow ? calloc(texels, 3) : NULL;
     if (b) {
         b->pos = malloc(sizeof(float) * 3 * nv);
         b->nrm = malloc(sizeof(float) * 3 * nv);

@@ -29,6 +29,9 @@
 #define FORMAT 1u
 #define HEAD_WORDS 10           /* after the magic: format, version... see entry_head */
 #define DEFAULT_MB 256
+/* the coarse levels' indices of a mesh of n triangles, at most: as many as the full mesh's,
+ * twice that where levels are baked (core/lod.c) */
+#define MOST_INDICES(n) (6ull * (n))
 
 /* ------------------------------------------------------------------ the key */
 
@@ -199,9 +202,9 @@ bool limen__lod_cache_load(const limen__lod_where *w, const limen__lod_key *key,
     unsigned char *whole = NULL, *buf = NULL;
     bool ok = fstat(fd, &st) == 0 && S_ISREG(st.st_mode) && st.st_size > 0;
     size_t len = ok ? (size_t)st.st_size : 0;
-    /* the largest entry a mesh of this size makes: its levels hold at most as many indices
-     * as the full mesh (lod.c), each level 8 bytes of header */
-    uint64_t most = 8 + 4 * HEAD_WORDS + 8ull * max_levels + 4ull * 3 * ntris + 8;
+    /* the largest entry a mesh of this size makes: its levels hold at most MOST_INDICES
+     * indices, each level 8 bytes of header */
+    uint64_t most = 8 + 4 * HEAD_WORDS + 8ull * max_levels + 4ull * MOST_INDICES(ntris) + 8;
     ok = ok && (uint64_t)st.st_size <= most && len >= 8 + 4 * HEAD_WORDS + 8;
     /* read in after `room` bytes, where the indices will be moved down to: one copy of them
      * at a time (a 1.6M-triangle mesh's are 19 MB) */
@@ -224,7 +227,7 @@ bool limen__lod_cache_load(const limen__lod_where *w, const limen__lod_key *key,
         entry_head(want, key, nverts, ntris, n, head[8], head[9]);
         ok = !memcmp(buf, MAGIC, 8) && !memcmp(head, want, sizeof head) && n >= 1 &&
              n <= max_levels && n < 32 && !(head[9] & 1u) && !(head[9] >> n) &&
-             (uint64_t)head[8] <= 3ull * ntris &&
+             (uint64_t)head[8] <= MOST_INDICES(ntris) &&
              len == 8 + 4 * HEAD_WORDS + 8ull * n + 4ull * head[8] + 8;
     }
     if (ok) {
@@ -347,7 +350,7 @@ void limen__lod_cache_store(const limen__lod_where *w, const limen__lod_key *key
         nidx += 3ull * (uint32_t)lods[k].triangle_count;
     size_t len = 8 + 4 * HEAD_WORDS + 8 * (size_t)nlods + 4 * (size_t)nidx + 8;
     /* an entry larger than the whole cache may be is not kept */
-    if (nidx > 3ull * ntris || len > w->limit || nlods >= 32 || !make_dir(w->dir))
+    if (nidx > MOST_INDICES(ntris) || len > w->limit || nlods >= 32 || !make_dir(w->dir))
         return;
     /* what is there already and is not a plain file (a link, a pipe) is left alone */
     struct stat st;
