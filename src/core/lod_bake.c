@@ -29,7 +29,7 @@
 #define REACH_SHARE 0.25        /* the texels' spacing (their blend's reach) at most this share
                                  * of a level's bound, where the texture's size allows */
 #define CELL_MIN 4              /* texels a side of a triangle's square, at least, */
-#define CELL_MAX 64             /* ... at most */
+#define CELL_MAX 256            /* ... at most */
 #define BAKE_TEXELS (2048 * 2048)   /* texels of a baked texture, at most */
 #define SPREAD (sqrt(2.0) * (1.0 + (SUB - 1.0) / (2.0 * SUB)))  /* texels, see sides */
 #define SUB 1                   /* points a texel's colour is the mean of, SUB x SUB: each
@@ -103,42 +103,68 @@ static uint32_t z_y(uint32_t r)
     return z_x(r >> 1);
 }
 
-/* Each triangle's square: side[t] texels (a power of two from CELL_MIN to CELL_MAX), the
- * least that spaces its texels within REACH_SHARE of geo, all of them halved together while
- * the texture would exceed BAKE_TEXELS; returns the reach (see limen__lod_bake). */
-static double sides(const limen__mesh *m, const uint32_t *idx, uint32_t ntris, double geo,
-                    uint8_t *side)
+/* The side of the square that spaces a triangle of the given stretch's texels at most h
+ * apart on it: a power of two from CELL_MIN to CELL_MAX. */
+static int side_for(double stretch, double h)
 {
+    int c = CELL_MIN;
+    while (c < CELL_MAX && !(stretch / (c - 1) <= h))
+        c *= 2;
+    return c;
+}
+
+static uint64_t texels_for(const double *st, uint32_t ntris, double h)
+{
+    uint64_t n = 0;
+    for (uint32_t t = 0; t < ntris; t++) {
+        uint64_t c = (uint64_t)side_for(st[t], h);
+        n += c * c;
+    }
+    return n;
+}
+
+/* Each triangle's square: side[t] texels, the least that spaces its texels at most h apart
+ * on it, h the spacing that keeps the texels' part of the reach within REACH_SHARE of geo,
+ * or, where the squares would then exceed BAKE_TEXELS, the least spacing that fits (one
+ * spacing for all: the reach is the largest); returns the reach (see limen__lod_bake);
+ * false when out of memory. */
+static bool sides(const limen__mesh *m, const uint32_t *idx, uint32_t ntris, double geo,
+                  uint16_t *side, double *reach)
+{
+    double *st = malloc(sizeof *st * (ntris ? ntris : 1)), most = 0;
+    if (!st)
+        return false;
+    for (uint32_t t = 0; t < ntris; t++) {
+        laid l;
+        lay(m, idx + (size_t)t * 3, &l);
+        st[t] = stretch(&l);
+        most = fmax(most, st[t]);
+    }
     /* a point blends the four texels around it, each within sqrt(2) texels of it on the
      * square, each the mean of points within SPREAD texels of its centre, which the map
      * onto the triangle stretches by at most stretch / (side - 1) */
     double h = REACH_SHARE * geo / SPREAD;
-    uint64_t texels = 0;
-    for (uint32_t t = 0; t < ntris; t++) {
-        laid l;
-        lay(m, idx + (size_t)t * 3, &l);
-        double st = stretch(&l);
-        int c = CELL_MIN;
-        while (c < CELL_MAX && !(st / (c - 1) <= h))
-            c *= 2;
-        side[t] = (uint8_t)c;
-        texels += (uint64_t)c * (uint64_t)c;
-    }
-    for (int shrink = 0; texels > BAKE_TEXELS && shrink < 4; shrink++) {
-        texels = 0;
-        for (uint32_t t = 0; t < ntris; t++) {
-            if (side[t] > CELL_MIN)
-                side[t] = (uint8_t)(side[t] / 2);
-            texels += (uint64_t)side[t] * side[t];
+    if (!(h > 0) || texels_for(st, ntris, h) > BAKE_TEXELS) {
+        /* bisected between a spacing too fine and one every square of CELL_MIN meets (at
+         * most LIMEN__BAKE_MAX_TRIS of them: within BAKE_TEXELS) */
+        double lo = h > 0 ? h : 0, hi = fmax(most / (CELL_MIN - 1), lo);
+        for (int i = 0; i < 60 && hi > lo * (1 + 1e-9); i++) {
+            double mid = 0.5 * (lo + hi);
+            if (texels_for(st, ntris, mid) > BAKE_TEXELS)
+                lo = mid;
+            else
+                hi = mid;
         }
+        h = hi;
     }
-    double reach = 0;
+    double r = 0;
     for (uint32_t t = 0; t < ntris; t++) {
-        laid l;
-        lay(m, idx + (size_t)t * 3, &l);
-        reach = fmax(reach, SPREAD * stretch(&l) / (side[t] - 1));
+        side[t] = (uint16_t)side_for(st[t], h);
+        r = fmax(r, SPREAD * st[t] / (side[t] - 1));
     }
-    return geo + reach;
+    free(st);
+    *reach = geo + r;
+    return true;
 }
 
 /* ------------------------------------------------------------------ the bake */
@@ -166,7 +192,7 @@ static uint32_t spread10(uint32_t x)
 /* The triangles by their squares, largest first, and then in the order of their centres
  * along a Morton curve over m's box. */
 static keyed *square_order(const limen__mesh *m, const uint32_t *idx, uint32_t ntris,
-                           const uint8_t *side)
+                           const uint16_t *side)
 {
     keyed *o = malloc(sizeof *o * (ntris ? ntris : 1));
     if (!o)
@@ -291,10 +317,11 @@ limen__mesh *limen__lod_bake(const limen__mesh *m, const limen__lod_target *full
 {
     if (!ntris || ntris > LIMEN__BAKE_MAX_TRIS)
         return NULL;
-    uint8_t *side = malloc(ntris);
+    uint16_t *side = malloc(sizeof *side * ntris);
     uint32_t *place = malloc(sizeof *place * 2 * ntris);
     keyed *order = NULL;
-    if (!side || !place || !(*reach = sides(m, idx, ntris, geo, side), order = square_order(m, idx, ntris, side))) {
+    if (!side || !place || !sides(m, idx, ntris, geo, side, reach) ||
+        !(order = square_order(m, idx, ntris, side))) {
         free(side);
         free(place);
         return NULL;
