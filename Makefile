@@ -43,7 +43,7 @@ CORE_SRC += src/core/lod_weld.c
 # levels of detail within a texture's charts (core/lod_charts.c)
 CORE_SRC += src/core/lod_charts.c
 # levels of detail of a big mesh, simplified in blocks (core/lod_split.c)
-CORE_SRC += src/core/lod_split.c
+CORE_SRC += src/core/lod_split.c src/core/lod_bake.c
 # the unit shapes' triangles (core/shapes.c)
 CORE_SRC += src/core/shapes.c
 # model files as scenes (limen_model_load), the JSON reader for what assimp drops, and

@@ -293,10 +293,12 @@ static void op_draw(game *g, const limen_draw_cmd *c)
     int shape = c->op == LIMEN_DRAW_SHAPE;
     const limen_mesh_geometry *m = shape ? limen_unit_geometry(limen_kind_get(d->kind)->unit)
                                          : d->mesh;
+    int lod = m && c->lod < m->lod_count && c->lod < 16 ? c->lod : 0;
+    if (!shape && m && m->lods[lod].baked && !d->texture)
+        m = m->lods[lod].baked, lod = 0;        /* a level with a texture of its own */
     const gpu *gm = m ? mesh_upload(g, m) : NULL;
     if (!gm)
         return;
-    int lod = c->lod < m->lod_count && c->lod < 16 ? c->lod : 0;
     GLuint ibo = gm->ibo[lod];                  /* (an image's upload may move the cache) */
     glBindVertexArray(gm->vao), glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, ibo);
     glBindBuffer(GL_ARRAY_BUFFER, g->inst_vbo);

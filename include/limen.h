@@ -576,6 +576,18 @@ typedef struct limen_mesh_lod {
                                  * mesh's local units; 0 for level 0 */
     const limen_mesh_part *parts;   /* the mesh's part_count parts as ranges of this level's
                                  * triangles (a level keeps each triangle in its part) */
+    const struct limen_mesh_geometry *baked;  /* NULL, or this level with a texture of its
+                                 * own: where a textured mesh's charts stop its levels, the
+                                 * coarser ones are simplified by position alone and each
+                                 * given its own vertices, texture coordinates and one
+                                 * material whose base (and emissive) texture is baked from
+                                 * the mesh's (the colour of the full surface nearest each
+                                 * texel). Draw baked (its vertices, its lods[0], its parts
+                                 * and materials) in place of indices: indices (the same
+                                 * triangles over the mesh's vertices) show the mesh's texture
+                                 * blended across its charts. error bounds where a point's
+                                 * colour comes from too. Made for opaque meshes whose
+                                 * materials have textures of their own (not a node's) */
 } limen_mesh_lod;
 
 typedef struct limen_mesh_geometry {

@@ -14,6 +14,7 @@
 #include <unistd.h>
 
 #include "bumpy.h"
+#include "cache_dir.h"
 #include "charted.h"
 #include "check.h"
 #include "core/lod_cache.h"
@@ -1068,22 +1069,6 @@ static int sphere_levels(int u, int v, float **out, size_t *len)
     free(pos);
     free(idx);
     return levels;
-}
-
-/* The cache folder's entries: how many, and the path of the last found. */
-static int entries(const char *dir, char *path, size_t size)
-{
-    DIR *d = opendir(dir);
-    int n = 0;
-    for (struct dirent *e; d && (e = readdir(d));)
-        if (!strncmp(e->d_name, "lod-", 4) && strstr(e->d_name, ".bin") &&
-            !strstr(e->d_name, ".tmp")) {
-            snprintf(path, size, "%s/%s", dir, e->d_name);
-            n++;
-        }
-    if (d)
-        closedir(d);
-    return n;
 }
 
 static long long mtime_ns(const char *path)

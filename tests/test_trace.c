@@ -12,6 +12,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include "cache_dir.h"
 #include "charted.h"
 #include "check.h"
 #include "limen.h"
@@ -791,23 +792,66 @@ static int lod_class(const unsigned char *p)
     return best;
 }
 
-/* How many pixels of img show a colour (lod_class) that ref shows nowhere within r of them. */
+/* How many pixels of img show a colour (lod_class) that ref shows nowhere within r of them
+ * (a square of side 2r + 1 around the pixel: each class's Chebyshev distance from it, by
+ * two passes over ref). blends: a pixel whose colour lies within the box of the colours ref
+ * shows within r (each channel between their least and greatest) is matched too, as a
+ * blend of texels from within r is. */
 static int unmatched_within(const unsigned char *img, const unsigned char *ref, int w, int h,
-                            int r)
+                            int r, bool blends)
 {
+    enum { CLASSES = 7 };       /* lod_class + 1: the background, then lod_colour's */
+    int *dist = malloc(sizeof(int) * CLASSES * (size_t)w * h);
+    if (!dist)
+        return w * h;
+    const int far = w + h;
+    for (int c = 0; c < CLASSES; c++) {
+        int *d = dist + (size_t)c * w * h;
+        for (int i = 0; i < w * h; i++)
+            d[i] = lod_class(&ref[i * 3]) + 1 == c ? 0 : far;
+        for (int y = 0; y < h; y++)
+            for (int x = 0; x < w; x++)
+                for (int dy = -1; dy <= 0; dy++)
+                    for (int dx = -1; dx <= 1; dx++) {
+                        int yy = y + dy, xx = x + dx;
+                        if ((dy < 0 || dx < 0) && yy >= 0 && xx >= 0 && xx < w &&
+                            d[yy * w + xx] + 1 < d[y * w + x])
+                            d[y * w + x] = d[yy * w + xx] + 1;
+                    }
+        for (int y = h - 1; y >= 0; y--)
+            for (int x = w - 1; x >= 0; x--)
+                for (int dy = 0; dy <= 1; dy++)
+                    for (int dx = -1; dx <= 1; dx++) {
+                        int yy = y + dy, xx = x + dx;
+                        if ((dy > 0 || dx > 0) && yy < h && xx >= 0 && xx < w &&
+                            d[yy * w + xx] + 1 < d[y * w + x])
+                            d[y * w + x] = d[yy * w + xx] + 1;
+                    }
+    }
     int bad = 0;
     for (int y = 0; y < h; y++)
         for (int x = 0; x < w; x++) {
-            int c = lod_class(&img[(y * w + x) * 3]);
-            bool found = false;
-            for (int dy = -r; dy <= r && !found; dy++)
-                for (int dx = -r; dx <= r && !found; dx++) {
-                    int yy = y + dy, xx = x + dx;
-                    found = yy >= 0 && yy < h && xx >= 0 && xx < w &&
-                            lod_class(&ref[(yy * w + xx) * 3]) == c;
-                }
-            bad += !found;
+            const unsigned char *p = &img[(y * w + x) * 3];
+            if (dist[(size_t)(lod_class(p) + 1) * w * h + (size_t)y * w + x] <= r)
+                continue;
+            bool inside = false;
+            if (blends) {
+                int lo[3] = { 255, 255, 255 }, hi[3] = { 0, 0, 0 };
+                for (int yy = y - r; yy <= y + r; yy++)
+                    for (int xx = x - r; xx <= x + r; xx++)
+                        if (yy >= 0 && yy < h && xx >= 0 && xx < w)
+                            for (int k = 0; k < 3; k++) {
+                                int v = ref[(yy * w + xx) * 3 + k];
+                                lo[k] = v < lo[k] ? v : lo[k];
+                                hi[k] = v > hi[k] ? v : hi[k];
+                            }
+                inside = true;
+                for (int k = 0; k < 3; k++)
+                    inside = inside && p[k] >= lo[k] && p[k] <= hi[k];
+            }
+            bad += !inside;
         }
+    free(dist);
     return bad;
 }
 
@@ -823,7 +867,38 @@ typedef struct lod_asset {
     bool notches;               /* the texels of a chart's cell that no triangle of it shows
                                  * (beyond a texel around them) in the margin's colour, as
                                  * an atlas packs other charts there; else the chart's own */
+    bool file;                  /* loaded from an OBJ whose material has the atlas as its
+                                 * texture (the mesh's own: its coarse levels baked), not
+                                 * made from arrays with the atlas as the node's texture */
 } lod_asset;
+
+/* a as an OBJ (dir/ball.obj) whose material's texture is dir/atlas.png */
+static bool lod_asset_obj(const lod_asset *a, const char *dir, char *obj, size_t size)
+{
+    char mtl[96];
+    snprintf(obj, size, "%s/ball.obj", dir);
+    snprintf(mtl, sizeof mtl, "%s/ball.mtl", dir);
+    FILE *f = fopen(mtl, "w");
+    if (!f)
+        return false;
+    fprintf(f, "newmtl atlas\nKd 1 1 1\nmap_Kd atlas.png\n");
+    fclose(f);
+    if (!(f = fopen(obj, "w")))
+        return false;
+    fprintf(f, "mtllib ball.mtl\nusemtl atlas\n");
+    for (int v = 0; v < a->nv; v++)
+        fprintf(f, "v %.9g %.9g %.9g\nvt %.9g %.9g\nvn %.9g %.9g %.9g\n", a->pos[v * 3],
+                a->pos[v * 3 + 1], a->pos[v * 3 + 2], a->uv[v * 2], a->uv[v * 2 + 1],
+                a->nrm[v * 3], a->nrm[v * 3 + 1], a->nrm[v * 3 + 2]);
+    for (int t = 0; t < a->nt; t++) {
+        fprintf(f, "f");
+        for (int k = 0; k < 3; k++)
+            fprintf(f, " %u/%u/%u", a->idx[t * 3 + k] + 1, a->idx[t * 3 + k] + 1,
+                    a->idx[t * 3 + k] + 1);
+        fprintf(f, "\n");
+    }
+    return fclose(f) == 0;
+}
 
 /* A textured asset with seams (a, each chart's cell checkered in its colour, with a margin
  * of a colour no chart has), unlit, at each of its levels of detail: the renderer forced to
@@ -894,10 +969,16 @@ static void lod_asset_levels(const lod_asset *a, int min_levels, int fraction)
     CHECK_OK(limen_scene_set_camera(s, cam));
     CHECK_OK(limen_scene_set_ambient(s, 1.0f));
     CHECK_OK(limen_node_create(s, LIMEN_NODE_MESH, "ball", &ball));
-    CHECK_OK(limen_mesh_set_triangles(s, ball, &(limen_mesh_data){
-        .positions = a->pos, .normals = a->nrm, .uvs = a->uv, .vertex_count = a->nv,
-        .indices = a->idx, .triangle_count = NT }));
-    CHECK_OK(limen_node_set_texture(s, ball, path));
+    if (a->file) {
+        char obj[96];
+        CHECK(lod_asset_obj(a, dir, obj, sizeof obj));
+        CHECK_OK(limen_mesh_load(s, ball, obj));
+    } else {
+        CHECK_OK(limen_mesh_set_triangles(s, ball, &(limen_mesh_data){
+            .positions = a->pos, .normals = a->nrm, .uvs = a->uv, .vertex_count = a->nv,
+            .indices = a->idx, .triangle_count = NT }));
+        CHECK_OK(limen_node_set_texture(s, ball, path));
+    }
     /* one point of the texture per pixel in both: no level of a mipmap to choose */
     CHECK_OK(limen_node_set_texture_filter(s, ball, LIMEN_FILTER_LINEAR));
     /* the camera's view and the ball as the renderer reads them */
@@ -946,7 +1027,7 @@ static void lod_asset_levels(const lod_asset *a, int min_levels, int fraction)
         CHECK_MSG(dl.bad_share <= 0.005, "level %d (%d triangles): render %.3f%% off its trace", k,
                   g->lods[k].triangle_count, 100 * dl.bad_share);
         int radius = (int)ceil(g->lods[k].error * to_px) + 1;
-        int moved = unmatched_within(lvl, full, W, H, radius);
+        int moved = unmatched_within(lvl, full, W, H, radius, g->lods[k].baked != NULL);
         CHECK_MSG(moved <= W * H / 2000, "level %d (error %.2f px): %d pixels with no colour of "
                   "the full mesh's within %d px", k, g->lods[k].error * to_px, moved, radius);
         if (getenv("LIMEN_TEST_PNGS")) {
@@ -971,11 +1052,24 @@ static void lod_asset_levels(const lod_asset *a, int min_levels, int fraction)
     CHECK(limen_trace_image(s, &(limen_trace_desc){ .width = W, .height = H,
                                                     .lod_pixels = NAN }, lvl) == LIMEN_ERR_ARG);
     CHECK_MSG(strstr(limen_scene_error(s), "lod_pixels"), "%s", limen_scene_error(s));
+    if (a->file) {
+        /* past the charts' floor the levels are baked: their own triangles, as many */
+        const limen_mesh_lod *last = &g->lods[g->lod_count - 1];
+        CHECK_MSG(last->baked && last->baked->triangle_count == last->triangle_count &&
+                  last->baked->material_count == 1 && last->baked->materials[0].base_texture,
+                  "%s: the coarsest level is not baked", a->name);
+    }
 done:
     if (path[0])
         remove(path);
-    if (made)
+    if (made) {
+        char f[96];
+        snprintf(f, sizeof f, "%s/ball.obj", dir);
+        remove(f);
+        snprintf(f, sizeof f, "%s/ball.mtl", dir);
+        remove(f);
         rmdir(dir);
+    }
     limen_drawables_destroy(dr);
     limen_renderer_destroy(r);
     limen_scene_destroy(s);
@@ -989,7 +1083,7 @@ done:
 
 /* The ball of charted_ball (tile x tile squares a chart), chart c's colour by its place,
  * a chart's neighbours on its face each another colour (of five). */
-static void lod_levels(int tile, int min_levels)
+static void lod_levels(int tile, int min_levels, bool file)
 {
     enum { N = 40, NT = 5 * N * N * 2 };
     int per = N / tile, charts = 5 * per * per, nv = charted_verts(N, tile);
@@ -1007,7 +1101,7 @@ static void lod_levels(int tile, int min_levels)
         snprintf(name, sizeof name, "charts_of_%d", tile);
         lod_asset_levels(&(lod_asset){ .name = name, .nv = nv, .nt = NT, .charts = charts,
                                        .cell = tile == N ? 64 : 32, .pos = pos, .nrm = nrm,
-                                       .uv = uv, .idx = idx, .colour = colour },
+                                       .uv = uv, .idx = idx, .colour = colour, .file = file },
                          min_levels, min_levels >= 5 ? 16 : 0);
     } else {
         CHECK(!"out of memory");
@@ -1021,7 +1115,7 @@ static void lod_levels(int tile, int min_levels)
 
 static void test_lod_levels(void)
 {
-    lod_levels(40, 5);
+    lod_levels(40, 5, false);
 }
 
 /* The same with 500 charts of 4 x 4 squares (a margin around each): a triangle whose
@@ -1032,7 +1126,17 @@ static void test_lod_levels(void)
  * charts (core/lod_charts.c), reach 1/16 of the triangles in five levels. */
 static void test_lod_charts(void)
 {
-    lod_levels(4, 5);
+    lod_levels(4, 5, false);
+}
+
+/* 2,000 charts of 2 x 2 squares, loaded from a file whose material has the atlas: the
+ * charts hold the levels within them above a quarter of the triangles, and the coarser ones
+ * are baked (core/lod_bake.c), each with a texture of its own: five levels or more to 1/16,
+ * each drawn as traced, and none showing a colour farther than its error from where the
+ * full mesh shows it. */
+static void test_lod_baked(void)
+{
+    lod_levels(2, 5, true);
 }
 
 /* Colours (of lod_colour's five) for charts (chart per vertex of nv at pos) so that charts
@@ -1152,6 +1256,109 @@ static void test_lod_bricks(void)
     free(colour);
 }
 
+/* A baked level as a load sees it: its triangles, error, and its own vertices' positions,
+ * texture coordinates and texture (NULL where it is not baked), packed for comparing. */
+static size_t baked_summary(const limen_mesh_geometry *g, unsigned char **out)
+{
+    size_t n = 0;
+    for (int pass = 0; pass < 2; pass++) {
+        unsigned char *at = pass ? *out : NULL;
+#define PUT(p, len) (pass ? (void)(memcpy(at + n, (p), (len))) : (void)0, n += (len))
+        for (int k = 0; k < g->lod_count; k++) {
+            const limen_mesh_geometry *b = g->lods[k].baked;
+            PUT(&g->lods[k].triangle_count, sizeof(int));
+            PUT(&g->lods[k].error, sizeof(float));
+            int has = b != NULL;
+            PUT(&has, sizeof has);
+            if (!b)
+                continue;
+            const limen_image *im = b->materials[0].base_texture;
+            PUT(b->positions, sizeof(float) * 3 * (size_t)b->vertex_count);
+            PUT(b->uvs, sizeof(float) * 2 * (size_t)b->vertex_count);
+            PUT(&im->width, sizeof(int));
+            PUT(&im->height, sizeof(int));
+            PUT(im->rgb, (size_t)im->width * (size_t)im->height * 3);
+        }
+#undef PUT
+        if (!pass && !(*out = malloc(n)))
+            return 0;
+        if (!pass)
+            n = 0;
+    }
+    return n;
+}
+
+/* Baked levels kept between runs (core/lod_cache.c keeps their triangles and surface bound;
+ * the texture is baked again when read): a second load of the same file reads the entry and
+ * gets the same levels, errors, vertices and texels. */
+static void test_lod_baked_cache(void)
+{
+    enum { N = 40, NT = 5 * N * N * 2, T = 64 };
+    int nv = charted_verts(N, 2);
+    char dir[] = "/tmp/limen_bakedXXXXXX", cache[64], f[96], obj[96], entry[4200] = "";
+    float *pos = malloc(sizeof(float) * 3 * nv), *nrm = malloc(sizeof(float) * 3 * nv),
+          *uv = malloc(sizeof(float) * 2 * nv);
+    uint32_t *idx = malloc(sizeof(uint32_t) * 3 * NT);
+    unsigned char *tex = malloc(T * T * 3), *sum[2] = { NULL, NULL };
+    size_t len[2] = { 0, 0 };
+    if (!pos || !nrm || !uv || !idx || !tex || !mkdtemp(dir)) {
+        CHECK(!"setup");
+        goto done;
+    }
+    charted_ball(N, 2, pos, nrm, uv, idx);
+    for (int i = 0; i < T * T * 3; i++)
+        tex[i] = (unsigned char)(i * 37 % 251);
+    snprintf(f, sizeof f, "%s/atlas.png", dir);
+    CHECK_OK(limen_write_png(f, T, T, tex));
+    CHECK(lod_asset_obj(&(lod_asset){ .nv = nv, .nt = NT, .pos = pos, .nrm = nrm, .uv = uv,
+                                      .idx = idx }, dir, obj, sizeof obj));
+    snprintf(cache, sizeof cache, "%s/cache", dir);
+    setenv("LIMEN_CACHE_DIR", cache, 1);
+    unsetenv("LIMEN_CACHE");
+    for (int run = 0; run < 2; run++) {
+        limen_scene *s = new_scene();
+        limen_drawables *dr = NULL;
+        limen_node ball;
+        CHECK_OK(limen_drawables_create(&dr));
+        CHECK_OK(limen_node_create(s, LIMEN_NODE_MESH, "ball", &ball));
+        CHECK_OK(limen_mesh_load(s, ball, obj));
+        CHECK_OK(limen_drawables_build(dr, s));
+        const limen_drawable *all = NULL;
+        limen_drawables_items(dr, &all);
+        int di = limen_drawables_find(dr, ball);
+        const limen_mesh_geometry *g = di >= 0 ? all[di].mesh : NULL;
+        CHECK(g && g->lod_count >= 5 && g->lods[g->lod_count - 1].baked);
+        if (g)
+            len[run] = baked_summary(g, &sum[run]);
+        limen_drawables_destroy(dr);
+        limen_scene_destroy(s);
+        CHECK_MSG(entries(cache, entry, sizeof entry) == 1, "run %d: no entry", run);
+    }
+    CHECK_MSG(len[0] > 0 && len[0] == len[1] && !memcmp(sum[0], sum[1], len[0]),
+              "the levels read back differ from those made (%zu and %zu bytes)", len[0], len[1]);
+done:
+    setenv("LIMEN_CACHE", "off", 1);
+    unsetenv("LIMEN_CACHE_DIR");
+    snprintf(f, sizeof f, "%s/atlas.png", dir);
+    remove(f);
+    snprintf(f, sizeof f, "%s/ball.obj", dir);
+    remove(f);
+    snprintf(f, sizeof f, "%s/ball.mtl", dir);
+    remove(f);
+    if (entry[0])
+        remove(entry);
+    snprintf(f, sizeof f, "%s/cache", dir);
+    rmdir(f);
+    rmdir(dir);
+    free(pos);
+    free(nrm);
+    free(uv);
+    free(idx);
+    free(tex);
+    free(sum[0]);
+    free(sum[1]);
+}
+
 static const check_case cases[] = {
     { "sphere_analytic", test_sphere_analytic },
     { "shapes_scaled", test_shapes_scaled },
@@ -1169,6 +1376,8 @@ static const check_case cases[] = {
     { "msaa_truth", test_msaa_truth },
     { "lod_levels", test_lod_levels },
     { "lod_charts", test_lod_charts },
+    { "lod_baked", test_lod_baked },
+    { "lod_baked_cache", test_lod_baked_cache },
     { "lod_concave", test_lod_concave },
     { "lod_bricks", test_lod_bricks },
     { 0 },

@@ -43,6 +43,7 @@
 #include <meshoptimizer.h>
 
 #include "core/internal.h"
+#include "core/lod_bake.h"
 #include "core/lod_cache.h"
 #include "core/lod_target.h"
 #include "core/lod_weld.h"
@@ -1533,7 +1534,27 @@ typedef struct made {
     unsigned char *block;
     uint32_t nlods;
     size_t at[MAX_LEVELS], used;
+    limen__mesh *baked[MAX_LEVELS];     /* level k baked (core/lod_bake.h), or NULL */
+    float geo[MAX_LEVELS];      /* a baked level's error before its texture's reach */
 } made;
+
+static void made_free(made *mk)
+{
+    free(mk->block);
+    mk->block = NULL;
+    for (uint32_t k = 0; k < MAX_LEVELS; k++) {
+        limen__lod_baked_free(mk->baked[k]);
+        mk->baked[k] = NULL;
+    }
+}
+
+static uint32_t baked_mask(const made *mk)
+{
+    uint32_t mask = 0;
+    for (uint32_t k = 1; k < mk->nlods; k++)
+        mask |= mk->baked[k] ? 1u << k : 0u;
+    return mask;
+}
 
 #define HEAD (sizeof(limen_mesh_lod) * MAX_LEVELS)
 
@@ -1543,38 +1564,73 @@ static size_t lods_bytes(const limen__mesh *m)
 {
     if (!m->lods)
         return sizeof(uint32_t) * 3 * (size_t)m->ntris;
-    size_t n = 0;
-    for (uint32_t k = 1; k < m->nlods; k++)
+    size_t n = 0, baked = 0;
+    for (uint32_t k = 1; k < m->nlods; k++) {
         n += (size_t)m->lods[k].triangle_count * 3;
-    return HEAD + sizeof(uint32_t) * n;
+        baked += m->lod_baked && m->lod_baked[k] ? m->lod_baked[k]->bytes + sizeof(void *) : 0;
+    }
+    return HEAD + sizeof(uint32_t) * n + baked;
 }
 
-/* Gives m the levels in mk (taken), shrunk to fit. */
-static void install(limen__mesh *m, made *mk)
+static void baked_free(limen__mesh *m)
 {
+    for (uint32_t k = 0; m->lod_baked && k < m->nlods; k++)
+        limen__lod_baked_free(m->lod_baked[k]);
+    free(m->lod_baked);
+    m->lod_baked = NULL;
+}
+
+void limen__mesh_lods_free(limen__mesh *m)
+{
+    baked_free(m);
+    free(m->lods);
+    m->lods = NULL;
+    m->nlods = 0;
+}
+
+/* Gives m the levels in mk (taken), shrunk to fit; false when out of memory (mk freed). */
+static bool install(limen__mesh *m, made *mk)
+{
+    limen__mesh **baked = NULL;
+    if (baked_mask(mk) && !(baked = calloc(mk->nlods, sizeof *baked))) {
+        made_free(mk);
+        return false;
+    }
     unsigned char *fit = realloc(mk->block, HEAD + sizeof(uint32_t) * mk->used);
     unsigned char *block = fit ? fit : mk->block;
     limen_mesh_lod *lods = (limen_mesh_lod *)block;
     uint32_t *store = (uint32_t *)(block + HEAD);
     lods[0].indices = m->idx;
-    for (uint32_t k = 1; k < mk->nlods; k++)
+    lods[0].baked = NULL;
+    for (uint32_t k = 1; k < mk->nlods; k++) {
         lods[k].indices = store + mk->at[k];
+        lods[k].baked = mk->baked[k] ? &mk->baked[k]->pub : NULL;
+        if (baked)
+            baked[k] = mk->baked[k];
+        mk->baked[k] = NULL;
+    }
     size_t before = lods_bytes(m);
+    baked_free(m);
     free(m->lods);
     m->lods = lods;
     m->nlods = mk->nlods;
+    m->lod_baked = baked;
     m->bytes = m->bytes - before + lods_bytes(m);
     mk->block = NULL;
+    return true;
 }
+
+static bool bake_again(const limen__mesh *m, made *mk, uint32_t mask);
 
 /* The levels kept from an earlier run (core/lod_cache.c), where there are some for m: read
  * into the block they are kept in, after room for the levels' headers. */
 static bool from_cache(limen__mesh *m, const limen__lod_where *w, const limen__lod_key *key)
 {
     limen_mesh_lod lv[MAX_LEVELS];
-    uint32_t n;
+    uint32_t n, baked;
     unsigned char *block;
-    if (!limen__lod_cache_load(w, key, m->nverts, m->ntris, lv, MAX_LEVELS, &n, HEAD, &block))
+    if (!limen__lod_cache_load(w, key, m->nverts, m->ntris, lv, MAX_LEVELS, &n, &baked, HEAD,
+                               &block))
         return false;
     made mk = { .nlods = n, .block = block };
     for (uint32_t k = 1; k < n; k++) {
@@ -1582,8 +1638,12 @@ static bool from_cache(limen__mesh *m, const limen__lod_where *w, const limen__l
         mk.used += (size_t)lv[k].triangle_count * 3;
     }
     memcpy(mk.block, lv, sizeof *lv * n);
-    install(m, &mk);
-    return true;
+    /* the baked levels' textures are not kept: made again (a fraction of the build) */
+    if (baked && !bake_again(m, &mk, baked)) {
+        made_free(&mk);
+        return false;
+    }
+    return install(m, &mk);
 }
 
 /* Stores the levels in mk (made for m) in the cache w under key. */
@@ -1593,9 +1653,12 @@ static void to_cache(const limen__mesh *m, const limen__lod_where *w, const lime
     limen_mesh_lod lv[MAX_LEVELS];
     memcpy(lv, mk->block, sizeof *lv * mk->nlods);
     lv[0].indices = m->idx;
-    for (uint32_t k = 1; k < mk->nlods; k++)
+    for (uint32_t k = 1; k < mk->nlods; k++) {
         lv[k].indices = (const uint32_t *)(mk->block + HEAD) + mk->at[k];
-    limen__lod_cache_store(w, key, m->nverts, m->ntris, lv, mk->nlods);
+        if (mk->baked[k])
+            lv[k].error = mk->geo[k];   /* its reach is found again with its texture */
+    }
+    limen__lod_cache_store(w, key, m->nverts, m->ntris, lv, mk->nlods, baked_mask(mk));
 }
 
 static bool lods_make(const limen__mesh *m, const atomic_bool *stop, made *out);
@@ -1608,8 +1671,7 @@ static bool build_here(limen__mesh *m, const limen__lod_where *w, const limen__l
     if (!lods_make(m, NULL, &mk))
         return false;
     to_cache(m, w, key, &mk);
-    install(m, &mk);
-    return true;
+    return install(m, &mk);
 }
 
 bool limen__mesh_lods_build(limen__mesh *m)
@@ -1770,8 +1832,8 @@ static bool job_end(limen__mesh *m, bool stop)
      * level alone, before the levels come or where none will (a build out of memory) */
     m->bytes = m->bytes - j->extra - lods_bytes(&(limen__mesh){ .ntris = m->ntris }) + HEAD;
     if (got)
-        install(m, &j->mk);
-    free(j->mk.block);
+        got = install(m, &j->mk);
+    made_free(&j->mk);
     free(j);
     m->lod_job = NULL;
     return got;
@@ -1839,28 +1901,94 @@ static void weld_attributes(const limen__mesh *m, uint32_t *vpart, uint32_t *att
     meshopt_generateShadowIndexBufferMulti(attr, m->idx, n0, m->nverts, streams, ns);
 }
 
-/* Drops each level with no less error than a coarser one (never worth drawing), which
- * leaves the errors growing with the level: the rest packed to the front of store, *nlods
- * and *used (the indices in store) their new counts. */
-static void drop_beaten(limen_mesh_lod *lods, size_t at[MAX_LEVELS], uint32_t *store,
-                        uint32_t *nlods, size_t *used)
+/* Drops each level with no less error than a coarser one (never worth drawing), and those
+ * dropped (not to be kept), which leaves the errors growing with the level: the rest packed
+ * to the front of mk's store, their counts and places (and baked meshes) to match. */
+static void drop_beaten(made *mk, const bool dropped[MAX_LEVELS])
 {
+    limen_mesh_lod *lods = (limen_mesh_lod *)mk->block;
+    uint32_t *store = (uint32_t *)(mk->block + HEAD);
     uint32_t kept = 1;
     size_t packed = 0;
-    for (uint32_t k = 1; k < *nlods; k++) {
-        bool beaten = false;
-        for (uint32_t j = k + 1; j < *nlods && !beaten; j++)
-            beaten = lods[j].error <= lods[k].error;
-        if (beaten)
+    for (uint32_t k = 1; k < mk->nlods; k++) {
+        bool beaten = dropped[k];
+        for (uint32_t j = k + 1; j < mk->nlods && !beaten; j++)
+            beaten = !dropped[j] && lods[j].error <= lods[k].error;
+        if (beaten) {
+            limen__lod_baked_free(mk->baked[k]);
+            mk->baked[k] = NULL;
             continue;
+        }
         size_t len = (size_t)lods[k].triangle_count * 3;
-        memmove(store + packed, store + at[k], sizeof(uint32_t) * len);
+        memmove(store + packed, store + mk->at[k], sizeof(uint32_t) * len);
         lods[kept] = lods[k];
-        at[kept++] = packed;
+        mk->geo[kept] = mk->geo[k];
+        mk->baked[kept] = mk->baked[k];
+        if (kept != k)
+            mk->baked[k] = NULL;
+        mk->at[kept++] = packed;
         packed += len;
     }
-    *nlods = kept;
-    *used = packed;
+    mk->nlods = kept;
+    mk->used = packed;
+}
+
+/* A float no less than x. */
+static float float_up(double x)
+{
+    float f = (float)x;
+    return (double)f < x ? nextafterf(f, INFINITY) : f;
+}
+
+/* Level k of mk (its error geo[k] before the reach) baked against full (m's surface and
+ * hierarchy; shadow m's weld by position), its error the reach; false when out of memory. */
+static bool bake_level(const limen__mesh *m, const target *full, const uint32_t *shadow,
+                       made *mk, uint32_t k)
+{
+    limen_mesh_lod *lods = (limen_mesh_lod *)mk->block;
+    const uint32_t *ix = (const uint32_t *)(mk->block + HEAD) + mk->at[k];
+    uint32_t n = (uint32_t)lods[k].triangle_count;
+    double reach = 0;
+    mk->baked[k] = limen__lod_bake(m, full, shadow, ix, n, mk->geo[k], &reach);
+    lods[k].error = float_up(reach);
+    return mk->baked[k] != NULL;
+}
+
+/* m's surface as the bake reads it (its weld by position, its triangles with a hierarchy of
+ * their own), for the levels in mask of mk, stored without their textures: baked again.
+ * False when out of memory. */
+static bool bake_again(const limen__mesh *m, made *mk, uint32_t mask)
+{
+    size_t n0 = (size_t)m->ntris * 3;
+    uint32_t *shadow = malloc(sizeof(uint32_t) * n0);
+    limen__mesh whole = { .nverts = m->nverts, .ntris = m->ntris, .pos = m->pos, .idx = m->idx };
+    memcpy(whole.lo, m->lo, sizeof whole.lo);
+    memcpy(whole.hi, m->hi, sizeof whole.hi);
+    target full = { 0 };
+    bool ok = shadow && limen__lod_bakeable(m);
+    if (ok) {
+        meshopt_generateShadowIndexBuffer(shadow, m->idx, n0, m->pos, m->nverts,
+                                          sizeof(float) * 3, sizeof(float) * 3);
+        if (!limen__lod_target_make(&full, &whole, shadow)) {
+            full = (target){ 0 };
+            ok = false;
+        }
+    }
+    ok = ok && limen__lod_tree(&whole);
+    limen_mesh_lod *lods = (limen_mesh_lod *)mk->block;
+    for (uint32_t k = 1; ok && k < mk->nlods; k++)
+        if (mask >> k & 1u) {
+            mk->geo[k] = lods[k].error;     /* stored before the reach */
+            ok = bake_level(m, &full, shadow, mk, k);
+        }
+    /* errors growing, as they were made */
+    for (uint32_t k = 2; ok && k < mk->nlods; k++)
+        ok = lods[k].error >= lods[k - 1].error;
+    limen__lod_target_free(&full);
+    free(whole.bvh);
+    free(whole.tri_order);
+    free(shadow);
+    return ok;
 }
 
 /* Makes m's levels (see the top of the file) into *out, reading m only; false when out of
@@ -1870,7 +1998,13 @@ static void drop_beaten(limen_mesh_lod *lods, size_t at[MAX_LEVELS], uint32_t *s
  * level build need not wait for), given back when done. */
 static bool lods_make(const limen__mesh *m, const atomic_bool *stop, made *out)
 {
-    size_t n0 = (size_t)m->ntris * 3, cap = n0;     /* the coarse levels' indices, in all */
+    memset(out, 0, sizeof *out);
+    /* a textured mesh's levels across its charts: baked (core/lod_bake.h), where it may be */
+    bool bake = limen__lod_bakeable(m);
+    bool loose[MAX_LEVELS] = { false }, dropped[MAX_LEVELS] = { false };
+    /* the coarse levels' indices, in all: a baked mesh's levels within the charts (the
+     * floor's among them, which its baked levels may replace) leave room for more */
+    size_t n0 = (size_t)m->ntris * 3, cap = bake ? 2 * n0 : n0;
     size_t head = HEAD;
     unsigned char *block = malloc(head + sizeof(uint32_t) * cap);
     uint32_t *shadow = malloc(sizeof(uint32_t) * n0), *scratch = malloc(sizeof(uint32_t) * n0);
@@ -2019,6 +2153,7 @@ static bool lods_make(const limen__mesh *m, const atomic_bool *stop, made *out)
         estimate[nlods] = (double)err * scale;
         halved[nlods] = halve;
         charted[nlods] = mode == CHARTS;
+        loose[nlods] = bake && mode > CHARTS;
         at[nlods++] = used;
         cur_n = n;
         used += n;
@@ -2047,7 +2182,28 @@ static bool lods_make(const limen__mesh *m, const atomic_bool *stop, made *out)
     limen__lod_rims rims = { 0 };   /* made for the first textured level */
     via_level via = { 0 };          /* a finer level the level's pieces are laid over first */
     double prev = 0;
+    out->block = block;
+    memcpy(out->at, at, sizeof at);
     for (uint32_t k = 1; ok && k < nlods; k++) {
+        if (loose[k]) {
+            /* across the charts, simplified by position: baked, its texture's reach in its
+             * error (too big to bake: not kept) */
+            uint32_t nt = (uint32_t)lods[k].triangle_count;
+            if (nt > LIMEN__BAKE_MAX_TRIS) {
+                dropped[k] = true;
+                continue;
+            }
+            double e = level_error(&full, attr, store + at[k], nt,
+                                   halved[k] ? fmax(estimate[k], prev) : estimate[k], stop);
+            heap_give_back();
+            out->nlods = nlods;
+            if (isnan(e) || !(out->geo[k] = float_up(e), bake_level(m, &full, shadow, out, k))) {
+                ok = false;
+                break;
+            }
+            prev = lods[k].error;
+            continue;
+        }
         if (chart && limen__lod_across_charts(chart, store + at[k],
                                               (size_t)lods[k].triangle_count * 3)) {
             nlods = k;
@@ -2068,6 +2224,10 @@ static bool lods_make(const limen__mesh *m, const atomic_bool *stop, made *out)
             if (isnan(drift)) {
                 ok = false;
                 break;
+            }
+            if (isinf(drift) && bake) {
+                dropped[k] = true;
+                continue;
             }
             if (isinf(drift)) {
                 nlods = k;
@@ -2093,20 +2253,27 @@ static bool lods_make(const limen__mesh *m, const atomic_bool *stop, made *out)
             ok = false;
             break;
         }
+        if (drift > e && charted[k] && bake) {
+            dropped[k] = true;  /* the baked levels after it take its place */
+            continue;
+        }
         if (drift > e && charted[k]) {
             nlods = k;
             break;
         }
-        e = fmax(e, drift);
-        lods[k].error = (float)e;
         /* rounding to float must not undercut the measure either */
-        if ((double)lods[k].error < e)
-            lods[k].error = nextafterf(lods[k].error, INFINITY);
+        lods[k].error = float_up(fmax(e, drift));
         prev = lods[k].error;
     }
+    out->nlods = nlods;
+    out->used = used;
+    for (uint32_t k = nlods; k < MAX_LEVELS; k++) {
+        limen__lod_baked_free(out->baked[k]);
+        out->baked[k] = NULL;
+    }
     if (ok) {
-        drop_beaten(lods, at, store, &nlods, &used);
-        limen__lod_seam_sides(m, attr, store, used);
+        drop_beaten(out, dropped);
+        limen__lod_seam_sides(m, attr, store, out->used);
     }
     via_free(&via);
     free(chart);
@@ -2123,13 +2290,10 @@ static bool lods_make(const limen__mesh *m, const atomic_bool *stop, made *out)
     free(whole.tri_order);
     heap_give_back();
     if (!ok) {
-        free(block);
+        out->block = block;
+        made_free(out);
         return false;
     }
-    out->block = block;
-    out->nlods = nlods;
-    out->used = used;
-    memcpy(out->at, at, sizeof at);
     return true;
 }
 

@@ -22,12 +22,16 @@
 #include <unistd.h>
 
 #include "core/internal.h"
+#include "core/lod_bake.h"
 #include "core/lod_cache.h"
 
 #define MAGIC "LIMENLOD"
 #define FORMAT 1u
 #define HEAD_WORDS 10           /* after the magic: format, version... see entry_head */
 #define DEFAULT_MB 256
+/* the coarse levels' indices of a mesh of n triangles, at most: as many as the full mesh's,
+ * twice that where levels are baked (core/lod.c) */
+#define MOST_INDICES(n) (6ull * (n))
 
 /* ------------------------------------------------------------------ the key */
 
@@ -69,8 +73,9 @@ static void hash_bytes(hasher *h, const void *data, size_t len)
 void limen__lod_cache_key(const limen__mesh *m, uint32_t version, limen__lod_key *key)
 {
     hasher h = { 0x243f6a8885a308d3ull, 0x13198a2e03707344ull };
-    uint32_t head[6] = { version, m->nverts, m->ntris, (m->uv ? 1u : 0u), (m->col ? 1u : 0u),
-                         m->nparts };
+    /* whether its coarse levels are baked: its materials' textures and alpha modes */
+    uint32_t head[7] = { version, m->nverts, m->ntris, (m->uv ? 1u : 0u), (m->col ? 1u : 0u),
+                         m->nparts, limen__lod_bakeable(m) ? 1u : 0u };
     hash_bytes(&h, head, sizeof head);
     hash_bytes(&h, m->pos, sizeof(float) * 3 * m->nverts);
     hash_bytes(&h, m->idx, sizeof(uint32_t) * 3 * m->ntris);
@@ -155,9 +160,9 @@ static bool entry_path(const limen__lod_where *w, const limen__lod_key *key, cha
 /* ------------------------------------------------------------------ entries */
 
 /* The words after the magic: format, the key's four halves, nverts, ntris, nlods, the coarse
- * levels' indices in all, 0 (spare). */
+ * levels' indices in all, the baked levels (bit k: level k). */
 static void entry_head(uint32_t w[HEAD_WORDS], const limen__lod_key *key, uint32_t nverts,
-                       uint32_t ntris, uint32_t nlods, uint64_t nidx)
+                       uint32_t ntris, uint32_t nlods, uint64_t nidx, uint32_t baked)
 {
     w[0] = FORMAT;
     w[1] = (uint32_t)key->h[0];
@@ -168,7 +173,7 @@ static void entry_head(uint32_t w[HEAD_WORDS], const limen__lod_key *key, uint32
     w[6] = ntris;
     w[7] = nlods;
     w[8] = (uint32_t)nidx;
-    w[9] = 0;
+    w[9] = baked;
 }
 
 uint64_t limen__lod_cache_checksum(const void *data, size_t len)
@@ -181,9 +186,10 @@ uint64_t limen__lod_cache_checksum(const void *data, size_t len)
 bool limen__lod_cache_load(const limen__lod_where *w, const limen__lod_key *key,
                            uint32_t nverts, uint32_t ntris,
                            limen_mesh_lod *lods, uint32_t max_levels, uint32_t *nlods,
-                           size_t room, unsigned char **block)
+                           uint32_t *baked, size_t room, unsigned char **block)
 {
     *nlods = 0;
+    *baked = 0;
     *block = NULL;
     char path[4200];
     if (!entry_path(w, key, path, sizeof path))
@@ -196,9 +202,9 @@ bool limen__lod_cache_load(const limen__lod_where *w, const limen__lod_key *key,
     unsigned char *whole = NULL, *buf = NULL;
     bool ok = fstat(fd, &st) == 0 && S_ISREG(st.st_mode) && st.st_size > 0;
     size_t len = ok ? (size_t)st.st_size : 0;
-    /* the largest entry a mesh of this size makes: its levels hold at most as many indices
-     * as the full mesh (lod.c), each level 8 bytes of header */
-    uint64_t most = 8 + 4 * HEAD_WORDS + 8ull * max_levels + 4ull * 3 * ntris + 8;
+    /* the largest entry a mesh of this size makes: its levels hold at most MOST_INDICES
+     * indices, each level 8 bytes of header */
+    uint64_t most = 8 + 4 * HEAD_WORDS + 8ull * max_levels + 4ull * MOST_INDICES(ntris) + 8;
     ok = ok && (uint64_t)st.st_size <= most && len >= 8 + 4 * HEAD_WORDS + 8;
     /* read in after `room` bytes, where the indices will be moved down to: one copy of them
      * at a time (a 1.6M-triangle mesh's are 19 MB) */
@@ -218,9 +224,10 @@ bool limen__lod_cache_load(const limen__lod_where *w, const limen__lod_key *key,
     if (ok) {
         memcpy(head, buf + 8, sizeof head);
         n = head[7];
-        entry_head(want, key, nverts, ntris, n, head[8]);
+        entry_head(want, key, nverts, ntris, n, head[8], head[9]);
         ok = !memcmp(buf, MAGIC, 8) && !memcmp(head, want, sizeof head) && n >= 1 &&
-             n <= max_levels && (uint64_t)head[8] <= 3ull * ntris &&
+             n <= max_levels && n < 32 && !(head[9] & 1u) && !(head[9] >> n) &&
+             (uint64_t)head[8] <= MOST_INDICES(ntris) &&
              len == 8 + 4 * HEAD_WORDS + 8ull * n + 4ull * head[8] + 8;
     }
     if (ok) {
@@ -228,8 +235,9 @@ bool limen__lod_cache_load(const limen__lod_where *w, const limen__lod_key *key,
         memcpy(&sum, buf + len - 8, 8);
         ok = sum == limen__lod_cache_checksum(buf, len - 8);
     }
-    /* the levels: the first the full mesh; then falling counts, errors finite and growing,
-     * their indices adding up to the total */
+    /* the levels: the first the full mesh; then falling counts, errors finite and growing
+     * (a baked level's is kept before its texture's reach, which is found again: not
+     * compared), their indices adding up to the total */
     const unsigned char *lv = buf + 8 + 4 * HEAD_WORDS;
     uint64_t total = 0;
     for (uint32_t k = 0; ok && k < n; k++) {
@@ -241,7 +249,8 @@ bool limen__lod_cache_load(const limen__lod_where *w, const limen__lod_key *key,
             ok = count == ntris && err == 0;
         else
             ok = count >= 1 && count < (uint32_t)lods[k - 1].triangle_count && isfinite(err) &&
-                 err >= lods[k - 1].error;
+                 err >= 0 && (err >= lods[k - 1].error || (head[9] >> k & 1u) ||
+                              (head[9] >> (k - 1) & 1u));
         lods[k] = (limen_mesh_lod){ .triangle_count = (int)count, .error = err };
         total += k ? 3ull * count : 0;
     }
@@ -262,6 +271,7 @@ bool limen__lod_cache_load(const limen__lod_where *w, const limen__lod_key *key,
     /* used: the last to be trimmed */
     utimensat(AT_FDCWD, path, NULL, AT_SYMLINK_NOFOLLOW);
     *nlods = n;
+    *baked = head[9];
     *block = whole;
     return true;
 }
@@ -330,7 +340,7 @@ static void trim(const char *dir, uint64_t limit)
 
 void limen__lod_cache_store(const limen__lod_where *w, const limen__lod_key *key,
                             uint32_t nverts, uint32_t ntris, const limen_mesh_lod *lods,
-                            uint32_t nlods)
+                            uint32_t nlods, uint32_t baked)
 {
     char path[4200];
     if (nlods < 1 || !entry_path(w, key, path, sizeof path))
@@ -340,7 +350,7 @@ void limen__lod_cache_store(const limen__lod_where *w, const limen__lod_key *key
         nidx += 3ull * (uint32_t)lods[k].triangle_count;
     size_t len = 8 + 4 * HEAD_WORDS + 8 * (size_t)nlods + 4 * (size_t)nidx + 8;
     /* an entry larger than the whole cache may be is not kept */
-    if (nidx > 3ull * ntris || len > w->limit || !make_dir(w->dir))
+    if (nidx > MOST_INDICES(ntris) || len > w->limit || nlods >= 32 || !make_dir(w->dir))
         return;
     /* what is there already and is not a plain file (a link, a pipe) is left alone */
     struct stat st;
@@ -350,7 +360,7 @@ void limen__lod_cache_store(const limen__lod_where *w, const limen__lod_key *key
     if (!buf)
         return;
     uint32_t head[HEAD_WORDS];
-    entry_head(head, key, nverts, ntris, nlods, nidx);
+    entry_head(head, key, nverts, ntris, nlods, nidx, baked);
     memcpy(buf, MAGIC, 8);
     memcpy(buf + 8, head, sizeof head);
     unsigned char *lv = buf + 8 + 4 * HEAD_WORDS, *ix = lv + 8 * nlods;

@@ -38,18 +38,20 @@ void limen__lod_cache_where(limen__lod_where *w);
  * room is a multiple of 8), each checked (counts falling, every index
  * below nverts, errors finite and growing, the whole entry's checksum). False where there
  * is none, or it is not whole and valid (it is then ignored, and the next store replaces
- * it), or memory is out. */
+ * it), or memory is out. *baked: the levels stored as baked (bit k: level k; their textures
+ * are not stored, but made again from the mesh: core/lod_bake.h). */
 bool limen__lod_cache_load(const limen__lod_where *w, const limen__lod_key *key,
                            uint32_t nverts, uint32_t ntris,
                            limen_mesh_lod *lods, uint32_t max_levels, uint32_t *nlods,
-                           size_t room, unsigned char **block);
+                           uint32_t *baked, size_t room, unsigned char **block);
 
-/* Stores nlods levels (lods[k].indices for k >= 1) under key in w, written whole or not at
- * all, then trims the folder to w's size limit, the entries used least recently first.
- * Failures are silent: the cache is an aid, never a requirement. */
+/* Stores nlods levels (lods[k].indices for k >= 1; baked: which are baked, bit k level k)
+ * under key in w, written whole or not at all, then trims the folder to w's size limit, the
+ * entries used least recently first. Failures are silent: the cache is an aid, never a
+ * requirement. */
 void limen__lod_cache_store(const limen__lod_where *w, const limen__lod_key *key,
                             uint32_t nverts, uint32_t ntris, const limen_mesh_lod *lods,
-                            uint32_t nlods);
+                            uint32_t nlods, uint32_t baked);
 
 /* An entry's checksum, of its bytes before the last 8 (which hold it); for tests that make
  * entries whole but wrong. */

@@ -361,7 +361,7 @@ static void mesh_free(limen_scene *s, limen__mesh *m)
     free(m->idx);
     free(m->bvh);
     free(m->tri_order);
-    free(m->lods);
+    limen__mesh_lods_free(m);
     free(m->files);
     free(m->col);
     free(m->parts);
@@ -596,9 +596,16 @@ bool limen__mesh_masked(const limen__mesh *m, uint32_t tri, double u, double v)
     return a < mt->alpha_cutoff;
 }
 
-/* Checks and copies arrays into a new asset. what names the source in messages. */
+static limen_status mesh_textures(limen_scene *s, const limen__import *b, uint32_t only,
+                                  const char *path, limen__mesh *m);
+
+/* Checks and copies arrays into a new asset. what names the source in messages. blk: the
+ * imported block the arrays come from (node `only` of it), whose textures the asset takes
+ * before its levels of detail are made (a textured mesh's coarse levels are baked from
+ * them), or NULL. */
 static limen_status mesh_from_arrays(limen_scene *s, const limen_mesh_data *d, const char *what,
-                                     size_t max_bytes, limen__mesh **out)
+                                     size_t max_bytes, const limen__import *blk, uint32_t only,
+                                     limen__mesh **out)
 {
     *out = NULL;
     if (!d || !d->positions || !d->indices)
@@ -695,6 +702,12 @@ static limen_status mesh_from_arrays(limen_scene *s, const limen_mesh_data *d, c
         }
     /* the hierarchy is made when first needed (limen__mesh_hierarchy), counted now */
     m->bytes -= nodes_unneeded(nt);
+    snprintf(m->name, sizeof m->name, "%s", what);
+    limen_status tst = blk ? mesh_textures(s, blk, only, what, m) : LIMEN_OK;
+    if (tst) {
+        mesh_free(s, m);
+        return tst;
+    }
     if (!limen__mesh_lods_start(m) || !limen__mesh_lod_parts(m)) {
         mesh_free(s, m);
         return limen__fail(s, LIMEN_ERR_NOMEM, "%s: out of memory", what);
@@ -1510,12 +1523,8 @@ static limen_status mesh_from_block(limen_scene *s, const limen__import *blk, ui
                               .material_count = (int)fl.np, .materials = fl.mats };
         if (!(blk->vertex_flags & LIMEN__VERT_UV0))
             d.uvs = NULL;
-        st = mesh_from_arrays(s, &d, path, max_bytes, out);
+        st = mesh_from_arrays(s, &d, path, max_bytes, blk, only, out);
         flat_free(&fl);
-    }
-    if (!st && (st = mesh_textures(s, blk, only, path, *out))) {
-        mesh_free(s, *out);
-        *out = NULL;
     }
     if (!st && (*out)->bytes > max_bytes) {
         s->mem_wanted = (*out)->bytes;
@@ -1610,7 +1619,7 @@ limen_status limen_mesh_set_triangles(limen_scene *s, limen_node n, const limen_
     if (found)
         return found;
     limen__mesh *m;
-    limen_status st = mesh_from_arrays(s, data, "mesh_set_triangles", SIZE_MAX, &m);
+    limen_status st = mesh_from_arrays(s, data, "mesh_set_triangles", SIZE_MAX, NULL, 0, &m);
     if (!st)
         st = keep(s, m, "mesh_set_triangles");
     if (st)

@@ -44,6 +44,8 @@ typedef struct limen__mesh {
     uint64_t serial;            /* unique per asset: the renderer keys its buffers on it */
     limen_mesh_lod *lods;       /* levels of detail, lods[0] the full mesh (idx) */
     uint32_t nlods;
+    struct limen__mesh **lod_baked;     /* nlods: level k as a mesh of its own with a baked
+                                 * texture (core/lod_bake.h; lods[k].baked its pub), or NULL */
     limen_mesh_geometry pub;    /* what limen_drawable.mesh shows of it */
     char *files;                /* every file its import read ("a\0b\0"), for watching */
     size_t files_len;
@@ -115,6 +117,8 @@ void limen__meshes_settle(limen_scene *s, bool wait);
  * (that frame is drawn by now). Each waits for it (at most a few seconds) so that a big
  * mesh's first frame is drawn first. */
 void limen__meshes_framed(limen_scene *s);
+/* Frees m's levels (lods, and the baked levels' meshes). */
+void limen__mesh_lods_free(limen__mesh *m);
 /* Stops m's build, if any, and waits for its thread (before m is freed). */
 void limen__mesh_lods_stop(limen__mesh *m);
 /* Tests only: the size from which levels are made on another thread (default

@@ -334,6 +334,35 @@ limen_status limen__texture_from_rgba(limen_scene *s, const unsigned char *rgba,
     return LIMEN_OK;
 }
 
+limen__texture *limen__texture_own(unsigned char *rgb, int w, int h, const char *name)
+{
+    limen__texture *t = calloc(1, sizeof *t);
+    if (!t) {
+        free(rgb);
+        return NULL;
+    }
+    t->w = w;
+    t->h = h;
+    t->rgb = rgb;
+    if (!make_levels(t)) {
+        texture_free(t);
+        return NULL;
+    }
+    size_t n = (size_t)w * (size_t)h;
+    t->bytes = sizeof *t + n * 4;
+    t->serial = limen__next_serial();
+    t->pub = (limen_image){ .id = t->serial, .width = w, .height = h, .rgb = rgb,
+                            .level_count = t->nlevels, .levels = t->levels };
+    t->refs = 1;
+    snprintf(t->name, sizeof t->name, "%s", name);
+    return t;
+}
+
+void limen__texture_free(limen__texture *t)
+{
+    texture_free(t);
+}
+
 static limen_status keep(limen_scene *s, limen__texture *t)
 {
     if (limen__assets_add(&s->textures, &s->ntextures, &s->texture_cap, t))

@@ -40,6 +40,11 @@ limen_status limen__texture_decode(limen_scene *s, const unsigned char *buf, siz
 limen_status limen__texture_from_rgba(limen_scene *s, const unsigned char *rgba, int w, int h,
                                       const char *name, limen__texture **out);
 void limen__texture_release(limen_scene *s, limen__texture *t);
+/* A texture of rgb (w * h * 3, top row first; taken, freed on failure) with its mipmap
+ * levels, held by no scene (a baked level's: core/lod_bake.c), which limen__texture_free
+ * frees; NULL when out of memory. */
+limen__texture *limen__texture_own(unsigned char *rgb, int w, int h, const char *name);
+void limen__texture_free(limen__texture *t);
 void limen__textures_destroy(limen_scene *s);
 /* Bilinear, repeating, in the full image, texel centres at ((i + 0.5) / w, (j + 0.5) / h)
  * with v from the bottom row up: what GL_LINEAR with GL_REPEAT does. In [0, 1]. */

@@ -155,6 +155,7 @@ typedef struct tracer {
 typedef struct level {
     const limen__mesh *src;
     int k;
+    bool baked;                 /* the level's baked mesh (not for a node with a texture) */
     limen__mesh *mesh;
 } level;
 
@@ -431,15 +432,21 @@ static limen_status tracer_init(tracer *t, limen_scene *s, const char *fn)
 /* ------------------------------------------------------------------ levels of detail */
 
 /* Asset src with level k's triangles in place of the full mesh's: the same vertices,
- * normals, texture coordinates, colours and materials, the level's triangles and parts, and
+ * normals, texture coordinates, colours and materials (a baked level's own), the level's
+ * triangles and parts, and
  * a hierarchy over them, so that every test and every lookup below works on it unchanged.
  * NULL when out of memory. */
-static limen__mesh *level_mesh_make(const limen__mesh *src, int k)
+static limen__mesh *level_mesh_make(const limen__mesh *src, int k, bool baked)
 {
     const limen_mesh_lod *l = &src->lods[k];
     limen__mesh *m = malloc(sizeof *m);
     if (!m)
         return NULL;
+    /* a baked level: its own vertices, texture and material, as the renderer draws it */
+    if (baked) {
+        src = src->lod_baked[k];
+        l = &src->lods[0];
+    }
     *m = *src;
     m->ntris = (uint32_t)l->triangle_count;
     m->idx = malloc(sizeof *m->idx * 3 * (size_t)m->ntris);
@@ -499,16 +506,19 @@ static limen_status tracer_levels(tracer *t, limen_scene *s, const limen_trace_d
             k = (int)p->mesh->nlods - 1;
         if (k <= 0)
             continue;
+        /* a baked level's texture coordinates are its own: a node's texture is drawn over
+         * the level's triangles on the mesh's vertices instead (as the renderer does) */
+        bool baked = !p->tex && p->mesh->lod_baked && p->mesh->lod_baked[k];
         const limen__mesh *lm = NULL;
         for (int j = 0; j < t->nlevels && !lm; j++)
-            if (t->levels[j].src == p->mesh && t->levels[j].k == k)
+            if (t->levels[j].src == p->mesh && t->levels[j].k == k && t->levels[j].baked == baked)
                 lm = t->levels[j].mesh;
         if (!lm) {
-            limen__mesh *made = level_mesh_make(p->mesh, k);
+            limen__mesh *made = level_mesh_make(p->mesh, k, baked);
             if (!made)
                 return limen__fail(s, LIMEN_ERR_NOMEM, "trace: out of memory for level %d of "
                                    "mesh '%s'", k, p->mesh->name);
-            t->levels[t->nlevels++] = (level){ p->mesh, k, made };
+            t->levels[t->nlevels++] = (level){ p->mesh, k, baked, made };
             lm = made;
         }
         p->mesh = lm;

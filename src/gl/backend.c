@@ -326,9 +326,16 @@ static void draw_meshes(limen_renderer *r, const limen_draw_cmd *c, const limen_
 {
     const limen_mesh_geometry *g = d->mesh;
     bool blended = c->parts == LIMEN_PARTS_BLENDED;
-    int n = c->count;
+    int n = c->count, lod = c->lod;
     if (!g || n <= 0 || (blended && !g->has_blend))
         return;
+    /* a baked level is a mesh of its own (its vertices, texture and material); a node's
+     * texture is drawn over the level's triangles on the mesh's vertices instead */
+    int at = limen__gpu_mesh_level(g, lod);
+    if (g->lods && g->lod_count > 0 && g->lods[at].baked && !d->texture) {
+        g = g->lods[at].baked;
+        lod = 0;
+    }
     bool simple = plain(g);
     if (!limen__gl_grow((void **)&r->inst, &r->inst_cap, n, sizeof(instance))) {
         limen__draw_fail(r, LIMEN_ERR_NOMEM, "out of memory for %d instances", n);
@@ -347,9 +354,9 @@ static void draw_meshes(limen_renderer *r, const limen_draw_cmd *c, const limen_
     GLint first;
     GLsizei count;
     bool indexed;
-    if (!limen__gpu_mesh_bind(r, g, d->smooth, c->lod, &first, &count, &indexed))
+    if (!limen__gpu_mesh_bind(r, g, d->smooth, lod, &first, &count, &indexed))
         return;
-    int level = limen__gpu_mesh_level(g, c->lod);
+    int level = limen__gpu_mesh_level(g, lod);
     const limen_mesh_part *parts = g->lods && g->lod_count > 0 && g->lods[level].parts
                                        ? g->lods[level].parts : g->parts;
     int nparts = simple || !parts ? 1 : g->part_count;
