@@ -51,7 +51,7 @@
 #include "core/texture.h"
 
 #define MAX_LEVELS 12           /* the full mesh and up to 11 coarser ones */
-#define LOD_VERSION 22          /* of how levels are made and measured: levels kept between
+#define LOD_VERSION 23          /* of how levels are made and measured: levels kept between
                                  * runs (core/lod_cache.c) are keyed by it, so change it with
                                  * anything that changes a level or its error */
 #define MIN_TRIS 16             /* a level this small gets no halved successor */
@@ -1357,13 +1357,15 @@ static void via_free(via_level *v)
 
 /* The finer level for level k (of m's levels lods, their indices store + at[k]): the
  * coarsest whose bound is at most VIA_RATIO of level k - 1's and which has at most
- * 1 / VIA_SHARE of the full mesh's triangles, or none; false when out of memory. */
+ * 1 / VIA_SHARE of the full mesh's triangles, or none; false when out of memory. A level
+ * of `other` (where not NULL: per level, its error not its measured distance, a baked
+ * level's or a dropped one's) is not laid over, nor is any where level k - 1 is one. */
 static bool via_for(via_level *v, const limen__mesh *m, const limen_mesh_lod *lods,
-                    const size_t *at, const uint32_t *store, uint32_t k)
+                    const size_t *at, const uint32_t *store, uint32_t k, const bool *other)
 {
     uint32_t j = 0;
-    for (uint32_t i = k - 1; i >= 1 && i < k; i--)
-        if (lods[i].error <= VIA_RATIO * lods[k - 1].error) {
+    for (uint32_t i = k - 1; i >= 1 && i < k && !(other && other[k - 1]); i--)
+        if (!(other && other[i]) && lods[i].error <= VIA_RATIO * lods[k - 1].error) {
             if ((uint64_t)lods[i].triangle_count * VIA_SHARE <= m->ntris)
                 j = i;
             break;
@@ -1447,7 +1449,7 @@ static void *ahead_run(void *arg)
             pthread_cond_wait(&a->more, &a->mu);
         bool go = a->ready > k && !a->quit;
         pthread_mutex_unlock(&a->mu);
-        if (!go || !via_for(&via, m, a->lods, a->at, a->store, k))
+        if (!go || !via_for(&via, m, a->lods, a->at, a->store, k, NULL))
             break;
         double e = level_error(a->surface->t, a->weld, a->store + a->at[k],
                                (uint32_t)a->lods[k].triangle_count,
@@ -2181,6 +2183,7 @@ static bool lods_make(const limen__mesh *m, const atomic_bool *stop, made *out)
         limen__lod_charts(m, attr, chart);
     limen__lod_rims rims = { 0 };   /* made for the first textured level */
     via_level via = { 0 };          /* a finer level the level's pieces are laid over first */
+    bool other[MAX_LEVELS] = { false };     /* levels not laid over (via_for) */
     double prev = 0;
     out->block = block;
     memcpy(out->at, at, sizeof at);
@@ -2194,7 +2197,8 @@ static bool lods_make(const limen__mesh *m, const atomic_bool *stop, made *out)
                 continue;
             }
             double e = level_error(&full, attr, store + at[k], nt,
-                                   halved[k] ? fmax(estimate[k], prev) : estimate[k], stop);
+                                   halved[k] ? fmax(estimate[k], prev) : estimate[k], stop,
+                                   NULL, 0);
             heap_give_back();
             out->nlods = nlods;
             if (isnan(e) || !(out->geo[k] = float_up(e), bake_level(m, &full, shadow, out, k))) {
@@ -2237,7 +2241,10 @@ static bool lods_make(const limen__mesh *m, const atomic_bool *stop, made *out)
         /* the simplifier's own estimate (from its source) may not be undercut; nor, while
          * halving, the level before (a coarser level no better than a finer one takes its
          * place, below): what lies below them needs no measuring */
-        if (k >= ah.measured && !via_for(&via, m, lods, at, store, k)) {
+        /* a baked or dropped level's error is not its distance: none laid over */
+        for (uint32_t i = 0; i < k; i++)
+            other[i] = loose[i] || dropped[i];
+        if (k >= ah.measured && !via_for(&via, m, lods, at, store, k, other)) {
             ok = false;
             break;
         }
