@@ -1176,18 +1176,6 @@ typedef struct corners_job {
     bool ok;
 } corners_job;
 
-typedef struct tree_job {
-    limen__mesh *m;
-    bool ok;
-} tree_job;
-
-static void *tree_run(void *arg)
-{
-    tree_job *j = arg;
-    j->ok = limen__lod_tree(j->m);
-    return NULL;
-}
-
 static void *corners_run(void *arg)
 {
     corners_job *j = arg;
@@ -1226,17 +1214,7 @@ static double level_error(const target *full, const uint32_t *weld, const uint32
     pthread_t cth;
     bool beside = measure_threads && m->ntris >= THREAD_TRIS &&
                   pthread_create(&cth, NULL, corners_run, &cj) == 0;
-    /* the level's hierarchy beside its surface (neither needs the other) */
-    tree_job tj = { .m = &lv };
-    pthread_t tth;
-    bool tree_beside = measure_threads && ntris >= THREAD_TRIS &&
-                       pthread_create(&tth, NULL, tree_run, &tj) == 0;
-    bool made = limen__lod_target_make(&level, &lv, NULL);
-    if (tree_beside)
-        pthread_join(tth, NULL);
-    else
-        tree_run(&tj);
-    made = made && tj.ok;
+    bool made = limen__lod_tree(&lv) && limen__lod_target_make(&level, &lv, NULL);
     bool ok = made && side_corners(&back);
     if (beside)
         pthread_join(cth, NULL);
@@ -1299,21 +1277,12 @@ typedef struct surface_job {
 static void *surface_run(void *arg)
 {
     surface_job *j = arg;
-    /* the hierarchy beside the surface (the pairing of its edges, 53 MB for a moment at
-     * 1.6M triangles, beside the hierarchy's making: the build's in-use peak, set
-     * elsewhere, the same, 254.7 MB at 1.6M) */
-    tree_job tj = { .m = j->whole };
-    pthread_t tth;
-    bool tree_beside = measure_threads && j->whole->ntris >= THREAD_TRIS &&
-                       pthread_create(&tth, NULL, tree_run, &tj) == 0;
+    /* the surface before its hierarchy: the pairing of its edges (what its making holds
+     * for a moment, 53 MB at 1.6M triangles) is not held beside the hierarchy */
     j->ok = limen__lod_target_make(j->t, j->whole, j->weld);
     if (!j->ok)
         *j->t = (target){ 0 };  /* freed by the failed making, not to be freed again */
-    if (tree_beside)
-        pthread_join(tth, NULL);
-    else
-        tree_run(&tj);
-    j->ok = j->ok && tj.ok;
+    j->ok = j->ok && limen__lod_tree(j->whole);
     j->made = true;
     return NULL;
 }
