@@ -23,7 +23,11 @@
  * surface measured against, and its distances, are core/lod_target.c's. What is found and
  * asked for again is kept, the same numbers: each vertex of the other surface as a piece
  * sees it, once a piece (lay_bound), and a vertex's distance to a triangle for the pieces
- * around it (convex_bound). */
+ * around it (convex_bound). A coarse level's piece is laid first over a finer level, whose
+ * bound is a fraction of the level before's, instead of the full mesh (via_bound: the
+ * offset there plus that level's bound), where that settles it at no more than the answer
+ * already holds; the pieces that decide the answer are laid over the full mesh. A small
+ * untextured mesh's levels are measured as the simplifier makes them (ahead_run). */
 #include <errno.h>
 #include <float.h>
 #include <math.h>
