@@ -939,7 +939,8 @@ LIMEN_API void limen_plan_get_work(const limen_plan *p, limen_plan_work *out);
  * (limen_view_mesh_lod): "meshes": [{"node": "statue", "lod": 3, "triangles": 212, "parts":
  * [{"first": 0, "count": 212, "material": 0}], "materials": [{"name", "base_color",
  * "base_texture" (whether it has one), "alpha_mode" ("opaque", "mask", "blend"),
- * "alpha_cutoff", "emissive", "emissive_texture"}]}]: that level's parts. It reads the scene
+ * "alpha_cutoff", "emissive", "emissive_texture"}]}]: that level's parts ("baked": true
+ * where the level is baked, limen_mesh_lod.baked: its own part and material). It reads the scene
  * (names, meshes) as the plan left it: write it before the scene changes. */
 LIMEN_API limen_status limen_plan_write_json(const limen_plan *p, const limen_scene *s,
                                              const char *path);

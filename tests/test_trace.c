@@ -1058,6 +1058,24 @@ static void lod_asset_levels(const lod_asset *a, int min_levels, int fraction)
         CHECK_MSG(last->baked && last->baked->triangle_count == last->triangle_count &&
                   last->baked->material_count == 1 && last->baked->materials[0].base_texture,
                   "%s: the coarsest level is not baked", a->name);
+        /* and the plan's JSON says so, with the baked level's one part */
+        char json[96], text[4096] = "";
+        snprintf(json, sizeof json, "%s/plan.json", dir);
+        limen_render_opts o = { .limits = { .lod_pixels = 1e6f } };
+        CHECK_OK(limen_render_frame(r, s, &o, NULL));
+        CHECK_OK(limen_plan_write_json(limen_renderer_plan(r), s, json));
+        FILE *jf = fopen(json, "r");
+        size_t got = jf ? fread(text, 1, sizeof text - 1, jf) : 0;
+        text[got] = 0;
+        if (jf)
+            fclose(jf);
+        remove(json);
+        char want[96];
+        snprintf(want, sizeof want, "\"lod\": %d, \"triangles\": %d, \"baked\": true, "
+                 "\"parts\": [{\"first\": 0, \"count\": %d", g->lod_count - 1,
+                 last->triangle_count, last->triangle_count);
+        CHECK_MSG(strstr(text, want), "%s: the plan lists no baked level (%.200s)", a->name,
+                  text);
     }
 done:
     if (path[0])

@@ -932,8 +932,11 @@ static void json_view_meshes(FILE *f, const limen_plan *p, const limen_scene *s,
         int lod = limen_view_mesh_lod(&p->views[i], p->height, &d, p->limits.lod_pixels);
         fprintf(f, "%s{\"node\": ", listed++ ? ", " : "");
         json_node(f, s, things[k]);
-        fprintf(f, ", \"lod\": %d, \"triangles\": %d", lod, d.mesh->lods[lod].triangle_count);
-        json_mesh_parts(f, d.mesh, lod);
+        /* a baked level's parts and material are its own (unless a node's texture is drawn) */
+        const limen_mesh_geometry *baked = d.texture ? NULL : d.mesh->lods[lod].baked;
+        fprintf(f, ", \"lod\": %d, \"triangles\": %d%s", lod, d.mesh->lods[lod].triangle_count,
+                baked ? ", \"baked\": true" : "");
+        json_mesh_parts(f, baked ? baked : d.mesh, baked ? 0 : lod);
         fputc('}', f);
     }
     fputc(']', f);
