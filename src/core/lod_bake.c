@@ -4,20 +4,23 @@
  * charts: a level's triangle may not span two charts (between them it would show the atlas's
  * other charts and margins), so once every chart is down to its few triangles no further
  * level can be made (core/lod_charts.c). Past there a level is simplified by position alone
- * and given a parametrization and texture of its own: each triangle its own square of texels,
- * each texel the colour of the full surface at the point nearest to the texel's point on the
- * level. The colour a point of the level shows then comes from the full surface within the
- * level's bound plus the spacing of the texels the renderer blends there, which is the
- * level's error (limen__lod_bake's reach): a texture cannot smear across a seam by more.
+ * and given a parametrization and texture of its own: each triangle its own square of
+ * texels, each texel the colour of the full surface at the point nearest to the texel's
+ * point on the level (within the level's bound of it). The colour a point of the
+ * level shows then comes from the full surface within the level's bound plus the spacing of
+ * the texels the renderer blends there, which is the level's error (limen__lod_bake's
+ * reach): a texture cannot smear across a seam by more.
  *
- * Squares: one per triangle, cell x cell texels, the triangle's right angle at the corner
- * opposite its longest edge, its corners on the centres of the square's corner texels; every
- * texel of the square (those beyond the triangle too) takes the colour of the triangle's point
- * nearest to it, so that blending near an edge, and mipmap levels while a texel of theirs
- * lies within one square, read the triangle's own colours. Squares lie along a Z-order curve
- * in the order of the triangles' centres along a Morton curve, so a coarser mipmap level's
- * texel blends triangles that lie together on the surface. */
+ * Squares: one per triangle, a multiple of 4 texels a side, the triangle's right angle at
+ * the corner opposite its longest edge, its corners on the centres of the square's corner
+ * texels; every texel of the square (those beyond the triangle too) takes the colour of the
+ * triangle's point nearest to it, so that blending near an edge, and mipmap levels while a
+ * texel of theirs lies within one square (the first two: squares begin on multiples of 4
+ * texels), read the triangle's own colours. Squares lie in rows, largest first, then in the
+ * order of the triangles' centres along a Morton curve, so a coarser mipmap level's texel
+ * mostly blends triangles that lie together on the surface. */
 #include <float.h>
+#include <pthread.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -30,10 +33,11 @@
                                  * of a level's bound, where the texture's size allows */
 #define CELL_MIN 4              /* texels a side of a triangle's square, at least, */
 #define CELL_MAX 256            /* ... at most */
-#define BAKE_TEXELS (2048 * 2048)   /* texels of a baked texture, at most */
-#define SPREAD (sqrt(2.0) * (1.0 + (SUB - 1.0) / (2.0 * SUB)))  /* texels, see sides */
-#define SUB 1                   /* points a texel's colour is the mean of, SUB x SUB: each
-                                 * within (SUB - 1) / (2 SUB) texels of its centre a side */
+#define BAKE_TEXELS (1024 * 1024)   /* texels of a baked texture, at most, */
+#define TRI_TEXELS 512          /* ... and at most this many a triangle (a level's bake costs a
+                                 * search of the full surface per texel) */
+#define SPREAD 1.4142135623730951  /* texels: how far from a point lie the four it blends */
+#define THREAD_TRIS 64          /* a level this big is baked on two threads */
 
 bool limen__lod_bakeable(const limen__mesh *m)
 {
@@ -89,28 +93,15 @@ static double stretch(const laid *l)
     return sqrt(0.5 * (g11 + g22) + sqrt(h * h + g12 * g12));
 }
 
-/* Position r along a Z-order curve: its column (the even bits) and row (the odd). */
-static uint32_t z_x(uint32_t r)
-{
-    uint32_t x = 0;
-    for (int b = 0; b < 16; b++)
-        x |= ((r >> (2 * b)) & 1u) << b;
-    return x;
-}
-
-static uint32_t z_y(uint32_t r)
-{
-    return z_x(r >> 1);
-}
-
 /* The side of the square that spaces a triangle of the given stretch's texels at most h
- * apart on it: a power of two from CELL_MIN to CELL_MAX. */
+ * apart on it: a multiple of CELL_MIN from CELL_MIN to CELL_MAX. */
 static int side_for(double stretch, double h)
 {
-    int c = CELL_MIN;
-    while (c < CELL_MAX && !(stretch / (c - 1) <= h))
-        c *= 2;
-    return c;
+    double need = stretch / h + 1;      /* (side - 1) h >= stretch */
+    if (!(need <= CELL_MAX))
+        return CELL_MAX;
+    int c = CELL_MIN * (int)ceil(need / CELL_MIN);
+    return c < CELL_MIN ? CELL_MIN : c > CELL_MAX ? CELL_MAX : c;
 }
 
 static uint64_t texels_for(const double *st, uint32_t ntris, double h)
@@ -125,9 +116,9 @@ static uint64_t texels_for(const double *st, uint32_t ntris, double h)
 
 /* Each triangle's square: side[t] texels, the least that spaces its texels at most h apart
  * on it, h the spacing that keeps the texels' part of the reach within REACH_SHARE of geo,
- * or, where the squares would then exceed BAKE_TEXELS, the least spacing that fits (one
- * spacing for all: the reach is the largest); returns the reach (see limen__lod_bake);
- * false when out of memory. */
+ * or, where the squares would then exceed BAKE_TEXELS or TRI_TEXELS a triangle, the least
+ * spacing that fits (one spacing for all: the reach is the largest); returns the reach (see
+ * limen__lod_bake); false when out of memory. */
 static bool sides(const limen__mesh *m, const uint32_t *idx, uint32_t ntris, double geo,
                   uint16_t *side, double *reach)
 {
@@ -140,17 +131,21 @@ static bool sides(const limen__mesh *m, const uint32_t *idx, uint32_t ntris, dou
         st[t] = stretch(&l);
         most = fmax(most, st[t]);
     }
-    /* a point blends the four texels around it, each within sqrt(2) texels of it on the
-     * square, each the mean of points within SPREAD texels of its centre, which the map
-     * onto the triangle stretches by at most stretch / (side - 1) */
+    /* a point blends the four texels around it, each within SPREAD texels of it on the
+     * square, which the map onto the triangle stretches by at most stretch / (side - 1) */
     double h = REACH_SHARE * geo / SPREAD;
-    if (!(h > 0) || texels_for(st, ntris, h) > BAKE_TEXELS) {
+    uint64_t most_texels = (uint64_t)TRI_TEXELS * ntris;
+    if (most_texels > BAKE_TEXELS)
+        most_texels = BAKE_TEXELS;
+    if (most_texels < (uint64_t)CELL_MIN * CELL_MIN * ntris)
+        most_texels = (uint64_t)CELL_MIN * CELL_MIN * ntris;
+    if (!(h > 0) || texels_for(st, ntris, h) > most_texels) {
         /* bisected between a spacing too fine and one every square of CELL_MIN meets (at
-         * most LIMEN__BAKE_MAX_TRIS of them: within BAKE_TEXELS) */
+         * most LIMEN__BAKE_MAX_TRIS of them: CELL_MIN^2 a triangle is allowed) */
         double lo = h > 0 ? h : 0, hi = fmax(most / (CELL_MIN - 1), lo);
         for (int i = 0; i < 60 && hi > lo * (1 + 1e-9); i++) {
             double mid = 0.5 * (lo + hi);
-            if (texels_for(st, ntris, mid) > BAKE_TEXELS)
+            if (texels_for(st, ntris, mid) > most_texels)
                 lo = mid;
             else
                 hi = mid;
@@ -204,12 +199,10 @@ static keyed *square_order(const limen__mesh *m, const uint32_t *idx, uint32_t n
             for (int k = 0; k < 3; k++)
                 c += m->pos[(size_t)idx[t * 3 + k] * 3 + d];
             double f = ext > 0 ? (c / 3 - m->lo[d]) / ext : 0;
-            q[d] = (uint32_t)fmin(511.0, fmax(0.0, f * 512.0));
+            q[d] = (uint32_t)fmin(255.0, fmax(0.0, f * 256.0));
         }
-        uint32_t smaller = 0;
-        while ((CELL_MAX >> smaller) > side[t])
-            smaller++;
-        o[t] = (keyed){ smaller << 27 | spread10(q[0]) | spread10(q[1]) << 1 | spread10(q[2]) << 2,
+        uint32_t smaller = (uint32_t)(CELL_MAX - side[t]) / CELL_MIN;    /* 0 to 63 */
+        o[t] = (keyed){ smaller << 26 | spread10(q[0]) | spread10(q[1]) << 1 | spread10(q[2]) << 2,
                         t };
     }
     qsort(o, ntris, sizeof *o, by_key);
@@ -282,6 +275,92 @@ static uint32_t facing(const limen__mesh *m, const uint32_t *weld, const uint32_
     return best;
 }
 
+/* A share of a bake: squares from .. to of the order, each texel found from the last's
+ * triangle (so the same for the same share, on one thread or two). */
+typedef struct baker {
+    const limen__mesh *m;
+    const limen__lod_target *full;
+    const uint32_t *idx, *rep, *first, *at, *place;
+    const keyed *order;
+    const uint16_t *side;
+    limen__mesh *b;
+    unsigned char *base, *glows;
+    int W, H;
+    uint32_t from, to;
+} baker;
+
+static void *bake_share(void *arg)
+{
+    baker *w = arg;
+    const limen__mesh *m = w->m;
+    uint32_t hint = 0;
+    for (uint32_t r = w->from; r < w->to; r++) {
+        laid l;
+        lay(m, w->idx + (size_t)w->order[r].tri * 3, &l);
+        const int C = w->side[w->order[r].tri];
+        int x0 = (int)w->place[2 * r], y0 = (int)w->place[2 * r + 1];
+        double e1[3], e2[3], n[3];
+        limen__sub3(l.b, l.a, e1);
+        limen__sub3(l.c, l.a, e2);
+        n[0] = e1[1] * e2[2] - e1[2] * e2[1];
+        n[1] = e1[2] * e2[0] - e1[0] * e2[2];
+        n[2] = e1[0] * e2[1] - e1[1] * e2[0];
+        /* the corners: on the centres of the square's corner texels */
+        const double cu[3] = { x0 + 0.5, x0 + C - 0.5, x0 + 0.5 };
+        const double cv[3] = { y0 + 0.5, y0 + 0.5, y0 + C - 0.5 };
+        for (int k = 0; k < 3; k++) {
+            size_t o = (size_t)r * 3 + (size_t)k;
+            uint32_t v = facing(m, w->rep, w->first, w->at, l.v[k], n);
+            const double *p = k == 0 ? l.a : k == 1 ? l.b : l.c;
+            for (int d = 0; d < 3; d++) {
+                w->b->pos[o * 3 + d] = (float)p[d];
+                w->b->nrm[o * 3 + d] = m->nrm[(size_t)v * 3 + d];
+            }
+            w->b->uv[o * 2] = (float)(cu[k] / w->W);
+            w->b->uv[o * 2 + 1] = (float)(cv[k] / w->H);
+            w->b->idx[o] = (uint32_t)o;
+        }
+        for (int j = 0; j < C; j++)
+            for (int i = 0; i < C; i++) {
+                /* the triangle's point nearest to the texel's centre (on the square) */
+                double st = (double)i / (C - 1), tt = (double)j / (C - 1);
+                if (st + tt > 1) {
+                    double over = 0.5 * (st + tt - 1);
+                    st -= over;
+                    tt -= over;
+                }
+                double p[3];
+                for (int d = 0; d < 3; d++)
+                    p[d] = l.a[d] + st * e1[d] + tt * e2[d];
+                /* the full surface's point nearest to that, searched from the last texel's
+                 * triangle (a walk from there, taken where it ended within the level's
+                 * bound, often ended on the wrong sheet of a thin part: a helmet's inner
+                 * shell); its colour sampled in the full image, never from the atlas's
+                 * mipmap levels, which blend its charts with their neighbours and margins */
+                uint32_t tri;
+                limen__lod_target_nearest(w->full, p, hint, &tri);
+                hint = tri;
+                const uint32_t *fx = &m->idx[(size_t)tri * 3];
+                double q[3][3];
+                for (int k = 0; k < 3; k++)
+                    for (int d = 0; d < 3; d++)
+                        q[k][d] = m->pos[(size_t)fx[k] * 3 + d];
+                double u, v, albedo[3], alpha, em[3];
+                nearest_on(p, q[0], q[1], q[2], &u, &v);
+                limen__mesh_material_at(m, NULL, NULL, LIMEN_FILTER_LINEAR, NULL, tri, u, v,
+                                        albedo, &alpha, em);
+                size_t row = (size_t)(w->H - 1 - (y0 + j)) * (size_t)w->W;
+                size_t px = (row + (size_t)(x0 + i)) * 3;
+                for (int c = 0; c < 3; c++) {
+                    w->base[px + c] = byte_of(albedo[c]);
+                    if (w->glows)
+                        w->glows[px + c] = byte_of(em[c]);
+                }
+            }
+    }
+    return NULL;
+}
+
 static bool emits(const limen__mesh *m)
 {
     for (uint32_t k = 0; k < m->nmats; k++)
@@ -326,18 +405,27 @@ limen__mesh *limen__lod_bake(const limen__mesh *m, const limen__lod_target *full
         free(place);
         return NULL;
     }
-    /* squares along a Z-order curve of CELL_MIN-texel units, largest first: each begins
-     * where a square of its size may (a multiple of its units), in a texture of W x H */
-    uint64_t units = 0;
-    int W = CELL_MIN, H = 0;
+    /* squares in rows of a texture W wide (about the square root of their texels, at least
+     * the largest), largest first: a row as high as its first */
+    uint64_t all = 0;
+    for (uint32_t t = 0; t < ntris; t++)
+        all += (uint64_t)side[t] * side[t];
+    int W = CELL_MIN * (int)ceil(sqrt((double)all) / CELL_MIN), H = 0, x = 0, row = 0;
+    if (W < side[order[0].tri])
+        W = side[order[0].tri];
     for (uint32_t r = 0; r < ntris; r++) {
         int c = side[order[r].tri];
-        place[2 * r] = z_x((uint32_t)units) * CELL_MIN;
-        place[2 * r + 1] = z_y((uint32_t)units) * CELL_MIN;
-        units += (uint64_t)(c / CELL_MIN) * (uint64_t)(c / CELL_MIN);
-        W = (int)place[2 * r] + c > W ? (int)place[2 * r] + c : W;
-        H = (int)place[2 * r + 1] + c > H ? (int)place[2 * r + 1] + c : H;
+        if (x + c > W) {
+            H += row;
+            x = 0;
+        }
+        if (x == 0)
+            row = c;
+        place[2 * r] = (uint32_t)x;
+        place[2 * r + 1] = (uint32_t)H;
+        x += c;
     }
+    H += row;
     size_t nv = (size_t)ntris * 3, texels = (size_t)W * (size_t)H;
     bool glow = emits(m);
     limen__mesh *b = calloc(1, sizeof *b);
@@ -388,80 +476,20 @@ limen__mesh *limen__lod_bake(const limen__mesh *m, const limen__lod_target *full
         limen__lod_baked_free(b);
         return NULL;
     }
-    uint32_t hint = 0;
-    for (uint32_t r = 0; r < ntris; r++) {
-        laid l;
-        lay(m, idx + (size_t)order[r].tri * 3, &l);
-        const int C = side[order[r].tri];
-        int x0 = (int)place[2 * r], y0 = (int)place[2 * r + 1];
-        double e1[3], e2[3], n[3];
-        limen__sub3(l.b, l.a, e1);
-        limen__sub3(l.c, l.a, e2);
-        n[0] = e1[1] * e2[2] - e1[2] * e2[1];
-        n[1] = e1[2] * e2[0] - e1[0] * e2[2];
-        n[2] = e1[0] * e2[1] - e1[1] * e2[0];
-        /* the corners: on the centres of the square's corner texels */
-        const double cu[3] = { x0 + 0.5, x0 + C - 0.5, x0 + 0.5 };
-        const double cv[3] = { y0 + 0.5, y0 + 0.5, y0 + C - 0.5 };
-        for (int k = 0; k < 3; k++) {
-            size_t o = (size_t)r * 3 + (size_t)k;
-            uint32_t v = facing(m, rep, first, at, l.v[k], n);
-            const double *p = k == 0 ? l.a : k == 1 ? l.b : l.c;
-            for (int d = 0; d < 3; d++) {
-                b->pos[o * 3 + d] = (float)p[d];
-                b->nrm[o * 3 + d] = m->nrm[(size_t)v * 3 + d];
-            }
-            b->uv[o * 2] = (float)(cu[k] / W);
-            b->uv[o * 2 + 1] = (float)(cv[k] / H);
-            b->idx[o] = (uint32_t)o;
-        }
-        for (int j = 0; j < C; j++)
-            for (int i = 0; i < C; i++) {
-                /* the mean of SUB x SUB points around the texel's centre (on the square),
-                 * each the triangle's point nearest to it, each the colour of the full
-                 * surface's point nearest to that, sampled in the full image: the mean is
-                 * over the surface, never over the mesh's atlas (whose mipmap levels blend
-                 * its charts with their neighbours and margins) */
-                double albedo[3] = { 0, 0, 0 }, em[3] = { 0, 0, 0 };
-                for (int sj = 0; sj < SUB; sj++)
-                    for (int si = 0; si < SUB; si++) {
-                        double s = (i + (si + 0.5) / SUB - 0.5) / (C - 1);
-                        double t = (j + (sj + 0.5) / SUB - 0.5) / (C - 1);
-                        s = fmax(s, 0.0);
-                        t = fmax(t, 0.0);
-                        if (s + t > 1) {
-                            double over = 0.5 * (s + t - 1);
-                            s = fmax(s - over, 0.0);
-                            t = fmax(t - over, 0.0);
-                        }
-                        double p[3];
-                        for (int d = 0; d < 3; d++)
-                            p[d] = l.a[d] + s * e1[d] + t * e2[d];
-                        uint32_t tri;
-                        limen__lod_target_nearest(full, p, hint, &tri);
-                        hint = tri;
-                        const uint32_t *fx = &m->idx[(size_t)tri * 3];
-                        double q[3][3];
-                        for (int k = 0; k < 3; k++)
-                            for (int d = 0; d < 3; d++)
-                                q[k][d] = m->pos[(size_t)fx[k] * 3 + d];
-                        double u, v, c[3], alpha, e[3];
-                        nearest_on(p, q[0], q[1], q[2], &u, &v);
-                        limen__mesh_material_at(m, NULL, NULL, LIMEN_FILTER_LINEAR, NULL, tri,
-                                                u, v, c, &alpha, e);
-                        for (int k = 0; k < 3; k++) {
-                            albedo[k] += c[k] / (SUB * SUB);
-                            em[k] += e[k] / (SUB * SUB);
-                        }
-                    }
-                size_t px = ((size_t)(H - 1 - (y0 + j)) * (size_t)W + (size_t)(x0 + i)) * 3;
-                for (int c = 0; c < 3; c++) {
-                    base[px + c] = byte_of(albedo[c]);
-                    if (glows)
-                        glows[px + c] = byte_of(em[c]);
-                }
-            }
-    }
+    /* the squares in two shares, the second on a thread of its own where one starts */
+    baker work[2];
+    for (int k = 0; k < 2; k++)
+        work[k] = (baker){ .m = m, .full = full, .idx = idx, .rep = rep, .first = first,
+                           .at = at, .place = place, .order = order, .side = side, .b = b,
+                           .base = base, .glows = glows, .W = W, .H = H,
+                           .from = k ? ntris / 2 : 0, .to = k ? ntris : ntris / 2 };
+    pthread_t other;
+    bool two = ntris >= THREAD_TRIS && pthread_create(&other, NULL, bake_share, &work[1]) == 0;
+    bake_share(&work[0]);
+    if (two)
+        pthread_join(other, NULL);
+    else
+        bake_share(&work[1]);
     free(rep);
     free(order);
     free(side);
