@@ -209,49 +209,6 @@ static keyed *square_order(const limen__mesh *m, const uint32_t *idx, uint32_t n
     return o;
 }
 
-/* The point of triangle (a, b, c) nearest to p, as weights of b and c (*u, *v). */
-static void nearest_on(const double p[3], const double a[3], const double b[3],
-                       const double c[3], double *u, double *v)
-{
-    double ab[3], ac[3], ap[3];
-    limen__sub3(b, a, ab);
-    limen__sub3(c, a, ac);
-    limen__sub3(p, a, ap);
-    double d1 = limen__dot3(ab, ap), d2 = limen__dot3(ac, ap);
-    double g11 = limen__dot3(ab, ab), g22 = limen__dot3(ac, ac), g12 = limen__dot3(ab, ac);
-    double det = g11 * g22 - g12 * g12;
-    double s = 0, t = 0;
-    if (det > 0) {
-        s = (g22 * d1 - g12 * d2) / det;
-        t = (g11 * d2 - g12 * d1) / det;
-    }
-    if (det > 0 && s >= 0 && t >= 0 && s + t <= 1) {
-        *u = s;
-        *v = t;
-        return;
-    }
-    /* outside (or no area): the nearest of the three edges' nearest points */
-    const double *ends[3][2] = { { a, b }, { a, c }, { b, c } };
-    double best = INFINITY;
-    *u = *v = 0;
-    for (int e = 0; e < 3; e++) {
-        double d[3], q[3];
-        limen__sub3(ends[e][1], ends[e][0], d);
-        limen__sub3(p, ends[e][0], q);
-        double dd = limen__dot3(d, d), f = dd > 0 ? limen__dot3(q, d) / dd : 0;
-        f = fmin(1.0, fmax(0.0, f));
-        double x[3];
-        for (int k = 0; k < 3; k++)
-            x[k] = ends[e][0][k] + f * d[k] - p[k];
-        double d2e = limen__dot3(x, x);
-        if (d2e < best) {
-            best = d2e;
-            *u = e == 0 ? f : e == 1 ? 0 : 1 - f;
-            *v = e == 0 ? 0 : e == 1 ? f : f;
-        }
-    }
-}
-
 static unsigned char byte_of(double x)
 {
     return (unsigned char)lrint(fmin(1.0, fmax(0.0, x)) * 255.0);
@@ -346,7 +303,7 @@ static void *bake_share(void *arg)
                     for (int d = 0; d < 3; d++)
                         q[k][d] = m->pos[(size_t)fx[k] * 3 + d];
                 double u, v, albedo[3], alpha, em[3];
-                nearest_on(p, q[0], q[1], q[2], &u, &v);
+                limen__tri_nearest(p, q[0], q[1], q[2], &u, &v);
                 limen__mesh_material_at(m, NULL, NULL, LIMEN_FILTER_LINEAR, NULL, tri, u, v,
                                         albedo, &alpha, em);
                 size_t row = (size_t)(w->H - 1 - (y0 + j)) * (size_t)w->W;

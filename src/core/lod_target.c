@@ -10,7 +10,10 @@
 #define STACK_MAX 64
 #define WALK_MAX 64             /* steps of a walk over the surface */
 
-double limen__seg_d2(const double p[3], const double a[3], const double b[3])
+/* Squared distance from p to the segment ab; *t (where not NULL) the nearest point's place
+ * along it, from a (0) to b (1). */
+static inline double seg_nearest(const double p[3], const double a[3], const double b[3],
+                                 double *at)
 {
     double ab[3], ap[3];
     limen__sub3(b, a, ab);
@@ -22,15 +25,33 @@ double limen__seg_d2(const double p[3], const double a[3], const double b[3])
         double e = ap[k] - t * ab[k];
         d2 += e * e;
     }
+    if (at)
+        *at = t;
     return d2;
 }
 
-/* Squared distance from p to the triangle abc: the nearest point found by the region of the
- * triangle's plane that p projects into (corner, edge or face; Ericson, Real-Time Collision
- * Detection 5.1.5), with the edges as a fallback for a triangle of no area. */
-double limen__tri_d2(const double p[3], const double a[3], const double b[3], const double c[3])
+double limen__seg_d2(const double p[3], const double a[3], const double b[3])
 {
-    double ab[3], ac[3], ap[3], bp[3], cp[3], q[3];
+    return seg_nearest(p, a, b, NULL);
+}
+
+/* Sets the weights of b and c (*u, *v) where they are asked for (u not NULL). */
+static inline void weights(double *u, double *v, double wb, double wc)
+{
+    if (u) {
+        *u = wb;
+        *v = wc;
+    }
+}
+
+/* Squared distance from p to the triangle abc, and (u not NULL) the nearest point's weights
+ * of b and c: the nearest point found by the region of the triangle's plane that p projects
+ * into (corner, edge or face; Ericson, Real-Time Collision Detection 5.1.5), with the edges
+ * as a fallback for a triangle of no area. */
+static inline double tri_nearest(const double p[3], const double a[3], const double b[3],
+                                 const double c[3], double *u, double *v)
+{
+    double ab[3], ac[3], ap[3], bp[3], cp[3], q[3], t = 0;
     limen__sub3(b, a, ab);
     limen__sub3(c, a, ac);
     limen__sub3(p, a, ap);
@@ -39,32 +60,69 @@ double limen__tri_d2(const double p[3], const double a[3], const double b[3], co
     double d1 = limen__dot3(ab, ap), d2 = limen__dot3(ac, ap), d3 = limen__dot3(ab, bp),
            d4 = limen__dot3(ac, bp), d5 = limen__dot3(ab, cp), d6 = limen__dot3(ac, cp);
     /* the regions are disjoint but for their borders, so the order of the tests is free */
-    if (d1 <= 0 && d2 <= 0)
+    if (d1 <= 0 && d2 <= 0) {
+        weights(u, v, 0, 0);
         return limen__dot3(ap, ap);
-    if (d3 >= 0 && d4 <= d3)
+    }
+    if (d3 >= 0 && d4 <= d3) {
+        weights(u, v, 1, 0);
         return limen__dot3(bp, bp);
-    if (d6 >= 0 && d5 <= d6)
+    }
+    if (d6 >= 0 && d5 <= d6) {
+        weights(u, v, 0, 1);
         return limen__dot3(cp, cp);
+    }
     double va = d3 * d6 - d5 * d4, vb = d5 * d2 - d1 * d6, vc = d1 * d4 - d3 * d2;
-    if (vc <= 0 && d1 >= 0 && d3 <= 0)
-        return limen__seg_d2(p, a, b);
-    if (vb <= 0 && d2 >= 0 && d6 <= 0)
-        return limen__seg_d2(p, a, c);
-    if (va <= 0 && d4 - d3 >= 0 && d5 - d6 >= 0)
-        return limen__seg_d2(p, b, c);
+    if (vc <= 0 && d1 >= 0 && d3 <= 0) {
+        double e = seg_nearest(p, a, b, u ? &t : NULL);
+        weights(u, v, t, 0);
+        return e;
+    }
+    if (vb <= 0 && d2 >= 0 && d6 <= 0) {
+        double e = seg_nearest(p, a, c, u ? &t : NULL);
+        weights(u, v, 0, t);
+        return e;
+    }
+    if (va <= 0 && d4 - d3 >= 0 && d5 - d6 >= 0) {
+        double e = seg_nearest(p, b, c, u ? &t : NULL);
+        weights(u, v, 1 - t, t);
+        return e;
+    }
     double sum = va + vb + vc;
     if (!(sum > 0)) {
-        double ab2 = limen__seg_d2(p, a, b), bc2 = limen__seg_d2(p, b, c),
-               ca2 = limen__seg_d2(p, c, a);
+        double tab = 0, tbc = 0, tca = 0;
+        double ab2 = seg_nearest(p, a, b, u ? &tab : NULL),
+               bc2 = seg_nearest(p, b, c, u ? &tbc : NULL),
+               ca2 = seg_nearest(p, c, a, u ? &tca : NULL);
         double m = ab2 < bc2 ? ab2 : bc2;
-        return m < ca2 ? m : ca2;
+        if (m < ca2) {
+            if (ab2 < bc2)
+                weights(u, v, tab, 0);
+            else
+                weights(u, v, 1 - tbc, tbc);
+            return m;
+        }
+        weights(u, v, 0, 1 - tca);
+        return ca2;
     }
-    double v = vb / sum, w = vc / sum, d2q = 0;
+    double w1 = vb / sum, w2 = vc / sum, d2q = 0;
     for (int k = 0; k < 3; k++) {
-        q[k] = ap[k] - ab[k] * v - ac[k] * w;
+        q[k] = ap[k] - ab[k] * w1 - ac[k] * w2;
         d2q += q[k] * q[k];
     }
+    weights(u, v, w1, w2);
     return d2q;
+}
+
+double limen__tri_d2(const double p[3], const double a[3], const double b[3], const double c[3])
+{
+    return tri_nearest(p, a, b, c, NULL, NULL);
+}
+
+double limen__tri_nearest(const double p[3], const double a[3], const double b[3],
+                          const double c[3], double *u, double *v)
+{
+    return tri_nearest(p, a, b, c, u, v);
 }
 
 void limen__lod_target_free(limen__lod_target *t)

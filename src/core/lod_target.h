@@ -35,6 +35,10 @@ static inline double limen__dot3(const double a[3], const double b[3])
 double limen__seg_d2(const double p[3], const double a[3], const double b[3]);
 /* Squared distance from p to the triangle abc. */
 double limen__tri_d2(const double p[3], const double a[3], const double b[3], const double c[3]);
+/* The same, and the nearest point's weights of b and c (*u, *v: it is a + u (b - a) +
+ * v (c - a)). */
+double limen__tri_nearest(const double p[3], const double a[3], const double b[3],
+                          const double c[3], double *u, double *v);
 /* t over m's triangles and hierarchy (which it must outlive); weld, where not NULL: per
  * corner of m, another vertex at the corner's position, through which corners meet (at
  * a vertex, across an edge). False when out of memory (t freed). */
