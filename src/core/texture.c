@@ -165,20 +165,24 @@ static void image_failure(const unsigned char *buf, size_t len, char *why, size_
 }
 
 /* A texture over rgb (taken), w x h. */
-static limen_status texture_new(limen_scene *s, unsigned char *rgb, int w, int h,
-                                const char *name, limen__texture **out)
+/* A texture of rgb (taken; freed on failure) with its mipmap levels; NULL when out of
+ * memory, *levels (where not NULL) whether it was the levels that found none. */
+static limen__texture *texture_of(unsigned char *rgb, int w, int h, const char *name,
+                                  bool *levels)
 {
     limen__texture *t = calloc(1, sizeof *t);
+    if (levels)
+        *levels = t != NULL;
     if (!t) {
         free(rgb);
-        return limen__fail(s, LIMEN_ERR_NOMEM, "%s: out of memory", name);
+        return NULL;
     }
     t->w = w;
     t->h = h;
     t->rgb = rgb;
     if (!make_levels(t)) {
         texture_free(t);
-        return limen__fail(s, LIMEN_ERR_NOMEM, "%s: out of memory for its mipmap levels", name);
+        return NULL;
     }
     /* the levels add a third at most */
     t->bytes = sizeof *t + (size_t)w * (size_t)h * 3 + (size_t)w * (size_t)h;
@@ -187,7 +191,17 @@ static limen_status texture_new(limen_scene *s, unsigned char *rgb, int w, int h
                             .level_count = t->nlevels, .levels = t->levels };
     t->refs = 1;
     snprintf(t->name, sizeof t->name, "%s", name);
-    *out = t;
+    return t;
+}
+
+static limen_status texture_new(limen_scene *s, unsigned char *rgb, int w, int h,
+                                const char *name, limen__texture **out)
+{
+    bool levels;
+    *out = texture_of(rgb, w, h, name, &levels);
+    if (!*out)
+        return limen__fail(s, LIMEN_ERR_NOMEM, levels ? "%s: out of memory for its mipmap "
+                           "levels" : "%s: out of memory", name);
     return LIMEN_OK;
 }
 
@@ -336,26 +350,7 @@ limen_status limen__texture_from_rgba(limen_scene *s, const unsigned char *rgba,
 
 limen__texture *limen__texture_own(unsigned char *rgb, int w, int h, const char *name)
 {
-    limen__texture *t = calloc(1, sizeof *t);
-    if (!t) {
-        free(rgb);
-        return NULL;
-    }
-    t->w = w;
-    t->h = h;
-    t->rgb = rgb;
-    if (!make_levels(t)) {
-        texture_free(t);
-        return NULL;
-    }
-    size_t n = (size_t)w * (size_t)h;
-    t->bytes = sizeof *t + n * 4;
-    t->serial = limen__next_serial();
-    t->pub = (limen_image){ .id = t->serial, .width = w, .height = h, .rgb = rgb,
-                            .level_count = t->nlevels, .levels = t->levels };
-    t->refs = 1;
-    snprintf(t->name, sizeof t->name, "%s", name);
-    return t;
+    return texture_of(rgb, w, h, name, NULL);
 }
 
 void limen__texture_free(limen__texture *t)
