@@ -1940,16 +1940,12 @@ static bool bake_again(const limen__mesh *m, made *mk, uint32_t mask)
     memcpy(whole.lo, m->lo, sizeof whole.lo);
     memcpy(whole.hi, m->hi, sizeof whole.hi);
     target full = { 0 };
+    surface_job surface = { .t = &full, .whole = &whole, .weld = shadow };
     bool ok = shadow && limen__lod_bakeable(m);
-    if (ok) {
+    if (ok)
         meshopt_generateShadowIndexBuffer(shadow, m->idx, n0, m->pos, m->nverts,
                                           sizeof(float) * 3, sizeof(float) * 3);
-        if (!limen__lod_target_make(&full, &whole, shadow)) {
-            full = (target){ 0 };
-            ok = false;
-        }
-    }
-    ok = ok && limen__lod_tree(&whole);
+    ok = ok && surface_join(&surface, true);
     limen_mesh_lod *lods = (limen_mesh_lod *)mk->block;
     for (uint32_t k = 1; ok && k < mk->nlods; k++)
         if (mask >> k & 1u) {
@@ -2173,8 +2169,12 @@ static bool lods_make(const limen__mesh *m, const atomic_bool *stop, made *out)
                                    halved[k] ? fmax(estimate[k], prev) : estimate[k], stop,
                                    NULL, 0);
             heap_give_back();
-            out->nlods = nlods;
-            if (isnan(e) || !(out->geo[k] = float_up(e), bake_level(m, &full, shadow, out, k))) {
+            if (isnan(e)) {
+                ok = false;
+                break;
+            }
+            out->geo[k] = float_up(e);
+            if (!bake_level(m, &full, shadow, out, k)) {
                 ok = false;
                 break;
             }
