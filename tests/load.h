@@ -1,7 +1,11 @@
-/* load.h - how the test programs run a scene script: a script that fails to load is a failed
- * check (with its message), and NULL. Include after check.h and limen.h. */
+/* load.h - how the test programs read what they check: a scene script (one that fails to
+ * load is a failed check, with its message, and NULL), a text file limen wrote. Include
+ * after check.h and limen.h. */
 #ifndef LIMEN_TESTS_LOAD_H
 #define LIMEN_TESTS_LOAD_H
+
+#include <stdbool.h>
+#include <stdio.h>
 
 __attribute__((unused)) static limen_script *check_load_script(const char *path)
 {
@@ -13,6 +17,18 @@ __attribute__((unused)) static limen_script *check_load_script(const char *path)
         return NULL;
     }
     return sc;
+}
+
+/* The file at path as text (at most size - 1 bytes, NUL-terminated; "" where it cannot be
+ * read); whether all of it fit. */
+__attribute__((unused)) static bool read_text(const char *path, char *text, size_t size)
+{
+    FILE *f = fopen(path, "rb");
+    size_t n = f ? fread(text, 1, size - 1, f) : 0;
+    text[n] = 0;
+    if (f)
+        fclose(f);
+    return f && n < size - 1;
 }
 
 #endif

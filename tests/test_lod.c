@@ -20,6 +20,7 @@
 #include "core/lod_cache.h"
 #include "core/lod_target.h"
 #include "limen.h"
+#include "load.h"
 
 #define HEIGHT 480
 
@@ -773,11 +774,7 @@ static void test_plan_json(void)
         if (fd >= 0)
             close(fd);
         CHECK_OK(limen_plan_write_json(p, f.s, path));
-        FILE *in = fopen(path, "r");
-        size_t n = in ? fread(text, 1, sizeof text - 1, in) : 0;
-        text[n] = 0;
-        if (in)
-            fclose(in);
+        read_text(path, text, sizeof text);
         remove(path);
         int tris = d ? d->mesh->lods[k > 0 ? k : 0].triangle_count : 0;
         snprintf(want, sizeof want, "\"meshes\": [{\"node\": \"statue\", \"lod\": %d, "
@@ -1344,6 +1341,24 @@ static void test_async(void)
 
 /* ------------------------------------------------------------------ laying a piece over */
 
+/* A mesh over the arrays (not copied: nverts vertices at pos, ntris triangles idx) with its
+ * bounds, as core/lod.c's measuring takes the full mesh; its hierarchy not yet made. */
+static limen__mesh bare_mesh(const float *pos, uint32_t nverts, const uint32_t *idx,
+                             uint32_t ntris)
+{
+    limen__mesh m = { .nverts = nverts, .ntris = ntris, .pos = (float *)pos,
+                      .idx = (uint32_t *)idx };
+    for (int a = 0; a < 3; a++) {
+        m.lo[a] = INFINITY;
+        m.hi[a] = -INFINITY;
+    }
+    for (size_t v = 0; v < (size_t)nverts * 3; v++) {
+        m.lo[v % 3] = fmin(m.lo[v % 3], pos[v]);
+        m.hi[v % 3] = fmax(m.hi[v % 3], pos[v]);
+    }
+    return m;
+}
+
 /* The largest distance a brute force finds from the triangles a (na of them, a lattice of
  * `steps` on each) to the triangles b (nb), both over pos. */
 static double lattice_dist(const float *pos, const uint32_t *a, int na, const uint32_t *b, int nb,
@@ -1438,15 +1453,7 @@ static void test_lay_bound(void)
                 memcpy(&idx[nt * 3], q, sizeof q);
                 nt += 2;
             }
-        limen__mesh m = { .nverts = NV, .ntris = (uint32_t)nt, .pos = pos, .idx = idx };
-        for (int x = 0; x < 3; x++) {
-            m.lo[x] = INFINITY;
-            m.hi[x] = -INFINITY;
-        }
-        for (int v = 0; v < NV * 3; v++) {
-            m.lo[v % 3] = fmin(m.lo[v % 3], pos[v]);
-            m.hi[v % 3] = fmax(m.hi[v % 3], pos[v]);
-        }
+        limen__mesh m = bare_mesh(pos, NV, idx, (uint32_t)nt);
         CHECK(limen__mesh_bvh(&m));
         double e = m.bvh ? limen__lod_measure(&m, lidx, (uint32_t)lt) : NAN;
         double found = fmax(lattice_dist(pos, lidx, lt, idx, nt, 16),
@@ -1709,16 +1716,8 @@ static void test_square_charts(void)
  * a vertex to a triangle: core/lod.c) on or off, into e[k]; false where it could not run. */
 static bool measures(const limen_mesh_geometry *g, bool memo, double e[12])
 {
-    limen__mesh m = { .nverts = (uint32_t)g->vertex_count, .ntris = (uint32_t)g->triangle_count,
-                      .pos = (float *)g->positions, .idx = (uint32_t *)g->indices };
-    for (int a = 0; a < 3; a++) {
-        m.lo[a] = INFINITY;
-        m.hi[a] = -INFINITY;
-    }
-    for (int v = 0; v < g->vertex_count * 3; v++) {
-        m.lo[v % 3] = fmin(m.lo[v % 3], g->positions[v]);
-        m.hi[v % 3] = fmax(m.hi[v % 3], g->positions[v]);
-    }
+    limen__mesh m = bare_mesh(g->positions, (uint32_t)g->vertex_count, g->indices,
+                              (uint32_t)g->triangle_count);
     if (!limen__mesh_bvh(&m))
         return false;
     limen__lod_set_measure_memo(memo);
@@ -1810,16 +1809,7 @@ static void test_via_levels(void)
         .positions = pos, .vertex_count = NV, .indices = idx, .triangle_count = NT }));
     const limen_drawable *d = item(&f);
     const limen_mesh_geometry *g = d ? d->mesh : NULL;
-    limen__mesh m = { .nverts = NV, .ntris = NT, .pos = g ? (float *)g->positions : NULL,
-                      .idx = g ? (uint32_t *)g->indices : NULL };
-    for (int a = 0; a < 3; a++) {
-        m.lo[a] = INFINITY;
-        m.hi[a] = -INFINITY;
-    }
-    for (int v = 0; g && v < NV * 3; v++) {
-        m.lo[v % 3] = fmin(m.lo[v % 3], g->positions[v]);
-        m.hi[v % 3] = fmax(m.hi[v % 3], g->positions[v]);
-    }
+    limen__mesh m = bare_mesh(g ? g->positions : NULL, g ? NV : 0, g ? g->indices : NULL, NT);
     tri_box *ft = g ? boxes_of(g, &g->lods[0]) : NULL;
     grid full = { 0 };
     uint64_t settled = 0;
