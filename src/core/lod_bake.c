@@ -174,16 +174,6 @@ static int by_key(const void *pa, const void *pb)
     return a->key != b->key ? (a->key < b->key ? -1 : 1) : (a->tri < b->tri ? -1 : a->tri > b->tri);
 }
 
-static uint32_t spread10(uint32_t x)
-{
-    x &= 0x3ff;
-    x = (x | (x << 16)) & 0x030000ff;
-    x = (x | (x << 8)) & 0x0300f00f;
-    x = (x | (x << 4)) & 0x030c30c3;
-    x = (x | (x << 2)) & 0x09249249;
-    return x;
-}
-
 /* The triangles by their squares, largest first, and then in the order of their centres
  * along a Morton curve over m's box. */
 static keyed *square_order(const limen__mesh *m, const uint32_t *idx, uint32_t ntris,
@@ -202,8 +192,7 @@ static keyed *square_order(const limen__mesh *m, const uint32_t *idx, uint32_t n
             q[d] = (uint32_t)fmin(255.0, fmax(0.0, f * 256.0));
         }
         uint32_t smaller = (uint32_t)(CELL_MAX - side[t]) / CELL_MIN;    /* 0 to 63 */
-        o[t] = (keyed){ smaller << 26 | spread10(q[0]) | spread10(q[1]) << 1 | spread10(q[2]) << 2,
-                        t };
+        o[t] = (keyed){ smaller << 26 | limen__morton3(q[0], q[1], q[2]), t };
     }
     qsort(o, ntris, sizeof *o, by_key);
     return o;

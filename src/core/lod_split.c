@@ -16,10 +16,12 @@
 
 #include <meshoptimizer.h>
 
+#include "core/lod_target.h"
 #include "core/lod_weld.h"
 
 #define SPLIT_WORKERS 2         /* blocks simplified at once (this machine's cores) */
 #define MORTON_BITS 10          /* per axis, of a triangle's centre */
+_Static_assert(MORTON_BITS == 10, "limen__morton3 interleaves 10 bits an axis");
 #define BUCKET_BITS 16          /* the leading bits of the code that choose its block */
 
 typedef struct split {
@@ -136,16 +138,15 @@ static bool cut_blocks(const float *pos, const uint32_t *in, size_t nt, uint32_t
             hi[a] = fmaxf(hi[a], pos[(size_t)in[i] * 3 + a]);
         }
     for (size_t t = 0; t < nt; t++) {
-        uint32_t q[3], code = 0;
+        uint32_t q[3];
         for (int a = 0; a < 3; a++) {
             double c = ((double)pos[(size_t)in[t * 3] * 3 + a] + pos[(size_t)in[t * 3 + 1] * 3 + a] +
                         pos[(size_t)in[t * 3 + 2] * 3 + a]) / 3;
             double f = hi[a] > lo[a] ? (c - lo[a]) / ((double)hi[a] - lo[a]) : 0;
             q[a] = (uint32_t)fmin(fmax(f * (1 << MORTON_BITS), 0), (1 << MORTON_BITS) - 1);
         }
-        for (int bit = MORTON_BITS - 1; bit >= 0; bit--)
-            for (int a = 0; a < 3; a++)
-                code = code << 1 | (q[a] >> bit & 1);
+        /* the first axis's bit the highest of each three */
+        uint32_t code = limen__morton3(q[2], q[1], q[0]);
         bucket[t] = code >> (3 * MORTON_BITS - BUCKET_BITS);
         count[bucket[t]]++;
     }

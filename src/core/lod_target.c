@@ -319,17 +319,6 @@ static void tree_node(limen__mesh *m, uint32_t at, uint32_t first, uint32_t coun
     }
 }
 
-/* x's low 10 bits spread to every third bit. */
-static uint32_t spread3(uint32_t x)
-{
-    x &= 0x3ff;
-    x = (x | x << 16) & 0x030000ff;
-    x = (x | x << 8) & 0x0300f00f;
-    x = (x | x << 4) & 0x030c30c3;
-    x = (x | x << 2) & 0x09249249;
-    return x;
-}
-
 bool limen__lod_tree(limen__mesh *m)
 {
     uint64_t nodes[2];
@@ -364,7 +353,7 @@ bool limen__lod_tree(limen__mesh *m)
             double f = hi[a] > lo[a] ? (c - lo[a]) / (hi[a] - lo[a]) * 1023 : 0;
             q[a] = f > 0 ? (uint32_t)f : 0;
         }
-        key[t] = spread3(q[0]) | spread3(q[1]) << 1 | spread3(q[2]) << 2;
+        key[t] = limen__morton3(q[0], q[1], q[2]);
         m->tri_order[t] = (uint32_t)t;
     }
     /* sorted by code, 8 bits a pass, the least first (stable) */

@@ -31,6 +31,21 @@ static inline double limen__dot3(const double a[3], const double b[3])
     return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
 }
 
+/* A Morton code: the low 10 bits of x, y and z interleaved, x's the lowest of each three. */
+static inline uint32_t limen__morton3(uint32_t x, uint32_t y, uint32_t z)
+{
+    uint32_t q[3] = { x, y, z }, code = 0;
+    for (int a = 0; a < 3; a++) {
+        uint32_t v = q[a] & 0x3ff;      /* spread to every third bit */
+        v = (v | v << 16) & 0x030000ff;
+        v = (v | v << 8) & 0x0300f00f;
+        v = (v | v << 4) & 0x030c30c3;
+        v = (v | v << 2) & 0x09249249;
+        code |= v << a;
+    }
+    return code;
+}
+
 /* Squared distance from p to the segment ab. */
 double limen__seg_d2(const double p[3], const double a[3], const double b[3]);
 /* Squared distance from p to the triangle abc. */
