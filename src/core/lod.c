@@ -1180,6 +1180,12 @@ typedef struct corners_job {
     bool ok;
 } corners_job;
 
+/* limen__lod_tree on a thread: arg where it was made, NULL where out of memory. */
+static void *tree_run(void *arg)
+{
+    return limen__lod_tree(arg) ? arg : NULL;
+}
+
 static void *corners_run(void *arg)
 {
     corners_job *j = arg;
@@ -1218,12 +1224,24 @@ static double level_error(const target *full, const uint32_t *weld, const uint32
     pthread_t cth;
     bool beside = measure_threads && m->ntris >= THREAD_TRIS &&
                   pthread_create(&cth, NULL, corners_run, &cj) == 0;
-    bool made = limen__lod_tree(&lv) && limen__lod_target_make(&level, &lv, NULL);
-    bool ok = made && side_corners(&back);
+    /* a big mesh's level (measured once the simplifier is done, not beside it): its
+     * hierarchy on a thread of its own while its surface is made here */
+    pthread_t tth;
+    bool tree_beside = measure_threads && m->ntris >= LIMEN__LOD_SPLIT_ABOVE &&
+                       pthread_create(&tth, NULL, tree_run, &lv) == 0;
+    bool made = limen__lod_target_make(&level, &lv, NULL);
+    if (tree_beside) {
+        void *tree_ok;
+        pthread_join(tth, &tree_ok);
+        made = made && tree_ok;
+    } else {
+        made = made && limen__lod_tree(&lv);
+    }
     if (beside)
         pthread_join(cth, NULL);
     else
         corners_run(&cj);
+    bool ok = made && side_corners(&back);
     if (ok && cj.ok) {
         floor = greater(floor, greater(floor_there, floor_back));
         there.floor = back.floor = &floor;
@@ -2049,10 +2067,10 @@ static bool lods_make(const limen__mesh *m, const atomic_bool *stop, made *out)
             from = charts_from;
         const uint32_t *src = from_full ? NULL : store + at[from];
         size_t src_n = from_full ? n0 : (size_t)lods[from].triangle_count * 3;
-        /* a mesh the simplifier takes whole, on one core: the full mesh's surface made on
-         * the other meanwhile (a bigger one's, 53 MB for a moment at 1.6M triangles beside
-         * the simplifier's tables, would raise the build's peak: made after them) */
-        if (ok && n0 / 3 < LIMEN__LOD_SPLIT_ABOVE)
+        /* a source the simplifier takes whole, on one core: the full mesh's surface made on
+         * the other meanwhile (not beside a bigger source's blocks, simplified on both
+         * cores, whose tables would raise the build's peak) */
+        if (ok && src_n / 3 < LIMEN__LOD_SPLIT_ABOVE)
             surface_start(&surface);
         size_t n = 0;
         if (mode == CHARTS) {
