@@ -2067,10 +2067,12 @@ static bool lods_make(const limen__mesh *m, const atomic_bool *stop, made *out)
             from = charts_from;
         const uint32_t *src = from_full ? NULL : store + at[from];
         size_t src_n = from_full ? n0 : (size_t)lods[from].triangle_count * 3;
-        /* a source the simplifier takes whole, on one core: the full mesh's surface made on
-         * the other meanwhile (not beside a bigger source's blocks, simplified on both
-         * cores, whose tables would raise the build's peak) */
-        if (ok && src_n / 3 < LIMEN__LOD_SPLIT_ABOVE)
+        /* a mesh the simplifier takes whole, on one core: the full mesh's surface made on
+         * the other meanwhile (a bigger one's, 53 MB for a moment at 1.6M triangles beside
+         * the simplifier's tables, would raise the build's peak: made after them; made
+         * beside its last sources, taken whole, it raised the peak of a process drawing it
+         * from 447 to 475-512 MB) */
+        if (ok && n0 / 3 < LIMEN__LOD_SPLIT_ABOVE)
             surface_start(&surface);
         size_t n = 0;
         if (mode == CHARTS) {
