@@ -1249,10 +1249,41 @@ static void shared_tris(corners_job *j)
     free(slot);
 }
 
-/* limen__lod_tree on a thread: arg where it was made, NULL where out of memory. */
+/* A hierarchy made beside other work: its arrays held by the thread that asks (so that
+ * they come from its heap, not a thread's, whose arena would keep the pages), filled on a
+ * thread of its own. */
+typedef struct tree_job {
+    limen__mesh *m;
+    uint32_t *scratch;
+    pthread_t th;
+    bool beside;
+} tree_job;
+
 static void *tree_run(void *arg)
 {
-    return limen__lod_tree(arg) ? arg : NULL;
+    tree_job *j = arg;
+    limen__lod_tree_fill(j->m, j->scratch);
+    return NULL;
+}
+
+/* Starts m's hierarchy: filled on a thread where beside (and one starts), else by tree_end;
+ * false when out of memory (nothing held, no tree_end). */
+static bool tree_start(tree_job *j, limen__mesh *m, bool beside)
+{
+    *j = (tree_job){ .m = m, .scratch = limen__lod_tree_alloc(m) };
+    if (!j->scratch)
+        return false;
+    j->beside = beside && pthread_create(&j->th, NULL, tree_run, j) == 0;
+    return true;
+}
+
+static void tree_end(tree_job *j)
+{
+    if (j->beside)
+        pthread_join(j->th, NULL);
+    else
+        limen__lod_tree_fill(j->m, j->scratch);
+    free(j->scratch);
 }
 
 static void *corners_run(void *arg)
@@ -1308,17 +1339,12 @@ static double level_error(const target *full, const uint32_t *weld, const uint32
                   pthread_create(&cth, NULL, corners_run, &cj) == 0;
     /* a big mesh's level (measured once the simplifier is done, not beside it): its
      * hierarchy on a thread of its own while its surface is made here */
-    pthread_t tth;
-    bool tree_beside = measure_threads && m->ntris >= LIMEN__LOD_SPLIT_ABOVE &&
-                       pthread_create(&tth, NULL, tree_run, &lv) == 0;
+    tree_job tj;
+    bool tree_ok = tree_start(&tj, &lv, measure_threads && m->ntris >= LIMEN__LOD_SPLIT_ABOVE);
     bool made = limen__lod_target_make(&level, &lv, NULL);
-    if (tree_beside) {
-        void *tree_ok;
-        pthread_join(tth, &tree_ok);
-        made = made && tree_ok;
-    } else {
-        made = made && limen__lod_tree(&lv);
-    }
+    if (tree_ok)
+        tree_end(&tj);
+    made = made && tree_ok;
     if (beside)
         pthread_join(cth, NULL);
     else
@@ -1380,16 +1406,25 @@ typedef struct surface_job {
     bool owned;                 /* made by the levels' measuring ahead (ahead_run) */
 } surface_job;
 
-static void *surface_run(void *arg)
+/* The surface and its hierarchy: the hierarchy filled on a thread of its own where beside
+ * (its arrays, 32 MB at 1.6M triangles, then held beside the pairing of the surface's edges,
+ * 53 MB for a moment), else made after the surface (not beside that pairing). */
+static void surface_make(surface_job *j, bool beside)
 {
-    surface_job *j = arg;
-    /* the surface before its hierarchy: the pairing of its edges (what its making holds
-     * for a moment, 53 MB at 1.6M triangles) is not held beside the hierarchy */
+    tree_job tj;
+    bool tree_ok = !beside || tree_start(&tj, j->whole, true);
     j->ok = limen__lod_target_make(j->t, j->whole, j->weld);
     if (!j->ok)
         *j->t = (target){ 0 };  /* freed by the failed making, not to be freed again */
-    j->ok = j->ok && limen__lod_tree(j->whole);
+    if (beside && tree_ok)
+        tree_end(&tj);
+    j->ok = j->ok && tree_ok && (beside || limen__lod_tree(j->whole));
     j->made = true;
+}
+
+static void *surface_run(void *arg)
+{
+    surface_make(arg, false);
     return NULL;
 }
 
@@ -1406,8 +1441,9 @@ static bool surface_join(surface_job *j, bool want)
     if (j->started)
         pthread_join(j->th, NULL);
     j->started = false;
+    /* here, once the simplifier is done: a big mesh's hierarchy beside */
     if (!j->made && want)
-        surface_run(j);
+        surface_make(j, measure_threads && j->whole->ntris >= LIMEN__LOD_SPLIT_ABOVE);
     return j->made && j->ok;
 }
 

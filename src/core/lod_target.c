@@ -319,23 +319,39 @@ static void tree_node(limen__mesh *m, uint32_t at, uint32_t first, uint32_t coun
     }
 }
 
-bool limen__lod_tree(limen__mesh *m)
+uint32_t *limen__lod_tree_alloc(limen__mesh *m)
 {
     uint64_t nodes[2];
     tree_nodes(m->ntris, nodes);
-    size_t n = m->ntris;
+    size_t n = m->ntris ? m->ntris : 1;
     m->bvh = malloc(sizeof *m->bvh * (size_t)nodes[0]);
-    m->tri_order = malloc(sizeof *m->tri_order * (n ? n : 1));
-    uint32_t *key = malloc(sizeof *key * (n ? n : 1)), *other = malloc(sizeof *other * (n ? n : 1));
-    if (!m->bvh || !m->tri_order || !key || !other) {
+    m->tri_order = malloc(sizeof *m->tri_order * n);
+    uint32_t *scratch = malloc(sizeof *scratch * 2 * n);
+    if (!m->bvh || !m->tri_order || !scratch) {
         free(m->bvh);
         free(m->tri_order);
         m->bvh = NULL;
         m->tri_order = NULL;
-        free(key);
-        free(other);
-        return false;
+        free(scratch);
+        return NULL;
     }
+    return scratch;
+}
+
+bool limen__lod_tree(limen__mesh *m)
+{
+    uint32_t *scratch = limen__lod_tree_alloc(m);
+    if (!scratch)
+        return false;
+    limen__lod_tree_fill(m, scratch);
+    free(scratch);
+    return true;
+}
+
+void limen__lod_tree_fill(limen__mesh *m, uint32_t *scratch)
+{
+    size_t n = m->ntris;
+    uint32_t *key = scratch, *other = scratch + (n ? n : 1);
     /* each triangle's centre on a 1024^3 grid over the centres' box, as a Morton code */
     double lo[3] = { INFINITY, INFINITY, INFINITY }, hi[3] = { -INFINITY, -INFINITY, -INFINITY };
     for (size_t t = 0; t < n; t++)
@@ -369,11 +385,8 @@ bool limen__lod_tree(limen__mesh *m)
         m->tri_order = other;
         other = swap;
     }
-    free(key);
-    free(other);
     m->nbvh = 1;
     tree_node(m, 0, 0, m->ntris);
-    return true;
 }
 
 static double box_d2(const limen__tri_node *n, const double p[3])

@@ -94,6 +94,11 @@ static inline double limen__lod_d2(const limen__lod_target *t, uint32_t i, const
  * halved in that order (no split is searched for: linear but for the sort, which is by
  * radix). False when out of memory (nothing held). */
 bool limen__lod_tree(limen__mesh *m);
+/* limen__lod_tree in two steps, so that another thread may fill what this one holds: its
+ * arrays (bvh, tri_order) and the scratch returned (freed by the caller after the filling),
+ * or NULL when out of memory (nothing held); then the filling, which allocates nothing. */
+uint32_t *limen__lod_tree_alloc(limen__mesh *m);
+void limen__lod_tree_fill(limen__mesh *m, uint32_t *scratch);
 /* core/lod.c's bound on the two-sided distance between the surface idx (ntris triangles over
  * m's vertices) and m's (its hierarchy made, its bounds lo and hi set), as a level's error is
  * measured: for tests. NAN when out of memory. */
