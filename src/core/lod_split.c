@@ -5,12 +5,13 @@
  * of nearby ones (by the Morton code of their centres: whole regions of the surface), each
  * simplified alone over its own vertices with its border held where it is (the simplifier's
  * lock on borders), so that the blocks still meet without a crack; two blocks at a time, on
- * two threads. The tables are then a block's, and the result depends on the blocks alone,
- * not on which thread made which. A block's held border is simplified by the next level,
+ * two threads, each taking the next block when it comes free. The tables are then a
+ * block's, and the result depends on the blocks alone, not on which thread made which. A block's held border is simplified by the next level,
  * whose blocks are cut elsewhere, or whose source is small enough to be taken whole. */
 #include <float.h>
 #include <math.h>
 #include <pthread.h>
+#include <stdatomic.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -38,11 +39,12 @@ typedef struct split {
     size_t *nmade;
     double *err;                /* per block: the simplifier's error, in the mesh's units */
     uint32_t step;              /* workers */
+    atomic_uint next;           /* the next block a worker takes */
 } split;
 
 typedef struct worker {
     split *s;
-    uint32_t first;             /* its blocks: first, first + step, ... */
+    uint32_t first;             /* which worker */
     bool ok;
 } worker;
 
@@ -109,8 +111,13 @@ static void *work(void *arg)
     w->ok = local != NULL;
     if (local)
         memset(local, 0xff, sizeof *local * s->nv);
-    for (uint32_t b = w->first; w->ok && b < s->nblocks; b += s->step)
+    /* blocks taken as workers come free (a block's result is its own, whichever takes it) */
+    while (w->ok) {
+        uint32_t b = atomic_fetch_add_explicit(&s->next, 1, memory_order_relaxed);
+        if (b >= s->nblocks)
+            break;
         w->ok = block_simplify(s, b, local);
+    }
     free(local);
     return NULL;
 }
