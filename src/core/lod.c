@@ -106,7 +106,7 @@ typedef struct point {
 /* A vertex's point, less its position (from->pos, exactly): 16 bytes, not 40, a vertex. */
 typedef struct corner {
     double d2;
-    uint32_t tri;               /* UINT32_MAX: not yet located */
+    uint32_t tri;
     bool rough;
 } corner;
 
@@ -978,18 +978,24 @@ static void piece(side *sd, const point *a, const point *b, const point *c, int 
 
 /* The distances to to's surface of from's vertices met first at corners of triangles [t0,
  * t1), less those of `taken` (where not NULL: a bit a vertex), each walked to from the
- * last one's triangle (the first's from triangle 0). */
-static void corners_span(side *sd, uint32_t t0, uint32_t t1, const uint64_t *taken)
+ * last one's triangle (the first's from triangle 0); false when out of memory. Which are
+ * found is kept in a bit a vertex (a few hundred kilobytes, where the corners themselves
+ * are 16 bytes a vertex: a vertex met again, about five times in six, is not looked up
+ * there). */
+static bool corners_span(side *sd, uint32_t t0, uint32_t t1, const uint64_t *taken)
 {
     const limen__mesh *from = sd->from;
+    uint64_t *found = calloc((size_t)from->nverts / 64 + 1, sizeof *found);
+    if (!found)
+        return false;
     uint32_t hint = 0;
     for (size_t i = (size_t)t0 * 3; i < (size_t)t1 * 3; i++) {
         uint32_t vx = from->idx[i];
-        if ((taken && taken[vx >> 6] >> (vx & 63) & 1) || (sd->skip && sd->skip[i / 3]))
+        if ((taken && taken[vx >> 6] >> (vx & 63) & 1) || found[vx >> 6] >> (vx & 63) & 1 ||
+            (sd->skip && sd->skip[i / 3]))
             continue;
+        found[vx >> 6] |= (uint64_t)1 << (vx & 63);
         corner *kept = &sd->pts[vx];
-        if (kept->tri != UINT32_MAX)
-            continue;
         point at = { .vertex = vx }, *q = &at;
         for (int a = 0; a < 3; a++)
             q->p[a] = from->pos[(size_t)vx * 3 + a];
@@ -1013,6 +1019,8 @@ static void corners_span(side *sd, uint32_t t0, uint32_t t1, const uint64_t *tak
         *kept = (corner){ .d2 = q->d2, .tri = q->tri, .rough = q->rough };
         hint = q->tri;
     }
+    free(found);
+    return true;
 }
 
 typedef struct span_job {
@@ -1020,12 +1028,13 @@ typedef struct span_job {
     double floor;
     uint32_t t0, t1;
     const uint64_t *taken;
+    bool ok;
 } span_job;
 
 static void *span_run(void *arg)
 {
     span_job *j = arg;
-    corners_span(&j->sd, j->t0, j->t1, j->taken);
+    j->ok = corners_span(&j->sd, j->t0, j->t1, j->taken);
     return NULL;
 }
 
@@ -1039,15 +1048,13 @@ static bool measure_threads = true;
 static bool side_corners(side *sd)
 {
     const limen__mesh *from = sd->from;
+    /* set where a corner is found; the rest (vertices of no triangle measured) never read:
+     * their pages never touched */
     sd->pts = malloc(sizeof *sd->pts * (from->nverts ? from->nverts : 1));
     if (!sd->pts)
         return false;
-    for (uint32_t v = 0; v < from->nverts; v++)
-        sd->pts[v].tri = UINT32_MAX;
-    if (!sd->weld || from->ntris < THREAD_TRIS) {
-        corners_span(sd, 0, from->ntris, NULL);
-        return true;
-    }
+    if (!sd->weld || from->ntris < THREAD_TRIS)
+        return corners_span(sd, 0, from->ntris, NULL);
     uint32_t half = from->ntris / 2;
     uint64_t *taken = calloc((size_t)from->nverts / 64 + 1, sizeof *taken);
     if (!taken)
@@ -1060,7 +1067,7 @@ static bool side_corners(side *sd)
     j.sd.floor = &j.floor;
     pthread_t th;
     bool beside = measure_threads && pthread_create(&th, NULL, span_run, &j) == 0;
-    corners_span(sd, 0, half, NULL);
+    bool ok = corners_span(sd, 0, half, NULL);
     if (beside)
         pthread_join(th, NULL);
     else
@@ -1068,7 +1075,7 @@ static bool side_corners(side *sd)
     free(taken);
     sd->lower = greater(sd->lower, j.sd.lower);
     *sd->floor = greater(*sd->floor, j.floor);
-    return true;
+    return ok && j.ok;
 }
 
 /* Vertex v of sd->from as a point, its distance as side_corners found it. */
