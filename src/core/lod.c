@@ -1495,9 +1495,13 @@ static bool via_for(via_level *v, const limen__mesh *m, const limen_mesh_lod *lo
         return true;
     v->mesh = (limen__mesh){ .nverts = m->nverts, .ntris = (uint32_t)lods[j].triangle_count,
                              .pos = m->pos, .idx = (uint32_t *)(store + at[j]) };
-    if (!limen__lod_tree(&v->mesh))
+    /* a big mesh's (measured once the simplifier is done): the hierarchy filled beside */
+    tree_job tj;
+    if (!tree_start(&tj, &v->mesh, measure_threads && m->ntris >= LIMEN__LOD_SPLIT_ABOVE))
         return false;
-    if (!limen__lod_target_make(&v->t, &v->mesh, NULL)) {
+    bool made = limen__lod_target_make(&v->t, &v->mesh, NULL);
+    tree_end(&tj);
+    if (!made) {
         v->t = (target){ 0 };   /* freed by the failed making */
         via_free(v);
         return false;
