@@ -27,7 +27,9 @@
  * bound is a fraction of the level before's, instead of the full mesh (via_bound: the
  * offset there plus that level's bound), where that settles it at no more than the answer
  * already holds; the pieces that decide the answer are laid over the full mesh. A small
- * untextured mesh's levels are measured as the simplifier makes them (ahead_run). */
+ * untextured mesh's levels are measured as the simplifier makes them (ahead_run). A
+ * triangle a level shares with the full mesh (the simplifier leaves most of those away from
+ * its collapses as they were) lies in both surfaces: neither side bounds it. */
 #include <errno.h>
 #include <float.h>
 #include <math.h>
@@ -1305,8 +1307,9 @@ static void *corners_run(void *arg)
 /* A bound on the two-sided distance between a level (idx, a mesh over the full mesh's
  * vertices, welded: per corner of the full mesh, weld names its vertex at the same position)
  * and the full mesh, or floor where the distance is no more than floor; NAN when out of
- * memory or stopped (stop, where not NULL, set). The level's corners are found beside the
- * making of its surface and the full mesh's corners, each side raising a floor of its own
+ * memory or stopped (stop, where not NULL, set). The triangles the level shares with the
+ * full mesh (a fine level's) and the level's corners are found beside the making of its
+ * surface, then the full mesh's corners on the level, each side raising a floor of its own
  * (the larger then taken), and the pieces are bounded on MEASURERS threads (in turn on this
  * one where no thread starts): the same answer either way. */
 static double level_error(const target *full, const uint32_t *weld, const uint32_t *idx,

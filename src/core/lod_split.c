@@ -6,8 +6,9 @@
  * simplified alone over its own vertices with its border held where it is (the simplifier's
  * lock on borders), so that the blocks still meet without a crack; two blocks at a time, on
  * two threads, each taking the next block when it comes free. The tables are then a
- * block's, and the result depends on the blocks alone, not on which thread made which. A block's held border is simplified by the next level,
- * whose blocks are cut elsewhere, or whose source is small enough to be taken whole. */
+ * block's, and the result depends on the blocks alone, not on which thread made which. A
+ * block's held border is simplified by the next level, whose blocks are cut elsewhere, or
+ * whose source is small enough to be taken whole. */
 #include <float.h>
 #include <math.h>
 #include <pthread.h>
@@ -44,7 +45,6 @@ typedef struct split {
 
 typedef struct worker {
     split *s;
-    uint32_t first;             /* which worker */
     bool ok;
 } worker;
 
@@ -213,7 +213,7 @@ size_t limen__lod_simplify_split(const float *pos, uint32_t nv, const uint32_t *
         pthread_t th[SPLIT_WORKERS];
         bool started[SPLIT_WORKERS] = { false };
         for (uint32_t i = 0; i < s.step; i++) {
-            w[i] = (worker){ .s = &s, .first = i };
+            w[i] = (worker){ .s = &s };
             if (i > 0 && !(started[i] = pthread_create(&th[i], NULL, work, &w[i]) == 0))
                 w[i].ok = false;
         }
