@@ -1332,8 +1332,8 @@ static double level_error(const target *full, const uint32_t *weld, const uint32
                    .abs_tol = tol, .stop = stop };
     side back = { .from = m, .to = &level, .weld = weld, .floor = &floor_back,
                   .upper = &upper, .abs_tol = tol, .stop = stop };
-    /* a fine level shares many of its triangles with the full mesh (the 1.6M sphere's first
-     * level, 43%): those need no bound on either side */
+    /* a fine level shares many of its triangles with the full mesh (the bumpy spheres'
+     * first levels 37-43%): those need no bound on either side */
     bool share = (uint64_t)ntris * SHARE_ABOVE > m->ntris;
     uint8_t *same_level = share ? calloc(ntris ? ntris : 1, 1) : NULL,
             *same_full = share ? calloc(m->ntris ? m->ntris : 1, 1) : NULL;
