@@ -1258,14 +1258,11 @@ static void shared_tris(corners_job *j)
     free(slot);
 }
 
-/* A hierarchy made beside other work: its arrays held by the thread that asks (so that
- * they come from its heap, not a thread's, whose arena would keep the pages), filled on a
- * thread of its own. */
+/* A hierarchy filled on a thread of its own: its arrays held by the thread that asks (so
+ * that they come from its heap, not a thread's, whose arena would keep the pages). */
 typedef struct tree_job {
     limen__mesh *m;
     uint32_t *scratch;
-    pthread_t th;
-    bool beside;
 } tree_job;
 
 static void *tree_run(void *arg)
@@ -1275,24 +1272,26 @@ static void *tree_run(void *arg)
     return NULL;
 }
 
-/* Starts m's hierarchy: filled on a thread where beside (and one starts), else by tree_end;
- * false when out of memory (nothing held, no tree_end). */
-static bool tree_start(tree_job *j, limen__mesh *m, bool beside)
+/* m's surface (into t, through weld) and hierarchy; false when out of memory (what was
+ * made is left for the caller to free). Where beside, the hierarchy is filled on a thread
+ * of its own while the surface is made (its arrays, 32 MB at 1.6M triangles, then held
+ * beside the pairing of the surface's edges, 53 MB for a moment); else made after it. */
+static bool surface_tree(target *t, limen__mesh *m, const uint32_t *weld, bool beside)
 {
-    *j = (tree_job){ .m = m, .scratch = limen__lod_tree_alloc(m) };
-    if (!j->scratch)
-        return false;
-    j->beside = beside && pthread_create(&j->th, NULL, tree_run, j) == 0;
-    return true;
-}
-
-static void tree_end(tree_job *j)
-{
-    if (j->beside)
-        pthread_join(j->th, NULL);
-    else
-        limen__lod_tree_fill(j->m, j->scratch);
-    free(j->scratch);
+    tree_job tj = { .m = m, .scratch = beside ? limen__lod_tree_alloc(m) : NULL };
+    pthread_t th;
+    bool filling = tj.scratch && pthread_create(&th, NULL, tree_run, &tj) == 0;
+    bool ok = limen__lod_target_make(t, m, weld);
+    if (!ok)
+        *t = (target){ 0 };     /* freed by the failed making, not to be freed again */
+    if (filling)
+        pthread_join(th, NULL);
+    else if (tj.scratch)
+        limen__lod_tree_fill(m, tj.scratch);
+    if (!tj.scratch)            /* not beside (or no memory for the arrays: then false) */
+        return ok && !beside && limen__lod_tree(m);
+    free(tj.scratch);
+    return ok;
 }
 
 static void *corners_run(void *arg)
@@ -1349,12 +1348,8 @@ static double level_error(const target *full, const uint32_t *weld, const uint32
                   pthread_create(&cth, NULL, corners_run, &cj) == 0;
     /* a big mesh's level (measured once the simplifier is done, not beside it): its
      * hierarchy on a thread of its own while its surface is made here */
-    tree_job tj;
-    bool tree_ok = tree_start(&tj, &lv, measure_threads && m->ntris >= LIMEN__LOD_SPLIT_ABOVE);
-    bool made = limen__lod_target_make(&level, &lv, NULL);
-    if (tree_ok)
-        tree_end(&tj);
-    made = made && tree_ok;
+    bool made = surface_tree(&level, &lv, NULL,
+                             measure_threads && m->ntris >= LIMEN__LOD_SPLIT_ABOVE);
     if (beside)
         pthread_join(cth, NULL);
     else
@@ -1416,19 +1411,9 @@ typedef struct surface_job {
     bool owned;                 /* made by the levels' measuring ahead (ahead_run) */
 } surface_job;
 
-/* The surface and its hierarchy: the hierarchy filled on a thread of its own where beside
- * (its arrays, 32 MB at 1.6M triangles, then held beside the pairing of the surface's edges,
- * 53 MB for a moment), else made after the surface (not beside that pairing). */
 static void surface_make(surface_job *j, bool beside)
 {
-    tree_job tj;
-    bool tree_ok = !beside || tree_start(&tj, j->whole, true);
-    j->ok = limen__lod_target_make(j->t, j->whole, j->weld);
-    if (!j->ok)
-        *j->t = (target){ 0 };  /* freed by the failed making, not to be freed again */
-    if (beside && tree_ok)
-        tree_end(&tj);
-    j->ok = j->ok && tree_ok && (beside || limen__lod_tree(j->whole));
+    j->ok = surface_tree(j->t, j->whole, j->weld, beside);
     j->made = true;
 }
 
@@ -1499,13 +1484,8 @@ static bool via_for(via_level *v, const limen__mesh *m, const limen_mesh_lod *lo
     v->mesh = (limen__mesh){ .nverts = m->nverts, .ntris = (uint32_t)lods[j].triangle_count,
                              .pos = m->pos, .idx = (uint32_t *)(store + at[j]) };
     /* a big mesh's (measured once the simplifier is done): the hierarchy filled beside */
-    tree_job tj;
-    if (!tree_start(&tj, &v->mesh, measure_threads && m->ntris >= LIMEN__LOD_SPLIT_ABOVE))
-        return false;
-    bool made = limen__lod_target_make(&v->t, &v->mesh, NULL);
-    tree_end(&tj);
-    if (!made) {
-        v->t = (target){ 0 };   /* freed by the failed making */
+    if (!surface_tree(&v->t, &v->mesh, NULL,
+                      measure_threads && m->ntris >= LIMEN__LOD_SPLIT_ABOVE)) {
         via_free(v);
         return false;
     }
@@ -1523,10 +1503,8 @@ double limen__lod_measure_via(const limen__mesh *m, const uint32_t *idx, uint32_
     double e = NAN;
     uint64_t before = atomic_load(&via_settled);
     if (limen__lod_target_make(&full, m, m->idx)) {
-        if (limen__lod_tree(&vm) && limen__lod_target_make(&via, &vm, NULL))
+        if (surface_tree(&via, &vm, NULL, false))
             e = level_error(&full, m->idx, idx, ntris, 0, NULL, &via, via_e);
-        else
-            via = (target){ 0 };
         limen__lod_target_free(&full);
     }
     *settled = atomic_load(&via_settled) - before;
