@@ -81,6 +81,13 @@
                                  * floor asks; not of the largest bound, which it would raise)
                                  * takes its distance there, unsearched */
 
+/* A float no less than x. */
+static float float_up(double x)
+{
+    float f = (float)x;
+    return (double)f < x ? nextafterf(f, INFINITY) : f;
+}
+
 /* fmin and fmax for numbers known not to be NaN, where the library's calls cost */
 static double lesser(double a, double b)
 {
@@ -1561,8 +1568,7 @@ static void *ahead_run(void *arg)
                                via.level ? a->lods[via.level].error : 0);
         if (isnan(e))
             break;
-        float f = (float)e;
-        a->lods[k].error = (double)f < e ? nextafterf(f, INFINITY) : f;
+        a->lods[k].error = float_up(e);
         prev = a->lods[k].error;
         a->e[k] = e;
         a->measured = k + 1;
@@ -2036,13 +2042,6 @@ static void drop_beaten(made *mk, const bool dropped[MAX_LEVELS])
     }
     mk->nlods = kept;
     mk->used = packed;
-}
-
-/* A float no less than x. */
-static float float_up(double x)
-{
-    float f = (float)x;
-    return (double)f < x ? nextafterf(f, INFINITY) : f;
 }
 
 /* Level k of mk (its error geo[k] before the reach) baked against full (m's surface and
