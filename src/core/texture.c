@@ -164,9 +164,8 @@ static void image_failure(const unsigned char *buf, size_t len, char *why, size_
                  limen__image_why());
 }
 
-/* A texture over rgb (taken), w x h. */
-/* A texture of rgb (taken; freed on failure) with its mipmap levels; NULL when out of
- * memory, *levels (where not NULL) whether it was the levels that found none. */
+/* A texture of rgb (taken; freed on failure), w x h, with its mipmap levels; NULL when
+ * out of memory, *levels (where not NULL) whether it was the levels that found none. */
 static limen__texture *texture_of(unsigned char *rgb, int w, int h, const char *name,
                                   bool *levels)
 {
