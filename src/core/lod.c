@@ -253,9 +253,7 @@ static bool piece_seen(const point *v[3], seen *f)
     double e1[3], e2[3], *n = f->n, *u = f->u, *w = f->w;
     limen__sub3(v[1]->p, v[0]->p, e1);
     limen__sub3(v[2]->p, v[0]->p, e2);
-    n[0] = e1[1] * e2[2] - e1[2] * e2[1];
-    n[1] = e1[2] * e2[0] - e1[0] * e2[2];
-    n[2] = e1[0] * e2[1] - e1[1] * e2[0];
+    limen__cross3(e1, e2, n);
     double nn = sqrt(limen__dot3(n, n)), ne = sqrt(limen__dot3(e1, e1));
     if (!(nn > 0) || !(ne > 0))
         return false;
@@ -263,9 +261,7 @@ static bool piece_seen(const point *v[3], seen *f)
         n[a] /= nn;
         u[a] = e1[a] / ne;
     }
-    w[0] = n[1] * u[2] - n[2] * u[1];
-    w[1] = n[2] * u[0] - n[0] * u[2];
-    w[2] = n[0] * u[1] - n[1] * u[0];
+    limen__cross3(n, u, w);
     for (int k = 0; k < 3; k++) {
         double d[3];
         limen__sub3(v[k]->p, v[0]->p, d);
@@ -877,9 +873,7 @@ static double piece_area(const point *v[3])
     double e1[3], e2[3], n[3];
     limen__sub3(v[1]->p, v[0]->p, e1);
     limen__sub3(v[2]->p, v[0]->p, e2);
-    n[0] = e1[1] * e2[2] - e1[2] * e2[1];
-    n[1] = e1[2] * e2[0] - e1[0] * e2[2];
-    n[2] = e1[0] * e2[1] - e1[1] * e2[0];
+    limen__cross3(e1, e2, n);
     return sqrt(limen__dot3(n, n)) / 2;
 }
 

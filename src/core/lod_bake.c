@@ -248,9 +248,7 @@ static void *bake_share(void *arg)
         double e1[3], e2[3], n[3];
         limen__sub3(l.b, l.a, e1);
         limen__sub3(l.c, l.a, e2);
-        n[0] = e1[1] * e2[2] - e1[2] * e2[1];
-        n[1] = e1[2] * e2[0] - e1[0] * e2[2];
-        n[2] = e1[0] * e2[1] - e1[1] * e2[0];
+        limen__cross3(e1, e2, n);
         /* the corners: on the centres of the square's corner texels */
         const double cu[3] = { x0 + 0.5, x0 + C - 0.5, x0 + 0.5 };
         const double cv[3] = { y0 + 0.5, y0 + 0.5, y0 + C - 0.5 };

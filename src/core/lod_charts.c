@@ -5,6 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "core/lod_target.h"
 #include "core/lod_weld.h"
 
 /* The simplifier that keeps to the texture's charts (limen__lod_simplify_charts): edge
@@ -85,24 +86,12 @@ static double quadric_eval(const double *q, const float *p)
     return e > 0 ? e : 0;
 }
 
-static void cross3(const double a[3], const double b[3], double out[3])
-{
-    out[0] = a[1] * b[2] - a[2] * b[1];
-    out[1] = a[2] * b[0] - a[0] * b[2];
-    out[2] = a[0] * b[1] - a[1] * b[0];
-}
-
-static double dot3(const double a[3], const double b[3])
-{
-    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-}
-
 /* The normal (not unit: twice the area) of the triangle of positions a, b, c. */
 static void tri_normal(const float *a, const float *b, const float *c, double out[3])
 {
     double e1[3] = { (double)b[0] - a[0], (double)b[1] - a[1], (double)b[2] - a[2] },
            e2[3] = { (double)c[0] - a[0], (double)c[1] - a[1], (double)c[2] - a[2] };
-    cross3(e1, e2, out);
+    limen__cross3(e1, e2, out);
 }
 
 /* v's live triangles (its list compacted to them), *n their count. */
@@ -308,8 +297,8 @@ static bool cs_check(cs *c, const cs_vert *x, uint32_t u, cs_map *map, double *c
         double a[3], b[3];
         tri_normal(p[0], p[1], p[2], a);
         tri_normal(q[0], q[1], q[2], b);
-        double d = dot3(a, b);
-        if (!(d > CS_FLIP * sqrt(dot3(a, a) * dot3(b, b))))
+        double d = limen__dot3(a, b);
+        if (!(d > CS_FLIP * sqrt(limen__dot3(a, a) * limen__dot3(b, b))))
             return false;
         if (m->uv) {
             uint32_t was = c->tri[t * 3 + kv], now = was;
@@ -492,7 +481,7 @@ static void cs_quadrics(cs *c)
                               &c->pos[(size_t)v[2] * 3] };
         double n[3];
         tri_normal(p[0], p[1], p[2], n);
-        double l = sqrt(dot3(n, n));
+        double l = sqrt(limen__dot3(n, n));
         if (!(l > 0))
             continue;
         for (int k = 0; k < 3; k++)
@@ -509,14 +498,14 @@ static void cs_quadrics(cs *c)
                             (double)p[(k + 1) % 3][1] - p[k][1],
                             (double)p[(k + 1) % 3][2] - p[k][2] },
                    s[3];
-            cross3(e, n, s);
-            double sl = sqrt(dot3(s, s));
+            limen__cross3(e, n, s);
+            double sl = sqrt(limen__dot3(s, s));
             if (!(sl > 0))
                 continue;
             for (int j = 0; j < 3; j++)
                 s[j] /= sl;
             double sd = -(s[0] * p[k][0] + s[1] * p[k][1] + s[2] * p[k][2]);
-            double w = CS_SEAM_WEIGHT * dot3(e, e);
+            double w = CS_SEAM_WEIGHT * limen__dot3(e, e);
             quadric_add_plane(&c->q[(size_t)a * 10], s, sd, w);
             quadric_add_plane(&c->q[(size_t)b * 10], s, sd, w);
         }

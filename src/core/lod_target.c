@@ -256,9 +256,7 @@ bool limen__lod_target_make(limen__lod_target *t, const limen__mesh *m, const ui
         double e1[3], e2[3], n[3];
         limen__sub3(tri + 3, tri, e1);
         limen__sub3(tri + 6, tri, e2);
-        n[0] = e1[1] * e2[2] - e1[2] * e2[1];
-        n[1] = e1[2] * e2[0] - e1[0] * e2[2];
-        n[2] = e1[0] * e2[1] - e1[1] * e2[0];
+        limen__cross3(e1, e2, n);
         t->mean_area += sqrt(limen__dot3(n, n)) / 2;
     }
     t->mean_area /= m->ntris > 0 ? m->ntris : 1;

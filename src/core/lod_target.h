@@ -31,6 +31,14 @@ static inline double limen__dot3(const double a[3], const double b[3])
     return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
 }
 
+/* out (not a nor b) = a x b */
+static inline void limen__cross3(const double a[3], const double b[3], double out[3])
+{
+    out[0] = a[1] * b[2] - a[2] * b[1];
+    out[1] = a[2] * b[0] - a[0] * b[2];
+    out[2] = a[0] * b[1] - a[1] * b[0];
+}
+
 /* A Morton code: the low 10 bits of x, y and z interleaved, x's the lowest of each three. */
 static inline uint32_t limen__morton3(uint32_t x, uint32_t y, uint32_t z)
 {

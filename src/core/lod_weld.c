@@ -73,9 +73,7 @@ bool limen__lod_seam_sides(const limen__mesh *m, const uint32_t *shadow, uint32_
                     *c = &m->pos[idx[t * 3 + 2] * 3];
         double e1[3] = { b[0] - a[0], b[1] - a[1], b[2] - a[2] },
                e2[3] = { c[0] - a[0], c[1] - a[1], c[2] - a[2] }, fn[3];
-        fn[0] = e1[1] * e2[2] - e1[2] * e2[1];
-        fn[1] = e1[2] * e2[0] - e1[0] * e2[2];
-        fn[2] = e1[0] * e2[1] - e1[1] * e2[0];
+        limen__cross3(e1, e2, fn);
         for (int k = 0; k < 3; k++) {
             uint32_t w = idx[t * 3 + k], best = w;
             double best_dot = -INFINITY;
