@@ -29,7 +29,11 @@
  * already holds; the pieces that decide the answer are laid over the full mesh. A small
  * untextured mesh's levels are measured as the simplifier makes them (ahead_run). A
  * triangle a level shares with the full mesh (the simplifier leaves most of those away from
- * its collapses as they were) lies in both surfaces: neither side bounds it. */
+ * its collapses as they were) lies in both surfaces: neither side bounds it. On the full
+ * mesh's side (its triangles many and small beside a coarse level's) a triangle is passed by
+ * where each corner's distance plus how far a point of its triangles may lie from it is
+ * within what needs no cutting (side_near: the largest such sum joins the answer), or bounded
+ * at once where its three corners are nearest one triangle (the convex bound's one plane). */
 #include <errno.h>
 #include <float.h>
 #include <math.h>
@@ -57,7 +61,7 @@
 #include "core/texture.h"
 
 #define MAX_LEVELS 12           /* the full mesh and up to 11 coarser ones */
-#define LOD_VERSION 23          /* of how levels are made and measured: levels kept between
+#define LOD_VERSION 24          /* of how levels are made and measured: levels kept between
                                  * runs (core/lod_cache.c) are keyed by it, so change it with
                                  * anything that changes a level or its error */
 #define MIN_TRIS 16             /* a level this small gets no halved successor */
@@ -151,6 +155,15 @@ typedef struct side {
     const uint8_t *skip;        /* where not NULL: per triangle of from, 1 where it is one of
                                  * to's (its distance 0): no corners, no pieces */
     uint64_t via_settled;       /* pieces via_bound settled */
+    const float *reach;         /* where not NULL, per vertex of from (the full mesh's side:
+                                 * its target's reach): see side_near */
+    uint64_t *found;            /* a bit a vertex of from: side_corners found it (where
+                                 * reach is given; freed by side_near) */
+    uint64_t *near;             /* a bit a vertex of from: its distance plus its reach is at
+                                 * most what needs no cutting (side_near), where not NULL */
+    double near_max;            /* the largest of those sums: a bound on every triangle
+                                 * whose three corners are near, which side_bound passes by */
+    uint64_t near_passed;       /* triangles it passed by */
 } side;
 
 /* q's nearest triangle and distance (the largest found raises lower and the floor). */
@@ -988,7 +1001,8 @@ static void piece(side *sd, const point *a, const point *b, const point *c, int 
 static bool corners_span(side *sd, uint32_t t0, uint32_t t1, const uint64_t *taken)
 {
     const limen__mesh *from = sd->from;
-    uint64_t *found = calloc((size_t)from->nverts / 64 + 1, sizeof *found);
+    uint64_t *found = sd->found ? sd->found
+                                : calloc((size_t)from->nverts / 64 + 1, sizeof *found);
     if (!found)
         return false;
     uint32_t hint = 0;
@@ -1022,7 +1036,8 @@ static bool corners_span(side *sd, uint32_t t0, uint32_t t1, const uint64_t *tak
         *kept = (corner){ .d2 = q->d2, .tri = q->tri, .rough = q->rough };
         hint = q->tri;
     }
-    free(found);
+    if (found != sd->found)
+        free(found);
     return true;
 }
 
@@ -1056,6 +1071,11 @@ static bool side_corners(side *sd)
     sd->pts = malloc(sizeof *sd->pts * (from->nverts ? from->nverts : 1));
     if (!sd->pts)
         return false;
+    size_t words = (size_t)from->nverts / 64 + 1;
+    /* which vertices are found, kept for side_near (where reach is given) */
+    sd->found = sd->reach ? calloc(words, sizeof *sd->found) : NULL;
+    if (sd->reach && !sd->found)
+        return false;
     if (!sd->weld || from->ntris < THREAD_TRIS)
         return corners_span(sd, 0, from->ntris, NULL);
     uint32_t half = from->ntris / 2;
@@ -1068,6 +1088,12 @@ static bool side_corners(side *sd)
     span_job j = { .sd = *sd, .floor = *sd->floor, .t0 = half, .t1 = from->ntris,
                    .taken = taken };
     j.sd.floor = &j.floor;
+    /* its own bits (a word may hold both halves' vertices), added after */
+    j.sd.found = sd->found ? calloc(words, sizeof *j.sd.found) : NULL;
+    if (sd->found && !j.sd.found) {
+        free(taken);
+        return false;
+    }
     pthread_t th;
     bool beside = measure_threads && pthread_create(&th, NULL, span_run, &j) == 0;
     bool ok = corners_span(sd, 0, half, NULL);
@@ -1078,7 +1104,34 @@ static bool side_corners(side *sd)
     free(taken);
     sd->lower = greater(sd->lower, j.sd.lower);
     *sd->floor = greater(*sd->floor, j.floor);
+    for (size_t w = 0; j.sd.found && w < words; w++)
+        sd->found[w] |= j.sd.found[w];
+    free(j.sd.found);
     return ok && j.ok;
+}
+
+/* Marks (sd->near) the vertices side_corners found whose distance plus reach is at most
+ * need, and frees what says which were found. Every point of a triangle lies within its
+ * reach of one of its corners, and the distance changes no faster than the point moves, so
+ * a triangle with three such corners lies within near_max of the other surface: its piece
+ * needs no bound of its own (on a coarse level nearly all of the full mesh's triangles, the
+ * many it has, each of which would be bounded by the same reasoning, triangle by triangle).
+ * Out of memory: none marked. */
+static void side_near(side *sd, double need)
+{
+    size_t words = (size_t)sd->from->nverts / 64 + 1;
+    sd->near = sd->found ? calloc(words, sizeof *sd->near) : NULL;
+    for (size_t w = 0; sd->near && w < words; w++)
+        for (uint64_t bits = sd->found[w]; bits; bits &= bits - 1) {
+            uint32_t v = (uint32_t)(w * 64 + (unsigned)__builtin_ctzll(bits));
+            double b = sqrt(sd->pts[v].d2) + sd->reach[v];
+            if (b <= need) {
+                sd->near[w] |= bits & -bits;
+                sd->near_max = greater(sd->near_max, b);
+            }
+        }
+    free(sd->found);
+    sd->found = NULL;
 }
 
 /* Vertex v of sd->from as a point, its distance as side_corners found it. */
@@ -1105,9 +1158,25 @@ static double side_bound(side *sd, int share)
         }
         if (sd->skip && sd->skip[t])
             continue;
+        const uint32_t *c = from->idx + (size_t)t * 3;
+        if (sd->near && (sd->near[c[0] >> 6] >> (c[0] & 63) & sd->near[c[1] >> 6] >> (c[1] & 63) &
+                         sd->near[c[2] >> 6] >> (c[2] & 63) & 1)) {
+            sd->near_passed++;  /* within near_max, which the answer holds */
+            continue;
+        }
+        /* three corners nearest one triangle there: the distance to it, convex, is no more
+         * than theirs over the whole triangle (convex_bound's plane, at once) */
+        const corner *p0 = &sd->pts[c[0]], *p1 = &sd->pts[c[1]], *p2 = &sd->pts[c[2]];
+        if (p0->tri == p1->tri && p0->tri == p2->tri) {
+            double b = sqrt(greater(p0->d2, greater(p1->d2, p2->d2)));
+            if (b <= greater(*sd->floor * (1 + REL_TOL) + sd->abs_tol, *sd->upper)) {
+                *sd->upper = greater(*sd->upper, b);
+                continue;
+            }
+        }
         point v[3];
         for (int k = 0; k < 3; k++)
-            corner_point(sd, from->idx[(size_t)t * 3 + k], &v[k]);
+            corner_point(sd, c[k], &v[k]);
         piece(sd, &v[0], &v[1], &v[2], 0);
     }
     return greater(sd->lower, *sd->upper);
@@ -1132,6 +1201,12 @@ static void memo_clear(memo *m)
 }
 
 static _Atomic uint64_t via_settled;    /* pieces via_bound settled, in all (for tests) */
+static _Atomic uint64_t near_passed;    /* triangles side_bound passed by, in all (for tests) */
+
+uint64_t limen__lod_near_passed(void)
+{
+    return atomic_load(&near_passed);
+}
 
 static void *measure(void *arg)
 {
@@ -1176,6 +1251,7 @@ static void *measure(void *arg)
     free(w->there.lay_vx);
     free(w->back.lay_vx);
     atomic_fetch_add_explicit(&via_settled, w->there.via_settled, memory_order_relaxed);
+    atomic_fetch_add_explicit(&near_passed, w->back.near_passed, memory_order_relaxed);
     free(w->there.memo);
     free(w->via.marks);
     free(w->via.queue);
@@ -1304,6 +1380,27 @@ static void *corners_run(void *arg)
     return NULL;
 }
 
+/* Per vertex of m: how far a point of a triangle with a corner there may lie from the
+ * triangle's nearest corner, at most (its longest edge / sqrt(3), the largest over the
+ * vertex's triangles, rounded up to float); NULL when out of memory. */
+static float *reach_make(const limen__mesh *m)
+{
+    float *r = calloc(m->nverts ? m->nverts : 1, sizeof *r);
+    for (uint32_t t = 0; r && t < m->ntris; t++) {
+        const uint32_t *c = m->idx + (size_t)t * 3;
+        double longest = 0;
+        for (int k = 0; k < 3; k++) {
+            const float *a = m->pos + (size_t)c[k] * 3, *b = m->pos + (size_t)c[(k + 1) % 3] * 3;
+            double e[3] = { (double)b[0] - a[0], (double)b[1] - a[1], (double)b[2] - a[2] };
+            longest = greater(longest, limen__dot3(e, e));
+        }
+        float l = float_up(sqrt(longest / 3));
+        for (int k = 0; k < 3; k++)
+            r[c[k]] = r[c[k]] < l ? l : r[c[k]];
+    }
+    return r;
+}
+
 /* A bound on the two-sided distance between a level (idx, a mesh over the full mesh's
  * vertices, welded: per corner of the full mesh, weld names its vertex at the same position)
  * and the full mesh, or floor where the distance is no more than floor; NAN when out of
@@ -1331,7 +1428,7 @@ static double level_error(const target *full, const uint32_t *weld, const uint32
     side there = { .from = &lv, .to = full, .floor = &floor_there, .upper = &upper,
                    .abs_tol = tol, .stop = stop };
     side back = { .from = m, .to = &level, .weld = weld, .floor = &floor_back,
-                  .upper = &upper, .abs_tol = tol, .stop = stop };
+                  .upper = &upper, .abs_tol = tol, .stop = stop, .reach = full->reach };
     /* a fine level shares many of its triangles with the full mesh (the bumpy spheres'
      * first levels 37-43%): those need no bound on either side */
     bool share = (uint64_t)ntris * SHARE_ABOVE > m->ntris;
@@ -1358,6 +1455,8 @@ static double level_error(const target *full, const uint32_t *weld, const uint32
     bool ok = made && side_corners(&back);
     if (ok && cj.ok) {
         floor = greater(floor, greater(floor_there, floor_back));
+        side_near(&back, floor * (1 + REL_TOL) + tol);
+        upper = back.near_max;  /* what the triangles side_bound passes by hold */
         there.floor = back.floor = &floor;
         measurer w[MEASURERS];
         pthread_t th[MEASURERS];
@@ -1382,6 +1481,8 @@ static double level_error(const target *full, const uint32_t *weld, const uint32
     }
     free(there.pts);
     free(back.pts);
+    free(back.near);
+    free(back.found);
     free(same_level);
     free(same_full);
     limen__lod_target_free(&level);
@@ -1395,6 +1496,7 @@ double limen__lod_measure(const limen__mesh *m, const uint32_t *idx, uint32_t nt
     target full = { 0 };
     if (!limen__lod_target_make(&full, m, m->idx))
         return NAN;
+    full.reach = reach_make(m);
     double e = level_error(&full, m->idx, idx, ntris, 0, NULL, NULL, 0);
     limen__lod_target_free(&full);
     return e;
@@ -1415,6 +1517,8 @@ typedef struct surface_job {
 static void surface_make(surface_job *j, bool beside)
 {
     j->ok = surface_tree(j->t, j->whole, j->weld, beside);
+    if (j->ok)
+        j->t->reach = reach_make(j->whole);
     j->made = true;
 }
 
@@ -1504,6 +1608,7 @@ double limen__lod_measure_via(const limen__mesh *m, const uint32_t *idx, uint32_
     double e = NAN;
     uint64_t before = atomic_load(&via_settled);
     if (limen__lod_target_make(&full, m, m->idx)) {
+        full.reach = reach_make(m);
         if (surface_tree(&via, &vm, NULL, false))
             e = level_error(&full, m->idx, idx, ntris, 0, NULL, &via, via_e);
         limen__lod_target_free(&full);

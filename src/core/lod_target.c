@@ -130,10 +130,12 @@ void limen__lod_target_free(limen__lod_target *t)
     free(t->ball);
     free(t->at_vertex);
     free(t->across);
+    free(t->reach);
     /* freed twice is harmless: a failed making frees, and its caller may free again */
     t->ball = NULL;
     t->at_vertex = NULL;
     t->across = NULL;
+    t->reach = NULL;
 }
 
 /* The vertex at corner i of t's mesh, welded where weld is given. */
@@ -222,6 +224,7 @@ static bool pair_edges(limen__lod_target *t, const uint32_t *weld)
 bool limen__lod_target_make(limen__lod_target *t, const limen__mesh *m, const uint32_t *weld)
 {
     t->m = m;
+    t->reach = NULL;
     t->ball = malloc(sizeof *t->ball * m->ntris);
     t->at_vertex = malloc(sizeof *t->at_vertex * m->nverts);
     if (!t->ball || !t->at_vertex || !pair_edges(t, weld)) {

@@ -16,6 +16,9 @@ typedef struct limen__lod_target {
     uint32_t *at_vertex;        /* per vertex: a triangle with a corner there, or UINT32_MAX */
     uint32_t (*across)[3];      /* per triangle and edge (corners k, k + 1): the triangle on
                                  * its other side, or UINT32_MAX */
+    float *reach;               /* where not NULL, per vertex: how far a point of a triangle
+                                 * with a corner there may lie from its nearest corner, at
+                                 * most (made by core/lod.c for the full mesh; freed with t) */
     double mean_area;           /* of its triangles */
     uint64_t probes;            /* slots the edges' pairing looked at (a measure of its work) */
 } limen__lod_target;
@@ -117,6 +120,9 @@ double limen__lod_measure(const limen__mesh *m, const uint32_t *idx, uint32_t nt
 double limen__lod_measure_via(const limen__mesh *m, const uint32_t *idx, uint32_t ntris,
                               const uint32_t *via_idx, uint32_t via_ntris, double via_e,
                               uint64_t *settled);
+/* How many of the full mesh's triangles core/lod.c's measuring has passed by, bounded
+ * through their corners' reach alone (side_near), in all so far (for tests). */
+uint64_t limen__lod_near_passed(void);
 /* Whether core/lod.c's measuring keeps what it has found for the pieces after (a vertex as
  * a piece sees it, a vertex's distance to a triangle) or finds it again each time: the same
  * bounds, to the bit, either way (for tests; on by default). */
