@@ -142,6 +142,11 @@ typedef struct side {
     struct lay_vertex *lay_vx;  /* LAY_SLOTS vertices of to as lay_bound's piece sees them */
     struct memo *memo;          /* MEMO_SLOTS distances from a vertex to a triangle of to */
     uint32_t lay_stamp;         /* lay_bound's pieces so far: which of lay_vx are current */
+    uint32_t lay_mask, lay_n;   /* the slots of lay_vx in use (LAY_SMALL of them until the
+                                 * piece sees more vertices, then LAY_SLOTS), and the vertices
+                                 * seen by the piece so far */
+    uint32_t queued_stamp;      /* lay_bound's pieces so far: which of the queued set (after
+                                 * queue's LAY_LOOK) are current */
     bool lay_far;               /* lay_bound's last answer: a triangle under the piece lies
                                  * farther than the goal (not a border or a count it could
                                  * not prove) */
@@ -464,6 +469,10 @@ typedef struct lay_vertex {
 
 #define LAY_SIDES 0x40
 #define LAY_SLOTS 16384         /* lay_bound's vertices, at most 3 * LAY_LOOK, at most 3/4 full */
+#define LAY_SMALL 1024          /* the slots a piece starts with (40 kB, in the core's own cache,
+                                 * where all 16384 are not): most pieces see a few dozen
+                                 * vertices; lay_vx holds LAY_SMALL more, where those are kept
+                                 * while the piece moves on to all of them */
 
 static bool measure_memo = true;    /* lay_vertex_of and vertex_d keep what they find */
 
@@ -476,11 +485,12 @@ void limen__lod_set_measure_memo(bool on)
 static lay_vertex *lay_vertex_of(side *sd, uint32_t vi, const seen *sn, const double o[3])
 {
     lay_vertex *tab = sd->lay_vx;
-    uint32_t stamp = sd->lay_stamp, at = vi & (LAY_SLOTS - 1);
+    uint32_t stamp = sd->lay_stamp, mask = sd->lay_mask, at = vi & mask;
     while (tab[at].stamp == stamp && tab[at].v != vi)
-        at = (at + 1) & (LAY_SLOTS - 1);
+        at = (at + 1) & mask;
     lay_vertex *x = &tab[at];
     if (x->stamp != stamp) {
+        sd->lay_n++;
         const float *p = sd->to->m->pos + (size_t)vi * 3;
         double d[3] = { (double)p[0] - o[0], (double)p[1] - o[1], (double)p[2] - o[2] };
         x->t[0] = limen__dot3(d, sn->u);
@@ -493,13 +503,43 @@ static lay_vertex *lay_vertex_of(side *sd, uint32_t vi, const seen *sn, const do
     return x;
 }
 
-/* A new piece (or triangle) for lay_vertex_of: what it kept before is not current. */
-static void lay_renew(side *sd)
+/* A new stamp for lay_vx: none of what it holds is current. */
+static void lay_stamp_next(side *sd)
 {
     if (++sd->lay_stamp == 0) {
         for (uint32_t i = 0; i < LAY_SLOTS; i++)
             sd->lay_vx[i].stamp = 0;
         sd->lay_stamp = 1;
+    }
+}
+
+/* A new piece (or triangle) for lay_vertex_of: what it kept before is not current. */
+static void lay_renew(side *sd)
+{
+    lay_stamp_next(sd);
+    sd->lay_mask = LAY_SMALL - 1;
+    sd->lay_n = 0;
+}
+
+/* Before a triangle's three vertices are seen: where they could fill the small slots past
+ * 3/4, the vertices seen so far move to all LAY_SLOTS (through the room after them). */
+static void lay_room(side *sd)
+{
+    if (sd->lay_mask == LAY_SLOTS - 1 || (sd->lay_n + 3) * 4 <= LAY_SMALL * 3)
+        return;
+    lay_vertex *tab = sd->lay_vx, *keep = tab + LAY_SLOTS;
+    uint32_t n = 0;
+    for (uint32_t i = 0; i < LAY_SMALL; i++)
+        if (tab[i].stamp == sd->lay_stamp)
+            keep[n++] = tab[i];
+    lay_stamp_next(sd);
+    sd->lay_mask = LAY_SLOTS - 1;
+    for (uint32_t i = 0; i < n; i++) {
+        uint32_t at = keep[i].v & (LAY_SLOTS - 1);
+        while (tab[at].stamp == sd->lay_stamp)
+            at = (at + 1) & (LAY_SLOTS - 1);
+        tab[at] = keep[i];
+        tab[at].stamp = sd->lay_stamp;
     }
 }
 
@@ -517,17 +557,47 @@ static unsigned lay_sides(lay_vertex *x, const double (*pp)[2])
     return x->sides;
 }
 
-#define LAY_SCAN 24             /* queued triangles lay_bound looks through, before marks */
+#define LAY_QSLOTS 4096         /* a set of the triangles lay_bound has queued (after queue's
+                                 * LAY_LOOK: a triangle and its stamp a slot), half full at most */
+#define LAY_SCAN (LAY_QSLOTS / 2)   /* queued triangles the set holds, before the marks */
 
-/* Whether t is among queue[0, nq): through the marks where mark is not 0, else looked for. */
-static bool lay_queued(const side *sd, const uint32_t *queue, int nq, uint32_t mark, uint32_t t)
+static uint32_t *queued_slot(const side *sd, uint32_t t)
+{
+    uint32_t *set = sd->queue + LAY_LOOK, at = (t * 0x9e3779b1u) >> 20;
+    while (set[2 * at + 1] == sd->queued_stamp && set[2 * at] != t)
+        at = (at + 1) & (LAY_QSLOTS - 1);
+    return &set[2 * at];
+}
+
+/* Whether t is queued: through the marks where mark is not 0, else the set. */
+static bool lay_queued(const side *sd, uint32_t mark, uint32_t t)
 {
     if (mark)
         return sd->marks[t] == mark;
-    for (int i = 0; i < nq; i++)
-        if (queue[i] == t)
-            return true;
-    return false;
+    const uint32_t *q = queued_slot(sd, t);
+    return q[1] == sd->queued_stamp;
+}
+
+/* t queued (in the set, where mark is 0; else its mark). */
+static void lay_enqueue(side *sd, uint32_t mark, uint32_t t)
+{
+    if (mark) {
+        sd->marks[t] = mark;
+        return;
+    }
+    uint32_t *q = queued_slot(sd, t);
+    q[0] = t;
+    q[1] = sd->queued_stamp;
+}
+
+/* A new piece for the set: none of it is current. */
+static void queued_renew(side *sd)
+{
+    if (++sd->queued_stamp == 0) {
+        for (uint32_t i = 0; i < LAY_QSLOTS; i++)
+            sd->queue[LAY_LOOK + 2 * i + 1] = 0;
+        sd->queued_stamp = 1;
+    }
 }
 
 /* A new mark, set on queue[0, nq): from here the marks tell what is queued. */
@@ -574,12 +644,15 @@ static double lay_bound(side *sd, const point *v[3], double goal)
      * (a small piece meets a handful); then the marks, one a triangle of sd->to */
     uint32_t *queue = sd->queue, mark = 0;
     lay_renew(sd);
+    queued_renew(sd);
     sd->lay_far = false;
     int nq = 0, seeds = 0;
     for (int k = 0; k < 3; k++) {
         uint32_t t = v[k]->tri;
-        if (t != UINT32_MAX && !lay_queued(sd, queue, nq, mark, t))
+        if (t != UINT32_MAX && !lay_queued(sd, mark, t)) {
+            lay_enqueue(sd, mark, t);
             queue[nq++] = t;
+        }
     }
     seeds = nq;
     /* two probes inside the piece: how many triangles of S cover each, counting those
@@ -598,6 +671,7 @@ static double lay_bound(side *sd, const point *v[3], double goal)
         lay_vertex *x[3];
         if (!keep)
             lay_renew(sd);      /* each triangle's vertices seen anew */
+        lay_room(sd);
         double tt[3][2];
         for (int k = 0; k < 3; k++) {
             x[k] = lay_vertex_of(sd, vi[k], &sn, o);
@@ -715,12 +789,11 @@ static double lay_bound(side *sd, const point *v[3], double goal)
                     return INFINITY;
                 continue;
             }
-            if (lay_queued(sd, queue, nq, mark, on))
+            if (lay_queued(sd, mark, on))
                 continue;
             if (nq == LAY_LOOK)
                 return INFINITY;
-            if (mark)
-                sd->marks[on] = mark;
+            lay_enqueue(sd, mark, on);
             queue[nq++] = on;
             if (!mark && nq > LAY_SCAN)
                 mark = lay_mark(sd, queue, nq);
@@ -1215,17 +1288,18 @@ static void *measure(void *arg)
     w->there.upper = w->back.upper = &w->upper;
     /* each side's marks while it is bounded, not both sides' at once */
     w->there.marks = calloc(w->there.to->m->ntris, sizeof *w->there.marks);
-    w->there.queue = malloc(sizeof *w->there.queue * LAY_LOOK);
-    w->back.queue = malloc(sizeof *w->back.queue * LAY_LOOK);
-    w->there.lay_vx = calloc(LAY_SLOTS, sizeof *w->there.lay_vx);
-    w->back.lay_vx = calloc(LAY_SLOTS, sizeof *w->back.lay_vx);
+    /* each queue with its set after it; each table of vertices with its room after it */
+    w->there.queue = calloc(LAY_LOOK + 2 * LAY_QSLOTS, sizeof *w->there.queue);
+    w->back.queue = calloc(LAY_LOOK + 2 * LAY_QSLOTS, sizeof *w->back.queue);
+    w->there.lay_vx = calloc(LAY_SLOTS + LAY_SMALL, sizeof *w->there.lay_vx);
+    w->back.lay_vx = calloc(LAY_SLOTS + LAY_SMALL, sizeof *w->back.lay_vx);
     /* one memo for both sides, cleared between them (without it: the same bounds, slower) */
     w->there.memo = w->back.memo = malloc(sizeof *w->there.memo * MEMO_SLOTS);
     w->e = NAN;
     if (w->via.to) {
         w->via.marks = calloc(w->via.to->m->ntris, sizeof *w->via.marks);
-        w->via.queue = malloc(sizeof *w->via.queue * LAY_LOOK);
-        w->via.lay_vx = calloc(LAY_SLOTS, sizeof *w->via.lay_vx);
+        w->via.queue = calloc(LAY_LOOK + 2 * LAY_QSLOTS, sizeof *w->via.queue);
+        w->via.lay_vx = calloc(LAY_SLOTS + LAY_SMALL, sizeof *w->via.lay_vx);
         /* without them, the full mesh alone (out of memory: another answer, still a bound) */
         w->there.via = w->via.marks && w->via.queue && w->via.lay_vx ? &w->via : NULL;
     }
