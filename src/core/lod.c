@@ -892,7 +892,7 @@ static double vertex_d(side *sd, const point *q, uint32_t t)
  * one per corner's nearest triangle, and this is the largest that least takes over the piece
  * (a concave function, largest at a corner of the piece, where an edge of the piece meets
  * a line on which two planes agree, or where all three agree). */
-static double convex_bound(side *sd, const point *v[3])
+static double convex_bound(side *sd, const point *v[3], double cap)
 {
     double f[3][3];             /* f[k][i]: corner i's distance to corner k's triangle */
     int nk = 0;
@@ -900,8 +900,15 @@ static double convex_bound(side *sd, const point *v[3])
         uint32_t t = v[k]->tri;
         if ((k > 0 && t == v[0]->tri) || (k > 1 && t == v[1]->tri))
             continue;
-        for (int i = 0; i < 3; i++)
+        double most = 0;
+        for (int i = 0; i < 3; i++) {
             f[nk][i] = v[i]->tri == t ? sqrt(v[i]->d2) : vertex_d(sd, v[i], t);
+            most = greater(most, f[nk][i]);
+        }
+        /* one plane within what the answer holds settles the piece, raising nothing: the
+         * other triangles' distances are not needed */
+        if (most <= cap)
+            return most;
         nk++;
     }
     double best = 0;
@@ -1016,7 +1023,7 @@ static double piece_bound(side *sd, const point *v[3], double goal)
     if (bound > goal && !sd->weld)
         bound = fmin(bound, lay_bound(sd, v, goal));
     if (bound > goal)
-        bound = fmin(bound, convex_bound(sd, v));
+        bound = fmin(bound, convex_bound(sd, v, greater(*sd->floor, *sd->upper)));
     if (bound > goal && sd->weld)
         bound = fmin(bound, lay_bound(sd, v, goal));
     /* where lay_bound found the surface under the piece too far, cover_bound (which leaves
