@@ -1108,7 +1108,7 @@ static bool corners_span(side *sd, uint32_t t0, uint32_t t1, const uint64_t *tak
             /* the last one's triangle, where it is near enough; else a walk from it */
             q->d2 = limen__lod_d2(sd->to, hint, q->p);
             if (q->d2 > enough * enough)
-                q->d2 = limen__lod_target_walk(sd->to, q->p, &q->tri);
+                q->d2 = limen__lod_target_walk(sd->to, q->p, &q->tri, q->d2);
             q->rough = q->d2 <= enough * enough;
             if (!q->rough)
                 locate(sd, q, q->tri);

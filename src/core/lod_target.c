@@ -450,9 +450,9 @@ double limen__lod_target_nearest(const limen__lod_target *to, const double p[3],
 }
 
 
-double limen__lod_target_walk(const limen__lod_target *to, const double p[3], uint32_t *t)
+double limen__lod_target_walk(const limen__lod_target *to, const double p[3], uint32_t *t,
+                              double best)
 {
-    double best = limen__lod_d2(to, *t, p);
     uint32_t from = UINT32_MAX;     /* the triangle stepped from: farther, not looked at again */
     for (int step = 0; step < WALK_MAX && best > 0; step++) {
         uint32_t next = UINT32_MAX;

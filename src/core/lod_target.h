@@ -74,10 +74,11 @@ void limen__lod_target_free(limen__lod_target *t);
  * triangle likely near (its distance starts the search). */
 double limen__lod_target_nearest(const limen__lod_target *t, const double p[3], uint32_t hint,
                                  uint32_t *tri);
-/* From triangle *tri, steps across edges while a neighbour is nearer to p; returns the
- * squared distance to the last, *tri (an upper bound on the nearest's, which it is where
- * the surface near p is a single sheet). */
-double limen__lod_target_walk(const limen__lod_target *t, const double p[3], uint32_t *tri);
+/* From triangle *tri (d2: p's squared distance to it), steps across edges while a
+ * neighbour is nearer to p; returns the squared distance to the last, *tri (an upper bound
+ * on the nearest's, which it is where the surface near p is a single sheet). */
+double limen__lod_target_walk(const limen__lod_target *t, const double p[3], uint32_t *tri,
+                              double d2);
 
 /* Triangle i of t's corners, in double (the mesh's floats, exactly). */
 static inline void limen__lod_corners(const limen__lod_target *t, uint32_t i, double c[9])
