@@ -11,7 +11,8 @@
  * whole area by the least of: its farthest corner's distance plus how far a point can be
  * from a corner (the distance is 1-Lipschitz); the planes through the corners' distances to
  * each corner's nearest triangle (the distance to one triangle is convex); the largest
- * offset to the triangles of B it lies over, seen along its normal, found by walking across
+ * offset to the triangles of B it lies over, seen along its normal (or, where less, the
+ * largest distance from the corners of its part under one to that one), found by walking across
  * B's edges from its corners' triangles: lay_bound, for a piece of any size (that they
  * cover it is proven by where their border runs and how many cover one point), then
  * cover_bound for a small one (pair by pair). A piece whose bound exceeds the lower bound
@@ -61,7 +62,7 @@
 #include "core/texture.h"
 
 #define MAX_LEVELS 12           /* the full mesh and up to 11 coarser ones */
-#define LOD_VERSION 25          /* of how levels are made and measured: levels kept between
+#define LOD_VERSION 26          /* of how levels are made and measured: levels kept between
                                  * runs (core/lod_cache.c) are keyed by it, so change it with
                                  * anything that changes a level or its error */
 #define MIN_TRIS 16             /* a level this small gets no halved successor */
@@ -628,6 +629,25 @@ static uint32_t lay_mark(side *sd, const uint32_t *queue, int nq)
  * triangles come: INFINITY at once where one exceeds it, or where S is not closed off
  * within LAY_LOOK triangles. Each vertex is seen once (lay_vertex_of), however many of the
  * triangles share it. */
+/* The largest distance to triangle t of `to` from the points q[0, n) (in the piece's plane,
+ * as the piece sees them: sn, its first corner o). The distance to one triangle is convex,
+ * so over the polygon q it lies below this; and no more than the offset along the normal
+ * where the polygon lies under t (t's point straight along the normal is one of its own):
+ * the two bound a piece's part under t, the second the closer where t leans from the piece. */
+static double lay_near(const target *to, uint32_t t, const seen *sn, const double o[3],
+                       const double (*q)[2], int n)
+{
+    double c[9], most = 0;
+    limen__lod_corners(to, t, c);
+    for (int k = 0; k < n; k++) {
+        double r[3];
+        for (int a = 0; a < 3; a++)
+            r[a] = o[a] + q[k][0] * sn->u[a] + q[k][1] * sn->w[a];
+        most = greater(most, limen__tri_d2(r, c, c + 3, c + 6));
+    }
+    return sqrt(most);
+}
+
 static double lay_bound(side *sd, const point *v[3], double goal)
 {
     const target *to = sd->to;
@@ -753,17 +773,22 @@ static double lay_bound(side *sd, const point *v[3], double goal)
                 /* over the whole triangle, where that raises nothing; else over its part
                  * inside the piece */
                 double whole = greater(fabs(h[0]), greater(fabs(h[1]), fabs(h[2])));
-                if (inside == 3 || whole <= greater(worst, sd->upper ? *sd->upper : sd->via_upper)) {
+                if (whole <= greater(worst, sd->upper ? *sd->upper : sd->via_upper)) {
                     worst = greater(worst, whole);
+                } else if (inside == 3) {
+                    /* wholly under the piece: its corners seen from the piece's plane */
+                    worst = greater(worst, lesser(whole, lay_near(to, at, &sn, o, tt, 3)));
                 } else {
-                    double part[9][2];
+                    double part[9][2], off = 0;
                     int np = clip_tri((const double (*)[2])pp, (const double (*)[2])tt, part);
                     for (int k = 0; k < np && np >= 3; k++) {
                         double l1 = orient2(tt[2], tt[0], part[k]) / twice,
                                l2 = orient2(tt[0], tt[1], part[k]) / twice;
-                        worst = greater(worst, fabs(h[0] + (h[1] - h[0]) * l1 +
-                                                    (h[2] - h[0]) * l2));
+                        off = greater(off, fabs(h[0] + (h[1] - h[0]) * l1 + (h[2] - h[0]) * l2));
                     }
+                    if (np >= 3)
+                        worst = greater(worst, lesser(off, lay_near(to, at, &sn, o,
+                                                                    (const double (*)[2])part, np)));
                 }
             }
         }
