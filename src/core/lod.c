@@ -296,6 +296,25 @@ static bool piece_seen(const point *v[3], seen *f)
     return true;
 }
 
+/* The largest distance to triangle t of `to` from the points q[0, n) (in the piece's plane,
+ * as the piece sees them: sn, its first corner o). The distance to one triangle is convex,
+ * so over the polygon q it lies below this; and no more than the offset along the normal
+ * where the polygon lies under t (t's point straight along the normal is one of its own):
+ * the two bound a piece's part under t, the second the closer where t leans from the piece. */
+static double lay_near(const target *to, uint32_t t, const seen *sn, const double o[3],
+                       const double (*q)[2], int n)
+{
+    double c[9], most = 0;
+    limen__lod_corners(to, t, c);
+    for (int k = 0; k < n; k++) {
+        double r[3];
+        for (int a = 0; a < 3; a++)
+            r[a] = o[a] + q[k][0] * sn->u[a] + q[k][1] * sn->w[a];
+        most = greater(most, limen__tri_d2(r, c, c + 3, c + 6));
+    }
+    return sqrt(most);
+}
+
 /* A bound from laying the piece over the other surface: seen along the piece's normal,
  * where triangles of sd->to that lie within `goal` of its plane along that normal, and
  * overlap no other, together cover it (their clipped areas add up to its own), every point
@@ -629,25 +648,6 @@ static uint32_t lay_mark(side *sd, const uint32_t *queue, int nq)
  * triangles come: INFINITY at once where one exceeds it, or where S is not closed off
  * within LAY_LOOK triangles. Each vertex is seen once (lay_vertex_of), however many of the
  * triangles share it. */
-/* The largest distance to triangle t of `to` from the points q[0, n) (in the piece's plane,
- * as the piece sees them: sn, its first corner o). The distance to one triangle is convex,
- * so over the polygon q it lies below this; and no more than the offset along the normal
- * where the polygon lies under t (t's point straight along the normal is one of its own):
- * the two bound a piece's part under t, the second the closer where t leans from the piece. */
-static double lay_near(const target *to, uint32_t t, const seen *sn, const double o[3],
-                       const double (*q)[2], int n)
-{
-    double c[9], most = 0;
-    limen__lod_corners(to, t, c);
-    for (int k = 0; k < n; k++) {
-        double r[3];
-        for (int a = 0; a < 3; a++)
-            r[a] = o[a] + q[k][0] * sn->u[a] + q[k][1] * sn->w[a];
-        most = greater(most, limen__tri_d2(r, c, c + 3, c + 6));
-    }
-    return sqrt(most);
-}
-
 static double lay_bound(side *sd, const point *v[3], double goal)
 {
     const target *to = sd->to;
@@ -660,8 +660,8 @@ static double lay_bound(side *sd, const point *v[3], double goal)
     double twice_piece = orient2(pp[0], pp[1], pp[2]);
     if (!(twice_piece > 0))
         return INFINITY;
-    /* which triangles are queued: while they are few, the queue itself is looked through
-     * (a small piece meets a handful); then the marks, one a triangle of sd->to */
+    /* which triangles are queued: while they are few (LAY_SCAN), a small set of them; then
+     * the marks, one a triangle of sd->to */
     uint32_t *queue = sd->queue, mark = 0;
     lay_renew(sd);
     queued_renew(sd);
