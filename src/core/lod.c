@@ -172,6 +172,12 @@ typedef struct side {
     uint64_t near_passed;       /* triangles it passed by */
 } side;
 
+/* A bound at most this needs no cutting (it is within REL_TOL of the floor). */
+static double side_need(const side *sd)
+{
+    return *sd->floor * (1 + REL_TOL) + sd->abs_tol;
+}
+
 /* q's nearest triangle and distance (the largest found raises lower and the floor). */
 static void locate(side *sd, point *q, uint32_t hint)
 {
@@ -1063,7 +1069,7 @@ static void piece(side *sd, const point *a, const point *b, const point *c, int 
 {
     const point *v[3] = { a, b, c };
     /* what the answer already holds, cutting cannot lower */
-    double need = *sd->floor * (1 + REL_TOL) + sd->abs_tol, goal = fmax(need, *sd->upper);
+    double need = side_need(sd), goal = fmax(need, *sd->upper);
     double bound = piece_bound(sd, v, goal);
     /* corners taken unsearched are searched before the piece is cut or let go above the
      * goal, which leaves the bound as tight as searching every point would */
@@ -1097,6 +1103,22 @@ static void piece(side *sd, const point *a, const point *b, const point *c, int 
     piece(sd, &mid[0], &mid[1], &mid[2], depth + 1);
 }
 
+/* Sets of vertices, a bit a vertex: the words for n vertices; whether v is in; v put in. */
+static size_t bits_words(uint32_t n)
+{
+    return (size_t)n / 64 + 1;
+}
+
+static bool bit_has(const uint64_t *b, uint32_t v)
+{
+    return b[v >> 6] >> (v & 63) & 1;
+}
+
+static void bit_put(uint64_t *b, uint32_t v)
+{
+    b[v >> 6] |= (uint64_t)1 << (v & 63);
+}
+
 /* The distances to to's surface of from's vertices met first at corners of triangles [t0,
  * t1), less those of `taken` (where not NULL: a bit a vertex), each walked to from the
  * last one's triangle (the first's from triangle 0); false when out of memory. Which are
@@ -1106,17 +1128,15 @@ static void piece(side *sd, const point *a, const point *b, const point *c, int 
 static bool corners_span(side *sd, uint32_t t0, uint32_t t1, const uint64_t *taken)
 {
     const limen__mesh *from = sd->from;
-    uint64_t *found = sd->found ? sd->found
-                                : calloc((size_t)from->nverts / 64 + 1, sizeof *found);
+    uint64_t *found = sd->found ? sd->found : calloc(bits_words(from->nverts), sizeof *found);
     if (!found)
         return false;
     uint32_t hint = 0;
     for (size_t i = (size_t)t0 * 3; i < (size_t)t1 * 3; i++) {
         uint32_t vx = from->idx[i];
-        if ((taken && taken[vx >> 6] >> (vx & 63) & 1) || found[vx >> 6] >> (vx & 63) & 1 ||
-            (sd->skip && sd->skip[i / 3]))
+        if ((taken && bit_has(taken, vx)) || bit_has(found, vx) || (sd->skip && sd->skip[i / 3]))
             continue;
-        found[vx >> 6] |= (uint64_t)1 << (vx & 63);
+        bit_put(found, vx);
         corner *kept = &sd->pts[vx];
         point at = { .vertex = vx }, *q = &at;
         for (int a = 0; a < 3; a++)
@@ -1128,7 +1148,7 @@ static bool corners_span(side *sd, uint32_t t0, uint32_t t1, const uint64_t *tak
         if (on != UINT32_MAX) {
             locate(sd, q, on);
         } else {
-            double enough = NEAR_ENOUGH * (*sd->floor * (1 + REL_TOL) + sd->abs_tol);
+            double enough = NEAR_ENOUGH * side_need(sd);
             q->tri = hint;
             /* the last one's triangle, where it is near enough; else a walk from it */
             q->d2 = limen__lod_d2(sd->to, hint, q->p);
@@ -1176,7 +1196,7 @@ static bool side_corners(side *sd)
     sd->pts = malloc(sizeof *sd->pts * (from->nverts ? from->nverts : 1));
     if (!sd->pts)
         return false;
-    size_t words = (size_t)from->nverts / 64 + 1;
+    size_t words = bits_words(from->nverts);
     /* which vertices are found, kept for side_near (where reach is given) */
     sd->found = sd->reach ? calloc(words, sizeof *sd->found) : NULL;
     if (sd->reach && !sd->found)
@@ -1184,12 +1204,12 @@ static bool side_corners(side *sd)
     if (!sd->weld || from->ntris < THREAD_TRIS)
         return corners_span(sd, 0, from->ntris, NULL);
     uint32_t half = from->ntris / 2;
-    uint64_t *taken = calloc((size_t)from->nverts / 64 + 1, sizeof *taken);
+    uint64_t *taken = calloc(words, sizeof *taken);
     if (!taken)
         return false;
     for (size_t i = 0; i < (size_t)half * 3; i++)
         if (!sd->skip || !sd->skip[i / 3])
-            taken[from->idx[i] >> 6] |= (uint64_t)1 << (from->idx[i] & 63);
+            bit_put(taken, from->idx[i]);
     span_job j = { .sd = *sd, .floor = *sd->floor, .t0 = half, .t1 = from->ntris,
                    .taken = taken };
     j.sd.floor = &j.floor;
@@ -1215,16 +1235,17 @@ static bool side_corners(side *sd)
     return ok && j.ok;
 }
 
-/* Marks (sd->near) the vertices side_corners found whose distance plus reach is at most
- * need, and frees what says which were found. Every point of a triangle lies within its
+/* Marks (sd->near) the vertices side_corners found whose distance plus reach needs no
+ * cutting (side_need), and frees what says which were found. Every point of a triangle lies within its
  * reach of one of its corners, and the distance changes no faster than the point moves, so
  * a triangle with three such corners lies within near_max of the other surface: its piece
  * needs no bound of its own (on a coarse level nearly all of the full mesh's triangles, the
  * many it has, each of which would be bounded by the same reasoning, triangle by triangle).
  * Out of memory: none marked. */
-static void side_near(side *sd, double need)
+static void side_near(side *sd)
 {
-    size_t words = (size_t)sd->from->nverts / 64 + 1;
+    double need = side_need(sd);
+    size_t words = bits_words(sd->from->nverts);
     sd->near = sd->found ? calloc(words, sizeof *sd->near) : NULL;
     for (size_t w = 0; sd->near && w < words; w++)
         for (uint64_t bits = sd->found[w]; bits; bits &= bits - 1) {
@@ -1264,8 +1285,8 @@ static double side_bound(side *sd, int share)
         if (sd->skip && sd->skip[t])
             continue;
         const uint32_t *c = from->idx + (size_t)t * 3;
-        if (sd->near && (sd->near[c[0] >> 6] >> (c[0] & 63) & sd->near[c[1] >> 6] >> (c[1] & 63) &
-                         sd->near[c[2] >> 6] >> (c[2] & 63) & 1)) {
+        if (sd->near && bit_has(sd->near, c[0]) && bit_has(sd->near, c[1]) &&
+            bit_has(sd->near, c[2])) {
             sd->near_passed++;  /* within near_max, which the answer holds */
             continue;
         }
@@ -1274,7 +1295,7 @@ static double side_bound(side *sd, int share)
         const corner *p0 = &sd->pts[c[0]], *p1 = &sd->pts[c[1]], *p2 = &sd->pts[c[2]];
         if (p0->tri == p1->tri && p0->tri == p2->tri) {
             double b = sqrt(greater(p0->d2, greater(p1->d2, p2->d2)));
-            if (b <= greater(*sd->floor * (1 + REL_TOL) + sd->abs_tol, *sd->upper)) {
+            if (b <= greater(side_need(sd), *sd->upper)) {
                 *sd->upper = greater(*sd->upper, b);
                 continue;
             }
@@ -1455,6 +1476,13 @@ static void *tree_run(void *arg)
     return NULL;
 }
 
+/* Whether m's hierarchy is filled beside its surface (surface_tree): a big mesh's, measured
+ * once the simplifier is done, not beside it. */
+static bool tree_beside(const limen__mesh *m)
+{
+    return measure_threads && m->ntris >= LIMEN__LOD_SPLIT_ABOVE;
+}
+
 /* m's surface (into t, through weld) and hierarchy; false when out of memory (what was
  * made is left for the caller to free). Where beside, the hierarchy is filled on a thread
  * of its own while the surface is made (its arrays, 32 MB at 1.6M triangles, then held
@@ -1550,10 +1578,8 @@ static double level_error(const target *full, const uint32_t *weld, const uint32
     pthread_t cth;
     bool beside = measure_threads && m->ntris >= THREAD_TRIS &&
                   pthread_create(&cth, NULL, corners_run, &cj) == 0;
-    /* a big mesh's level (measured once the simplifier is done, not beside it): its
-     * hierarchy on a thread of its own while its surface is made here */
-    bool made = surface_tree(&level, &lv, NULL,
-                             measure_threads && m->ntris >= LIMEN__LOD_SPLIT_ABOVE);
+    /* a big mesh's level: its hierarchy on a thread of its own while its surface is made */
+    bool made = surface_tree(&level, &lv, NULL, tree_beside(m));
     if (beside)
         pthread_join(cth, NULL);
     else
@@ -1561,9 +1587,9 @@ static double level_error(const target *full, const uint32_t *weld, const uint32
     bool ok = made && side_corners(&back);
     if (ok && cj.ok) {
         floor = greater(floor, greater(floor_there, floor_back));
-        side_near(&back, floor * (1 + REL_TOL) + tol);
-        upper = back.near_max;  /* what the triangles side_bound passes by hold */
         there.floor = back.floor = &floor;
+        side_near(&back);
+        upper = back.near_max;  /* what the triangles side_bound passes by hold */
         measurer w[MEASURERS];
         pthread_t th[MEASURERS];
         bool started[MEASURERS] = { false };
@@ -1649,7 +1675,7 @@ static bool surface_join(surface_job *j, bool want)
     j->started = false;
     /* here, once the simplifier is done: a big mesh's hierarchy beside */
     if (!j->made && want)
-        surface_make(j, measure_threads && j->whole->ntris >= LIMEN__LOD_SPLIT_ABOVE);
+        surface_make(j, tree_beside(j->whole));
     return j->made && j->ok;
 }
 
@@ -1694,9 +1720,7 @@ static bool via_for(via_level *v, const limen__mesh *m, const limen_mesh_lod *lo
         return true;
     v->mesh = (limen__mesh){ .nverts = m->nverts, .ntris = (uint32_t)lods[j].triangle_count,
                              .pos = m->pos, .idx = (uint32_t *)(store + at[j]) };
-    /* a big mesh's (measured once the simplifier is done): the hierarchy filled beside */
-    if (!surface_tree(&v->t, &v->mesh, NULL,
-                      measure_threads && m->ntris >= LIMEN__LOD_SPLIT_ABOVE)) {
+    if (!surface_tree(&v->t, &v->mesh, NULL, tree_beside(m))) {
         via_free(v);
         return false;
     }

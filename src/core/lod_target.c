@@ -373,7 +373,8 @@ void limen__lod_tree_fill(limen__mesh *m, uint32_t *scratch)
         key[t] = limen__morton3(q[0], q[1], q[2]);
         m->tri_order[t] = (uint32_t)t;
     }
-    /* sorted by code, 8 bits a pass, the least first (stable) */
+    /* sorted by code, 8 bits a pass, the least first (stable); four passes, so tri_order
+     * ends in its own array and other in the scratch */
     for (int shift = 0; shift < 32; shift += 8) {
         size_t count[257] = { 0 };
         for (size_t i = 0; i < n; i++)
