@@ -93,16 +93,9 @@ static float float_up(double x)
     return (double)f < x ? nextafterf(f, INFINITY) : f;
 }
 
-/* fmin and fmax for numbers known not to be NaN, where the library's calls cost */
-static double lesser(double a, double b)
-{
-    return b < a ? b : a;
-}
-
-static double greater(double a, double b)
-{
-    return b > a ? b : a;
-}
+/* fmin and fmax for numbers known not to be NaN (core/lod_target.h's) */
+#define lesser limen__lesser
+#define greater limen__greater
 
 typedef limen__lod_target target;     /* a surface measured against */
 
@@ -1050,17 +1043,17 @@ static double piece_bound(side *sd, const point *v[3], double goal)
      * seldom holds for it over the finer full mesh), a full mesh's after the convex bound */
     sd->lay_far = false;
     if (bound > goal && sd->via)
-        bound = fmin(bound, via_bound(sd, v));
+        bound = lesser(bound, via_bound(sd, v));
     if (bound > goal && !sd->weld)
-        bound = fmin(bound, lay_bound(sd, v, goal));
+        bound = lesser(bound, lay_bound(sd, v, goal));
     if (bound > goal)
-        bound = fmin(bound, convex_bound(sd, v, greater(*sd->floor, *sd->upper)));
+        bound = lesser(bound, convex_bound(sd, v, greater(*sd->floor, *sd->upper)));
     if (bound > goal && sd->weld)
-        bound = fmin(bound, lay_bound(sd, v, goal));
+        bound = lesser(bound, lay_bound(sd, v, goal));
     /* where lay_bound found the surface under the piece too far, cover_bound (which leaves
      * out what lies too far, and looks for a nearer sheet) seldom does better */
     if (bound > goal && !sd->lay_far && piece_area(v) <= COVER_AREA * sd->to->mean_area)
-        bound = fmin(bound, cover_bound(sd, v, goal));
+        bound = lesser(bound, cover_bound(sd, v, goal));
     return bound;
 }
 
@@ -1069,7 +1062,7 @@ static void piece(side *sd, const point *a, const point *b, const point *c, int 
 {
     const point *v[3] = { a, b, c };
     /* what the answer already holds, cutting cannot lower */
-    double need = side_need(sd), goal = fmax(need, *sd->upper);
+    double need = side_need(sd), goal = greater(need, *sd->upper);
     double bound = piece_bound(sd, v, goal);
     /* corners taken unsearched are searched before the piece is cut or let go above the
      * goal, which leaves the bound as tight as searching every point would */
@@ -1087,7 +1080,7 @@ static void piece(side *sd, const point *a, const point *b, const point *c, int 
         bound = piece_bound(sd, v, goal);
     }
     if (bound <= goal || depth == MAX_DEPTH) {
-        *sd->upper = fmax(*sd->upper, bound);
+        *sd->upper = greater(*sd->upper, bound);
         return;
     }
     point mid[3];               /* ab, bc, ca */
@@ -1486,7 +1479,7 @@ static bool tree_beside(const limen__mesh *m)
 /* m's surface (into t, through weld) and hierarchy; false when out of memory (what was
  * made is left for the caller to free). Where beside, the hierarchy is filled on a thread
  * of its own while the surface is made (its arrays, 32 MB at 1.6M triangles, then held
- * beside the pairing of the surface's edges, 53 MB for a moment); else made after it. */
+ * beside the pairing of the surface's edges, 38 MB for a moment); else made after it. */
 static bool surface_tree(target *t, limen__mesh *m, const uint32_t *weld, bool beside)
 {
     tree_job tj = { .m = m, .scratch = beside ? limen__lod_tree_alloc(m) : NULL };
@@ -2408,7 +2401,7 @@ static bool lods_make(const limen__mesh *m, const atomic_bool *stop, made *out)
         const uint32_t *src = from_full ? NULL : store + at[from];
         size_t src_n = from_full ? n0 : (size_t)lods[from].triangle_count * 3;
         /* a mesh the simplifier takes whole, on one core: the full mesh's surface made on
-         * the other meanwhile (a bigger one's, 53 MB for a moment at 1.6M triangles beside
+         * the other meanwhile (a bigger one's, 38 MB for a moment at 1.6M triangles beside
          * the simplifier's tables, would raise the build's peak: made after them; made
          * beside its last sources, taken whole, it raised the peak of a process drawing it
          * from 447 to 475-512 MB) */

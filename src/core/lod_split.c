@@ -141,8 +141,8 @@ static bool cut_blocks(const float *pos, const uint32_t *in, size_t nt, uint32_t
     float lo[3] = { FLT_MAX, FLT_MAX, FLT_MAX }, hi[3] = { -FLT_MAX, -FLT_MAX, -FLT_MAX };
     for (size_t i = 0; i < nt * 3; i++)
         for (int a = 0; a < 3; a++) {
-            lo[a] = fminf(lo[a], pos[(size_t)in[i] * 3 + a]);
-            hi[a] = fmaxf(hi[a], pos[(size_t)in[i] * 3 + a]);
+            lo[a] = limen__lesserf(lo[a], pos[(size_t)in[i] * 3 + a]);
+            hi[a] = limen__greaterf(hi[a], pos[(size_t)in[i] * 3 + a]);
         }
     for (size_t t = 0; t < nt; t++) {
         uint32_t q[3];

@@ -154,69 +154,121 @@ static uint64_t edge_key(const limen__lod_target *t, const uint32_t *weld, size_
 #define SLOT_FREE UINT32_MAX    /* a slot of pair_edges' table no key has taken */
 #define SLOT_EMPTY 0x80000000u  /* with a half-edge: its key's slot, none of it waiting */
 
+#define PART_EDGES 16384        /* half-edges a part of pair_edges' work holds, about: its
+                                 * table (1.5 to 3 slots each) stays in the core's cache */
+
+/* The half-edges of t's mesh [0, n) that pair_edges pairs in one part, of `parts`, each a
+ * range of vertices: those whose lesser vertex lies in part p are order[first[p],
+ * first[p + 1]), in their own order. false when out of memory. */
+static bool edge_parts(const limen__lod_target *t, const uint32_t *weld, size_t n,
+                       uint32_t parts, size_t *first, uint32_t *order)
+{
+    uint32_t nv = t->m->nverts;
+    memset(first, 0, sizeof *first * ((size_t)parts + 1));
+    for (int pass = 0; pass < 2; pass++) {
+        for (size_t h = 0; h < n; h++) {
+            size_t base = h - h % 3;
+            uint32_t a = corner_vertex(t, weld, h), b = corner_vertex(t, weld, base + (h + 1) % 3);
+            if (a == b)
+                continue;
+            if (a >= nv || b >= nv)
+                return false;   /* not a vertex of the mesh */
+            uint32_t p = (uint32_t)((uint64_t)(a < b ? a : b) * parts / nv);
+            if (pass == 0)
+                first[p + 1]++;
+            else
+                order[first[p]++] = (uint32_t)h;
+        }
+        for (uint32_t p = 0; pass == 0 && p < parts; p++)
+            first[p + 1] += first[p];
+    }
+    /* the second pass moved each part's start to the next's */
+    memmove(first + 1, first, sizeof *first * parts);
+    first[0] = 0;
+    return true;
+}
+
 /* t->across: edges paired through a table keyed on directed edges (two welded vertices, in
  * the order a triangle runs them), each holding the half-edges of its key not yet paired.
- * A half-edge a->b pairs with one waiting under b->a (where the two run the edge opposite
- * ways, their windings agree), else waits under a->b. The table holds each directed edge
- * once, however many triangles repeat it, so its probes stay near one a half-edge
- * (t->probes counts them): repeated and zero-area triangles cost what others do. A slot
- * holds a half-edge, not its key (read from the mesh where a probe asks: 4 bytes a slot, not
- * 12, at 1.6M triangles 53 MB for a moment instead of 120). An edge of more than two
- * triangles pairs some of them; what a pairing misses, the walks over the surface below do
- * without (they only ever find less). False when out of memory. */
+ * A half-edge a->b pairs with the last one waiting under b->a (where the two run the edge
+ * opposite ways, their windings agree), else waits under a->b. The table holds each
+ * directed edge once, however many triangles repeat it, so its probes stay near one a
+ * half-edge (t->probes counts them): repeated and zero-area triangles cost what others do. A
+ * slot holds a half-edge, not its key (read from the mesh where a probe asks). The edges are
+ * paired part by part, each part the edges of a range of vertices (by the lesser), with a
+ * table of its own: an edge's two ways meet in one part, so the pairs are those of one
+ * table over all of them, while a part's table, and the vertices it reads, stay near
+ * (a mesh whose neighbours are numbered near each other) instead of a table of 32 MB at
+ * 1.6M triangles read at random. An edge of more than two triangles pairs some of them;
+ * what a pairing misses, the walks over the surface below do without (they only ever find
+ * less). False when out of memory. */
 static bool pair_edges(limen__lod_target *t, const uint32_t *weld)
 {
-    /* each directed edge is a key once, and a pair of half-edges takes one key: at most
-     * two thirds full (half, where the edges pair), which keeps the probes short while the
-     * table of a big mesh stays within 1.5 to 3 slots a half-edge (it was the largest thing
-     * a level's making held) */
-    size_t n = (size_t)t->m->ntris * 3, size = 16;
+    size_t n = (size_t)t->m->ntris * 3;
     if (n >= SLOT_EMPTY)
         return false;   /* a half-edge's number must leave the slot's flag free */
-    while (size < n + n / 2)
+    uint32_t parts = (uint32_t)(n / PART_EDGES + 1);
+    if (parts > t->m->nverts)
+        parts = t->m->nverts ? t->m->nverts : 1;
+    size_t *first = malloc(sizeof *first * ((size_t)parts + 1));
+    uint32_t *order = malloc(sizeof *order * (n ? n : 1)),
+             *next = malloc(sizeof *next * (n ? n : 1));
+    t->across = malloc(sizeof *t->across * (t->m->ntris ? t->m->ntris : 1));
+    bool ok = first && order && next && t->across && edge_parts(t, weld, n, parts, first, order);
+    /* each part's table: at most two thirds full (half, where the edges pair) */
+    size_t most = 0, size = 16;
+    for (uint32_t p = 0; ok && p < parts; p++)
+        most = first[p + 1] - first[p] > most ? first[p + 1] - first[p] : most;
+    while (size < most + most / 2)
         size *= 2;
-    uint32_t *head = malloc(sizeof *head * size), *next = malloc(sizeof *next * (n ? n : 1));
-    t->across = malloc(sizeof *t->across * t->m->ntris);
-    if (!head || !next || !t->across) {
-        free(head);
+    uint32_t *head = ok ? malloc(sizeof *head * size) : NULL;
+    if (!head) {
+        free(first);
+        free(order);
         free(next);
         return false;
     }
-    memset(head, 0xff, sizeof *head * size);
     memset(t->across, 0xff, sizeof *t->across * t->m->ntris);
     t->probes = 0;
-    for (size_t h = 0; h < n; h++) {
-        size_t base = h - h % 3;
-        uint32_t a = corner_vertex(t, weld, h), b = corner_vertex(t, weld, base + (h + 1) % 3);
-        if (a == b)
-            continue;
-        /* the opposite direction first: a half-edge waiting there pairs with this one */
-        uint64_t want = (uint64_t)b << 32 | a, mine = (uint64_t)a << 32 | b;
-        size_t at = (size_t)((want * 0x9e3779b97f4a7c15ull) >> 20) & (size - 1);
-        for (;; at = (at + 1) & (size - 1)) {
-            t->probes++;
-            if (head[at] == SLOT_FREE || edge_key(t, weld, head[at] & ~SLOT_EMPTY) == want)
-                break;
+    for (uint32_t p = 0; p < parts; p++) {
+        size_t count = first[p + 1] - first[p], mask = 16;
+        while (mask < count + count / 2)
+            mask *= 2;
+        mask--;
+        memset(head, 0xff, sizeof *head * (mask + 1));
+        for (size_t i = first[p]; i < first[p + 1]; i++) {
+            size_t h = order[i], base = h - h % 3;
+            uint32_t a = corner_vertex(t, weld, h), b = corner_vertex(t, weld, base + (h + 1) % 3);
+            /* the opposite direction first: a half-edge waiting there pairs with this one */
+            uint64_t want = (uint64_t)b << 32 | a, mine = (uint64_t)a << 32 | b;
+            size_t at = (size_t)((want * 0x9e3779b97f4a7c15ull) >> 20) & mask;
+            for (;; at = (at + 1) & mask) {
+                t->probes++;
+                if (head[at] == SLOT_FREE || edge_key(t, weld, head[at] & ~SLOT_EMPTY) == want)
+                    break;
+            }
+            if (head[at] != SLOT_FREE && !(head[at] & SLOT_EMPTY)) {
+                uint32_t o = head[at];
+                head[at] = next[o] == UINT32_MAX ? o | SLOT_EMPTY : next[o];
+                t->across[o / 3][o % 3] = (uint32_t)(h / 3);
+                t->across[h / 3][h % 3] = o / 3;
+                continue;
+            }
+            /* else it waits under its own direction (a slot emptied by pairing keeps a
+             * half-edge of its key, flagged, so the probes past it still find theirs) */
+            at = (size_t)((mine * 0x9e3779b97f4a7c15ull) >> 20) & mask;
+            for (;; at = (at + 1) & mask) {
+                t->probes++;
+                if (head[at] == SLOT_FREE || edge_key(t, weld, head[at] & ~SLOT_EMPTY) == mine)
+                    break;
+            }
+            next[h] = head[at] == SLOT_FREE || (head[at] & SLOT_EMPTY) ? UINT32_MAX : head[at];
+            head[at] = (uint32_t)h;
         }
-        if (head[at] != SLOT_FREE && !(head[at] & SLOT_EMPTY)) {
-            uint32_t o = head[at];
-            head[at] = next[o] == UINT32_MAX ? o | SLOT_EMPTY : next[o];
-            t->across[o / 3][o % 3] = (uint32_t)(h / 3);
-            t->across[h / 3][h % 3] = o / 3;
-            continue;
-        }
-        /* else it waits under its own direction (a slot emptied by pairing keeps a half-edge
-         * of its key, flagged, so the probes past it still find theirs) */
-        at = (size_t)((mine * 0x9e3779b97f4a7c15ull) >> 20) & (size - 1);
-        for (;; at = (at + 1) & (size - 1)) {
-            t->probes++;
-            if (head[at] == SLOT_FREE || edge_key(t, weld, head[at] & ~SLOT_EMPTY) == mine)
-                break;
-        }
-        next[h] = head[at] == SLOT_FREE || (head[at] & SLOT_EMPTY) ? UINT32_MAX : head[at];
-        head[at] = (uint32_t)h;
     }
     free(head);
+    free(first);
+    free(order);
     free(next);
     return true;
 }
@@ -250,7 +302,7 @@ bool limen__lod_target_make(limen__lod_target *t, const limen__mesh *m, const ui
         for (int k = 0; k < 3; k++) {
             double e[3];
             limen__sub3(tri + 3 * k, c, e);
-            r2 = fmax(r2, limen__dot3(e, e));
+            r2 = limen__greater(r2, limen__dot3(e, e));
         }
         double r = sqrt(r2) * (1 + 1e-12);
         t->ball[i][3] = (float)r;
@@ -299,8 +351,8 @@ static void tree_node(limen__mesh *m, uint32_t at, uint32_t first, uint32_t coun
             for (int k = 0; k < 3; k++) {
                 const float *p = &m->pos[m->idx[m->tri_order[i] * 3 + k] * 3];
                 for (int a = 0; a < 3; a++) {
-                    n->lo[a] = fmin(n->lo[a], p[a]);
-                    n->hi[a] = fmax(n->hi[a], p[a]);
+                    n->lo[a] = limen__lesserf(n->lo[a], p[a]);
+                    n->hi[a] = limen__greaterf(n->hi[a], p[a]);
                 }
             }
         n->index = first;
@@ -315,8 +367,8 @@ static void tree_node(limen__mesh *m, uint32_t at, uint32_t first, uint32_t coun
     n->index = right;
     n->count = 0;
     for (int a = 0; a < 3; a++) {
-        n->lo[a] = fmin(m->bvh[left].lo[a], m->bvh[right].lo[a]);
-        n->hi[a] = fmax(m->bvh[left].hi[a], m->bvh[right].hi[a]);
+        n->lo[a] = limen__lesserf(m->bvh[left].lo[a], m->bvh[right].lo[a]);
+        n->hi[a] = limen__greaterf(m->bvh[left].hi[a], m->bvh[right].hi[a]);
     }
 }
 
@@ -359,8 +411,8 @@ void limen__lod_tree_fill(limen__mesh *m, uint32_t *scratch)
         for (int a = 0; a < 3; a++) {
             double c = ((double)m->pos[m->idx[t * 3] * 3 + a] + m->pos[m->idx[t * 3 + 1] * 3 + a] +
                         m->pos[m->idx[t * 3 + 2] * 3 + a]) / 3;
-            lo[a] = fmin(lo[a], c);
-            hi[a] = fmax(hi[a], c);
+            lo[a] = limen__lesser(lo[a], c);
+            hi[a] = limen__greater(hi[a], c);
         }
     for (size_t t = 0; t < n; t++) {
         uint32_t q[3];

@@ -23,6 +23,28 @@ typedef struct limen__lod_target {
     uint64_t probes;            /* slots the edges' pairing looked at (a measure of its work) */
 } limen__lod_target;
 
+/* the lesser and the greater of two numbers known not to be NaN (b may be: then a), where
+ * the library's fmin and fmax are calls */
+static inline double limen__lesser(double a, double b)
+{
+    return b < a ? b : a;
+}
+
+static inline double limen__greater(double a, double b)
+{
+    return b > a ? b : a;
+}
+
+static inline float limen__lesserf(float a, float b)
+{
+    return b < a ? b : a;
+}
+
+static inline float limen__greaterf(float a, float b)
+{
+    return b > a ? b : a;
+}
+
 static inline void limen__sub3(const double a[3], const double b[3], double out[3])
 {
     for (int k = 0; k < 3; k++)
