@@ -56,6 +56,20 @@ static void *arr_push(arr *a, size_t count)
     return at;
 }
 
+/* Room for cap elements in all, made at once (where the count is known: no copies while
+ * they come); false when out of memory. */
+static bool arr_reserve(arr *a, size_t cap)
+{
+    if (cap <= a->cap)
+        return true;
+    unsigned char *p = realloc(a->p, cap * a->elem);
+    if (!p)
+        return false;
+    a->p = p;
+    a->cap = cap;
+    return true;
+}
+
 typedef struct builder {
     const char *path;           /* the model file */
     char dir[1024];             /* its folder, with a trailing '/', or "" */
@@ -993,6 +1007,18 @@ static int ply_type(const char *t)
     return 0;
 }
 
+/* The next size bytes (there are), in the order of a little-endian host (as limen's hosts
+ * are): a little-endian file's as they are, a big-endian's turned. */
+static inline void ply_take(ply_in *in, unsigned char *b, int size)
+{
+    if (in->format == 1)
+        memcpy(b, in->p, (size_t)size);
+    else
+        for (int i = 0; i < size; i++)
+            b[i] = in->p[size - 1 - i];
+    in->p += size;
+}
+
 static double ply_value(ply_in *in, int type)
 {
     if (in->bad)
@@ -1017,18 +1043,15 @@ static double ply_value(ply_in *in, int type)
         return 0;
     }
     unsigned char b[8];
-    for (int i = 0; i < size; i++)
-        b[i] = in->p[in->format == 1 ? i : size - 1 - i];
-    in->p += size;
     switch (type) {
-    case -1: return (int8_t)b[0];
-    case 1: return b[0];
-    case -2: { int16_t v; memcpy(&v, b, 2); return v; }
-    case 2: { uint16_t v; memcpy(&v, b, 2); return v; }
-    case -4: { int32_t v; memcpy(&v, b, 4); return v; }
-    case 4: { uint32_t v; memcpy(&v, b, 4); return v; }
-    case 40: { float v; memcpy(&v, b, 4); return v; }
-    default: { double v; memcpy(&v, b, 8); return v; }
+    case -1: ply_take(in, b, 1); return (int8_t)b[0];
+    case 1: ply_take(in, b, 1); return b[0];
+    case -2: { int16_t v; ply_take(in, b, 2); memcpy(&v, b, 2); return v; }
+    case 2: { uint16_t v; ply_take(in, b, 2); memcpy(&v, b, 2); return v; }
+    case -4: { int32_t v; ply_take(in, b, 4); memcpy(&v, b, 4); return v; }
+    case 4: { uint32_t v; ply_take(in, b, 4); memcpy(&v, b, 4); return v; }
+    case 40: { float v; ply_take(in, b, 4); memcpy(&v, b, 4); return v; }
+    default: { double v; ply_take(in, b, 8); memcpy(&v, b, 8); return v; }
     }
 }
 
@@ -1156,6 +1179,24 @@ static limen_status ply_strips(builder *b, ply_in *in, ply_elem *el, int nel, ch
             in->bad = true;
             break;
         }
+        /* room for what the element says it holds, where the rest of the file could hold
+         * it (each element at least a byte a property) */
+        uint64_t room = (uint64_t)el[e].nprops * el[e].count;
+        if (room <= (uint64_t)(in->end - in->p) &&
+            !(vert ? arr_reserve(&b->verts, b->verts.n + el[e].count)
+                   : face ? arr_reserve(&b->tris, b->tris.n + 3 * el[e].count) : true)) {
+            b->nomem = true;
+            break;
+        }
+        /* per property, once an element: its slot in a vertex, and (a list) whether it
+         * holds vertex indices */
+        int slot_of[PLY_PROPS];
+        bool idx_of[PLY_PROPS];
+        for (int k = 0; k < el[e].nprops; k++) {
+            const char *name = el[e].props[k].name;
+            slot_of[k] = vert ? prop_slot(name) : -1;
+            idx_of[k] = strcmp(name, "vertex_indices") == 0 || strcmp(name, "vertex_index") == 0;
+        }
         for (uint64_t i = 0; i < el[e].count && !in->bad && !b->nomem; i++) {
             limen__import_vertex *v = NULL;
             if (vert) {
@@ -1170,7 +1211,7 @@ static limen_status ply_strips(builder *b, ply_in *in, ply_elem *el, int nel, ch
                 const ply_prop *pp = &el[e].props[k];
                 if (!pp->list) {
                     double x = ply_value(in, pp->type);
-                    int slot = v ? prop_slot(pp->name) : -1;
+                    int slot = v ? slot_of[k] : -1;
                     float f = (float)x, c = pp->type == 40 || pp->type == 80 ? f : f / 255.0f;
                     if (slot >= 0 && slot < 3)
                         v->pos[slot] = f;
@@ -1190,8 +1231,7 @@ static limen_status ply_strips(builder *b, ply_in *in, ply_elem *el, int nel, ch
                     in->bad = true;
                     break;
                 }
-                bool idx = strcmp(pp->name, "vertex_indices") == 0 ||
-                           strcmp(pp->name, "vertex_index") == 0;
+                bool idx = idx_of[k];
                 int64_t a = -1, bb = -1, first = -1;
                 int run = 0;
                 for (uint64_t j = 0; j < (uint64_t)cnt && !in->bad; j++) {

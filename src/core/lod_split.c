@@ -150,7 +150,9 @@ static bool cut_blocks(const float *pos, const uint32_t *in, size_t nt, uint32_t
             double c = ((double)pos[(size_t)in[t * 3] * 3 + a] + pos[(size_t)in[t * 3 + 1] * 3 + a] +
                         pos[(size_t)in[t * 3 + 2] * 3 + a]) / 3;
             double f = hi[a] > lo[a] ? (c - lo[a]) / ((double)hi[a] - lo[a]) : 0;
-            q[a] = (uint32_t)fmin(fmax(f * (1 << MORTON_BITS), 0), (1 << MORTON_BITS) - 1);
+            /* NaN (none comes: positions are finite) to 0, as fmax would */
+            q[a] = (uint32_t)limen__lesser((1 << MORTON_BITS) - 1,
+                                           limen__greater(0, f * (1 << MORTON_BITS)));
         }
         /* the first axis's bit the highest of each three */
         uint32_t code = limen__morton3(q[2], q[1], q[0]);
