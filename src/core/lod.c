@@ -131,7 +131,9 @@ typedef struct side {
                                  * neighbouring pieces share their edges' midpoints */
     uint32_t seen_mask, nseen;
     bool nomem;
-    uint32_t *marks, mark;      /* per triangle of to: the last cover_bound that met it */
+    uint32_t *marks, mark;      /* per triangle of to: the last lay_bound that queued it, once
+                                 * its queue outgrew the set (made then: most pieces never
+                                 * need them) */
     uint32_t *queue;            /* LAY_LOOK triangles of to, for lay_bound */
     struct lay_vertex *lay_vx;  /* LAY_SLOTS vertices of to as lay_bound's piece sees them */
     struct memo *memo;          /* MEMO_SLOTS distances from a vertex to a triangle of to */
@@ -314,6 +316,52 @@ static double lay_near(const target *to, uint32_t t, const seen *sn, const doubl
     return sqrt(most);
 }
 
+#define LAY_LOOK 4096          /* triangles of the other surface lay_bound looks at, at most */
+
+#define LAY_QSLOTS 4096         /* a set of the triangles lay_bound has queued, or cover_bound
+                                 * met (after queue's LAY_LOOK: a triangle and its stamp a
+                                 * slot), half full at most */
+#define LAY_SCAN (LAY_QSLOTS / 2)   /* queued triangles the set holds, before the marks */
+
+static uint32_t *queued_slot(const side *sd, uint32_t t)
+{
+    uint32_t *set = sd->queue + LAY_LOOK, at = (t * 0x9e3779b1u) >> 20;
+    while (set[2 * at + 1] == sd->queued_stamp && set[2 * at] != t)
+        at = (at + 1) & (LAY_QSLOTS - 1);
+    return &set[2 * at];
+}
+
+/* Whether t is queued: through the marks where mark is not 0, else the set. */
+static bool lay_queued(const side *sd, uint32_t mark, uint32_t t)
+{
+    if (mark)
+        return sd->marks[t] == mark;
+    const uint32_t *q = queued_slot(sd, t);
+    return q[1] == sd->queued_stamp;
+}
+
+/* t queued (in the set, where mark is 0; else its mark). */
+static void lay_enqueue(side *sd, uint32_t mark, uint32_t t)
+{
+    if (mark) {
+        sd->marks[t] = mark;
+        return;
+    }
+    uint32_t *q = queued_slot(sd, t);
+    q[0] = t;
+    q[1] = sd->queued_stamp;
+}
+
+/* A new piece for the set: none of it is current. */
+static void queued_renew(side *sd)
+{
+    if (++sd->queued_stamp == 0) {
+        for (uint32_t i = 0; i < LAY_QSLOTS; i++)
+            sd->queue[LAY_LOOK + 2 * i + 1] = 0;
+        sd->queued_stamp = 1;
+    }
+}
+
 /* A bound from laying the piece over the other surface: seen along the piece's normal,
  * where triangles of sd->to that lie within `goal` of its plane along that normal, and
  * overlap no other, together cover it (their clipped areas add up to its own), every point
@@ -339,16 +387,16 @@ static double cover_bound(side *sd, const point *v[3], double goal)
     int ntris = 0;
     /* the triangles met, walked to across edges from the corners' own: each one that the
      * piece's box (with the goal around it) meets leads on to its neighbours */
-    uint32_t met[COVER_LOOK], mark = ++sd->mark;
-    if (mark == 0) {            /* the marks have come round: none is current */
-        memset(sd->marks, 0, sizeof *sd->marks * to->m->ntris);
-        mark = sd->mark = 1;
-    }
+    uint32_t met[COVER_LOOK];
+    _Static_assert(COVER_LOOK <= LAY_SCAN, "the triangles met fit lay_bound's queued set");
+    if (!sd->queue)
+        return INFINITY;
+    queued_renew(sd);           /* which are met: lay_bound's set of the queued */
     int nmet = 0;
     for (int k = 0; k < 3; k++) {
         uint32_t t = v[k]->tri;
-        if (t != UINT32_MAX && sd->marks[t] != mark) {
-            sd->marks[t] = mark;
+        if (t != UINT32_MAX && !lay_queued(sd, 0, t)) {
+            lay_enqueue(sd, 0, t);
             met[nmet++] = t;
         }
     }
@@ -381,12 +429,12 @@ static double cover_bound(side *sd, const point *v[3], double goal)
             continue;       /* beside the piece as seen, not touching it */
         for (int e = 0; e < 3; e++) {
             uint32_t o = to->across[at][e];
-            if (o == UINT32_MAX || sd->marks[o] == mark)
+            if (o == UINT32_MAX || lay_queued(sd, 0, o))
                 continue;
             /* a piece far larger than the triangles it lies on is left to cutting */
             if (nmet == COVER_LOOK)
                 return INFINITY;
-            sd->marks[o] = mark;
+            lay_enqueue(sd, 0, o);
             met[nmet++] = o;
         }
         if (thi[0] <= plo[0] || tlo[0] >= phi[0] || thi[1] <= plo[1] || tlo[1] >= phi[1])
@@ -459,7 +507,6 @@ static double cover_bound(side *sd, const point *v[3], double goal)
     return (worst + sqrt(2 * greater(gap, 0) / sharpest)) * (1 + 1e-12);
 }
 
-#define LAY_LOOK 4096          /* triangles of the other surface lay_bound looks at, at most */
 
 /* Whether the segment ab (seen) and triangle t (counter-clockwise) share no point but of
  * t's border: an edge line of t leaves ab wholly outside, or ab's line leaves t wholly on
@@ -576,52 +623,13 @@ static unsigned lay_sides(lay_vertex *x, const double (*pp)[2])
     return x->sides;
 }
 
-#define LAY_QSLOTS 4096         /* a set of the triangles lay_bound has queued (after queue's
-                                 * LAY_LOOK: a triangle and its stamp a slot), half full at most */
-#define LAY_SCAN (LAY_QSLOTS / 2)   /* queued triangles the set holds, before the marks */
-
-static uint32_t *queued_slot(const side *sd, uint32_t t)
-{
-    uint32_t *set = sd->queue + LAY_LOOK, at = (t * 0x9e3779b1u) >> 20;
-    while (set[2 * at + 1] == sd->queued_stamp && set[2 * at] != t)
-        at = (at + 1) & (LAY_QSLOTS - 1);
-    return &set[2 * at];
-}
-
-/* Whether t is queued: through the marks where mark is not 0, else the set. */
-static bool lay_queued(const side *sd, uint32_t mark, uint32_t t)
-{
-    if (mark)
-        return sd->marks[t] == mark;
-    const uint32_t *q = queued_slot(sd, t);
-    return q[1] == sd->queued_stamp;
-}
-
-/* t queued (in the set, where mark is 0; else its mark). */
-static void lay_enqueue(side *sd, uint32_t mark, uint32_t t)
-{
-    if (mark) {
-        sd->marks[t] = mark;
-        return;
-    }
-    uint32_t *q = queued_slot(sd, t);
-    q[0] = t;
-    q[1] = sd->queued_stamp;
-}
-
-/* A new piece for the set: none of it is current. */
-static void queued_renew(side *sd)
-{
-    if (++sd->queued_stamp == 0) {
-        for (uint32_t i = 0; i < LAY_QSLOTS; i++)
-            sd->queue[LAY_LOOK + 2 * i + 1] = 0;
-        sd->queued_stamp = 1;
-    }
-}
-
-/* A new mark, set on queue[0, nq): from here the marks tell what is queued. */
+/* A new mark, set on queue[0, nq): from here the marks tell what is queued; 0 when out of
+ * memory for them. */
 static uint32_t lay_mark(side *sd, const uint32_t *queue, int nq)
 {
+    if (!sd->marks && !(sd->marks = calloc(sd->to->m->ntris ? sd->to->m->ntris : 1,
+                                           sizeof *sd->marks)))
+        return 0;
     uint32_t mark = ++sd->mark;
     if (mark == 0) {            /* the marks have come round: none is current */
         memset(sd->marks, 0, sizeof *sd->marks * sd->to->m->ntris);
@@ -819,8 +827,8 @@ static double lay_bound(side *sd, const point *v[3], double goal)
                 return INFINITY;
             lay_enqueue(sd, mark, on);
             queue[nq++] = on;
-            if (!mark && nq > LAY_SCAN)
-                mark = lay_mark(sd, queue, nq);
+            if (!mark && nq > LAY_SCAN && !(mark = lay_mark(sd, queue, nq)))
+                return INFINITY;    /* no memory for the marks: no bound here */
         }
     }
     /* how many times S covers each point of the piece, at a probe no edge runs through */
@@ -1332,8 +1340,6 @@ static void *measure(void *arg)
     measurer *w = arg;
     w->there.floor = w->back.floor = &w->floor;
     w->there.upper = w->back.upper = &w->upper;
-    /* each side's marks while it is bounded, not both sides' at once */
-    w->there.marks = calloc(w->there.to->m->ntris, sizeof *w->there.marks);
     /* each queue with its set after it; each table of vertices with its room after it */
     w->there.queue = calloc(LAY_LOOK + 2 * LAY_QSLOTS, sizeof *w->there.queue);
     w->back.queue = calloc(LAY_LOOK + 2 * LAY_QSLOTS, sizeof *w->back.queue);
@@ -1343,25 +1349,20 @@ static void *measure(void *arg)
     w->there.memo = w->back.memo = malloc(sizeof *w->there.memo * MEMO_SLOTS);
     w->e = NAN;
     if (w->via.to) {
-        w->via.marks = calloc(w->via.to->m->ntris, sizeof *w->via.marks);
         w->via.queue = calloc(LAY_LOOK + 2 * LAY_QSLOTS, sizeof *w->via.queue);
         w->via.lay_vx = calloc(LAY_SLOTS + LAY_SMALL, sizeof *w->via.lay_vx);
         /* without them, the full mesh alone (out of memory: another answer, still a bound) */
-        w->there.via = w->via.marks && w->via.queue && w->via.lay_vx ? &w->via : NULL;
+        w->there.via = w->via.queue && w->via.lay_vx ? &w->via : NULL;
     }
-    if (w->there.marks) {
-        memo_clear(w->there.memo);
-        double a = side_bound(&w->there, w->share);
-        free(w->there.marks);
-        w->there.marks = NULL;
-        w->back.marks = calloc(w->back.to->m->ntris, sizeof *w->back.marks);
-        if (w->back.marks) {
-            memo_clear(w->back.memo);
-            double b = w->there.stopped ? 0 : side_bound(&w->back, w->share);
-            if (!w->there.stopped && !w->back.stopped)
-                w->e = greater(greater(a, b), w->floor);
-        }
-    }
+    /* each side's marks (where its pieces came to need them) freed before the other's */
+    memo_clear(w->there.memo);
+    double a = side_bound(&w->there, w->share);
+    free(w->there.marks);
+    w->there.marks = NULL;
+    memo_clear(w->back.memo);
+    double b = w->there.stopped ? 0 : side_bound(&w->back, w->share);
+    if (!w->there.stopped && !w->back.stopped)
+        w->e = greater(greater(a, b), w->floor);
     free(w->there.seen);
     free(w->back.seen);
     free(w->there.marks);
