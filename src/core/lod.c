@@ -62,7 +62,7 @@
 #include "core/texture.h"
 
 #define MAX_LEVELS 12           /* the full mesh and up to 11 coarser ones */
-#define LOD_VERSION 26          /* of how levels are made and measured: levels kept between
+#define LOD_VERSION 27          /* of how levels are made and measured: levels kept between
                                  * runs (core/lod_cache.c) are keyed by it, so change it with
                                  * anything that changes a level or its error */
 #define MIN_TRIS 16             /* a level this small gets no halved successor */
@@ -110,11 +110,13 @@ typedef struct point {
     bool rough;                 /* d2 is the distance to tri, unsearched */
 } point;
 
-/* A vertex's point, less its position (from->pos, exactly): 16 bytes, not 40, a vertex. */
+/* A vertex's point, less its position (from->pos, exactly): 8 bytes, not 40, a vertex. Its
+ * d2 rounded up to float (an upper bound on the distance still, as every use of a corner's
+ * takes it: the lower bound is raised where a distance is found, from the double), negative
+ * where rough (see corner_put). */
 typedef struct corner {
-    double d2;
+    float d2;
     uint32_t tri;
-    bool rough;
 } corner;
 
 typedef struct side {
@@ -1120,6 +1122,13 @@ static void bit_put(uint64_t *b, uint32_t v)
     b[v >> 6] |= (uint64_t)1 << (v & 63);
 }
 
+/* q as its vertex's corner: the distance rounded up, its sign the roughness. */
+static corner corner_of(const point *q)
+{
+    float d2 = float_up(q->d2);
+    return (corner){ .d2 = q->rough ? -d2 : d2, .tri = q->tri };
+}
+
 /* The distances to to's surface of from's vertices met first at corners of triangles [t0,
  * t1), less those of `taken` (where not NULL: a bit a vertex), each walked to from the
  * last one's triangle (the first's from triangle 0); false when out of memory. Which are
@@ -1159,7 +1168,7 @@ static bool corners_span(side *sd, uint32_t t0, uint32_t t1, const uint64_t *tak
             if (!q->rough)
                 locate(sd, q, q->tri);
         }
-        *kept = (corner){ .d2 = q->d2, .tri = q->tri, .rough = q->rough };
+        *kept = corner_of(q);
         hint = q->tri;
     }
     if (found != sd->found)
@@ -1251,7 +1260,7 @@ static void side_near(side *sd)
     for (size_t w = 0; sd->near && w < words; w++)
         for (uint64_t bits = sd->found[w]; bits; bits &= bits - 1) {
             uint32_t v = (uint32_t)(w * 64 + (unsigned)__builtin_ctzll(bits));
-            double b = sqrt(sd->pts[v].d2) + sd->reach[v];
+            double b = sqrt(fabsf(sd->pts[v].d2)) + sd->reach[v];
             if (b <= need) {
                 sd->near[w] |= bits & -bits;
                 sd->near_max = greater(sd->near_max, b);
@@ -1266,8 +1275,8 @@ static void corner_point(const side *sd, uint32_t v, point *q)
 {
     const float *p = &sd->from->pos[(size_t)v * 3];
     const corner *c = &sd->pts[v];
-    *q = (point){ .p = { p[0], p[1], p[2] }, .d2 = c->d2, .tri = c->tri, .vertex = v,
-                  .rough = c->rough };
+    *q = (point){ .p = { p[0], p[1], p[2] }, .d2 = fabsf(c->d2), .tri = c->tri, .vertex = v,
+                  .rough = signbit(c->d2) };
 }
 
 /* An upper bound on the largest distance from a point of from's surface to to's over its
@@ -1295,7 +1304,7 @@ static double side_bound(side *sd, int share)
          * than theirs over the whole triangle (convex_bound's plane, at once) */
         const corner *p0 = &sd->pts[c[0]], *p1 = &sd->pts[c[1]], *p2 = &sd->pts[c[2]];
         if (p0->tri == p1->tri && p0->tri == p2->tri) {
-            double b = sqrt(greater(p0->d2, greater(p1->d2, p2->d2)));
+            double b = sqrt(greater(fabsf(p0->d2), greater(fabsf(p1->d2), fabsf(p2->d2))));
             if (b <= greater(side_need(sd), *sd->upper)) {
                 *sd->upper = greater(*sd->upper, b);
                 continue;
