@@ -169,9 +169,46 @@ static void test_levels_from_first(void)
     free_levels(&both[1]);
 }
 
+/* A big mesh's next level is simplified beside the one before it, where both sources are
+ * taken whole, and kept where the one before came out as asked: the levels are those made
+ * in turn, to the index, with the same bounds, to the bit (here on a small mesh, the size
+ * from which this is done lowered to every mesh). */
+static void test_levels_beside(void)
+{
+    enum { U = 120, V = 80, NV = (U + 1) * (V + 1), NT = U * V * 2 };
+    static float pos[NV * 3];
+    static uint32_t idx[NT * 3];
+    bumpy_sphere(U, V, pos, idx);
+    limen_mesh_data data = { .positions = pos, .vertex_count = NV, .indices = idx,
+                             .triangle_count = NT };
+    limen__lod_set_beside_above(0);
+    uint64_t kept0 = limen__lod_beside_kept();
+    levels both[2];
+    for (int run = 0; run < 2; run++) {
+        limen__lod_set_measure_threads(run == 0);
+        both[run] = make_levels(&data);
+    }
+    uint64_t kept = limen__lod_beside_kept() - kept0;
+    limen__lod_set_measure_threads(true);
+    limen__lod_set_beside_above(LIMEN__LOD_SPLIT_ABOVE);
+    /* levels 4, 6, 8 and 10 made beside 3, 5, 7 and 9 (where those come out as asked) */
+    CHECK_MSG(kept >= 2, "%llu levels made beside", (unsigned long long)kept);
+    CHECK_MSG(both[0].count >= 8 && both[0].count == both[1].count, "%d / %d levels",
+              both[0].count, both[1].count);
+    for (int k = 0; k < both[0].count && k < both[1].count; k++)
+        CHECK_MSG(both[0].tris[k] == both[1].tris[k] && both[0].error[k] == both[1].error[k] &&
+                      memcmp(both[0].idx[k], both[1].idx[k],
+                             sizeof(uint32_t) * 3 * both[0].tris[k]) == 0,
+                  "level %d: %d triangles, error %.9g beside; %d, %.9g in turn", k,
+                  both[0].tris[k], both[0].error[k], both[1].tris[k], both[1].error[k]);
+    free_levels(&both[0]);
+    free_levels(&both[1]);
+}
+
 static const check_case cases[] = {
     { "simplify_sparse", test_simplify_sparse },
     { "levels_from_first", test_levels_from_first },
+    { "levels_beside", test_levels_beside },
     { 0 },
 };
 

@@ -2328,6 +2328,55 @@ static bool bake_again(const limen__mesh *m, made *mk, uint32_t mask)
  * hierarchy of the build's own over m's triangles (limen__lod_tree, as a level's: the
  * Morton order, made in a tenth of the time of the ray tracer's median splits, which a
  * level build need not wait for), given back when done. */
+/* The next level simplified beside this one (a big mesh's sources past the first levels are
+ * taken whole, on one core): from its own source, the level SOURCE_STEP before it, towards
+ * half of what this one is asked for; kept where this one comes out as asked (then the
+ * next one is asked for just that), else made again in turn. */
+typedef struct next_simp {
+    pthread_t th;
+    bool started;
+    limen__lod_welded *pk;
+    const uint32_t *src;
+    size_t src_n, want, n;
+    uint32_t level;             /* which level it is (0: none) */
+    float err;
+    uint32_t *out;              /* room for src_n indices */
+} next_simp;
+
+static uint32_t beside_above = LIMEN__LOD_SPLIT_ABOVE;
+static _Atomic uint64_t beside_kept;
+
+void limen__lod_set_beside_above(uint32_t triangles)
+{
+    beside_above = triangles;
+}
+
+uint64_t limen__lod_beside_kept(void)
+{
+    return atomic_load(&beside_kept);
+}
+
+static void *next_simp_run(void *arg)
+{
+    next_simp *x = arg;
+    x->n = limen__lod_simplify(x->pk, x->src, x->src_n, false, x->want, FLT_MAX, &x->err, x->out);
+    return NULL;
+}
+
+/* Waits for the level beside (where one was started); whether it is level k, made towards
+ * want. */
+static bool next_simp_take(next_simp *x, uint32_t k, size_t want)
+{
+    if (x->started)
+        pthread_join(x->th, NULL);
+    x->started = false;
+    bool ok = k && x->level == k && x->want == want && x->out;
+    x->level = 0;
+    if (ok)
+        atomic_fetch_add_explicit(&beside_kept, 1, memory_order_relaxed);
+    return ok;
+}
+
 static bool lods_make(const limen__mesh *m, const atomic_bool *stop, made *out)
 {
     memset(out, 0, sizeof *out);
@@ -2385,6 +2434,7 @@ static bool lods_make(const limen__mesh *m, const atomic_bool *stop, made *out)
      * along themselves); once stuck (or untextured), seams let go; once stuck even so, by
      * clustering */
     enum { SEAMS, CHARTS, NO_SEAMS, CLUSTERED } mode = SEAMS;
+    next_simp beside = { .pk = &pk_attr };
     /* the first level within the charts: the later ones are simplified from those (the
      * level SOURCE_STEP before, or the first), not from meshoptimizer's, which may hold
      * fins (two triangles back to back) that stay where they are */
@@ -2426,9 +2476,36 @@ static bool lods_make(const limen__mesh *m, const atomic_bool *stop, made *out)
                     m, shadow, attr, src, src_n,
                     limen__lod_charts_want(cur_n / 3, charts_floor, (cap - used) / 3) * 3, scratch,
                     &ok);
-        } else if (mode < CLUSTERED)
+        } else if (mode == SEAMS && halve && next_simp_take(&beside, nlods, cur_n / 6 * 3)) {
+            /* made beside the level before, asked for what it is asked for now */
+            n = beside.n;
+            err = beside.err;
+            memcpy(scratch, beside.out, sizeof *scratch * n);
+        } else if (mode < CLUSTERED) {
+            /* a big mesh's next level beside this one, where both sources are taken whole
+             * (a split source's level comes out a few triangles off what it was asked for,
+             * which the next one's asking follows) and the next one's is made already (the
+             * level SOURCE_STEP before it), and it halves too */
+            size_t want = cur_n / 6 * 3, next_from = nlods + 1 - SOURCE_STEP;
+            if (mode == SEAMS && halve && !from_full && n0 / 3 >= beside_above &&
+                src_n / 3 < LIMEN__LOD_SPLIT_ABOVE &&
+                nlods + 1 < MAX_LEVELS && nlods + 1 > SOURCE_STEP && want / 3 >= MIN_TRIS &&
+                (size_t)lods[next_from].triangle_count < LIMEN__LOD_SPLIT_ABOVE &&
+                measure_threads) {
+                if (!beside.out)
+                    beside.out = malloc(sizeof *beside.out * n0);
+                beside.src = store + at[next_from];
+                beside.src_n = (size_t)lods[next_from].triangle_count * 3;
+                beside.want = want / 6 * 3;
+                beside.level = nlods + 1;
+                beside.started = beside.out &&
+                                 pthread_create(&beside.th, NULL, next_simp_run, &beside) == 0;
+                if (!beside.started)
+                    beside.level = 0;
+            }
             n = limen__lod_simplify(mode == SEAMS ? &pk_attr : &pk_pos, from_full ? NULL : src, src_n, false,
-                         halve ? cur_n / 6 * 3 : 0, halve ? FLT_MAX : 1e-5f, &err, scratch);
+                         halve ? want : 0, halve ? FLT_MAX : 1e-5f, &err, scratch);
+        }
         if (halve && (n == 0 || n * 4 > cur_n * 3) && mode == SEAMS && m->uv &&
             cur_n > n0 / STUCK_ABOVE && ok) {
             /* the simplifier is stuck on the seams (where three charts or more meet, which it
@@ -2495,6 +2572,8 @@ static bool lods_make(const limen__mesh *m, const atomic_bool *stop, made *out)
         if (!halve)
             break;
     }
+    next_simp_take(&beside, 0, 0);
+    free(beside.out);
     ahead_end(&ah, !ok);
     /* then measured, once the simplifier's tables (a few hundred megabytes at a few million
      * triangles) are gone, and before the surface they are measured against is made */

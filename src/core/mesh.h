@@ -128,6 +128,11 @@ void limen__lod_set_async_above(uint32_t triangles);
  * levels (default true) or in turn on it, which gives the same bounds; not for use while
  * meshes are being made. */
 void limen__lod_set_measure_threads(bool on);
+/* Tests only: the size from which a mesh's next level is simplified beside this one, where
+ * both sources are taken whole (default LIMEN__LOD_SPLIT_ABOVE); and how many levels so
+ * made were kept, in all. Not for use while meshes are being made. */
+void limen__lod_set_beside_above(uint32_t triangles);
+uint64_t limen__lod_beside_kept(void);
 
 /* Loads path (or finds it already loaded in the scene), refusing one that would hold more
  * than max_bytes; *charged gets the bytes newly held (0 when shared). On failure the message
