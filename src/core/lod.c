@@ -62,7 +62,7 @@
 #include "core/texture.h"
 
 #define MAX_LEVELS 12           /* the full mesh and up to 11 coarser ones */
-#define LOD_VERSION 27          /* of how levels are made and measured: levels kept between
+#define LOD_VERSION 28          /* of how levels are made and measured: levels kept between
                                  * runs (core/lod_cache.c) are keyed by it, so change it with
                                  * anything that changes a level or its error */
 #define MIN_TRIS 16             /* a level this small gets no halved successor */
@@ -160,6 +160,9 @@ typedef struct side {
     uint64_t via_settled;       /* pieces via_bound settled */
     const float *reach;         /* where not NULL, per vertex of from (the full mesh's side:
                                  * its target's reach): see side_near */
+    const uint32_t *vweld;      /* where not NULL (the full mesh's side), per vertex of from:
+                                 * its vertex of to, as weld has it at each of its corners */
+    const uint64_t *used;       /* and a bit per vertex of from that its triangles name */
     uint64_t *found;            /* a bit a vertex of from: side_corners found it (where
                                  * reach is given; freed by side_near) */
     uint64_t *near;             /* a bit a vertex of from: its distance plus its reach is at
@@ -1129,11 +1132,38 @@ static corner corner_of(const point *q)
     return (corner){ .d2 = q->rough ? -d2 : d2, .tri = q->tri };
 }
 
+/* Vertex vx of from (welded: its vertex in to's numbering) found on to's surface, walked to
+ * from triangle *hint, which becomes its own: kept in sd->pts. */
+static void corner_find(side *sd, uint32_t vx, uint32_t welded, uint32_t *hint)
+{
+    const float *p = &sd->from->pos[(size_t)vx * 3];
+    point q = { .p = { p[0], p[1], p[2] }, .vertex = vx };
+    /* a corner the other surface shares lies on a triangle there: found at once; another
+     * walks there from the last one's triangle, and is searched for only where that leaves
+     * it near enough to the floor to raise it */
+    uint32_t on = sd->to->at_vertex[welded];
+    if (on != UINT32_MAX) {
+        locate(sd, &q, on);
+    } else {
+        double enough = NEAR_ENOUGH * side_need(sd);
+        q.tri = *hint;
+        /* the last one's triangle, where it is near enough; else a walk from it */
+        q.d2 = limen__lod_d2(sd->to, *hint, q.p);
+        if (q.d2 > enough * enough)
+            q.d2 = limen__lod_target_walk(sd->to, q.p, &q.tri, q.d2);
+        q.rough = q.d2 <= enough * enough;
+        if (!q.rough)
+            locate(sd, &q, q.tri);
+    }
+    sd->pts[vx] = corner_of(&q);
+    *hint = q.tri;
+}
+
 /* The distances to to's surface of from's vertices met first at corners of triangles [t0,
  * t1), less those of `taken` (where not NULL: a bit a vertex), each walked to from the
  * last one's triangle (the first's from triangle 0); false when out of memory. Which are
  * found is kept in a bit a vertex (a few hundred kilobytes, where the corners themselves
- * are 16 bytes a vertex: a vertex met again, about five times in six, is not looked up
+ * are 8 bytes a vertex: a vertex met again, about five times in six, is not looked up
  * there). */
 static bool corners_span(side *sd, uint32_t t0, uint32_t t1, const uint64_t *taken)
 {
@@ -1147,32 +1177,25 @@ static bool corners_span(side *sd, uint32_t t0, uint32_t t1, const uint64_t *tak
         if ((taken && bit_has(taken, vx)) || bit_has(found, vx) || (sd->skip && sd->skip[i / 3]))
             continue;
         bit_put(found, vx);
-        corner *kept = &sd->pts[vx];
-        point at = { .vertex = vx }, *q = &at;
-        for (int a = 0; a < 3; a++)
-            q->p[a] = from->pos[(size_t)vx * 3 + a];
-        /* a corner the other surface shares lies on a triangle there: found at once; another
-         * walks there from the last one's triangle, and is searched for only where that
-         * leaves it near enough to the floor to raise it */
-        uint32_t on = sd->to->at_vertex[sd->weld ? sd->weld[i] : vx];
-        if (on != UINT32_MAX) {
-            locate(sd, q, on);
-        } else {
-            double enough = NEAR_ENOUGH * side_need(sd);
-            q->tri = hint;
-            /* the last one's triangle, where it is near enough; else a walk from it */
-            q->d2 = limen__lod_d2(sd->to, hint, q->p);
-            if (q->d2 > enough * enough)
-                q->d2 = limen__lod_target_walk(sd->to, q->p, &q->tri, q->d2);
-            q->rough = q->d2 <= enough * enough;
-            if (!q->rough)
-                locate(sd, q, q->tri);
-        }
-        *kept = corner_of(q);
-        hint = q->tri;
+        corner_find(sd, vx, sd->weld ? sd->weld[i] : vx, &hint);
     }
     if (found != sd->found)
         free(found);
+    return true;
+}
+
+/* corners_span over the vertices [v0, v1) of the full mesh that its triangles name (the
+ * bits of sd->used), in their own order, for a level that shares none of its triangles:
+ * each vertex looked at once, not at each of its corners. */
+static bool corners_vspan(side *sd, uint32_t v0, uint32_t v1)
+{
+    uint32_t hint = 0;
+    for (uint32_t vx = v0; vx < v1; vx++)
+        if (bit_has(sd->used, vx)) {
+            if (sd->found)
+                bit_put(sd->found, vx);
+            corner_find(sd, vx, sd->vweld[vx], &hint);
+        }
     return true;
 }
 
@@ -1188,6 +1211,21 @@ static void *span_run(void *arg)
 {
     span_job *j = arg;
     j->ok = corners_span(&j->sd, j->t0, j->t1, j->taken);
+    return NULL;
+}
+
+/* corners_vspan's second half, on a thread of its own (from a multiple of 64: the halves'
+ * found bits in words of their own) */
+typedef struct vspan_job {
+    side sd;
+    double floor;
+    uint32_t v0, v1;
+} vspan_job;
+
+static void *vspan_run(void *arg)
+{
+    vspan_job *j = arg;
+    corners_vspan(&j->sd, j->v0, j->v1);
     return NULL;
 }
 
@@ -1213,6 +1251,22 @@ static bool side_corners(side *sd)
         return false;
     if (!sd->weld || from->ntris < THREAD_TRIS)
         return corners_span(sd, 0, from->ntris, NULL);
+    if (!sd->skip && sd->vweld && sd->used) {
+        /* every vertex the triangles name: in two halves of the vertices */
+        uint32_t half = from->nverts / 2 / 64 * 64;
+        vspan_job vj = { .sd = *sd, .floor = *sd->floor, .v0 = half, .v1 = from->nverts };
+        vj.sd.floor = &vj.floor;
+        pthread_t th;
+        bool beside = measure_threads && pthread_create(&th, NULL, vspan_run, &vj) == 0;
+        corners_vspan(sd, 0, half);
+        if (beside)
+            pthread_join(th, NULL);
+        else
+            vspan_run(&vj);
+        sd->lower = greater(sd->lower, vj.sd.lower);
+        *sd->floor = greater(*sd->floor, vj.floor);
+        return true;
+    }
     uint32_t half = from->ntris / 2;
     uint64_t *taken = calloc(words, sizeof *taken);
     if (!taken)
@@ -1517,14 +1571,29 @@ static void *corners_run(void *arg)
     return NULL;
 }
 
-/* Per vertex of m: how far a point of a triangle with a corner there may lie from the
- * triangle's nearest corner, at most (its longest edge / sqrt(3), the largest over the
- * vertex's triangles, rounded up to float); NULL when out of memory. */
-static float *reach_make(const limen__mesh *m)
+/* The full mesh's target's own (t of m, made through weld): per vertex, its reach (how far
+ * a point of a triangle with a corner there may lie from the triangle's nearest corner, at
+ * most: its longest edge / sqrt(3), the largest over the vertex's triangles, rounded up to
+ * float) and its welded vertex, and a bit per vertex its triangles name. Each left NULL
+ * when out of memory (what asks for them then does without). */
+static void full_make(target *t, const limen__mesh *m, const uint32_t *weld)
 {
-    float *r = calloc(m->nverts ? m->nverts : 1, sizeof *r);
-    for (uint32_t t = 0; r && t < m->ntris; t++) {
-        const uint32_t *c = m->idx + (size_t)t * 3;
+    size_t nv = m->nverts ? m->nverts : 1;
+    float *r = t->reach = calloc(nv, sizeof *r);
+    t->vweld = malloc(sizeof *t->vweld * nv);
+    t->used = calloc(bits_words(m->nverts), sizeof *t->used);
+    for (size_t i = 0; t->vweld && t->used && i < (size_t)m->ntris * 3; i++) {
+        t->vweld[m->idx[i]] = weld[i];
+        bit_put(t->used, m->idx[i]);
+    }
+    if (!t->vweld || !t->used) {
+        free(t->vweld);
+        free(t->used);
+        t->vweld = NULL;
+        t->used = NULL;
+    }
+    for (uint32_t tri = 0; r && tri < m->ntris; tri++) {
+        const uint32_t *c = m->idx + (size_t)tri * 3;
         double longest = 0;
         for (int k = 0; k < 3; k++) {
             const float *a = m->pos + (size_t)c[k] * 3, *b = m->pos + (size_t)c[(k + 1) % 3] * 3;
@@ -1535,7 +1604,6 @@ static float *reach_make(const limen__mesh *m)
         for (int k = 0; k < 3; k++)
             r[c[k]] = r[c[k]] < l ? l : r[c[k]];
     }
-    return r;
 }
 
 /* A bound on the two-sided distance between a level (idx, a mesh over the full mesh's
@@ -1565,7 +1633,8 @@ static double level_error(const target *full, const uint32_t *weld, const uint32
     side there = { .from = &lv, .to = full, .floor = &floor_there, .upper = &upper,
                    .abs_tol = tol, .stop = stop };
     side back = { .from = m, .to = &level, .weld = weld, .floor = &floor_back,
-                  .upper = &upper, .abs_tol = tol, .stop = stop, .reach = full->reach };
+                  .upper = &upper, .abs_tol = tol, .stop = stop, .reach = full->reach,
+                  .vweld = full->vweld, .used = full->used };
     /* a fine level shares many of its triangles with the full mesh (the bumpy spheres'
      * first levels 37-43%): those need no bound on either side */
     bool share = (uint64_t)ntris * SHARE_ABOVE > m->ntris;
@@ -1631,7 +1700,7 @@ double limen__lod_measure(const limen__mesh *m, const uint32_t *idx, uint32_t nt
     target full = { 0 };
     if (!limen__lod_target_make(&full, m, m->idx))
         return NAN;
-    full.reach = reach_make(m);
+    full_make(&full, m, m->idx);
     double e = level_error(&full, m->idx, idx, ntris, 0, NULL, NULL, 0);
     limen__lod_target_free(&full);
     return e;
@@ -1653,7 +1722,7 @@ static void surface_make(surface_job *j, bool beside)
 {
     j->ok = surface_tree(j->t, j->whole, j->weld, beside);
     if (j->ok)
-        j->t->reach = reach_make(j->whole);
+        full_make(j->t, j->whole, j->weld);
     j->made = true;
 }
 
@@ -1741,7 +1810,7 @@ double limen__lod_measure_via(const limen__mesh *m, const uint32_t *idx, uint32_
     double e = NAN;
     uint64_t before = atomic_load(&via_settled);
     if (limen__lod_target_make(&full, m, m->idx)) {
-        full.reach = reach_make(m);
+        full_make(&full, m, m->idx);
         if (surface_tree(&via, &vm, NULL, false))
             e = level_error(&full, m->idx, idx, ntris, 0, NULL, &via, via_e);
         limen__lod_target_free(&full);

@@ -131,11 +131,15 @@ void limen__lod_target_free(limen__lod_target *t)
     free(t->at_vertex);
     free(t->across);
     free(t->reach);
+    free(t->vweld);
+    free(t->used);
     /* freed twice is harmless: a failed making frees, and its caller may free again */
     t->ball = NULL;
     t->at_vertex = NULL;
     t->across = NULL;
     t->reach = NULL;
+    t->vweld = NULL;
+    t->used = NULL;
 }
 
 /* The vertex at corner i of t's mesh, welded where weld is given. */
@@ -277,6 +281,8 @@ bool limen__lod_target_make(limen__lod_target *t, const limen__mesh *m, const ui
 {
     t->m = m;
     t->reach = NULL;
+    t->vweld = NULL;
+    t->used = NULL;
     t->ball = malloc(sizeof *t->ball * m->ntris);
     t->at_vertex = malloc(sizeof *t->at_vertex * m->nverts);
     if (!t->ball || !t->at_vertex || !pair_edges(t, weld)) {

@@ -19,6 +19,10 @@ typedef struct limen__lod_target {
     float *reach;               /* where not NULL, per vertex: how far a point of a triangle
                                  * with a corner there may lie from its nearest corner, at
                                  * most (made by core/lod.c for the full mesh; freed with t) */
+    uint32_t *vweld;            /* where not NULL, per vertex: its welded vertex (the full
+                                 * mesh's, made by core/lod.c; freed with t) */
+    uint64_t *used;             /* where not NULL, a bit per vertex its triangles name (the
+                                 * same) */
     double mean_area;           /* of its triangles */
     uint64_t probes;            /* slots the edges' pairing looked at (a measure of its work) */
 } limen__lod_target;
