@@ -645,6 +645,29 @@ static uint32_t lay_mark(side *sd, const uint32_t *queue, int nq)
     return mark;
 }
 
+/* The edges (a bit each, edge k from corner k to the next) of triangle t, one of the piece's
+ * corners' own (v, seen as pp) that does not meet the piece (its vertices seen as x), across
+ * which the walk goes on: where each corner it is the triangle of is one of its vertices as
+ * seen, the two edges at that vertex (the piece's part at the corner lies over the triangles
+ * around it, and a triangle past the third edge meets the piece only beyond those, where
+ * the walk comes to it from them); else all three. */
+static unsigned seed_edges(const point *const v[3], const double (*pp)[2], uint32_t t,
+                           lay_vertex *const x[3])
+{
+    unsigned walk = 0;
+    for (int k = 0; k < 3; k++) {
+        if (v[k]->tri != t)
+            continue;
+        int j = 0;
+        while (j < 3 && (x[j]->t[0] != pp[k][0] || x[j]->t[1] != pp[k][1]))
+            j++;
+        if (j == 3)
+            return 7;
+        walk |= 1u << j | 1u << (j == 0 ? 2 : j - 1);
+    }
+    return walk ? walk : 7;
+}
+
 /* A bound from laying the piece over the other surface, seen along the piece's normal, for
  * a piece of any size (cover_bound's argument needs no two triangles to overlap, which it
  * checks pair by pair; this one needs no such check). S: the triangles of sd->to met by a
@@ -754,11 +777,13 @@ static double lay_bound(side *sd, const point *v[3], double goal)
                 }
             }
         }
+        unsigned walk = 7;      /* the edges walked across, a bit each */
         if (!meets) {
             /* beside the piece: a seed's neighbours are looked at still (the corners'
              * triangles may lie just beside it) */
             if (next >= seeds)
                 continue;
+            walk = seed_edges(v, pp, at, x);
         } else if (twice != 0) {
             if (twice < 0) {            /* counter-clockwise as seen */
                 for (int a = 0; a < 2; a++) {
@@ -809,6 +834,8 @@ static double lay_bound(side *sd, const point *v[3], double goal)
             return INFINITY;
         }
         for (int e = 0; e < 3; e++) {
+            if (!(walk >> e & 1))
+                continue;
             uint32_t on = to->across[at][e];
             /* an edge outside the piece leaves S's border outside it, whatever lies across
              * it (a seed beside the piece leads on to its neighbours still) */
