@@ -7,6 +7,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include <meshoptimizer.h>
+
 #include "bumpy.h"
 #include "check.h"
 #include "core/lod_target.h"
@@ -205,7 +207,42 @@ static void test_levels_beside(void)
     free_levels(&both[1]);
 }
 
+/* The weld by position (limen__lod_shadow) is meshoptimizer's shadow index buffer, to the
+ * index: on a bumpy sphere (its seam and poles repeat positions), with a quarter of its
+ * vertices moved onto others', its corners in a scrambled order, and 0 beside -0 (two
+ * positions, as their bits are). */
+static void test_shadow_as_meshopt(void)
+{
+    enum { U = 60, V = 40, NV = (U + 1) * (V + 1), NT = U * V * 2 };
+    static float pos[NV * 3];
+    static uint32_t idx[NT * 3], mine[NT * 3], theirs[NT * 3];
+    bumpy_sphere(U, V, pos, idx);
+    for (int variant = 0; variant < 3; variant++) {
+        if (variant == 1)
+            for (int i = 0; i < NV; i += 4)
+                memcpy(&pos[i * 3], &pos[(size_t)((i * 7 + 3) % NV) * 3], sizeof(float) * 3);
+        if (variant == 2) {
+            for (size_t i = 0; i < (size_t)NT * 3; i++)
+                mine[i] = idx[(i * 7919) % ((size_t)NT * 3)];
+            memcpy(idx, mine, sizeof idx);
+            pos[0] = 0.0f;
+            pos[1] = pos[2] = 1;
+            pos[3] = -0.0f;
+            pos[4] = pos[5] = 1;
+        }
+        limen__mesh m = { .nverts = NV, .ntris = NT, .pos = pos, .idx = idx };
+        CHECK(limen__lod_shadow(&m, mine));
+        meshopt_generateShadowIndexBuffer(theirs, idx, (size_t)NT * 3, pos, NV,
+                                          sizeof(float) * 3, sizeof(float) * 3);
+        size_t differ = 0;
+        for (size_t i = 0; i < (size_t)NT * 3; i++)
+            differ += mine[i] != theirs[i];
+        CHECK_MSG(differ == 0, "variant %d: %zu corners welded otherwise", variant, differ);
+    }
+}
+
 static const check_case cases[] = {
+    { "shadow_as_meshopt", test_shadow_as_meshopt },
     { "simplify_sparse", test_simplify_sparse },
     { "levels_from_first", test_levels_from_first },
     { "levels_beside", test_levels_beside },

@@ -2399,9 +2399,7 @@ static bool bake_again(const limen__mesh *m, made *mk, uint32_t mask)
     target full = { 0 };
     surface_job surface = { .t = &full, .whole = &whole, .weld = shadow };
     bool ok = shadow && limen__lod_bakeable(m);
-    if (ok)
-        meshopt_generateShadowIndexBuffer(shadow, m->idx, n0, m->pos, m->nverts,
-                                          sizeof(float) * 3, sizeof(float) * 3);
+    ok = ok && limen__lod_shadow(m, shadow);
     ok = ok && surface_join(&surface, true);
     limen_mesh_lod *lods = (limen_mesh_lod *)mk->block;
     for (uint32_t k = 1; ok && k < mk->nlods; k++)
@@ -2508,14 +2506,13 @@ static bool lods_make(const limen__mesh *m, const atomic_bool *stop, made *out)
         lods[0] = (limen_mesh_lod){ .triangle_count = (int)m->ntris, .error = 0 };
         /* welded by position, so that seams in normals or texture coordinates do not hold the
          * simplifier back; each weld keeps one of the original vertices */
-        meshopt_generateShadowIndexBuffer(shadow, m->idx, n0, m->pos, m->nverts,
-                                          sizeof(float) * 3, sizeof(float) * 3);
+        ok = limen__lod_shadow(m, shadow);
         /* what the simplifier is given: welded by position where the attributes allow
          * (texture coordinates the same; normals are chosen after, by seam_sides), so that a
          * seam in the texture stays one, which the simplifier moves along without tearing */
-        if (attr != shadow)
+        if (ok && attr != shadow)
             weld_attributes(m, vpart, attr);
-        ok = limen__lod_pack(&pk_attr, m, attr);
+        ok = ok && limen__lod_pack(&pk_attr, m, attr);
     }
     size_t cur_n = n0;
     float scale = ok ? meshopt_simplifyScale(m->pos, m->nverts, sizeof(float) * 3) : 0;

@@ -387,6 +387,51 @@ void limen__lod_welded_free(limen__lod_welded *pk)
 }
 
 /* pk over m welded by weld; false when out of memory (pk freed). */
+bool limen__lod_shadow(const limen__mesh *m, uint32_t *shadow)
+{
+    /* per vertex, its weld once met; the welds by position in a table of their own (at most
+     * half full): each vertex looked up once, its three floats compared as bits inline */
+    size_t n = (size_t)m->ntris * 3, size = 16;
+    while (size < 2 * (size_t)m->nverts)
+        size *= 2;
+    uint32_t *first = malloc(sizeof *first * (m->nverts ? m->nverts : 1)),
+             *slot = malloc(sizeof *slot * size);
+    if (!first || !slot) {
+        free(first);
+        free(slot);
+        return false;
+    }
+    memset(first, 0xff, sizeof *first * m->nverts);
+    memset(slot, 0xff, sizeof *slot * size);
+    for (size_t i = 0; i < n; i++) {
+        uint32_t v = m->idx[i];
+        if (first[v] == UINT32_MAX) {
+            uint32_t b[3];
+            memcpy(b, &m->pos[(size_t)v * 3], sizeof b);
+            uint64_t h = ((uint64_t)b[0] * 0x9e3779b97f4a7c15ull) ^
+                         ((uint64_t)b[1] * 0xc2b2ae3d27d4eb4full) ^
+                         ((uint64_t)b[2] * 0x165667b19e3779f9ull);
+            size_t at = (size_t)(h ^ h >> 29) & (size - 1);
+            for (;; at = (at + 1) & (size - 1)) {
+                uint32_t o = slot[at];
+                if (o == UINT32_MAX) {
+                    slot[at] = v;
+                    first[v] = v;
+                    break;
+                }
+                if (!memcmp(&m->pos[(size_t)o * 3], b, sizeof b)) {
+                    first[v] = o;
+                    break;
+                }
+            }
+        }
+        shadow[i] = first[v];
+    }
+    free(first);
+    free(slot);
+    return true;
+}
+
 bool limen__lod_pack(limen__lod_welded *pk, const limen__mesh *m, const uint32_t *weld)
 {
     size_t n0 = (size_t)m->ntris * 3;

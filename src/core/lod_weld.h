@@ -26,6 +26,11 @@ typedef struct limen__lod_welded {
 /* pk over m welded by weld (per corner of m, a vertex); false when out of memory (pk
  * freed). */
 bool limen__lod_pack(limen__lod_welded *pk, const limen__mesh *m, const uint32_t *weld);
+
+/* m welded by position (meshoptimizer's shadow index buffer, the same numbers): per corner,
+ * the first vertex met in the corners' order with the same position (bit for bit); false
+ * when out of memory. */
+bool limen__lod_shadow(const limen__mesh *m, uint32_t *shadow);
 void limen__lod_welded_free(limen__lod_welded *pk);
 /* meshoptimizer's simplifier (sloppy: its clustering) over pk, from src (n indices into the
  * mesh's vertices, each a vertex of the weld; NULL: the whole mesh) towards want indices
