@@ -113,7 +113,7 @@ typedef struct point {
 /* A vertex's point, less its position (from->pos, exactly): 8 bytes, not 40, a vertex. Its
  * d2 rounded up to float (an upper bound on the distance still, as every use of a corner's
  * takes it: the lower bound is raised where a distance is found, from the double), negative
- * where rough (see corner_put). */
+ * where rough (see corner_of). */
 typedef struct corner {
     float d2;
     uint32_t tri;
