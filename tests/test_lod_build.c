@@ -137,6 +137,42 @@ static bool vertices_within(const levels *lv, int a, int b, int nv)
     return all;
 }
 
+/* The bumpy sphere both ways are made of: 19,200 triangles. */
+enum {
+    BOTH_U = 120,
+    BOTH_V = 80,
+    BOTH_NV = (BOTH_U + 1) * (BOTH_V + 1),
+    BOTH_NT = BOTH_U * BOTH_V * 2
+};
+
+/* The sphere's levels made twice, on threads (both[0]) and in turn (both[1],
+ * limen__lod_set_measure_threads(false)). */
+static void levels_both_ways(levels both[2])
+{
+    static float pos[BOTH_NV * 3];
+    static uint32_t idx[BOTH_NT * 3];
+    bumpy_sphere(BOTH_U, BOTH_V, pos, idx);
+    limen_mesh_data data = { .positions = pos, .vertex_count = BOTH_NV, .indices = idx,
+                             .triangle_count = BOTH_NT };
+    for (int run = 0; run < 2; run++) {
+        limen__lod_set_measure_threads(run == 0);
+        both[run] = make_levels(&data);
+    }
+    limen__lod_set_measure_threads(true);
+}
+
+/* Whether both ways made the same levels, to the index, with the same bounds, to the bit. */
+static void check_same_levels(const levels both[2])
+{
+    CHECK_MSG(both[0].count == both[1].count, "%d / %d levels", both[0].count, both[1].count);
+    for (int k = 0; k < both[0].count && k < both[1].count; k++)
+        CHECK_MSG(both[0].tris[k] == both[1].tris[k] && both[0].error[k] == both[1].error[k] &&
+                      memcmp(both[0].idx[k], both[1].idx[k],
+                             sizeof(uint32_t) * 3 * both[0].tris[k]) == 0,
+                  "level %d: %d triangles, error %.9g on threads; %d, %.9g in turn", k,
+                  both[0].tris[k], both[0].error[k], both[1].tris[k], both[1].error[k]);
+}
+
 /* A mesh of 8192 triangles or more has its levels 2 and 3 simplified from level 1 (half
  * the work of simplifying the full mesh again): every vertex they name is one of level 1's
  * (the simplifier only moves onto a source's own vertices; from the full mesh, level 2
@@ -145,28 +181,13 @@ static bool vertices_within(const levels *lv, int a, int b, int nv)
  * bounds, to the bit. */
 static void test_levels_from_first(void)
 {
-    enum { U = 120, V = 80, NV = (U + 1) * (V + 1), NT = U * V * 2 };
-    static float pos[NV * 3];
-    static uint32_t idx[NT * 3];
-    bumpy_sphere(U, V, pos, idx);
-    limen_mesh_data data = { .positions = pos, .vertex_count = NV, .indices = idx,
-                             .triangle_count = NT };
     levels both[2];
-    for (int run = 0; run < 2; run++) {
-        limen__lod_set_measure_threads(run == 0);
-        both[run] = make_levels(&data);
-    }
-    limen__lod_set_measure_threads(true);
+    levels_both_ways(both);
     levels *lv = &both[0];
     CHECK_MSG(lv->count >= 5, "%d levels", lv->count);
     for (int k = 2; k <= 3 && k < lv->count; k++)
-        CHECK_MSG(vertices_within(lv, 1, k, NV), "level %d names vertices level 1 has not", k);
-    CHECK(both[1].count == lv->count);
-    for (int k = 0; k < lv->count && k < both[1].count; k++)
-        CHECK_MSG(lv->tris[k] == both[1].tris[k] && lv->error[k] == both[1].error[k] &&
-                      memcmp(lv->idx[k], both[1].idx[k], sizeof(uint32_t) * 3 * lv->tris[k]) == 0,
-                  "level %d: %d triangles, error %.9g on threads; %d, %.9g in turn", k,
-                  lv->tris[k], lv->error[k], both[1].tris[k], both[1].error[k]);
+        CHECK_MSG(vertices_within(lv, 1, k, BOTH_NV), "level %d names vertices level 1 has not", k);
+    check_same_levels(both);
     free_levels(&both[0]);
     free_levels(&both[1]);
 }
@@ -177,32 +198,16 @@ static void test_levels_from_first(void)
  * from which this is done lowered to every mesh). */
 static void test_levels_beside(void)
 {
-    enum { U = 120, V = 80, NV = (U + 1) * (V + 1), NT = U * V * 2 };
-    static float pos[NV * 3];
-    static uint32_t idx[NT * 3];
-    bumpy_sphere(U, V, pos, idx);
-    limen_mesh_data data = { .positions = pos, .vertex_count = NV, .indices = idx,
-                             .triangle_count = NT };
     limen__lod_set_beside_above(0);
     uint64_t kept0 = limen__lod_beside_kept();
     levels both[2];
-    for (int run = 0; run < 2; run++) {
-        limen__lod_set_measure_threads(run == 0);
-        both[run] = make_levels(&data);
-    }
+    levels_both_ways(both);
     uint64_t kept = limen__lod_beside_kept() - kept0;
-    limen__lod_set_measure_threads(true);
     limen__lod_set_beside_above(LIMEN__LOD_SPLIT_ABOVE);
     /* levels 4, 6, 8 and 10 made beside 3, 5, 7 and 9 (where those come out as asked) */
     CHECK_MSG(kept >= 2, "%llu levels made beside", (unsigned long long)kept);
-    CHECK_MSG(both[0].count >= 8 && both[0].count == both[1].count, "%d / %d levels",
-              both[0].count, both[1].count);
-    for (int k = 0; k < both[0].count && k < both[1].count; k++)
-        CHECK_MSG(both[0].tris[k] == both[1].tris[k] && both[0].error[k] == both[1].error[k] &&
-                      memcmp(both[0].idx[k], both[1].idx[k],
-                             sizeof(uint32_t) * 3 * both[0].tris[k]) == 0,
-                  "level %d: %d triangles, error %.9g beside; %d, %.9g in turn", k,
-                  both[0].tris[k], both[0].error[k], both[1].tris[k], both[1].error[k]);
+    CHECK_MSG(both[0].count >= 8, "%d levels", both[0].count);
+    check_same_levels(both);
     free_levels(&both[0]);
     free_levels(&both[1]);
 }

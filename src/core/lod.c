@@ -1152,6 +1152,12 @@ static void bit_put(uint64_t *b, uint32_t v)
     b[v >> 6] |= (uint64_t)1 << (v & 63);
 }
 
+/* A corner's distance squared (its sign is its roughness). */
+static double corner_d2(const corner *c)
+{
+    return fabsf(c->d2);
+}
+
 /* q as its vertex's corner: the distance rounded up, its sign the roughness. */
 static corner corner_of(const point *q)
 {
@@ -1226,10 +1232,20 @@ static bool corners_vspan(side *sd, uint32_t v0, uint32_t v1)
     return true;
 }
 
+/* The corners of [lo, hi): of the triangles (less those of `taken`), or of the vertices
+ * (by_vertex: corners_vspan). */
+static bool corners_of(side *sd, bool by_vertex, uint32_t lo, uint32_t hi,
+                       const uint64_t *taken)
+{
+    return by_vertex ? corners_vspan(sd, lo, hi) : corners_span(sd, lo, hi, taken);
+}
+
+/* The second half of side_corners' corners, on a thread of its own. */
 typedef struct span_job {
     side sd;                    /* a copy, with a floor of its own */
     double floor;
-    uint32_t t0, t1;
+    bool by_vertex;
+    uint32_t lo, hi;
     const uint64_t *taken;
     bool ok;
 } span_job;
@@ -1237,32 +1253,19 @@ typedef struct span_job {
 static void *span_run(void *arg)
 {
     span_job *j = arg;
-    j->ok = corners_span(&j->sd, j->t0, j->t1, j->taken);
-    return NULL;
-}
-
-/* corners_vspan's second half, on a thread of its own (from a multiple of 64: the halves'
- * found bits in words of their own) */
-typedef struct vspan_job {
-    side sd;
-    double floor;
-    uint32_t v0, v1;
-} vspan_job;
-
-static void *vspan_run(void *arg)
-{
-    vspan_job *j = arg;
-    corners_vspan(&j->sd, j->v0, j->v1);
+    j->ok = corners_of(&j->sd, j->by_vertex, j->lo, j->hi, j->taken);
     return NULL;
 }
 
 static bool measure_threads = true;
 
 /* The distances from from's vertices to to's surface; false when out of memory. The full
- * mesh's side (its many vertices, against a level) in two halves of its triangles, the
- * second on a thread of its own: each half its own walk and floor (the larger then taken),
- * its vertices those the first half has none of, so that the answer is the same on one
- * thread and two. */
+ * mesh's side (its many vertices, against a level) in two halves, the second on a thread
+ * of its own: each half its own walk and floor (the larger then taken), so that the answer
+ * is the same on one thread and two. Halves of its vertices, where the level shares none of
+ * its triangles (every vertex a triangle names is needed; the second half from a multiple
+ * of 64, so that each half's found bits are words of its own); else halves of its
+ * triangles, the second's vertices those the first half has none of. */
 static bool side_corners(side *sd)
 {
     const limen__mesh *from = sd->from;
@@ -1278,41 +1281,31 @@ static bool side_corners(side *sd)
         return false;
     if (!sd->weld || from->ntris < THREAD_TRIS)
         return corners_span(sd, 0, from->ntris, NULL);
-    if (!sd->skip && sd->vweld && sd->used) {
-        /* every vertex the triangles name: in two halves of the vertices */
-        uint32_t half = from->nverts / 2 / 64 * 64;
-        vspan_job vj = { .sd = *sd, .floor = *sd->floor, .v0 = half, .v1 = from->nverts };
-        vj.sd.floor = &vj.floor;
-        pthread_t th;
-        bool beside = measure_threads && pthread_create(&th, NULL, vspan_run, &vj) == 0;
-        corners_vspan(sd, 0, half);
-        if (beside)
-            pthread_join(th, NULL);
-        else
-            vspan_run(&vj);
-        sd->lower = greater(sd->lower, vj.sd.lower);
-        *sd->floor = greater(*sd->floor, vj.floor);
-        return true;
-    }
-    uint32_t half = from->ntris / 2;
-    uint64_t *taken = calloc(words, sizeof *taken);
-    if (!taken)
-        return false;
-    for (size_t i = 0; i < (size_t)half * 3; i++)
-        if (!sd->skip || !sd->skip[i / 3])
-            bit_put(taken, from->idx[i]);
-    span_job j = { .sd = *sd, .floor = *sd->floor, .t0 = half, .t1 = from->ntris,
-                   .taken = taken };
+    span_job j = { .sd = *sd, .floor = *sd->floor,
+                   .by_vertex = !sd->skip && sd->vweld && sd->used };
     j.sd.floor = &j.floor;
-    /* its own bits (a word may hold both halves' vertices), added after */
-    j.sd.found = sd->found ? calloc(words, sizeof *j.sd.found) : NULL;
-    if (sd->found && !j.sd.found) {
-        free(taken);
-        return false;
+    uint64_t *taken = NULL;
+    if (j.by_vertex) {
+        j.lo = from->nverts / 2 / 64 * 64;
+        j.hi = from->nverts;
+    } else {
+        j.lo = from->ntris / 2;
+        j.hi = from->ntris;
+        j.taken = taken = calloc(words, sizeof *taken);
+        /* its own bits (a word may hold both halves' vertices), added after */
+        j.sd.found = sd->found ? calloc(words, sizeof *j.sd.found) : NULL;
+        if (!taken || (sd->found && !j.sd.found)) {
+            free(taken);
+            free(j.sd.found);
+            return false;
+        }
+        for (size_t i = 0; i < (size_t)j.lo * 3; i++)
+            if (!sd->skip || !sd->skip[i / 3])
+                bit_put(taken, from->idx[i]);
     }
     pthread_t th;
     bool beside = measure_threads && pthread_create(&th, NULL, span_run, &j) == 0;
-    bool ok = corners_span(sd, 0, half, NULL);
+    bool ok = corners_of(sd, j.by_vertex, 0, j.lo, NULL);
     if (beside)
         pthread_join(th, NULL);
     else
@@ -1320,9 +1313,11 @@ static bool side_corners(side *sd)
     free(taken);
     sd->lower = greater(sd->lower, j.sd.lower);
     *sd->floor = greater(*sd->floor, j.floor);
-    for (size_t w = 0; j.sd.found && w < words; w++)
-        sd->found[w] |= j.sd.found[w];
-    free(j.sd.found);
+    if (!j.by_vertex) {
+        for (size_t w = 0; j.sd.found && w < words; w++)
+            sd->found[w] |= j.sd.found[w];
+        free(j.sd.found);
+    }
     return ok && j.ok;
 }
 
@@ -1341,7 +1336,7 @@ static void side_near(side *sd)
     for (size_t w = 0; sd->near && w < words; w++)
         for (uint64_t bits = sd->found[w]; bits; bits &= bits - 1) {
             uint32_t v = (uint32_t)(w * 64 + (unsigned)__builtin_ctzll(bits));
-            double b = sqrt(fabsf(sd->pts[v].d2)) + sd->reach[v];
+            double b = sqrt(corner_d2(&sd->pts[v])) + sd->reach[v];
             if (b <= need) {
                 sd->near[w] |= bits & -bits;
                 sd->near_max = greater(sd->near_max, b);
@@ -1356,7 +1351,7 @@ static void corner_point(const side *sd, uint32_t v, point *q)
 {
     const float *p = &sd->from->pos[(size_t)v * 3];
     const corner *c = &sd->pts[v];
-    *q = (point){ .p = { p[0], p[1], p[2] }, .d2 = fabsf(c->d2), .tri = c->tri, .vertex = v,
+    *q = (point){ .p = { p[0], p[1], p[2] }, .d2 = corner_d2(c), .tri = c->tri, .vertex = v,
                   .rough = signbit(c->d2) };
 }
 
@@ -1385,7 +1380,7 @@ static double side_bound(side *sd, int share)
          * than theirs over the whole triangle (convex_bound's plane, at once) */
         const corner *p0 = &sd->pts[c[0]], *p1 = &sd->pts[c[1]], *p2 = &sd->pts[c[2]];
         if (p0->tri == p1->tri && p0->tri == p2->tri) {
-            double b = sqrt(greater(fabsf(p0->d2), greater(fabsf(p1->d2), fabsf(p2->d2))));
+            double b = sqrt(greater(corner_d2(p0), greater(corner_d2(p1), corner_d2(p2))));
             if (b <= greater(side_need(sd), *sd->upper)) {
                 *sd->upper = greater(*sd->upper, b);
                 continue;
