@@ -158,6 +158,19 @@ static uint64_t edge_key(const limen__lod_target *t, const uint32_t *weld, size_
 #define SLOT_FREE UINT32_MAX    /* a slot of pair_edges' table no key has taken */
 #define SLOT_EMPTY 0x80000000u  /* with a half-edge: its key's slot, none of it waiting */
 
+/* The slot of pair_edges' table (mask + 1 slots) that holds key, or the free one where it
+ * would go; each slot looked at counted in t->probes. */
+static size_t key_slot(limen__lod_target *t, const uint32_t *weld, const uint32_t *head,
+                       size_t mask, uint64_t key)
+{
+    size_t at = (size_t)((key * 0x9e3779b97f4a7c15ull) >> 20) & mask;
+    for (;; at = (at + 1) & mask) {
+        t->probes++;
+        if (head[at] == SLOT_FREE || edge_key(t, weld, head[at] & ~SLOT_EMPTY) == key)
+            return at;
+    }
+}
+
 #define PART_EDGES 16384        /* half-edges a part of pair_edges' work holds, about: its
                                  * table (1.5 to 3 slots each) stays in the core's cache */
 
@@ -244,13 +257,7 @@ static bool pair_edges(limen__lod_target *t, const uint32_t *weld)
             size_t h = order[i], base = h - h % 3;
             uint32_t a = corner_vertex(t, weld, h), b = corner_vertex(t, weld, base + (h + 1) % 3);
             /* the opposite direction first: a half-edge waiting there pairs with this one */
-            uint64_t want = (uint64_t)b << 32 | a, mine = (uint64_t)a << 32 | b;
-            size_t at = (size_t)((want * 0x9e3779b97f4a7c15ull) >> 20) & mask;
-            for (;; at = (at + 1) & mask) {
-                t->probes++;
-                if (head[at] == SLOT_FREE || edge_key(t, weld, head[at] & ~SLOT_EMPTY) == want)
-                    break;
-            }
+            size_t at = key_slot(t, weld, head, mask, (uint64_t)b << 32 | a);
             if (head[at] != SLOT_FREE && !(head[at] & SLOT_EMPTY)) {
                 uint32_t o = head[at];
                 head[at] = next[o] == UINT32_MAX ? o | SLOT_EMPTY : next[o];
@@ -260,12 +267,7 @@ static bool pair_edges(limen__lod_target *t, const uint32_t *weld)
             }
             /* else it waits under its own direction (a slot emptied by pairing keeps a
              * half-edge of its key, flagged, so the probes past it still find theirs) */
-            at = (size_t)((mine * 0x9e3779b97f4a7c15ull) >> 20) & mask;
-            for (;; at = (at + 1) & mask) {
-                t->probes++;
-                if (head[at] == SLOT_FREE || edge_key(t, weld, head[at] & ~SLOT_EMPTY) == mine)
-                    break;
-            }
+            at = key_slot(t, weld, head, mask, (uint64_t)a << 32 | b);
             next[h] = head[at] == SLOT_FREE || (head[at] & SLOT_EMPTY) ? UINT32_MAX : head[at];
             head[at] = (uint32_t)h;
         }
