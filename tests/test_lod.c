@@ -439,16 +439,21 @@ static void test_error_bounds(void)
  * 30% of it or of the level before's. On so smooth a surface the largest distance lies at
  * a vertex, which the measure finds exactly; the bunny's levels are the finer test of the
  * bounds over the pieces' areas. On the coarse levels most of the full mesh's triangles are
- * bounded through their corners alone (side_near), which the bounds hold still. */
+ * bounded through their corners alone (side_near), and on every level many as lying
+ * wholly under one of the level's pieces (hold), which the bounds hold still. */
 static void test_big_bounds(void)
 {
-    uint64_t passed = limen__lod_near_passed();
+    uint64_t passed = limen__lod_near_passed(), held = limen__lod_held_passed();
     fixture f = sphere_scene(100, 100);
     const limen_drawable *d = item(&f);
     passed = limen__lod_near_passed() - passed;
+    held = limen__lod_held_passed() - held;
     CHECK_MSG(d && d->mesh && passed >= 3 * (uint64_t)d->mesh->triangle_count,
               "%llu of the full mesh's triangles bounded through their corners alone",
               (unsigned long long)passed);
+    CHECK_MSG(d && d->mesh && held >= (uint64_t)d->mesh->triangle_count / 2,
+              "%llu of the full mesh's triangles bounded as wholly under a level's piece",
+              (unsigned long long)held);
     tri_box *ft = d && d->mesh ? boxes_of(d->mesh, &d->mesh->lods[0]) : NULL;
     grid full = { 0 };
     if (ft && grid_make(&full, ft, d->mesh->triangle_count)) {

@@ -150,6 +150,9 @@ double limen__lod_measure_via(const limen__mesh *m, const uint32_t *idx, uint32_
 /* How many of the full mesh's triangles core/lod.c's measuring has passed by, bounded
  * through their corners' reach alone (side_near), in all so far (for tests). */
 uint64_t limen__lod_near_passed(void);
+/* The full mesh's triangles its side passed by as wholly under a level's piece (hold), in
+ * all (for tests). */
+uint64_t limen__lod_held_passed(void);
 /* Whether core/lod.c's measuring keeps what it has found for the pieces after (a vertex as
  * a piece sees it, a vertex's distance to a triangle) or finds it again each time: the same
  * bounds, to the bit, either way (for tests; on by default). */
