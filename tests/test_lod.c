@@ -440,20 +440,26 @@ static void test_error_bounds(void)
  * a vertex, which the measure finds exactly; the bunny's levels are the finer test of the
  * bounds over the pieces' areas. On the coarse levels most of the full mesh's triangles are
  * bounded through their corners alone (side_near), and on every level many as lying
- * wholly under one of the level's pieces (hold), which the bounds hold still. */
+ * wholly under one of the level's pieces (hold), and of the levels' pieces many over the
+ * level before with its triangles' own bounds (via_pick), which the bounds hold still. */
 static void test_big_bounds(void)
 {
-    uint64_t passed = limen__lod_near_passed(), held = limen__lod_held_passed();
+    uint64_t passed = limen__lod_near_passed(), held = limen__lod_held_passed(),
+             local = limen__lod_local_settled();
     fixture f = sphere_scene(100, 100);
     const limen_drawable *d = item(&f);
     passed = limen__lod_near_passed() - passed;
     held = limen__lod_held_passed() - held;
+    local = limen__lod_local_settled() - local;
     CHECK_MSG(d && d->mesh && passed >= 3 * (uint64_t)d->mesh->triangle_count,
               "%llu of the full mesh's triangles bounded through their corners alone",
               (unsigned long long)passed);
     CHECK_MSG(d && d->mesh && held >= (uint64_t)d->mesh->triangle_count / 2,
               "%llu of the full mesh's triangles bounded as wholly under a level's piece",
               (unsigned long long)held);
+    CHECK_MSG(d && d->mesh && local >= (uint64_t)d->mesh->triangle_count / 8,
+              "%llu of the levels' pieces bounded over the level before, with its triangles' "
+              "own bounds", (unsigned long long)local);
     tri_box *ft = d && d->mesh ? boxes_of(d->mesh, &d->mesh->lods[0]) : NULL;
     grid full = { 0 };
     if (ft && grid_make(&full, ft, d->mesh->triangle_count)) {
@@ -1841,10 +1847,91 @@ static void test_via_levels(void)
     close_scene(&f);
 }
 
+/* The largest distance to the full mesh (full) found on triangle t of level k, on a
+ * lattice of `steps` a side. */
+static double tri_sampled(const limen_mesh_geometry *g, const grid *full, const tri_box *lt, int t,
+                          int steps)
+{
+    double worst = 0;
+    for (int i = 0; i <= steps; i++)
+        for (int j = 0; i + j <= steps; j++) {
+            double u = (double)i / steps, v = (double)j / steps, p[3];
+            for (int x = 0; x < 3; x++)
+                p[x] = (1 - u - v) * lt[t].a[x] + u * lt[t].b[x] + v * lt[t].c[x];
+            worst = fmax(worst, grid_dist(full, p));
+        }
+    (void)g;
+    return worst;
+}
+
+/* Each triangle of a level keeps its own bound, which the next level's pieces add to their
+ * offsets over it (via_pick): each such bound holds every point of its triangle found on a
+ * lattice, the level's measured directly and the next level's measured over it; and the next
+ * level's pieces are settled that way, its error no looser than measured directly. */
+static void test_local_bounds(void)
+{
+    enum { U = 120, V = 100, NV = (U + 1) * (V + 1), NT = U * V * 2 };
+    fixture f = sphere_scene(U, V);
+    const limen_drawable *d = item(&f);
+    const limen_mesh_geometry *g = d ? d->mesh : NULL;
+    limen__mesh m = bare_mesh(g ? g->positions : NULL, g ? NV : 0, g ? g->indices : NULL, NT);
+    tri_box *ft = g ? boxes_of(g, &g->lods[0]) : NULL;
+    grid full = { 0 };
+    int checked = 0;
+    if (g && g->lod_count >= 6 && limen__mesh_bvh(&m) && ft &&
+        grid_make(&full, ft, g->triangle_count)) {
+        const limen_mesh_lod *a = &g->lods[3], *b = &g->lods[4];
+        float *la = malloc(sizeof *la * (size_t)a->triangle_count),
+              *lb = malloc(sizeof *lb * (size_t)b->triangle_count);
+        tri_box *ta = boxes_of(g, a), *tb = boxes_of(g, b);
+        uint64_t before = limen__lod_local_settled();
+        double ea = la ? limen__lod_measure_local(&m, a->indices, (uint32_t)a->triangle_count,
+                                                   NULL, 0, NULL, la)
+                       : NAN,
+               eb = lb && !isnan(ea)
+                        ? limen__lod_measure_local(&m, b->indices, (uint32_t)b->triangle_count,
+                                                   a->indices, (uint32_t)a->triangle_count, la, lb)
+                        : NAN,
+               direct = limen__lod_measure(&m, b->indices, (uint32_t)b->triangle_count);
+        uint64_t settled = limen__lod_local_settled() - before;
+        CHECK_MSG(!isnan(ea) && !isnan(eb) && ta && tb, "measured: %g %g", ea, eb);
+        for (int t = 0; ta && !isnan(ea) && t < a->triangle_count; t++, checked++) {
+            double found = tri_sampled(g, &full, ta, t, 4);
+            if (!(found <= la[t] * (1 + 1e-5) + 1e-9)) {
+                CHECK_MSG(false, "level 3 triangle %d: bound %g, found %g", t, la[t], found);
+                break;
+            }
+        }
+        for (int t = 0; tb && !isnan(eb) && t < b->triangle_count; t++, checked++) {
+            double found = tri_sampled(g, &full, tb, t, 4);
+            if (!(found <= lb[t] * (1 + 1e-5) + 1e-9)) {
+                CHECK_MSG(false, "level 4 triangle %d: bound %g, found %g", t, lb[t], found);
+                break;
+            }
+        }
+        CHECK_MSG(settled >= (uint64_t)b->triangle_count / 4 && eb <= direct * 1.01,
+                  "%llu pieces settled over level 3; level 4 %g, directly %g",
+                  (unsigned long long)settled, eb, direct);
+        free(la);
+        free(lb);
+        free(ta);
+        free(tb);
+    } else {
+        CHECK(!"no levels, or no memory for the hierarchy or the brute force");
+    }
+    CHECK(checked > 0);
+    grid_free(&full);
+    free(ft);
+    free(m.bvh);
+    free(m.tri_order);
+    close_scene(&f);
+}
+
 static const check_case cases[] = {
     { "bunny_levels", test_bunny_levels },
     { "error_bounds", test_error_bounds },
     { "big_bounds", test_big_bounds },
+    { "local_bounds", test_local_bounds },
     { "measure_threads", test_measure_threads },
     { "flat_grid", test_flat_grid },
     { "seam_sides", test_seam_sides },

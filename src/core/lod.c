@@ -25,16 +25,19 @@
  * asked for again is kept, the same numbers: each vertex of the other surface as a piece
  * sees it, once a piece (lay_bound), and a vertex's distance to a triangle for the pieces
  * around it (convex_bound). A coarse level's piece is laid first over a finer level, whose
- * bound is a fraction of the level before's, instead of the full mesh (via_bound: the
- * offset there plus that level's bound), where that settles it at no more than the answer
- * already holds; the pieces that decide the answer are laid over the full mesh. A small
+ * bound is a fraction of the level before's, or else the level before, instead of the full
+ * mesh (via_bound: the offset there plus that level's bound, or, where its measuring kept
+ * them, the bound of each of its triangles the piece lies over), where that settles it at no
+ * more than the answer already holds; the pieces that decide the answer are laid over the
+ * full mesh. A small
  * untextured mesh's levels are measured as the simplifier makes them (ahead_run). A
  * triangle a level shares with the full mesh (the simplifier leaves most of those away from
  * its collapses as they were) lies in both surfaces: neither side bounds it. On the full
  * mesh's side (its triangles many and small beside a coarse level's) a triangle is passed by
  * where each corner's distance plus how far a point of its triangles may lie from it is
  * within what needs no cutting (side_near: the largest such sum joins the answer), or bounded
- * at once where its three corners are nearest one triangle (the convex bound's one plane). */
+ * at once where its three corners are nearest one triangle (the convex bound's one plane),
+ * or where the level's side found it wholly under one of its pieces (hold). */
 #include <errno.h>
 #include <float.h>
 #include <math.h>
@@ -154,10 +157,17 @@ typedef struct side {
                                  * mesh), within via_e of the full mesh, that a piece is laid
                                  * over first (see via_bound) */
     double via_e, via_upper;
+    const float *to_local;      /* where not NULL (a finer level laid over, sd->to): per
+                                 * triangle of to, a bound on its own distance to the full
+                                 * mesh, which via_bound adds there in place of via_e */
+    float *local_out;           /* where not NULL (a level's side): per triangle of from, the
+                                 * largest bound of its pieces (side_bound) */
+    double tri_most;            /* the largest bound of the current triangle's pieces */
     uint32_t via_hint;          /* the last triangle of via found near a point */
     const uint8_t *skip;        /* where not NULL: per triangle of from, 1 where it is one of
                                  * to's (its distance 0): no corners, no pieces */
     uint64_t via_settled;       /* pieces via_bound settled */
+    uint64_t local_settled;     /* of those, over a finer level's own bounds (to_local) */
     const float *reach;         /* where not NULL, per vertex of from (the full mesh's side:
                                  * its target's reach): see side_near */
     const uint32_t *vweld;      /* where not NULL (the full mesh's side), per vertex of from:
@@ -834,14 +844,16 @@ static double lay_bound(side *sd, const point *v[3], double goal)
             }
             if (twice > 0) {
                 double h[3] = { x[0]->h, x[1]->h, x[2]->h };
+                /* a finer level's triangle: its own distance to the full mesh added */
+                double add = sd->to_local ? sd->to_local[at] : 0;
                 /* over the whole triangle, where that raises nothing; else over its part
                  * inside the piece */
                 double whole = greater(fabs(h[0]), greater(fabs(h[1]), fabs(h[2])));
-                if (whole <= greater(worst, sd->upper ? *sd->upper : sd->via_upper)) {
-                    worst = greater(worst, whole);
+                if (whole + add <= greater(worst, sd->upper ? *sd->upper : sd->via_upper)) {
+                    worst = greater(worst, whole + add);
                 } else if (inside == 3) {
                     /* wholly under the piece: its corners seen from the piece's plane */
-                    worst = greater(worst, lesser(whole, lay_near(to, at, &sn, o, tt, 3)));
+                    worst = greater(worst, lesser(whole, lay_near(to, at, &sn, o, tt, 3)) + add);
                 } else {
                     double part[9][2], off = 0;
                     int np = clip_tri((const double (*)[2])pp, (const double (*)[2])tt, part);
@@ -852,7 +864,8 @@ static double lay_bound(side *sd, const point *v[3], double goal)
                     }
                     if (np >= 3)
                         worst = greater(worst, lesser(off, lay_near(to, at, &sn, o,
-                                                                    (const double (*)[2])part, np)));
+                                                                    (const double (*)[2])part, np)) +
+                                                   add);
                 }
             }
         }
@@ -1075,20 +1088,25 @@ static double via_bound(side *sd, const point *v[3])
     double cap = greater(*sd->upper, *sd->floor) - sd->via_e;
     if (!(cap > 0))
         return INFINITY;
-    /* each corner's triangle there: one with a corner at its vertex, else the nearest */
+    /* each corner's triangle there: one with a corner at its vertex, else one walked to
+     * from the last corner's (lay_bound needs its seeds near the piece, not the nearest:
+     * where they are not, it walks on, or fails and the full mesh is laid over) */
     point q[3];
     const point *qv[3];
     for (int k = 0; k < 3; k++) {
         q[k] = *v[k];
         uint32_t on = q[k].vertex != UINT32_MAX ? vs->to->at_vertex[q[k].vertex] : UINT32_MAX;
-        if (on == UINT32_MAX)
-            limen__lod_target_nearest(vs->to, q[k].p, sd->via_hint, &on);
+        if (on == UINT32_MAX) {
+            on = sd->via_hint;
+            limen__lod_target_walk(vs->to, q[k].p, &on, limen__lod_d2(vs->to, on, q[k].p));
+        }
         q[k].tri = sd->via_hint = on;
         qv[k] = &q[k];
     }
     vs->via_upper = greater(*sd->upper - sd->via_e, 0);
     double b = lay_bound(vs, qv, cap);
     sd->via_settled += b <= cap;
+    sd->local_settled += b <= cap && vs->to_local;
     return b <= cap ? (b + sd->via_e) * (1 + 1e-12) : INFINITY;
 }
 
@@ -1148,6 +1166,7 @@ static void piece(side *sd, const point *a, const point *b, const point *c, int 
     }
     if (bound <= goal || depth == MAX_DEPTH) {
         *sd->upper = greater(*sd->upper, bound);
+        sd->tri_most = greater(sd->tri_most, bound);
         return;
     }
     point mid[3];               /* ab, bc, ca */
@@ -1426,7 +1445,10 @@ static double side_bound(side *sd, int share)
         point v[3];
         for (int k = 0; k < 3; k++)
             corner_point(sd, c[k], &v[k]);
+        sd->tri_most = 0;
         piece(sd, &v[0], &v[1], &v[2], 0);
+        if (sd->local_out)
+            sd->local_out[t] = float_up(sd->tri_most);
     }
     return greater(sd->lower, *sd->upper);
 }
@@ -1480,6 +1502,12 @@ static void memo_clear(memo *m)
 static _Atomic uint64_t via_settled;    /* pieces via_bound settled, in all (for tests) */
 static _Atomic uint64_t near_passed;    /* triangles side_bound passed by, in all (for tests) */
 static _Atomic uint64_t held_passed;    /* and those through held */
+static _Atomic uint64_t local_settled;  /* pieces via_bound settled over a level's own bounds */
+
+uint64_t limen__lod_local_settled(void)
+{
+    return atomic_load(&local_settled);
+}
 
 uint64_t limen__lod_held_passed(void)
 {
@@ -1534,6 +1562,7 @@ static void measure_back(measurer *w)
     free(w->there.lay_vx);
     free(w->back.lay_vx);
     atomic_fetch_add_explicit(&via_settled, w->there.via_settled, memory_order_relaxed);
+    atomic_fetch_add_explicit(&local_settled, w->there.local_settled, memory_order_relaxed);
     atomic_fetch_add_explicit(&near_passed, w->back.near_passed, memory_order_relaxed);
     atomic_fetch_add_explicit(&held_passed, w->back.held_passed, memory_order_relaxed);
     free(w->there.memo);
@@ -1715,6 +1744,23 @@ static void full_make(target *t, const limen__mesh *m, const uint32_t *weld)
     }
 }
 
+/* A finer level's surface, which a coarser level's pieces are laid over first (via_bound). */
+typedef struct via_level {
+    limen__mesh mesh;           /* its triangles over the full mesh's vertices, a hierarchy */
+    target t;
+    uint32_t level;             /* which (0: none) */
+    float *local;               /* where not NULL: per triangle, its own bound (as measured
+                                 * with the level: see via_pick), the caller's to free */
+} via_level;
+
+static void via_free(via_level *v)
+{
+    limen__lod_target_free(&v->t);
+    free(v->mesh.bvh);
+    free(v->mesh.tri_order);
+    *v = (via_level){ 0 };
+}
+
 /* A bound on the two-sided distance between a level (idx, a mesh over the full mesh's
  * vertices, welded: per corner of the full mesh, weld names its vertex at the same position)
  * and the full mesh, or floor where the distance is no more than floor; NAN when out of
@@ -1722,10 +1768,15 @@ static void full_make(target *t, const limen__mesh *m, const uint32_t *weld)
  * full mesh (a fine level's) and the level's corners are found beside the making of its
  * surface, then the full mesh's corners on the level, each side raising a floor of its own
  * (the larger then taken), and the pieces are bounded on MEASURERS threads (in turn on this
- * one where no thread starts): the same answer either way. */
+ * one where no thread starts): the same answer either way. Its pieces are laid first over via
+ * (where not NULL), within via_e of the full mesh, or where via_local is given, each of its
+ * triangles within its own. Where keep is not NULL, the level's surface and each of its
+ * triangles' bounds are kept there (its level number for the caller to set), for the next
+ * level's via (via_pick). */
 static double level_error(const target *full, const uint32_t *weld, const uint32_t *idx,
                           uint32_t ntris, double floor, const atomic_bool *stop,
-                          const target *via, double via_e)
+                          const target *via, double via_e, const float *via_local,
+                          via_level *keep)
 {
     const limen__mesh *m = full->m;
     limen__mesh lv = { .nverts = m->nverts, .ntris = ntris, .pos = m->pos,
@@ -1776,11 +1827,12 @@ static double level_error(const target *full, const uint32_t *weld, const uint32
         held = calloc(m->ntris ? m->ntris : 1, sizeof *held);
         there.hold_into = held;
         back.held = held;
+        there.local_out = keep ? calloc(ntris ? ntris : 1, sizeof *there.local_out) : NULL;
         measurer w[MEASURERS];
         for (int i = 0; i < MEASURERS; i++) {
             w[i] = (measurer){ .there = there, .back = back, .floor = floor, .upper = upper,
-                               .share = i, .via = { .to = via } };
-            w[i].there.via_e = via_e;
+                               .share = i, .via = { .to = via, .to_local = via_local } };
+            w[i].there.via_e = via_local ? 0 : via_e;
         }
         /* the level's side on every measurer, then the full mesh's: those on threads wait
          * at the gate for the rest, which this thread measures in turn */
@@ -1818,6 +1870,16 @@ static double level_error(const target *full, const uint32_t *weld, const uint32
     free(back.found);
     free(same_level);
     free(same_full);
+    if (keep && !isnan(e) && there.local_out) {
+        /* the level's surface kept as it is, over the mesh struct kept with it */
+        via_free(keep);
+        keep->mesh = lv;
+        keep->t = level;
+        keep->t.m = &keep->mesh;
+        keep->local = there.local_out;
+        return e;
+    }
+    free(there.local_out);
     limen__lod_target_free(&level);
     free(lv.bvh);
     free(lv.tri_order);
@@ -1830,7 +1892,7 @@ double limen__lod_measure(const limen__mesh *m, const uint32_t *idx, uint32_t nt
     if (!limen__lod_target_make(&full, m, m->idx))
         return NAN;
     full_make(&full, m, m->idx);
-    double e = level_error(&full, m->idx, idx, ntris, 0, NULL, NULL, 0);
+    double e = level_error(&full, m->idx, idx, ntris, 0, NULL, NULL, 0, NULL, NULL);
     limen__lod_target_free(&full);
     return e;
 }
@@ -1884,49 +1946,107 @@ static bool surface_join(surface_job *j, bool want)
                                  * bound at most this much of the level before's, */
 #define VIA_SHARE 8             /* and at most this share of the full mesh's triangles */
 
-/* A finer level's surface, which a coarser level's pieces are laid over first (via_bound). */
-typedef struct via_level {
-    limen__mesh mesh;           /* its triangles over the full mesh's vertices, a hierarchy */
-    target t;
-    uint32_t level;             /* which (0: none) */
-} via_level;
-
-static void via_free(via_level *v)
+/* The finer level for level k (of m's levels lods): the coarsest whose bound is at most
+ * VIA_RATIO of level k - 1's and which has at most 1 / VIA_SHARE of the full mesh's
+ * triangles, or none (0). A level of `other` (where not NULL: per level, its error not its
+ * measured distance, a baked level's or a dropped one's) is not laid over, nor is any where
+ * level k - 1 is one. */
+static uint32_t via_choice(const limen__mesh *m, const limen_mesh_lod *lods, uint32_t k,
+                           const bool *other)
 {
-    limen__lod_target_free(&v->t);
-    free(v->mesh.bvh);
-    free(v->mesh.tri_order);
-    *v = (via_level){ 0 };
+    for (uint32_t i = k - 1; i >= 1 && i < k && !(other && other[k - 1]); i--)
+        if (!(other && other[i]) && lods[i].error <= VIA_RATIO * lods[k - 1].error)
+            return (uint64_t)lods[i].triangle_count * VIA_SHARE <= m->ntris ? i : 0;
+    return 0;
 }
 
-/* The finer level for level k (of m's levels lods, their indices store + at[k]): the
- * coarsest whose bound is at most VIA_RATIO of level k - 1's and which has at most
- * 1 / VIA_SHARE of the full mesh's triangles, or none; false when out of memory. A level
- * of `other` (where not NULL: per level, its error not its measured distance, a baked
- * level's or a dropped one's) is not laid over, nor is any where level k - 1 is one. */
-static bool via_for(via_level *v, const limen__mesh *m, const limen_mesh_lod *lods,
-                    const size_t *at, const uint32_t *store, uint32_t k, const bool *other)
+#define LOCAL_SHARE 4           /* a level of at most 1 / this of the full mesh's triangles
+                                 * keeps its surface for the next level's via (via_pick) */
+
+/* Whether a level of nt triangles (of m's) keeps its surface for the next level's via. */
+static bool keep_for_next(const limen__mesh *m, uint32_t nt)
 {
-    uint32_t j = 0;
-    for (uint32_t i = k - 1; i >= 1 && i < k && !(other && other[k - 1]); i--)
-        if (!(other && other[i]) && lods[i].error <= VIA_RATIO * lods[k - 1].error) {
-            if ((uint64_t)lods[i].triangle_count * VIA_SHARE <= m->ntris)
-                j = i;
-            break;
-        }
-    if (j == v->level)
-        return true;
-    via_free(v);
-    if (!j)
-        return true;
-    v->mesh = (limen__mesh){ .nverts = m->nverts, .ntris = (uint32_t)lods[j].triangle_count,
-                             .pos = m->pos, .idx = (uint32_t *)(store + at[j]) };
-    if (!surface_tree(&v->t, &v->mesh, NULL, tree_beside(m))) {
+    return (uint64_t)nt * LOCAL_SHARE <= m->ntris;
+}
+
+/* The finer level for level k (of m's levels lods, their indices store + at[k]) into v:
+ * via_choice's, else level k - 1 where its measuring kept its surface (kept, which is left
+ * empty), and where a level's triangles have their own bounds (locals[j], where not NULL:
+ * far tighter on the whole than its largest), with those; false when out of memory. */
+static bool via_pick(via_level *v, via_level *kept, const limen__mesh *m,
+                     const limen_mesh_lod *lods, const size_t *at, const uint32_t *store,
+                     uint32_t k, const bool *other, float *const *locals)
+{
+    uint32_t j = via_choice(m, lods, k, other);
+    if (!j && kept->level == k - 1 && k > 1 && !(other && other[k - 1]))
+        j = k - 1;
+    if (j && kept->level == j && j != v->level) {
         via_free(v);
-        return false;
+        *v = *kept;
+        v->t.m = &v->mesh;
+        *kept = (via_level){ 0 };
     }
-    v->level = j;
+    via_free(kept);
+    if (j != v->level) {
+        via_free(v);
+        if (j) {
+            v->mesh = (limen__mesh){ .nverts = m->nverts,
+                                     .ntris = (uint32_t)lods[j].triangle_count,
+                                     .pos = m->pos, .idx = (uint32_t *)(store + at[j]) };
+            if (!surface_tree(&v->t, &v->mesh, NULL, tree_beside(m))) {
+                via_free(v);
+                return false;
+            }
+            v->level = j;
+        }
+    }
+    v->local = j ? locals[j] : NULL;
     return true;
+}
+
+/* Level k measured (as level_error), over via (via_pick's); its surface kept in kept where
+ * keep_for_next, and its triangles' own bounds in locals[k] (the caller's to free). */
+static double level_measure(const target *full, const uint32_t *weld, const limen_mesh_lod *lods,
+                            const size_t *at, const uint32_t *store, uint32_t k, double floor,
+                            const atomic_bool *stop, const via_level *via, via_level *kept,
+                            float **locals)
+{
+    uint32_t nt = (uint32_t)lods[k].triangle_count;
+    bool keep = keep_for_next(full->m, nt);
+    double e = level_error(full, weld, store + at[k], nt, floor, stop,
+                           via->level ? &via->t : NULL, via->level ? lods[via->level].error : 0,
+                           via->local, keep ? kept : NULL);
+    if (keep && kept->t.m) {
+        kept->level = k;
+        locals[k] = kept->local;
+    }
+    return e;
+}
+
+double limen__lod_measure_local(const limen__mesh *m, const uint32_t *idx, uint32_t ntris,
+                                const uint32_t *via_idx, uint32_t via_ntris,
+                                const float *via_local, float *local)
+{
+    target full = { 0 };
+    via_level via = { .mesh = { .nverts = m->nverts, .ntris = via_ntris, .pos = m->pos,
+                                .idx = (uint32_t *)via_idx } },
+              keep = { 0 };
+    double e = NAN;
+    if (limen__lod_target_make(&full, m, m->idx)) {
+        full_make(&full, m, m->idx);
+        if (!via_idx || surface_tree(&via.t, &via.mesh, NULL, false))
+            e = level_error(&full, m->idx, idx, ntris, 0, NULL, via_idx ? &via.t : NULL, 0,
+                            via_idx ? via_local : NULL, &keep);
+        limen__lod_target_free(&full);
+    }
+    if (keep.local)
+        memcpy(local, keep.local, sizeof *local * ntris);
+    else
+        e = NAN;
+    free(keep.local);
+    via_free(&keep);
+    via_free(&via);
+    return e;
 }
 
 double limen__lod_measure_via(const limen__mesh *m, const uint32_t *idx, uint32_t ntris,
@@ -1941,7 +2061,7 @@ double limen__lod_measure_via(const limen__mesh *m, const uint32_t *idx, uint32_
     if (limen__lod_target_make(&full, m, m->idx)) {
         full_make(&full, m, m->idx);
         if (surface_tree(&via, &vm, NULL, false))
-            e = level_error(&full, m->idx, idx, ntris, 0, NULL, &via, via_e);
+            e = level_error(&full, m->idx, idx, ntris, 0, NULL, &via, via_e, NULL, NULL);
         limen__lod_target_free(&full);
     }
     *settled = atomic_load(&via_settled) - before;
@@ -1981,7 +2101,8 @@ static void *ahead_run(void *arg)
 {
     ahead *a = arg;
     const limen__mesh *m = a->surface->whole;
-    via_level via = { 0 };
+    via_level via = { 0 }, kept = { 0 };
+    float *locals[MAX_LEVELS] = { NULL };
     double prev = 0;
     for (uint32_t k = 1; surface_join(a->surface, true); k++) {
         pthread_mutex_lock(&a->mu);
@@ -1989,13 +2110,11 @@ static void *ahead_run(void *arg)
             pthread_cond_wait(&a->more, &a->mu);
         bool go = a->ready > k && !a->quit;
         pthread_mutex_unlock(&a->mu);
-        if (!go || !via_for(&via, m, a->lods, a->at, a->store, k, NULL))
+        if (!go || !via_pick(&via, &kept, m, a->lods, a->at, a->store, k, NULL, locals))
             break;
-        double e = level_error(a->surface->t, a->weld, a->store + a->at[k],
-                               (uint32_t)a->lods[k].triangle_count,
-                               a->halved[k] ? fmax(a->estimate[k], prev) : a->estimate[k],
-                               a->stop, via.level ? &via.t : NULL,
-                               via.level ? a->lods[via.level].error : 0);
+        double e = level_measure(a->surface->t, a->weld, a->lods, a->at, a->store, k,
+                                 a->halved[k] ? fmax(a->estimate[k], prev) : a->estimate[k],
+                                 a->stop, &via, &kept, locals);
         if (isnan(e))
             break;
         a->lods[k].error = float_up(e);
@@ -2004,6 +2123,9 @@ static void *ahead_run(void *arg)
         a->measured = k + 1;
     }
     via_free(&via);
+    via_free(&kept);
+    for (int k = 0; k < MAX_LEVELS; k++)
+        free(locals[k]);
     return NULL;
 }
 
@@ -2789,7 +2911,9 @@ static bool lods_make(const limen__mesh *m, const atomic_bool *stop, made *out)
         limen__lod_charts(m, attr, chart);
     limen__lod_rims rims = { 0 };   /* made for the first textured level */
     via_level via = { 0 };          /* a finer level the level's pieces are laid over first */
-    bool other[MAX_LEVELS] = { false };     /* levels not laid over (via_for) */
+    via_level kept = { 0 };         /* the level before, as its measuring kept it */
+    bool other[MAX_LEVELS] = { false };     /* levels not laid over (via_choice) */
+    float *locals[MAX_LEVELS] = { NULL };   /* per level, its triangles' own bounds */
     double prev = 0;
     out->block = block;
     memcpy(out->at, at, sizeof at);
@@ -2804,7 +2928,7 @@ static bool lods_make(const limen__mesh *m, const atomic_bool *stop, made *out)
             }
             double e = level_error(&full, attr, store + at[k], nt,
                                    halved[k] ? fmax(estimate[k], prev) : estimate[k], stop,
-                                   NULL, 0);
+                                   NULL, 0, NULL, NULL);
             heap_give_back();
             if (isnan(e)) {
                 ok = false;
@@ -2854,17 +2978,15 @@ static bool lods_make(const limen__mesh *m, const atomic_bool *stop, made *out)
         /* a baked or dropped level's error is not its distance: none laid over */
         for (uint32_t i = 0; i < k; i++)
             other[i] = loose[i] || dropped[i];
-        if (k >= ah.measured && !via_for(&via, m, lods, at, store, k, other)) {
+        if (k >= ah.measured && !via_pick(&via, &kept, m, lods, at, store, k, other, locals)) {
             ok = false;
             break;
         }
         double e = k < ah.measured
                        ? ah.e[k]
-                       : level_error(&full, attr, store + at[k],
-                                     (uint32_t)lods[k].triangle_count,
-                                     halved[k] ? fmax(estimate[k], prev) : estimate[k], stop,
-                                     via.level ? &via.t : NULL,
-                                     via.level ? lods[via.level].error : 0);
+                       : level_measure(&full, attr, lods, at, store, k,
+                                       halved[k] ? fmax(estimate[k], prev) : estimate[k], stop,
+                                       &via, &kept, locals);
         heap_give_back();
         if (isnan(e)) {
             ok = false;
@@ -2893,6 +3015,9 @@ static bool lods_make(const limen__mesh *m, const atomic_bool *stop, made *out)
         limen__lod_seam_sides(m, attr, store, out->used);
     }
     via_free(&via);
+    via_free(&kept);
+    for (int k = 0; k < MAX_LEVELS; k++)
+        free(locals[k]);
     free(chart);
     limen__lod_rims_free(&rims);
     if (attr != shadow)

@@ -153,6 +153,15 @@ uint64_t limen__lod_near_passed(void);
 /* The full mesh's triangles its side passed by as wholly under a level's piece (hold), in
  * all (for tests). */
 uint64_t limen__lod_held_passed(void);
+/* How many of a level's pieces core/lod.c's measuring has bounded over a finer level with
+ * that level's triangles' own bounds (via_pick), in all (for tests). */
+uint64_t limen__lod_local_settled(void);
+/* As limen__lod_measure, and each of the level's triangles' own bound into local (ntris of
+ * them); its pieces laid first over the level via_idx (where not NULL) with each of its
+ * triangles' own bound via_local (for tests). */
+double limen__lod_measure_local(const limen__mesh *m, const uint32_t *idx, uint32_t ntris,
+                                const uint32_t *via_idx, uint32_t via_ntris,
+                                const float *via_local, float *local);
 /* Whether core/lod.c's measuring keeps what it has found for the pieces after (a vertex as
  * a piece sees it, a vertex's distance to a triangle) or finds it again each time: the same
  * bounds, to the bit, either way (for tests; on by default). */
