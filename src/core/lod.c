@@ -65,7 +65,7 @@
 #include "core/texture.h"
 
 #define MAX_LEVELS 12           /* the full mesh and up to 11 coarser ones */
-#define LOD_VERSION 29          /* of how levels are made and measured: levels kept between
+#define LOD_VERSION 30          /* of how levels are made and measured: levels kept between
                                  * runs (core/lod_cache.c) are keyed by it, so change it with
                                  * anything that changes a level or its error */
 #define MIN_TRIS 16             /* a level this small gets no halved successor */
@@ -1871,8 +1871,13 @@ static double level_error(const target *full, const uint32_t *weld, const uint32
     free(same_level);
     free(same_full);
     if (keep && !isnan(e) && there.local_out) {
-        /* the level's surface kept as it is, over the mesh struct kept with it */
+        /* the level's surface kept, over the mesh struct kept with it, less what laying
+         * over it does without (its hierarchy: via_bound walks, not searches) */
         via_free(keep);
+        free(lv.bvh);
+        free(lv.tri_order);
+        lv.bvh = NULL;
+        lv.tri_order = NULL;
         keep->mesh = lv;
         keep->t = level;
         keep->t.m = &keep->mesh;
@@ -1960,7 +1965,7 @@ static uint32_t via_choice(const limen__mesh *m, const limen_mesh_lod *lods, uin
     return 0;
 }
 
-#define LOCAL_SHARE 4           /* a level of at most 1 / this of the full mesh's triangles
+#define LOCAL_SHARE 2           /* a level of at most 1 / this of the full mesh's triangles
                                  * keeps its surface for the next level's via (via_pick) */
 
 /* Whether a level of nt triangles (of m's) keeps its surface for the next level's via. */
