@@ -29,15 +29,13 @@
  * mesh (via_bound: the offset there plus that level's bound, or, where its measuring kept
  * them, the bound of each of its triangles the piece lies over), where that settles it at no
  * more than the answer already holds; the pieces that decide the answer are laid over the
- * full mesh. A small
- * untextured mesh's levels are measured as the simplifier makes them (ahead_run). A
- * triangle a level shares with the full mesh (the simplifier leaves most of those away from
- * its collapses as they were) lies in both surfaces: neither side bounds it. On the full
+ * full mesh. A small untextured mesh's levels are measured as the simplifier makes them
+ * (ahead_run). A triangle a level shares with the full mesh (the simplifier leaves most of
+ * those away from its collapses as they were) lies in both surfaces: neither side bounds it. On the full
  * mesh's side (its triangles many and small beside a coarse level's) a triangle is passed by
  * where each corner's distance plus how far a point of its triangles may lie from it is
  * within what needs no cutting (side_near: the largest such sum joins the answer), or bounded
- * at once where its three corners are nearest one triangle (the convex bound's one plane),
- * or where the level's side found it wholly under one of its pieces (hold). */
+ * at once where its three corners are nearest one triangle (the convex bound's one plane). */
 #include <errno.h>
 #include <float.h>
 #include <math.h>
@@ -180,10 +178,6 @@ typedef struct side {
     double near_max;            /* the largest of those sums: a bound on every triangle
                                  * whose three corners are near, which side_bound passes by */
     uint64_t near_passed;       /* triangles it passed by */
-    uint64_t held_passed;       /* and those it passed by through held */
-    uint32_t *hold_into;        /* where not NULL (a level's side, laid over the full mesh),
-                                 * per triangle of the full mesh: see hold */
-    const uint32_t *held;       /* the same, read (the full mesh's side) */
 } side;
 
 /* A bound at most this needs no cutting (it is within REL_TOL of the floor). */
@@ -642,27 +636,6 @@ static unsigned lay_sides(lay_vertex *x, const double (*pp)[2])
     return x->sides;
 }
 
-/* Triangle t of the full mesh, its corners seen straight along the normal of a level's
- * piece at offsets h inside the piece (on its border counts), lies within the largest |h|
- * of the level over its whole area: each of its points has one of the piece's straight
- * along the normal, at an offset linear over it. Kept in sd->hold_into[t] (a float's bits, the
- * least kept; 0: none yet) for the full mesh's side, which then needs no bound of its own
- * for t where that is within its goal (side_bound). The pieces of both measurers set it
- * before either reads it, and the least is the same whichever sets it first. */
-static void hold(side *sd, uint32_t t, const double h[3], double ne)
-{
-    double most = greater(fabs(h[0]), greater(fabs(h[1]), fabs(h[2])));
-    float f = float_up(most * (1 + 1e-12) + 1e-12 * ne);
-    uint32_t bits;
-    memcpy(&bits, &f, sizeof bits);
-    if (bits == 0)
-        return;
-    uint32_t *at = &sd->hold_into[t], was = __atomic_load_n(at, __ATOMIC_RELAXED);
-    while ((was == 0 || bits < was) &&
-           !__atomic_compare_exchange_n(at, &was, bits, true, __ATOMIC_RELAXED, __ATOMIC_RELAXED))
-        ;
-}
-
 /* A new mark, set on queue[0, nq): from here the marks tell what is queued; 0 when out of
  * memory for them. */
 static uint32_t lay_mark(side *sd, const uint32_t *queue, int nq)
@@ -792,8 +765,6 @@ static double lay_bound(side *sd, const point *v[3], double goal)
                 edge_out[k] = (s[k] & s[k == 2 ? 0 : k + 1] & 070) != 0;
                 inside += (s[k] & 7) == 7;
             }
-            if (inside == 3 && sd->hold_into)
-                hold(sd, at, (double[3]){ x[0]->h, x[1]->h, x[2]->h }, ne);
             twice = orient2(tt[0], tt[1], tt[2]);
         }
         if (meets && inside < 3) {
@@ -1422,16 +1393,6 @@ static double side_bound(side *sd, int share)
             sd->near_passed++;  /* within near_max, which the answer holds */
             continue;
         }
-        /* wholly under one of the level's pieces (hold), within that piece's offsets */
-        if (sd->held && sd->held[t]) {
-            float f;
-            memcpy(&f, &sd->held[t], sizeof f);
-            if (f <= greater(side_need(sd), *sd->upper)) {
-                *sd->upper = greater(*sd->upper, f);
-                sd->held_passed++;
-                continue;
-            }
-        }
         /* three corners nearest one triangle there: the distance to it, convex, is no more
          * than theirs over the whole triangle (convex_bound's plane, at once) */
         const corner *p0 = &sd->pts[c[0]], *p1 = &sd->pts[c[1]], *p2 = &sd->pts[c[2]];
@@ -1463,35 +1424,7 @@ typedef struct measurer {
     int share;
     side via;                   /* the level's pieces laid over a finer level (via.to, where
                                  * not NULL) first */
-    double a;                   /* the level's side's bound */
-    struct gate *gate;          /* where not NULL: waited at between the two sides */
 } measurer;
-
-/* Where the measurers wait for each other between the level's side and the full mesh's
- * (which reads what the first holds): parties is 0 until the threads that start are known. */
-typedef struct gate {
-    pthread_mutex_t mu;
-    pthread_cond_t all;
-    int done, parties;
-} gate;
-
-static void gate_pass(gate *g)
-{
-    pthread_mutex_lock(&g->mu);
-    g->done++;
-    pthread_cond_broadcast(&g->all);
-    while (g->parties == 0 || g->done < g->parties)
-        pthread_cond_wait(&g->all, &g->mu);
-    pthread_mutex_unlock(&g->mu);
-}
-
-static void gate_open(gate *g, int parties)
-{
-    pthread_mutex_lock(&g->mu);
-    g->parties = parties;
-    pthread_cond_broadcast(&g->all);
-    pthread_mutex_unlock(&g->mu);
-}
 
 static void memo_clear(memo *m)
 {
@@ -1501,7 +1434,6 @@ static void memo_clear(memo *m)
 
 static _Atomic uint64_t via_settled;    /* pieces via_bound settled, in all (for tests) */
 static _Atomic uint64_t near_passed;    /* triangles side_bound passed by, in all (for tests) */
-static _Atomic uint64_t held_passed;    /* and those through held */
 static _Atomic uint64_t local_settled;  /* pieces via_bound settled over a level's own bounds */
 
 uint64_t limen__lod_local_settled(void)
@@ -1509,19 +1441,14 @@ uint64_t limen__lod_local_settled(void)
     return atomic_load(&local_settled);
 }
 
-uint64_t limen__lod_held_passed(void)
-{
-    return atomic_load(&held_passed);
-}
-
 uint64_t limen__lod_near_passed(void)
 {
     return atomic_load(&near_passed);
 }
 
-/* A measurer's level's side. */
-static void measure_there(measurer *w)
+static void *measure(void *arg)
 {
+    measurer *w = arg;
     w->there.floor = w->back.floor = &w->floor;
     w->there.upper = w->back.upper = &w->upper;
     /* each queue with its set after it; each table of vertices with its room after it */
@@ -1540,19 +1467,13 @@ static void measure_there(measurer *w)
     }
     /* each side's marks (where its pieces came to need them) freed before the other's */
     memo_clear(w->there.memo);
-    w->a = side_bound(&w->there, w->share);
+    double a = side_bound(&w->there, w->share);
     free(w->there.marks);
     w->there.marks = NULL;
-}
-
-/* Then (once every measurer's level's side is done: the full mesh's side reads what they
- * hold) its full mesh's side; what it made freed. */
-static void measure_back(measurer *w)
-{
     memo_clear(w->back.memo);
     double b = w->there.stopped ? 0 : side_bound(&w->back, w->share);
     if (!w->there.stopped && !w->back.stopped)
-        w->e = greater(greater(w->a, b), w->floor);
+        w->e = greater(greater(a, b), w->floor);
     free(w->there.seen);
     free(w->back.seen);
     free(w->there.marks);
@@ -1564,20 +1485,10 @@ static void measure_back(measurer *w)
     atomic_fetch_add_explicit(&via_settled, w->there.via_settled, memory_order_relaxed);
     atomic_fetch_add_explicit(&local_settled, w->there.local_settled, memory_order_relaxed);
     atomic_fetch_add_explicit(&near_passed, w->back.near_passed, memory_order_relaxed);
-    atomic_fetch_add_explicit(&held_passed, w->back.held_passed, memory_order_relaxed);
     free(w->there.memo);
     free(w->via.marks);
     free(w->via.queue);
     free(w->via.lay_vx);
-}
-
-/* A measurer on a thread of its own: its two sides, the gate between. */
-static void *measure(void *arg)
-{
-    measurer *w = arg;
-    measure_there(w);
-    gate_pass(w->gate);
-    measure_back(w);
     return NULL;
 }
 
@@ -1783,7 +1694,6 @@ static double level_error(const target *full, const uint32_t *weld, const uint32
                        .idx = (uint32_t *)idx };
     target level = { 0 };
     double e = NAN;
-    uint32_t *held = NULL;
     double diag = 0;
     for (int a = 0; a < 3; a++)
         diag += (m->hi[a] - m->lo[a]) * (m->hi[a] - m->lo[a]);
@@ -1823,10 +1733,6 @@ static double level_error(const target *full, const uint32_t *weld, const uint32
         there.floor = back.floor = &floor;
         side_near(&back);
         upper = back.near_max;  /* what the triangles side_bound passes by hold */
-        /* the full mesh's triangles the level's pieces find wholly under them (hold) */
-        held = calloc(m->ntris ? m->ntris : 1, sizeof *held);
-        there.hold_into = held;
-        back.held = held;
         there.local_out = keep ? calloc(ntris ? ntris : 1, sizeof *there.local_out) : NULL;
         measurer w[MEASURERS];
         for (int i = 0; i < MEASURERS; i++) {
@@ -1834,36 +1740,22 @@ static double level_error(const target *full, const uint32_t *weld, const uint32
                                .share = i, .via = { .to = via, .to_local = via_local } };
             w[i].there.via_e = via_local ? 0 : via_e;
         }
-        /* the level's side on every measurer, then the full mesh's: those on threads wait
-         * at the gate for the rest, which this thread measures in turn */
-        gate g = { .mu = PTHREAD_MUTEX_INITIALIZER, .all = PTHREAD_COND_INITIALIZER };
         pthread_t th[MEASURERS];
         bool started[MEASURERS] = { false };
-        int parties = 1;
-        for (int i = 0; i < MEASURERS; i++) {
-            w[i].gate = &g;
-            /* a thread for a small mesh costs more than it saves */
-            if (i > 0 && measure_threads && m->ntris >= THREAD_TRIS)
-                parties += started[i] = pthread_create(&th[i], NULL, measure, &w[i]) == 0;
-        }
-        gate_open(&g, parties);
-        for (int i = 0; i < MEASURERS; i++)
-            if (!started[i])
-                measure_there(&w[i]);
-        gate_pass(&g);
-        for (int i = 0; i < MEASURERS; i++)
-            if (!started[i])
-                measure_back(&w[i]);
         for (int i = 1; i < MEASURERS; i++)
+            /* a thread for a small mesh costs more than it saves */
+            if (measure_threads && m->ntris >= THREAD_TRIS)
+                started[i] = pthread_create(&th[i], NULL, measure, &w[i]) == 0;
+        measure(&w[0]);
+        e = w[0].e;
+        for (int i = 1; i < MEASURERS; i++) {
             if (started[i])
                 pthread_join(th[i], NULL);
-        pthread_mutex_destroy(&g.mu);
-        pthread_cond_destroy(&g.all);
-        e = w[0].e;
-        for (int i = 1; i < MEASURERS; i++)
+            else
+                measure(&w[i]);
             e = isnan(e) || isnan(w[i].e) ? NAN : greater(e, w[i].e);
+        }
     }
-    free(held);
     free(there.pts);
     free(back.pts);
     free(back.near);

@@ -150,9 +150,6 @@ double limen__lod_measure_via(const limen__mesh *m, const uint32_t *idx, uint32_
 /* How many of the full mesh's triangles core/lod.c's measuring has passed by, bounded
  * through their corners' reach alone (side_near), in all so far (for tests). */
 uint64_t limen__lod_near_passed(void);
-/* The full mesh's triangles its side passed by as wholly under a level's piece (hold), in
- * all (for tests). */
-uint64_t limen__lod_held_passed(void);
 /* How many of a level's pieces core/lod.c's measuring has bounded over a finer level with
  * that level's triangles' own bounds (via_pick), in all (for tests). */
 uint64_t limen__lod_local_settled(void);
