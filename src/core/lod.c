@@ -1657,7 +1657,8 @@ static void full_make(target *t, const limen__mesh *m, const uint32_t *weld)
 
 /* A finer level's surface, which a coarser level's pieces are laid over first (via_bound). */
 typedef struct via_level {
-    limen__mesh mesh;           /* its triangles over the full mesh's vertices, a hierarchy */
+    limen__mesh mesh;           /* its triangles over the full mesh's vertices (no hierarchy:
+                                 * via_bound walks over it, searches nothing) */
     target t;
     uint32_t level;             /* which (0: none) */
     float *local;               /* where not NULL: per triangle, its own bound (as measured
@@ -1763,8 +1764,8 @@ static double level_error(const target *full, const uint32_t *weld, const uint32
     free(same_level);
     free(same_full);
     if (keep && !isnan(e) && there.local_out) {
-        /* the level's surface kept, over the mesh struct kept with it, less what laying
-         * over it does without (its hierarchy: via_bound walks, not searches) */
+        /* the level's surface kept, over the mesh struct kept with it, less its hierarchy
+         * (see via_level) */
         via_free(keep);
         free(lv.bvh);
         free(lv.tri_order);
@@ -1890,7 +1891,7 @@ static bool via_pick(via_level *v, via_level *kept, const limen__mesh *m,
             v->mesh = (limen__mesh){ .nverts = m->nverts,
                                      .ntris = (uint32_t)lods[j].triangle_count,
                                      .pos = m->pos, .idx = (uint32_t *)(store + at[j]) };
-            if (!surface_tree(&v->t, &v->mesh, NULL, tree_beside(m))) {
+            if (!limen__lod_target_make(&v->t, &v->mesh, NULL)) {
                 via_free(v);
                 return false;
             }
@@ -1931,7 +1932,7 @@ double limen__lod_measure_local(const limen__mesh *m, const uint32_t *idx, uint3
     double e = NAN;
     if (limen__lod_target_make(&full, m, m->idx)) {
         full_make(&full, m, m->idx);
-        if (!via_idx || surface_tree(&via.t, &via.mesh, NULL, false))
+        if (!via_idx || limen__lod_target_make(&via.t, &via.mesh, NULL))
             e = level_error(&full, m->idx, idx, ntris, 0, NULL, via_idx ? &via.t : NULL, 0,
                             via_idx ? via_local : NULL, &keep);
         limen__lod_target_free(&full);
@@ -1957,14 +1958,12 @@ double limen__lod_measure_via(const limen__mesh *m, const uint32_t *idx, uint32_
     uint64_t before = atomic_load(&via_settled);
     if (limen__lod_target_make(&full, m, m->idx)) {
         full_make(&full, m, m->idx);
-        if (surface_tree(&via, &vm, NULL, false))
+        if (limen__lod_target_make(&via, &vm, NULL))
             e = level_error(&full, m->idx, idx, ntris, 0, NULL, &via, via_e, NULL, NULL);
         limen__lod_target_free(&full);
     }
     *settled = atomic_load(&via_settled) - before;
     limen__lod_target_free(&via);
-    free(vm.bvh);
-    free(vm.tri_order);
     return e;
 }
 
