@@ -63,7 +63,7 @@
 #include "core/texture.h"
 
 #define MAX_LEVELS 12           /* the full mesh and up to 11 coarser ones */
-#define LOD_VERSION 30          /* of how levels are made and measured: levels kept between
+#define LOD_VERSION 31          /* of how levels are made and measured: levels kept between
                                  * runs (core/lod_cache.c) are keyed by it, so change it with
                                  * anything that changes a level or its error */
 #define MIN_TRIS 16             /* a level this small gets no halved successor */
@@ -81,7 +81,9 @@
 #define MAX_DEPTH 4             /* pieces per triangle: at most 4^4 */
 #define LOD_NICE 10            /* how much a build beside the scene's thread yields to it */
 #define MEASURERS 2           /* threads bounding a level's pieces (this machine's cores) */
-#define SLICE 256               /* triangles a measurer takes in turn with the others */
+#define SLICE 256               /* triangles a measurer takes in turn with the others, at most */
+#define SLICES 16               /* and at least this many slices a measurer, where fewer
+                                 * triangles (a coarse level's: its costly pieces few) */
 #define THREAD_TRIS 8192        /* a mesh this big has its levels measured on threads */
 #define NEAR_ENOUGH 0.8         /* a cut's point this near a corner's triangle (of what the
                                  * floor asks; not of the largest bound, which it would raise)
@@ -1372,15 +1374,24 @@ static void corner_point(const side *sd, uint32_t v, point *q)
                   .rough = signbit(c->d2) };
 }
 
+/* The triangles a measurer takes in turn with the others, of n: SLICE, or fewer where that
+ * leaves a measurer fewer than SLICES slices. */
+static uint32_t slice_of(uint32_t n)
+{
+    uint32_t s = n / (MEASURERS * SLICES);
+    return s < 1 ? 1 : s > SLICE ? SLICE : s;
+}
+
 /* An upper bound on the largest distance from a point of from's surface to to's over its
- * triangles of the slices `share` (of every MEASURERS slices of SLICE triangles), or at
+ * triangles of the slices `share` (of every MEASURERS slices of slice_of's triangles), or at
  * most *floor * (1 + REL_TOL) where it is below that (MAX_DEPTH may leave it above the
  * true one). */
 static double side_bound(side *sd, int share)
 {
     const limen__mesh *from = sd->from;
-    for (uint32_t t = (uint32_t)share * SLICE; t < from->ntris;
-         t += (t + 1) % SLICE ? 1 : (MEASURERS - 1) * SLICE + 1) {
+    uint32_t slice = slice_of(from->ntris);
+    for (uint32_t t = (uint32_t)share * slice; t < from->ntris;
+         t += (t + 1) % slice ? 1 : (MEASURERS - 1) * slice + 1) {
         if (sd->stop && t % 1024 == 0 && atomic_load_explicit(sd->stop, memory_order_relaxed)) {
             sd->stopped = true;
             break;
