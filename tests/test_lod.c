@@ -333,6 +333,21 @@ static double grid_dist(const grid *g, const double p[3])
 /* brute_hausdorff for bigger meshes, against the full mesh filed in `full`: every
  * full-mesh vertex against level k, and from level k a barycentric lattice of `steps` on
  * every `stride`-th triangle and `random` points at random. */
+/* The largest distance to the full mesh (full) found on triangle t of lt, on a lattice of
+ * `steps` a side. */
+static double tri_sampled(const grid *full, const tri_box *lt, int t, int steps)
+{
+    double worst = 0;
+    for (int i = 0; i <= steps; i++)
+        for (int j = 0; i + j <= steps; j++) {
+            double u = (double)i / steps, v = (double)j / steps, p[3];
+            for (int x = 0; x < 3; x++)
+                p[x] = (1 - u - v) * lt[t].a[x] + u * lt[t].b[x] + v * lt[t].c[x];
+            worst = fmax(worst, grid_dist(full, p));
+        }
+    return worst;
+}
+
 static double brute_sampled(const limen_mesh_geometry *g, const grid *full, int k, int stride,
                             int steps, int random)
 {
@@ -344,13 +359,7 @@ static double brute_sampled(const limen_mesh_geometry *g, const grid *full, int 
     double worst = 0;
     int n = lv->triangle_count;
     for (int t = 0; ok && t < n; t += stride)
-        for (int i = 0; i <= steps; i++)
-            for (int j = 0; i + j <= steps; j++) {
-                double u = (double)i / steps, v = (double)j / steps, p[3];
-                for (int x = 0; x < 3; x++)
-                    p[x] = (1 - u - v) * lt[t].a[x] + u * lt[t].b[x] + v * lt[t].c[x];
-                worst = fmax(worst, grid_dist(full, p));
-            }
+        worst = fmax(worst, tri_sampled(full, lt, t, steps));
     for (int i = 0; ok && i < random; i++) {
         const tri_box *t = &lt[(int)(uniform() * n)];
         double r1 = sqrt(uniform()), r2 = uniform(), p[3];
@@ -1790,6 +1799,56 @@ static void test_measure_memo(void)
     free(idx);
 }
 
+/* A bumpy sphere of U x V quads made into a scene, its mesh bare for the measuring (with its
+ * hierarchy) and the full mesh's triangles on a grid for the brute force. */
+typedef struct measured {
+    fixture f;
+    const limen_mesh_geometry *g;
+    limen__mesh m;
+    tri_box *ft;
+    grid full;
+    bool ok;                    /* all of it made, with at least `levels` levels */
+} measured;
+
+static measured measured_sphere(int u, int v, int levels)
+{
+    measured s = { .f = sphere_scene(u, v) };
+    const limen_drawable *d = item(&s.f);
+    s.g = d ? d->mesh : NULL;
+    s.m = bare_mesh(s.g ? s.g->positions : NULL, s.g ? (uint32_t)((u + 1) * (v + 1)) : 0,
+                    s.g ? s.g->indices : NULL, (uint32_t)(u * v * 2));
+    s.ft = s.g ? boxes_of(s.g, &s.g->lods[0]) : NULL;
+    s.ok = s.g && s.g->lod_count >= levels && limen__mesh_bvh(&s.m) && s.ft &&
+           grid_make(&s.full, s.ft, s.g->triangle_count);
+    CHECK_MSG(s.ok, "no levels, or no memory for the hierarchy or the brute force");
+    return s;
+}
+
+static void measured_free(measured *s)
+{
+    grid_free(&s->full);
+    free(s->ft);
+    free(s->m.bvh);
+    free(s->m.tri_order);
+    close_scene(&s->f);
+}
+
+/* Whether every triangle of the level lv (its boxes lt) has no point of a lattice on it
+ * farther from the full mesh than its own bound (own); `checked` counts those looked at. */
+static bool own_bounds_hold(const measured *s, const limen_mesh_lod *lv, const tri_box *lt,
+                            const float *own, int *checked)
+{
+    for (int t = 0; t < lv->triangle_count; t++, (*checked)++) {
+        double found = tri_sampled(&s->full, lt, t, 4);
+        if (!(found <= own[t] * (1 + 1e-5) + 1e-9)) {
+            CHECK_MSG(false, "%d triangles: triangle %d's bound %g, found %g", lv->triangle_count,
+                      t, own[t], found);
+            return false;
+        }
+    }
+    return true;
+}
+
 /* A coarse level's pieces laid first over a finer level (within its bound of the full
  * mesh; core/lod.c's via_bound), as the build does for the coarse levels of a big mesh:
  * some pieces settle there (fails where none does: the finer level never asked, or asked
@@ -1798,17 +1857,12 @@ static void test_measure_memo(void)
  * largest distance. */
 static void test_via_levels(void)
 {
-    enum { U = 200, V = 160, NV = (U + 1) * (V + 1), NT = U * V * 2 };
-    fixture f = sphere_scene(U, V);
-    const limen_drawable *d = item(&f);
-    const limen_mesh_geometry *g = d ? d->mesh : NULL;
-    limen__mesh m = bare_mesh(g ? g->positions : NULL, g ? NV : 0, g ? g->indices : NULL, NT);
-    tri_box *ft = g ? boxes_of(g, &g->lods[0]) : NULL;
-    grid full = { 0 };
+    enum { U = 200, V = 160, NT = U * V * 2 };
+    measured s = measured_sphere(U, V, 8);
+    const limen_mesh_geometry *g = s.g;
     uint64_t settled = 0;
     int asked = 0;
-    if (g && g->lod_count >= 8 && limen__mesh_bvh(&m) && ft &&
-        grid_make(&full, ft, g->triangle_count)) {
+    if (s.ok) {
         for (int k = 3; k < g->lod_count; k++) {
             /* the coarsest finer level within 0.6 of the level before's bound, as the build */
             int j = k - 1;
@@ -1818,44 +1872,21 @@ static void test_via_levels(void)
                 continue;
             const limen_mesh_lod *lv = &g->lods[k], *fine = &g->lods[j];
             uint64_t n = 0;
-            double direct = limen__lod_measure(&m, lv->indices, (uint32_t)lv->triangle_count),
-                   via = limen__lod_measure_via(&m, lv->indices, (uint32_t)lv->triangle_count,
+            double direct = limen__lod_measure(&s.m, lv->indices, (uint32_t)lv->triangle_count),
+                   via = limen__lod_measure_via(&s.m, lv->indices, (uint32_t)lv->triangle_count,
                                                 fine->indices, (uint32_t)fine->triangle_count,
                                                 fine->error, &n),
-                   found = brute_sampled(g, &full, k, 1, 6, 400);
+                   found = brute_sampled(g, &s.full, k, 1, 6, 400);
             settled += n;
             asked++;
             CHECK_MSG(via <= direct * 1.01 && found <= via * (1 + 1e-5),
                       "level %d over level %d: %a, over the full mesh %a, found %a", k, j, via,
                       direct, found);
         }
-    } else {
-        CHECK(!"no levels, or no memory for the hierarchy or the brute force");
     }
     CHECK_MSG(asked >= 2 && settled > 0, "%d levels over a finer one, %llu pieces settled",
               asked, (unsigned long long)settled);
-    grid_free(&full);
-    free(ft);
-    free(m.bvh);
-    free(m.tri_order);
-    close_scene(&f);
-}
-
-/* The largest distance to the full mesh (full) found on triangle t of level k, on a
- * lattice of `steps` a side. */
-static double tri_sampled(const limen_mesh_geometry *g, const grid *full, const tri_box *lt, int t,
-                          int steps)
-{
-    double worst = 0;
-    for (int i = 0; i <= steps; i++)
-        for (int j = 0; i + j <= steps; j++) {
-            double u = (double)i / steps, v = (double)j / steps, p[3];
-            for (int x = 0; x < 3; x++)
-                p[x] = (1 - u - v) * lt[t].a[x] + u * lt[t].b[x] + v * lt[t].c[x];
-            worst = fmax(worst, grid_dist(full, p));
-        }
-    (void)g;
-    return worst;
+    measured_free(&s);
 }
 
 /* Each triangle of a level keeps its own bound, which the next level's pieces add to their
@@ -1864,45 +1895,26 @@ static double tri_sampled(const limen_mesh_geometry *g, const grid *full, const 
  * level's pieces are settled that way, its error no looser than measured directly. */
 static void test_local_bounds(void)
 {
-    enum { U = 120, V = 100, NV = (U + 1) * (V + 1), NT = U * V * 2 };
-    fixture f = sphere_scene(U, V);
-    const limen_drawable *d = item(&f);
-    const limen_mesh_geometry *g = d ? d->mesh : NULL;
-    limen__mesh m = bare_mesh(g ? g->positions : NULL, g ? NV : 0, g ? g->indices : NULL, NT);
-    tri_box *ft = g ? boxes_of(g, &g->lods[0]) : NULL;
-    grid full = { 0 };
+    measured s = measured_sphere(120, 100, 6);
     int checked = 0;
-    if (g && g->lod_count >= 6 && limen__mesh_bvh(&m) && ft &&
-        grid_make(&full, ft, g->triangle_count)) {
-        const limen_mesh_lod *a = &g->lods[3], *b = &g->lods[4];
+    if (s.ok) {
+        const limen_mesh_lod *a = &s.g->lods[3], *b = &s.g->lods[4];
         float *la = malloc(sizeof *la * (size_t)a->triangle_count),
               *lb = malloc(sizeof *lb * (size_t)b->triangle_count);
-        tri_box *ta = boxes_of(g, a), *tb = boxes_of(g, b);
+        tri_box *ta = boxes_of(s.g, a), *tb = boxes_of(s.g, b);
         uint64_t before = limen__lod_local_settled();
-        double ea = la ? limen__lod_measure_local(&m, a->indices, (uint32_t)a->triangle_count,
+        double ea = la ? limen__lod_measure_local(&s.m, a->indices, (uint32_t)a->triangle_count,
                                                    NULL, 0, NULL, la)
                        : NAN,
                eb = lb && !isnan(ea)
-                        ? limen__lod_measure_local(&m, b->indices, (uint32_t)b->triangle_count,
+                        ? limen__lod_measure_local(&s.m, b->indices, (uint32_t)b->triangle_count,
                                                    a->indices, (uint32_t)a->triangle_count, la, lb)
                         : NAN,
-               direct = limen__lod_measure(&m, b->indices, (uint32_t)b->triangle_count);
+               direct = limen__lod_measure(&s.m, b->indices, (uint32_t)b->triangle_count);
         uint64_t settled = limen__lod_local_settled() - before;
         CHECK_MSG(!isnan(ea) && !isnan(eb) && ta && tb, "measured: %g %g", ea, eb);
-        for (int t = 0; ta && !isnan(ea) && t < a->triangle_count; t++, checked++) {
-            double found = tri_sampled(g, &full, ta, t, 4);
-            if (!(found <= la[t] * (1 + 1e-5) + 1e-9)) {
-                CHECK_MSG(false, "level 3 triangle %d: bound %g, found %g", t, la[t], found);
-                break;
-            }
-        }
-        for (int t = 0; tb && !isnan(eb) && t < b->triangle_count; t++, checked++) {
-            double found = tri_sampled(g, &full, tb, t, 4);
-            if (!(found <= lb[t] * (1 + 1e-5) + 1e-9)) {
-                CHECK_MSG(false, "level 4 triangle %d: bound %g, found %g", t, lb[t], found);
-                break;
-            }
-        }
+        if (ta && !isnan(ea) && own_bounds_hold(&s, a, ta, la, &checked) && tb && !isnan(eb))
+            own_bounds_hold(&s, b, tb, lb, &checked);
         CHECK_MSG(settled >= (uint64_t)b->triangle_count / 4 && eb <= direct * 1.01,
                   "%llu pieces settled over level 3; level 4 %g, directly %g",
                   (unsigned long long)settled, eb, direct);
@@ -1910,15 +1922,9 @@ static void test_local_bounds(void)
         free(lb);
         free(ta);
         free(tb);
-    } else {
-        CHECK(!"no levels, or no memory for the hierarchy or the brute force");
     }
     CHECK(checked > 0);
-    grid_free(&full);
-    free(ft);
-    free(m.bvh);
-    free(m.tri_order);
-    close_scene(&f);
+    measured_free(&s);
 }
 
 static const check_case cases[] = {
