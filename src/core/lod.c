@@ -1795,15 +1795,31 @@ static double level_error(const target *full, const uint32_t *weld, const uint32
     return e;
 }
 
+/* level_error for the level idx of m (for tests): the full mesh's surface made for it, and
+ * the finer level via_idx's (where not NULL) to lay its pieces over first, with via_e or
+ * via_local. */
+static double measure_over(const limen__mesh *m, const uint32_t *idx, uint32_t ntris,
+                           const uint32_t *via_idx, uint32_t via_ntris, double via_e,
+                           const float *via_local, via_level *keep)
+{
+    target full = { 0 }, via = { 0 };
+    limen__mesh vm = { .nverts = m->nverts, .ntris = via_ntris, .pos = m->pos,
+                       .idx = (uint32_t *)via_idx };
+    double e = NAN;
+    if (limen__lod_target_make(&full, m, m->idx)) {
+        full_make(&full, m, m->idx);
+        if (!via_idx || limen__lod_target_make(&via, &vm, NULL))
+            e = level_error(&full, m->idx, idx, ntris, 0, NULL, via_idx ? &via : NULL, via_e,
+                            via_local, keep);
+        limen__lod_target_free(&full);
+    }
+    limen__lod_target_free(&via);
+    return e;
+}
+
 double limen__lod_measure(const limen__mesh *m, const uint32_t *idx, uint32_t ntris)
 {
-    target full = { 0 };
-    if (!limen__lod_target_make(&full, m, m->idx))
-        return NAN;
-    full_make(&full, m, m->idx);
-    double e = level_error(&full, m->idx, idx, ntris, 0, NULL, NULL, 0, NULL, NULL);
-    limen__lod_target_free(&full);
-    return e;
+    return measure_over(m, idx, ntris, NULL, 0, 0, NULL, NULL);
 }
 
 /* The full mesh's surface and hierarchy as the measuring sees them, which need none of the
@@ -1936,25 +1952,15 @@ double limen__lod_measure_local(const limen__mesh *m, const uint32_t *idx, uint3
                                 const uint32_t *via_idx, uint32_t via_ntris,
                                 const float *via_local, float *local)
 {
-    target full = { 0 };
-    via_level via = { .mesh = { .nverts = m->nverts, .ntris = via_ntris, .pos = m->pos,
-                                .idx = (uint32_t *)via_idx } },
-              keep = { 0 };
-    double e = NAN;
-    if (limen__lod_target_make(&full, m, m->idx)) {
-        full_make(&full, m, m->idx);
-        if (!via_idx || limen__lod_target_make(&via.t, &via.mesh, NULL))
-            e = level_error(&full, m->idx, idx, ntris, 0, NULL, via_idx ? &via.t : NULL, 0,
-                            via_idx ? via_local : NULL, &keep);
-        limen__lod_target_free(&full);
-    }
+    via_level keep = { 0 };
+    double e = measure_over(m, idx, ntris, via_idx, via_ntris, 0, via_idx ? via_local : NULL,
+                            &keep);
     if (keep.local)
         memcpy(local, keep.local, sizeof *local * ntris);
     else
         e = NAN;
     free(keep.local);
     via_free(&keep);
-    via_free(&via);
     return e;
 }
 
@@ -1962,19 +1968,9 @@ double limen__lod_measure_via(const limen__mesh *m, const uint32_t *idx, uint32_
                               const uint32_t *via_idx, uint32_t via_ntris, double via_e,
                               uint64_t *settled)
 {
-    target full = { 0 }, via = { 0 };
-    limen__mesh vm = { .nverts = m->nverts, .ntris = via_ntris, .pos = m->pos,
-                       .idx = (uint32_t *)via_idx };
-    double e = NAN;
     uint64_t before = atomic_load(&via_settled);
-    if (limen__lod_target_make(&full, m, m->idx)) {
-        full_make(&full, m, m->idx);
-        if (limen__lod_target_make(&via, &vm, NULL))
-            e = level_error(&full, m->idx, idx, ntris, 0, NULL, &via, via_e, NULL, NULL);
-        limen__lod_target_free(&full);
-    }
+    double e = measure_over(m, idx, ntris, via_idx, via_ntris, via_e, NULL, NULL);
     *settled = atomic_load(&via_settled) - before;
-    limen__lod_target_free(&via);
     return e;
 }
 
