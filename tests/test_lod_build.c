@@ -212,6 +212,33 @@ static void test_levels_beside(void)
     free_levels(&both[1]);
 }
 
+/* A big mesh's level is simplified from the one two before it where that one is big
+ * (limen__lod_set_near_source, here lowered to every level): every vertex level k names is
+ * one of level k - 2's (from level 4 on; levels 2 and 3 from level 1; three before, a small
+ * mesh's source, names vertices level k - 2 dropped), the next level made
+ * beside this one takes the same source (the beside path lowered to every mesh too), and the
+ * levels are those made in turn, to the index, with the same bounds, to the bit. */
+static void test_levels_near_source(void)
+{
+    limen__lod_set_near_source(0);
+    limen__lod_set_beside_above(0);
+    uint64_t kept0 = limen__lod_beside_kept();
+    levels both[2];
+    levels_both_ways(both);
+    uint64_t kept = limen__lod_beside_kept() - kept0;
+    limen__lod_set_beside_above(LIMEN__LOD_SPLIT_ABOVE);
+    limen__lod_set_near_source(100000);
+    levels *lv = &both[0];
+    CHECK_MSG(lv->count >= 8, "%d levels", lv->count);
+    CHECK_MSG(kept >= 2, "%llu levels made beside", (unsigned long long)kept);
+    for (int k = 4; k < lv->count; k++)
+        CHECK_MSG(vertices_within(lv, k - 2, k, BOTH_NV),
+                  "level %d names vertices level %d has not", k, k - 2);
+    check_same_levels(both);
+    free_levels(&both[0]);
+    free_levels(&both[1]);
+}
+
 /* The weld by position (limen__lod_shadow) is meshoptimizer's shadow index buffer, to the
  * index: on a bumpy sphere (its seam and poles repeat positions), with a quarter of its
  * vertices moved onto others', its corners in a scrambled order, and 0 beside -0 (two
@@ -251,6 +278,7 @@ static const check_case cases[] = {
     { "simplify_sparse", test_simplify_sparse },
     { "levels_from_first", test_levels_from_first },
     { "levels_beside", test_levels_beside },
+    { "levels_near_source", test_levels_near_source },
     { 0 },
 };
 

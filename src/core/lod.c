@@ -63,7 +63,7 @@
 #include "core/texture.h"
 
 #define MAX_LEVELS 12           /* the full mesh and up to 11 coarser ones */
-#define LOD_VERSION 31          /* of how levels are made and measured: levels kept between
+#define LOD_VERSION 32          /* of how levels are made and measured: levels kept between
                                  * runs (core/lod_cache.c) are keyed by it, so change it with
                                  * anything that changes a level or its error */
 #define MIN_TRIS 16             /* a level this small gets no halved successor */
@@ -71,6 +71,8 @@
                                  * triangles lets the seams go, then clusters (below, the
                                  * levels end: both would mix the texture's charts) */
 #define SOURCE_STEP 3           /* a level is simplified from the one this many before */
+#define NEAR_SOURCE_TRIS 100000 /* or from the one two before, where that has this many
+                                 * triangles: a big mesh's sources halved (see source_of) */
 #define FROM_FIRST_TRIS 8192    /* a mesh this big has its levels 2 and 3 simplified from level
                                  * 1, not from the full mesh: half the simplifier's work, and
                                  * levels no coarser on the whole (the bumpy spheres' errors
@@ -951,14 +953,18 @@ typedef struct memo {
     double d;
 } memo;
 
-#define MEMO_SLOTS 65536
+#define MEMO_BITS 13
+#define MEMO_SLOTS (1u << MEMO_BITS)  /* 128 kB, in the core's own cache: the pairs come again
+                                       * within a few neighbouring triangles (65536 slots kept
+                                       * more of them, missed the cache more, and took 1.05x
+                                       * the time at 1.6M triangles) */
 
 /* The distance from q to triangle t of sd->to (sqrt of limen__lod_d2: the same number). */
 static double vertex_d(side *sd, const point *q, uint32_t t)
 {
     if (q->vertex == UINT32_MAX || !sd->memo || !measure_memo)
         return sqrt(limen__lod_d2(sd->to, t, q->p));
-    memo *m = &sd->memo[(q->vertex * 0x9e3779b1u ^ t * 0x85ebca6bu) >> 16];
+    memo *m = &sd->memo[(q->vertex * 0x9e3779b1u ^ t * 0x85ebca6bu) >> (32 - MEMO_BITS)];
     if (m->vertex != q->vertex || m->tri != t)
         *m = (memo){ .vertex = q->vertex, .tri = t, .d = sqrt(limen__lod_d2(sd->to, t, q->p)) };
     return m->d;
@@ -2577,6 +2583,27 @@ uint64_t limen__lod_beside_kept(void)
     return atomic_load(&beside_kept);
 }
 
+/* The level that level k (past the first) is simplified from: SOURCE_STEP before, or two
+ * before where that one is big (NEAR_SOURCE_TRIS): the 1.6M-triangle sphere's levels 4-6
+ * from 405k, 202k and 101k triangles, not 810k, 405k and 202k (0.97x the build's time, its
+ * levels 4-11 0.86x as coarse, geometric mean, 0.66-1.41x each; the 800k sphere's 1.03x,
+ * 0.94-1.18x). Two before for every level left the small spheres' coarsest levels up to
+ * 2.2x coarser (the 200k sphere's level 9): a small source gives the simplifier few
+ * choices, two levels on. */
+static uint32_t near_source = NEAR_SOURCE_TRIS;
+
+void limen__lod_set_near_source(uint32_t triangles)
+{
+    near_source = triangles;
+}
+
+static uint32_t source_of(const limen_mesh_lod *lods, uint32_t k)
+{
+    if (k > 2 && (uint32_t)lods[k - 2].triangle_count >= near_source)
+        return k - 2;
+    return k > SOURCE_STEP ? k - SOURCE_STEP : 1;
+}
+
 static void *next_simp_run(void *arg)
 {
     next_simp *x = arg;
@@ -2675,7 +2702,7 @@ static bool lods_make(const limen__mesh *m, const atomic_bool *stop, made *out)
         float err = 0;
         uint32_t first = m->ntris >= FROM_FIRST_TRIS ? 1 : SOURCE_STEP;
         bool from_full = mode == CHARTS ? nlods <= charts_from : nlods <= first || mode > CHARTS;
-        uint32_t from = nlods > SOURCE_STEP ? nlods - SOURCE_STEP : 1;
+        uint32_t from = source_of(lods, nlods);
         if (mode == CHARTS && from < charts_from)
             from = charts_from;
         const uint32_t *src = from_full ? NULL : store + at[from];
@@ -2706,10 +2733,12 @@ static bool lods_make(const limen__mesh *m, const atomic_bool *stop, made *out)
              * (a split source's level comes out a few triangles off what it was asked for,
              * which the next one's asking follows) and the next one's is made already (the
              * level SOURCE_STEP before it), and it halves too */
-            size_t want = cur_n / 6 * 3, next_from = nlods + 1 - SOURCE_STEP;
+            size_t want = cur_n / 6 * 3;
+            uint32_t next_from = source_of(lods, nlods + 1);
             if (mode == SEAMS && halve && !from_full && n0 / 3 >= beside_above &&
                 src_n / 3 < LIMEN__LOD_SPLIT_ABOVE &&
-                nlods + 1 < MAX_LEVELS && nlods + 1 > SOURCE_STEP && want / 3 >= MIN_TRIS &&
+                nlods + 1 < MAX_LEVELS && nlods + 1 > SOURCE_STEP && next_from < nlods &&
+                want / 3 >= MIN_TRIS &&
                 (size_t)lods[next_from].triangle_count < LIMEN__LOD_SPLIT_ABOVE &&
                 measure_threads) {
                 if (!beside.out)

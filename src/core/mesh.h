@@ -133,6 +133,9 @@ void limen__lod_set_measure_threads(bool on);
  * made were kept, in all. Not for use while meshes are being made. */
 void limen__lod_set_beside_above(uint32_t triangles);
 uint64_t limen__lod_beside_kept(void);
+/* Tests only: the size of a level from which the level two after it is simplified from it
+ * (default 100000: see source_of in core/lod.c). Not for use while meshes are being made. */
+void limen__lod_set_near_source(uint32_t triangles);
 
 /* Loads path (or finds it already loaded in the scene), refusing one that would hold more
  * than max_bytes; *charged gets the bytes newly held (0 when shared). On failure the message
