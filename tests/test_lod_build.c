@@ -214,8 +214,8 @@ static void test_levels_beside(void)
 
 /* A big mesh's level is simplified from the one two before it where that one is big
  * (limen__lod_set_near_source, here lowered to every level): every vertex level k names is
- * one of level k - 2's (from level 4 on; levels 2 and 3 from level 1; three before, a small
- * mesh's source, names vertices level k - 2 dropped), the next level made
+ * one of level k - 2's from level 4 on (levels 2 and 3 come from level 1; from three before,
+ * a small mesh's source, level k names vertices level k - 2 dropped), the next level made
  * beside this one takes the same source (the beside path lowered to every mesh too), and the
  * levels are those made in turn, to the index, with the same bounds, to the bit. */
 static void test_levels_near_source(void)
@@ -227,7 +227,7 @@ static void test_levels_near_source(void)
     levels_both_ways(both);
     uint64_t kept = limen__lod_beside_kept() - kept0;
     limen__lod_set_beside_above(LIMEN__LOD_SPLIT_ABOVE);
-    limen__lod_set_near_source(100000);
+    limen__lod_set_near_source(LIMEN__LOD_NEAR_SOURCE);
     levels *lv = &both[0];
     CHECK_MSG(lv->count >= 8, "%d levels", lv->count);
     CHECK_MSG(kept >= 2, "%llu levels made beside", (unsigned long long)kept);

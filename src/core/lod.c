@@ -71,8 +71,9 @@
                                  * triangles lets the seams go, then clusters (below, the
                                  * levels end: both would mix the texture's charts) */
 #define SOURCE_STEP 3           /* a level is simplified from the one this many before */
-#define NEAR_SOURCE_TRIS 100000 /* or from the one two before, where that has this many
-                                 * triangles: a big mesh's sources halved (see source_of) */
+#define NEAR_SOURCE_TRIS LIMEN__LOD_NEAR_SOURCE   /* or from the one two before, where
+                                 * that has this many triangles (core/mesh.h): a big mesh's
+                                 * sources halved (see source_of) */
 #define FROM_FIRST_TRIS 8192    /* a mesh this big has its levels 2 and 3 simplified from level
                                  * 1, not from the full mesh: half the simplifier's work, and
                                  * levels no coarser on the whole (the bumpy spheres' errors
@@ -2556,7 +2557,7 @@ static bool bake_again(const limen__mesh *m, made *mk, uint32_t mask)
  * Morton order, made in a tenth of the time of the ray tracer's median splits, which a
  * level build need not wait for), given back when done. */
 /* The next level simplified beside this one (a big mesh's sources past the first levels are
- * taken whole, on one core): from its own source, the level SOURCE_STEP before it, towards
+ * taken whole, on one core): from its own source (source_of), towards
  * half of what this one is asked for; kept where this one comes out as asked (then the
  * next one is asked for just that), else made again in turn. */
 typedef struct next_simp {
@@ -2690,7 +2691,8 @@ static bool lods_make(const limen__mesh *m, const atomic_bool *stop, made *out)
     while (ok && nlods < MAX_LEVELS && cur_n >= 6) {
         /* half the triangles of the last level while there is much to halve; then once only
          * what costs (next to) nothing, which takes a flat patch down to its outline. Each
-         * from the level SOURCE_STEP before (or the first, or the full mesh): the
+         * from the level SOURCE_STEP before, or two before where that is big (source_of; or
+         * the first, or the full mesh): the
          * simplifier's work stays a few times the full mesh's in all, not once per level,
          * while a level is not built on the last one's choices alone (which left the
          * bunny's coarse levels worse) */
@@ -2731,8 +2733,8 @@ static bool lods_make(const limen__mesh *m, const atomic_bool *stop, made *out)
         } else if (mode < CLUSTERED) {
             /* a big mesh's next level beside this one, where both sources are taken whole
              * (a split source's level comes out a few triangles off what it was asked for,
-             * which the next one's asking follows) and the next one's is made already (the
-             * level SOURCE_STEP before it), and it halves too */
+             * which the next one's asking follows) and the next one's is made already (its
+             * source_of), and it halves too */
             size_t want = cur_n / 6 * 3;
             uint32_t next_from = source_of(lods, nlods + 1);
             if (mode == SEAMS && halve && !from_full && n0 / 3 >= beside_above &&

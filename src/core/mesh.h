@@ -134,7 +134,9 @@ void limen__lod_set_measure_threads(bool on);
 void limen__lod_set_beside_above(uint32_t triangles);
 uint64_t limen__lod_beside_kept(void);
 /* Tests only: the size of a level from which the level two after it is simplified from it
- * (default 100000: see source_of in core/lod.c). Not for use while meshes are being made. */
+ * (default LIMEN__LOD_NEAR_SOURCE: see source_of in core/lod.c). Not for use while meshes
+ * are being made. */
+#define LIMEN__LOD_NEAR_SOURCE 100000
 void limen__lod_set_near_source(uint32_t triangles);
 
 /* Loads path (or finds it already loaded in the scene), refusing one that would hold more
