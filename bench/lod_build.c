@@ -371,6 +371,10 @@ int main(int argc, char **argv)
     }
     char path[512];
     limen__out oc, ot;
+    /* the folder made where it is not there (its parent must be) */
+    struct stat st;
+    if (stat(out, &st) && mkdir(out, 0755))
+        die("cannot make the results' folder (--out DIR: its parent must be there)");
     snprintf(path, sizeof path, "%s/lod_build.csv", out);
     if (limen__out_open(&oc, path))
         die("cannot write the results");
