@@ -192,18 +192,26 @@ static void test_levels_from_first(void)
     free_levels(&both[1]);
 }
 
+/* levels_both_ways with the next level simplified beside this one for every mesh (the size
+ * from which this is done lowered): how many levels so made were kept. */
+static uint64_t levels_beside_both_ways(levels both[2])
+{
+    limen__lod_set_beside_above(0);
+    uint64_t kept0 = limen__lod_beside_kept();
+    levels_both_ways(both);
+    uint64_t kept = limen__lod_beside_kept() - kept0;
+    limen__lod_set_beside_above(LIMEN__LOD_SPLIT_ABOVE);
+    return kept;
+}
+
 /* A big mesh's next level is simplified beside the one before it, where both sources are
  * taken whole, and kept where the one before came out as asked: the levels are those made
  * in turn, to the index, with the same bounds, to the bit (here on a small mesh, the size
  * from which this is done lowered to every mesh). */
 static void test_levels_beside(void)
 {
-    limen__lod_set_beside_above(0);
-    uint64_t kept0 = limen__lod_beside_kept();
     levels both[2];
-    levels_both_ways(both);
-    uint64_t kept = limen__lod_beside_kept() - kept0;
-    limen__lod_set_beside_above(LIMEN__LOD_SPLIT_ABOVE);
+    uint64_t kept = levels_beside_both_ways(both);
     /* levels 4, 6, 8 and 10 made beside 3, 5, 7 and 9 (where those come out as asked) */
     CHECK_MSG(kept >= 2, "%llu levels made beside", (unsigned long long)kept);
     CHECK_MSG(both[0].count >= 8, "%d levels", both[0].count);
@@ -221,12 +229,8 @@ static void test_levels_beside(void)
 static void test_levels_near_source(void)
 {
     limen__lod_set_near_source(0);
-    limen__lod_set_beside_above(0);
-    uint64_t kept0 = limen__lod_beside_kept();
     levels both[2];
-    levels_both_ways(both);
-    uint64_t kept = limen__lod_beside_kept() - kept0;
-    limen__lod_set_beside_above(LIMEN__LOD_SPLIT_ABOVE);
+    uint64_t kept = levels_beside_both_ways(both);
     limen__lod_set_near_source(LIMEN__LOD_NEAR_SOURCE);
     levels *lv = &both[0];
     CHECK_MSG(lv->count >= 8, "%d levels", lv->count);

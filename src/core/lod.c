@@ -1686,8 +1686,6 @@ typedef struct via_level {
 static void via_free(via_level *v)
 {
     limen__lod_target_free(&v->t);
-    free(v->mesh.bvh);
-    free(v->mesh.tri_order);
     *v = (via_level){ 0 };
 }
 
@@ -1781,12 +1779,12 @@ static double level_error(const target *full, const uint32_t *weld, const uint32
     free(back.found);
     free(same_level);
     free(same_full);
+    free(lv.bvh);
+    free(lv.tri_order);
     if (keep && !isnan(e) && there.local_out) {
         /* the level's surface kept, over the mesh struct kept with it, less its hierarchy
          * (see via_level) */
         via_free(keep);
-        free(lv.bvh);
-        free(lv.tri_order);
         lv.bvh = NULL;
         lv.tri_order = NULL;
         keep->mesh = lv;
@@ -1797,8 +1795,6 @@ static double level_error(const target *full, const uint32_t *weld, const uint32
     }
     free(there.local_out);
     limen__lod_target_free(&level);
-    free(lv.bvh);
-    free(lv.tri_order);
     return e;
 }
 
@@ -2739,8 +2735,7 @@ static bool lods_make(const limen__mesh *m, const atomic_bool *stop, made *out)
             uint32_t next_from = source_of(lods, nlods + 1);
             if (mode == SEAMS && halve && !from_full && n0 / 3 >= beside_above &&
                 src_n / 3 < LIMEN__LOD_SPLIT_ABOVE &&
-                nlods + 1 < MAX_LEVELS && nlods + 1 > SOURCE_STEP && next_from < nlods &&
-                want / 3 >= MIN_TRIS &&
+                nlods + 1 < MAX_LEVELS && nlods + 1 > SOURCE_STEP && want / 3 >= MIN_TRIS &&
                 (size_t)lods[next_from].triangle_count < LIMEN__LOD_SPLIT_ABOVE &&
                 measure_threads) {
                 if (!beside.out)
