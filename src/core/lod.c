@@ -63,7 +63,7 @@
 #include "core/texture.h"
 
 #define MAX_LEVELS 12           /* the full mesh and up to 11 coarser ones */
-#define LOD_VERSION 32          /* of how levels are made and measured: levels kept between
+#define LOD_VERSION 33          /* of how levels are made and measured: levels kept between
                                  * runs (core/lod_cache.c) are keyed by it, so change it with
                                  * anything that changes a level or its error */
 #define MIN_TRIS 16             /* a level this small gets no halved successor */
@@ -1548,38 +1548,40 @@ static uint32_t tri_hash(const uint32_t k[3])
 
 /* Marks the triangles the level (j->sd->from) and the full mesh (j->sd->to) share, the same
  * corners (the full mesh's through weld) in the same order: each lies in the other surface,
- * its distance 0, so neither side bounds it. Left unmarked where out of memory. */
+ * its distance 0, so neither side bounds it (a full triangle that another repeats, or a
+ * level's, marked with it). The table holds the level's triangles, the fewer (at 1.6M
+ * triangles, 8 MB for level 1 instead of 16 for the full mesh's, held beside the making of
+ * its surface). Left unmarked where out of memory. */
 static void shared_tris(corners_job *j)
 {
     const limen__mesh *lv = j->sd->from, *m = j->sd->to->m;
     size_t size = 16;
-    while (size < 2 * (size_t)m->ntris)
+    while (size < 2 * (size_t)lv->ntris)
         size *= 2;
     uint32_t *slot = malloc(sizeof *slot * size);
     if (!slot)
         return;
     memset(slot, 0xff, sizeof *slot * size);
-    const uint32_t *w = j->weld;
-    for (uint32_t t = 0; t < m->ntris; t++) {
+    for (uint32_t t = 0; t < lv->ntris; t++) {
         uint32_t k[3];
-        tri_key(w[(size_t)t * 3], w[(size_t)t * 3 + 1], w[(size_t)t * 3 + 2], k);
+        const uint32_t *c = lv->idx + (size_t)t * 3;
+        tri_key(c[0], c[1], c[2], k);
         size_t at = tri_hash(k) & (size - 1);
         while (slot[at] != UINT32_MAX)
             at = (at + 1) & (size - 1);
         slot[at] = t;
     }
-    for (uint32_t t = 0; t < lv->ntris; t++) {
+    const uint32_t *w = j->weld;
+    for (uint32_t t = 0; t < m->ntris; t++) {
         uint32_t k[3], o[3];
-        const uint32_t *c = lv->idx + (size_t)t * 3;
-        tri_key(c[0], c[1], c[2], k);
+        tri_key(w[(size_t)t * 3], w[(size_t)t * 3 + 1], w[(size_t)t * 3 + 2], k);
         for (size_t at = tri_hash(k) & (size - 1); slot[at] != UINT32_MAX;
              at = (at + 1) & (size - 1)) {
-            const uint32_t *f = w + (size_t)slot[at] * 3;
-            tri_key(f[0], f[1], f[2], o);
+            const uint32_t *c = lv->idx + (size_t)slot[at] * 3;
+            tri_key(c[0], c[1], c[2], o);
             if (o[0] == k[0] && o[1] == k[1] && o[2] == k[2]) {
-                j->same_level[t] = 1;
-                j->same_full[slot[at]] = 1;
-                break;
+                j->same_level[slot[at]] = 1;
+                j->same_full[t] = 1;
             }
         }
     }

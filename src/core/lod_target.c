@@ -218,8 +218,9 @@ static bool edge_parts(const limen__lod_target *t, const uint32_t *weld, size_t 
  * (a mesh whose neighbours are numbered near each other) instead of a table of 32 MB at
  * 1.6M triangles read at random. An edge of more than two triangles pairs some of them;
  * what a pairing misses, the walks over the surface below do without (they only ever find
- * less). False when out of memory. */
-static bool pair_edges(limen__lod_target *t, const uint32_t *weld)
+ * less). order: room for the half-edges' numbers (3 a triangle), the caller's. False when out
+ * of memory. */
+static bool pair_edges(limen__lod_target *t, const uint32_t *weld, uint32_t *order)
 {
     size_t n = (size_t)t->m->ntris * 3;
     if (n >= SLOT_EMPTY)
@@ -228,8 +229,7 @@ static bool pair_edges(limen__lod_target *t, const uint32_t *weld)
     if (parts > t->m->nverts)
         parts = t->m->nverts ? t->m->nverts : 1;
     size_t *first = malloc(sizeof *first * ((size_t)parts + 1));
-    uint32_t *order = malloc(sizeof *order * (n ? n : 1)),
-             *next = malloc(sizeof *next * (n ? n : 1));
+    uint32_t *next = malloc(sizeof *next * (n ? n : 1));
     t->across = malloc(sizeof *t->across * (t->m->ntris ? t->m->ntris : 1));
     bool ok = first && order && next && t->across && edge_parts(t, weld, n, parts, first, order);
     /* each part's table: at most two thirds full (half, where the edges pair) */
@@ -241,7 +241,6 @@ static bool pair_edges(limen__lod_target *t, const uint32_t *weld)
     uint32_t *head = ok ? malloc(sizeof *head * size) : NULL;
     if (!head) {
         free(first);
-        free(order);
         free(next);
         return false;
     }
@@ -274,7 +273,6 @@ static bool pair_edges(limen__lod_target *t, const uint32_t *weld)
     }
     free(head);
     free(first);
-    free(order);
     free(next);
     return true;
 }
@@ -285,9 +283,11 @@ bool limen__lod_target_make(limen__lod_target *t, const limen__mesh *m, const ui
     t->reach = NULL;
     t->vweld = NULL;
     t->used = NULL;
-    t->ball = malloc(sizeof *t->ball * m->ntris);
+    /* the balls' room (16 bytes a triangle) holds the pairing's order of half-edges (12)
+     * until they are made: at 1.6M triangles, 19 MB less for a moment */
+    t->ball = malloc(sizeof *t->ball * (m->ntris ? m->ntris : 1));
     t->at_vertex = malloc(sizeof *t->at_vertex * m->nverts);
-    if (!t->ball || !t->at_vertex || !pair_edges(t, weld)) {
+    if (!t->ball || !t->at_vertex || !pair_edges(t, weld, (uint32_t *)(void *)t->ball)) {
         limen__lod_target_free(t);
         return false;
     }

@@ -450,11 +450,13 @@ static bool copy_materials(limen__mesh *m, const limen_mesh_data *d)
         names += strlen(d->materials[i].name ? d->materials[i].name : "") + 1;
     m->col = d->colors ? malloc(sizeof(float) * 4 * nv) : NULL;
     m->parts = malloc(sizeof *m->parts * m->nparts);
-    m->tri_part = malloc(sizeof *m->tri_part * nt);
+    /* a part a triangle only where there are several (a 1.6M-triangle scan's 6 MB) */
+    m->tri_part = m->nparts > 1 ? malloc(sizeof *m->tri_part * nt) : NULL;
     m->mats = malloc(sizeof *m->mats * m->nmats);
     m->texs = calloc((size_t)m->nmats * LIMEN__MAT_TEXTURES, sizeof *m->texs);
     m->mat_names = malloc(names + 1);
-    if ((d->colors && !m->col) || !m->parts || !m->tri_part || !m->mats || !m->texs ||
+    if ((d->colors && !m->col) || !m->parts || (m->nparts > 1 && !m->tri_part) || !m->mats ||
+        !m->texs ||
         !m->mat_names)
         return false;
     if (d->colors)
@@ -463,7 +465,7 @@ static bool copy_materials(limen__mesh *m, const limen_mesh_data *d)
         memcpy(m->parts, d->parts, sizeof *m->parts * m->nparts);
     else
         m->parts[0] = (limen_mesh_part){ 0, (int)nt, 0 };
-    for (uint32_t p = 0; p < m->nparts; p++)
+    for (uint32_t p = 0; m->tri_part && p < m->nparts; p++)
         for (int t = 0; t < m->parts[p].triangle_count; t++)
             m->tri_part[m->parts[p].first_triangle + t] = p;
     char *at = m->mat_names;
@@ -503,7 +505,7 @@ bool limen__mesh_lod_parts(limen__mesh *m)
     if (ok) {
         for (uint32_t t = 0; t < m->ntris; t++)
             for (int c = 0; c < 3; c++)
-                vpart[m->idx[t * 3 + c]] = m->tri_part[t];
+                vpart[m->idx[t * 3 + c]] = limen__tri_part(m, t);
         for (uint32_t k = 0; k < nl; k++) {
             limen_mesh_part *lp = &m->lod_parts[k * np];
             if (!m->nlods || m->lods[k].indices == m->idx) {
@@ -560,7 +562,7 @@ void limen__mesh_material_at(const limen__mesh *m, const limen__texture *node_te
     for (int k = 0; m->uv && k < 2; k++)
         uv[k] = w[0] * m->uv[ix[0] * 2 + k] + w[1] * m->uv[ix[1] * 2 + k] +
                 w[2] * m->uv[ix[2] * 2 + k];
-    uint32_t mi = (uint32_t)m->parts[m->tri_part[tri]].material;
+    uint32_t mi = (uint32_t)m->parts[limen__tri_part(m, tri)].material;
     const limen_material *mt = &m->mats[mi];
     double a = mt->base_color[3];
     for (int k = 0; k < 3; k++)
@@ -588,7 +590,7 @@ void limen__mesh_material_at(const limen__mesh *m, const limen__texture *node_te
 
 bool limen__mesh_masked(const limen__mesh *m, uint32_t tri, double u, double v)
 {
-    const limen_material *mt = &m->mats[m->parts[m->tri_part[tri]].material];
+    const limen_material *mt = &m->mats[m->parts[limen__tri_part(m, tri)].material];
     if (mt->alpha_mode != LIMEN_ALPHA_MASK)
         return false;
     double c[3], a, e[3];

@@ -55,13 +55,20 @@ typedef struct limen__mesh {
     uint32_t nparts, nmats;
     limen_mesh_part *parts;     /* nparts ranges of idx, in triangle order */
     limen_mesh_part *lod_parts; /* nlods * nparts: each level's ranges */
-    uint32_t *tri_part;         /* ntris: the part of each triangle of idx */
+    uint32_t *tri_part;         /* ntris: the part of each triangle of idx; NULL where there
+                                 * is one part (limen__tri_part) */
     limen_material *mats;       /* nmats; their textures point at texs' images */
     struct limen__texture **texs;   /* nmats * 5: base, emissive, metallic-roughness, normal,
                                  * occlusion of each, or NULL */
     char *mat_names;            /* the names' storage */
     bool has_mask, has_blend;
 } limen__mesh;
+
+/* The part of m's triangle t (of idx). */
+static inline uint32_t limen__tri_part(const limen__mesh *m, uint32_t t)
+{
+    return m->tri_part ? m->tri_part[t] : 0;
+}
 
 enum { LIMEN__MAT_BASE, LIMEN__MAT_EMISSIVE, LIMEN__MAT_MR, LIMEN__MAT_NORMAL,
        LIMEN__MAT_OCCLUSION, LIMEN__MAT_TEXTURES };

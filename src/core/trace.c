@@ -451,18 +451,19 @@ static limen__mesh *level_mesh_make(const limen__mesh *src, int k, bool baked)
     m->ntris = (uint32_t)l->triangle_count;
     m->idx = malloc(sizeof *m->idx * 3 * (size_t)m->ntris);
     m->parts = malloc(sizeof *m->parts * (size_t)(src->nparts ? src->nparts : 1));
-    m->tri_part = malloc(sizeof *m->tri_part * (size_t)m->ntris);
+    m->tri_part = src->nparts > 1 ? malloc(sizeof *m->tri_part * (size_t)m->ntris) : NULL;
     m->bvh = NULL;
     m->tri_order = NULL;
     m->lod_job = NULL;
-    if (!m->idx || !m->parts || !m->tri_part || !m->ntris) {
+    if (!m->idx || !m->parts || (src->nparts > 1 && !m->tri_part) || !m->ntris) {
         level_mesh_free(m);
         return NULL;
     }
     memcpy(m->idx, l->indices, sizeof *m->idx * 3 * (size_t)m->ntris);
     memcpy(m->parts, l->parts, sizeof *m->parts * src->nparts);
-    memset(m->tri_part, 0, sizeof *m->tri_part * (size_t)m->ntris);
-    for (uint32_t p = 0; p < src->nparts; p++)
+    if (m->tri_part)
+        memset(m->tri_part, 0, sizeof *m->tri_part * (size_t)m->ntris);
+    for (uint32_t p = 0; m->tri_part && p < src->nparts; p++)
         for (int t = 0; t < m->parts[p].triangle_count; t++)
             if ((uint32_t)(m->parts[p].first_triangle + t) < m->ntris)
                 m->tri_part[m->parts[p].first_triangle + t] = p;
@@ -1047,7 +1048,8 @@ static void follow(const tracer *tr, const double o_in[3], const double d_in[3],
                       shaded, &alpha);
                 result = shaded;
                 if (p->shape == SHAPE_MESH && layers < 64 &&
-                    p->mesh->mats[p->mesh->parts[p->mesh->tri_part[(uint32_t)uv[UV_TRI]]].material]
+                    p->mesh->mats[p->mesh->parts[limen__tri_part(p->mesh, (uint32_t)uv[UV_TRI])]
+                                     .material]
                             .alpha_mode == LIMEN_ALPHA_BLEND) {
                     /* blended: this over what lies behind, the ray going on past it */
                     for (int k = 0; k < 3; k++)
