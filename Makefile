@@ -40,6 +40,8 @@ CORE_SRC += src/core/drawlist.c src/core/drawlist_stencil.c src/core/drawlist_te
 CORE_SRC += src/core/import.c
 # levels of detail: the weld the simplifier is given (core/lod_weld.c)
 CORE_SRC += src/core/lod_weld.c
+# big arrays' pages faulted in at once (core/pages.c)
+CORE_SRC += src/core/pages.c
 # levels of detail within a texture's charts (core/lod_charts.c)
 CORE_SRC += src/core/lod_charts.c
 # levels of detail of a big mesh, simplified in blocks (core/lod_split.c)

@@ -25,6 +25,7 @@
 
 #include "core/confine.h"
 #include "core/internal.h"
+#include "core/pages.h"
 
 #ifndef SYS_openat2
 #define SYS_openat2 437
@@ -180,7 +181,7 @@ int limen__confine_read(const limen__confine *box, const char *path, size_t max,
     }
     /* what fstat said, and one byte more to see a file that grew meanwhile */
     size_t cap = (size_t)st->st_size + 1, n = 0;
-    unsigned char *buf = malloc(cap);
+    unsigned char *buf = limen__malloc_populated(cap);   /* read into whole */
     if (!buf) {
         close(fd);
         snprintf(why, why_size, "out of memory");

@@ -26,6 +26,7 @@
 #include <assimp/scene.h>
 
 #include "core/import.h"
+#include "core/pages.h"
 #include "core/texture.h"
 
 #define NONE LIMEN__IMPORT_NONE
@@ -65,6 +66,8 @@ static bool arr_reserve(arr *a, size_t cap)
     unsigned char *p = realloc(a->p, cap * a->elem);
     if (!p)
         return false;
+    /* what it is reserved for is written next (a PLY's elements, counted in its header) */
+    limen__populate(p + a->cap * a->elem, (cap - a->cap) * a->elem);
     a->p = p;
     a->cap = cap;
     return true;
@@ -847,6 +850,7 @@ static limen__import *pack(builder *b)
     limen__import *blk = calloc(1, off);
     if (!blk)
         return NULL;
+    limen__populate(blk, off);     /* the arrays copied in, one after another */
     for (int i = 0; i < NARR; i++)
         if (parts[i]->n)
             memcpy((unsigned char *)blk + at[i], parts[i]->p, parts[i]->n * parts[i]->elem);

@@ -60,6 +60,7 @@
 #include "core/lod_target.h"
 #include "core/lod_weld.h"
 #include "core/mesh.h"
+#include "core/pages.h"
 #include "core/texture.h"
 
 #define MAX_LEVELS 12           /* the full mesh and up to 11 coarser ones */
@@ -1300,6 +1301,8 @@ static bool side_corners(side *sd)
     sd->pts = malloc(sizeof *sd->pts * (from->nverts ? from->nverts : 1));
     if (!sd->pts)
         return false;
+    if (sd->reach)      /* the full mesh's side: every vertex found */
+        limen__populate(sd->pts, sizeof *sd->pts * from->nverts);
     size_t words = bits_words(from->nverts);
     /* which vertices are found, kept for side_near (where reach is given) */
     sd->found = sd->reach ? calloc(words, sizeof *sd->found) : NULL;
@@ -1558,7 +1561,7 @@ static void shared_tris(corners_job *j)
     size_t size = 16;
     while (size < 2 * (size_t)lv->ntris)
         size *= 2;
-    uint32_t *slot = malloc(sizeof *slot * size);
+    uint32_t *slot = limen__malloc_populated(sizeof *slot * size);
     if (!slot)
         return;
     memset(slot, 0xff, sizeof *slot * size);
@@ -1649,7 +1652,8 @@ static void full_make(target *t, const limen__mesh *m, const uint32_t *weld)
 {
     size_t nv = m->nverts ? m->nverts : 1;
     float *r = t->reach = calloc(nv, sizeof *r);
-    t->vweld = malloc(sizeof *t->vweld * nv);
+    limen__populate(r, sizeof *r * nv);
+    t->vweld = limen__malloc_populated(sizeof *t->vweld * nv);
     t->used = calloc(bits_words(m->nverts), sizeof *t->used);
     for (size_t i = 0; t->vweld && t->used && i < (size_t)m->ntris * 3; i++) {
         t->vweld[m->idx[i]] = weld[i];
@@ -1730,6 +1734,8 @@ static double level_error(const target *full, const uint32_t *weld, const uint32
     bool share = (uint64_t)ntris * SHARE_ABOVE > m->ntris;
     uint8_t *same_level = share ? calloc(ntris ? ntris : 1, 1) : NULL,
             *same_full = share ? calloc(m->ntris ? m->ntris : 1, 1) : NULL;
+    limen__populate(same_level, ntris);     /* read through, each byte */
+    limen__populate(same_full, m->ntris);
     corners_job cj = { .sd = &there, .weld = weld };
     if (same_level && same_full) {
         cj.same_level = same_level;
@@ -1753,6 +1759,7 @@ static double level_error(const target *full, const uint32_t *weld, const uint32
         side_near(&back);
         upper = back.near_max;  /* what the triangles side_bound passes by hold */
         there.local_out = keep ? calloc(ntris ? ntris : 1, sizeof *there.local_out) : NULL;
+        limen__populate(there.local_out, sizeof *there.local_out * ntris);
         measurer w[MEASURERS];
         for (int i = 0; i < MEASURERS; i++) {
             w[i] = (measurer){ .there = there, .back = back, .floor = floor, .upper = upper,
@@ -2635,11 +2642,12 @@ static bool lods_make(const limen__mesh *m, const atomic_bool *stop, made *out)
     size_t n0 = (size_t)m->ntris * 3, cap = bake ? 2 * n0 : n0;
     size_t head = HEAD;
     unsigned char *block = malloc(head + sizeof(uint32_t) * cap);
-    uint32_t *shadow = malloc(sizeof(uint32_t) * n0), *scratch = malloc(sizeof(uint32_t) * n0);
+    uint32_t *shadow = limen__malloc_populated(sizeof(uint32_t) * n0),
+             *scratch = malloc(sizeof(uint32_t) * n0);
     /* per vertex, its part (a file's parts share no vertices), where there are several */
     uint32_t *vpart = m->nparts > 1 && m->tri_part ? malloc(sizeof(uint32_t) * m->nverts) : NULL;
     bool attrs = m->uv || m->col || vpart;
-    uint32_t *attr = attrs ? malloc(sizeof(uint32_t) * n0) : shadow;
+    uint32_t *attr = attrs ? limen__malloc_populated(sizeof(uint32_t) * n0) : shadow;
     target full = { 0 };
     /* m as the measuring sees it: its triangles, with a hierarchy of its own */
     limen__mesh whole = { .nverts = m->nverts, .ntris = m->ntris, .pos = m->pos,
@@ -2807,6 +2815,7 @@ static bool lods_make(const limen__mesh *m, const atomic_bool *stop, made *out)
         }
         if (n == 0 || n * 4 > cur_n * 3 || used + n > cap)
             break;
+        limen__populate(store + used, sizeof(uint32_t) * n);
         memcpy(store + used, scratch, sizeof(uint32_t) * n);
         lods[nlods] = (limen_mesh_lod){ .triangle_count = (int)(n / 3) };
         estimate[nlods] = (double)err * scale;

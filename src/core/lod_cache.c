@@ -21,6 +21,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include "core/pages.h"
 #include "core/internal.h"
 #include "core/lod_bake.h"
 #include "core/lod_cache.h"
@@ -209,7 +210,7 @@ bool limen__lod_cache_load(const limen__lod_where *w, const limen__lod_key *key,
     /* read in after `room` bytes, where the indices will be moved down to: one copy of them
      * at a time (a 1.6M-triangle mesh's are 19 MB) */
     if (ok)
-        ok = (whole = malloc(room + len)) != NULL;
+        ok = (whole = limen__malloc_populated(room + len)) != NULL;
     buf = whole ? whole + room : NULL;
     size_t got = 0;
     while (ok && got < len) {

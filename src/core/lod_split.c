@@ -20,6 +20,7 @@
 
 #include "core/lod_target.h"
 #include "core/lod_weld.h"
+#include "core/pages.h"
 
 #define SPLIT_WORKERS 2         /* blocks simplified at once (this machine's cores) */
 #define MORTON_BITS 10          /* per axis, of a triangle's centre */
@@ -61,9 +62,10 @@ static bool block_simplify(split *s, uint32_t b, uint32_t *local)
             if (local[v] == UINT32_MAX)
                 local[v] = nv++;
         }
-    uint32_t *idx = malloc(sizeof *idx * (n ? n : 1)), *from = malloc(sizeof *from * (nv ? nv : 1)),
+    uint32_t *idx = limen__malloc_populated(sizeof *idx * (n ? n : 1)),
+             *from = limen__malloc_populated(sizeof *from * (nv ? nv : 1)),
              *out = malloc(sizeof *out * (n ? n : 1));
-    float *pos = malloc(sizeof *pos * 3 * (nv ? nv : 1));
+    float *pos = limen__malloc_populated(sizeof *pos * 3 * (nv ? nv : 1));
     bool ok = idx && from && out && pos;
     for (size_t t = 0; t < nt; t++)
         for (int k = 0; k < 3; k++) {
@@ -107,7 +109,7 @@ static void *work(void *arg)
 {
     worker *w = arg;
     split *s = w->s;
-    uint32_t *local = malloc(sizeof *local * (s->nv ? s->nv : 1));
+    uint32_t *local = limen__malloc_populated(sizeof *local * (s->nv ? s->nv : 1));
     w->ok = local != NULL;
     if (local)
         memset(local, 0xff, sizeof *local * s->nv);
@@ -129,7 +131,7 @@ static bool cut_blocks(const float *pos, const uint32_t *in, size_t nt, uint32_t
                        uint32_t *tris, size_t *first)
 {
     enum { NBUCKETS = 1 << BUCKET_BITS };
-    uint32_t *bucket = malloc(sizeof *bucket * (nt ? nt : 1));
+    uint32_t *bucket = limen__malloc_populated(sizeof *bucket * (nt ? nt : 1));
     size_t *count = calloc(NBUCKETS, sizeof *count);
     uint32_t *block_of = malloc(sizeof *block_of * NBUCKETS);
     if (!bucket || !count || !block_of) {
@@ -193,7 +195,7 @@ size_t limen__lod_simplify_split(const float *pos, uint32_t nv, const uint32_t *
     uint32_t nblocks = (uint32_t)((nt + block_tris - 1) / block_tris);
     if (nblocks < 1)
         nblocks = 1;
-    uint32_t *tris = malloc(sizeof *tris * (nt ? nt : 1));
+    uint32_t *tris = limen__malloc_populated(sizeof *tris * (nt ? nt : 1));
     size_t *first = malloc(sizeof *first * (nblocks + 1)), *want_of = malloc(sizeof *want_of * nblocks),
            *nmade = calloc(nblocks, sizeof *nmade);
     uint32_t **made = calloc(nblocks, sizeof *made);

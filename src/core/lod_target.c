@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "core/lod_target.h"
+#include "core/pages.h"
 
 #define STACK_MAX 64
 #define WALK_MAX 64             /* steps of a walk over the surface */
@@ -229,8 +230,8 @@ static bool pair_edges(limen__lod_target *t, const uint32_t *weld, uint32_t *ord
     if (parts > t->m->nverts)
         parts = t->m->nverts ? t->m->nverts : 1;
     size_t *first = malloc(sizeof *first * ((size_t)parts + 1));
-    uint32_t *next = malloc(sizeof *next * (n ? n : 1));
-    t->across = malloc(sizeof *t->across * (t->m->ntris ? t->m->ntris : 1));
+    uint32_t *next = limen__malloc_populated(sizeof *next * (n ? n : 1));
+    t->across = limen__malloc_populated(sizeof *t->across * (t->m->ntris ? t->m->ntris : 1));
     bool ok = first && order && next && t->across && edge_parts(t, weld, n, parts, first, order);
     /* each part's table: at most two thirds full (half, where the edges pair) */
     size_t most = 0, size = 16;
@@ -238,7 +239,7 @@ static bool pair_edges(limen__lod_target *t, const uint32_t *weld, uint32_t *ord
         most = first[p + 1] - first[p] > most ? first[p + 1] - first[p] : most;
     while (size < most + most / 2)
         size *= 2;
-    uint32_t *head = ok ? malloc(sizeof *head * size) : NULL;
+    uint32_t *head = ok ? limen__malloc_populated(sizeof *head * size) : NULL;
     if (!head) {
         free(first);
         free(next);
@@ -285,8 +286,8 @@ bool limen__lod_target_make(limen__lod_target *t, const limen__mesh *m, const ui
     t->used = NULL;
     /* the balls' room (16 bytes a triangle) holds the pairing's order of half-edges (12)
      * until they are made: at 1.6M triangles, 19 MB less for a moment */
-    t->ball = malloc(sizeof *t->ball * (m->ntris ? m->ntris : 1));
-    t->at_vertex = malloc(sizeof *t->at_vertex * m->nverts);
+    t->ball = limen__malloc_populated(sizeof *t->ball * (m->ntris ? m->ntris : 1));
+    t->at_vertex = limen__malloc_populated(sizeof *t->at_vertex * m->nverts);
     if (!t->ball || !t->at_vertex || !pair_edges(t, weld, (uint32_t *)(void *)t->ball)) {
         limen__lod_target_free(t);
         return false;
@@ -385,9 +386,9 @@ uint32_t *limen__lod_tree_alloc(limen__mesh *m)
     uint64_t nodes[2];
     tree_nodes(m->ntris, nodes);
     size_t n = m->ntris ? m->ntris : 1;
-    m->bvh = malloc(sizeof *m->bvh * (size_t)nodes[0]);
-    m->tri_order = malloc(sizeof *m->tri_order * n);
-    uint32_t *scratch = malloc(sizeof *scratch * 2 * n);
+    m->bvh = limen__malloc_populated(sizeof *m->bvh * (size_t)nodes[0]);
+    m->tri_order = limen__malloc_populated(sizeof *m->tri_order * n);
+    uint32_t *scratch = limen__malloc_populated(sizeof *scratch * 2 * n);
     if (!m->bvh || !m->tri_order || !scratch) {
         free(m->bvh);
         free(m->tri_order);

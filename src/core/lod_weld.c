@@ -11,6 +11,7 @@
 
 #include "core/lod_target.h"
 #include "core/lod_weld.h"
+#include "core/pages.h"
 
 #define RIM_FORKS 4             /* forks a path along the charts' edges is followed through */
 #define SIDES_LOOK 64           /* vertices at one position a corner chooses among */
@@ -33,8 +34,10 @@ static bool group_by_weld(const limen__mesh *m, const uint32_t *shadow, const ui
                           uint32_t **group, uint32_t **first, uint32_t **members)
 {
     uint32_t nv = m->nverts;
-    uint32_t *g = malloc(sizeof *g * (nv ? nv : 1)), *f = calloc((size_t)nv + 1, sizeof *f),
-             *mb = malloc(sizeof *mb * (nv ? nv : 1));
+    uint32_t *g = limen__malloc_populated(sizeof *g * (nv ? nv : 1)),
+             *f = calloc((size_t)nv + 1, sizeof *f),
+             *mb = limen__malloc_populated(sizeof *mb * (nv ? nv : 1));
+    limen__populate(f, sizeof *f * ((size_t)nv + 1));
     if (!g || !f || !mb) {
         free(g);
         free(f);
@@ -394,8 +397,8 @@ bool limen__lod_shadow(const limen__mesh *m, uint32_t *shadow)
     size_t n = (size_t)m->ntris * 3, size = 16;
     while (size < 2 * (size_t)m->nverts)
         size *= 2;
-    uint32_t *first = malloc(sizeof *first * (m->nverts ? m->nverts : 1)),
-             *slot = malloc(sizeof *slot * size);
+    uint32_t *first = limen__malloc_populated(sizeof *first * (m->nverts ? m->nverts : 1)),
+             *slot = limen__malloc_populated(sizeof *slot * size);
     if (!first || !slot) {
         free(first);
         free(slot);
@@ -436,10 +439,11 @@ bool limen__lod_pack(limen__lod_welded *pk, const limen__mesh *m, const uint32_t
 {
     size_t n0 = (size_t)m->ntris * 3;
     memset(pk, 0, sizeof *pk);
-    pk->to = malloc(sizeof *pk->to * m->nverts);
-    pk->from = malloc(sizeof *pk->from * m->nverts);
-    pk->idx = malloc(sizeof *pk->idx * n0);
-    pk->pos = malloc(sizeof(float) * 3 * m->nverts);
+    /* all written through (from and pos as far as the welds go: nearly all) */
+    pk->to = limen__malloc_populated(sizeof *pk->to * m->nverts);
+    pk->from = limen__malloc_populated(sizeof *pk->from * m->nverts);
+    pk->idx = limen__malloc_populated(sizeof *pk->idx * n0);
+    pk->pos = limen__malloc_populated(sizeof(float) * 3 * m->nverts);
     if (!pk->to || !pk->from || !pk->idx || !pk->pos) {
         limen__lod_welded_free(pk);
         return false;
@@ -477,7 +481,7 @@ size_t limen__lod_simplify(limen__lod_welded *pk, const uint32_t *src, size_t n,
     uint32_t nv = pk->n;
     uint32_t *used = NULL, *own = NULL, *tmp = NULL;
     float *own_pos = NULL;
-    if (src && !(tmp = malloc(sizeof *tmp * (n ? n : 1))))
+    if (src && !(tmp = limen__malloc_populated(sizeof *tmp * (n ? n : 1))))
         return 0;
     if (src) {
         /* per packed vertex, its number among those src uses (in the packed order), and
@@ -493,8 +497,8 @@ size_t limen__lod_simplify(limen__lod_welded *pk, const uint32_t *src, size_t n,
         for (uint32_t v = 0; v < pk->n; v++)
             if (used[v])
                 used[v] = ++nv;
-        own = malloc(sizeof *own * (nv ? nv : 1));
-        own_pos = malloc(sizeof(float) * 3 * (nv ? nv : 1));
+        own = limen__malloc_populated(sizeof *own * (nv ? nv : 1));
+        own_pos = limen__malloc_populated(sizeof(float) * 3 * (nv ? nv : 1));
         if (!own || !own_pos) {
             free(used);
             free(own);

@@ -26,6 +26,7 @@
 #include "core/internal.h"
 #include "core/mesh.h"
 #include "core/import.h"
+#include "core/pages.h"
 #include "core/texture.h"
 
 #define LEAF_TRIS 4
@@ -675,10 +676,10 @@ static limen_status mesh_from_arrays(limen_scene *s, const limen_mesh_data *d, c
     m->nverts = nv;
     m->ntris = nt;
     m->bytes = bytes;
-    m->pos = malloc(sizeof(float) * 3 * nv);
-    m->nrm = malloc(sizeof(float) * 3 * nv);
-    m->uv = d->uvs ? malloc(sizeof(float) * 2 * nv) : NULL;
-    m->idx = malloc(sizeof(uint32_t) * 3 * nt);
+    m->pos = limen__malloc_populated(sizeof(float) * 3 * nv);
+    m->nrm = limen__malloc_populated(sizeof(float) * 3 * nv);
+    m->uv = d->uvs ? limen__malloc_populated(sizeof(float) * 2 * nv) : NULL;
+    m->idx = limen__malloc_populated(sizeof(uint32_t) * 3 * nt);
     if (!m->pos || !m->nrm || (d->uvs && !m->uv) || !m->idx || !copy_materials(m, d)) {
         mesh_free(s, m);
         return limen__fail(s, LIMEN_ERR_NOMEM, "%s: out of memory", what);
@@ -838,11 +839,12 @@ static limen_status flatten(limen_scene *s, const limen__import *b, uint32_t onl
         return limen__fail(s, LIMEN_ERR_ARG, "%s: %llu triangles, more than a mesh holds", path,
                            (unsigned long long)nt);
     float *world = node_worlds(b);
-    f->pos = malloc(sizeof(float) * 3 * nv);
-    f->nrm = malloc(sizeof(float) * 3 * nv);
-    f->uv = malloc(sizeof(float) * 2 * nv);
-    f->col = malloc(sizeof(float) * 4 * nv);
-    f->idx = malloc(sizeof(uint32_t) * 3 * nt);
+    /* each written through, vertex by vertex, triangle by triangle */
+    f->pos = limen__malloc_populated(sizeof(float) * 3 * nv);
+    f->nrm = limen__malloc_populated(sizeof(float) * 3 * nv);
+    f->uv = limen__malloc_populated(sizeof(float) * 2 * nv);
+    f->col = limen__malloc_populated(sizeof(float) * 4 * nv);
+    f->idx = limen__malloc_populated(sizeof(uint32_t) * 3 * nt);
     f->parts = malloc(sizeof *f->parts * b->nmaterials);
     f->mats = malloc(sizeof *f->mats * b->nmaterials);
     if (!world || !f->pos || !f->nrm || !f->uv || !f->col || !f->idx || !f->parts || !f->mats) {

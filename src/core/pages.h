@@ -1,0 +1,21 @@
+/* pages.h - big arrays' pages faulted in at once. */
+#ifndef LIMEN_PAGES_H
+#define LIMEN_PAGES_H
+
+#include <stddef.h>
+
+/* Makes the whole pages of [p, p + bytes) resident and writable in one call (Linux 5.14's
+ * MADV_POPULATE_WRITE), where bytes is at least LIMEN__POPULATE_MIN: for an array about to be
+ * written through, whose pages would otherwise come one fault at a time. On a virtual
+ * machine a fault costs several microseconds (here 11 us a 4 kB page, 2.7 ms a megabyte,
+ * against 0.6 us populated): a 1.6M-triangle mesh's levels touch half a gigabyte. Never for
+ * an array written sparsely (its untouched pages would become resident). Does nothing where
+ * the system cannot; the contents are kept. */
+void limen__populate(void *p, size_t bytes);
+
+#define LIMEN__POPULATE_MIN ((size_t)256 << 10)
+
+/* malloc(bytes), populated (limen__populate). */
+void *limen__malloc_populated(size_t bytes);
+
+#endif
