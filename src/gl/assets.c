@@ -18,7 +18,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "core/pages.h"
 #include "gl/gl_internal.h"
 
 #ifndef GL_REPEAT
@@ -241,7 +240,6 @@ static bool upload_level(limen_renderer *r, const limen_mesh_geometry *m,
         free(svtx);
         return false;
     }
-    limen__populate(map, sizeof(uint32_t) * nv);
     memset(map, 0xff, sizeof(uint32_t) * nv);
     GL(GenVertexArrays)(1, &a->vao[k]);
     GL(BindVertexArray)(a->vao[k]);
