@@ -2,6 +2,7 @@
  * distance from a point to a triangle, the nearest triangle through the mesh's hierarchy,
  * walks across edges, and the edges' pairing. */
 #include <math.h>
+#include <pthread.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -160,50 +161,162 @@ static uint64_t edge_key(const limen__lod_target *t, const uint32_t *weld, size_
 #define SLOT_EMPTY 0x80000000u  /* with a half-edge: its key's slot, none of it waiting */
 
 /* The slot of pair_edges' table (mask + 1 slots) that holds key, or the free one where it
- * would go; each slot looked at counted in t->probes. */
-static size_t key_slot(limen__lod_target *t, const uint32_t *weld, const uint32_t *head,
-                       size_t mask, uint64_t key)
+ * would go; each slot looked at counted in *probes. */
+static size_t key_slot(const limen__lod_target *t, const uint32_t *weld, const uint32_t *head,
+                       size_t mask, uint64_t key, uint64_t *probes)
 {
     size_t at = (size_t)((key * 0x9e3779b97f4a7c15ull) >> 20) & mask;
     for (;; at = (at + 1) & mask) {
-        t->probes++;
+        (*probes)++;
         if (head[at] == SLOT_FREE || edge_key(t, weld, head[at] & ~SLOT_EMPTY) == key)
             return at;
     }
 }
 
+#define PAIR_THREAD_EDGES 196608 /* pair_edges pairs this many half-edges on two threads */
 #define PART_EDGES 16384        /* half-edges a part of pair_edges' work holds, about: its
                                  * table (1.5 to 3 slots each) stays in the core's cache */
 
 /* The half-edges of t's mesh [0, n) that pair_edges pairs in one part, of `parts`, each a
  * range of vertices: those whose lesser vertex lies in part p are order[first[p],
  * first[p + 1]), in their own order. false when out of memory. */
+typedef struct part_run {
+    const limen__lod_target *t;
+    const uint32_t *weld;
+    size_t h0, h1;              /* the half-edges [h0, h1) */
+    uint32_t parts;
+    size_t *at;                 /* parts + 1: counted, then where each part's next one goes */
+    uint32_t *order;
+    bool ok;
+} part_run;
+
+/* Counts r's half-edges by part (into r->at), or where scatter lays them out in order (at
+ * r->at's places, moved on); one from a vertex to itself is in none. r->ok false where one
+ * names no vertex of the mesh. */
+static void part_count(part_run *r, bool scatter)
+{
+    const limen__lod_target *t = r->t;
+    uint32_t nv = t->m->nverts;
+    for (size_t h = r->h0; h < r->h1; h++) {
+        size_t base = h - h % 3;
+        uint32_t a = corner_vertex(t, r->weld, h), b = corner_vertex(t, r->weld, base + (h + 1) % 3);
+        if (a == b)
+            continue;
+        if (a >= nv || b >= nv) {
+            r->ok = false;      /* not a vertex of the mesh */
+            return;
+        }
+        uint32_t p = (uint32_t)((uint64_t)(a < b ? a : b) * r->parts / nv);
+        if (scatter)
+            r->order[r->at[p]++] = (uint32_t)h;
+        else
+            r->at[p]++;
+    }
+}
+
+static void *part_count_run(void *arg)
+{
+    part_count(arg, false);
+    return NULL;
+}
+
+static void *part_scatter_run(void *arg)
+{
+    part_count(arg, true);
+    return NULL;
+}
+
+/* Runs f over both halves, the second on a thread of its own where beside. */
+static void part_both(void *(*f)(void *), part_run r[2], bool beside)
+{
+    pthread_t th;
+    beside = beside && pthread_create(&th, NULL, f, &r[1]) == 0;
+    f(&r[0]);
+    if (beside)
+        pthread_join(th, NULL);
+    else
+        f(&r[1]);
+}
+
 static bool edge_parts(const limen__lod_target *t, const uint32_t *weld, size_t n,
                        uint32_t parts, size_t *first, uint32_t *order)
 {
-    uint32_t nv = t->m->nverts;
-    memset(first, 0, sizeof *first * ((size_t)parts + 1));
-    for (int pass = 0; pass < 2; pass++) {
-        for (size_t h = 0; h < n; h++) {
-            size_t base = h - h % 3;
-            uint32_t a = corner_vertex(t, weld, h), b = corner_vertex(t, weld, base + (h + 1) % 3);
-            if (a == b)
-                continue;
-            if (a >= nv || b >= nv)
-                return false;   /* not a vertex of the mesh */
-            uint32_t p = (uint32_t)((uint64_t)(a < b ? a : b) * parts / nv);
-            if (pass == 0)
-                first[p + 1]++;
-            else
-                order[first[p]++] = (uint32_t)h;
-        }
-        for (uint32_t p = 0; pass == 0 && p < parts; p++)
-            first[p + 1] += first[p];
+    /* counted and laid out in two halves of the half-edges (the first half's of a part
+     * before the second's, so each part's are in their own order, whichever way it ran) */
+    size_t *at = calloc(2 * ((size_t)parts + 1), sizeof *at);
+    if (!at)
+        return false;
+    part_run r[2] = { { .t = t, .weld = weld, .h0 = 0, .h1 = n / 2, .parts = parts, .at = at,
+                        .order = order, .ok = true },
+                      { .t = t, .weld = weld, .h0 = n / 2, .h1 = n, .parts = parts,
+                        .at = at + parts + 1, .order = order, .ok = true } };
+    bool beside = n >= PAIR_THREAD_EDGES;
+    part_both(part_count_run, r, beside);
+    bool ok = r[0].ok && r[1].ok;
+    size_t sum = 0;
+    for (uint32_t p = 0; ok && p < parts; p++) {
+        size_t c0 = r[0].at[p], c1 = r[1].at[p];
+        first[p] = sum;
+        r[0].at[p] = sum;
+        r[1].at[p] = sum + c0;
+        sum += c0 + c1;
     }
-    /* the second pass moved each part's start to the next's */
-    memmove(first + 1, first, sizeof *first * parts);
-    first[0] = 0;
-    return true;
+    first[parts] = sum;
+    if (ok)
+        part_both(part_scatter_run, r, beside);
+    free(at);
+    return ok;
+}
+
+/* pair_edges' work over the parts [p0, p1): each part's half-edges paired through its own
+ * table (at most `size` slots). */
+typedef struct pair_run {
+    limen__lod_target *t;
+    const uint32_t *weld, *order;
+    const size_t *first;
+    uint32_t *next;
+    uint32_t p0, p1;
+    size_t size;
+    uint64_t probes;
+    bool ok;
+} pair_run;
+
+static void *pair_parts(void *arg)
+{
+    pair_run *r = arg;
+    limen__lod_target *t = r->t;
+    const uint32_t *weld = r->weld, *order = r->order;
+    const size_t *first = r->first;
+    uint32_t *next = r->next;
+    uint32_t *head = limen__malloc_populated(sizeof *head * r->size);
+    r->ok = head != NULL;
+    for (uint32_t p = r->p0; head && p < r->p1; p++) {
+        size_t count = first[p + 1] - first[p], mask = 16;
+        while (mask < count + count / 2)
+            mask *= 2;
+        mask--;
+        memset(head, 0xff, sizeof *head * (mask + 1));
+        for (size_t i = first[p]; i < first[p + 1]; i++) {
+            size_t h = order[i], base = h - h % 3;
+            uint32_t a = corner_vertex(t, weld, h), b = corner_vertex(t, weld, base + (h + 1) % 3);
+            /* the opposite direction first: a half-edge waiting there pairs with this one */
+            size_t at = key_slot(t, weld, head, mask, (uint64_t)b << 32 | a, &r->probes);
+            if (head[at] != SLOT_FREE && !(head[at] & SLOT_EMPTY)) {
+                uint32_t o = head[at];
+                head[at] = next[o] == UINT32_MAX ? o | SLOT_EMPTY : next[o];
+                t->across[o / 3][o % 3] = (uint32_t)(h / 3);
+                t->across[h / 3][h % 3] = o / 3;
+                continue;
+            }
+            /* else it waits under its own direction (a slot emptied by pairing keeps a
+             * half-edge of its key, flagged, so the probes past it still find theirs) */
+            at = key_slot(t, weld, head, mask, (uint64_t)a << 32 | b, &r->probes);
+            next[h] = head[at] == SLOT_FREE || (head[at] & SLOT_EMPTY) ? UINT32_MAX : head[at];
+            head[at] = (uint32_t)h;
+        }
+    }
+    free(head);
+    return NULL;
 }
 
 /* t->across: edges paired through a table keyed on directed edges (two welded vertices, in
@@ -239,43 +352,32 @@ static bool pair_edges(limen__lod_target *t, const uint32_t *weld, uint32_t *ord
         most = first[p + 1] - first[p] > most ? first[p + 1] - first[p] : most;
     while (size < most + most / 2)
         size *= 2;
-    uint32_t *head = ok ? limen__malloc_populated(sizeof *head * size) : NULL;
-    if (!head) {
+    if (!ok) {
         free(first);
         free(next);
         return false;
     }
     memset(t->across, 0xff, sizeof *t->across * t->m->ntris);
-    t->probes = 0;
-    for (uint32_t p = 0; p < parts; p++) {
-        size_t count = first[p + 1] - first[p], mask = 16;
-        while (mask < count + count / 2)
-            mask *= 2;
-        mask--;
-        memset(head, 0xff, sizeof *head * (mask + 1));
-        for (size_t i = first[p]; i < first[p + 1]; i++) {
-            size_t h = order[i], base = h - h % 3;
-            uint32_t a = corner_vertex(t, weld, h), b = corner_vertex(t, weld, base + (h + 1) % 3);
-            /* the opposite direction first: a half-edge waiting there pairs with this one */
-            size_t at = key_slot(t, weld, head, mask, (uint64_t)b << 32 | a);
-            if (head[at] != SLOT_FREE && !(head[at] & SLOT_EMPTY)) {
-                uint32_t o = head[at];
-                head[at] = next[o] == UINT32_MAX ? o | SLOT_EMPTY : next[o];
-                t->across[o / 3][o % 3] = (uint32_t)(h / 3);
-                t->across[h / 3][h % 3] = o / 3;
-                continue;
-            }
-            /* else it waits under its own direction (a slot emptied by pairing keeps a
-             * half-edge of its key, flagged, so the probes past it still find theirs) */
-            at = key_slot(t, weld, head, mask, (uint64_t)a << 32 | b);
-            next[h] = head[at] == SLOT_FREE || (head[at] & SLOT_EMPTY) ? UINT32_MAX : head[at];
-            head[at] = (uint32_t)h;
-        }
-    }
-    free(head);
+    /* the parts in two runs of about half the half-edges each, the second on a thread of its
+     * own where there are many (a part's pairs are its own: the same either way) */
+    uint32_t half = 0;
+    while (half < parts && first[half] < n / 2)
+        half++;
+    pair_run run[2] = { { .t = t, .weld = weld, .order = order, .first = first, .next = next,
+                          .p0 = 0, .p1 = half, .size = size },
+                        { .t = t, .weld = weld, .order = order, .first = first, .next = next,
+                          .p0 = half, .p1 = parts, .size = size } };
+    pthread_t th;
+    bool beside = n >= PAIR_THREAD_EDGES && pthread_create(&th, NULL, pair_parts, &run[1]) == 0;
+    pair_parts(&run[0]);
+    if (beside)
+        pthread_join(th, NULL);
+    else
+        pair_parts(&run[1]);
+    t->probes = run[0].probes + run[1].probes;
     free(first);
     free(next);
-    return true;
+    return run[0].ok && run[1].ok;
 }
 
 bool limen__lod_target_make(limen__lod_target *t, const limen__mesh *m, const uint32_t *weld)
