@@ -1172,10 +1172,13 @@ static bool allowed_format(const char *path, const unsigned char *head, size_t n
 
 /* Counts a header declares, checked against the file's size before the importer sees it:
  * every element a format's header declares takes at least a byte of the file (a vertex or
- * face), so a few bytes cannot declare gigabytes. Writes why and returns
- * false if the file is refused. */
-static bool header_ok(const unsigned char *data, size_t size, char *why, size_t why_size)
+ * face), so a few bytes cannot declare gigabytes. *verts and *faces get the vertices and
+ * faces it declares (a PLY's `vertex` and `face` elements, an OFF's counts; 0 for any other
+ * format). Writes why and returns false if the file is refused. */
+static bool header_ok(const unsigned char *data, size_t size, char *why, size_t why_size,
+                      uint64_t *verts, uint64_t *faces)
 {
+    *verts = *faces = 0;
     char head[4096 + 1];
     size_t n = size < sizeof head - 1 ? size : sizeof head - 1;
     memcpy(head, data, n);
@@ -1200,8 +1203,14 @@ static bool header_ok(const unsigned char *data, size_t size, char *why, size_t 
             char word[16], name[32];
             unsigned long long count = 0;
             if (sscanf(line, "%15s %31s %llu", word, name, &count) == 3 &&
-                strcmp(word, "element") == 0)
-                declared += count > size ? size + 1 : count;
+                strcmp(word, "element") == 0) {
+                count = count > size ? size + 1 : count;
+                declared += count;
+                if (strcmp(name, "vertex") == 0)
+                    *verts += count;
+                else if (strcmp(name, "face") == 0)
+                    *faces += count;
+            }
             line = next;
         }
     } else if (n >= 3 && memcmp(head, "OFF", 3) == 0) {
@@ -1218,8 +1227,11 @@ static bool header_ok(const unsigned char *data, size_t size, char *why, size_t 
             while (*p && *p != '\n')
                 p++;
         }
-        if (sscanf(head + 3, "%llu %llu", &nv, &nf) == 2 || sscanf(p, "%llu %llu", &nv, &nf) == 2)
-            declared = (nv > size ? size + 1 : nv) + (nf > size ? size + 1 : nf);
+        if (sscanf(head + 3, "%llu %llu", &nv, &nf) == 2 || sscanf(p, "%llu %llu", &nv, &nf) == 2) {
+            *verts = nv > size ? size + 1 : nv;
+            *faces = nf > size ? size + 1 : nf;
+            declared = *verts + *faces;
+        }
     }
     if (declared > size) {
         snprintf(why, why_size, "its header declares more elements than the file has bytes "
@@ -1442,9 +1454,10 @@ limen_status limen__mesh_import(limen_scene *s, const char *path, unsigned flags
         return st;
     }
     char why[300] = "";
+    uint64_t hv = 0, hf = 0;
     bool ok = (!s->load || !s->load->safe ||
                allowed_format(path, data, len < 4096 ? len : 4096, len, why, sizeof why)) &&
-              header_ok(data, len, why, sizeof why);
+              header_ok(data, len, why, sizeof why, &hv, &hf);
     /* glTF: what its nodes place, before the importer copies a mesh into each of them */
     uint64_t gv = 0, gt = 0;
     int depth = 0;
@@ -1452,8 +1465,11 @@ limen_status limen__mesh_import(limen_scene *s, const char *path, unsigned flags
     while (i < len && isspace(data[i]))
         i++;
     bool gltf = ok && ((i < len && data[i] == '{') || (len >= 4 && memcmp(data, "glTF", 4) == 0));
+    /* what the mesh will hold at least, from what the file declares, refused before the
+     * importer reads it: a glTF's nodes' triangles, or the faces a PLY's or OFF's header
+     * declares (each a triangle at least; no texture coordinates counted) */
+    size_t need = 0;
     if (gltf && limen__gltf_cost(data, len, max_bytes, &gv, &gt, &depth)) {
-        size_t need = limen__mesh_bytes(gv, gt, true);
         if (depth == INT32_MAX) {
             ok = false;
             snprintf(why, sizeof why, "its nodes form a cycle");
@@ -1461,15 +1477,26 @@ limen_status limen__mesh_import(limen_scene *s, const char *path, unsigned flags
             ok = false;
             snprintf(why, sizeof why, "its nodes nest %d deep (%d at most)", depth,
                      GLTF_DEPTH_MAX);
-        } else if (need > max_bytes) {
-            free(data);
-            if (s->load)
-                s->load->read_bytes -= len;
-            s->mem_wanted = need;
+        } else {
+            need = limen__mesh_bytes(gv, gt, true);
+        }
+    } else if (ok && hf) {
+        need = limen__mesh_bytes(hv, hf, false);
+    }
+    if (ok && need > max_bytes) {
+        free(data);
+        if (s->load)
+            s->load->read_bytes -= len;
+        s->mem_wanted = need;
+        if (gltf)
             return limen__fail(s, LIMEN_ERR_NOMEM, "%s: its nodes place %llu triangles, which "
                                "need %.1f MiB, more than the %.1f MiB allowed", path,
                                (unsigned long long)gt, need / 1048576.0, max_bytes / 1048576.0);
-        }
+        /* worded as the mesh's own refusal after the import would be */
+        return limen__fail(s, LIMEN_ERR_NOMEM, "%s: %llu triangles need %.1f MiB, more than the "
+                           "%.1f MiB allowed (the faces its header declares, refused before "
+                           "it is imported)", path, (unsigned long long)hf, need / 1048576.0,
+                           max_bytes / 1048576.0);
     }
     free(data);
     if (s->load)
