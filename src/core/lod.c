@@ -2563,8 +2563,9 @@ static bool bake_again(const limen__mesh *m, made *mk, uint32_t mask)
  * level build need not wait for), given back when done. */
 /* The next level simplified beside this one (a big mesh's sources past the first levels are
  * taken whole, on one core): from its own source (source_of), towards
- * half of what this one is asked for; kept where this one comes out as asked (then the
- * next one is asked for just that), else made again in turn. */
+ * half of what this one is asked for; kept where this one comes out within a tenth of what
+ * it was asked for (then the next one is asked for just that: see base in lods_make), else
+ * made again in turn. */
 typedef struct next_simp {
     pthread_t th;
     bool started;
@@ -2719,7 +2720,6 @@ static bool lods_make(const limen__mesh *m, const atomic_bool *stop, made *out)
                               cur_n * 10 <= asked * 11
                           ? asked
                           : cur_n;
-        size_t seams_ask = 0;
         float err = 0;
         uint32_t first = m->ntris >= FROM_FIRST_TRIS ? 1 : SOURCE_STEP;
         bool from_full = mode == CHARTS ? nlods <= charts_from : nlods <= first || mode > CHARTS;
@@ -2746,7 +2746,6 @@ static bool lods_make(const limen__mesh *m, const atomic_bool *stop, made *out)
                     &ok);
         } else if (mode == SEAMS && halve && next_simp_take(&beside, nlods, base / 6 * 3)) {
             /* made beside the level before, asked for what it is asked for now */
-            seams_ask = base / 6 * 3;
             n = beside.n;
             err = beside.err;
             memcpy(scratch, beside.out, sizeof *scratch * n);
@@ -2755,9 +2754,7 @@ static bool lods_make(const limen__mesh *m, const atomic_bool *stop, made *out)
              * (a split source's level comes out a few triangles off what it was asked for,
              * which the next one's asking follows) and the next one's is made already (its
              * source_of), and it halves too */
-            size_t want = (mode == SEAMS ? base : cur_n) / 6 * 3;
-            if (mode == SEAMS && halve)
-                seams_ask = want;
+            size_t want = base / 6 * 3;     /* base is cur_n past the seams' mode */
             uint32_t next_from = source_of(lods, nlods + 1);
             if (mode == SEAMS && halve && !from_full && n0 / 3 >= beside_above &&
                 src_n / 3 < LIMEN__LOD_SPLIT_ABOVE &&
@@ -2840,7 +2837,8 @@ static bool lods_make(const limen__mesh *m, const atomic_bool *stop, made *out)
         loose[nlods] = bake && mode > CHARTS;
         at[nlods++] = used;
         cur_n = n;
-        asked = mode == SEAMS ? seams_ask : 0;
+        /* with the seams kept, halving, it was asked for half of base (made beside or here) */
+        asked = mode == SEAMS && halve ? base / 6 * 3 : 0;
         used += n;
         ahead_made(&ah, nlods);
         if (!halve)

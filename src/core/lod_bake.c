@@ -20,7 +20,6 @@
  * order of the triangles' centres along a Morton curve, so a coarser mipmap level's texel
  * mostly blends triangles that lie together on the surface. */
 #include <float.h>
-#include <pthread.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -427,13 +426,7 @@ limen__mesh *limen__lod_bake(const limen__mesh *m, const limen__lod_target *full
                            .at = at, .place = place, .order = order, .side = side, .b = b,
                            .base = base, .glows = glows, .W = W, .H = H,
                            .from = k ? ntris / 2 : 0, .to = k ? ntris : ntris / 2 };
-    pthread_t other;
-    bool two = ntris >= THREAD_TRIS && pthread_create(&other, NULL, bake_share, &work[1]) == 0;
-    bake_share(&work[0]);
-    if (two)
-        pthread_join(other, NULL);
-    else
-        bake_share(&work[1]);
+    limen__lod_both(bake_share, &work[0], &work[1], ntris >= THREAD_TRIS);
     free(rep);
     free(order);
     free(side);

@@ -177,9 +177,7 @@ static size_t key_slot(const limen__lod_target *t, const uint32_t *weld, const u
 #define PART_EDGES 16384        /* half-edges a part of pair_edges' work holds, about: its
                                  * table (1.5 to 3 slots each) stays in the core's cache */
 
-/* The half-edges of t's mesh [0, n) that pair_edges pairs in one part, of `parts`, each a
- * range of vertices: those whose lesser vertex lies in part p are order[first[p],
- * first[p + 1]), in their own order. false when out of memory. */
+/* edge_parts' work over the half-edges [h0, h1). */
 typedef struct part_run {
     const limen__lod_target *t;
     const uint32_t *weld;
@@ -226,18 +224,20 @@ static void *part_scatter_run(void *arg)
     return NULL;
 }
 
-/* Runs f over both halves, the second on a thread of its own where beside. */
-static void part_both(void *(*f)(void *), part_run r[2], bool beside)
+void limen__lod_both(void *(*f)(void *), void *first, void *second, bool beside)
 {
     pthread_t th;
-    beside = beside && pthread_create(&th, NULL, f, &r[1]) == 0;
-    f(&r[0]);
+    beside = beside && pthread_create(&th, NULL, f, second) == 0;
+    f(first);
     if (beside)
         pthread_join(th, NULL);
     else
-        f(&r[1]);
+        f(second);
 }
 
+/* The half-edges of t's mesh [0, n) that pair_edges pairs in one part, of `parts`, each a
+ * range of vertices: those whose lesser vertex lies in part p are order[first[p],
+ * first[p + 1]), in their own order. false when out of memory. */
 static bool edge_parts(const limen__lod_target *t, const uint32_t *weld, size_t n,
                        uint32_t parts, size_t *first, uint32_t *order)
 {
@@ -251,7 +251,7 @@ static bool edge_parts(const limen__lod_target *t, const uint32_t *weld, size_t 
                       { .t = t, .weld = weld, .h0 = n / 2, .h1 = n, .parts = parts,
                         .at = at + parts + 1, .order = order, .ok = true } };
     bool beside = n >= PAIR_THREAD_EDGES;
-    part_both(part_count_run, r, beside);
+    limen__lod_both(part_count_run, &r[0], &r[1], beside);
     bool ok = r[0].ok && r[1].ok;
     size_t sum = 0;
     for (uint32_t p = 0; ok && p < parts; p++) {
@@ -263,7 +263,7 @@ static bool edge_parts(const limen__lod_target *t, const uint32_t *weld, size_t 
     }
     first[parts] = sum;
     if (ok)
-        part_both(part_scatter_run, r, beside);
+        limen__lod_both(part_scatter_run, &r[0], &r[1], beside);
     free(at);
     return ok;
 }
@@ -367,13 +367,7 @@ static bool pair_edges(limen__lod_target *t, const uint32_t *weld, uint32_t *ord
                           .p0 = 0, .p1 = half, .size = size },
                         { .t = t, .weld = weld, .order = order, .first = first, .next = next,
                           .p0 = half, .p1 = parts, .size = size } };
-    pthread_t th;
-    bool beside = n >= PAIR_THREAD_EDGES && pthread_create(&th, NULL, pair_parts, &run[1]) == 0;
-    pair_parts(&run[0]);
-    if (beside)
-        pthread_join(th, NULL);
-    else
-        pair_parts(&run[1]);
+    limen__lod_both(pair_parts, &run[0], &run[1], n >= PAIR_THREAD_EDGES);
     t->probes = run[0].probes + run[1].probes;
     free(first);
     free(next);

@@ -91,6 +91,9 @@ double limen__tri_d2(const double p[3], const double a[3], const double b[3], co
  * v (c - a)). */
 double limen__tri_nearest(const double p[3], const double a[3], const double b[3],
                           const double c[3], double *u, double *v);
+/* f(first), and f(second) on a thread of its own where beside (and a thread starts), else
+ * after it: work split in two halves whose results are their own. */
+void limen__lod_both(void *(*f)(void *), void *first, void *second, bool beside);
 /* t over m's triangles and hierarchy (which it must outlive); weld, where not NULL: per
  * corner of m, another vertex at the corner's position, through which corners meet (at
  * a vertex, across an edge). False when out of memory (t freed). */
