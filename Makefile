@@ -33,7 +33,7 @@ VERSION  := $(VERSION_MAJOR).$(call VERSION_PART,MINOR).$(call VERSION_PART,PATC
 SONAME   := liblimen.so.$(VERSION_MAJOR)
 
 # ------------------------------------------------------------------ objects
-CORE_SRC := src/core/error.c src/core/limits.c src/core/lmath.c src/core/scene.c src/core/surface.c src/core/move.c src/core/straddle.c src/core/bvh.c src/core/index.c src/core/rtc.c src/core/cull.c src/core/plan.c src/core/drawables.c src/core/trace.c src/core/image.c src/core/jpeg.c src/core/file.c src/core/confine.c src/core/contain.c src/core/gltf_cost.c src/core/mesh.c src/core/lod.c src/core/lod_target.c src/core/lod_cache.c src/core/texture.c
+CORE_SRC := src/core/error.c src/core/limits.c src/core/lmath.c src/core/scene.c src/core/surface.c src/core/move.c src/core/straddle.c src/core/bvh.c src/core/index.c src/core/rtc.c src/core/cull.c src/core/plan.c src/core/drawables.c src/core/trace.c src/core/image.c src/core/jpeg.c src/core/file.c src/core/confine.c src/core/contain.c src/core/gltf_cost.c src/core/mesh.c src/core/mesh_look.c src/core/lod.c src/core/lod_target.c src/core/lod_cache.c src/core/texture.c
 # the library's own version (limen_version)
 CORE_SRC += src/core/version.c
 CORE_SRC += src/core/drawlist.c src/core/drawlist_stencil.c src/core/drawlist_texture.c src/core/drawlist_batch.c

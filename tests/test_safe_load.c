@@ -384,6 +384,123 @@ static void test_shared_mesh_bomb(void)
     }
 }
 
+/* Bytes this process has read (read and pread: /proc/self/io's rchar); -1 where unknown. */
+static long long bytes_read(void)
+{
+    FILE *f = fopen("/proc/self/io", "r");
+    long long v = -1;
+    char line[64];
+    while (f && fgets(line, sizeof line, f))
+        if (sscanf(line, "rchar: %lld", &v) == 1)
+            break;
+    if (f)
+        fclose(f);
+    return v;
+}
+
+/* Writes head, then makes the file size bytes long (the rest a hole: no disk). */
+static void put_sparse(const char *path, const void *head, size_t n, off_t size)
+{
+    put(path, head, n);
+    CHECK_MSG(truncate(path, size) == 0, "truncate %s: %s", path, strerror(errno));
+}
+
+/* Loads file in a safe scene with cap; the message, and how many bytes the load read. */
+static outcome mesh_read(const char *file, int64_t cap, long long *read)
+{
+    char text[256];
+    snprintf(text, sizeof text, "local limen = require 'limen' local s = limen.scene{}\n"
+             "s:mesh{ name = 'm', file = '%s' }\nreturn s\n", file);
+    long long before = bytes_read();
+    outcome o = run("read.lua", text, 0, cap);
+    *read = bytes_read() - before;
+    return o;
+}
+
+/* A mesh whose size a header says is refused having read the header alone, never the file:
+ * a PLY, a binary STL and a .glb of 300 MB each (holes, no disk) under a cap of 400 MiB,
+ * which the file fits but the mesh does not; the .glb's JSON chunk is read, its binary chunk
+ * is not. An OBJ and an ASCII STL have no header: their faces are counted in one pass before
+ * the import (quads as two triangles; an indented "f", a comment and a face of two corners
+ * count nothing), and a file the count lets through loads. */
+static void test_refused_unread(void)
+{
+    const int64_t cap = 400 << 20;
+    const off_t big = 300000000;
+    long long read;
+    char text[1024];
+    int n = snprintf(text, sizeof text, "ply\nformat binary_little_endian 1.0\n"
+                     "element vertex 1000\nproperty float x\nproperty float y\nproperty float z\n"
+                     "element face 10000000\nproperty list uchar int vertex_indices\nend_header\n");
+    put_sparse(at(dir, "hole.ply"), text, (size_t)n, big);
+    outcome o = mesh_read("hole.ply", cap, &read);
+    CHECK_MSG(o.st && strstr(o.msg, "hole.ply: 10000000 triangles need") &&
+              strstr(o.msg, "the faces its header declares"), "%s", o.msg);
+    CHECK_MSG(read >= 0 && read < (1 << 20), "PLY: %lld bytes read", read);
+
+    unsigned char stl[84] = "binary STL, not solid";
+    uint32_t count = 6000000;
+    memcpy(stl + 80, &count, 4);
+    put_sparse(at(dir, "hole.stl"), stl, sizeof stl, 84 + 50 * (off_t)count);
+    o = mesh_read("hole.stl", cap, &read);
+    CHECK_MSG(o.st && strstr(o.msg, "hole.stl: 6000000 triangles need") &&
+              strstr(o.msg, "the triangles its header declares"), "%s", o.msg);
+    CHECK_MSG(read >= 0 && read < (1 << 20), "STL: %lld bytes read", read);
+
+    char json[600];
+    int jl = snprintf(json, sizeof json, "{\"asset\":{\"version\":\"2.0\"},\"scene\":0,"
+                      "\"scenes\":[{\"nodes\":[0]}],\"nodes\":[{\"mesh\":0}],\"meshes\":[{"
+                      "\"primitives\":[{\"attributes\":{\"POSITION\":0}}]}],\"accessors\":[{"
+                      "\"bufferView\":0,\"componentType\":5126,\"count\":9000000,\"type\":"
+                      "\"VEC3\",\"min\":[0,0,0],\"max\":[1,1,1]}],\"bufferViews\":[{\"buffer\":0,"
+                      "\"byteLength\":108000000}],\"buffers\":[{\"byteLength\":300000000}]}");
+    while (jl % 4)
+        json[jl++] = ' ';
+    uint32_t glb[5] = { 0x46546C67u, 2, 0, (uint32_t)jl, 0x4E4F534Au };
+    uint32_t bin[2] = { 300000000u, 0x004E4942u };
+    glb[2] = (uint32_t)(sizeof glb + (size_t)jl + sizeof bin) + bin[0];
+    n = 0;
+    memcpy(text, glb, sizeof glb);
+    memcpy(text + sizeof glb, json, (size_t)jl);
+    memcpy(text + sizeof glb + jl, bin, sizeof bin);
+    put_sparse(at(dir, "hole.glb"), text, sizeof glb + (size_t)jl + sizeof bin, glb[2]);
+    o = mesh_read("hole.glb", cap, &read);
+    CHECK_MSG(o.st && strstr(o.msg, "hole.glb: its nodes place 3000000 triangles"), "%s",
+              o.msg);
+    CHECK_MSG(read >= 0 && read < (1 << 20), ".glb: %lld bytes read", read);
+
+    /* 500,000 quads (1M triangles, 92 MB as a mesh; the file 5.5 MB) under the default cap */
+    FILE *f = fopen(at(dir, "quads.obj"), "w");
+    fprintf(f, "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\n# f 1 2 3\n f 1 2 3\nf 1 2 # 3 4\n");
+    for (int i = 0; i < 500000; i++)
+        fputs("f 1 2 3 4\n", f);
+    fclose(f);
+    o = mesh_read("quads.obj", 0, &read);
+    CHECK_MSG(o.st && strstr(o.msg, "quads.obj: 1000000 triangles need") &&
+              strstr(o.msg, "the faces its f lines hold, counted before"), "%s", o.msg);
+    f = fopen(at(dir, "facets.stl"), "w");
+    fputs("solid t\n", f);
+    for (int i = 0; i < 800000; i++)
+        fputs("  facet normal 0 0 1\n", f);
+    fclose(f);
+    o = mesh_read("facets.stl", 0, &read);
+    CHECK_MSG(o.st && strstr(o.msg, "facets.stl: 800000 triangles need") &&
+              strstr(o.msg, "the facets it holds"), "%s", o.msg);
+    /* 1,000 triangles behind 2 MB of comment: counted (the file could hold 1M), let through */
+    f = fopen(at(dir, "padded.obj"), "w");
+    fputc('#', f);
+    for (int i = 0; i < 2000000; i++)
+        fputc('x', f);
+    fputc('\n', f);
+    for (int i = 0; i < 1000; i++)
+        fprintf(f, "v %d 0 0\nv %d 0 0\nv %d 1 0\n", i, i + 1, i);
+    for (int i = 0; i < 1000; i++)
+        fprintf(f, "f %d %d %d\n", 3 * i + 1, 3 * i + 2, 3 * i + 3);
+    fclose(f);
+    o = mesh_read("padded.obj", 0, &read);
+    CHECK_MSG(!o.st && o.tris == 1000, "%d triangles: %s", o.tris, o.msg);
+}
+
 /* A PLY that make fuzz found (287 bytes) on which the importer fails an assertion and aborts
  * the process it runs in: contained, it is one line naming the file, and the script (and
  * this test) go on. */
@@ -797,6 +914,7 @@ static const check_case cases[] = {
     { "header_bombs", test_header_bombs },
     { "formats", test_formats },
     { "shared_mesh_bomb", test_shared_mesh_bomb },
+    { "refused_unread", test_refused_unread },
     { "importer_crash", test_importer_crash },
     { "require", test_require },
     { "messages", test_messages },

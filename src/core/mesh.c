@@ -32,7 +32,6 @@
 #define LEAF_TRIS 4
 #define MAX_TRIS (UINT32_MAX / 3u - 1u)
 #define STACK_MAX 64
-#define GLTF_DEPTH_MAX 256      /* nodes nested deeper overflow the importer's stack */
 
 size_t limen__mesh_bytes(uint64_t nverts, uint64_t ntris, bool uvs)
 {
@@ -1119,128 +1118,6 @@ static void io_close(struct aiFileIO *io, struct aiFile *f)
     free(x);
 }
 
-/* ------------------------------------------------------------------ what is read */
-
-/* The file name's extension, lower case, into ext ("" if none). */
-static void extension(const char *path, char *ext, size_t size)
-{
-    const char *slash = strrchr(path, '/'), *dot = strrchr(path, '.');
-    ext[0] = '\0';
-    if (!dot || (slash && dot < slash))
-        return;
-    size_t i = 0;
-    for (dot++; *dot && i + 1 < size; dot++)
-        ext[i++] = (char)tolower((unsigned char)*dot);
-    ext[i] = '\0';
-}
-
-/* Formats a safe scene may load, decided by the extension and the content agreeing: those
- * fuzzed (make fuzz). Writes why and returns false for anything else. */
-static bool allowed_format(const char *path, const unsigned char *head, size_t n,
-                           uint64_t size, char *why, size_t why_size)
-{
-    char ext[8];
-    extension(path, ext, sizeof ext);
-    size_t i = 0;
-    while (i < n && isspace(head[i]))
-        i++;
-    bool ok = false;
-    if (strcmp(ext, "gltf") == 0)
-        ok = i < n && head[i] == '{';
-    else if (strcmp(ext, "glb") == 0)
-        ok = n >= 4 && memcmp(head, "glTF", 4) == 0;
-    else if (strcmp(ext, "obj") == 0)
-        ok = !memchr(head, '\0', n);
-    else if (strcmp(ext, "ply") == 0)
-        ok = n >= 4 && memcmp(head, "ply", 3) == 0 && (head[3] == '\n' || head[3] == '\r');
-    else if (strcmp(ext, "stl") == 0) {
-        uint32_t count = 0;
-        if (n >= 84)
-            memcpy(&count, head + 80, 4);
-        ok = (n >= 5 && memcmp(head, "solid", 5) == 0 && !memchr(head, '\0', n)) ||
-             (n >= 84 && size == 84 + 50 * (uint64_t)count);
-    } else {
-        snprintf(why, why_size, "a safe scene loads glTF (.gltf, .glb), OBJ (.obj, .mtl), PLY "
-                 "(.ply) and STL (.stl) meshes, not .%s files", ext[0] ? ext : "(none)");
-        return false;
-    }
-    if (!ok)
-        snprintf(why, why_size, "its content is not a %s file (a safe scene loads glTF, OBJ, "
-                 "PLY and STL meshes, each in a file of its own extension)", ext);
-    return ok;
-}
-
-/* Counts a header declares, checked against the file's size before the importer sees it:
- * every element a format's header declares takes at least a byte of the file (a vertex or
- * face), so a few bytes cannot declare gigabytes. *verts and *faces get the vertices and
- * faces it declares (a PLY's `vertex` and `face` elements, an OFF's counts; 0 for any other
- * format). Writes why and returns false if the file is refused. */
-static bool header_ok(const unsigned char *data, size_t size, char *why, size_t why_size,
-                      uint64_t *verts, uint64_t *faces)
-{
-    *verts = *faces = 0;
-    char head[4096 + 1];
-    size_t n = size < sizeof head - 1 ? size : sizeof head - 1;
-    memcpy(head, data, n);
-    head[n] = '\0';
-    for (size_t i = 0; i < n; i++)
-        if (head[i] == '\0')
-            head[i] = ' ';
-    uint64_t declared = 0;
-    if (n >= 3 && memcmp(head, "ply", 3) == 0) {
-        /* assimp 5.2 loops for ever on a header that never ends or ends "end_headerX" */
-        char *end = strstr(head, "end_header");
-        if (!end || (end[10] != '\n' && end[10] != '\r')) {
-            snprintf(why, why_size, "a PLY header with no end_header line in its first 4 KiB");
-            return false;
-        }
-        *end = '\0';
-        /* words apart by any white space ("element\tvertex 9" is a declaration too) */
-        for (char *line = head; line && *line;) {
-            char *next = strpbrk(line, "\r\n");
-            if (next)
-                *next++ = '\0';
-            char word[16], name[32];
-            unsigned long long count = 0;
-            if (sscanf(line, "%15s %31s %llu", word, name, &count) == 3 &&
-                strcmp(word, "element") == 0) {
-                count = count > size ? size + 1 : count;
-                declared += count;
-                if (strcmp(name, "vertex") == 0)
-                    *verts += count;
-                else if (strcmp(name, "face") == 0)
-                    *faces += count;
-            }
-            line = next;
-        }
-    } else if (n >= 3 && memcmp(head, "OFF", 3) == 0) {
-        unsigned long long nv = 0, nf = 0;
-        char *p = head + 3;
-        while (*p && *p != '\n')
-            p++;
-        /* OFF, then (after comments) the vertex and face counts */
-        while (*p) {
-            while (isspace((unsigned char)*p))
-                p++;
-            if (*p != '#')
-                break;
-            while (*p && *p != '\n')
-                p++;
-        }
-        if (sscanf(head + 3, "%llu %llu", &nv, &nf) == 2 || sscanf(p, "%llu %llu", &nv, &nf) == 2) {
-            *verts = nv > size ? size + 1 : nv;
-            *faces = nf > size ? size + 1 : nf;
-            declared = *verts + *faces;
-        }
-    }
-    if (declared > size) {
-        snprintf(why, why_size, "its header declares more elements than the file has bytes "
-                 "(%llu)", (unsigned long long)size);
-        return false;
-    }
-    return true;
-}
-
 /* ------------------------------------------------------------------ importing */
 
 /* The hooks import.c reads every file through (core/import.h): assimp's through io, the
@@ -1444,69 +1321,10 @@ limen_status limen__mesh_import(limen_scene *s, const char *path, unsigned flags
 {
     *blk = NULL;
     *files = (limen__block){ 0 };
-    unsigned char *data;
-    size_t len;
-    struct stat st_file;
-    limen_status st = limen__file_read(s, path, &data, &len, &st_file);
-    if (st) {
-        if (st == LIMEN_ERR_NOMEM)
-            s->mem_wanted = (uint64_t)st_file.st_size;
+    /* refused from what the file declares, before the importer reads it */
+    limen_status st = limen__mesh_look(s, path, max_bytes);
+    if (st)
         return st;
-    }
-    char why[300] = "";
-    uint64_t hv = 0, hf = 0;
-    bool ok = (!s->load || !s->load->safe ||
-               allowed_format(path, data, len < 4096 ? len : 4096, len, why, sizeof why)) &&
-              header_ok(data, len, why, sizeof why, &hv, &hf);
-    /* glTF: what its nodes place, before the importer copies a mesh into each of them */
-    uint64_t gv = 0, gt = 0;
-    int depth = 0;
-    size_t i = 0;
-    while (i < len && isspace(data[i]))
-        i++;
-    bool gltf = ok && ((i < len && data[i] == '{') || (len >= 4 && memcmp(data, "glTF", 4) == 0));
-    /* what the mesh will hold at least, from what the file declares, refused before the
-     * importer reads it: a glTF's nodes' triangles, or the faces a PLY's or OFF's header
-     * declares (each a triangle at least; no texture coordinates counted) */
-    size_t need = 0;
-    if (gltf && limen__gltf_cost(data, len, max_bytes, &gv, &gt, &depth)) {
-        if (depth == INT32_MAX) {
-            ok = false;
-            snprintf(why, sizeof why, "its nodes form a cycle");
-        } else if (depth > GLTF_DEPTH_MAX) {
-            ok = false;
-            snprintf(why, sizeof why, "its nodes nest %d deep (%d at most)", depth,
-                     GLTF_DEPTH_MAX);
-        } else {
-            need = limen__mesh_bytes(gv, gt, true);
-        }
-    } else if (ok && hf) {
-        need = limen__mesh_bytes(hv, hf, false);
-    }
-    if (ok && need > max_bytes) {
-        free(data);
-        if (s->load)
-            s->load->read_bytes -= len;
-        s->mem_wanted = need;
-        if (gltf)
-            return limen__fail(s, LIMEN_ERR_NOMEM, "%s: its nodes place %llu triangles, which "
-                               "need %.1f MiB, more than the %.1f MiB allowed", path,
-                               (unsigned long long)gt, need / 1048576.0, max_bytes / 1048576.0);
-        /* worded as the mesh's own refusal after the import would be */
-        return limen__fail(s, LIMEN_ERR_NOMEM, "%s: %llu triangles need %.1f MiB, more than the "
-                           "%.1f MiB allowed (the faces its header declares, refused before "
-                           "it is imported)", path, (unsigned long long)hf, need / 1048576.0,
-                           max_bytes / 1048576.0);
-    }
-    free(data);
-    if (s->load)
-        s->load->read_bytes -= len;
-    if (!ok)
-        return limen__fail(s, LIMEN_ERR_IO, "%s: %s", path, why);
-    /* the importer holds at least the file's bytes while it reads */
-    if ((uint64_t)len > max_bytes && (s->mem_wanted = (uint64_t)len))
-        return limen__fail(s, LIMEN_ERR_NOMEM, "%s: a file of %.1f MiB, more than the %.1f MiB "
-                           "allowed", path, len / 1048576.0, max_bytes / 1048576.0);
     return limen__load_contained(s) ? import_contained(s, path, flags, max_bytes, blk, files)
                                     : import_here(s, path, flags, max_bytes, blk, files);
 }

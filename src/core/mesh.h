@@ -181,6 +181,15 @@ int limen__mesh_intersect(const limen__mesh *m, const double o[3], const double 
                           double tmin, double tmax, const double *cut, double *t, double *bu,
                           double *bv);
 
+/* mesh_look.c: opens path through the scene's way in and refuses it, before the importer
+ * runs, where the read budget cannot hold the file, a safe scene may not load its format, its
+ * header declares more than the file holds, or what it declares (a PLY's or OFF's faces, a
+ * binary STL's triangles, a glTF's nodes, an OBJ's faces or an ASCII STL's facets counted in
+ * one pass) needs more than max_bytes as a mesh: without reading more than the format needs
+ * to say how large it is, and never holding the whole file beside a glTF's JSON. Sets
+ * s->mem_wanted where more memory would allow it. */
+limen_status limen__mesh_look(limen_scene *s, const char *path, size_t max_bytes);
+
 /* gltf_cost.c: what a glTF (.gltf text or .glb) file places once imported, from its JSON:
  * vertices and triangles of its meshes times the node instances that use them, and how
  * deep its nodes nest (INT32_MAX: a cycle). Returns 0 where the JSON cannot be read within
