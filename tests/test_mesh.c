@@ -10,6 +10,7 @@
 #include "check.h"
 #include "ray.h"
 #include "core/mesh.h"
+#include "core/texture.h"
 #include "limen.h"
 
 static char dir[64];
@@ -922,7 +923,81 @@ static void test_portal_clone(void)
     limen_scene_destroy(s);
 }
 
+/* The triangles a file is refused for before its import (core/mesh_look.c, asked with room
+ * for nothing, or 1 MiB for a glTF's JSON to be read in) are never more than its mesh holds once imported, and are its count where
+ * every face is kept: real files (OBJ with quads and materials, glTF scenes and a .glb), a
+ * PLY written a triangle at a time (three vertices a face), binary and ASCII STL, and a glTF
+ * of two triangles without indices, whose six vertices the importer joins into four (counted
+ * from the file, they would be more than the mesh holds). */
+static void test_look_lower_bound(void)
+{
+    char soup[4096] = "ply\nformat ascii 1.0\nelement vertex 12\nproperty float x\n"
+                      "property float y\nproperty float z\nelement face 4\n"
+                      "property list uchar int vertex_indices\nend_header\n";
+    static const float tet[4][3] = { { 0, 0, 0 }, { 1, 0, 0 }, { 0, 1, 0 }, { 0, 0, 1 } };
+    static const int faces[4][3] = { { 0, 2, 1 }, { 0, 1, 3 }, { 0, 3, 2 }, { 1, 2, 3 } };
+    for (int f = 0; f < 4; f++)
+        for (int k = 0; k < 3; k++) {
+            const float *p = tet[faces[f][k]];
+            snprintf(soup + strlen(soup), 64, "%g %g %g\n", p[0], p[1], p[2]);
+        }
+    for (int f = 0; f < 4; f++)
+        snprintf(soup + strlen(soup), 64, "3 %d %d %d\n", 3 * f, 3 * f + 1, 3 * f + 2);
+    unsigned char stl[84 + 2 * 50] = "binary";
+    uint32_t two = 2;
+    memcpy(stl + 80, &two, 4);
+    for (int t = 0; t < 2; t++) {
+        float tri[12] = { 0, 0, 1, 0, 0, 0, 1, 0, 0, (float)t, 1, 0 };
+        memcpy(stl + 84 + 50 * t, tri, sizeof tri);
+    }
+    char *files[] = {
+        "scenes/data/bunny.obj", "scenes/data/bunny.glb", "scenes/data/level.gltf",
+        "scenes/data/spider/spider.obj", "scenes/data/cube_with_vertexcolors.obj",
+        NULL, NULL, NULL, NULL, NULL, NULL,
+    };
+    files[5] = strdup(write_text("square.obj", obj_square));
+    files[6] = strdup(write_text("tetra.ply", ply_tetra));
+    files[7] = strdup(write_text("soup.ply", soup));
+    files[8] = strdup(write_file("two.stl", (const char *)stl, sizeof stl));
+    files[9] = strdup(write_text("one.stl", "solid t\n facet normal 0 0 1\n  outer loop\n"
+                                 "   vertex 0 0 0\n   vertex 1 0 0\n   vertex 0 1 0\n"
+                                 "  endloop\n endfacet\nendsolid t\n"));
+    /* two triangles without indices: six vertices in the file, four in the mesh */
+    files[10] = strdup(write_text("soup.gltf", "{\"asset\":{\"version\":\"2.0\"},\"scene\":0,"
+        "\"scenes\":[{\"nodes\":[0]}],\"nodes\":[{\"mesh\":0}],\"meshes\":[{\"primitives\":[{"
+        "\"attributes\":{\"POSITION\":0}}]}],\"accessors\":[{\"bufferView\":0,"
+        "\"componentType\":5126,\"count\":6,\"type\":\"VEC3\",\"min\":[0,0,0],\"max\":[1,1,0]}],"
+        "\"bufferViews\":[{\"buffer\":0,\"byteLength\":72}],\"buffers\":[{\"uri\":"
+        "\"data:application/octet-stream;base64,AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAAAAAAAAgD8AAAAAAACAPwAA"
+        "AAAAAAAAAACAPwAAgD8AAAAAAAAAAAAAgD8AAAAA\",\"byteLength\":72}]}"));
+    for (int i = 0; i < 11; i++) {
+        limen_scene *s = new_scene();
+        uint64_t counted;
+        size_t wanted;
+        CHECK(limen__mesh_look(s, files[i], 1, &counted, &wanted) == LIMEN_ERR_NOMEM);
+        char msg[512];
+        snprintf(msg, sizeof msg, "%s", limen_scene_error(s));
+        if (!counted)
+            CHECK_OK(limen__mesh_look(s, files[i], 1 << 20, &counted, &wanted));
+        limen_node m = new_mesh(s, "m");
+        limen_mesh_info mi = { 0 };
+        CHECK_OK(limen_mesh_load(s, m, files[i]));
+        CHECK_OK(limen_mesh_get(s, m, &mi));
+        CHECK_MSG(counted > 0 && counted == (uint64_t)mi.triangle_count, "%s: %llu counted, %d "
+                  "imported (%s)", files[i], (unsigned long long)counted, mi.triangle_count, msg);
+        /* nor the bytes: the same measure the mesh is refused by after its import */
+        size_t after = limen__mesh_bytes((uint64_t)mi.vertex_count, (uint64_t)mi.triangle_count,
+                                         mi.has_uvs);
+        CHECK_MSG(wanted > 0 && wanted <= after, "%s: %zu bytes wanted from the file, %zu by "
+                  "its mesh", files[i], wanted, after);
+        limen_scene_destroy(s);
+    }
+    for (int i = 5; i < 11; i++)
+        free(files[i]);
+}
+
 static const check_case cases[] = {
+    { "look_lower_bound", test_look_lower_bound },
     { "arrays", test_arrays },
     { "array_errors", test_array_errors },
     { "files", test_files },

@@ -187,8 +187,12 @@ int limen__mesh_intersect(const limen__mesh *m, const double o[3], const double 
  * binary STL's triangles, a glTF's nodes, an OBJ's faces or an ASCII STL's facets counted in
  * one pass) needs more than max_bytes as a mesh: without reading more than the format needs
  * to say how large it is, and never holding the whole file beside a glTF's JSON. Sets
- * s->mem_wanted where more memory would allow it. */
-limen_status limen__mesh_look(limen_scene *s, const char *path, size_t max_bytes);
+ * s->mem_wanted where more memory would allow it. *counted gets the triangles counted and
+ * *needed the bytes they need as a mesh (limen__mesh_bytes) where the file's content was
+ * read (0 where none were: a small OBJ or ASCII STL is not scanned, a glTF whose JSON cannot
+ * be read within a quarter of max_bytes is not known). */
+limen_status limen__mesh_look(limen_scene *s, const char *path, size_t max_bytes,
+                              uint64_t *counted, size_t *needed);
 
 /* gltf_cost.c: what a glTF (.gltf text or .glb) file places once imported, from its JSON:
  * vertices and triangles of its meshes times the node instances that use them, and how

@@ -11,8 +11,12 @@
  *   OBJ, ASCII  no header: their faces counted in one pass over the file, 64 KiB at a time,
  *   STL         only where the file is large enough to hold too many
  *
- * Each count is a lower bound on what the mesh will hold (no vertices counted where they
- * may be joined, each face one triangle at least), so no file that fits is refused. */
+ * Each is a lower bound on the mesh's own count, the one it is refused for after the import
+ * (limen__mesh_bytes): each face a triangle at least, and no vertices counted, since the
+ * importer joins identical ones (a glTF primitive without indices holds three a triangle:
+ * two triangles' six become four). So no file that would fit is refused here, except one
+ * whose faces have fewer than three corners (a PLY's or OFF's declared face is counted as a
+ * triangle unread; no exporter writes such faces). */
 #include <ctype.h>
 #include <errno.h>
 #include <stdint.h>
@@ -333,14 +337,14 @@ static bool cost(int fd, const char *ext, const unsigned char *head, size_t n, u
             return false;
         }
         if (known) {
-            *need = limen__mesh_bytes(gv, gt, true);
+            *need = limen__mesh_bytes(0, gt, true);
             *tris = gt;
             *how = "its nodes place";
         }
         return true;
     }
     if (hf) {       /* a PLY's or OFF's header: each face a triangle at least */
-        *need = limen__mesh_bytes(hv, hf, false);
+        *need = limen__mesh_bytes(0, hf, false);
         *tris = hf;
         *how = "the faces its header declares, refused before it is imported";
     } else if (strcmp(ext, "stl") == 0 && binary_stl(head, n, size, &count)) {
@@ -366,8 +370,11 @@ static bool cost(int fd, const char *ext, const unsigned char *head, size_t n, u
     return true;
 }
 
-limen_status limen__mesh_look(limen_scene *s, const char *path, size_t max_bytes)
+limen_status limen__mesh_look(limen_scene *s, const char *path, size_t max_bytes,
+                              uint64_t *counted, size_t *needed)
 {
+    *counted = 0;
+    *needed = 0;
     limen__load *ld = s->load;
     char why[300] = "";
     struct stat st;
@@ -403,6 +410,8 @@ limen_status limen__mesh_look(limen_scene *s, const char *path, size_t max_bytes
     close(fd);
     if (!ok)
         return limen__fail(s, LIMEN_ERR_IO, "%s: %s", path, why);
+    *counted = tris;
+    *needed = need;
     if (need > max_bytes) {
         s->mem_wanted = need;
         if (how[0] == 'i')      /* a glTF's nodes */
