@@ -337,7 +337,8 @@ static void test_formats(void)
 
 /* 3,000 glTF nodes sharing one mesh of 2,000 triangles (18M vertices once placed) cost the
  * host nothing: refused from the JSON, before the importer copies the mesh into each node
- * (it took 8 s and 1.8 GB before); in trusted mode too. A chain of 2,000 nested nodes (the
+ * (it took 8 s and 1.8 GB before); in trusted mode too, and so are 100 nodes placing one
+ * triangle over a million vertices. A chain of 2,000 nested nodes (the
  * importer's stack overflows at 20,000) is refused the same way. */
 static void test_shared_mesh_bomb(void)
 {
@@ -357,6 +358,27 @@ static void test_shared_mesh_bomb(void)
     CHECK_MSG(!o.st, "%s", o.msg);
     o = mesh("many.gltf", 1);
     CHECK_MSG(o.st && strstr(o.msg, "its nodes place 6000000 triangles"), "trusted: %s", o.msg);
+    /* one triangle over a million vertices, in 100 nodes: few triangles, but the importer
+     * would copy 100 million vertices before it joins them (1.1 GiB) */
+    char vt[4096];
+    int vn = snprintf(vt, sizeof vt, "{\"asset\":{\"version\":\"2.0\"},\"scene\":0,"
+                     "\"scenes\":[{\"nodes\":[");
+    for (int i = 0; i < 100; i++)
+        vn += snprintf(vt + vn, sizeof vt - (size_t)vn, "%s%d", i ? "," : "", i);
+    vn += snprintf(vt + vn, sizeof vt - (size_t)vn, "]}],\"nodes\":[");
+    for (int i = 0; i < 100; i++)
+        vn += snprintf(vt + vn, sizeof vt - (size_t)vn, "%s{\"mesh\":0}", i ? "," : "");
+    snprintf(vt + vn, sizeof vt - (size_t)vn, "],\"meshes\":[{\"primitives\":[{\"attributes\":"
+             "{\"POSITION\":0},\"indices\":1}]}],\"accessors\":[{\"bufferView\":0,"
+             "\"componentType\":5126,\"count\":1000000,\"type\":\"VEC3\",\"min\":[0,0,0],"
+             "\"max\":[1,1,0]},{\"bufferView\":1,\"componentType\":5125,\"count\":3,"
+             "\"type\":\"SCALAR\"}],\"bufferViews\":[{\"buffer\":0,\"byteLength\":12000000},"
+             "{\"buffer\":0,\"byteOffset\":12000000,\"byteLength\":12}],\"buffers\":[{"
+             "\"uri\":\"own.bin\",\"byteLength\":12000012}]}");
+    put_text(at(dir, "verts.gltf"), vt);
+    o = mesh("verts.gltf", 1);
+    CHECK_MSG(o.st && strstr(o.msg, "its nodes place 100000000 vertices, which need 1144.4 MiB "
+                                    "in the importer"), "trusted: %s", o.msg);
     /* nested: node i has child i + 1; a second time with a number of 90 digits in the
      * asset's extras (which the importer reads), which left the whole file unmeasured when
      * the cost's reader stopped at 63 characters of it */

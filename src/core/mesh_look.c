@@ -290,15 +290,20 @@ static bool scan_file(int fd, bool stl, uint64_t *tris)
 
 /* ------------------------------------------------------------------ the look */
 
+/* What a file was counted from. */
+enum { FROM_NONE, FROM_NODES, FROM_HEADER, FROM_STL_HEADER, FROM_FACES, FROM_FACETS };
+
 /* What the file costs, from what fd holds (size bytes, head its first n). Sets *need to the
- * bytes the mesh will hold at least (0: not known), *tris to the triangles and *how to what
- * they were counted from; false with why where the file is refused for its content. */
+ * bytes the mesh will hold at least (0: not known), *tris to the triangles, *from to what
+ * they were counted from and *placed to a glTF's vertices as its nodes place them; false
+ * with why where the file is refused for its content. */
 static bool cost(int fd, const char *ext, const unsigned char *head, size_t n, uint64_t size,
-                 size_t max_bytes, size_t *need, uint64_t *tris, const char **how, char *why,
-                 size_t why_size)
+                 size_t max_bytes, size_t *need, uint64_t *tris, int *from, uint64_t *placed,
+                 char *why, size_t why_size)
 {
     *need = 0;
-    *tris = 0;
+    *tris = *placed = 0;
+    *from = FROM_NONE;
     uint64_t hv, hf;
     if (!header_ok(head, n, size, why, why_size, &hv, &hf))
         return false;
@@ -339,18 +344,19 @@ static bool cost(int fd, const char *ext, const unsigned char *head, size_t n, u
         if (known) {
             *need = limen__mesh_bytes(0, gt, true);
             *tris = gt;
-            *how = "its nodes place";
+            *placed = gv;
+            *from = FROM_NODES;
         }
         return true;
     }
     if (hf) {       /* a PLY's or OFF's header: each face a triangle at least */
         *need = limen__mesh_bytes(0, hf, false);
         *tris = hf;
-        *how = "the faces its header declares, refused before it is imported";
+        *from = FROM_HEADER;
     } else if (strcmp(ext, "stl") == 0 && binary_stl(head, n, size, &count)) {
         *need = limen__mesh_bytes(0, count, false);
         *tris = count;
-        *how = "the triangles its header declares, refused before it is imported";
+        *from = FROM_STL_HEADER;
     } else if (strcmp(ext, "obj") == 0 || strcmp(ext, "stl") == 0) {
         /* no header: counted only where the file could hold too many (a triangle takes two
          * bytes at least, "f 1 2 3\n" then " 4" for each corner more) */
@@ -364,8 +370,7 @@ static bool cost(int fd, const char *ext, const unsigned char *head, size_t n, u
         }
         *need = limen__mesh_bytes(0, t, false);
         *tris = t;
-        *how = stl ? "the facets it holds, counted before it is imported"
-                   : "the faces its f lines hold, counted before it is imported";
+        *from = stl ? FROM_FACETS : FROM_FACES;
     }
     return true;
 }
@@ -403,10 +408,11 @@ limen_status limen__mesh_look(limen_scene *s, const char *path, size_t max_bytes
     char ext[8];
     extension(path, ext, sizeof ext);
     size_t need;
-    uint64_t tris;
-    const char *how = "";
+    uint64_t tris, placed;
+    int from;
     bool ok = (!ld || !ld->safe || allowed_format(ext, head, n, size, why, sizeof why)) &&
-              cost(fd, ext, head, n, size, max_bytes, &need, &tris, &how, why, sizeof why);
+              cost(fd, ext, head, n, size, max_bytes, &need, &tris, &from, &placed, why,
+                   sizeof why);
     close(fd);
     if (!ok)
         return limen__fail(s, LIMEN_ERR_IO, "%s: %s", path, why);
@@ -414,16 +420,31 @@ limen_status limen__mesh_look(limen_scene *s, const char *path, size_t max_bytes
     *needed = need;
     if (need > max_bytes) {
         s->mem_wanted = need;
-        if (how[0] == 'i')      /* a glTF's nodes */
+        if (from == FROM_NODES)
             return limen__fail(s, LIMEN_ERR_NOMEM, "%s: its nodes place %llu triangles, which "
                                "need %.1f MiB, more than the %.1f MiB allowed", path,
                                (unsigned long long)tris, need / 1048576.0,
                                max_bytes / 1048576.0);
+        static const char *const said[] = {
+            [FROM_HEADER] = "the faces its header declares, refused before it is imported",
+            [FROM_STL_HEADER] = "the triangles its header declares, refused before it is "
+                                "imported",
+            [FROM_FACES] = "the faces its f lines hold, counted before it is imported",
+            [FROM_FACETS] = "the facets it holds, counted before it is imported",
+        };
         /* worded as the mesh's own refusal after the import would be */
         return limen__fail(s, LIMEN_ERR_NOMEM, "%s: %llu triangles need %.1f MiB, more than the "
                            "%.1f MiB allowed (%s)", path, (unsigned long long)tris,
-                           need / 1048576.0, max_bytes / 1048576.0, how);
+                           need / 1048576.0, max_bytes / 1048576.0, said[from]);
     }
+    /* a glTF's nodes copy their mesh's vertices (a position each, 12 bytes at least) in the
+     * importer before it joins them: not the mesh's measure, but what the import would hold */
+    uint64_t copied = placed > SIZE_MAX / 12 ? SIZE_MAX : placed * 12;
+    if (copied > max_bytes && (s->mem_wanted = copied))
+        return limen__fail(s, LIMEN_ERR_NOMEM, "%s: its nodes place %llu vertices, which need "
+                           "%.1f MiB in the importer, more than the %.1f MiB allowed", path,
+                           (unsigned long long)placed, copied / 1048576.0,
+                           max_bytes / 1048576.0);
     /* the importer holds at least the file's bytes while it reads */
     if (size > max_bytes && (s->mem_wanted = size))
         return limen__fail(s, LIMEN_ERR_NOMEM, "%s: a file of %.1f MiB, more than the %.1f MiB "
