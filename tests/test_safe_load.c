@@ -442,7 +442,7 @@ static outcome mesh_read(const char *file, int64_t cap, long long *read)
 /* A mesh whose size a header says is refused having read the header alone, never the file:
  * a PLY, a binary STL and a .glb of 300 MB each (holes, no disk) under a cap of 400 MiB,
  * which the file fits but the mesh does not; the .glb's JSON chunk is read, its binary chunk
- * is not. An OBJ and an ASCII STL have no header: their faces are counted in one pass before
+ * is not. So is an image (a PNG of 30 MB). An OBJ and an ASCII STL have no header: their faces are counted in one pass before
  * the import (quads as two triangles; an indented "f", a comment and a face of two corners
  * count nothing), and a file the count lets through loads. */
 static void test_refused_unread(void)
@@ -490,6 +490,18 @@ static void test_refused_unread(void)
     CHECK_MSG(o.st && strstr(o.msg, "hole.glb: its nodes place 5000000 triangles"), "%s",
               o.msg);
     CHECK_MSG(read >= 0 && read < (1 << 20), ".glb: %lld bytes read", read);
+
+    /* an image too large, from its header: a PNG of 15000 x 15000 pixels (644 MiB decoded),
+     * the file 30 MB */
+    static const unsigned char png[] = "\211PNG\r\n\032\n\000\000\000\015IHDR\000\000\072\230"
+                                       "\000\000\072\230\010\002\000\000\000";
+    put_sparse(at(dir, "hole.png"), png, sizeof png - 1, 30000000);
+    long long before = bytes_read();
+    o = run("png.lua", "local limen = require 'limen' local s = limen.scene{}\n"
+            "s:plane{ texture = 'hole.png' }\nreturn s\n", 0, cap);
+    read = bytes_read() - before;
+    CHECK_MSG(o.st && strstr(o.msg, "hole.png: too large: 15000x15000 pixels"), "%s", o.msg);
+    CHECK_MSG(read >= 0 && read < (1 << 20), "PNG: %lld bytes read", read);
 
     /* 500,000 quads (1M triangles, 92 MB as a mesh; the file 5.5 MB) under the default cap */
     FILE *f = fopen(at(dir, "quads.obj"), "w");

@@ -212,6 +212,22 @@ int limen__confine_read(const limen__confine *box, const char *path, size_t max,
     return LIMEN__CONFINE_NO_READ;
 }
 
+bool limen__read_at(int fd, void *buf, size_t n, uint64_t off)
+{
+    size_t got = 0;
+    while (got < n) {
+        ssize_t r = pread(fd, (unsigned char *)buf + got, n - got, (off_t)(off + got));
+        if (r < 0 && errno == EINTR)
+            continue;
+        if (r <= 0) {
+            errno = r == 0 ? EIO : errno;
+            return false;
+        }
+        got += (size_t)r;
+    }
+    return true;
+}
+
 limen_status limen__file_read(limen_scene *s, const char *path, unsigned char **data,
                               size_t *len, struct stat *st)
 {

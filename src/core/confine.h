@@ -5,6 +5,7 @@
 #define LIMEN_CORE_CONFINE_H
 
 #include <stdbool.h>
+#include <stdint.h>
 #include <stddef.h>
 #include <sys/stat.h>
 
@@ -59,6 +60,10 @@ int limen__confine_read(const limen__confine *box, const char *path, size_t max,
  * bytes read to it; a failure is the scene's message, naming path. */
 limen_status limen__file_read(limen_scene *s, const char *path, unsigned char **data,
                               size_t *len, struct stat *st);
+
+/* Reads n bytes at off from fd (pread, again where interrupted); false where the file ends
+ * first (errno EIO) or cannot be read. */
+bool limen__read_at(int fd, void *buf, size_t n, uint64_t off);
 
 /* tests only: walk the path with O_NOFOLLOW as where openat2 is missing */
 extern int limen__confine_walk_only;

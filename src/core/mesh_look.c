@@ -162,23 +162,6 @@ static bool header_ok(const unsigned char *data, size_t n, uint64_t size, char *
     return true;
 }
 
-/* Reads n bytes at off; false where the file ends first or cannot be read (errno). */
-static bool read_at(int fd, unsigned char *buf, size_t n, uint64_t off)
-{
-    size_t got = 0;
-    while (got < n) {
-        ssize_t r = pread(fd, buf + got, n - got, (off_t)(off + got));
-        if (r < 0 && errno == EINTR)
-            continue;
-        if (r <= 0) {
-            errno = r == 0 ? EIO : errno;
-            return false;
-        }
-        got += (size_t)r;
-    }
-    return true;
-}
-
 /* ------------------------------------------------------------------ headerless formats */
 
 /* Triangles an OBJ's face lines or an ASCII STL's facets make at least, counted a byte at a
@@ -323,7 +306,7 @@ static bool cost(int fd, const char *ext, const unsigned char *head, size_t n, u
             want = n >= 20 && clen <= size - 20 ? 20 + (uint64_t)clen : n;
         }
         unsigned char *json = want > SIZE_MAX ? NULL : limen__malloc_populated((size_t)want);
-        if (!json || !read_at(fd, json, (size_t)want, 0)) {
+        if (!json || !limen__read_at(fd, json, (size_t)want, 0)) {
             snprintf(why, why_size, "%s", json ? strerror(errno) : "out of memory");
             free(json);
             return false;
@@ -398,7 +381,7 @@ limen_status limen__mesh_look(limen_scene *s, const char *path, size_t max_bytes
                          "allowed", path, size / 1048576.0, left / 1048576.0);
     } else if (size == 0) {
         rc = limen__fail(s, LIMEN_ERR_IO, "%s: empty file", path);
-    } else if (!read_at(fd, head, n, 0)) {
+    } else if (!limen__read_at(fd, head, n, 0)) {
         rc = limen__fail(s, LIMEN_ERR_IO, "%s: cannot read: %s", path, strerror(errno));
     }
     if (rc) {

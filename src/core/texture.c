@@ -365,6 +365,34 @@ static limen_status keep(limen_scene *s, limen__texture *t)
     return limen__fail(s, LIMEN_ERR_NOMEM, "texture: out of memory");
 }
 
+#define HEAD_BYTES (64u << 10)
+
+/* An image's size from the first 64 KiB of its file, where they say it (every format read
+ * here does, but a JPEG with more metadata than that before its frame): so that an image too
+ * large is refused having read its header, not the file. */
+static bool head_size(limen_scene *s, const char *path, int *w, int *h)
+{
+    char why[160];
+    struct stat st;
+    int fd = limen__confine_open(s->load ? s->load->box : NULL, path, &st, why, sizeof why);
+    if (fd < 0)
+        return false;
+    size_t n = (uint64_t)st.st_size < HEAD_BYTES ? (size_t)st.st_size : HEAD_BYTES;
+    unsigned char *head = malloc(n ? n : 1);
+    bool known = head && limen__read_at(fd, head, n, 0) && limen__image_info(head, n, w, h);
+    free(head);
+    close(fd);
+    return known;
+}
+
+static limen_status too_large(limen_scene *s, const char *path, int w, int h, size_t max_bytes)
+{
+    s->mem_wanted = (uint64_t)w * (uint64_t)h * 3;
+    return limen__fail(s, LIMEN_ERR_NOMEM, "%s: too large: %dx%d pixels need %.1f MiB, more "
+                       "than the %.1f MiB allowed", path, w, h, (double)w * h * 3 / 1048576.0,
+                       max_bytes / 1048576.0);
+}
+
 limen_status limen__texture_load(limen_scene *s, const char *path, size_t max_bytes,
                                  size_t *charged, limen__texture **out)
 {
@@ -383,6 +411,9 @@ limen_status limen__texture_load(limen_scene *s, const char *path, size_t max_by
             return LIMEN_OK;
         }
     }
+    int w, h;
+    if (head_size(s, path, &w, &h) && (uint64_t)w * (uint64_t)h * 3 > max_bytes)
+        return too_large(s, path, w, h, max_bytes);
     unsigned char *buf;
     size_t got;
     if ((rc = limen__file_read(s, path, &buf, &got, &st))) {
@@ -390,15 +421,11 @@ limen_status limen__texture_load(limen_scene *s, const char *path, size_t max_by
             s->mem_wanted = (uint64_t)st.st_size;   /* what --memory would allow */
         return rc;
     }
-    int w, h;
     if (limen__image_info(buf, got, &w, &h) && (uint64_t)w * (uint64_t)h * 3 > max_bytes) {
-        s->mem_wanted = (uint64_t)w * (uint64_t)h * 3;
         free(buf);
         if (s->load)
             s->load->read_bytes -= got;
-        return limen__fail(s, LIMEN_ERR_NOMEM, "%s: too large: %dx%d pixels need %.1f MiB, "
-                           "more than the %.1f MiB allowed", path, w, h,
-                           (double)w * h * 3 / 1048576.0, max_bytes / 1048576.0);
+        return too_large(s, path, w, h, max_bytes);
     }
     size_t keep_max = s->load ? s->load->max_bytes : SIZE_MAX;
     if (s->load)
