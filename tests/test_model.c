@@ -345,6 +345,49 @@ static void test_hierarchy(void)
     CHECK_OK(limen_node_get_color(s, lamp, c));
     CHECK_NEAR(c[0], 0.9, 1e-6);
     CHECK_NEAR(limen_light_get_range(s, lamp), 7.5, 1e-6);  /* from the JSON: assimp drops it */
+    /* the same as a .glb: the JSON its first chunk (the buffer's data URI cut out), the
+     * buffer its binary chunk; the range and the lens are read from the JSON chunk alone */
+    FILE *tf = fopen(path, "rb");
+    char *json = calloc(1, 1 << 20);
+    size_t jn = tf ? fread(json, 1, (1 << 20) - 4, tf) : 0;
+    if (tf)
+        fclose(tf);
+    char *uri = strstr(json, ", \"uri\": \"data:application/octet-stream");
+    char *end = uri ? strchr(uri + 10, '"') : NULL;     /* the URI's closing quote */
+    CHECK(uri && end);
+    if (uri && end) {
+        memmove(uri, end + 1, strlen(end + 1) + 1);
+        jn = strlen(json);
+    }
+    while (jn % 4)
+        json[jn++] = ' ';
+    size_t nb = (g.nbin + 3) / 4 * 4;
+    uint32_t hdr[5] = { 0x46546C67u, 2, (uint32_t)(20 + jn + 8 + nb), (uint32_t)jn,
+                        0x4E4F534Au };
+    uint32_t bin[2] = { (uint32_t)nb, 0x004E4942u };
+    char glb[128];
+    snprintf(glb, sizeof glb, "%s/level.glb", dir);
+    FILE *gf = fopen(glb, "wb");
+    CHECK(gf != NULL);
+    if (gf) {
+        fwrite(hdr, sizeof hdr, 1, gf);
+        fwrite(json, 1, jn, gf);
+        fwrite(bin, sizeof bin, 1, gf);
+        fwrite(g.bin, 1, g.nbin, gf);
+        fwrite("\0\0\0", 1, nb - g.nbin, gf);
+        fclose(gf);
+    }
+    free(json);
+    limen_scene *sb = new_scene();
+    limen_node gb;
+    CHECK_OK(limen_node_create(sb, LIMEN_NODE_GROUP, NULL, &gb));
+    CHECK_OK(limen_model_load(sb, gb, glb, &(limen_model_desc){ .cameras = 1, .lights = 1 }));
+    CHECK_MSG(fabs(limen_light_get_range(sb, find_below(sb, gb, "lamp")) - 7.5) < 1e-6,
+              ".glb: range %g: %s", limen_light_get_range(sb, find_below(sb, gb, "lamp")),
+              limen_scene_error(sb));
+    CHECK_OK(limen_camera_get_lens(sb, limen_scene_get_camera(sb), &fovy, &zn, &zf));
+    CHECK_NEAR(fovy, 0.9, 1e-4);
+    limen_scene_destroy(sb);
     /* asked for neither: no camera, no light */
     limen_scene *s2 = new_scene();
     limen_node g2;
