@@ -10,8 +10,11 @@ total_p=0 total_f=0
 run() {
     name=$1; shift
     echo "== $name"
+    t0=$(date +%s%N)
     out=$("$@" 2>&1); rc=$?
     echo "$out"
+    # wall time, to see where the suite's minutes go
+    echo "   ($name: $(( ($(date +%s%N) - t0) / 1000000 )) ms)"
     line=$(printf '%s\n' "$out" | grep -E '^[0-9]+ passed, [0-9]+ failed' | tail -n 1)
     p=$(echo "$line" | sed -n 's/^\([0-9]*\) passed.*/\1/p')
     f=$(echo "$line" | sed -n 's/.* \([0-9]*\) failed.*/\1/p')

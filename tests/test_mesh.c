@@ -750,7 +750,9 @@ static void *load_many(void *arg)
         if (limen_mesh_load(s, m, l->bad) == LIMEN_OK ||
             strcmp(limen_scene_error(s), l->expected) != 0)
             l->wrong++;
-        if (limen_mesh_load(s, m, l->good) != LIMEN_OK)
+        /* a good load after every eighth bad one (an OBJ's read takes a 16 MiB buffer:
+         * under the sanitizers each is mapped afresh, 35 ms) */
+        if (k % 8 == 0 && limen_mesh_load(s, m, l->good) != LIMEN_OK)
             l->failed_good++;
         limen_node_destroy(s, m);
     }
