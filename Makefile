@@ -185,7 +185,10 @@ SCENES := $(wildcard scenes/*.lua)
 demo: all
 	@sh tests/demo.sh $(B)
 
-test: all $(TEST_BIN) test-deps examples
+# the build on every core (the packages first, one installer at a time), the tests one by one
+JOBS ?= $(shell nproc 2>/dev/null || echo 1)
+test: test-deps
+	@$(MAKE) --no-print-directory -j$(JOBS) all $(TEST_BIN) examples
 	@sh tests/run.sh $(B)
 	@$(MAKE) --no-print-directory test-sanitize
 
@@ -377,7 +380,7 @@ FUZZ_SAN   := -fsanitize=address,undefined -fno-sanitize-recover=all
 
 .PHONY: test-sanitize fuzz fuzz-deps
 test-sanitize:
-	@$(MAKE) --no-print-directory B=$(SAN_B) CC="$(SAN_CC)" CFLAGS="$(SAN_CFLAGS)" \
+	@$(MAKE) --no-print-directory -j$(JOBS) B=$(SAN_B) CC="$(SAN_CC)" CFLAGS="$(SAN_CFLAGS)" \
 	  all examples $(TEST_C:tests/%.c=$(SAN_B)/tests/%)
 	@mkdir -p $(SAN_B)/sanbin && \
 	  printf '#!/bin/sh\nASAN_OPTIONS=$$ASAN_OPTIONS:detect_leaks=0 LD_PRELOAD=%s exec %s "$$@"\n' \
