@@ -1363,7 +1363,10 @@ LIMEN_API limen_status limen_trace_image(limen_scene *s, const limen_trace_desc 
  *     call ends within a sixteenth of the limit, plus one instruction, after passing it.
  *   - A memory cap on what its Lua state and its scenes' nodes hold. It is hit when an
  *     allocation it refused ends in "not enough memory" (garbage that a collection frees is
- *     no hit). Any cap is safe, down to 0 (then the load fails with a message).
+ *     no hit). Any cap is safe, down to 0 (then the load fails with a message). A mesh or
+ *     an image that would not fit is refused before it is imported or decoded, from what
+ *     its file says of its size (a header, a .glb's JSON chunk, an OBJ's face lines counted
+ *     in one pass), never by reading the whole file into memory first.
  * A call that exceeds a limit fails with LIMEN_ERR_SCRIPT and a message such as
  *   "scenes/x.lua:3: script exceeded its instruction budget (50000000)",
  *   "scenes/x.lua:3: script exceeded its time limit (5 s, set by its instruction budget)" or
