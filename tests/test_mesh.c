@@ -930,7 +930,8 @@ static void test_portal_clone(void)
  * every face is kept: real files (OBJ with quads and materials, glTF scenes and a .glb), a
  * PLY written a triangle at a time (three vertices a face), binary and ASCII STL, and a glTF
  * of two triangles without indices, whose six vertices the importer joins into four (counted
- * from the file, they would be more than the mesh holds). */
+ * from the file, they would be more than the mesh holds), and one of a triangle beside 300
+ * points (which make no triangles). */
 static void test_look_lower_bound(void)
 {
     char soup[4096] = "ply\nformat ascii 1.0\nelement vertex 12\nproperty float x\n"
@@ -955,7 +956,7 @@ static void test_look_lower_bound(void)
     char *files[] = {
         "scenes/data/bunny.obj", "scenes/data/bunny.glb", "scenes/data/level.gltf",
         "scenes/data/spider/spider.obj", "scenes/data/cube_with_vertexcolors.obj",
-        NULL, NULL, NULL, NULL, NULL, NULL,
+        NULL, NULL, NULL, NULL, NULL, NULL, NULL,
     };
     files[5] = strdup(write_text("square.obj", obj_square));
     files[6] = strdup(write_text("tetra.ply", ply_tetra));
@@ -972,7 +973,27 @@ static void test_look_lower_bound(void)
         "\"bufferViews\":[{\"buffer\":0,\"byteLength\":72}],\"buffers\":[{\"uri\":"
         "\"data:application/octet-stream;base64,AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAAAAAAAAgD8AAAAAAACAPwAA"
         "AAAAAAAAAACAPwAAgD8AAAAAAAAAAAAAgD8AAAAA\",\"byteLength\":72}]}"));
-    for (int i = 0; i < 11; i++) {
+    /* a triangle and 300 points (mode 0): the points make no triangles */
+    float pts[303 * 3];
+    for (int i = 0; i < 303; i++) {
+        pts[i * 3] = (float)(i % 17);
+        pts[i * 3 + 1] = (float)(i / 17);
+        pts[i * 3 + 2] = i < 3 ? 0.0f : 1.0f;
+    }
+    pts[3] = 1;     /* the triangle (0,0,0) (1,0,0) (0,1,0) */
+    pts[4] = 0;
+    pts[6] = 0;
+    pts[7] = 1;
+    write_file("pts.bin", (const char *)pts, sizeof pts);
+    files[11] = strdup(write_text("pts.gltf", "{\"asset\":{\"version\":\"2.0\"},\"scene\":0,"
+        "\"scenes\":[{\"nodes\":[0]}],\"nodes\":[{\"mesh\":0}],\"meshes\":[{\"primitives\":["
+        "{\"attributes\":{\"POSITION\":0}},{\"attributes\":{\"POSITION\":1},\"mode\":0}]}],"
+        "\"accessors\":[{\"bufferView\":0,\"componentType\":5126,\"count\":3,\"type\":\"VEC3\","
+        "\"min\":[0,0,0],\"max\":[1,1,0]},{\"bufferView\":1,\"componentType\":5126,"
+        "\"count\":300,\"type\":\"VEC3\",\"min\":[0,0,1],\"max\":[16,17,1]}],"
+        "\"bufferViews\":[{\"buffer\":0,\"byteLength\":36},{\"buffer\":0,\"byteOffset\":36,"
+        "\"byteLength\":3600}],\"buffers\":[{\"uri\":\"pts.bin\",\"byteLength\":3636}]}"));
+    for (int i = 0; i < 12; i++) {
         limen_scene *s = new_scene();
         uint64_t counted;
         size_t wanted;
@@ -994,7 +1015,7 @@ static void test_look_lower_bound(void)
                   "its mesh", files[i], wanted, after);
         limen_scene_destroy(s);
     }
-    for (int i = 5; i < 11; i++)
+    for (int i = 5; i < 12; i++)
         free(files[i]);
 }
 

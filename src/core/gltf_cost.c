@@ -248,9 +248,12 @@ static void mesh_cost(const walk *w, uint32_t mesh, uint64_t *nv, uint64_t *nt)
     for (uint32_t p = first(w->ps, member(w->ps, m, "primitives")); m && p;
          p = w->ps->v[p].next) {
         uint64_t v = accessor_count(w, member(w->ps, member(w->ps, p, "attributes"), "POSITION"));
-        uint32_t ix = member(w->ps, p, "indices");
+        uint32_t ix = member(w->ps, p, "indices"), mode = member(w->ps, p, "mode");
         *nv = add_sat(*nv, v);
-        *nt = add_sat(*nt, (ix ? accessor_count(w, ix) : v) / 3);
+        /* points and lines (modes 0-3) make no triangles; a list, strip or fan (4-6) a
+         * third of its corners at least (the default, 4, a list) */
+        if (!mode || count_of(w->ps, mode) >= 4)
+            *nt = add_sat(*nt, (ix ? accessor_count(w, ix) : v) / 3);
     }
 }
 
