@@ -4,16 +4,20 @@
  * copies a mesh into every node that uses it), and how deep its nodes nest. A few kilobytes
  * of JSON can place one mesh in thousands of nodes (3.7 GB from 1,000 nodes) or nest nodes
  * 20,000 deep (a stack overflow in the importer): both are known here in a pass over the
- * text.
+ * text, which limen__gltf_json reads from the file (a .glb's first chunk alone: its binary
+ * chunk is never read for it).
  *
  * The JSON is read into a flat list of values (no strings copied), each linked to its next
  * sibling and its first child, members keeping a pointer to their key. */
+#include <errno.h>
 #include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
 
+#include "core/confine.h"
 #include "core/internal.h"
 #include "core/mesh.h"
+#include "core/pages.h"
 
 #define DEPTH_MAX 64            /* JSON nesting: glTF needs about 8 */
 #define SAT (UINT64_MAX / 4)    /* counts saturate here */
@@ -291,6 +295,39 @@ static void node_cost(walk *w, uint64_t n, int depth)
     w->state[n] = 2;
 }
 
+int limen__gltf_json(int fd, uint64_t size, size_t max, char **json, size_t *len)
+{
+    *json = NULL;
+    *len = 0;
+    uint64_t at = 0, n = size;
+    unsigned char head[20];
+    if (size >= 20) {
+        if (!limen__read_at(fd, head, sizeof head, 0))
+            return -1;
+        if (memcmp(head, "glTF", 4) == 0) {     /* a .glb: its first chunk, little-endian */
+            uint32_t jn = (uint32_t)head[12] | (uint32_t)head[13] << 8 |
+                          (uint32_t)head[14] << 16 | (uint32_t)head[15] << 24;
+            at = 20;
+            n = memcmp(head + 16, "JSON", 4) == 0 && jn <= size - 20 ? jn : 0;
+        }
+    }
+    if (n == 0 || n > max || n >= SIZE_MAX)
+        return 0;
+    char *text = limen__malloc_populated((size_t)n + 1);
+    if (!text) {
+        errno = ENOMEM;
+        return -1;
+    }
+    if (!limen__read_at(fd, text, (size_t)n, at)) {
+        free(text);
+        return -1;
+    }
+    text[n] = '\0';
+    *json = text;
+    *len = (size_t)n;
+    return 1;
+}
+
 int limen__gltf_cost(const unsigned char *data, size_t len, size_t max_bytes, uint64_t *verts,
                      uint64_t *tris, int *depth)
 {
@@ -298,15 +335,6 @@ int limen__gltf_cost(const unsigned char *data, size_t len, size_t max_bytes, ui
     *depth = 0;
     const char *json = (const char *)data;
     size_t jlen = len;
-    if (len >= 20 && memcmp(data, "glTF", 4) == 0) {
-        uint32_t clen, ctype;
-        memcpy(&clen, data + 12, 4);
-        memcpy(&ctype, data + 16, 4);
-        if (ctype != 0x4E4F534Au || clen > len - 20)
-            return 0;
-        json = (const char *)data + 20;
-        jlen = clen;
-    }
     /* the values take at most a quarter of what the script has left */
     size_t most = max_bytes / 4 / sizeof(jval);
     parser ps = { json, json + jlen, NULL, 0, 0, most > UINT32_MAX - 1 ? UINT32_MAX - 1

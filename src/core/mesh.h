@@ -194,7 +194,14 @@ int limen__mesh_intersect(const limen__mesh *m, const double o[3], const double 
 limen_status limen__mesh_look(limen_scene *s, const char *path, size_t max_bytes,
                               uint64_t *counted, size_t *needed);
 
-/* gltf_cost.c: what a glTF (.gltf text or .glb) file places once imported, from its JSON:
+/* gltf_cost.c: the JSON of the glTF file open at fd (size bytes): a .glb's first chunk,
+ * read alone (not the binary chunk after it), where it is a JSON chunk within the file, else
+ * the whole file (a .gltf is its JSON). Returns 1 with *json (malloc'd: *len bytes and a NUL
+ * after them); 0 where there is none of at most max bytes (a .glb whose first chunk is not
+ * its JSON); -1 where it could not be read (errno; ENOMEM where no memory held it). */
+int limen__gltf_json(int fd, uint64_t size, size_t max, char **json, size_t *len);
+
+/* gltf_cost.c: what a glTF file places once imported, from its JSON (limen__gltf_json):
  * vertices and triangles of its meshes times the node instances that use them, and how
  * deep its nodes nest (INT32_MAX: a cycle). Returns 0 where the JSON cannot be read within
  * a quarter of max_bytes (the importer then says why). */

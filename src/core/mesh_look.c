@@ -298,22 +298,16 @@ static bool cost(int fd, const char *ext, const unsigned char *head, size_t n, u
     if (text || glb) {
         /* what its nodes place, before the importer copies a mesh into each of them: the
          * JSON, which is the whole of a .gltf and a .glb's first chunk */
-        uint64_t want = size;
-        if (glb) {
-            uint32_t clen = 0;
-            if (n >= 20)
-                memcpy(&clen, head + 12, 4);
-            want = n >= 20 && clen <= size - 20 ? 20 + (uint64_t)clen : n;
-        }
-        unsigned char *json = want > SIZE_MAX ? NULL : limen__malloc_populated((size_t)want);
-        if (!json || !limen__read_at(fd, json, (size_t)want, 0)) {
-            snprintf(why, why_size, "%s", json ? strerror(errno) : "out of memory");
-            free(json);
+        char *json;
+        size_t jlen;
+        if (limen__gltf_json(fd, size, SIZE_MAX, &json, &jlen) < 0) {
+            snprintf(why, why_size, "%s", errno == ENOMEM ? "out of memory" : strerror(errno));
             return false;
         }
         uint64_t gv, gt;
         int depth;
-        int known = limen__gltf_cost(json, (size_t)want, max_bytes, &gv, &gt, &depth);
+        int known = json && limen__gltf_cost((const unsigned char *)json, jlen, max_bytes, &gv,
+                                             &gt, &depth);
         free(json);
         if (known && depth == INT32_MAX) {
             snprintf(why, why_size, "its nodes form a cycle");

@@ -344,9 +344,9 @@ static limen_status from_import(limen_scene *s, const char *path, limen__import 
 
 #define MAX_JSON_BYTES (64u << 20)
 
-/* The JSON of a .gltf, or of a .glb's first chunk (read alone: not its binary chunk),
- * through the scene's one way in (the script's folder when a script loads); NULL if the file
- * is neither or is too large. *len its length; free() it. */
+/* The JSON of a .gltf, or of a .glb's first chunk (limen__gltf_json), through the scene's
+ * one way in (the script's folder when a script loads); NULL if the file is neither or is
+ * too large. *len its length; free() it. */
 static char *gltf_json(limen_scene *s, const char *path, size_t *len)
 {
     char why[160];
@@ -354,23 +354,9 @@ static char *gltf_json(limen_scene *s, const char *path, size_t *len)
     int fd = limen__confine_open(s->load ? s->load->box : NULL, path, &st, why, sizeof why);
     if (fd < 0)
         return NULL;    /* the importer read it a moment ago: keep what it gave */
-    uint64_t size = (uint64_t)st.st_size, at = 0, n = size;
-    unsigned char head[20];
-    if (size >= 20 && limen__read_at(fd, head, 20, 0) && memcmp(head, "glTF", 4) == 0) {
-        uint32_t jn = (uint32_t)head[12] | (uint32_t)head[13] << 8 | (uint32_t)head[14] << 16 |
-                      (uint32_t)head[15] << 24;
-        at = 20;
-        n = memcmp(head + 16, "JSON", 4) == 0 && jn <= size - 20 ? jn : 0;
-    }
-    char *text = NULL;
-    if (n > 0 && n <= MAX_JSON_BYTES && (text = malloc((size_t)n + 1)) &&
-        !limen__read_at(fd, text, (size_t)n, at)) {
-        free(text);
-        text = NULL;
-    }
+    char *text;
+    limen__gltf_json(fd, (uint64_t)st.st_size, MAX_JSON_BYTES, &text, len);
     close(fd);
-    if (text)
-        *len = (size_t)n;
     return text;
 }
 
