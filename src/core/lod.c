@@ -43,9 +43,6 @@
 #include <stdatomic.h>
 #include <string.h>
 #include <time.h>
-#ifdef __GLIBC__
-#include <malloc.h>
-#endif
 #ifdef __linux__
 #include <sys/resource.h>
 #include <sys/syscall.h>
@@ -89,7 +86,7 @@
 #define SLICES 16               /* and at least this many slices a measurer, where fewer
                                  * triangles (a coarse level's: its costly pieces few) */
 #define THREAD_TRIS 8192        /* a mesh this big has its levels measured on threads */
-#define GIVE_BACK_TRIS 131072   /* a mesh this big gives the heap back after each step */
+#define STEP_TRI_BYTES 128      /* a level's step frees about this much a triangle */
 #define NEAR_ENOUGH 0.8         /* a cut's point this near a corner's triangle (of what the
                                  * floor asks; not of the largest bound, which it would raise)
                                  * takes its distance there, unsearched */
@@ -2097,20 +2094,11 @@ static void ahead_end(ahead *a, bool quit)
 
 /* ------------------------------------------------------------------ building */
 
-/* Gives the heap's free pages back to the system after a big mesh's step: a level's making
- * frees hundreds of megabytes of a big mesh's temporaries, which glibc otherwise keeps (in
- * the heap, or in a measuring thread's arena) and the process's resident size with them,
- * level after level. Not for a small mesh: its temporaries are a few megabytes, and what
- * would go back is mostly the heap's free room that the next load faults in again (a
- * 16 MiB buffer for every OBJ read: 4,096 faults, 45 ms on this machine). */
+/* After a level's step: its temporaries go back where a big mesh's are big enough
+ * (limen__heap_give_back; from 131,072 triangles, where they make 16 MiB). */
 static void heap_give_back(const limen__mesh *m)
 {
-#ifdef __GLIBC__
-    if (m->ntris >= GIVE_BACK_TRIS)
-        malloc_trim(0);
-#else
-    (void)m;
-#endif
+    limen__heap_give_back((uint64_t)m->ntris * STEP_TRI_BYTES);
 }
 
 /* Levels made: a block with room for MAX_LEVELS limen_mesh_lod, then the coarse levels'

@@ -14,9 +14,6 @@
 #include <string.h>
 #include <sys/stat.h>
 #include <unistd.h>
-#ifdef __GLIBC__
-#include <malloc.h>
-#endif
 
 #include <assimp/cfileio.h>
 #include <assimp/types.h>
@@ -32,7 +29,6 @@
 #define LEAF_TRIS 4
 #define MAX_TRIS (UINT32_MAX / 3u - 1u)
 #define STACK_MAX 64
-#define TRIM_AFTER ((uint64_t)16 << 20)    /* an import block this large is given back */
 
 size_t limen__mesh_bytes(uint64_t nverts, uint64_t ntris, bool uvs)
 {
@@ -1351,18 +1347,9 @@ static limen_status load_file(limen_scene *s, const char *path, unsigned flags,
     }
     uint64_t moved = blk->size;
     free(blk);
-#ifdef __GLIBC__
     /* the file's bytes, the import's block and the flattened copy (several times what the
-     * mesh holds) are gone: after a big load their pages go back rather than stay in the
-     * heap. Not after a small one: assimp's OBJ reader takes a 16 MiB buffer (and fills it)
-     * whatever the file's size, and pages given back would be faulted in again by the next
-     * load (4,096 faults: 54 ms a load of a four-vertex OBJ on this machine, against 4 ms
-     * with the heap kept) */
-    if (moved >= TRIM_AFTER)
-        malloc_trim(0);
-#else
-    (void)moved;
-#endif
+     * mesh holds) are gone: after a big load their pages go back */
+    limen__heap_give_back(moved);
     return st;
 }
 

@@ -3,6 +3,9 @@
 
 #include <stdint.h>
 #include <stdlib.h>
+#ifdef __GLIBC__
+#include <malloc.h>
+#endif
 #ifdef __linux__
 #include <sys/mman.h>
 #include <unistd.h>
@@ -31,4 +34,14 @@ void *limen__malloc_populated(size_t bytes)
     void *p = malloc(bytes);
     limen__populate(p, bytes);
     return p;
+}
+
+void limen__heap_give_back(uint64_t freed)
+{
+#ifdef __GLIBC__
+    if (freed >= LIMEN__GIVE_BACK_MIN)
+        malloc_trim(0);
+#else
+    (void)freed;
+#endif
 }
