@@ -847,10 +847,10 @@ static limen__import *pack(builder *b)
         at[i] = off;
         off = align8(off + parts[i]->n * parts[i]->elem);
     }
-    limen__import *blk = calloc(1, off);
+    /* the arrays copied in, one after another */
+    limen__import *blk = limen__calloc_populated(1, off);
     if (!blk)
         return NULL;
-    limen__populate(blk, off);     /* the arrays copied in, one after another */
     for (int i = 0; i < NARR; i++)
         if (parts[i]->n)
             memcpy((unsigned char *)blk + at[i], parts[i]->p, parts[i]->n * parts[i]->elem);

@@ -1649,8 +1649,7 @@ static void *corners_run(void *arg)
 static void full_make(target *t, const limen__mesh *m, const uint32_t *weld)
 {
     size_t nv = m->nverts ? m->nverts : 1;
-    float *r = t->reach = calloc(nv, sizeof *r);
-    limen__populate(r, sizeof *r * nv);
+    float *r = t->reach = limen__calloc_populated(nv, sizeof *r);
     t->vweld = limen__malloc_populated(sizeof *t->vweld * nv);
     t->used = calloc(bits_words(m->nverts), sizeof *t->used);
     for (size_t i = 0; t->vweld && t->used && i < (size_t)m->ntris * 3; i++) {
@@ -1730,10 +1729,8 @@ static double level_error(const target *full, const uint32_t *weld, const uint32
     /* a fine level shares many of its triangles with the full mesh (the bumpy spheres'
      * first levels 37-43%): those need no bound on either side */
     bool share = (uint64_t)ntris * SHARE_ABOVE > m->ntris;
-    uint8_t *same_level = share ? calloc(ntris ? ntris : 1, 1) : NULL,
-            *same_full = share ? calloc(m->ntris ? m->ntris : 1, 1) : NULL;
-    limen__populate(same_level, ntris);     /* read through, each byte */
-    limen__populate(same_full, m->ntris);
+    uint8_t *same_level = share ? limen__calloc_populated(ntris ? ntris : 1, 1) : NULL,
+            *same_full = share ? limen__calloc_populated(m->ntris ? m->ntris : 1, 1) : NULL;
     corners_job cj = { .sd = &there, .weld = weld };
     if (same_level && same_full) {
         cj.same_level = same_level;
@@ -1756,8 +1753,9 @@ static double level_error(const target *full, const uint32_t *weld, const uint32
         there.floor = back.floor = &floor;
         side_near(&back);
         upper = back.near_max;  /* what the triangles side_bound passes by hold */
-        there.local_out = keep ? calloc(ntris ? ntris : 1, sizeof *there.local_out) : NULL;
-        limen__populate(there.local_out, sizeof *there.local_out * ntris);
+        there.local_out = keep ? limen__calloc_populated(ntris ? ntris : 1,
+                                                         sizeof *there.local_out)
+                               : NULL;
         measurer w[MEASURERS];
         for (int i = 0; i < MEASURERS; i++) {
             w[i] = (measurer){ .there = there, .back = back, .floor = floor, .upper = upper,

@@ -35,9 +35,8 @@ static bool group_by_weld(const limen__mesh *m, const uint32_t *shadow, const ui
 {
     uint32_t nv = m->nverts;
     uint32_t *g = limen__malloc_populated(sizeof *g * (nv ? nv : 1)),
-             *f = calloc((size_t)nv + 1, sizeof *f),
+             *f = limen__calloc_populated((size_t)nv + 1, sizeof *f),
              *mb = limen__malloc_populated(sizeof *mb * (nv ? nv : 1));
-    limen__populate(f, sizeof *f * ((size_t)nv + 1));
     if (!g || !f || !mb) {
         free(g);
         free(f);

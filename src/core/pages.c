@@ -36,6 +36,14 @@ void *limen__malloc_populated(size_t bytes)
     return p;
 }
 
+void *limen__calloc_populated(size_t n, size_t size)
+{
+    void *p = calloc(n, size);
+    if (p)
+        limen__populate(p, n * size);
+    return p;
+}
+
 void limen__heap_give_back(uint64_t freed)
 {
 #ifdef __GLIBC__

@@ -18,6 +18,8 @@ void limen__populate(void *p, size_t bytes);
 
 /* malloc(bytes), populated (limen__populate). */
 void *limen__malloc_populated(size_t bytes);
+/* calloc(n, size), populated: zeros read or written through. */
+void *limen__calloc_populated(size_t n, size_t size);
 
 /* Gives the heap's free pages back to the system (glibc's malloc_trim) after a step that
  * freed about `freed` bytes of temporaries, where that is at least LIMEN__GIVE_BACK_MIN:
