@@ -1319,9 +1319,7 @@ limen_status limen__mesh_import(limen_scene *s, const char *path, unsigned flags
     *blk = NULL;
     *files = (limen__block){ 0 };
     /* refused from what the file declares, before the importer reads it */
-    uint64_t counted;
-    size_t needed;
-    limen_status st = limen__mesh_look(s, path, max_bytes, &counted, &needed);
+    limen_status st = limen__mesh_look(s, path, max_bytes, NULL, NULL);
     if (st)
         return st;
     return limen__load_contained(s) ? import_contained(s, path, flags, max_bytes, blk, files)

@@ -190,7 +190,7 @@ int limen__mesh_intersect(const limen__mesh *m, const double o[3], const double 
  * s->mem_wanted where more memory would allow it. *counted gets the triangles counted and
  * *needed the bytes they need as a mesh (limen__mesh_bytes) where the file's content was
  * read (0 where none were: a small OBJ or ASCII STL is not scanned, a glTF whose JSON cannot
- * be read within a quarter of max_bytes is not known). */
+ * be read within a quarter of max_bytes is not known); either may be NULL. */
 limen_status limen__mesh_look(limen_scene *s, const char *path, size_t max_bytes,
                               uint64_t *counted, size_t *needed);
 

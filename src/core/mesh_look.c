@@ -355,8 +355,10 @@ static bool cost(int fd, const char *ext, const unsigned char *head, size_t n, u
 limen_status limen__mesh_look(limen_scene *s, const char *path, size_t max_bytes,
                               uint64_t *counted, size_t *needed)
 {
-    *counted = 0;
-    *needed = 0;
+    if (counted)
+        *counted = 0;
+    if (needed)
+        *needed = 0;
     limen__load *ld = s->load;
     char why[300] = "";
     struct stat st;
@@ -393,8 +395,10 @@ limen_status limen__mesh_look(limen_scene *s, const char *path, size_t max_bytes
     close(fd);
     if (!ok)
         return limen__fail(s, LIMEN_ERR_IO, "%s: %s", path, why);
-    *counted = tris;
-    *needed = need;
+    if (counted)
+        *counted = tris;
+    if (needed)
+        *needed = need;
     if (need > max_bytes) {
         s->mem_wanted = need;
         if (from == FROM_NODES)
