@@ -427,6 +427,19 @@ static void put_sparse(const char *path, const void *head, size_t n, off_t size)
     CHECK_MSG(truncate(path, size) == 0, "truncate %s: %s", path, strerror(errno));
 }
 
+/* Writes dir/name: head, then line `times` times. */
+static void put_repeated(const char *name, const char *head, const char *line, int times)
+{
+    FILE *f = fopen(at(dir, name), "w");
+    CHECK_MSG(f != NULL, "cannot write %s", name);
+    if (!f)
+        return;
+    fputs(head, f);
+    for (int i = 0; i < times; i++)
+        fputs(line, f);
+    fclose(f);
+}
+
 /* Loads file in a safe scene with cap; the message, and how many bytes the load read. */
 static outcome mesh_read(const char *file, int64_t cap, long long *read)
 {
@@ -504,24 +517,17 @@ static void test_refused_unread(void)
     CHECK_MSG(read >= 0 && read < (1 << 20), "PNG: %lld bytes read", read);
 
     /* 500,000 quads (1M triangles, 92 MB as a mesh; the file 5.5 MB) under the default cap */
-    FILE *f = fopen(at(dir, "quads.obj"), "w");
-    fprintf(f, "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\n# f 1 2 3\n f 1 2 3\nf 1 2 # 3 4\n");
-    for (int i = 0; i < 500000; i++)
-        fputs("f 1 2 3 4\n", f);
-    fclose(f);
+    put_repeated("quads.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\n# f 1 2 3\n f 1 2 3\n"
+                 "f 1 2 # 3 4\n", "f 1 2 3 4\n", 500000);
     o = mesh_read("quads.obj", 0, &read);
     CHECK_MSG(o.st && strstr(o.msg, "quads.obj: 1000000 triangles need") &&
               strstr(o.msg, "the faces its f lines hold, counted before"), "%s", o.msg);
-    f = fopen(at(dir, "facets.stl"), "w");
-    fputs("solid t\n", f);
-    for (int i = 0; i < 800000; i++)
-        fputs("  facet normal 0 0 1\n", f);
-    fclose(f);
+    put_repeated("facets.stl", "solid t\n", "  facet normal 0 0 1\n", 800000);
     o = mesh_read("facets.stl", 0, &read);
     CHECK_MSG(o.st && strstr(o.msg, "facets.stl: 800000 triangles need") &&
               strstr(o.msg, "the facets it holds"), "%s", o.msg);
     /* 1,000 triangles behind 2 MB of comment: counted (the file could hold 1M), let through */
-    f = fopen(at(dir, "padded.obj"), "w");
+    FILE *f = fopen(at(dir, "padded.obj"), "w");
     fputc('#', f);
     for (int i = 0; i < 2000000; i++)
         fputc('x', f);

@@ -10,20 +10,12 @@ printf '\211PNG\r\n\032\n\000\000\000\015IHDR\000\000\023\210\000\000\023\210\01
     > "$TMP/big.png"
 printf '\211PNG\r\n\032\n\000\000\000\015IHDR\000\000\004\000\000\000\002\000\010\002\000\000\000\000\000\000\000' \
     > "$TMP/mid.png"
-sed 's/big.png/mid.png/' > "$TMP/mid.lua" <<'LUA'
-local limen = require "limen"
-local s = limen.scene {}
-s:camera { pos = {0, 0, 3} }
-s:plane { texture = "big.png" }
-return s
-LUA
-cat > "$TMP/big.lua" <<'LUA'
-local limen = require "limen"
-local s = limen.scene {}
-s:camera { pos = {0, 0, 3} }
-s:plane { texture = "big.png" }
-return s
-LUA
+scene() {   # scene NAME LINE: $TMP/NAME.lua, a camera and LINE
+    printf 'local limen = require "limen"\nlocal s = limen.scene {}\ns:camera { pos = {0, 0, 3} }\n%s\nreturn s\n' \
+        "$2" > "$TMP/$1.lua"
+}
+scene big 's:plane { texture = "big.png" }'
+scene mid 's:plane { texture = "mid.png" }'
 
 run() {     # run PATTERN CMD...: fails (exit 1), stderr has PATTERN
     pat=$1; shift
@@ -49,30 +41,17 @@ for cmd in render trace; do
     t_ok "$cmd: the default cap takes it" \
         run "cannot read it as an image" "$LIMEN" $cmd "$TMP/mid.lua" -o "$TMP/x.png" --size 32x24
 done
-cat > "$TMP/str.lua" <<'LUA'
-local limen = require "limen"
-local s = limen.scene {}
-s:camera { pos = {0, 0, 3} }
-local big = string.rep("x", 100000000)
-return s
-LUA
+scene str 'local big = string.rep("x", 100000000)'
 t_ok "a Lua allocation over the cap names --memory too" \
     run "not enough memory (script memory cap 64 MiB) (needs 95.[0-9] MiB: --memory 128)" \
     "$LIMEN" render "$TMP/str.lua" -o "$TMP/x.png" --size 32x24
 # a PLY whose header declares 800,000 faces (70.2 MiB as a mesh, its vertices not counted;
-# its data zeros): refused
-# from the header, before the importer reads it; above the cap the importer reads it and
-# finds the data short of what the header declares
+# its data zeros): refused from the header, before the importer reads it; above the cap the
+# importer reads it and finds the data short of what the header declares
 printf 'ply\nformat binary_little_endian 1.0\nelement vertex 600000\nproperty float x\nproperty float y\nproperty float z\nelement face 800000\nproperty list uchar int vertex_indices\nend_header\n' \
     > "$TMP/hdr.ply"
 truncate -s 1500000 "$TMP/hdr.ply"
-cat > "$TMP/hdr.lua" <<'LUA'
-local limen = require "limen"
-local s = limen.scene {}
-s:camera { pos = {0, 0, 3} }
-s:mesh { file = "hdr.ply" }
-return s
-LUA
+scene hdr 's:mesh { file = "hdr.ply" }'
 t_ok "a PLY's header declaring 800,000 faces is refused from it, naming --memory 128" \
     run "hdr.ply: 800000 triangles need 70.2 MiB, more than the .* MiB allowed (the faces its header declares, refused before it is imported) (needs 70.[0-9] MiB: --memory 128)" \
     "$LIMEN" render "$TMP/hdr.lua" -o "$TMP/x.png" --size 32x24
